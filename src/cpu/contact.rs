@@ -1,0 +1,316 @@
+//! Penalty contact (METHOD.md §8): contact test and normal, gap from the
+//! contact distance, impedance dashpot + spring pressure clipped to
+//! compression, and a two-pass pairing that conserves momentum exactly.
+//!
+//! Pairing (METHOD.md §8.4, scheme (c)): each boundary particle P interpolates
+//! the partner body's surface around it with kernel weights (position,
+//! normal, velocity, surface offset), computes one pressure `p_P` against that
+//! surface, keeps `−½ p_P A_P n_P` itself and hands `+½ p_P A_P n_P` to the
+//! partner particles in proportion to their weights (`q_P` per unit weight).
+//! Every pass is a gather over neighbours: no atomics on the GPU.
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use super::kinematics::Boundary;
+use super::neighbours::Neighbours;
+use crate::model::{Model, State};
+use crate::physics::kernel;
+use crate::physics::material::series;
+use crate::scene::SpringModel;
+
+/// Whether boundary particle `q` (another body) is a contact candidate of
+/// boundary particle `p` (METHOD.md §8.2): within `2 h_pq`, normals facing
+/// each other, and each particle no further in front of the other's surface
+/// than the contact distance plus `h_pq`. The last bound is deliberately
+/// looser than the paper's `h_pq` so that pairs whose gap is already closed
+/// by large surface offsets are never rejected; pressure only arises where
+/// the gap is ≤ 0, so the looser gate changes nothing for pairs apart.
+#[inline]
+pub fn is_candidate(model: &Model, st: &State, bd: &Boundary, p: usize, q: usize) -> Option<f64> {
+    let r = st.x[q] - st.x[p];
+    let hpq = 0.5 * (model.h[p] + model.h[q]);
+    let dist = r.length();
+    if dist >= 2.0 * hpq {
+        return None;
+    }
+    let (np, nq) = (bd.normal[p], bd.normal[q]);
+    if np.dot(nq) >= 0.0 {
+        return None;
+    }
+    let reach = model.offset[p] + model.offset[q] + hpq;
+    if np.dot(r).max(-nq.dot(r)) > reach {
+        return None;
+    }
+    Some(kernel::w(model.dim, dist, hpq))
+}
+
+/// What P's pass hands to the partner body `body`.
+#[derive(Debug, Clone, Copy)]
+struct Share {
+    body: u32,
+    /// `½ p_P A_P n_c / ΣW`: force per unit kernel weight on partner particles.
+    q: DVec2,
+    /// Dashpot heat per unit weight, for a rigid P that cannot keep its heat.
+    eta: f64,
+}
+
+/// Contact result of one evaluation.
+#[derive(Debug, Clone, Default)]
+pub struct ContactForces {
+    /// Contact force on each particle.
+    pub force: Vec<DVec2>,
+    /// Dashpot heat rate booked into each particle, W.
+    pub heat: Vec<f64>,
+    /// Contact pressure `p_P` of each particle's own pass (the largest over its partner bodies).
+    pub pressure: Vec<f64>,
+    pub stats: ContactStats,
+}
+
+/// Totals per pair of bodies (`a < b`), and the energies of the contact.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ContactStats {
+    /// `(a, b, total normal force, largest pressure)`.
+    pub pairs: Vec<(u32, u32, f64, f64)>,
+    /// Stored penalty-spring energy.
+    pub stored: f64,
+    /// Total dashpot heat rate.
+    pub heat_rate: f64,
+}
+
+impl ContactStats {
+    pub fn pair(&self, a: u32, b: u32) -> (f64, f64) {
+        let (a, b) = (a.min(b), a.max(b));
+        self.pairs
+            .iter()
+            .find(|p| p.0 == a && p.1 == b)
+            .map_or((0.0, 0.0), |p| (p.2, p.3))
+    }
+
+    fn add(&mut self, a: u32, b: u32, force: f64, p: f64) {
+        let (a, b) = (a.min(b), a.max(b));
+        match self.pairs.iter_mut().find(|x| x.0 == a && x.1 == b) {
+            Some(x) => {
+                x.2 += force;
+                x.3 = x.3.max(p);
+            }
+            None => self.pairs.push((a, b, force, p)),
+        }
+    }
+}
+
+/// Impedance, spring modulus and stiffness inputs of a body (∞ when rigid).
+#[inline]
+fn body_constants(model: &Model, b: u32) -> (f64, f64, f64) {
+    let info = &model.bodies[b as usize];
+    if info.rigid {
+        (f64::INFINITY, f64::INFINITY, f64::INFINITY)
+    } else {
+        (info.material.z, info.material.e, info.material.m)
+    }
+}
+
+/// One pass of P against partner body `body` from the weighted sums.
+struct Pass {
+    p: f64,
+    n: DVec2,
+    w_rate: f64,
+    stiffness: f64,
+    delta: f64,
+}
+
+/// The gap and pressure of P against the interpolated partner surface.
+///
+/// Surfaces, not particle centres, are interpolated: P's surface point is
+/// `S_P = x_P + o_P n_P` and each partner's `s_q = x_q + o_q n_q`, so the gap
+/// is `g_N = d_N − d_c` of METHOD.md §8.3 on a flat face. On a curved face the
+/// weighted mean of the partners' surface points lies on chords, behind the
+/// surface by ≈ Rφ²/2 (φ the angle the partners span); the weighted distance
+/// to the partners' tangent lines errs by the same amount the other way.
+/// Their mean is exact to second order in φ.
+#[allow(clippy::too_many_arguments)]
+fn pressure(
+    model: &Model,
+    p_idx: usize,
+    partner: u32,
+    np: DVec2,
+    r: DVec2,
+    nbar: DVec2,
+    tangent_gap: f64,
+    vrel: DVec2,
+) -> Option<Pass> {
+    // Contact normal: of n_P, −n̄ and their bisector, the one with the largest
+    // projected distance (least penetration; METHOD.md §8.2).
+    let mut best = (np, np.dot(r));
+    for cand in [-nbar, (np - nbar).normalize_or_zero()] {
+        if cand != DVec2::ZERO {
+            let d = cand.dot(r);
+            if d > best.1 {
+                best = (cand, d);
+            }
+        }
+    }
+    let (n, chord_gap) = best;
+    let gap = 0.5 * (chord_gap + tangent_gap);
+    if gap > 0.0 {
+        return None;
+    }
+    let delta = -gap;
+    let w_rate = vrel.dot(n);
+    let bp = model.body[p_idx];
+    let (za, ea, ma) = body_constants(model, bp);
+    let (zb, eb, mb) = body_constants(model, partner);
+    let z = series(za, zb);
+    let stiffness = match model.spring {
+        // eq. 25: E*/h0, h0 the mean initial spacing of the two bodies.
+        SpringModel::SeriesModulus => {
+            let h0 =
+                0.5 * (model.bodies[bp as usize].spacing + model.bodies[partner as usize].spacing);
+            series(ea, eb) / h0
+        }
+        // Two surface layers of half a spacing each, in series, each with
+        // its P-wave modulus.
+        SpringModel::SurfaceLayers => {
+            let ha = 0.5 * model.bodies[bp as usize].spacing;
+            let hb = 0.5 * model.bodies[partner as usize].spacing;
+            1.0 / (ha / ma + hb / mb)
+        }
+    };
+    let p = (z * w_rate + stiffness * delta).max(0.0);
+    Some(Pass {
+        p,
+        n,
+        w_rate,
+        stiffness,
+        delta,
+    })
+}
+
+/// Both passes: returns contact forces, booked heat and the statistics.
+pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> ContactForces {
+    let n = model.len();
+    // Pass 1: every boundary particle against each partner body around it.
+    type P1 = (DVec2, f64, f64, Vec<Share>, Vec<(u32, f64, f64, f64, f64)>);
+    let pass1: Vec<P1> = (0..n)
+        .into_par_iter()
+        .map(|p| {
+            let mut own_force = DVec2::ZERO;
+            let mut own_heat = 0.0;
+            let mut pmax = 0.0f64;
+            let mut shares = Vec::new();
+            let mut stats = Vec::new();
+            if !bd.is_boundary[p] {
+                return (own_force, own_heat, pmax, shares, stats);
+            }
+            // Weighted sums per partner body (almost always one).
+            // (body, ΣW, ΣW (s_q − S_P), ΣW n_q, ΣW v_q, ΣW n_q·(S_P − s_q))
+            let mut sums: Vec<(u32, f64, DVec2, DVec2, DVec2, f64)> = Vec::new();
+            let sp = st.x[p] + bd.normal[p] * model.offset[p];
+            for &q in nb.cross_of(p) {
+                let q = q as usize;
+                if !bd.is_boundary[q] {
+                    continue;
+                }
+                let Some(w) = is_candidate(model, st, bd, p, q) else {
+                    continue;
+                };
+                let bq = model.body[q];
+                let k = match sums.iter().position(|s| s.0 == bq) {
+                    Some(k) => k,
+                    None => {
+                        sums.push((bq, 0.0, DVec2::ZERO, DVec2::ZERO, DVec2::ZERO, 0.0));
+                        sums.len() - 1
+                    }
+                };
+                let s = &mut sums[k];
+                let sq = st.x[q] + bd.normal[q] * model.offset[q];
+                s.1 += w;
+                s.2 += (sq - sp) * w;
+                s.3 += bd.normal[q] * w;
+                s.4 += st.v[q] * w;
+                s.5 += bd.normal[q].dot(sp - sq) * w;
+            }
+            for (bq, sw, sws, swn, swv, swt) in sums {
+                if sw <= 0.0 {
+                    continue;
+                }
+                let nbar = swn.normalize_or_zero();
+                if nbar == DVec2::ZERO {
+                    continue;
+                }
+                let r = sws / sw;
+                let vrel = st.v[p] - swv / sw;
+                let Some(ps) = pressure(model, p, bq, bd.normal[p], r, nbar, swt / sw, vrel) else {
+                    continue;
+                };
+                let a = bd.area[p];
+                // Dashpot heat of this half pass: ½ (p − kδ) A w ≥ 0 (the
+                // spring's share of the work is stored, the rest dissipated).
+                let heat = 0.5 * (ps.p - ps.stiffness * ps.delta) * a * ps.w_rate;
+                let stored = 0.25 * ps.stiffness * ps.delta * ps.delta * a;
+                let stored = if stored.is_finite() { stored } else { 0.0 };
+                own_force -= ps.n * (0.5 * ps.p * a);
+                let rigid = model.rigid(p);
+                if !rigid {
+                    own_heat += heat;
+                }
+                shares.push(Share {
+                    body: bq,
+                    q: ps.n * (0.5 * ps.p * a / sw),
+                    eta: if rigid { heat / sw } else { 0.0 },
+                });
+                pmax = pmax.max(ps.p);
+                stats.push((bq, 0.5 * ps.p * a, ps.p, stored, heat));
+            }
+            (own_force, own_heat, pmax, shares, stats)
+        })
+        .collect();
+
+    // Pass 2: every boundary particle Q gathers what its partners handed it,
+    // over exactly the candidate set each of them used.
+    let gathered: Vec<(DVec2, f64)> = (0..n)
+        .into_par_iter()
+        .map(|q| {
+            let mut f = DVec2::ZERO;
+            let mut heat = 0.0;
+            if !bd.is_boundary[q] {
+                return (f, heat);
+            }
+            let bq = model.body[q];
+            for &p in nb.cross_of(q) {
+                let p = p as usize;
+                if pass1[p].3.is_empty() || !bd.is_boundary[p] {
+                    continue;
+                }
+                let Some(share) = pass1[p].3.iter().find(|s| s.body == bq) else {
+                    continue;
+                };
+                let Some(w) = is_candidate(model, st, bd, p, q) else {
+                    continue;
+                };
+                f += share.q * w;
+                heat += share.eta * w;
+            }
+            (f, heat)
+        })
+        .collect();
+
+    let mut out = ContactForces {
+        force: Vec::with_capacity(n),
+        heat: Vec::with_capacity(n),
+        pressure: Vec::with_capacity(n),
+        stats: ContactStats::default(),
+    };
+    for (p, (own, g)) in pass1.iter().zip(&gathered).enumerate() {
+        out.force.push(own.0 + g.0);
+        out.heat
+            .push(if model.rigid(p) { 0.0 } else { own.1 + g.1 });
+        out.pressure.push(own.2);
+        for &(bq, force, pr, stored, heat) in &own.4 {
+            out.stats.add(model.body[p], bq, force, pr);
+            out.stats.stored += stored;
+            out.stats.heat_rate += heat;
+        }
+    }
+    out
+}

@@ -1,0 +1,118 @@
+//! Pass C: momentum and energy sums (METHOD.md §4) with Monaghan artificial
+//! viscosity and, when the scene asks for it, Gray–Monaghan–Swift artificial
+//! stress. The pair-antisymmetric `G_ij = ½ (L_i + L_j) ∇_i W_ij` conserves
+//! momentum and energy exactly in semi-discrete form.
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use super::neighbours::Neighbours;
+use crate::math::{Mat2, Sym};
+use crate::model::{Model, State};
+use crate::physics::kernel;
+
+/// Per-particle inputs of the momentum pass, computed once per evaluation.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StressPoint {
+    /// `σ_i / ρ_i²`, in plane (tension positive).
+    pub sr2: Sym,
+    /// Artificial stress `R_i` (zero when off).
+    pub r: Sym,
+    /// Sound speed for the viscosity.
+    pub c: f64,
+}
+
+/// The Cauchy stress `σ = −p I + s` (in plane; `zz` = `−p + s_zz`).
+#[inline]
+pub fn cauchy(p: f64, s: &Sym) -> Sym {
+    Sym {
+        xx: s.xx - p,
+        yy: s.yy - p,
+        xy: s.xy,
+        zz: s.zz - p,
+    }
+}
+
+/// Artificial stress of METHOD.md §4: rotate σ/ρ² to principal axes, take
+/// `−ε σ̄/ρ²` of each tensile principal value, rotate back.
+#[inline]
+pub fn artificial_stress(eps: f64, sigma: &Sym, rho: f64) -> Sym {
+    let (a, b, th) = sigma.principal();
+    let r2 = rho * rho;
+    let ra = if a > 0.0 { -eps * a / r2 } else { 0.0 };
+    let rb = if b > 0.0 { -eps * b / r2 } else { 0.0 };
+    Sym::from_principal(ra, rb, th)
+}
+
+/// Monaghan's `Π_ij` (METHOD.md §4), zero for receding pairs.
+#[inline]
+pub fn viscosity_pi(
+    alpha: f64,
+    beta: f64,
+    hij: f64,
+    xij: DVec2,
+    vij: DVec2,
+    c_mean: f64,
+    rho_mean: f64,
+) -> f64 {
+    let vx = vij.dot(xij);
+    if vx >= 0.0 {
+        return 0.0;
+    }
+    let mu = hij * vx / (xij.length_squared() + 0.01 * hij * hij);
+    (-alpha * c_mean * mu + beta * mu * mu) / rho_mean
+}
+
+/// Pass C: `dv_i/dt` and `de_i/dt` from the SPH sums.
+pub fn momentum_energy(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    l: &[Mat2],
+    pts: &[StressPoint],
+) -> (Vec<DVec2>, Vec<f64>) {
+    let dim = model.dim;
+    (0..model.len())
+        .into_par_iter()
+        .map(|i| {
+            if model.rigid(i) {
+                return (DVec2::ZERO, 0.0);
+            }
+            let pi_ = &pts[i];
+            let mut dv = DVec2::ZERO;
+            let mut de = 0.0;
+            for b in nb.of(i) {
+                let j = b.j as usize;
+                let pj = &pts[j];
+                let hij = 0.5 * (model.h[i] + model.h[j]);
+                let xij = st.x[i] - st.x[j];
+                let vij = st.v[i] - st.v[j];
+                let g = (l[i] + l[j]).scale(0.5).mul_vec(b.gw);
+                let pi = viscosity_pi(
+                    model.alpha,
+                    model.beta,
+                    hij,
+                    xij,
+                    vij,
+                    0.5 * (pi_.c + pj.c),
+                    0.5 * (st.rho[i] + st.rho[j]),
+                );
+                let mut t = pi_.sr2.add_scaled(&pj.sr2, 1.0);
+                t.xx -= pi;
+                t.yy -= pi;
+                if let Some((_, n)) = model.artificial_stress {
+                    let dp = 0.5
+                        * (model.bodies[model.body[i] as usize].spacing
+                            + model.bodies[model.body[j] as usize].spacing);
+                    let f = b.w / kernel::w(dim, dp, hij);
+                    t = t.add_scaled(&pi_.r.add_scaled(&pj.r, 1.0), f.powf(n));
+                }
+                let mj = model.mass[j];
+                dv += t.mul_vec(g) * mj;
+                // −(σ_i/ρ_i² − ½Π I) : (v_ij ⊗ G_ij)
+                de -= mj * (vij.dot(pi_.sr2.mul_vec(g)) - 0.5 * pi * vij.dot(g));
+            }
+            (dv, de)
+        })
+        .unzip()
+}

@@ -1,0 +1,273 @@
+//! The CPU reference solver: f64, one function per stage (the oracle the GPU
+//! path is checked against), rayon-parallel gathers, deterministic.
+//!
+//! One evaluation of the rates, in order:
+//!
+//! | stage | function | what |
+//! |---|---|---|
+//! | neighbours | [`neighbours::find`] | cell list, SPH and cross-body lists |
+//! | EOS | [`eos_and_stress`] | `p`, `c`, `σ/ρ²`, artificial stress |
+//! | pass A | [`kinematics::correction_and_colour`] | `L_i`, `∇ψ_i` |
+//! | boundary | [`kinematics::boundary`] | normals, boundary set, area |
+//! | pass B | [`kinematics::density_and_stress_rates`] | `∇v`, `dρ/dt`, `ds/dt` |
+//! | pass C | [`forces::momentum_energy`] | `dv/dt`, `de/dt` |
+//! | contact | [`contact::penalty`] | penalty forces, dashpot heat |
+//!
+//! Time integration is the explicit midpoint rule (RK2), METHOD.md §9.
+
+pub mod contact;
+pub mod forces;
+pub mod kinematics;
+pub mod neighbours;
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use crate::error::Instability;
+use crate::math::Sym;
+use crate::model::{Model, State};
+use forces::StressPoint;
+
+/// Rates of one evaluation.
+#[derive(Debug, Clone, Default)]
+pub struct Rates {
+    pub dv: Vec<DVec2>,
+    pub drho: Vec<f64>,
+    pub de: Vec<f64>,
+    pub ds: Vec<Sym>,
+    /// Total dashpot heat rate (for the cumulative heat diagnostic).
+    pub heat_rate: f64,
+}
+
+/// What an evaluation tells about the state it was made at, beyond the rates.
+#[derive(Debug, Clone, Default)]
+pub struct Diagnostics {
+    pub pressure: Vec<f64>,
+    pub contact: contact::ContactStats,
+    /// Particles whose correction matrix fell back to the identity.
+    pub correction_fallback: usize,
+    /// Boundary particles, when the contact runs.
+    pub boundary_count: usize,
+}
+
+/// Pressure, sound speed and the per-particle inputs of the momentum pass.
+pub fn eos_and_stress(model: &Model, st: &State) -> (Vec<f64>, Vec<StressPoint>) {
+    (0..model.len())
+        .into_par_iter()
+        .map(|i| {
+            let mat = model.material(i);
+            let p = mat.pressure(st.rho[i], st.e[i]);
+            let c = mat.sound_speed(st.rho[i], st.e[i]);
+            let sigma = forces::cauchy(p, &st.s[i]);
+            let r2 = st.rho[i] * st.rho[i];
+            let r = match model.artificial_stress {
+                Some((eps, _)) => forces::artificial_stress(eps, &sigma, st.rho[i]),
+                None => Sym::default(),
+            };
+            (
+                p,
+                StressPoint {
+                    sr2: sigma.scale(1.0 / r2),
+                    r,
+                    c,
+                },
+            )
+        })
+        .unzip()
+}
+
+/// One full evaluation of the rates at `st`.
+pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
+    let nb = neighbours::find(model, &st.x);
+    let (pressure, pts) = eos_and_stress(model, st);
+    let a = kinematics::correction_and_colour(model, st, &nb);
+    let (drho, ds) = kinematics::density_and_stress_rates(model, st, &nb, &a.l);
+    let (mut dv, mut de) = forces::momentum_energy(model, st, &nb, &a.l, &pts);
+    let mut diag = Diagnostics {
+        pressure,
+        correction_fallback: a.fallback.len(),
+        ..Default::default()
+    };
+    let mut heat_rate = 0.0;
+    if model.contact {
+        let bd = kinematics::boundary(model, &nb, &a.grad_psi);
+        diag.boundary_count = bd.is_boundary.iter().filter(|&&b| b).count();
+        let c = contact::penalty(model, st, &nb, &bd);
+        for i in 0..model.len() {
+            if !model.rigid(i) {
+                dv[i] += c.force[i] / model.mass[i];
+                de[i] += c.heat[i] / model.mass[i];
+            }
+        }
+        heat_rate = c.stats.heat_rate;
+        diag.contact = c.stats;
+    }
+    (
+        Rates {
+            dv,
+            drho,
+            de,
+            ds,
+            heat_rate,
+        },
+        diag,
+    )
+}
+
+/// The CFL step (METHOD.md §9): `C min_i h_i / (c_i + |v_i|)` over deformable
+/// particles.
+pub fn cfl_step(model: &Model, st: &State) -> f64 {
+    (0..model.len())
+        .into_par_iter()
+        .filter(|&i| !model.rigid(i))
+        .map(|i| {
+            let c = model.material(i).sound_speed(st.rho[i], st.e[i]);
+            model.cfl * model.h[i] / (c + st.v[i].length())
+        })
+        .reduce(|| f64::INFINITY, f64::min)
+}
+
+/// `out = base + k · rates` (positions move with `vel`), with the radial
+/// return of perfect plasticity applied to the new deviatoric stress.
+fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &mut State) {
+    out.x
+        .par_iter_mut()
+        .zip(out.v.par_iter_mut())
+        .zip(out.rho.par_iter_mut())
+        .zip(out.e.par_iter_mut())
+        .zip(out.s.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, ((((x, v), rho), e), s))| {
+            *x = base.x[i] + vel[i] * k;
+            if model.rigid(i) {
+                *v = base.v[i];
+                return;
+            }
+            *v = base.v[i] + r.dv[i] * k;
+            *rho = base.rho[i] + r.drho[i] * k;
+            *e = base.e[i] + r.de[i] * k;
+            let mut ns = base.s[i].add_scaled(&r.ds[i], k);
+            // Perfect plasticity, radial return (METHOD.md §6).
+            let y0 = model.material(i).y0;
+            if y0.is_finite() {
+                let j = ns.von_mises();
+                if j > y0 {
+                    ns = ns.scale(y0 / j);
+                }
+            }
+            *s = ns;
+        });
+    out.heat = base.heat + r.heat_rate * k;
+}
+
+/// The CPU solver: the state and the evaluation made at it.
+pub struct CpuSolver {
+    pub model: Model,
+    pub state: State,
+    /// Rates and diagnostics at `state` (the first stage of the next step).
+    current: Option<(Rates, Diagnostics)>,
+    scratch: State,
+    initial_dt: Option<f64>,
+}
+
+impl CpuSolver {
+    pub fn new(model: Model, state: State) -> Self {
+        let scratch = state.clone();
+        Self {
+            model,
+            state,
+            current: None,
+            scratch,
+            initial_dt: None,
+        }
+    }
+
+    /// Rates and diagnostics at the current state (computed once per state).
+    pub fn current(&mut self) -> &(Rates, Diagnostics) {
+        if self.current.is_none() {
+            self.current = Some(evaluate(&self.model, &self.state));
+        }
+        self.current.as_ref().expect("just set")
+    }
+
+    pub fn diagnostics(&mut self) -> &Diagnostics {
+        &self.current().1
+    }
+
+    /// The step the next `step` call would take, before clipping.
+    pub fn next_dt(&self) -> f64 {
+        self.model
+            .fixed_dt
+            .unwrap_or_else(|| cfl_step(&self.model, &self.state))
+    }
+
+    /// Advance one midpoint step of at most `max_dt`.
+    pub fn step(&mut self, max_dt: f64) -> Result<f64, Instability> {
+        let dt = self.next_dt().min(max_dt);
+        let initial = *self.initial_dt.get_or_insert(dt);
+        if !(dt.is_finite() && dt > 1e-6 * initial) && max_dt > 1e-6 * initial {
+            return Err(self.instability(0, "time step", dt));
+        }
+        self.current();
+        let (k1, _) = self.current.take().expect("evaluated above");
+        let mut half = std::mem::take(&mut self.scratch);
+        advance(
+            &self.model,
+            &self.state,
+            &self.state.v,
+            &k1,
+            0.5 * dt,
+            &mut half,
+        );
+        let (k2, _) = evaluate(&self.model, &half);
+        let mut next = self.state.clone();
+        advance(&self.model, &self.state, &half.v, &k2, dt, &mut next);
+        next.t = self.state.t + dt;
+        next.step = self.state.step + 1;
+        self.scratch = half;
+        self.state = next;
+        self.check()?;
+        Ok(dt)
+    }
+
+    fn instability(&self, i: usize, quantity: &str, value: f64) -> Instability {
+        let (body, particle) = self.model.locate(i);
+        Instability {
+            step: self.state.step,
+            time: self.state.t,
+            body: body.to_string(),
+            particle,
+            quantity: quantity.to_string(),
+            value,
+        }
+    }
+
+    /// Stop on a non-finite value or a density outside `[0.1, 10] ρ0`.
+    fn check(&self) -> Result<(), Instability> {
+        let st = &self.state;
+        let bad = (0..self.model.len()).into_par_iter().find_first(|&i| {
+            let rho0 = self.model.material(i).rho0;
+            let sane = st.x[i].is_finite()
+                && st.v[i].is_finite()
+                && st.e[i].is_finite()
+                && st.rho[i] > 0.1 * rho0
+                && st.rho[i] < 10.0 * rho0;
+            !sane
+        });
+        match bad {
+            None => Ok(()),
+            Some(i) => {
+                let (q, v) = if !st.x[i].is_finite() {
+                    ("position", st.x[i].x + st.x[i].y)
+                } else if !st.v[i].is_finite() {
+                    ("velocity", st.v[i].x + st.v[i].y)
+                } else if !st.e[i].is_finite() {
+                    ("internal energy", st.e[i])
+                } else {
+                    ("density", st.rho[i])
+                };
+                Err(self.instability(i, q, v))
+            }
+        }
+    }
+}

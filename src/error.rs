@@ -1,0 +1,128 @@
+//! Typed errors. Bad input is a [`SceneError`] (exit status 2); a run that
+//! fails after it started is a [`RunError`] (exit status 1).
+
+use std::fmt;
+
+/// Something wrong with a scene: the file, the key, and what is wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneError {
+    /// The scene's origin (usually its path).
+    pub file: String,
+    /// The offending key as a dotted path (`bodies[1].spacing`), with the
+    /// line and column where TOML gives them.
+    pub key: Option<String>,
+    pub message: String,
+}
+
+impl SceneError {
+    /// A validation error on `key` (the file is filled in later by `in_file`).
+    pub fn at(key: impl Into<String>, message: impl Into<String>) -> Self {
+        Self {
+            file: String::new(),
+            key: Some(key.into()),
+            message: message.into(),
+        }
+    }
+
+    pub fn in_file(mut self, origin: &str) -> Self {
+        self.file = origin.to_string();
+        self
+    }
+
+    /// Turn a TOML/serde error into one line naming the key, line and column.
+    pub fn parse(origin: &str, text: &str, err: &toml::de::Error) -> Self {
+        let mut key = None;
+        if let Some(span) = err.span() {
+            let start = span.start.min(text.len());
+            let before = &text[..start];
+            let line = before.matches('\n').count() + 1;
+            let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+            let column = text[line_start..start].chars().count() + 1;
+            let line_text = text[line_start..].lines().next().unwrap_or("");
+            // The key is what stands before `=` on that line, when there is one.
+            let name = line_text
+                .split_once('=')
+                .map(|(k, _)| k.trim().trim_matches('"').to_string())
+                .filter(|k| !k.is_empty() && !k.starts_with('['));
+            key = Some(match name {
+                Some(k) => format!("{k} (line {line}, column {column})"),
+                None => format!("line {line}, column {column}"),
+            });
+        }
+        Self {
+            file: origin.to_string(),
+            key,
+            message: err.message().trim().to_string(),
+        }
+    }
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if !self.file.is_empty() {
+            write!(f, "{}: ", self.file)?;
+        }
+        if let Some(k) = &self.key {
+            write!(f, "{k}: ")?;
+        }
+        f.write_str(&self.message.replace('\n', " "))
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// Where and why a run went unstable.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Instability {
+    pub step: u64,
+    pub time: f64,
+    pub body: String,
+    /// Index of the particle within its body.
+    pub particle: usize,
+    pub quantity: String,
+    pub value: f64,
+}
+
+impl fmt::Display for Instability {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "unstable at step {} (t = {:.6e} s): body '{}', particle {}: {} = {:e}",
+            self.step, self.time, self.body, self.particle, self.quantity, self.value
+        )
+    }
+}
+
+/// A failure of the run itself (exit status 1), or of its set-up (exit 2).
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error("{0}")]
+    Unstable(Instability),
+    #[error("{0}")]
+    Backend(String),
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+impl RunError {
+    /// The process exit status this error maps to (SCENES.md: 2 bad input, 1 run failed).
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            RunError::Scene(_) | RunError::Backend(_) => 2,
+            RunError::Unstable(_) | RunError::Io { .. } => 1,
+        }
+    }
+
+    pub fn io(path: impl AsRef<std::path::Path>, source: std::io::Error) -> Self {
+        RunError::Io {
+            path: path.as_ref().display().to_string(),
+            source,
+        }
+    }
+}

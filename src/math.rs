@@ -1,0 +1,196 @@
+//! Small 2×2 tensors for the 2-D (and, with zero y, the 1-D) solver.
+
+use glam::DVec2;
+
+/// A general 2×2 matrix, row-major names: `m[α][β]` = `aβ`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Mat2 {
+    pub xx: f64,
+    pub xy: f64,
+    pub yx: f64,
+    pub yy: f64,
+}
+
+impl Mat2 {
+    pub const IDENTITY: Mat2 = Mat2 {
+        xx: 1.0,
+        xy: 0.0,
+        yx: 0.0,
+        yy: 1.0,
+    };
+    pub const ZERO: Mat2 = Mat2 {
+        xx: 0.0,
+        xy: 0.0,
+        yx: 0.0,
+        yy: 0.0,
+    };
+
+    /// `a ⊗ b`, i.e. `(a ⊗ b)_{αβ} = a_α b_β`.
+    #[inline]
+    pub fn outer(a: DVec2, b: DVec2) -> Mat2 {
+        Mat2 {
+            xx: a.x * b.x,
+            xy: a.x * b.y,
+            yx: a.y * b.x,
+            yy: a.y * b.y,
+        }
+    }
+
+    #[inline]
+    pub fn mul_vec(&self, v: DVec2) -> DVec2 {
+        DVec2::new(self.xx * v.x + self.xy * v.y, self.yx * v.x + self.yy * v.y)
+    }
+
+    #[inline]
+    pub fn det(&self) -> f64 {
+        self.xx * self.yy - self.xy * self.yx
+    }
+
+    #[inline]
+    pub fn trace(&self) -> f64 {
+        self.xx + self.yy
+    }
+
+    /// The inverse, or `None` when `|det| <= tiny` or not finite.
+    #[inline]
+    pub fn inverse(&self, tiny: f64) -> Option<Mat2> {
+        let d = self.det();
+        if !d.is_finite() || d.abs() <= tiny {
+            return None;
+        }
+        let r = 1.0 / d;
+        Some(Mat2 {
+            xx: self.yy * r,
+            xy: -self.xy * r,
+            yx: -self.yx * r,
+            yy: self.xx * r,
+        })
+    }
+
+    #[inline]
+    pub fn scale(&self, s: f64) -> Mat2 {
+        Mat2 {
+            xx: self.xx * s,
+            xy: self.xy * s,
+            yx: self.yx * s,
+            yy: self.yy * s,
+        }
+    }
+}
+
+impl std::ops::Add for Mat2 {
+    type Output = Mat2;
+    #[inline]
+    fn add(self, o: Mat2) -> Mat2 {
+        Mat2 {
+            xx: self.xx + o.xx,
+            xy: self.xy + o.xy,
+            yx: self.yx + o.yx,
+            yy: self.yy + o.yy,
+        }
+    }
+}
+
+impl std::ops::AddAssign for Mat2 {
+    #[inline]
+    fn add_assign(&mut self, o: Mat2) {
+        *self = *self + o;
+    }
+}
+
+/// A symmetric in-plane stress-like tensor plus its out-of-plane `zz`
+/// component (plane strain carries `s_zz`; METHOD.md §6).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Sym {
+    pub xx: f64,
+    pub yy: f64,
+    pub xy: f64,
+    pub zz: f64,
+}
+
+impl Sym {
+    #[inline]
+    pub fn mul_vec(&self, v: DVec2) -> DVec2 {
+        DVec2::new(self.xx * v.x + self.xy * v.y, self.xy * v.x + self.yy * v.y)
+    }
+
+    /// `s : s` over all three dimensions.
+    #[inline]
+    pub fn ddot(&self) -> f64 {
+        self.xx * self.xx + self.yy * self.yy + self.zz * self.zz + 2.0 * self.xy * self.xy
+    }
+
+    /// Von Mises equivalent of a deviatoric tensor, `sqrt(3/2 s:s)`.
+    #[inline]
+    pub fn von_mises(&self) -> f64 {
+        (1.5 * self.ddot()).sqrt()
+    }
+
+    #[inline]
+    pub fn scale(&self, k: f64) -> Sym {
+        Sym {
+            xx: self.xx * k,
+            yy: self.yy * k,
+            xy: self.xy * k,
+            zz: self.zz * k,
+        }
+    }
+
+    #[inline]
+    pub fn add_scaled(&self, o: &Sym, k: f64) -> Sym {
+        Sym {
+            xx: self.xx + o.xx * k,
+            yy: self.yy + o.yy * k,
+            xy: self.xy + o.xy * k,
+            zz: self.zz + o.zz * k,
+        }
+    }
+
+    /// In-plane principal values and the angle of the first principal axis.
+    pub fn principal(&self) -> (f64, f64, f64) {
+        let m = 0.5 * (self.xx + self.yy);
+        let r = (0.25 * (self.xx - self.yy).powi(2) + self.xy * self.xy).sqrt();
+        let th = 0.5 * (2.0 * self.xy).atan2(self.xx - self.yy);
+        (m + r, m - r, th)
+    }
+
+    /// Rebuild an in-plane tensor from principal values and the first axis' angle.
+    pub fn from_principal(a: f64, b: f64, th: f64) -> Sym {
+        let (s, c) = th.sin_cos();
+        Sym {
+            xx: a * c * c + b * s * s,
+            yy: a * s * s + b * c * c,
+            xy: (a - b) * s * c,
+            zz: 0.0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inverse_and_principal() {
+        let m = Mat2 {
+            xx: 2.0,
+            xy: 1.0,
+            yx: 0.5,
+            yy: 3.0,
+        };
+        let inv = m.inverse(1e-12).unwrap();
+        let v = DVec2::new(0.3, -1.7);
+        let back = inv.mul_vec(m.mul_vec(v));
+        assert!((back - v).length() < 1e-14);
+        let s = Sym {
+            xx: 3.0,
+            yy: -1.0,
+            xy: 2.0,
+            zz: 0.0,
+        };
+        let (a, b, th) = s.principal();
+        let r = Sym::from_principal(a, b, th);
+        assert!((r.xx - s.xx).abs() < 1e-12 && (r.yy - s.yy).abs() < 1e-12);
+        assert!((r.xy - s.xy).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,158 @@
+//! The solver's view of a scene: per-body constants, per-particle constants
+//! and the initial state. Shared by every backend.
+
+use glam::DVec2;
+use std::ops::Range;
+
+use crate::physics::material::MaterialModel;
+use crate::scene::{place_bodies, Correction, Interaction, Scene, SpringModel};
+
+/// One body: its material, its particles (a contiguous range) and flags.
+#[derive(Debug, Clone)]
+pub struct BodyInfo {
+    pub name: String,
+    pub material: MaterialModel,
+    pub rigid: bool,
+    /// The placed spacing Δx (METHOD.md §8.3's `h0`).
+    pub spacing: f64,
+    pub range: Range<usize>,
+    pub velocity0: DVec2,
+}
+
+/// Everything constant during a run.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub dim: usize,
+    pub interaction: Interaction,
+    pub correction: Correction,
+    pub cfl: f64,
+    pub fixed_dt: Option<f64>,
+    pub alpha: f64,
+    pub beta: f64,
+    /// Artificial stress `(ε, n)` when the scene switches it on.
+    pub artificial_stress: Option<(f64, f64)>,
+    pub spring: SpringModel,
+    pub boundary_threshold: f64,
+    pub bodies: Vec<BodyInfo>,
+    pub mass: Vec<f64>,
+    pub h: Vec<f64>,
+    pub body: Vec<u32>,
+    /// Surface offset `o` of each particle (METHOD.md §8.3).
+    pub offset: Vec<f64>,
+    /// `true` when the penalty contact runs: penalty mode and two or more bodies.
+    pub contact: bool,
+    /// `true` when some material has a yield stress.
+    pub plastic: bool,
+}
+
+/// The evolving state: what an integrator advances and a checkpoint saves.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct State {
+    pub t: f64,
+    pub step: u64,
+    pub x: Vec<DVec2>,
+    pub v: Vec<DVec2>,
+    pub rho: Vec<f64>,
+    /// Specific internal energy, J/kg.
+    pub e: Vec<f64>,
+    /// Deviatoric stress.
+    pub s: Vec<crate::math::Sym>,
+    /// Cumulative dashpot heat (already booked into `e`), J (per unit area
+    /// in 1-D, per unit thickness in 2-D).
+    pub heat: f64,
+}
+
+impl Model {
+    /// Build the model and the initial state of a validated scene.
+    pub fn new(scene: &Scene) -> (Model, State) {
+        let placed = place_bodies(scene);
+        let sim = &scene.simulation;
+        let av = scene.viscosity();
+        let cs = scene.contact_settings();
+        let n: usize = placed.iter().map(|p| p.positions.len()).sum();
+        let mut model = Model {
+            dim: scene.dim(),
+            interaction: sim.interaction,
+            correction: sim.correction,
+            cfl: sim.cfl,
+            fixed_dt: sim.dt,
+            alpha: av.alpha,
+            beta: av.beta,
+            artificial_stress: scene.artificial_stress.map(|a| (a.epsilon, a.n)),
+            spring: cs.spring,
+            boundary_threshold: cs.boundary_threshold,
+            bodies: Vec::with_capacity(placed.len()),
+            mass: Vec::with_capacity(n),
+            h: Vec::with_capacity(n),
+            body: Vec::with_capacity(n),
+            offset: Vec::with_capacity(n),
+            contact: sim.interaction == Interaction::Penalty && scene.bodies.len() > 1,
+            plastic: false,
+        };
+        let mut state = State {
+            t: 0.0,
+            step: 0,
+            x: Vec::with_capacity(n),
+            v: Vec::with_capacity(n),
+            rho: Vec::with_capacity(n),
+            e: vec![0.0; n],
+            s: vec![Default::default(); n],
+            heat: 0.0,
+        };
+        for (bi, (b, p)) in scene.bodies.iter().zip(&placed).enumerate() {
+            let material = MaterialModel::new(&scene.materials[&b.material]);
+            let mut v0 = DVec2::ZERO;
+            if let Some(v) = &b.velocity {
+                v0.x = v[0];
+                if v.len() > 1 {
+                    v0.y = v[1];
+                }
+            }
+            let start = model.mass.len();
+            let h = sim.smoothing_ratio * p.spacing;
+            for k in 0..p.positions.len() {
+                model.mass.push(p.masses[k]);
+                model.h.push(h);
+                model.body.push(bi as u32);
+                model.offset.push(p.offsets[k]);
+                state.x.push(p.positions[k]);
+                state.v.push(v0);
+                state.rho.push(material.rho0);
+            }
+            model.plastic |= !b.rigid && material.y0.is_finite();
+            model.bodies.push(BodyInfo {
+                name: b.name.clone(),
+                material,
+                rigid: b.rigid,
+                spacing: p.spacing,
+                range: start..model.mass.len(),
+                velocity0: v0,
+            });
+        }
+        (model, state)
+    }
+
+    pub fn len(&self) -> usize {
+        self.mass.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.mass.is_empty()
+    }
+
+    #[inline]
+    pub fn rigid(&self, i: usize) -> bool {
+        self.bodies[self.body[i] as usize].rigid
+    }
+
+    #[inline]
+    pub fn material(&self, i: usize) -> &MaterialModel {
+        &self.bodies[self.body[i] as usize].material
+    }
+
+    /// Body name and index within the body of global particle `i`.
+    pub fn locate(&self, i: usize) -> (&str, usize) {
+        let b = &self.bodies[self.body[i] as usize];
+        (&b.name, i - b.range.start)
+    }
+}

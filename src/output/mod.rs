@@ -1,0 +1,109 @@
+//! Output files (SCENES.md, "Outputs"): `history.csv` and `summary.json`.
+
+use serde::Serialize;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use crate::error::RunError;
+
+/// The recorded history: one row per history time, kept in memory and,
+/// when a directory is given, streamed to `history.csv` as it grows (flushed
+/// every row, so a failed run keeps what it had recorded).
+#[derive(Debug)]
+pub struct History {
+    pub names: Vec<String>,
+    pub times: Vec<f64>,
+    pub rows: Vec<Vec<f64>>,
+    file: Option<(PathBuf, BufWriter<File>)>,
+}
+
+impl History {
+    pub fn new(names: Vec<String>, dir: Option<&Path>) -> Result<Self, RunError> {
+        let file = match dir {
+            Some(d) => {
+                let path = d.join("history.csv");
+                let f = File::create(&path).map_err(|e| RunError::io(&path, e))?;
+                let mut w = BufWriter::new(f);
+                let mut header = String::from("time");
+                for n in &names {
+                    header.push(',');
+                    header.push_str(n);
+                }
+                writeln!(w, "{header}").map_err(|e| RunError::io(&path, e))?;
+                Some((path, w))
+            }
+            None => None,
+        };
+        Ok(Self {
+            names,
+            times: Vec::new(),
+            rows: Vec::new(),
+            file,
+        })
+    }
+
+    pub fn push(&mut self, t: f64, row: Vec<f64>) -> Result<(), RunError> {
+        if let Some((path, w)) = &mut self.file {
+            let mut line = format!("{t:e}");
+            for v in &row {
+                line.push(',');
+                line.push_str(&format!("{v:e}"));
+            }
+            writeln!(w, "{line}")
+                .and_then(|_| w.flush())
+                .map_err(|e| RunError::io(&*path, e))?;
+        }
+        self.times.push(t);
+        self.rows.push(row);
+        Ok(())
+    }
+
+    /// The column of probe `name`.
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let k = self.names.iter().position(|n| n == name)?;
+        Some(self.rows.iter().map(|r| r[k]).collect())
+    }
+}
+
+/// Per-body line of the summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct BodySummary {
+    pub name: String,
+    pub particles: usize,
+    pub mass: f64,
+    pub velocity_final: Vec<f64>,
+}
+
+/// `summary.json` (SCENES.md): the contract's keys, plus `status`, `error`
+/// and `time_reached`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    pub scene: String,
+    pub dimension: usize,
+    pub backend: String,
+    pub adapter: Option<String>,
+    pub particles: usize,
+    pub steps: u64,
+    pub end_time: f64,
+    pub time_reached: f64,
+    pub wall_seconds: f64,
+    pub particle_steps_per_second: f64,
+    pub momentum_initial: Vec<f64>,
+    pub momentum_final: Vec<f64>,
+    pub energy_initial: f64,
+    pub energy_final: f64,
+    pub bodies: Vec<BodySummary>,
+    pub warnings: Vec<String>,
+    /// "completed" or "failed".
+    pub status: String,
+    pub error: Option<String>,
+}
+
+impl Summary {
+    pub fn write(&self, dir: &Path) -> Result<(), RunError> {
+        let path = dir.join("summary.json");
+        let text = serde_json::to_string_pretty(self).expect("a summary always serialises");
+        std::fs::write(&path, text + "\n").map_err(|e| RunError::io(&path, e))
+    }
+}

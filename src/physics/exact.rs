@@ -1,0 +1,1512 @@
+//! Exact answers of the paper's validation cases (METHOD.md §10), computed
+//! from the material constants so that tests and validation figures compare
+//! against computed, not hard-coded, values.
+//!
+//! * 1-D elastic bar impact (cases 1 and 2): linear acoustics in uniaxial
+//!   strain, waves at `c_L` (METHOD.md §6: "1-D is uniaxial strain … waves
+//!   therefore travel at `c_L`, not `c0`"), impedance `Z = ρ0 c_L`. Solved
+//!   exactly by tracing the piecewise-constant wave fronts ([`bar_impact`],
+//!   [`bar_impact_history`]); the equal-bar point history also in closed form
+//!   ([`equal_bars_point_velocity`]).
+//! * 2-D quasi-static Hertz line contact of two identical disks in plane
+//!   strain (case 3), with the two published choices of the approach constant
+//!   `C` that bracket the dynamic answer ([`hertz_disks`]).
+//!
+//! Conventions (METHOD.md §2): SI units, stress tension positive, so contact
+//! stresses are negative.
+
+use crate::physics::material::MaterialModel;
+use std::collections::VecDeque;
+use std::f64::consts::{FRAC_PI_2, LN_2, PI};
+
+// ---------------------------------------------------------------------------
+// 1-D elastic bar impact (METHOD.md §10, cases 1 and 2)
+// ---------------------------------------------------------------------------
+
+/// Summary of a 1-D impact of two elastic bars (METHOD.md §10, cases 1–2).
+///
+/// Bar 1 is on the left moving at `v1`, bar 2 on the right moving at `v2`,
+/// `v1 > v2`; first contact at `t = 0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BarImpact {
+    /// Interface stress right after first contact, Pa, tension positive (so
+    /// negative): `−Z1 Z2 (v1 − v2)/(Z1 + Z2)`. When impedances and lengths
+    /// differ the interface stress may later step to other levels; see
+    /// [`BarImpactHistory::contact_steps`].
+    pub contact_stress: f64,
+    /// Interface particle velocity right after first contact, m/s:
+    /// `(Z1 v1 + Z2 v2)/(Z1 + Z2)` (impedance matching).
+    pub interface_velocity: f64,
+    /// Time of the final separation of the contact faces, s (the end of the
+    /// last contact interval; for the paper's cases there is only one).
+    pub separation_time: f64,
+    /// Mean (momentum) velocity of bar 1 after the final separation, m/s.
+    pub final_velocity_1: f64,
+    /// Mean (momentum) velocity of bar 2 after the final separation, m/s.
+    pub final_velocity_2: f64,
+}
+
+impl BarImpact {
+    fn nan() -> Self {
+        Self {
+            contact_stress: f64::NAN,
+            interface_velocity: f64::NAN,
+            separation_time: f64::NAN,
+            final_velocity_1: f64::NAN,
+            final_velocity_2: f64::NAN,
+        }
+    }
+}
+
+/// Which bar of a [`BarImpactHistory`]: `One` is the left bar (initial
+/// velocity `v1`), `Two` the right bar (`v2`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BarId {
+    One,
+    Two,
+}
+
+impl BarId {
+    fn index(self) -> usize {
+        match self {
+            BarId::One => 0,
+            BarId::Two => 1,
+        }
+    }
+}
+
+/// One level of the piecewise-constant interface stress while the bars are in
+/// contact: `stress` (Pa, ≤ 0) on `[t_start, t_end)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StressStep {
+    pub t_start: f64,
+    pub t_end: f64,
+    pub stress: f64,
+}
+
+/// A wave front, emitted at one end of a bar at `t_emit`, carrying the stress
+/// jump `dsig` (state behind minus state ahead). Its velocity jump follows
+/// from the characteristic relations: right-going `dv = −dσ/Z`, left-going
+/// `dv = +dσ/Z`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Front {
+    t_emit: f64,
+    dsig: f64,
+}
+
+/// Stress and velocity at one end of a bar.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct EndState {
+    sig: f64,
+    v: f64,
+}
+
+/// Direction index: right-going fronts are emitted at the left end and arrive
+/// at the right end; left-going ones the reverse.
+const RIGHT_GOING: usize = 0;
+const LEFT_GOING: usize = 1;
+/// End index.
+const LEFT_END: usize = 0;
+const RIGHT_END: usize = 1;
+
+/// Fronts arriving within this fraction of the shortest transit time `L/c`
+/// are treated as simultaneous (e.g. the two release waves of equal bars).
+const TIME_TOL: f64 = 1e-9;
+/// Stress jumps below this fraction of the first contact stress are dropped.
+const PRUNE_TOL: f64 = 1e-12;
+/// Safety cap on processed events; exceeding it reports "unresolved" (None)
+/// instead of a possibly wrong answer.
+const MAX_EVENTS: usize = 400_000;
+
+/// Constants and the complete front log of one bar.
+#[derive(Debug, Clone, PartialEq)]
+struct BarTrace {
+    len: f64,
+    c: f64,
+    z: f64,
+    rho0: f64,
+    v0: f64,
+    /// Every front ever emitted, `[RIGHT_GOING]` and `[LEFT_GOING]`, in
+    /// emission order.
+    log: [Vec<Front>; 2],
+}
+
+impl BarTrace {
+    fn transit(&self) -> f64 {
+        self.len / self.c
+    }
+
+    /// State `(σ, v)` at local coordinate `x ∈ [0, L]` (0 = left end) and
+    /// time `t ≥ 0`: the initial state plus every front that has passed `x`
+    /// by `t` (a front is included from the instant it passes).
+    fn state(&self, x: f64, t: f64) -> (f64, f64) {
+        let mut sig = 0.0;
+        let mut v = self.v0;
+        let dt_right = x / self.c;
+        for f in &self.log[RIGHT_GOING] {
+            if f.t_emit + dt_right > t {
+                break;
+            }
+            sig += f.dsig;
+            v -= f.dsig / self.z;
+        }
+        let dt_left = (self.len - x) / self.c;
+        for f in &self.log[LEFT_GOING] {
+            if f.t_emit + dt_left > t {
+                break;
+            }
+            sig += f.dsig;
+            v += f.dsig / self.z;
+        }
+        (sig, v)
+    }
+}
+
+/// Full exact history of a 1-D two-bar impact (METHOD.md §10, cases 1–2).
+///
+/// Local geometry: bar 1 occupies `[−L1, 0]`, bar 2 `[0, L2]` (Lagrangian,
+/// small strain), contact face at `x = 0`, first contact at `t = 0`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BarImpactHistory {
+    /// The summary (same as [`bar_impact`]).
+    pub result: BarImpact,
+    /// End of the first contact interval, s.
+    pub first_separation_time: f64,
+    /// Interface stress while in contact, piecewise constant, in time order;
+    /// gaps between steps are intervals without contact.
+    pub contact_steps: Vec<StressStep>,
+    /// The history is exact for `0 ≤ t ≤ valid_until` (infinite when nothing
+    /// changes any more).
+    pub valid_until: f64,
+    bars: [BarTrace; 2],
+}
+
+impl BarImpactHistory {
+    /// Local coordinate (from the bar's left end) of the point at distance
+    /// `d` from the contact face, or None when `d` is outside `[0, L]`.
+    fn local_x(&self, bar: BarId, d: f64) -> Option<(usize, f64)> {
+        let b = bar.index();
+        let len = self.bars[b].len;
+        if !(0.0..=len).contains(&d) {
+            return None;
+        }
+        Some(match bar {
+            BarId::One => (b, len - d),
+            BarId::Two => (b, d),
+        })
+    }
+
+    fn point_state(&self, bar: BarId, d: f64, t: f64) -> Option<(f64, f64)> {
+        if t.is_nan() || t > self.valid_until {
+            return None;
+        }
+        let (b, x) = self.local_x(bar, d)?;
+        Some(self.bars[b].state(x, t.max(0.0)))
+    }
+
+    /// Exact particle velocity, m/s, at distance `d` (m) from the contact
+    /// face inside `bar`, at time `t` (s). Before contact (`t < 0`) the
+    /// initial velocity. NaN when `d` is outside the bar or `t` beyond
+    /// [`valid_until`](Self::valid_until).
+    pub fn point_velocity(&self, bar: BarId, d: f64, t: f64) -> f64 {
+        self.point_state(bar, d, t).map_or(f64::NAN, |s| s.1)
+    }
+
+    /// Exact axial stress `σ_xx`, Pa (tension positive), at distance `d` from
+    /// the contact face inside `bar`, at time `t`; NaN as for
+    /// [`point_velocity`](Self::point_velocity).
+    pub fn point_stress(&self, bar: BarId, d: f64, t: f64) -> f64 {
+        self.point_state(bar, d, t).map_or(f64::NAN, |s| s.0)
+    }
+
+    /// Interface (contact) stress at time `t`, Pa: the contact step that
+    /// holds `t`, 0 outside contact.
+    pub fn interface_stress(&self, t: f64) -> f64 {
+        self.contact_steps
+            .iter()
+            .find(|s| t >= s.t_start && t < s.t_end)
+            .map_or(0.0, |s| s.stress)
+    }
+
+    /// Mean (momentum) velocity of `bar` at time `t`: the initial velocity
+    /// plus the interface impulse delivered up to `t` over the mass per unit
+    /// area `ρ0 L`. Falls linearly from `v0` to its final value while the
+    /// interface stress is constant (METHOD.md §10, case 1).
+    pub fn mean_velocity(&self, bar: BarId, t: f64) -> f64 {
+        let impulse: f64 = self
+            .contact_steps
+            .iter()
+            .map(|s| s.stress * (t.min(s.t_end) - s.t_start).max(0.0))
+            .sum();
+        let tr = &self.bars[bar.index()];
+        // The interface traction on bar 1 (outer normal +x) is +σ, on bar 2
+        // (outer normal −x) it is −σ.
+        let sign = match bar {
+            BarId::One => 1.0,
+            BarId::Two => -1.0,
+        };
+        tr.v0 + sign * impulse / (tr.rho0 * tr.len)
+    }
+}
+
+/// Event-driven wave tracer on piecewise-constant states (method of
+/// characteristics for linear acoustics). Fronts are only ever emitted at bar
+/// ends and cross the full bar, so each (bar, direction) queue is FIFO.
+struct BarSim {
+    bars: [BarTrace; 2],
+    /// `[bar][LEFT_END | RIGHT_END]`.
+    ends: [[EndState; 2]; 2],
+    /// Fronts in flight, `[bar][RIGHT_GOING | LEFT_GOING]`.
+    flight: [[VecDeque<Front>; 2]; 2],
+    prune: f64,
+}
+
+impl BarSim {
+    fn arrival(&self, b: usize, dir: usize) -> f64 {
+        self.flight[b][dir]
+            .front()
+            .map_or(f64::INFINITY, |f| f.t_emit + self.bars[b].transit())
+    }
+
+    fn quiet(&self, b: usize) -> bool {
+        self.flight[b][RIGHT_GOING].is_empty() && self.flight[b][LEFT_GOING].is_empty()
+    }
+
+    /// Emit a front from the end it starts at; the jump changes that end's
+    /// state at once.
+    fn emit(&mut self, b: usize, dir: usize, t: f64, dsig: f64) {
+        if dsig.is_nan() || dsig.abs() <= self.prune {
+            return;
+        }
+        let z = self.bars[b].z;
+        match dir {
+            RIGHT_GOING => {
+                let e = &mut self.ends[b][LEFT_END];
+                e.sig += dsig;
+                e.v -= dsig / z;
+            }
+            _ => {
+                let e = &mut self.ends[b][RIGHT_END];
+                e.sig += dsig;
+                e.v += dsig / z;
+            }
+        }
+        let f = Front { t_emit: t, dsig };
+        match self.flight[b][dir].back_mut() {
+            Some(last) if last.t_emit == t => last.dsig += dsig,
+            _ => self.flight[b][dir].push_back(f),
+        }
+        let log = &mut self.bars[b].log[dir];
+        match log.last_mut() {
+            Some(last) if last.t_emit == t => last.dsig += dsig,
+            _ => log.push(f),
+        }
+    }
+
+    /// Absorb every front of (b, dir) arriving by `t_window` into the end
+    /// state it arrives at; true if any arrived.
+    fn absorb(&mut self, b: usize, dir: usize, t_window: f64) -> bool {
+        let mut any = false;
+        while self.arrival(b, dir) <= t_window {
+            let Some(f) = self.flight[b][dir].pop_front() else {
+                break;
+            };
+            any = true;
+            let z = self.bars[b].z;
+            if dir == RIGHT_GOING {
+                let e = &mut self.ends[b][RIGHT_END];
+                e.sig += f.dsig;
+                e.v -= f.dsig / z;
+            } else {
+                let e = &mut self.ends[b][LEFT_END];
+                e.sig += f.dsig;
+                e.v += f.dsig / z;
+            }
+        }
+        any
+    }
+
+    /// Free end: reflect so that the end is stress-free (the reflected front
+    /// has the opposite stress jump, the same velocity jump).
+    fn free_end(&mut self, b: usize, end: usize, t: f64) {
+        let sig = self.ends[b][end].sig;
+        let dir = if end == LEFT_END {
+            RIGHT_GOING
+        } else {
+            LEFT_GOING
+        };
+        self.emit(b, dir, t, -sig);
+    }
+}
+
+/// Exact summary of the 1-D impact of two elastic bars (METHOD.md §10, cases
+/// 1–2): bar 1 (material `m1`, length `l1`, velocity `v1`) on the left, bar 2
+/// (`m2`, `l2`, `v2`) on the right, `v1 > v2`, uniaxial strain, waves at
+/// `c_L`, impedances `Z = ρ0 c_L`.
+///
+/// Returns all-NaN fields for input that is not an impact of two physical
+/// bars (`v1 ≤ v2`, non-positive or non-finite lengths, densities or
+/// impedances) or, in principle, a configuration the tracer could not resolve
+/// within its event cap; use [`try_bar_impact`] to get `None` instead.
+pub fn bar_impact(
+    m1: &MaterialModel,
+    l1: f64,
+    v1: f64,
+    m2: &MaterialModel,
+    l2: f64,
+    v2: f64,
+) -> BarImpact {
+    try_bar_impact(m1, l1, v1, m2, l2, v2).unwrap_or_else(BarImpact::nan)
+}
+
+/// [`bar_impact`], with `None` for invalid or unresolved input.
+pub fn try_bar_impact(
+    m1: &MaterialModel,
+    l1: f64,
+    v1: f64,
+    m2: &MaterialModel,
+    l2: f64,
+    v2: f64,
+) -> Option<BarImpact> {
+    bar_impact_history(m1, l1, v1, m2, l2, v2, 0.0).map(|h| h.result)
+}
+
+/// Exact wave history of the 1-D two-bar impact (METHOD.md §10, cases 1–2),
+/// traced at least until `t_end` (s) and at least until the outcome is final.
+///
+/// Method (why it is exact): in linear acoustics with piecewise-constant
+/// initial data the state stays piecewise constant between fronts moving at
+/// `±c_L`. Across a right-going front `Δσ = −Z Δv`, across a left-going one
+/// `Δσ = +Z Δv`. A free end reflects a front with the opposite stress jump.
+/// At the interface the incoming characteristic invariants are
+/// `J1 = σ − Z1 v` (bar 1 side) and `J2 = σ + Z2 v` (bar 2 side); in contact
+/// both faces share `v* = (J2 − J1)/(Z1 + Z2)` and
+/// `σ* = (Z2 J1 + Z1 J2)/(Z1 + Z2)`. The faces are in contact while the gap
+/// is closed and `σ* < 0`; when `σ*` would be zero or tensile they separate
+/// and each face becomes free (this is exactly when the first release wave
+/// returning from a free end unloads the interface, e.g. `2L/c` for equal
+/// bars). A
+/// separated pair is traced on (with possible re-contact when the gap closes)
+/// until re-contact is provably impossible: mean velocities no longer
+/// approaching and the gap larger than the largest possible vibration
+/// excursion of the free faces (face velocity is periodic with period
+/// `2L/c` and averages to the mean velocity). Final mean velocities follow
+/// from momentum: the time integral of the interface stress over the contact
+/// steps divided by the mass per unit area `ρ0 L`.
+///
+/// `t_end` should be finite: bars that keep vibrating after separation
+/// generate events for ever, so an infinite `t_end` then hits the event cap.
+/// The front log grows with `t_end` (a few fronts per `L/c`).
+///
+/// `None` for invalid input (see [`bar_impact`]) or if the event cap is hit.
+pub fn bar_impact_history(
+    m1: &MaterialModel,
+    l1: f64,
+    v1: f64,
+    m2: &MaterialModel,
+    l2: f64,
+    v2: f64,
+    t_end: f64,
+) -> Option<BarImpactHistory> {
+    let pos = |x: f64| x.is_finite() && x > 0.0;
+    let valid = pos(l1)
+        && pos(l2)
+        && pos(m1.rho0)
+        && pos(m2.rho0)
+        && pos(m1.c_l)
+        && pos(m2.c_l)
+        && pos(m1.z)
+        && pos(m2.z)
+        && v1.is_finite()
+        && v2.is_finite()
+        && v1 > v2
+        && !t_end.is_nan();
+    if !valid {
+        return None;
+    }
+    let trace = |m: &MaterialModel, len: f64, v0: f64| BarTrace {
+        len,
+        c: m.c_l,
+        z: m.z,
+        rho0: m.rho0,
+        v0,
+        log: [Vec::new(), Vec::new()],
+    };
+    let (z1, z2) = (m1.z, m2.z);
+    let sigma_scale = z1 * z2 * (v1 - v2) / (z1 + z2);
+    let mut sim = BarSim {
+        bars: [trace(m1, l1, v1), trace(m2, l2, v2)],
+        ends: [
+            [EndState { sig: 0.0, v: v1 }; 2],
+            [EndState { sig: 0.0, v: v2 }; 2],
+        ],
+        flight: Default::default(),
+        prune: PRUNE_TOL * sigma_scale,
+    };
+    let t_tol = TIME_TOL * sim.bars[0].transit().min(sim.bars[1].transit());
+    let v_scale = v1.abs() + v2.abs() + (v1 - v2);
+    let v_tol = 1e-12 * v_scale;
+    let gap_tol = 4.0 * v_scale * t_tol;
+    let periods = [2.0 * sim.bars[0].transit(), 2.0 * sim.bars[1].transit()];
+    let masses = [m1.rho0 * l1, m2.rho0 * l2];
+
+    // Interface bookkeeping.
+    let mut in_contact = false;
+    let mut gap = 0.0_f64;
+    let mut t_gap = 0.0_f64;
+    let mut sigma_i = 0.0_f64;
+    let mut t_sigma = 0.0_f64;
+    let mut impulse = 0.0_f64; // ∫ σ_I dt over finished contact steps
+    let mut steps: Vec<StressStep> = Vec::new();
+    let mut first_contact: Option<(f64, f64)> = None;
+    let mut first_sep: Option<f64> = None;
+    let mut last_sep = 0.0_f64;
+    let mut sep_start = 0.0_f64;
+    let mut bmax = [0.0_f64; 2];
+    let mut resolved: Option<BarImpact> = None;
+
+    let mean_vel = |impulse: f64| [v1 + impulse / masses[0], v2 - impulse / masses[1]];
+
+    let mut t_now;
+    let mut events = 0usize;
+    // First contact is an interface event at t = 0 with the gap closed.
+    let mut pending_close = true;
+    let mut t = 0.0_f64;
+    loop {
+        if events > MAX_EVENTS {
+            return None;
+        }
+        events += 1;
+        let window = t + t_tol;
+
+        // Free ends: bar 1 left, bar 2 right.
+        if sim.absorb(0, LEFT_GOING, window) {
+            sim.free_end(0, LEFT_END, t);
+        }
+        if sim.absorb(1, RIGHT_GOING, window) {
+            sim.free_end(1, RIGHT_END, t);
+        }
+
+        // Interface faces: bar 1 right end, bar 2 left end.
+        let vf_before = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
+        let a1 = sim.absorb(0, RIGHT_GOING, window);
+        let a2 = sim.absorb(1, LEFT_GOING, window);
+        if a1 || a2 || pending_close {
+            if !in_contact {
+                gap += (vf_before[1] - vf_before[0]) * (t - t_gap);
+                t_gap = t;
+                if pending_close {
+                    gap = 0.0;
+                }
+            }
+            let f1 = sim.ends[0][RIGHT_END];
+            let f2 = sim.ends[1][LEFT_END];
+            let j1 = f1.sig - z1 * f1.v;
+            let j2 = f2.sig + z2 * f2.v;
+            let sig_star = (z2 * j1 + z1 * j2) / (z1 + z2);
+            let v_star = (j2 - j1) / (z1 + z2);
+            let touching = in_contact || gap <= gap_tol;
+            // A contact that would carry no (or tensile) stress is open: the
+            // faces then move apart or, at most, together without load.
+            let contact = resolved.is_none() && touching && sig_star < -sim.prune;
+            if contact {
+                sim.emit(0, LEFT_GOING, t, sig_star - f1.sig);
+                sim.emit(1, RIGHT_GOING, t, sig_star - f2.sig);
+                gap = 0.0;
+                if first_contact.is_none() {
+                    first_contact = Some((sig_star, v_star));
+                }
+                if !in_contact {
+                    sigma_i = sig_star;
+                    t_sigma = t;
+                } else if (sig_star - sigma_i).abs() > sim.prune {
+                    impulse += sigma_i * (t - t_sigma);
+                    steps.push(StressStep {
+                        t_start: t_sigma,
+                        t_end: t,
+                        stress: sigma_i,
+                    });
+                    sigma_i = sig_star;
+                    t_sigma = t;
+                }
+            } else {
+                sim.emit(0, LEFT_GOING, t, -f1.sig);
+                sim.emit(1, RIGHT_GOING, t, -f2.sig);
+                if in_contact {
+                    impulse += sigma_i * (t - t_sigma);
+                    steps.push(StressStep {
+                        t_start: t_sigma,
+                        t_end: t,
+                        stress: sigma_i,
+                    });
+                    sigma_i = 0.0;
+                    first_sep.get_or_insert(t);
+                    last_sep = t;
+                    sep_start = t;
+                    gap = gap.max(0.0);
+                    t_gap = t;
+                    bmax = [0.0; 2];
+                }
+                let vm = mean_vel(impulse);
+                let vf = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
+                for b in 0..2 {
+                    bmax[b] = bmax[b].max((vf[b] - vm[b]).abs());
+                }
+            }
+            in_contact = contact;
+        }
+        t_now = t;
+
+        // Next event: a front arrival or, while separated and closing, the
+        // gap reaching zero.
+        let mut t_next = f64::INFINITY;
+        for b in 0..2 {
+            for dir in 0..2 {
+                t_next = t_next.min(sim.arrival(b, dir));
+            }
+        }
+        let vf = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
+        let mut t_close = f64::INFINITY;
+        if !in_contact && resolved.is_none() && vf[0] - vf[1] > v_tol {
+            t_close = t_gap + gap.max(0.0) / (vf[0] - vf[1]);
+        }
+        let closing = t_close <= t_next;
+        t_next = t_next.min(t_close);
+
+        // Is the outcome final? Checked on the state that holds on
+        // [t_now, t_next).
+        if resolved.is_none() && !in_contact {
+            let vm = mean_vel(impulse);
+            let mut done = vm[1] >= vm[0] - v_tol;
+            if done && !(sim.quiet(0) && sim.quiet(1)) {
+                let t_check = if t_next.is_finite() { t_next } else { t_now };
+                let gap_t = gap + (vf[1] - vf[0]) * (t_check - t_gap);
+                let mut excursion = 0.0;
+                for b in 0..2 {
+                    if sim.quiet(b) {
+                        continue;
+                    }
+                    if t_check - sep_start < periods[b] {
+                        done = false;
+                    }
+                    excursion += bmax[b] * periods[b];
+                }
+                done = done && gap_t > excursion;
+            }
+            if done {
+                let (contact_stress, interface_velocity) = first_contact?;
+                resolved = Some(BarImpact {
+                    contact_stress,
+                    interface_velocity,
+                    separation_time: last_sep,
+                    final_velocity_1: vm[0],
+                    final_velocity_2: vm[1],
+                });
+            }
+        }
+
+        if resolved.is_some() && (t_next > t_end || t_next.is_infinite()) {
+            let valid_until = if t_next.is_finite() {
+                t_end.max(t_now)
+            } else {
+                f64::INFINITY
+            };
+            let result = resolved?;
+            let [b1, b2] = sim.bars;
+            return Some(BarImpactHistory {
+                result,
+                first_separation_time: first_sep.unwrap_or(last_sep),
+                contact_steps: steps,
+                valid_until,
+                bars: [b1, b2],
+            });
+        }
+        if !t_next.is_finite() {
+            // Nothing will ever happen again, yet not resolved: cannot occur
+            // for valid input, but never loop forever.
+            return None;
+        }
+        pending_close = closing;
+        t = t_next;
+    }
+}
+
+/// Exact particle velocity in case 1 of METHOD.md §10 (two equal bars, each
+/// of length `l`, wave speed `c`, impacting at `±v0`): bar 1 occupies
+/// `[−l, 0]` and moves at `+v0` (to the right, towards the contact face at
+/// `x = 0`); the point is at distance `d ∈ [0, l]` from the contact face;
+/// `t` is measured from first contact.
+///
+/// `+v0` until the compressive front arrives at `d/c`, 0 in the compressed
+/// state until the release reflected from the free end arrives at
+/// `(2l − d)/c`, then `−v0` for ever (the bars separate stress-free at
+/// `2l/c`). Values switch at the arrival instants. The point of bar 2 at the
+/// same distance moves with the opposite sign. NaN for `d` outside `[0, l]`.
+pub fn equal_bars_point_velocity(c: f64, l: f64, v0: f64, d: f64, t: f64) -> f64 {
+    if !(0.0..=l).contains(&d) {
+        return f64::NAN;
+    }
+    if t < d / c {
+        v0
+    } else if t < (2.0 * l - d) / c {
+        0.0
+    } else {
+        -v0
+    }
+}
+
+// ---------------------------------------------------------------------------
+// 2-D quasi-static Hertz line contact of two identical disks (METHOD.md §10,
+// case 3)
+// ---------------------------------------------------------------------------
+
+/// Approach constant `C` of Johnson (1985) for a disk in diametral
+/// compression (METHOD.md §10, case 3): the softer end of the bracket.
+pub const HERTZ_C_JOHNSON: f64 = 1.0;
+
+/// Approach constant `C = 1 + 2 ln 2 − (3 − 4ν)/(4(1 − ν))` for a free disk
+/// loaded at the contact and held by its own inertia (METHOD.md §10, case 3):
+/// the stiffer end of the bracket, ≈ 1.742 for steel.
+pub fn hertz_c_inertia(nu: f64) -> f64 {
+    1.0 + 2.0 * LN_2 - (3.0 - 4.0 * nu) / (4.0 * (1.0 - nu))
+}
+
+/// Plane-strain modulus `E' = E/(1 − ν²)` (METHOD.md §10, case 3).
+pub fn plane_strain_modulus(mat: &MaterialModel) -> f64 {
+    mat.e / (1.0 - mat.nu * mat.nu)
+}
+
+/// Contact half-width `a = sqrt(4 P R/(π E'))` of two identical disks of
+/// radius `radius` pressed with force `force` per unit thickness (N/m).
+pub fn hertz_half_width(mat: &MaterialModel, radius: f64, force: f64) -> f64 {
+    (4.0 * force.max(0.0) * radius / (PI * plane_strain_modulus(mat))).sqrt()
+}
+
+/// Result of the quasi-static Hertz impact of two identical disks (METHOD.md
+/// §10, case 3), per unit thickness.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HertzImpact {
+    /// Peak contact force per unit thickness, N/m.
+    pub peak_force: f64,
+    /// Contact duration, s.
+    pub contact_time: f64,
+    /// Peak approach of the two centres `δ = 2 δ1`, m.
+    pub max_approach: f64,
+    /// Force history `(t, P)` over the contact (s, N/m), from `(0, 0)` to
+    /// `(contact_time, 0)`, symmetric about the peak (elastic, so unloading
+    /// retraces loading); denser near the start and end of contact.
+    pub curve: Vec<(f64, f64)>,
+}
+
+impl HertzImpact {
+    /// Contact force at time `t` by linear interpolation of
+    /// [`curve`](Self::curve) (relative error ~1e-5 near the peak); 0
+    /// outside the contact.
+    pub fn force_at(&self, t: f64) -> f64 {
+        let c = &self.curve;
+        if c.len() < 2 || !(t > c[0].0 && t < c[c.len() - 1].0) {
+            return 0.0;
+        }
+        let i = c.partition_point(|p| p.0 <= t).clamp(1, c.len() - 1);
+        let (t0, p0) = c[i - 1];
+        let (t1, p1) = c[i];
+        if t1 > t0 {
+            p0 + (p1 - p0) * (t - t0) / (t1 - t0)
+        } else {
+            p1
+        }
+    }
+}
+
+/// The line-contact law of two identical disks, in the dimensionless force
+/// `p = P/(π E' R)`: `a/R = 2 sqrt(p)`, hence `ln(4R/a) = ln 2 − ½ ln p` and
+/// the approach of the centres `δ = 2 δ1 = 2 R p (A − ln p)` with
+/// `A = 2 ln 2 − C`. Monotone for `p < exp(A − 1)` (far beyond any elastic
+/// load), which bounds the valid range.
+#[derive(Debug, Clone, Copy)]
+struct HertzLine {
+    e_prime: f64,
+    radius: f64,
+    a: f64,
+}
+
+impl HertzLine {
+    fn new(mat: &MaterialModel, radius: f64, c: f64) -> Option<Self> {
+        let e_prime = plane_strain_modulus(mat);
+        let ok = e_prime.is_finite()
+            && e_prime > 0.0
+            && radius.is_finite()
+            && radius > 0.0
+            && c.is_finite();
+        ok.then_some(Self {
+            e_prime,
+            radius,
+            a: 2.0 * LN_2 - c,
+        })
+    }
+
+    fn force_scale(&self) -> f64 {
+        PI * self.e_prime * self.radius
+    }
+
+    /// `δ(p)`, m.
+    fn approach_of_p(&self, p: f64) -> f64 {
+        if p > 0.0 {
+            2.0 * self.radius * p * (self.a - p.ln())
+        } else {
+            0.0
+        }
+    }
+
+    /// Inverse of [`approach_of_p`](Self::approach_of_p): solve
+    /// `q + ln(A − q) = ln(δ/2R)` for `q = ln p` (the log form stays well
+    /// conditioned as `p → 0`, where δ → 0 like `p ln(1/p)`).
+    fn p_of_approach(&self, delta: f64) -> Option<f64> {
+        if delta <= 0.0 {
+            return Some(0.0);
+        }
+        solve_log_equation(1.0, self.a, (delta / (2.0 * self.radius)).ln()).map(f64::exp)
+    }
+
+    /// The dimensionless stored energy is `W(p) = p² (A − ½ − ln p)`, the
+    /// exact integral `U = ∫ P dδ = π E' R² W(p)`; this inverts it by solving
+    /// `2q + ln(A − ½ − q) = ln W` for `q = ln p`.
+    fn p_of_w(&self, w: f64) -> Option<f64> {
+        if w.is_nan() || w <= 0.0 {
+            return None;
+        }
+        solve_log_equation(2.0, self.a - 0.5, w.ln()).map(f64::exp)
+    }
+}
+
+/// Solve `k q + ln(β − q) = target` on the increasing branch
+/// `q < q_max = β − 1/k` (safeguarded Newton). None when `target` is at or
+/// above the branch maximum (no monotone solution: the load is beyond the
+/// range of the line-contact law) or not finite.
+fn solve_log_equation(k: f64, beta: f64, target: f64) -> Option<f64> {
+    let q_max = beta - 1.0 / k;
+    let h = |q: f64| k * q + (beta - q).ln();
+    if !target.is_finite() || target >= h(q_max) {
+        return None;
+    }
+    // Lower bracket: h(q) < target.
+    let mut step = 1.0;
+    let mut lo = (target / k).min(q_max) - step;
+    let mut guard = 0;
+    while h(lo) >= target {
+        step *= 2.0;
+        lo -= step;
+        guard += 1;
+        if guard > 200 {
+            return None;
+        }
+    }
+    let mut hi = q_max;
+    // Fixed-point estimate as the start, clamped into the bracket.
+    let mut q = ((target - (beta - lo).ln()) / k).clamp(lo, hi);
+    for _ in 0..200 {
+        let f = h(q) - target;
+        if f < 0.0 {
+            lo = q;
+        } else {
+            hi = q;
+        }
+        let d = k - 1.0 / (beta - q);
+        let mut qn = q - f / d;
+        if !(qn > lo && qn < hi) {
+            qn = 0.5 * (lo + hi);
+        }
+        if (qn - q).abs() <= 1e-15 * (1.0 + q.abs()) || hi - lo <= 1e-15 * (1.0 + q.abs()) {
+            return Some(qn);
+        }
+        q = qn;
+    }
+    Some(q)
+}
+
+/// Approach of the two centres `δ = 2 δ1` (m) of identical disks under the
+/// contact force `force` (N/m), `δ1 = (P/(π E'))[2 ln(4R/a) − C]` (METHOD.md
+/// §10, case 3). None outside the monotone range of the law or for invalid
+/// input.
+pub fn hertz_approach(mat: &MaterialModel, radius: f64, c: f64, force: f64) -> Option<f64> {
+    let line = HertzLine::new(mat, radius, c)?;
+    if force.is_nan() || force < 0.0 {
+        return None;
+    }
+    let p = force / line.force_scale();
+    (p < (line.a - 1.0).exp()).then(|| line.approach_of_p(p))
+}
+
+/// Contact force (N/m) of identical disks at centre approach `approach` (m):
+/// the numerical inverse of [`hertz_approach`]; 0 for no overlap. None beyond
+/// the monotone range of the law or for invalid input.
+pub fn hertz_force(mat: &MaterialModel, radius: f64, c: f64, approach: f64) -> Option<f64> {
+    let line = HertzLine::new(mat, radius, c)?;
+    if approach.is_nan() {
+        return None;
+    }
+    Some(line.p_of_approach(approach)? * line.force_scale())
+}
+
+/// Number of curve intervals on each half (loading, unloading).
+const HERTZ_HALF_SAMPLES: usize = 400;
+
+/// Quasi-static Hertz impact of two identical elastic disks in plane strain
+/// (METHOD.md §10, case 3): radius `radius` (m), closing speed
+/// `closing_speed` (m/s, i.e. each disk at half of it), approach constant `c`
+/// ([`HERTZ_C_JOHNSON`] or [`hertz_c_inertia`]).
+///
+/// Model: `m* δ̈ = −P(δ)`, `δ(0) = 0`, `δ̇(0) = V`, `m* = ρ π R²/2`, with
+/// `P(δ)` the inverse of `δ = 2 (P/(π E'))[2 ln(4R/a) − C]`. The peak follows
+/// from energy, `½ m* V² = ∫0^δmax P dδ`, whose integral is closed-form in
+/// `p = P/(πE'R)`; the contact time `2 ∫ dδ/δ̇` is integrated in
+/// `p = p_max sin²φ`, which removes the inverse-square-root singularity at the
+/// turning point (and the logarithmic one at `p → 0`), by tanh–sinh
+/// quadrature to ~1e-12.
+///
+/// Returns NaN fields and an empty curve for invalid input (non-positive
+/// radius, speed or density) or a load beyond the range of the law; see
+/// [`try_hertz_disks`].
+pub fn hertz_disks(mat: &MaterialModel, radius: f64, closing_speed: f64, c: f64) -> HertzImpact {
+    try_hertz_disks(mat, radius, closing_speed, c).unwrap_or(HertzImpact {
+        peak_force: f64::NAN,
+        contact_time: f64::NAN,
+        max_approach: f64::NAN,
+        curve: Vec::new(),
+    })
+}
+
+/// [`hertz_disks`], with `None` for invalid input.
+pub fn try_hertz_disks(
+    mat: &MaterialModel,
+    radius: f64,
+    closing_speed: f64,
+    c: f64,
+) -> Option<HertzImpact> {
+    let line = HertzLine::new(mat, radius, c)?;
+    let v = closing_speed;
+    if !(v.is_finite() && v > 0.0 && mat.rho0.is_finite() && mat.rho0 > 0.0) {
+        return None;
+    }
+    let m_star = 0.5 * mat.rho0 * PI * radius * radius;
+    // ½ m* V² = π E' R² W(p_max).
+    let w_max = m_star * v * v / (2.0 * line.force_scale() * radius);
+    let p_max = line.p_of_w(w_max)?;
+    let a = line.a;
+    let b_minus_lnpm = a - 0.5 - p_max.ln();
+    // dt/dφ = [4 R p_max sqrt(B − ln p_max)/V] · sinφ (A − 1 − ln p)/sqrt(Q),
+    // Q = (W_max − W)/(p_max² cos²φ), written to stay accurate at both ends.
+    let prefactor = 4.0 * radius * p_max * b_minus_lnpm.sqrt() / v;
+    let integrand = |phi: f64| -> f64 {
+        let sin = phi.sin();
+        if sin <= 0.0 {
+            return 0.0;
+        }
+        let s = sin * sin;
+        let c2 = {
+            let cos = (FRAC_PI_2 - phi).sin();
+            cos * cos
+        };
+        let ln_s = 2.0 * sin.ln();
+        // s² ln(s)/cos²φ, with ln(s) = ln(1 − cos²φ) near φ = π/2.
+        let tail = if c2 <= 0.0 {
+            -s * s
+        } else if s < 0.5 {
+            s * s * ln_s / c2
+        } else {
+            s * s * (-c2).ln_1p() / c2
+        };
+        let q = b_minus_lnpm * (1.0 + s) + tail;
+        let ln_p = p_max.ln() + ln_s;
+        prefactor * sin * (a - 1.0 - ln_p) / q.sqrt()
+    };
+    let n = HERTZ_HALF_SAMPLES;
+    let mut half = Vec::with_capacity(n + 1);
+    half.push((0.0, 0.0));
+    let mut t_acc = 0.0;
+    for i in 1..=n {
+        let phi0 = FRAC_PI_2 * (i - 1) as f64 / n as f64;
+        let phi1 = FRAC_PI_2 * i as f64 / n as f64;
+        t_acc += tanh_sinh(&integrand, phi0, phi1, 1e-13);
+        let sin = phi1.sin();
+        half.push((t_acc, line.force_scale() * p_max * sin * sin));
+    }
+    let t_half = t_acc;
+    let contact_time = 2.0 * t_half;
+    let peak_force = line.force_scale() * p_max;
+    if !(contact_time.is_finite() && contact_time > 0.0) {
+        return None;
+    }
+    // Exact symmetry: the last point of the loading half is the peak.
+    if let Some(last) = half.last_mut() {
+        *last = (t_half, peak_force);
+    }
+    let mut curve = half.clone();
+    curve.extend(
+        half.iter()
+            .rev()
+            .skip(1)
+            .map(|&(t, p)| (contact_time - t, p)),
+    );
+    if let Some(last) = curve.last_mut() {
+        *last = (contact_time, 0.0);
+    }
+    Some(HertzImpact {
+        peak_force,
+        contact_time,
+        max_approach: line.approach_of_p(p_max),
+        curve,
+    })
+}
+
+/// A single disk at speed `speed` on a rigid frictionless wall (METHOD.md
+/// §8.5): the same force history as two identical disks at closing speed
+/// `2 speed`; `max_approach` is then the approach of the disk centre to the
+/// wall, `δ1 = δ/2`.
+pub fn hertz_disk_on_wall(mat: &MaterialModel, radius: f64, speed: f64, c: f64) -> HertzImpact {
+    let mut h = hertz_disks(mat, radius, 2.0 * speed, c);
+    h.max_approach *= 0.5;
+    h
+}
+
+/// `∫_a^b f` by tanh–sinh (double-exponential) quadrature, refined by halving
+/// the step until two levels agree to `rel_tol`. Nodes never touch the
+/// endpoints and cluster there doubly exponentially, so integrable endpoint
+/// singularities (here `φ ln φ`) cost nothing extra.
+fn tanh_sinh<F: Fn(f64) -> f64>(f: &F, a: f64, b: f64, rel_tol: f64) -> f64 {
+    let half = 0.5 * (b - a);
+    if half <= 0.0 {
+        return 0.0;
+    }
+    const T_MAX: f64 = 4.0;
+    // Contribution of the node pair at ±t (or the centre at t = 0).
+    let pair = |t: f64| -> f64 {
+        let u = FRAC_PI_2 * t.sinh();
+        let cu = u.cosh();
+        let w = half * FRAC_PI_2 * t.cosh() / (cu * cu);
+        if w.is_nan() || w <= 0.0 {
+            return 0.0;
+        }
+        // Distance of the node from the nearer endpoint, accurate for large u.
+        let d = 2.0 * half / (1.0 + (2.0 * u).exp());
+        if t == 0.0 {
+            return w * f(a + half);
+        }
+        if d.is_nan() || d <= 0.0 {
+            return 0.0;
+        }
+        w * (f(a + d) + f(b - d))
+    };
+    let mut h = 1.0;
+    let mut sum = pair(0.0);
+    let mut k = 1.0;
+    while k * h <= T_MAX {
+        sum += pair(k * h);
+        k += 1.0;
+    }
+    let mut estimate = h * sum;
+    for _ in 0..10 {
+        h *= 0.5;
+        let mut k = 1.0;
+        while k * h <= T_MAX {
+            sum += pair(k * h);
+            k += 2.0;
+        }
+        let next = h * sum;
+        let done = (next - estimate).abs() <= rel_tol * next.abs();
+        estimate = next;
+        if done {
+            break;
+        }
+    }
+    estimate
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A linear-EOS material from `(ρ0, c0, G)`, derived constants as in
+    /// METHOD.md §6 (K = ρ0 c0², E = 9KG/(3K+G), c_L = sqrt((K + 4G/3)/ρ0)).
+    fn material(rho0: f64, c0: f64, g: f64) -> MaterialModel {
+        let k = rho0 * c0 * c0;
+        let e = 9.0 * k * g / (3.0 * k + g);
+        let nu = (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g));
+        let m = k + 4.0 * g / 3.0;
+        let c_l = (m / rho0).sqrt();
+        MaterialModel {
+            rho0,
+            c0,
+            s: 0.0,
+            gamma0: 0.0,
+            linear: true,
+            g,
+            y0: f64::INFINITY,
+            k,
+            e,
+            nu,
+            c_l,
+            z: rho0 * c_l,
+            m,
+        }
+    }
+
+    fn steel() -> MaterialModel {
+        material(7850.0, 4580.0, 77e9)
+    }
+
+    fn aluminium() -> MaterialModel {
+        material(2790.0, 5330.0, 25e9)
+    }
+
+    /// Relative closeness to a printed figure.
+    fn close(x: f64, expected: f64, rel: f64) -> bool {
+        ((x - expected) / expected).abs() <= rel
+    }
+
+    /// Absolute closeness to a printed figure in its last digit.
+    fn near(x: f64, expected: f64, abs: f64) -> bool {
+        (x - expected).abs() <= abs
+    }
+
+    const L: f64 = 5e-3;
+
+    /// METHOD.md §10 case 1: −458.1 MPa, 2L/c_L = 1.7136 µs, rebound ∓10 m/s.
+    #[test]
+    fn equal_steel_bars() {
+        let s = steel();
+        let r = bar_impact(&s, L, 10.0, &s, L, -10.0);
+        println!("case 1: {r:?}");
+        assert!(near(r.contact_stress / 1e6, -458.1, 0.05), "{r:?}");
+        assert!(near(r.interface_velocity, 0.0, 1e-12), "{r:?}");
+        assert!(near(r.separation_time * 1e6, 1.7136, 0.00005), "{r:?}");
+        assert!(close(r.separation_time, 2.0 * L / s.c_l, 1e-12));
+        assert!(near(r.final_velocity_1, -10.0, 1e-9), "{r:?}");
+        assert!(near(r.final_velocity_2, 10.0, 1e-9), "{r:?}");
+    }
+
+    /// METHOD.md §10 case 2: −255.6 MPa, +4.42 m/s, 2L/c_Al = 1.574 µs,
+    /// aluminium +18.84 m/s, steel mean −0.25 m/s.
+    #[test]
+    fn steel_on_aluminium() {
+        let (s, a) = (steel(), aluminium());
+        let h = bar_impact_history(&s, L, 10.0, &a, L, -10.0, 3e-6).expect("resolved");
+        let r = h.result;
+        println!("case 2: {r:?}, steps {:?}", h.contact_steps);
+        assert!(near(r.contact_stress / 1e6, -255.6, 0.05), "{r:?}");
+        assert!(near(r.interface_velocity, 4.42, 0.005), "{r:?}");
+        assert!(near(r.separation_time * 1e6, 1.574, 0.0005), "{r:?}");
+        assert!(close(r.separation_time, 2.0 * L / a.c_l, 1e-12));
+        assert_eq!(h.first_separation_time, r.separation_time);
+        assert_eq!(h.contact_steps.len(), 1, "a single stress level");
+        assert!(near(r.final_velocity_2, 18.84, 0.005), "{r:?}");
+        assert!(near(r.final_velocity_1, -0.25, 0.005), "{r:?}");
+        // Momentum is conserved.
+        let p0 = s.rho0 * L * 10.0 - a.rho0 * L * 10.0;
+        let p1 = s.rho0 * L * r.final_velocity_1 + a.rho0 * L * r.final_velocity_2;
+        assert!((p1 - p0).abs() <= 1e-12 * s.rho0 * L * 10.0);
+        // Aluminium ends uniform at its mean velocity; steel keeps a pulse.
+        let t = 3.0e-6;
+        for i in 0..=10 {
+            let d = L * i as f64 / 10.0;
+            let va = h.point_velocity(BarId::Two, d, t);
+            assert!(near(va, r.final_velocity_2, 1e-9), "Al at d = {d}: {va}");
+        }
+    }
+
+    /// Energy: elastic bars, so kinetic + strain energy is conserved; after
+    /// separation the steel bar's trapped pulse holds the missing energy.
+    #[test]
+    fn energy_conservation_in_history() {
+        let (s, a) = (steel(), aluminium());
+        let t_end = 5e-6;
+        let h = bar_impact_history(&s, L, 10.0, &a, L, -10.0, t_end).expect("resolved");
+        let energy = |m: &MaterialModel, bar: BarId, t: f64| {
+            let n = 20_000;
+            let dx = L / n as f64;
+            (0..n)
+                .map(|i| {
+                    let d = (i as f64 + 0.5) * dx;
+                    let v = h.point_velocity(bar, d, t);
+                    let sig = h.point_stress(bar, d, t);
+                    0.5 * m.rho0 * v * v * dx + 0.5 * sig * sig / m.m * dx
+                })
+                .sum::<f64>()
+        };
+        let e0 = 0.5 * (s.rho0 + a.rho0) * L * 100.0;
+        for &t in &[0.3e-6, 1.0e-6, 2.0e-6, 4.9e-6] {
+            let e = energy(&s, BarId::One, t) + energy(&a, BarId::Two, t);
+            assert!(close(e, e0, 1e-3), "t = {t}: {e} vs {e0}");
+        }
+    }
+
+    /// METHOD.md §10 case 2, Galilean check: steel at 20 m/s onto aluminium
+    /// at rest gives the same stress and timing, velocities shifted by +10.
+    #[test]
+    fn galilean_invariance() {
+        let (s, a) = (steel(), aluminium());
+        let r = bar_impact(&s, L, 10.0, &a, L, -10.0);
+        let g = bar_impact(&s, L, 20.0, &a, L, 0.0);
+        println!("galilean: {g:?}");
+        assert!(close(g.contact_stress, r.contact_stress, 1e-12));
+        assert!(close(g.separation_time, r.separation_time, 1e-12));
+        assert!(near(
+            g.interface_velocity,
+            r.interface_velocity + 10.0,
+            1e-9
+        ));
+        assert!(near(g.final_velocity_1, r.final_velocity_1 + 10.0, 1e-9));
+        assert!(near(g.final_velocity_2, r.final_velocity_2 + 10.0, 1e-9));
+        // Same for equal bars.
+        let e = bar_impact(&s, L, 20.0, &s, L, 0.0);
+        assert!(near(e.contact_stress / 1e6, -458.1, 0.05));
+        assert!(near(e.final_velocity_1, 0.0, 1e-9));
+        assert!(near(e.final_velocity_2, 20.0, 1e-9));
+    }
+
+    /// Aluminium on the left, steel on the right: the mirror of case 2.
+    #[test]
+    fn mirrored_case_2() {
+        let (s, a) = (steel(), aluminium());
+        let r = bar_impact(&a, L, 10.0, &s, L, -10.0);
+        assert!(near(r.contact_stress / 1e6, -255.6, 0.05));
+        assert!(near(r.interface_velocity, -4.42, 0.005));
+        assert!(near(r.separation_time * 1e6, 1.574, 0.0005));
+        assert!(near(r.final_velocity_1, -18.84, 0.005));
+        assert!(near(r.final_velocity_2, 0.25, 0.005));
+    }
+
+    /// Case 1 point history, closed form vs the wave tracer, and the
+    /// linear fall of the bar-average velocity.
+    #[test]
+    fn equal_bars_point_history() {
+        let s = steel();
+        let c = s.c_l;
+        let h = bar_impact_history(&s, L, 10.0, &s, L, -10.0, 4e-6).expect("resolved");
+        for i in 0..=20 {
+            let d = L * i as f64 / 20.0;
+            for j in 0..400 {
+                let t = 4e-6 * (j as f64 + 0.37) / 400.0;
+                let exact = equal_bars_point_velocity(c, L, 10.0, d, t);
+                let traced = h.point_velocity(BarId::One, d, t);
+                assert!(
+                    near(traced, exact, 1e-9),
+                    "d {d} t {t}: {traced} vs {exact}"
+                );
+                let traced2 = h.point_velocity(BarId::Two, d, t);
+                assert!(near(traced2, -exact, 1e-9));
+            }
+        }
+        let b = 0.25 * L;
+        assert_eq!(equal_bars_point_velocity(c, L, 10.0, b, 0.99 * b / c), 10.0);
+        assert_eq!(equal_bars_point_velocity(c, L, 10.0, b, 1.01 * b / c), 0.0);
+        let t_back = (2.0 * L - b) / c;
+        assert_eq!(equal_bars_point_velocity(c, L, 10.0, b, 0.99 * t_back), 0.0);
+        assert_eq!(
+            equal_bars_point_velocity(c, L, 10.0, b, 1.01 * t_back),
+            -10.0
+        );
+        assert!(equal_bars_point_velocity(c, L, 10.0, 2.0 * L, 0.0).is_nan());
+        // Mean velocity falls linearly from +10 to −10 m/s over 2L/c.
+        let ts = 2.0 * L / c;
+        for k in 0..=10 {
+            let t = ts * k as f64 / 10.0;
+            let vm = h.mean_velocity(BarId::One, t);
+            assert!(near(vm, 10.0 - 20.0 * k as f64 / 10.0, 1e-9), "{t}: {vm}");
+        }
+        assert!(near(h.interface_stress(0.5 * ts) / 1e6, -458.1, 0.05));
+        assert_eq!(h.interface_stress(1.1 * ts), 0.0);
+    }
+
+    /// A short bar onto a long bar of the same material: the striker stops,
+    /// the target carries the whole momentum away (classic result), and a
+    /// general case with unequal impedances and lengths conserves momentum
+    /// and energy.
+    #[test]
+    fn unequal_lengths() {
+        let s = steel();
+        let r = bar_impact(&s, L, 10.0, &s, 2.0 * L, 0.0);
+        println!("short on long: {r:?}");
+        assert!(near(r.final_velocity_1, 0.0, 1e-9));
+        assert!(near(r.final_velocity_2, 5.0, 1e-9));
+        assert!(close(r.separation_time, 2.0 * L / s.c_l, 1e-12));
+
+        let a = aluminium();
+        for &(l1, l2) in &[
+            (L, 3.0 * L),
+            (3.0 * L, L),
+            (0.7 * L, 1.9 * L),
+            (2.3 * L, 0.4 * L),
+        ] {
+            for &(m1, m2) in &[(s, a), (a, s)] {
+                let h = bar_impact_history(&m1, l1, 7.0, &m2, l2, -3.0, 0.0).expect("resolved");
+                let r = h.result;
+                let p0 = m1.rho0 * l1 * 7.0 - m2.rho0 * l2 * 3.0;
+                let p1 = m1.rho0 * l1 * r.final_velocity_1 + m2.rho0 * l2 * r.final_velocity_2;
+                assert!((p1 - p0).abs() <= 1e-9 * p0.abs().max(1.0));
+                // Elastic: the rigid-body kinetic energy cannot grow.
+                let k0 = 0.5 * (m1.rho0 * l1 * 49.0 + m2.rho0 * l2 * 9.0);
+                let k1 = 0.5
+                    * (m1.rho0 * l1 * r.final_velocity_1.powi(2)
+                        + m2.rho0 * l2 * r.final_velocity_2.powi(2));
+                assert!(k1 <= k0 * (1.0 + 1e-12), "{l1} {l2}: {k1} > {k0}");
+                assert!(r.final_velocity_2 >= r.final_velocity_1 - 1e-9);
+                assert!(h.contact_steps.iter().all(|s| s.stress < 0.0));
+            }
+        }
+    }
+
+    /// Random configurations (deterministic generator): every one resolves,
+    /// conserves momentum, and conserves kinetic + strain energy at all times
+    /// of the traced history; the interface is never tensile.
+    #[test]
+    fn random_bars_conserve() {
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut recontacts = 0;
+        for _ in 0..200 {
+            let m1 = material(
+                1000.0 + 9000.0 * rnd(),
+                2000.0 + 5000.0 * rnd(),
+                80e9 * rnd(),
+            );
+            let m2 = material(
+                1000.0 + 9000.0 * rnd(),
+                2000.0 + 5000.0 * rnd(),
+                80e9 * rnd(),
+            );
+            let (l1, l2) = (L * (0.1 + 3.0 * rnd()), L * (0.1 + 3.0 * rnd()));
+            let v2 = 20.0 * (rnd() - 0.5);
+            let v1 = v2 + 0.1 + 20.0 * rnd();
+            let t_end = 6.0 * (l1 / m1.c_l).max(l2 / m2.c_l);
+            let h = bar_impact_history(&m1, l1, v1, &m2, l2, v2, t_end).expect("resolved");
+            let r = h.result;
+            let (w1, w2) = (m1.rho0 * l1, m2.rho0 * l2);
+            let p0 = w1 * v1 + w2 * v2;
+            let p1 = w1 * r.final_velocity_1 + w2 * r.final_velocity_2;
+            assert!((p1 - p0).abs() <= 1e-9 * (w1 * v1.abs() + w2 * v2.abs()));
+            assert!(r.final_velocity_2 >= r.final_velocity_1 - 1e-9);
+            assert!(h.contact_steps.iter().all(|s| s.stress < 0.0));
+            if h.contact_steps
+                .windows(2)
+                .any(|w| w[1].t_start > w[0].t_end)
+            {
+                recontacts += 1;
+            }
+            let e0 = 0.5 * (w1 * v1 * v1 + w2 * v2 * v2);
+            let energy = |m: &MaterialModel, len: f64, bar: BarId, t: f64| {
+                let n = 40000;
+                let dx = len / n as f64;
+                (0..n)
+                    .map(|i| {
+                        let d = (i as f64 + 0.5) * dx;
+                        let v = h.point_velocity(bar, d, t);
+                        let sig = h.point_stress(bar, d, t);
+                        0.5 * (m.rho0 * v * v + sig * sig / m.m) * dx
+                    })
+                    .sum::<f64>()
+            };
+            for k in 1..6 {
+                let t = t_end * k as f64 / 6.0 + 1e-3 * t_end * rnd();
+                let e = energy(&m1, l1, BarId::One, t) + energy(&m2, l2, BarId::Two, t);
+                assert!(close(e, e0, 2e-3), "t = {t}: {e} vs {e0}");
+                // The interface never overlaps: stress-free faces when apart.
+                if h.interface_stress(t) == 0.0 {
+                    assert!(
+                        h.point_stress(BarId::One, 0.0, t).abs() < 1e-3 * r.contact_stress.abs()
+                    );
+                    assert!(
+                        h.point_stress(BarId::Two, 0.0, t).abs() < 1e-3 * r.contact_stress.abs()
+                    );
+                }
+            }
+        }
+        println!("random bars: {recontacts} of 200 re-contact");
+    }
+
+    #[test]
+    fn invalid_bar_input() {
+        let s = steel();
+        assert!(try_bar_impact(&s, L, -1.0, &s, L, 1.0).is_none());
+        assert!(try_bar_impact(&s, 0.0, 1.0, &s, L, 0.0).is_none());
+        assert!(bar_impact(&s, L, 1.0, &s, L, 1.0).contact_stress.is_nan());
+    }
+
+    /// METHOD.md §6 derived constants and the §10 case-3 inputs.
+    #[test]
+    fn steel_constants() {
+        let s = steel();
+        assert!(close(s.e, 199.8e9, 5e-4));
+        assert!(near(s.nu, 0.298, 5e-4));
+        assert!(close(plane_strain_modulus(&s), 219.3e9, 5e-4));
+        let c = hertz_c_inertia(s.nu);
+        println!("C_inertia(steel) = {c}");
+        assert!(near(c, 1.742, 5e-4));
+    }
+
+    /// METHOD.md §10 case 3: peak 1.161 (C = 1) to 1.224 MN/m (C ≈ 1.742),
+    /// contact time 8.71 to 8.30 µs.
+    #[test]
+    fn hertz_bracket() {
+        let s = steel();
+        let r = 5e-3;
+        let soft = hertz_disks(&s, r, 10.0, HERTZ_C_JOHNSON);
+        let stiff = hertz_disks(&s, r, 10.0, hertz_c_inertia(s.nu));
+        println!(
+            "Hertz C=1: peak {:.6} MN/m, t_c {:.6} us, delta_max {:.6e} m",
+            soft.peak_force / 1e6,
+            soft.contact_time * 1e6,
+            soft.max_approach
+        );
+        println!(
+            "Hertz C=C_inertia: peak {:.6} MN/m, t_c {:.6} us, delta_max {:.6e} m",
+            stiff.peak_force / 1e6,
+            stiff.contact_time * 1e6,
+            stiff.max_approach
+        );
+        assert!(close(soft.peak_force, 1.161e6, 2e-3));
+        assert!(close(soft.contact_time, 8.71e-6, 2e-3));
+        assert!(close(stiff.peak_force, 1.224e6, 2e-3));
+        assert!(close(stiff.contact_time, 8.30e-6, 2e-3));
+        // And to the printed digits.
+        assert!(near(soft.peak_force / 1e6, 1.161, 0.0005));
+        assert!(near(stiff.peak_force / 1e6, 1.224, 0.0005));
+        assert!(near(soft.contact_time * 1e6, 8.71, 0.005));
+        assert!(near(stiff.contact_time * 1e6, 8.30, 0.005));
+    }
+
+    /// Curve shape: ≥ 200 points, from (0, 0) to (t_c, 0), monotone times,
+    /// symmetric about the peak, and its impulse `∫P dt = 2 m* V` (the
+    /// relative velocity reverses).
+    #[test]
+    fn hertz_curve() {
+        let s = steel();
+        let (r, v) = (5e-3, 10.0);
+        let h = hertz_disks(&s, r, v, hertz_c_inertia(s.nu));
+        let c = &h.curve;
+        assert!(c.len() >= 200);
+        assert_eq!(c[0], (0.0, 0.0));
+        assert_eq!(c[c.len() - 1], (h.contact_time, 0.0));
+        assert!(c.windows(2).all(|w| w[1].0 > w[0].0));
+        let n = c.len();
+        for i in 0..n {
+            let (t, p) = c[i];
+            let (tm, pm) = c[n - 1 - i];
+            assert!(near(t + tm, h.contact_time, 1e-15));
+            assert_eq!(p, pm);
+        }
+        let peak = c.iter().map(|p| p.1).fold(0.0, f64::max);
+        assert_eq!(peak, h.peak_force);
+        assert!(near(c[n / 2].0, 0.5 * h.contact_time, 1e-18));
+        let impulse: f64 = c
+            .windows(2)
+            .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[1].0 - w[0].0))
+            .sum();
+        let m_star = 0.5 * s.rho0 * PI * r * r;
+        assert!(close(impulse, 2.0 * m_star * v, 1e-4), "{impulse}");
+        assert!(close(h.force_at(0.5 * h.contact_time), h.peak_force, 1e-12));
+        assert_eq!(h.force_at(-1.0), 0.0);
+        assert_eq!(h.force_at(2.0 * h.contact_time), 0.0);
+    }
+
+    /// Energy: ½ m* V² = ∫0^δmax P(δ) dδ with P(δ) from the numerical
+    /// inversion (independent of the closed form), and the inversion is
+    /// consistent with the forward law.
+    #[test]
+    fn hertz_energy_and_inversion() {
+        let s = steel();
+        let (r, v) = (5e-3, 10.0);
+        for c in [HERTZ_C_JOHNSON, hertz_c_inertia(s.nu)] {
+            let h = hertz_disks(&s, r, v, c);
+            let dmax = h.max_approach;
+            let back = hertz_approach(&s, r, c, h.peak_force).expect("in range");
+            assert!(close(back, dmax, 1e-14));
+            for &f in &[1e-6, 1.0, 1e3, 1e6, 2e6] {
+                let d = hertz_approach(&s, r, c, f).expect("in range");
+                let p = hertz_force(&s, r, c, d).expect("in range");
+                assert!(close(p, f, 1e-12), "{f}: {p}");
+            }
+            assert_eq!(hertz_force(&s, r, c, 0.0), Some(0.0));
+            assert_eq!(hertz_force(&s, r, c, -1e-9), Some(0.0));
+            // Simpson on δ ∈ [0, δmax]; refine near 0 with δ = δmax u².
+            let n = 40000;
+            let g = |u: f64| {
+                let d = dmax * u * u;
+                hertz_force(&s, r, c, d).unwrap_or(f64::NAN) * 2.0 * dmax * u
+            };
+            let hstep = 1.0 / n as f64;
+            let mut sum = g(0.0) + g(1.0);
+            for i in 1..n {
+                let w = if i % 2 == 1 { 4.0 } else { 2.0 };
+                sum += w * g(i as f64 * hstep);
+            }
+            let work = sum * hstep / 3.0;
+            let m_star = 0.5 * s.rho0 * PI * r * r;
+            let kinetic = 0.5 * m_star * v * v;
+            println!("C = {c}: work {work} J/m, kinetic {kinetic} J/m");
+            assert!(close(work, kinetic, 1e-8), "{work} vs {kinetic}");
+        }
+    }
+
+    /// Independent check of the quadrature: integrate m* δ̈ = −P(δ) with RK4
+    /// and locate the return to δ = 0 by interpolation.
+    #[test]
+    fn hertz_ode_cross_check() {
+        let s = steel();
+        let (r, v) = (5e-3, 10.0);
+        let m_star = 0.5 * s.rho0 * PI * r * r;
+        for c in [HERTZ_C_JOHNSON, hertz_c_inertia(s.nu)] {
+            let h = hertz_disks(&s, r, v, c);
+            let acc = |d: f64| -hertz_force(&s, r, c, d).unwrap_or(f64::NAN) / m_star;
+            let dt = h.contact_time / 20_000.0;
+            let (mut t, mut d, mut u) = (0.0, 0.0, v);
+            let mut p_peak: f64 = 0.0;
+            loop {
+                let (k1d, k1u) = (u, acc(d));
+                let (k2d, k2u) = (u + 0.5 * dt * k1u, acc(d + 0.5 * dt * k1d));
+                let (k3d, k3u) = (u + 0.5 * dt * k2u, acc(d + 0.5 * dt * k2d));
+                let (k4d, k4u) = (u + dt * k3u, acc(d + dt * k3d));
+                let dn = d + dt / 6.0 * (k1d + 2.0 * k2d + 2.0 * k3d + k4d);
+                let un = u + dt / 6.0 * (k1u + 2.0 * k2u + 2.0 * k3u + k4u);
+                if dn <= 0.0 && t > 0.0 {
+                    let tc = t + dt * d / (d - dn);
+                    println!("C = {c}: ODE t_c {tc:e}, quadrature {:e}", h.contact_time);
+                    assert!(close(tc, h.contact_time, 1e-4));
+                    assert!(near(un, -v, 1e-3 * v));
+                    break;
+                }
+                t += dt;
+                d = dn;
+                u = un;
+                p_peak = p_peak.max(-acc(d) * m_star);
+                assert!(t < 2.0 * h.contact_time);
+            }
+            assert!(close(p_peak, h.peak_force, 1e-6));
+        }
+    }
+
+    /// METHOD.md §8.5: a disk at V on a rigid wall equals two disks at 2V.
+    #[test]
+    fn hertz_wall() {
+        let s = steel();
+        let w = hertz_disk_on_wall(&s, 5e-3, 5.0, HERTZ_C_JOHNSON);
+        let d = hertz_disks(&s, 5e-3, 10.0, HERTZ_C_JOHNSON);
+        assert_eq!(w.peak_force, d.peak_force);
+        assert_eq!(w.contact_time, d.contact_time);
+        assert_eq!(w.max_approach, 0.5 * d.max_approach);
+    }
+
+    #[test]
+    fn hertz_invalid_input() {
+        let s = steel();
+        assert!(try_hertz_disks(&s, 5e-3, 0.0, 1.0).is_none());
+        assert!(try_hertz_disks(&s, -5e-3, 10.0, 1.0).is_none());
+        assert!(try_hertz_disks(&s, 5e-3, 1e12, 1.0).is_none());
+        assert!(hertz_disks(&s, 5e-3, f64::NAN, 1.0).peak_force.is_nan());
+    }
+}

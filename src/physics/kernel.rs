@@ -1,0 +1,100 @@
+//! Cubic B-spline kernel, support `2h` (METHOD.md §3).
+
+/// Normalisation `α_d` of the cubic spline in `dim` dimensions.
+#[inline]
+pub fn alpha(dim: usize, h: f64) -> f64 {
+    match dim {
+        1 => 2.0 / (3.0 * h),
+        2 => 10.0 / (7.0 * std::f64::consts::PI * h * h),
+        _ => 1.0 / (std::f64::consts::PI * h * h * h),
+    }
+}
+
+/// `W(r, h)`.
+#[inline]
+pub fn w(dim: usize, r: f64, h: f64) -> f64 {
+    let q = r / h;
+    let f = if q < 1.0 {
+        1.0 - 1.5 * q * q + 0.75 * q * q * q
+    } else if q < 2.0 {
+        let t = 2.0 - q;
+        0.25 * t * t * t
+    } else {
+        0.0
+    };
+    alpha(dim, h) * f
+}
+
+/// `∂W/∂r (r, h)` (≤ 0).
+#[inline]
+pub fn dw(dim: usize, r: f64, h: f64) -> f64 {
+    let q = r / h;
+    let f = if q < 1.0 {
+        -3.0 * q + 2.25 * q * q
+    } else if q < 2.0 {
+        let t = 2.0 - q;
+        -0.75 * t * t
+    } else {
+        0.0
+    };
+    alpha(dim, h) * f / h
+}
+
+/// The 2-D kernel integrated along a straight line through its centre,
+/// `∫ W dx = 15 / (7 π h)`: the numerator of the kernel measure of a boundary
+/// line (METHOD.md §8.4, contact area).
+#[inline]
+pub fn line_integral_2d(h: f64) -> f64 {
+    15.0 / (7.0 * std::f64::consts::PI * h)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// ∫ W dV = 1 in 1-D and 2-D (midpoint rule on a fine grid).
+    #[test]
+    fn normalised() {
+        let h = 0.7;
+        let n = 4000;
+        let d = 4.0 * h / n as f64;
+        let s1: f64 = (0..n)
+            .map(|i| w(1, (-2.0 * h + (i as f64 + 0.5) * d).abs(), h) * d)
+            .sum();
+        assert!((s1 - 1.0).abs() < 1e-6, "1-D integral {s1}");
+        let m = 800;
+        let d2 = 4.0 * h / m as f64;
+        let mut s2 = 0.0;
+        for i in 0..m {
+            for j in 0..m {
+                let x = -2.0 * h + (i as f64 + 0.5) * d2;
+                let y = -2.0 * h + (j as f64 + 0.5) * d2;
+                s2 += w(2, (x * x + y * y).sqrt(), h) * d2 * d2;
+            }
+        }
+        assert!((s2 - 1.0).abs() < 1e-4, "2-D integral {s2}");
+        // The line integral used for the boundary measure.
+        let l: f64 = (0..n)
+            .map(|i| w(2, (-2.0 * h + (i as f64 + 0.5) * d).abs(), h) * d)
+            .sum();
+        assert!((l - line_integral_2d(h)).abs() < 1e-6 * l);
+    }
+
+    /// dW/dr is the derivative of W (central differences), continuous at q = 1, 2.
+    #[test]
+    fn derivative_matches() {
+        let h = 1.3;
+        for k in 1..200 {
+            let r = k as f64 * 0.0131;
+            let e = 1e-6;
+            let fd = (w(2, r + e, h) - w(2, r - e, h)) / (2.0 * e);
+            assert!(
+                (fd - dw(2, r, h)).abs() < 1e-6,
+                "r = {r}: {fd} vs {}",
+                dw(2, r, h)
+            );
+        }
+        assert_eq!(w(2, 2.0 * h, h), 0.0);
+        assert_eq!(dw(2, 2.0 * h, h), 0.0);
+    }
+}

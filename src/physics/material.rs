@@ -1,0 +1,183 @@
+//! Material model (METHOD.md §6): Mie–Grüneisen or linear pressure, derived
+//! elastic constants, sound speeds and impedances.
+
+use crate::scene::{Eos, Material};
+
+/// A material with every derived constant the solver needs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaterialModel {
+    pub rho0: f64,
+    pub c0: f64,
+    /// Hugoniot slope `s` (0 for the linear EOS).
+    pub s: f64,
+    /// Grüneisen Γ0 (0 for the linear EOS).
+    pub gamma0: f64,
+    pub linear: bool,
+    /// Shear modulus G (0: no deviatoric stress).
+    pub g: f64,
+    /// Yield stress Y0 (infinite: elastic).
+    pub y0: f64,
+    /// Bulk modulus `K = ρ0 c0²`.
+    pub k: f64,
+    /// Young's modulus `E = 9KG/(3K+G)`; for a strengthless material, `K`.
+    pub e: f64,
+    /// Poisson's ratio.
+    pub nu: f64,
+    /// Longitudinal (P-wave) speed at ρ0, `sqrt((K + 4G/3)/ρ0)`.
+    pub c_l: f64,
+    /// Acoustic impedance `Z = ρ0 c_L` (METHOD.md §8.3, eq. 24).
+    pub z: f64,
+    /// Constrained modulus `M = K + 4G/3 = ρ0 c_L²`.
+    pub m: f64,
+}
+
+impl MaterialModel {
+    pub fn new(mat: &Material) -> Self {
+        let rho0 = mat.density;
+        let (c0, s, gamma0, linear) = match mat.eos {
+            Eos::MieGruneisen { c0, s, gamma0 } => (c0, s, gamma0, false),
+            Eos::Linear { c0 } => (c0, 0.0, 0.0, true),
+        };
+        let g = mat.shear_modulus.unwrap_or(0.0);
+        let y0 = mat.yield_stress.unwrap_or(f64::INFINITY);
+        let k = rho0 * c0 * c0;
+        let (e, nu) = if g > 0.0 {
+            (
+                9.0 * k * g / (3.0 * k + g),
+                (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g)),
+            )
+        } else {
+            (k, 0.5)
+        };
+        let m = k + 4.0 * g / 3.0;
+        let c_l = (m / rho0).sqrt();
+        Self {
+            rho0,
+            c0,
+            s,
+            gamma0,
+            linear,
+            g,
+            y0,
+            k,
+            e,
+            nu,
+            c_l,
+            z: rho0 * c_l,
+            m,
+        }
+    }
+
+    /// Pressure `p(ρ, e)` (METHOD.md §6), compression positive.
+    #[inline]
+    pub fn pressure(&self, rho: f64, e: f64) -> f64 {
+        let mu = rho / self.rho0 - 1.0;
+        let a0 = self.k;
+        if self.linear {
+            return a0 * mu;
+        }
+        let ph = if mu > 0.0 {
+            let sm = self.s - 1.0;
+            let b0 = a0 * (1.0 + 2.0 * sm);
+            let c0p = a0 * (2.0 * sm + 3.0 * sm * sm);
+            mu * (a0 + mu * (b0 + mu * c0p))
+        } else {
+            a0 * mu
+        };
+        (1.0 - 0.5 * self.gamma0 * mu) * ph + self.gamma0 * rho * e
+    }
+
+    /// Longitudinal sound speed at the current state, for the time step and
+    /// the artificial viscosity: `sqrt((ρ ∂p/∂ρ + 4G/3)/ρ)` with the bulk part
+    /// never below its reference value `K`, so it equals `c_L` at ρ0.
+    #[inline]
+    pub fn sound_speed(&self, rho: f64, e: f64) -> f64 {
+        let mu = rho / self.rho0 - 1.0;
+        let a0 = self.k;
+        let mut dpdrho = a0 / self.rho0;
+        if !self.linear && mu > 0.0 {
+            let sm = self.s - 1.0;
+            let b0 = a0 * (1.0 + 2.0 * sm);
+            let c0p = a0 * (2.0 * sm + 3.0 * sm * sm);
+            let ph = mu * (a0 + mu * (b0 + mu * c0p));
+            let dph = a0 + mu * (2.0 * b0 + 3.0 * mu * c0p);
+            let d = ((1.0 - 0.5 * self.gamma0 * mu) * dph - 0.5 * self.gamma0 * ph) / self.rho0
+                + self.gamma0 * e;
+            dpdrho = dpdrho.max(d);
+        }
+        ((rho * dpdrho + 4.0 * self.g / 3.0) / rho).sqrt()
+    }
+}
+
+/// Interface impedance `Z* = Z_i Z_j/(Z_i + Z_j)` (eq. 24); a rigid partner
+/// (infinite impedance) gives `Z_i`.
+#[inline]
+pub fn series(a: f64, b: f64) -> f64 {
+    if a.is_infinite() {
+        return b;
+    }
+    if b.is_infinite() {
+        return a;
+    }
+    a * b / (a + b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Eos, Material};
+
+    pub fn steel() -> Material {
+        Material {
+            density: 7850.0,
+            shear_modulus: Some(77e9),
+            yield_stress: Some(600e6),
+            eos: Eos::MieGruneisen {
+                c0: 4580.0,
+                s: 1.49,
+                gamma0: 2.02,
+            },
+        }
+    }
+
+    /// The derived constants METHOD.md §6 lists for steel and aluminium.
+    #[test]
+    fn derived_constants() {
+        let s = MaterialModel::new(&steel());
+        assert!((s.k / 164.66e9 - 1.0).abs() < 1e-4);
+        assert!((s.e / 199.8e9 - 1.0).abs() < 1e-3);
+        assert!((s.nu - 0.298).abs() < 1e-3);
+        assert!((s.c_l / 5835.7 - 1.0).abs() < 1e-4);
+        assert!((s.z / 4.581e7 - 1.0).abs() < 1e-3);
+        let a = MaterialModel::new(&Material {
+            density: 2790.0,
+            shear_modulus: Some(25e9),
+            yield_stress: Some(550e6),
+            eos: Eos::MieGruneisen {
+                c0: 5330.0,
+                s: 1.34,
+                gamma0: 2.0,
+            },
+        });
+        assert!((a.k / 79.26e9 - 1.0).abs() < 1e-3);
+        assert!((a.e / 67.9e9 - 1.0).abs() < 1e-3);
+        assert!((a.nu - 0.357).abs() < 1e-3);
+        assert!((a.c_l / 6352.7 - 1.0).abs() < 1e-4);
+        assert!((a.z / 1.772e7 - 1.0).abs() < 1e-3);
+    }
+
+    /// p(ρ0, 0) = 0; the slope at ρ0 is c0²; the sound speed at ρ0 is c_L.
+    #[test]
+    fn eos_reference_state() {
+        let s = MaterialModel::new(&steel());
+        assert_eq!(s.pressure(s.rho0, 0.0), 0.0);
+        let d = 1e-3 * s.rho0;
+        let slope = (s.pressure(s.rho0 + d, 0.0) - s.pressure(s.rho0 - d, 0.0)) / (2.0 * d);
+        assert!((slope / (s.c0 * s.c0) - 1.0).abs() < 1e-3);
+        assert!((s.sound_speed(s.rho0, 0.0) / s.c_l - 1.0).abs() < 1e-12);
+        assert!(
+            s.pressure(1.1 * s.rho0, 0.0) > s.k * 0.1,
+            "Hugoniot stiffens"
+        );
+    }
+}

@@ -1,0 +1,414 @@
+//! The scene file: the public contract of `SCENES.md`.
+//!
+//! A scene is one TOML document. This module holds its data types exactly as
+//! the contract names them (unknown keys are rejected by serde), the loader,
+//! and re-exports the semantic validation and the particle placement.
+
+mod place;
+pub mod validate;
+
+pub use place::{place_bodies, PlacedBody};
+pub use validate::validate;
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::error::SceneError;
+
+/// A whole scene: geometry, materials, physics switches and what to record.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    #[serde(default)]
+    pub title: Option<String>,
+    pub simulation: Simulation,
+    #[serde(default)]
+    pub artificial_stress: Option<ArtificialStress>,
+    #[serde(default)]
+    pub artificial_viscosity: Option<ArtificialViscosity>,
+    /// Optional contact settings (an addition to the contract; absent: defaults).
+    #[serde(default)]
+    pub contact: Option<ContactSettings>,
+    pub materials: BTreeMap<String, Material>,
+    pub bodies: Vec<Body>,
+    #[serde(default)]
+    pub probes: Vec<Probe>,
+    #[serde(default)]
+    pub output: Output,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Simulation {
+    /// 1 (uniaxial strain) or 2 (plane strain).
+    pub dimension: u32,
+    /// Simulated time to reach, s.
+    pub end_time: f64,
+    #[serde(default = "default_cfl")]
+    pub cfl: f64,
+    /// Optional fixed time step, s.
+    #[serde(default)]
+    pub dt: Option<f64>,
+    #[serde(default)]
+    pub interaction: Interaction,
+    #[serde(default = "default_smoothing_ratio")]
+    pub smoothing_ratio: f64,
+    #[serde(default)]
+    pub correction: Correction,
+    #[serde(default)]
+    pub backend: Backend,
+}
+
+pub fn default_cfl() -> f64 {
+    0.3
+}
+pub fn default_smoothing_ratio() -> f64 {
+    1.2
+}
+
+/// How bodies interact (METHOD.md §7).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Interaction {
+    /// The paper's contact algorithm: SPH sums within one body only.
+    #[default]
+    Penalty,
+    /// Plain SPH across bodies (the paper's "kerneling" baseline).
+    Kernel,
+}
+
+/// Kernel gradient correction (METHOD.md §5).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Correction {
+    #[default]
+    Gradient,
+    None,
+}
+
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Backend {
+    #[default]
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+impl std::fmt::Display for Backend {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Backend::Auto => "auto",
+            Backend::Gpu => "gpu",
+            Backend::Cpu => "cpu",
+        })
+    }
+}
+
+/// Gray, Monaghan & Swift artificial stress (METHOD.md §4).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ArtificialStress {
+    #[serde(default = "default_as_epsilon")]
+    pub epsilon: f64,
+    #[serde(default = "default_as_n")]
+    pub n: f64,
+}
+fn default_as_epsilon() -> f64 {
+    0.3
+}
+fn default_as_n() -> f64 {
+    4.0
+}
+
+/// Monaghan artificial viscosity (METHOD.md §4).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ArtificialViscosity {
+    #[serde(default = "default_av_alpha")]
+    pub alpha: f64,
+    #[serde(default = "default_av_beta")]
+    pub beta: f64,
+}
+/// Documented defaults: see `docs/method.md` ("Defaults").
+pub fn default_av_alpha() -> f64 {
+    0.5
+}
+pub fn default_av_beta() -> f64 {
+    0.5
+}
+impl Default for ArtificialViscosity {
+    fn default() -> Self {
+        Self {
+            alpha: default_av_alpha(),
+            beta: default_av_beta(),
+        }
+    }
+}
+
+/// Penalty contact settings (METHOD.md §8.3); an optional addition to the contract.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSettings {
+    /// How the penalty spring's stiffness is derived.
+    #[serde(default)]
+    pub spring: SpringModel,
+    /// Boundary-particle threshold on `h |∇ψ|` (METHOD.md §8.1).
+    #[serde(default = "default_boundary_threshold")]
+    pub boundary_threshold: f64,
+}
+impl Default for ContactSettings {
+    fn default() -> Self {
+        Self {
+            spring: SpringModel::default(),
+            boundary_threshold: default_boundary_threshold(),
+        }
+    }
+}
+pub fn default_boundary_threshold() -> f64 {
+    0.3
+}
+
+/// The penalty spring (λ2 of the paper).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SpringModel {
+    /// The paper's eq. 25: `E* / h0` with the series Young's modulus.
+    #[default]
+    SeriesModulus,
+    /// The two surface layers between the particle centres and the surfaces
+    /// (thickness `o_i`, `o_j`) in series: `1 / (o_i/M_i + o_j/M_j)`, with `M`
+    /// the constrained (P-wave) modulus `ρ0 c_L²`.
+    SurfaceLayers,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Reference density ρ0, kg/m³.
+    pub density: f64,
+    /// Shear modulus G, Pa (absent: no deviatoric stress).
+    #[serde(default)]
+    pub shear_modulus: Option<f64>,
+    /// Yield stress Y0, Pa (absent: elastic).
+    #[serde(default)]
+    pub yield_stress: Option<f64>,
+    pub eos: Eos,
+}
+
+/// Equation of state (METHOD.md §6).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Eos {
+    MieGruneisen { c0: f64, s: f64, gamma0: f64 },
+    Linear { c0: f64 },
+}
+
+impl Eos {
+    pub fn c0(&self) -> f64 {
+        match *self {
+            Eos::MieGruneisen { c0, .. } | Eos::Linear { c0 } => c0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Body {
+    pub name: String,
+    pub material: String,
+    /// Particle spacing Δx, m.
+    pub spacing: f64,
+    /// Initial velocity, one component per dimension.
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
+    /// Moves at its initial velocity and is an infinitely stiff contact partner.
+    #[serde(default)]
+    pub rigid: bool,
+    pub shape: Shape,
+}
+
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Lattice {
+    #[default]
+    Square,
+    Polar,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Shape {
+    Segment {
+        from: f64,
+        to: f64,
+    },
+    Rectangle {
+        min: Vec<f64>,
+        max: Vec<f64>,
+    },
+    Disk {
+        center: Vec<f64>,
+        radius: f64,
+        #[serde(default)]
+        lattice: Lattice,
+    },
+    Ring {
+        center: Vec<f64>,
+        inner_radius: f64,
+        outer_radius: f64,
+        #[serde(default)]
+        lattice: Lattice,
+    },
+}
+
+impl Shape {
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Shape::Segment { .. } => "segment",
+            Shape::Rectangle { .. } => "rectangle",
+            Shape::Disk { .. } => "disk",
+            Shape::Ring { .. } => "ring",
+        }
+    }
+}
+
+/// Per-particle quantities a `particle` probe can record.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ParticleQuantity {
+    PositionX,
+    PositionY,
+    VelocityX,
+    VelocityY,
+    Density,
+    Pressure,
+    StressXx,
+    StressYy,
+    StressXy,
+    VonMises,
+    InternalEnergy,
+}
+
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum BodyQuantity {
+    VelocityX,
+    VelocityY,
+    PositionX,
+    PositionY,
+    KineticEnergy,
+    MomentumX,
+    MomentumY,
+}
+
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactQuantity {
+    Force,
+    PressureMax,
+}
+
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum EnergyQuantity {
+    Kinetic,
+    Internal,
+    ContactHeat,
+    Total,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Probe {
+    Particle {
+        name: String,
+        body: String,
+        at: Vec<f64>,
+        quantity: ParticleQuantity,
+    },
+    Body {
+        name: String,
+        body: String,
+        quantity: BodyQuantity,
+    },
+    Contact {
+        name: String,
+        bodies: [String; 2],
+        quantity: ContactQuantity,
+    },
+    Energy {
+        name: String,
+        quantity: EnergyQuantity,
+    },
+}
+
+impl Probe {
+    pub fn name(&self) -> &str {
+        match self {
+            Probe::Particle { name, .. }
+            | Probe::Body { name, .. }
+            | Probe::Contact { name, .. }
+            | Probe::Energy { name, .. } => name,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    /// Output directory (default `out/<scene file stem>`).
+    #[serde(default)]
+    pub dir: Option<PathBuf>,
+    /// s; default `end_time / 1000`.
+    #[serde(default)]
+    pub history_interval: Option<f64>,
+    /// s; optional.
+    #[serde(default)]
+    pub snapshot_interval: Option<f64>,
+}
+
+impl Scene {
+    /// Parse a scene from TOML text and validate it. `origin` names the source
+    /// in error messages (usually the file path).
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        let scene: Scene = toml::from_str(text).map_err(|e| SceneError::parse(origin, text, &e))?;
+        validate(&scene).map_err(|e| e.in_file(origin))?;
+        Ok(scene)
+    }
+
+    /// Read, parse and validate a scene file.
+    pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+            file: origin.clone(),
+            key: None,
+            message: format!("cannot read the scene file: {e}"),
+        })?;
+        Self::from_toml_str(&text, &origin)
+    }
+
+    /// Serialise back to TOML (used by examples that build scenes in code).
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).expect("a Scene always serialises")
+    }
+
+    pub fn dim(&self) -> usize {
+        self.simulation.dimension as usize
+    }
+
+    pub fn viscosity(&self) -> ArtificialViscosity {
+        self.artificial_viscosity.unwrap_or_default()
+    }
+
+    pub fn contact_settings(&self) -> ContactSettings {
+        self.contact.unwrap_or_default()
+    }
+
+    pub fn history_interval(&self) -> f64 {
+        self.output
+            .history_interval
+            .unwrap_or(self.simulation.end_time / 1000.0)
+    }
+}

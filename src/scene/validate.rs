@@ -1,0 +1,332 @@
+//! Semantic validation of a parsed scene (SCENES.md, "Validation"). Serde has
+//! already rejected unknown keys, missing required keys and wrong types; what
+//! is left is every rule that needs values, and the ones that need the placed
+//! particles (empty shapes, overlapping bodies, a fixed step above the CFL
+//! limit).
+
+use std::collections::{HashMap, HashSet};
+
+use super::{place_bodies, Interaction, Probe, Scene, Shape};
+use crate::error::SceneError;
+use crate::physics::material::MaterialModel;
+
+type R = Result<(), SceneError>;
+
+fn positive(key: &str, v: f64) -> R {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(SceneError::at(key, format!("must be > 0 (got {v})")))
+    }
+}
+
+fn non_negative(key: &str, v: f64) -> R {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(SceneError::at(key, format!("must be >= 0 (got {v})")))
+    }
+}
+
+fn finite(key: &str, v: &[f64]) -> R {
+    match v.iter().find(|x| !x.is_finite()) {
+        Some(x) => Err(SceneError::at(key, format!("must be finite (got {x})"))),
+        None => Ok(()),
+    }
+}
+
+fn dimension_of(key: &str, v: &[f64], dim: usize) -> R {
+    if v.len() != dim {
+        return Err(SceneError::at(
+            key,
+            format!(
+                "has {} component(s) but the scene is {dim}-D (expected {dim})",
+                v.len()
+            ),
+        ));
+    }
+    finite(key, v)
+}
+
+/// Check every rule of SCENES.md that serde does not.
+pub fn validate(scene: &Scene) -> R {
+    let sim = &scene.simulation;
+    let dim = sim.dimension as usize;
+    if dim != 1 && dim != 2 {
+        return Err(SceneError::at(
+            "simulation.dimension",
+            format!("must be 1 or 2 (got {})", sim.dimension),
+        ));
+    }
+    positive("simulation.end_time", sim.end_time)?;
+    positive("simulation.cfl", sim.cfl)?;
+    positive("simulation.smoothing_ratio", sim.smoothing_ratio)?;
+    if let Some(dt) = sim.dt {
+        positive("simulation.dt", dt)?;
+    }
+    if let Some(av) = &scene.artificial_viscosity {
+        non_negative("artificial_viscosity.alpha", av.alpha)?;
+        non_negative("artificial_viscosity.beta", av.beta)?;
+    }
+    if let Some(st) = &scene.artificial_stress {
+        non_negative("artificial_stress.epsilon", st.epsilon)?;
+        positive("artificial_stress.n", st.n)?;
+    }
+    if let Some(c) = &scene.contact {
+        positive("contact.boundary_threshold", c.boundary_threshold)?;
+    }
+    if let Some(v) = scene.output.history_interval {
+        positive("output.history_interval", v)?;
+    }
+    if let Some(v) = scene.output.snapshot_interval {
+        positive("output.snapshot_interval", v)?;
+    }
+
+    if scene.materials.is_empty() {
+        return Err(SceneError::at(
+            "materials",
+            "at least one material is required",
+        ));
+    }
+    for (name, m) in &scene.materials {
+        let k = |f: &str| format!("materials.{name}.{f}");
+        positive(&k("density"), m.density)?;
+        positive(&k("eos.c0"), m.eos.c0())?;
+        if let super::Eos::MieGruneisen { s, gamma0, .. } = m.eos {
+            finite(&k("eos.s"), &[s])?;
+            non_negative(&k("eos.gamma0"), gamma0)?;
+        }
+        if let Some(g) = m.shear_modulus {
+            non_negative(&k("shear_modulus"), g)?;
+        }
+        if let Some(y) = m.yield_stress {
+            non_negative(&k("yield_stress"), y)?;
+        }
+    }
+
+    if scene.bodies.is_empty() {
+        return Err(SceneError::at("bodies", "at least one body is required"));
+    }
+    let mut names = HashSet::new();
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let k = |f: &str| format!("bodies[{i}].{f}");
+        if b.name.is_empty() {
+            return Err(SceneError::at(k("name"), "must not be empty"));
+        }
+        if !names.insert(b.name.as_str()) {
+            return Err(SceneError::at(
+                k("name"),
+                format!("duplicate body name '{}'", b.name),
+            ));
+        }
+        if !scene.materials.contains_key(&b.material) {
+            return Err(SceneError::at(
+                k("material"),
+                format!("unknown material '{}'", b.material),
+            ));
+        }
+        positive(&k("spacing"), b.spacing)?;
+        if let Some(v) = &b.velocity {
+            dimension_of(&k("velocity"), v, dim)?;
+        }
+        if b.rigid && sim.interaction == Interaction::Kernel {
+            return Err(SceneError::at(
+                k("rigid"),
+                "a rigid body needs simulation.interaction = \"penalty\"",
+            ));
+        }
+        validate_shape(&b.shape, dim, &k("shape"))?;
+    }
+
+    let mut probe_names = HashSet::new();
+    let known = |i: usize, key: &str, body: &str| -> R {
+        if names.contains(body) {
+            Ok(())
+        } else {
+            Err(SceneError::at(
+                format!("probes[{i}].{key}"),
+                format!("unknown body '{body}'"),
+            ))
+        }
+    };
+    for (i, p) in scene.probes.iter().enumerate() {
+        let name = p.name();
+        if name.is_empty() || name.contains([',', '"', '\n']) {
+            return Err(SceneError::at(
+                format!("probes[{i}].name"),
+                "must be non-empty and contain no comma, quote or newline (it is a CSV column)",
+            ));
+        }
+        if name == "time" || !probe_names.insert(name) {
+            return Err(SceneError::at(
+                format!("probes[{i}].name"),
+                format!("duplicate probe name '{name}'"),
+            ));
+        }
+        match p {
+            Probe::Particle { body, at, .. } => {
+                known(i, "body", body)?;
+                dimension_of(&format!("probes[{i}].at"), at, dim)?;
+            }
+            Probe::Body { body, .. } => known(i, "body", body)?,
+            Probe::Contact { bodies, .. } => {
+                known(i, "bodies", &bodies[0])?;
+                known(i, "bodies", &bodies[1])?;
+                if bodies[0] == bodies[1] {
+                    return Err(SceneError::at(
+                        format!("probes[{i}].bodies"),
+                        "must name two different bodies",
+                    ));
+                }
+            }
+            Probe::Energy { .. } => {}
+        }
+    }
+
+    validate_placement(scene)
+}
+
+fn validate_shape(shape: &Shape, dim: usize, key: &str) -> R {
+    let want = match shape {
+        Shape::Segment { .. } => 1,
+        _ => 2,
+    };
+    if want != dim {
+        return Err(SceneError::at(
+            format!("{key}.kind"),
+            format!(
+                "a {} is a {want}-D shape but the scene is {dim}-D",
+                shape.kind()
+            ),
+        ));
+    }
+    match shape {
+        Shape::Segment { from, to } => {
+            finite(key, &[*from, *to])?;
+            if to <= from {
+                return Err(SceneError::at(
+                    format!("{key}.to"),
+                    format!("must be greater than from (got from = {from}, to = {to})"),
+                ));
+            }
+        }
+        Shape::Rectangle { min, max } => {
+            dimension_of(&format!("{key}.min"), min, dim)?;
+            dimension_of(&format!("{key}.max"), max, dim)?;
+            if max[0] <= min[0] || max[1] <= min[1] {
+                return Err(SceneError::at(
+                    format!("{key}.max"),
+                    "must be greater than min on every axis",
+                ));
+            }
+        }
+        Shape::Disk { center, radius, .. } => {
+            dimension_of(&format!("{key}.center"), center, dim)?;
+            positive(&format!("{key}.radius"), *radius)?;
+        }
+        Shape::Ring {
+            center,
+            inner_radius,
+            outer_radius,
+            ..
+        } => {
+            dimension_of(&format!("{key}.center"), center, dim)?;
+            non_negative(&format!("{key}.inner_radius"), *inner_radius)?;
+            positive(&format!("{key}.outer_radius"), *outer_radius)?;
+            if outer_radius <= inner_radius {
+                return Err(SceneError::at(
+                    format!("{key}.outer_radius"),
+                    "must be greater than inner_radius",
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The rules that need the particles: empty shapes, overlapping bodies, and a
+/// fixed `dt` above the CFL step at t = 0.
+fn validate_placement(scene: &Scene) -> R {
+    let placed = place_bodies(scene);
+    for (i, p) in placed.iter().enumerate() {
+        if p.positions.is_empty() {
+            return Err(SceneError::at(
+                format!("bodies[{i}].shape"),
+                format!(
+                    "body '{}' has no particle (the shape is smaller than its spacing)",
+                    scene.bodies[i].name
+                ),
+            ));
+        }
+    }
+
+    // Overlap: any two particles of different bodies closer than half their
+    // mean spacing. A hash grid of cell size max spacing keeps this O(N).
+    if placed.len() > 1 {
+        let cell = placed.iter().map(|p| p.spacing).fold(0.0, f64::max);
+        let key = |x: f64, y: f64| ((x / cell).floor() as i64, (y / cell).floor() as i64);
+        let mut grid: HashMap<(i64, i64), Vec<(usize, usize)>> = HashMap::new();
+        for (b, p) in placed.iter().enumerate() {
+            for (k, x) in p.positions.iter().enumerate() {
+                grid.entry(key(x.x, x.y)).or_default().push((b, k));
+            }
+        }
+        for (b, p) in placed.iter().enumerate() {
+            for x in &p.positions {
+                let (cx, cy) = key(x.x, x.y);
+                for dy in -1..=1 {
+                    for dx in -1..=1 {
+                        let Some(list) = grid.get(&(cx + dx, cy + dy)) else {
+                            continue;
+                        };
+                        for &(b2, k2) in list {
+                            if b2 <= b {
+                                continue;
+                            }
+                            let lim = 0.25 * (p.spacing + placed[b2].spacing);
+                            if x.distance(placed[b2].positions[k2]) < lim {
+                                return Err(SceneError::at(
+                                    format!("bodies[{b2}].shape"),
+                                    format!(
+                                        "body '{}' overlaps body '{}' near ({:e}, {:e})",
+                                        scene.bodies[b2].name, scene.bodies[b].name, x.x, x.y
+                                    ),
+                                ));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    if let Some(dt) = scene.simulation.dt {
+        let limit = cfl_step_at_start(scene, &placed);
+        if dt > limit {
+            return Err(SceneError::at(
+                "simulation.dt",
+                format!("{dt:e} s is above the CFL step at t = 0 ({limit:e} s)"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The CFL step at t = 0 (METHOD.md §9): `C min h / (c_L + |v|)` over the
+/// deformable bodies (a rigid body has no wave to resolve).
+pub fn cfl_step_at_start(scene: &Scene, placed: &[super::PlacedBody]) -> f64 {
+    let mut dt = f64::INFINITY;
+    for (b, p) in scene.bodies.iter().zip(placed) {
+        if b.rigid {
+            continue;
+        }
+        let mat = MaterialModel::new(&scene.materials[&b.material]);
+        let v = b
+            .velocity
+            .as_ref()
+            .map_or(0.0, |v| v.iter().map(|x| x * x).sum::<f64>().sqrt());
+        let h = scene.simulation.smoothing_ratio * p.spacing;
+        dt = dt.min(scene.simulation.cfl * h / (mat.c_l + v));
+    }
+    dt
+}
