@@ -66,6 +66,33 @@ impl History {
     }
 }
 
+/// Time of the first and the last contact: where `force` first and last
+/// leaves zero, interpolated linearly between rows.
+pub fn contact_window(t: &[f64], force: &[f64]) -> (f64, f64) {
+    let first = force
+        .iter()
+        .position(|&f| f > 0.0)
+        .expect("contact happens");
+    let last = force
+        .iter()
+        .rposition(|&f| f > 0.0)
+        .expect("contact happens");
+    let start = if first == 0 { 0.0 } else { t[first - 1] };
+    // Between the last positive row and the next zero, the force falls
+    // through zero: extrapolate its slope from the two rows before.
+    let end = if last + 1 < t.len() && last >= 1 {
+        let slope = (force[last] - force[last - 1]) / (t[last] - t[last - 1]);
+        if slope < 0.0 {
+            (t[last] - force[last] / slope).min(t[last + 1])
+        } else {
+            t[last]
+        }
+    } else {
+        t[last]
+    };
+    (start, end)
+}
+
 /// Per-body line of the summary.
 #[derive(Debug, Clone, Serialize)]
 pub struct BodySummary {

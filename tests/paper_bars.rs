@@ -1,0 +1,227 @@
+//! The paper's 1-D cases (METHOD.md §10, cases 1 and 2) against their exact
+//! answers, in both interaction modes.
+
+mod common;
+use common::*;
+use sphcontact::physics::exact::bar_impact;
+
+const L: f64 = 0.005;
+
+/// Case 1 at 100 particles per bar: plateau within 1 %, separation within
+/// 1 %, rebound within 5 %, pressure never negative and exactly 0 after.
+#[test]
+fn equal_steel_bars_penalty() {
+    let mut scene = load("scenes/paper/bars_steel.toml");
+    scene.output.history_interval = Some(1e-9);
+    let steel = material(&scene, "steel");
+    let exact = bar_impact(&steel, L, 10.0, &steel, L, -10.0);
+    let out = run(&scene);
+    assert_conserved(&scene, &out);
+    let t = &out.history.times;
+    let p = column(&out, "contact_pressure");
+    let (t0, t_sep) = contact_window(t, &p);
+    assert_eq!(t0, 0.0, "contact from the first step");
+    let sep_err = t_sep / exact.separation_time - 1.0;
+    assert!(
+        sep_err.abs() < 0.01,
+        "separation {t_sep:e} s ({sep_err:+.4})"
+    );
+
+    let sigma = -exact.contact_stress;
+    for (k, &tk) in t.iter().enumerate() {
+        assert!(p[k] >= 0.0, "tension at t = {tk:e}");
+        if tk > 0.1 * t_sep && tk < 0.9 * t_sep {
+            let e = p[k] / sigma - 1.0;
+            assert!(
+                e.abs() < 0.01,
+                "plateau {:e} Pa at {tk:e} s ({e:+.4})",
+                p[k]
+            );
+        }
+        if tk > t_sep {
+            assert_eq!(p[k], 0.0, "pressure after separation at {tk:e}");
+        }
+    }
+    let vl = column(&out, "velocity_left");
+    let vr = column(&out, "velocity_right");
+    for (k, &tk) in t.iter().enumerate() {
+        if tk > 1.05 * t_sep {
+            assert!(
+                (vl[k] / exact.final_velocity_1 - 1.0).abs() < 0.05,
+                "left {}",
+                vl[k]
+            );
+            assert!(
+                (vr[k] / exact.final_velocity_2 - 1.0).abs() < 0.05,
+                "right {}",
+                vr[k]
+            );
+        }
+    }
+}
+
+/// Kernel mode (the paper's "kerneling") never separates cleanly: the bars
+/// stick in imaginary tension and their mean velocity swings back and forth,
+/// where penalty mode leaves them at a steady rebound.
+#[test]
+fn equal_steel_bars_kernel_mode_does_not_separate() {
+    let window = |out: &sphcontact::run::RunOutput| {
+        let t = &out.history.times;
+        let v = column(out, "velocity_left");
+        let w: Vec<f64> = t
+            .iter()
+            .zip(&v)
+            .filter(|(&tk, _)| tk > 2.0e-6)
+            .map(|(_, &x)| x)
+            .collect();
+        let lo = w.iter().cloned().fold(f64::INFINITY, f64::min);
+        let hi = w.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        (lo, hi)
+    };
+    let kernel = load("scenes/paper/bars_steel_kernel.toml");
+    let out_k = run(&kernel);
+    assert_conserved(&kernel, &out_k);
+    let (lo, hi) = window(&out_k);
+    assert!(hi - lo > 10.0, "kernel mode swings: {lo} .. {hi}");
+    assert!(hi > 0.0, "the left bar moves forward again: {hi}");
+    // Tension appears at the interface particle (imaginary tension).
+    let s = column(&out_k, "stress_a");
+    assert!(s.iter().cloned().fold(f64::MIN, f64::max) > 2e8);
+
+    let penalty = load("scenes/paper/bars_steel.toml");
+    let out_p = run(&penalty);
+    let (lo, hi) = window(&out_p);
+    assert!(hi - lo < 0.01, "penalty mode is settled: {lo} .. {hi}");
+}
+
+fn steel_aluminium(v_steel: f64, v_al: f64) -> (sphcontact::Scene, sphcontact::run::RunOutput) {
+    let mut scene = load("scenes/paper/bars_steel_aluminium.toml");
+    scene.output.history_interval = Some(1e-9);
+    scene.bodies[0].velocity = Some(vec![v_steel]);
+    scene.bodies[1].velocity = Some(vec![v_al]);
+    let out = run(&scene);
+    assert_conserved(&scene, &out);
+    (scene, out)
+}
+
+/// Case 2: interface stress within 2 %, separation within 3 %, final
+/// aluminium velocity within 4 %; the Galilean shift (steel at 20 m/s onto
+/// aluminium at rest) gives the same pressure and timing within 0.5 %.
+#[test]
+fn steel_against_aluminium() {
+    let (scene, out) = steel_aluminium(10.0, -10.0);
+    let exact = bar_impact(
+        &material(&scene, "steel"),
+        L,
+        10.0,
+        &material(&scene, "aluminium"),
+        L,
+        -10.0,
+    );
+    let t = &out.history.times;
+    let p = column(&out, "contact_pressure");
+    let (_, t_sep) = contact_window(t, &p);
+    let sep_err = t_sep / exact.separation_time - 1.0;
+    assert!(sep_err.abs() < 0.03, "separation {t_sep:e} ({sep_err:+.4})");
+    let plateau: Vec<f64> = t
+        .iter()
+        .zip(&p)
+        .filter(|(&tk, _)| tk > 0.1 * t_sep && tk < 0.9 * t_sep)
+        .map(|(_, &x)| x)
+        .collect();
+    let mean = plateau.iter().sum::<f64>() / plateau.len() as f64;
+    for x in &plateau {
+        let e = x / -exact.contact_stress - 1.0;
+        assert!(e.abs() < 0.02, "interface stress {x:e} ({e:+.4})");
+    }
+    let v_al = *column(&out, "velocity_right").last().unwrap();
+    let e_al = v_al / exact.final_velocity_2 - 1.0;
+    assert!(e_al.abs() < 0.04, "aluminium leaves at {v_al} ({e_al:+.4})");
+
+    let (_, out_g) = steel_aluminium(20.0, 0.0);
+    let pg = column(&out_g, "contact_pressure");
+    let (_, t_sep_g) = contact_window(&out_g.history.times, &pg);
+    let mean_g = out_g
+        .history
+        .times
+        .iter()
+        .zip(&pg)
+        .filter(|(&tk, _)| tk > 0.1 * t_sep && tk < 0.9 * t_sep)
+        .map(|(_, &x)| x)
+        .sum::<f64>()
+        / plateau.len() as f64;
+    assert!(
+        (mean_g / mean - 1.0).abs() < 0.005,
+        "Galilean pressure {mean_g:e} vs {mean:e}"
+    );
+    assert!(
+        (t_sep_g / t_sep - 1.0).abs() < 0.005,
+        "Galilean separation {t_sep_g:e} vs {t_sep:e}"
+    );
+}
+
+/// A single bar translating at 10 m/s stays stress-free and keeps its speed;
+/// two bars touching at rest stay at rest with no contact force.
+#[test]
+fn translation_and_rest() {
+    let scene = parse(
+        r#"
+[simulation]
+dimension = 1
+end_time = 2e-6
+[materials.steel]
+density = 7850.0
+shear_modulus = 77e9
+eos = { kind = "mie_gruneisen", c0 = 4580.0, s = 1.49, gamma0 = 2.02 }
+[[bodies]]
+name = "bar"
+material = "steel"
+spacing = 5e-5
+velocity = [10.0]
+shape = { kind = "segment", from = -0.005, to = 0.0 }
+[[probes]]
+name = "s_end"
+kind = "particle"
+body = "bar"
+at = [0.0]
+quantity = "stress_xx"
+[[probes]]
+name = "s_mid"
+kind = "particle"
+body = "bar"
+at = [-0.0025]
+quantity = "stress_xx"
+[[probes]]
+name = "v"
+kind = "body"
+body = "bar"
+quantity = "velocity_x"
+"#,
+    );
+    let out = run(&scene);
+    assert_conserved(&scene, &out);
+    for name in ["s_end", "s_mid"] {
+        let worst = column(&out, name)
+            .iter()
+            .fold(0.0f64, |a, &b| a.max(b.abs()));
+        assert!(worst < 1e-3, "{name}: {worst} Pa in a translating bar");
+    }
+    assert!(column(&out, "v").iter().all(|&v| (v - 10.0).abs() < 1e-12));
+
+    let mut rest = load("scenes/paper/bars_steel.toml");
+    rest.bodies[0].velocity = Some(vec![0.0]);
+    rest.bodies[1].velocity = Some(vec![0.0]);
+    rest.simulation.end_time = 2e-6;
+    let out = run(&rest);
+    for name in [
+        "velocity_left",
+        "velocity_right",
+        "velocity_b",
+        "contact_force",
+    ] {
+        let worst = column(&out, name)
+            .iter()
+            .fold(0.0f64, |a, &b| a.max(b.abs()));
+        assert!(worst < 1e-9, "{name}: {worst} for bodies at rest");
+    }
+}
