@@ -40,7 +40,7 @@ enum Command {
         #[arg(long, value_enum)]
         backend: Option<BackendArg>,
         /// Stop at this simulated time, s (overrides simulation.end_time).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         end_time: Option<f64>,
         /// Occasional plain progress lines instead of a progress bar.
         #[arg(long)]

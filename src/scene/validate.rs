@@ -247,6 +247,21 @@ fn validate_shape(shape: &Shape, dim: usize, key: &str) -> R {
 /// The rules that need the particles: empty shapes, overlapping bodies, and a
 /// fixed `dt` above the CFL step at t = 0.
 fn validate_placement(scene: &Scene) -> R {
+    // Refuse before allocating: a spacing far too small for its shape would
+    // otherwise exhaust memory instead of giving an error.
+    let mut total = 0.0;
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let n = estimated_particles(&b.shape, b.spacing);
+        total += n;
+        if total.is_nan() || total > MAX_PARTICLES {
+            return Err(SceneError::at(
+                format!("bodies[{i}].spacing"),
+                format!(
+                    "the scene would place about {total:.3e} particles (more than {MAX_PARTICLES:.0e}); increase the spacing"
+                ),
+            ));
+        }
+    }
     let placed = place_bodies(scene);
     for (i, p) in placed.iter().enumerate() {
         if p.positions.is_empty() {
@@ -310,6 +325,24 @@ fn validate_placement(scene: &Scene) -> R {
         }
     }
     Ok(())
+}
+
+/// Largest number of particles a scene may place.
+pub const MAX_PARTICLES: f64 = 2e8;
+
+/// Particle count of a shape, from its length or area (before placing).
+fn estimated_particles(shape: &Shape, dx: f64) -> f64 {
+    use std::f64::consts::PI;
+    match shape {
+        Shape::Segment { from, to } => (to - from) / dx,
+        Shape::Rectangle { min, max } => (max[0] - min[0]) * (max[1] - min[1]) / (dx * dx),
+        Shape::Disk { radius, .. } => PI * radius * radius / (dx * dx),
+        Shape::Ring {
+            inner_radius,
+            outer_radius,
+            ..
+        } => PI * (outer_radius * outer_radius - inner_radius * inner_radius) / (dx * dx),
+    }
 }
 
 /// The CFL step at t = 0 (METHOD.md §9): `C min h / (c_L + |v|)` over the
