@@ -198,8 +198,8 @@ pub fn run_scene(
     let n = solver.model.len();
     let p0 = probe::momentum(&solver.model, &solver.state);
     let e0 = {
-        let d = solver.diagnostics().clone();
-        probe::energies(&solver.model, &solver.state, &d).total()
+        let (model, st, diag) = solver.observe();
+        probe::energies(model, st, diag).total()
     };
     let mut progress = Progress::new(opts, end);
     let start = Instant::now();
@@ -211,9 +211,9 @@ pub fn run_scene(
     let mut failure = None;
     loop {
         let t = solver.state.t;
-        let diag = solver.diagnostics().clone();
+        let (model, st, diag) = solver.observe();
         max_fallback = max_fallback.max(diag.correction_fallback);
-        let obs = probe::evaluate(&probes, &solver.model, &solver.state, &diag);
+        let obs = probe::evaluate(&probes, model, st, diag);
         while next_row < times.len() && times[next_row] <= t * (1.0 + 1e-12) {
             let tr = times[next_row];
             let row = match &prev {
@@ -250,9 +250,7 @@ pub fn run_scene(
             "up to {max_fallback} particle(s) at a time had too few neighbours for the corrected gradient and used L = I"
         ));
     }
-    let diag = solver.diagnostics().clone();
-    let model = &solver.model;
-    let st = &solver.state;
+    let (model, st, diag) = solver.observe();
     let summary = Summary {
         scene: scene_path.map_or(String::new(), |p| p.display().to_string()),
         dimension: dim,
@@ -267,7 +265,7 @@ pub fn run_scene(
         momentum_initial: vec_of(p0, dim),
         momentum_final: vec_of(probe::momentum(model, st), dim),
         energy_initial: e0,
-        energy_final: probe::energies(model, st, &diag).total(),
+        energy_final: probe::energies(model, st, diag).total(),
         bodies: (0..model.bodies.len())
             .map(|b| {
                 let (m, mv, _, _) = probe::body_means(model, st, b);

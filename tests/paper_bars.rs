@@ -225,3 +225,76 @@ quantity = "velocity_x"
         assert!(worst < 1e-9, "{name}: {worst} for bodies at rest");
     }
 }
+
+/// A rigid partner has infinite impedance and modulus (METHOD.md §8.5): a
+/// steel bar at 10 m/s onto a rigid wall sees the stress of two equal bars
+/// closing at 20 m/s, separates at 2L/c_L and rebounds at −10 m/s; the wall
+/// does not move.
+#[test]
+fn bar_onto_rigid_wall() {
+    let mut scene = load("scenes/paper/bars_steel.toml");
+    scene.output.history_interval = Some(1e-9);
+    scene.bodies[1].rigid = true;
+    scene.bodies[1].velocity = Some(vec![0.0]);
+    let steel = material(&scene, "steel");
+    let exact = bar_impact(&steel, L, 10.0, &steel, L, -10.0);
+    let out = run(&scene);
+    let t = &out.history.times;
+    let p = column(&out, "contact_pressure");
+    let (_, t_sep) = contact_window(t, &p);
+    assert!(
+        (t_sep / exact.separation_time - 1.0).abs() < 0.01,
+        "separation {t_sep:e}"
+    );
+    let k = t.iter().position(|&x| x > 0.5 * t_sep).unwrap();
+    assert!(
+        (p[k] / -exact.contact_stress - 1.0).abs() < 0.01,
+        "pressure {:e}",
+        p[k]
+    );
+    let vl = *column(&out, "velocity_left").last().unwrap();
+    assert!((vl / -10.0 - 1.0).abs() < 0.05, "rebound {vl}");
+    assert!(column(&out, "velocity_right").iter().all(|&v| v == 0.0));
+    // Energy: the wall does no work, so the bar's energy balance still closes.
+    let drift = (out.summary.energy_final / out.summary.energy_initial - 1.0).abs();
+    assert!(drift < 5e-3, "energy drift {drift:e}");
+}
+
+/// Perfect plasticity (METHOD.md §6): below yield the run is identical to the
+/// elastic one; above it the radial return holds von Mises at Y0 exactly.
+#[test]
+fn plasticity_caps_von_mises() {
+    let with_vm = |yield_stress: Option<f64>, v: f64| {
+        let mut scene = load("scenes/paper/bars_steel.toml");
+        scene.simulation.end_time = 1.5e-6;
+        scene.materials.get_mut("steel").unwrap().yield_stress = yield_stress;
+        scene.bodies[0].velocity = Some(vec![v]);
+        scene.bodies[1].velocity = Some(vec![-v]);
+        let text = scene.to_toml()
+            + "\n[[probes]]\nname = \"vm_a\"\nkind = \"particle\"\nbody = \"left\"\nat = [-0.0001]\nquantity = \"von_mises\"\n"
+            + "\n[[probes]]\nname = \"vm_b\"\nkind = \"particle\"\nbody = \"left\"\nat = [-0.0025]\nquantity = \"von_mises\"\n";
+        let scene = parse(&text);
+        let out = run(&scene);
+        assert_conserved(&scene, &out);
+        out
+    };
+    let elastic = with_vm(None, 10.0);
+    let below = with_vm(Some(600e6), 10.0);
+    assert_eq!(
+        elastic.history.rows, below.history.rows,
+        "below yield nothing changes"
+    );
+    let peak_elastic = column(&elastic, "vm_b").iter().cloned().fold(0.0, f64::max);
+    assert!(
+        peak_elastic > 2e8 && peak_elastic < 6e8,
+        "elastic von Mises {peak_elastic:e}"
+    );
+
+    let y0 = 600e6;
+    let plastic = with_vm(Some(y0), 50.0);
+    for name in ["vm_a", "vm_b"] {
+        let peak = column(&plastic, name).iter().cloned().fold(0.0, f64::max);
+        assert!(peak <= y0 * (1.0 + 1e-12), "{name}: {peak:e} above Y0");
+        assert!(peak > 0.999 * y0, "{name}: {peak:e} never yields at 50 m/s");
+    }
+}

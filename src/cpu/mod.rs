@@ -140,7 +140,11 @@ fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &
         .for_each(|(i, ((((x, v), rho), e), s))| {
             *x = base.x[i] + vel[i] * k;
             if model.rigid(i) {
+                // A rigid body keeps its velocity and reference state.
                 *v = base.v[i];
+                *rho = base.rho[i];
+                *e = base.e[i];
+                *s = base.s[i];
                 return;
             }
             *v = base.v[i] + r.dv[i] * k;
@@ -166,18 +170,22 @@ pub struct CpuSolver {
     pub state: State,
     /// Rates and diagnostics at `state` (the first stage of the next step).
     current: Option<(Rates, Diagnostics)>,
+    /// Reused buffers: the midpoint state and the next state.
     scratch: State,
+    spare: State,
     initial_dt: Option<f64>,
 }
 
 impl CpuSolver {
     pub fn new(model: Model, state: State) -> Self {
         let scratch = state.clone();
+        let spare = state.clone();
         Self {
             model,
             state,
             current: None,
             scratch,
+            spare,
             initial_dt: None,
         }
     }
@@ -192,6 +200,13 @@ impl CpuSolver {
 
     pub fn diagnostics(&mut self) -> &Diagnostics {
         &self.current().1
+    }
+
+    /// The model, the state and the diagnostics at it, borrowed together.
+    pub fn observe(&mut self) -> (&Model, &State, &Diagnostics) {
+        self.current();
+        let diag = &self.current.as_ref().expect("evaluated above").1;
+        (&self.model, &self.state, diag)
     }
 
     /// The step the next `step` call would take, before clipping.
@@ -220,12 +235,12 @@ impl CpuSolver {
             &mut half,
         );
         let (k2, _) = evaluate(&self.model, &half);
-        let mut next = self.state.clone();
+        let mut next = std::mem::take(&mut self.spare);
         advance(&self.model, &self.state, &half.v, &k2, dt, &mut next);
         next.t = self.state.t + dt;
         next.step = self.state.step + 1;
         self.scratch = half;
-        self.state = next;
+        self.spare = std::mem::replace(&mut self.state, next);
         self.check()?;
         Ok(dt)
     }
