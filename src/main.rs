@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use sphcontact::model::Model;
 use sphcontact::physics::material::series;
 use sphcontact::run::{history_times, output_dir, run_scene, RunOptions};
-use sphcontact::scene::{validate::cfl_step_at_start, Backend, Scene, SpringModel};
+use sphcontact::scene::{validate::cfl_step_at_start, Backend, Scene};
 
 #[derive(Parser)]
 #[command(
@@ -106,14 +106,11 @@ fn check(path: &Path, scene: &Scene) {
             for b in &model.bodies[i + 1..] {
                 let z = series(inf(a, a.material.z), inf(b, b.material.z));
                 let e = series(inf(a, a.material.e), inf(b, b.material.e));
-                let spring = match model.spring {
-                    SpringModel::SeriesModulus => format!(
-                        "E* {:.4e} Pa, spring E*/h0 {:.4e} Pa/m",
-                        e,
-                        e / (0.5 * (a.spacing + b.spacing))
-                    ),
-                    SpringModel::SurfaceLayers => "spring from the surface layers".to_string(),
-                };
+                let spring = format!(
+                    "E* {:.4e} Pa, spring E*/h0 {:.4e} Pa/m",
+                    e,
+                    e / (0.5 * (a.spacing + b.spacing))
+                );
                 println!(
                     "contact     {} | {}: Z* {:.4e} Pa s/m, {}",
                     a.name, b.name, z, spring

@@ -5,7 +5,7 @@ use glam::DVec2;
 use std::ops::Range;
 
 use crate::physics::material::MaterialModel;
-use crate::scene::{place_bodies, Correction, Interaction, Scene, SpringModel};
+use crate::scene::{place_bodies, Correction, Interaction, Scene};
 
 /// One body: its material, its particles (a contiguous range) and flags.
 #[derive(Debug, Clone)]
@@ -31,7 +31,6 @@ pub struct Model {
     pub beta: f64,
     /// Artificial stress `(ε, n)` when the scene switches it on.
     pub artificial_stress: Option<(f64, f64)>,
-    pub spring: SpringModel,
     pub boundary_threshold: f64,
     pub bodies: Vec<BodyInfo>,
     pub mass: Vec<f64>,
@@ -79,7 +78,6 @@ impl Model {
             alpha: av.alpha,
             beta: av.beta,
             artificial_stress: scene.artificial_stress.map(|a| (a.epsilon, a.n)),
-            spring: cs.spring,
             boundary_threshold: cs.boundary_threshold,
             bodies: Vec::with_capacity(placed.len()),
             mass: Vec::with_capacity(n),

@@ -134,13 +134,16 @@ pub fn body_means(model: &Model, st: &State, b: usize) -> (f64, DVec2, DVec2, f6
 
 /// Evaluate every probe.
 pub fn evaluate(probes: &[Resolved], model: &Model, st: &State, diag: &Diagnostics) -> Vec<f64> {
+    // Each body's sums and the energies are computed once, however many
+    // probes read them.
     let mut en: Option<Energies> = None;
+    let mut bodies: Vec<Option<(f64, DVec2, DVec2, f64)>> = vec![None; model.bodies.len()];
     probes
         .iter()
         .map(|p| match *p {
             Resolved::Particle(i, q) => particle_value(model, st, i, q),
             Resolved::Body(b, q) => {
-                let (m, mv, mx, ke) = body_means(model, st, b);
+                let (m, mv, mx, ke) = *bodies[b].get_or_insert_with(|| body_means(model, st, b));
                 match q {
                     BodyQuantity::VelocityX => mv.x / m,
                     BodyQuantity::VelocityY => mv.y / m,

@@ -100,7 +100,7 @@ struct Progress {
 }
 
 impl Progress {
-    fn new(opts: &RunOptions, end: f64) -> Self {
+    fn new(opts: &RunOptions) -> Self {
         if opts.silent {
             return Self {
                 bar: None,
@@ -116,7 +116,6 @@ impl Progress {
                 )
                 .expect("a valid template"),
             );
-            let _ = end;
             return Self {
                 bar: Some(bar),
                 plain: false,
@@ -201,7 +200,7 @@ pub fn run_scene(
         let (model, st, diag) = solver.observe();
         probe::energies(model, st, diag).total()
     };
-    let mut progress = Progress::new(opts, end);
+    let mut progress = Progress::new(opts);
     let start = Instant::now();
     let mut max_fallback = 0;
 

@@ -816,23 +816,26 @@ fn bad_command_line_arguments() {
     assert!(!Path::new(out_dir).join("history.csv").exists());
 }
 
+/// `run` of the tiny base scene on `backend`, writing into `<tmp>/out`.
+fn run_base(tmp: &Path, name: &str, backend: &str) -> (Output, PathBuf) {
+    let scene = write_scene(tmp, name, BASE_1D);
+    let out_dir = tmp.join("out");
+    let args = [
+        "run",
+        scene.to_str().unwrap(),
+        "--backend",
+        backend,
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--quiet",
+    ];
+    (sphcontact(tmp, &args), out_dir)
+}
+
 #[test]
 fn gpu_backend_is_not_built_yet() {
     let tmp = tempfile::tempdir().unwrap();
-    let scene = write_scene(tmp.path(), "gpu", BASE_1D);
-    let out_dir = tmp.path().join("out");
-    let out = sphcontact(
-        tmp.path(),
-        &[
-            "run",
-            scene.to_str().unwrap(),
-            "--backend",
-            "gpu",
-            "--out",
-            out_dir.to_str().unwrap(),
-            "--quiet",
-        ],
-    );
+    let (out, _) = run_base(tmp.path(), "gpu", "gpu");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
     assert!(stderr.contains("GPU"), "stderr: {stderr}");
@@ -842,20 +845,7 @@ fn gpu_backend_is_not_built_yet() {
 #[test]
 fn tiny_scene_runs_on_the_cpu() {
     let tmp = tempfile::tempdir().unwrap();
-    let scene = write_scene(tmp.path(), "tiny", BASE_1D);
-    let out_dir = tmp.path().join("out");
-    let out = sphcontact(
-        tmp.path(),
-        &[
-            "run",
-            scene.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            out_dir.to_str().unwrap(),
-            "--quiet",
-        ],
-    );
+    let (out, out_dir) = run_base(tmp.path(), "tiny", "cpu");
     assert_eq!(
         out.status.code(),
         Some(0),

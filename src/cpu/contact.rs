@@ -17,7 +17,6 @@ use super::neighbours::Neighbours;
 use crate::model::{Model, State};
 use crate::physics::kernel;
 use crate::physics::material::series;
-use crate::scene::SpringModel;
 
 /// Whether boundary particle `q` (another body) is a contact candidate of
 /// boundary particle `p` (METHOD.md §8.2): within `2 h_pq`, normals facing
@@ -62,8 +61,6 @@ pub struct ContactForces {
     pub force: Vec<DVec2>,
     /// Dashpot heat rate booked into each particle, W.
     pub heat: Vec<f64>,
-    /// Contact pressure `p_P` of each particle's own pass (the largest over its partner bodies).
-    pub pressure: Vec<f64>,
     pub stats: ContactStats,
 }
 
@@ -99,14 +96,14 @@ impl ContactStats {
     }
 }
 
-/// Impedance, spring modulus and stiffness inputs of a body (∞ when rigid).
+/// Impedance and Young's modulus of a body (∞ when rigid, METHOD.md §8.5).
 #[inline]
-fn body_constants(model: &Model, b: u32) -> (f64, f64, f64) {
+fn body_constants(model: &Model, b: u32) -> (f64, f64) {
     let info = &model.bodies[b as usize];
     if info.rigid {
-        (f64::INFINITY, f64::INFINITY, f64::INFINITY)
+        (f64::INFINITY, f64::INFINITY)
     } else {
-        (info.material.z, info.material.e, info.material.m)
+        (info.material.z, info.material.e)
     }
 }
 
@@ -158,24 +155,12 @@ fn pressure(
     let delta = -gap;
     let w_rate = vrel.dot(n);
     let bp = model.body[p_idx];
-    let (za, ea, ma) = body_constants(model, bp);
-    let (zb, eb, mb) = body_constants(model, partner);
+    let (za, ea) = body_constants(model, bp);
+    let (zb, eb) = body_constants(model, partner);
     let z = series(za, zb);
-    let stiffness = match model.spring {
-        // eq. 25: E*/h0, h0 the mean initial spacing of the two bodies.
-        SpringModel::SeriesModulus => {
-            let h0 =
-                0.5 * (model.bodies[bp as usize].spacing + model.bodies[partner as usize].spacing);
-            series(ea, eb) / h0
-        }
-        // Two surface layers of half a spacing each, in series, each with
-        // its P-wave modulus.
-        SpringModel::SurfaceLayers => {
-            let ha = 0.5 * model.bodies[bp as usize].spacing;
-            let hb = 0.5 * model.bodies[partner as usize].spacing;
-            1.0 / (ha / ma + hb / mb)
-        }
-    };
+    // eq. 25: E*/h0, h0 the mean initial spacing of the two bodies.
+    let h0 = 0.5 * (model.bodies[bp as usize].spacing + model.bodies[partner as usize].spacing);
+    let stiffness = series(ea, eb) / h0;
     let p = (z * w_rate + stiffness * delta).max(0.0);
     Some(Pass {
         p,
@@ -190,17 +175,16 @@ fn pressure(
 pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> ContactForces {
     let n = model.len();
     // Pass 1: every boundary particle against each partner body around it.
-    type P1 = (DVec2, f64, f64, Vec<Share>, Vec<(u32, f64, f64, f64, f64)>);
+    type P1 = (DVec2, f64, Vec<Share>, Vec<(u32, f64, f64, f64, f64)>);
     let pass1: Vec<P1> = (0..n)
         .into_par_iter()
         .map(|p| {
             let mut own_force = DVec2::ZERO;
             let mut own_heat = 0.0;
-            let mut pmax = 0.0f64;
             let mut shares = Vec::new();
             let mut stats = Vec::new();
             if !bd.is_boundary[p] {
-                return (own_force, own_heat, pmax, shares, stats);
+                return (own_force, own_heat, shares, stats);
             }
             // Weighted sums per partner body (almost always one).
             // (body, ΣW, ΣW (s_q − S_P), ΣW n_q, ΣW v_q, ΣW n_q·(S_P − s_q))
@@ -259,10 +243,9 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                     q: ps.n * (0.5 * ps.p * a / sw),
                     eta: if rigid { heat / sw } else { 0.0 },
                 });
-                pmax = pmax.max(ps.p);
                 stats.push((bq, 0.5 * ps.p * a, ps.p, stored, heat));
             }
-            (own_force, own_heat, pmax, shares, stats)
+            (own_force, own_heat, shares, stats)
         })
         .collect();
 
@@ -279,10 +262,10 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
             let bq = model.body[q];
             for &p in nb.cross_of(q) {
                 let p = p as usize;
-                if pass1[p].3.is_empty() || !bd.is_boundary[p] {
+                if pass1[p].2.is_empty() || !bd.is_boundary[p] {
                     continue;
                 }
-                let Some(share) = pass1[p].3.iter().find(|s| s.body == bq) else {
+                let Some(share) = pass1[p].2.iter().find(|s| s.body == bq) else {
                     continue;
                 };
                 let Some(w) = is_candidate(model, st, bd, p, q) else {
@@ -298,15 +281,13 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
     let mut out = ContactForces {
         force: Vec::with_capacity(n),
         heat: Vec::with_capacity(n),
-        pressure: Vec::with_capacity(n),
         stats: ContactStats::default(),
     };
     for (p, (own, g)) in pass1.iter().zip(&gathered).enumerate() {
         out.force.push(own.0 + g.0);
         out.heat
             .push(if model.rigid(p) { 0.0 } else { own.1 + g.1 });
-        out.pressure.push(own.2);
-        for &(bq, force, pr, stored, heat) in &own.4 {
+        for &(bq, force, pr, stored, heat) in &own.3 {
             out.stats.add(model.body[p], bq, force, pr);
             out.stats.stored += stored;
             out.stats.heat_rate += heat;

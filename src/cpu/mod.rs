@@ -26,6 +26,7 @@ use rayon::prelude::*;
 use crate::error::Instability;
 use crate::math::Sym;
 use crate::model::{Model, State};
+use crate::physics::material;
 use forces::StressPoint;
 
 /// Rates of one evaluation.
@@ -42,7 +43,9 @@ pub struct Rates {
 /// What an evaluation tells about the state it was made at, beyond the rates.
 #[derive(Debug, Clone, Default)]
 pub struct Diagnostics {
-    pub pressure: Vec<f64>,
+    /// The CFL step at this state (METHOD.md §9), from the sound speeds the
+    /// evaluation computed anyway.
+    pub cfl_dt: f64,
     pub contact: contact::ContactStats,
     /// Particles whose correction matrix fell back to the identity.
     pub correction_fallback: usize,
@@ -50,8 +53,9 @@ pub struct Diagnostics {
     pub boundary_count: usize,
 }
 
-/// Pressure, sound speed and the per-particle inputs of the momentum pass.
-pub fn eos_and_stress(model: &Model, st: &State) -> (Vec<f64>, Vec<StressPoint>) {
+/// Per-particle inputs of the momentum pass: `σ/ρ²`, artificial stress and
+/// sound speed, from the EOS.
+pub fn eos_and_stress(model: &Model, st: &State) -> Vec<StressPoint> {
     (0..model.len())
         .into_par_iter()
         .map(|i| {
@@ -64,27 +68,24 @@ pub fn eos_and_stress(model: &Model, st: &State) -> (Vec<f64>, Vec<StressPoint>)
                 Some((eps, _)) => forces::artificial_stress(eps, &sigma, st.rho[i]),
                 None => Sym::default(),
             };
-            (
-                p,
-                StressPoint {
-                    sr2: sigma.scale(1.0 / r2),
-                    r,
-                    c,
-                },
-            )
+            StressPoint {
+                sr2: sigma.scale(1.0 / r2),
+                r,
+                c,
+            }
         })
-        .unzip()
+        .collect()
 }
 
 /// One full evaluation of the rates at `st`.
 pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
     let nb = neighbours::find(model, &st.x);
-    let (pressure, pts) = eos_and_stress(model, st);
+    let pts = eos_and_stress(model, st);
     let a = kinematics::correction_and_colour(model, st, &nb);
     let (drho, ds) = kinematics::density_and_stress_rates(model, st, &nb, &a.l);
     let (mut dv, mut de) = forces::momentum_energy(model, st, &nb, &a.l, &pts);
     let mut diag = Diagnostics {
-        pressure,
+        cfl_dt: cfl_step(model, st, &pts),
         correction_fallback: a.fallback.len(),
         ..Default::default()
     };
@@ -115,15 +116,12 @@ pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
 }
 
 /// The CFL step (METHOD.md §9): `C min_i h_i / (c_i + |v_i|)` over deformable
-/// particles.
-pub fn cfl_step(model: &Model, st: &State) -> f64 {
+/// particles, with the sound speeds of `pts`.
+pub fn cfl_step(model: &Model, st: &State, pts: &[StressPoint]) -> f64 {
     (0..model.len())
         .into_par_iter()
         .filter(|&i| !model.rigid(i))
-        .map(|i| {
-            let c = model.material(i).sound_speed(st.rho[i], st.e[i]);
-            model.cfl * model.h[i] / (c + st.v[i].length())
-        })
+        .map(|i| material::cfl_step(model.cfl, model.h[i], pts[i].c, st.v[i].length()))
         .reduce(|| f64::INFINITY, f64::min)
 }
 
@@ -210,10 +208,11 @@ impl CpuSolver {
     }
 
     /// The step the next `step` call would take, before clipping.
-    pub fn next_dt(&self) -> f64 {
-        self.model
-            .fixed_dt
-            .unwrap_or_else(|| cfl_step(&self.model, &self.state))
+    pub fn next_dt(&mut self) -> f64 {
+        match self.model.fixed_dt {
+            Some(dt) => dt,
+            None => self.diagnostics().cfl_dt,
+        }
     }
 
     /// Advance one midpoint step of at most `max_dt`.

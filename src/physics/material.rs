@@ -109,6 +109,12 @@ impl MaterialModel {
     }
 }
 
+/// The CFL step of one particle (METHOD.md §9): `C h / (c + |v|)`.
+#[inline]
+pub fn cfl_step(cfl: f64, h: f64, c: f64, speed: f64) -> f64 {
+    cfl * h / (c + speed)
+}
+
 /// Interface impedance `Z* = Z_i Z_j/(Z_i + Z_j)` (eq. 24); a rigid partner
 /// (infinite impedance) gives `Z_i`.
 #[inline]

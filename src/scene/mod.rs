@@ -151,9 +151,6 @@ impl Default for ArtificialViscosity {
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSettings {
-    /// How the penalty spring's stiffness is derived.
-    #[serde(default)]
-    pub spring: SpringModel,
     /// Boundary-particle threshold on `h |∇ψ|` (METHOD.md §8.1).
     #[serde(default = "default_boundary_threshold")]
     pub boundary_threshold: f64,
@@ -161,26 +158,12 @@ pub struct ContactSettings {
 impl Default for ContactSettings {
     fn default() -> Self {
         Self {
-            spring: SpringModel::default(),
             boundary_threshold: default_boundary_threshold(),
         }
     }
 }
 pub fn default_boundary_threshold() -> f64 {
     0.3
-}
-
-/// The penalty spring (λ2 of the paper).
-#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum SpringModel {
-    /// The paper's eq. 25: `E* / h0` with the series Young's modulus.
-    #[default]
-    SeriesModulus,
-    /// The two surface layers between the particle centres and the surfaces
-    /// (thickness `o_i`, `o_j`) in series: `1 / (o_i/M_i + o_j/M_j)`, with `M`
-    /// the constrained (P-wave) modulus `ρ0 c_L²`.
-    SurfaceLayers,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]

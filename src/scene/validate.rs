@@ -8,7 +8,7 @@ use std::collections::{HashMap, HashSet};
 
 use super::{place_bodies, Interaction, Probe, Scene, Shape};
 use crate::error::SceneError;
-use crate::physics::material::MaterialModel;
+use crate::physics::material::{cfl_step, MaterialModel};
 
 type R = Result<(), SceneError>;
 
@@ -359,7 +359,7 @@ pub fn cfl_step_at_start(scene: &Scene, placed: &[super::PlacedBody]) -> f64 {
             .as_ref()
             .map_or(0.0, |v| v.iter().map(|x| x * x).sum::<f64>().sqrt());
         let h = scene.simulation.smoothing_ratio * p.spacing;
-        dt = dt.min(scene.simulation.cfl * h / (mat.c_l + v));
+        dt = dt.min(cfl_step(scene.simulation.cfl, h, mat.c_l, v));
     }
     dt
 }
