@@ -53,6 +53,7 @@
 
 pub mod cpu;
 pub mod error;
+pub mod gpu;
 pub mod math;
 pub mod model;
 pub mod output;

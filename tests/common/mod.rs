@@ -40,6 +40,7 @@ pub fn column(out: &RunOutput, name: &str) -> Vec<f64> {
         .unwrap_or_else(|| panic!("no probe '{name}'"))
 }
 
+#[allow(unused_imports)]
 pub use sphcontact::output::contact_window;
 
 /// Momentum to round-off (relative to Σ m |v0|) and total energy (kinetic +
@@ -66,5 +67,24 @@ pub fn assert_conserved(scene: &Scene, out: &RunOutput) {
     if s.energy_initial > 0.0 {
         let drift = (s.energy_final - s.energy_initial).abs() / s.energy_initial;
         assert!(drift < 5e-3, "energy drift {drift:e}");
+    }
+}
+
+/// The GPU context shared by a test binary, or `None` with a visible skip
+/// line. With `SPHCONTACT_REQUIRE_GPU` set (CI), a missing adapter fails
+/// the test instead.
+pub fn gpu() -> Option<std::sync::Arc<sphcontact::gpu::GpuContext>> {
+    use std::sync::{Arc, OnceLock};
+    static CTX: OnceLock<Result<Arc<sphcontact::gpu::GpuContext>, String>> = OnceLock::new();
+    let ctx = CTX.get_or_init(|| sphcontact::gpu::GpuContext::new().map(Arc::new));
+    match ctx {
+        Ok(c) => Some(c.clone()),
+        Err(e) => {
+            if std::env::var_os("SPHCONTACT_REQUIRE_GPU").is_some() {
+                panic!("SPHCONTACT_REQUIRE_GPU is set but there is no GPU adapter: {e}");
+            }
+            eprintln!("SKIP: no GPU adapter ({e}); this GPU test did not run");
+            None
+        }
     }
 }

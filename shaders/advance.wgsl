@@ -1,0 +1,98 @@
+// Explicit midpoint (RK2) updates (METHOD.md §9) with the radial return of
+// perfect plasticity (METHOD.md §6). Half step: mid = base + dt/2 k1.
+// Full step, in place: base += dt k2 (positions with the midpoint velocity),
+// with the instability check. CPU twin: cpu::advance.
+
+@group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
+@group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
+@group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
+@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
+@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(16) var<storage, read> dr: array<vec2<f32>>;
+@group(0) @binding(17) var<storage, read> ds: array<vec4<f32>>;
+@group(0) @binding(18) var<storage, read> dv: array<vec2<f32>>;
+@group(0) @binding(23) var<storage, read> cheat: array<f32>;
+@group(0) @binding(30) var<storage, read_write> u_w: array<vec2<f32>>;
+@group(0) @binding(31) var<storage, read_write> v_w: array<vec2<f32>>;
+@group(0) @binding(32) var<storage, read_write> r_w: array<vec2<f32>>;
+@group(0) @binding(33) var<storage, read_write> s_w: array<vec4<f32>>;
+@group(0) @binding(34) var<storage, read_write> qheat_w: array<f32>;
+@group(0) @binding(35) var<storage, read> vm: array<vec2<f32>>;
+
+fn plastic_return(sn: vec4<f32>, b: Body) -> vec4<f32> {
+    if (PLASTIC && b.elastic == 0u) {
+        let j = von_mises(sn);
+        if (j > b.y0) {
+            return sn * (b.y0 / j);
+        }
+    }
+    return sn;
+}
+
+fn finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn fail(i: u32, quantity: u32) {
+    let fs = atomicLoad(&ctl.fail_step);
+    if (fs == NONE || fs == ctl.step) {
+        atomicMin(&ctl.fail_step, ctl.step);
+        atomicMin(&ctl.fail_code, pinfo[i].w * 8u + quantity);
+    }
+}
+
+// Stage 1: the midpoint state (u_w, v_w, r_w, s_w are the midpoint buffers).
+@compute @workgroup_size(WG)
+fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n) {
+        return;
+    }
+    let k = 0.5 * ctl.dt;
+    let b = bodies[pinfo[i].z];
+    u_w[i] = u[i] + v[i] * k;
+    if (b.rigid != 0u) {
+        v_w[i] = v[i];
+        r_w[i] = r[i];
+        s_w[i] = s[i];
+        return;
+    }
+    v_w[i] = v[i] + dv[i] * k;
+    r_w[i] = r[i] + dr[i] * k;
+    s_w[i] = plastic_return(s[i] + ds[i] * k, b);
+}
+
+// Stage 2: the new state, in place (u_w, v_w, r_w, s_w are the base buffers).
+@compute @workgroup_size(WG)
+fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n) {
+        return;
+    }
+    let dt = ctl.dt;
+    let b = bodies[pinfo[i].z];
+    let un = u_w[i] + vm[i] * dt;
+    u_w[i] = un;
+    if (b.rigid != 0u) {
+        return;
+    }
+    let vn = v_w[i] + dv[i] * dt;
+    let rn = r_w[i] + dr[i] * dt;
+    v_w[i] = vn;
+    r_w[i] = rn;
+    s_w[i] = plastic_return(s_w[i] + ds[i] * dt, b);
+    if (CONTACT) {
+        qheat_w[i] = qheat_w[i] + cheat[i] * dt;
+    }
+    let xn = x0[i] + un;
+    if (!(finite(xn.x) && finite(xn.y))) {
+        fail(i, 0u);
+    } else if (!(finite(vn.x) && finite(vn.y))) {
+        fail(i, 1u);
+    } else if (!finite(rn.y)) {
+        fail(i, 2u);
+    } else if (!(rn.x > -0.9 && rn.x < 9.0)) {
+        fail(i, 3u);
+    }
+}

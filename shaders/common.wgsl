@@ -1,0 +1,198 @@
+// Shared declarations of every sphcontact compute shader. The host prepends
+// this file to each stage file before compiling (WGSL has no includes).
+//
+// Precision plan (f32 on the device, see src/gpu/mod.rs): positions are kept
+// as a constant reference x0 plus a displacement u, and pair differences are
+// formed as (x0_i - x0_j) + (u_i - u_j), so round-off scales with the
+// displacement, not the coordinate. Density is kept as mu = rho/rho0 - 1, the
+// quantity the equation of state needs and the one a step changes. Time is a
+// compensated (hi, lo) pair.
+
+// Scene switches: physics a scene does not use is compiled out.
+override DIM: u32 = 2u;
+override CONTACT: bool = false;
+override CORRECTED: bool = true;
+override PLASTIC: bool = false;
+override ART_STRESS: bool = false;
+override WG: u32 = 64u;
+
+const NONE: u32 = 0xffffffffu;
+const BIG: f32 = 3.0e38;
+const PI: f32 = 3.14159265358979;
+
+// Run-wide constants (mirrored by `gpu::layout::Params`).
+struct Params {
+    n: u32,
+    nbodies: u32,
+    buckets: u32,
+    row_stride: u32,
+    origin_x: f32,
+    origin_y: f32,
+    inv_cell: f32,
+    alpha: f32,
+    beta: f32,
+    cfl: f32,
+    fixed_dt: f32,
+    boundary_threshold: f32,
+    as_eps: f32,
+    as_n: f32,
+    end_hi: f32,
+    end_lo: f32,
+    ring_len: u32,
+    ring_width: u32,
+    nslots: u32,
+    nprobes: u32,
+    pad1: u32,
+    red_groups: u32,
+    min_det: f32,
+    pad0: u32,
+}
+
+// Per-body constants (mirrored by `gpu::layout::BodyGpu`).
+struct Body {
+    rho0: f32,
+    k: f32,
+    s: f32,
+    gamma0: f32,
+    g: f32,
+    y0: f32,
+    z: f32,
+    young: f32,
+    spacing: f32,
+    h: f32,
+    rigid: u32,
+    linear: u32,
+    elastic: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+// Time and run status (mirrored by `gpu::layout::Control`).
+struct Control {
+    t_hi: f32,
+    t_lo: f32,
+    dt: f32,
+    dt0: f32,
+    step: u32,
+    zero_steps: u32,
+    fail_step: atomic<u32>,
+    fail_code: atomic<u32>,
+    fallback_now: atomic<u32>,
+    fallback_max: u32,
+    multi_partner: atomic<u32>,
+    pad0: u32,
+}
+
+// Global invocation index of a 2-D dispatch of `WG`-wide workgroups
+// (dispatches past 65,535 workgroups wrap into y).
+fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
+    return gid.x + gid.y * nwg.x * WG;
+}
+
+// Bindings every stage may read. Each stage file declares the buffers it
+// writes, with its own binding numbers; the host binds buffers by name.
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> bodies: array<Body>;
+@group(0) @binding(2) var<storage, read_write> ctl: Control;
+
+// Cubic B-spline (METHOD.md §3).
+fn kernel_alpha(h: f32) -> f32 {
+    if (DIM == 1u) {
+        return 2.0 / (3.0 * h);
+    }
+    return 10.0 / (7.0 * PI * h * h);
+}
+
+fn kernel_w(r: f32, h: f32) -> f32 {
+    let q = r / h;
+    var f = 0.0;
+    if (q < 1.0) {
+        f = 1.0 - 1.5 * q * q + 0.75 * q * q * q;
+    } else if (q < 2.0) {
+        let t = 2.0 - q;
+        f = 0.25 * t * t * t;
+    }
+    return kernel_alpha(h) * f;
+}
+
+fn kernel_dw(r: f32, h: f32) -> f32 {
+    let q = r / h;
+    var f = 0.0;
+    if (q < 1.0) {
+        f = -3.0 * q + 2.25 * q * q;
+    } else if (q < 2.0) {
+        let t = 2.0 - q;
+        f = -0.75 * t * t;
+    }
+    return kernel_alpha(h) * f / h;
+}
+
+// Mie-Grüneisen or linear pressure (METHOD.md §6), from mu = rho/rho0 - 1.
+fn eos_pressure(b: Body, mu: f32, e: f32) -> f32 {
+    if (b.linear != 0u) {
+        return b.k * mu;
+    }
+    var ph = b.k * mu;
+    if (mu > 0.0) {
+        let sm = b.s - 1.0;
+        let b0 = b.k * (1.0 + 2.0 * sm);
+        let c0 = b.k * (2.0 * sm + 3.0 * sm * sm);
+        ph = mu * (b.k + mu * (b0 + mu * c0));
+    }
+    return (1.0 - 0.5 * b.gamma0 * mu) * ph + b.gamma0 * b.rho0 * (1.0 + mu) * e;
+}
+
+// Longitudinal sound speed, bulk part never below K (as the CPU path).
+fn eos_sound_speed(b: Body, mu: f32, e: f32) -> f32 {
+    var dpdrho = b.k / b.rho0;
+    if (b.linear == 0u && mu > 0.0) {
+        let sm = b.s - 1.0;
+        let b0 = b.k * (1.0 + 2.0 * sm);
+        let c0 = b.k * (2.0 * sm + 3.0 * sm * sm);
+        let ph = mu * (b.k + mu * (b0 + mu * c0));
+        let dph = b.k + mu * (2.0 * b0 + 3.0 * mu * c0);
+        let d = ((1.0 - 0.5 * b.gamma0 * mu) * dph - 0.5 * b.gamma0 * ph) / b.rho0 + b.gamma0 * e;
+        dpdrho = max(dpdrho, d);
+    }
+    let rho = b.rho0 * (1.0 + mu);
+    return sqrt((rho * dpdrho + 4.0 * b.g / 3.0) / rho);
+}
+
+// Symmetric in-plane tensors are vec4 (xx, yy, xy, zz).
+fn sym_mul(t: vec4<f32>, g: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(t.x * g.x + t.z * g.y, t.z * g.x + t.y * g.y);
+}
+
+fn von_mises(s: vec4<f32>) -> f32 {
+    return sqrt(1.5 * (s.x * s.x + s.y * s.y + s.w * s.w + 2.0 * s.z * s.z));
+}
+
+// 2x2 matrices are vec4 (xx, xy, yx, yy).
+fn mat_mul(m: vec4<f32>, g: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(m.x * g.x + m.y * g.y, m.z * g.x + m.w * g.y);
+}
+
+fn outer(a: vec2<f32>, b: vec2<f32>) -> vec4<f32> {
+    return vec4<f32>(a.x * b.x, a.x * b.y, a.y * b.x, a.y * b.y);
+}
+
+// Cell of a position and its bucket in the hashed cell table: row-major
+// keys modulo a power of two, so neighbouring cells of a row are
+// neighbouring buckets and far-apart bodies need no large grid.
+fn cell_of(p: vec2<f32>) -> vec2<i32> {
+    let c = floor(vec2<f32>((p.x - params.origin_x) * params.inv_cell, (p.y - params.origin_y) * params.inv_cell));
+    return vec2<i32>(c);
+}
+
+fn bucket_of(c: vec2<i32>) -> u32 {
+    return (bitcast<u32>(c.x) + bitcast<u32>(c.y) * params.row_stride) & (params.buckets - 1u);
+}
+
+// Rows of cells to scan: one in 1-D, three in 2-D.
+fn scan_rows() -> i32 {
+    if (DIM == 1u) {
+        return 0;
+    }
+    return 1;
+}

@@ -1,0 +1,238 @@
+// Penalty contact (METHOD.md §8), two gathers, no atomics.
+// Pass 1: each boundary particle P interpolates the partner body's surface
+// points s_q = x_q + o_q n_q with kernel weights, takes the gap as the mean
+// of the chord and tangent-line estimates, and the pressure
+// p = max(0, Z* w + (E*/h0) delta); it keeps -p A n / 2 and leaves +p A n / 2
+// per unit weight for its partners. Pass 2: each boundary particle gathers
+// those shares over the same candidate pairs, and adds the contact force and
+// the dashpot heat to its rates.
+// CPU twin: cpu::contact::penalty (which also allows several partner bodies
+// at one particle; here each particle pairs with the first partner body its
+// neighbour scan meets, and such particles are counted).
+
+@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
+@group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
+@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
+@group(0) @binding(9) var<storage, read> cellc: array<vec2<i32>>;
+@group(0) @binding(10) var<storage, read> bstart: array<u32>;
+@group(0) @binding(11) var<storage, read> blist: array<u32>;
+@group(0) @binding(13) var<storage, read> nbo: array<vec4<f32>>;
+@group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
+@group(0) @binding(18) var<storage, read_write> dv: array<vec2<f32>>;
+@group(0) @binding(19) var<storage, read> area: array<f32>;
+@group(0) @binding(20) var<storage, read_write> cown: array<vec4<f32>>;
+@group(0) @binding(21) var<storage, read_write> cshare: array<vec4<f32>>;
+@group(0) @binding(22) var<storage, read_write> cstat: array<vec4<f32>>;
+@group(0) @binding(23) var<storage, read_write> cheat: array<f32>;
+
+// Kernel weight of the candidate pair (p, q), or a negative value when q is
+// not a contact candidate of p (METHOD.md §8.2). Both passes call it with
+// the same arguments in the same order, so both see the same weight.
+fn candidate(p: u32, q: u32, op: f32, oq: f32, hp: f32, hq: f32) -> f32 {
+    let d = (x0[q] - x0[p]) + (u[q] - u[p]);
+    let hpq = 0.5 * (hp + hq);
+    let dist = length(d);
+    if (dist >= 2.0 * hpq) {
+        return -1.0;
+    }
+    let np = nbo[p].xy;
+    let nq = nbo[q].xy;
+    if (dot(np, nq) >= 0.0) {
+        return -1.0;
+    }
+    if (max(dot(np, d), -dot(nq, d)) > op + oq + hpq) {
+        return -1.0;
+    }
+    return kernel_w(dist, hpq);
+}
+
+// Series combination, a rigid side counting as infinite (METHOD.md §8.5).
+fn series(a: f32, ra: bool, b: f32, rb: bool) -> f32 {
+    if (ra) {
+        return b;
+    }
+    if (rb) {
+        return a;
+    }
+    return a * b / (a + b);
+}
+
+@compute @workgroup_size(WG)
+fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let p = flat_index(gid, nwg);
+    if (p >= params.n) {
+        return;
+    }
+    // w: the partner body as a float (exact for any realistic count), -1: none.
+    cown[p] = vec4<f32>(0.0, 0.0, 0.0, -1.0);
+    cshare[p] = vec4<f32>(0.0);
+    cstat[p] = vec4<f32>(0.0);
+    let np4 = nbo[p];
+    if (np4.z <= 0.0) {
+        return;
+    }
+    let mp = pinfo[p];
+    let bp = mp.z;
+    let bodyp = bodies[bp];
+    let op = bitcast<f32>(mp.y);
+    let np = np4.xy;
+    let ci = cellc[p];
+    let rows = scan_rows();
+
+    var partner = NONE;
+    var multi = false;
+    var sw = 0.0;
+    var sws = vec2<f32>(0.0);
+    var swn = vec2<f32>(0.0);
+    var swv = vec2<f32>(0.0);
+    var swt = 0.0;
+    for (var dy = -rows; dy <= rows; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let c = ci + vec2<i32>(dx, dy);
+            let b = bucket_of(c);
+            let end = bstart[b + 1u];
+            for (var k = bstart[b]; k < end; k++) {
+                let q = blist[k];
+                if (any(cellc[q] != c)) {
+                    continue;
+                }
+                let mq = pinfo[q];
+                if (mq.z == bp || nbo[q].z <= 0.0) {
+                    continue;
+                }
+                let oq = bitcast<f32>(mq.y);
+                let w = candidate(p, q, op, oq, bodyp.h, bodies[mq.z].h);
+                if (w < 0.0) {
+                    continue;
+                }
+                if (partner == NONE) {
+                    partner = mq.z;
+                } else if (mq.z != partner) {
+                    multi = true;
+                    continue;
+                }
+                let nq = nbo[q].xy;
+                // s_q - S_P, formed from the precise centre difference.
+                let rel = ((x0[q] - x0[p]) + (u[q] - u[p])) + nq * oq - np * op;
+                sw += w;
+                sws += rel * w;
+                swn += nq * w;
+                swv += v[q] * w;
+                swt += dot(nq, -rel) * w;
+            }
+        }
+    }
+    if (multi) {
+        atomicAdd(&ctl.multi_partner, 1u);
+    }
+    if (partner == NONE || sw <= 0.0) {
+        return;
+    }
+    let nlen = length(swn);
+    if (nlen <= 0.0) {
+        return;
+    }
+    let nbar = swn / nlen;
+    let rr = sws / sw;
+    let vrel = v[p] - swv / sw;
+    // Contact normal: of n_P, -nbar and their bisector, the one with the
+    // largest projected distance (least penetration; METHOD.md §8.2).
+    var n = np;
+    var chord = dot(np, rr);
+    let c1 = -nbar;
+    if (dot(c1, rr) > chord) {
+        n = c1;
+        chord = dot(c1, rr);
+    }
+    let bis = np - nbar;
+    let bl = length(bis);
+    if (bl > 0.0) {
+        let c2 = bis / bl;
+        if (dot(c2, rr) > chord) {
+            n = c2;
+            chord = dot(c2, rr);
+        }
+    }
+    let gap = 0.5 * (chord + swt / sw);
+    if (gap > 0.0) {
+        cown[p] = vec4<f32>(0.0, 0.0, 0.0, f32(partner));
+        return;
+    }
+    let delta = -gap;
+    let w_rate = dot(vrel, n);
+    let bodyq = bodies[partner];
+    let pr = bodyp.rigid != 0u;
+    let qr = bodyq.rigid != 0u;
+    let z = series(bodyp.z, pr, bodyq.z, qr);
+    let h0 = 0.5 * (bodyp.spacing + bodyq.spacing);
+    let stiffness = series(bodyp.young, pr, bodyq.young, qr) / h0;
+    let pres = max(z * w_rate + stiffness * delta, 0.0);
+    let a = area[p];
+    let heat = 0.5 * (pres - stiffness * delta) * a * w_rate;
+    let stored = 0.25 * stiffness * delta * delta * a;
+    var own_heat = heat;
+    var eta = 0.0;
+    if (pr) {
+        own_heat = 0.0;
+        eta = heat / sw;
+    }
+    cown[p] = vec4<f32>(-n * (0.5 * pres * a), own_heat, f32(partner));
+    cshare[p] = vec4<f32>(n * (0.5 * pres * a / sw), eta, 0.0);
+    cstat[p] = vec4<f32>(0.5 * pres * a, pres, stored, heat);
+}
+
+@compute @workgroup_size(WG)
+fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let q = flat_index(gid, nwg);
+    if (q >= params.n) {
+        return;
+    }
+    if (nbo[q].z <= 0.0) {
+        cheat[q] = 0.0;
+        return;
+    }
+    let mq = pinfo[q];
+    let bq = mq.z;
+    let bodyq = bodies[bq];
+    let oq = bitcast<f32>(mq.y);
+    let ci = cellc[q];
+    let rows = scan_rows();
+    var f = vec2<f32>(0.0);
+    var heat = 0.0;
+    for (var dy = -rows; dy <= rows; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let c = ci + vec2<i32>(dx, dy);
+            let b = bucket_of(c);
+            let end = bstart[b + 1u];
+            for (var k = bstart[b]; k < end; k++) {
+                let p = blist[k];
+                if (any(cellc[p] != c)) {
+                    continue;
+                }
+                let mp = pinfo[p];
+                if (mp.z == bq || nbo[p].z <= 0.0 || cown[p].w != f32(bq)) {
+                    continue;
+                }
+                let w = candidate(p, q, bitcast<f32>(mp.y), oq, bodies[mp.z].h, bodyq.h);
+                if (w < 0.0) {
+                    continue;
+                }
+                let sh = cshare[p];
+                f += sh.xy * w;
+                heat += sh.z * w;
+            }
+        }
+    }
+    let own = cown[q];
+    let total = own.xy + f;
+    var booked = own.z + heat;
+    if (bodyq.rigid != 0u) {
+        booked = 0.0;
+    } else {
+        let m = bitcast<f32>(mq.x);
+        dv[q] += total / m;
+        dr[q].y += booked / m;
+    }
+    cheat[q] = booked;
+}

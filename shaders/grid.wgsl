@@ -1,0 +1,140 @@
+// Cell-list neighbour search, rebuilt at every evaluation: each particle's
+// cell and bucket, a count per bucket, an exclusive prefix sum (three
+// passes), a scatter, and a sort of each bucket by slot so that the order
+// within a cell is fixed whatever order the scatter's atomics took.
+// Integer atomics only; the result is deterministic.
+
+@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
+@group(0) @binding(5) var<storage, read_write> cellc: array<vec2<i32>>;
+@group(0) @binding(6) var<storage, read_write> bkt: array<u32>;
+@group(0) @binding(7) var<storage, read_write> bcount: array<atomic<u32>>;
+@group(0) @binding(8) var<storage, read_write> bfill: array<atomic<u32>>;
+@group(0) @binding(9) var<storage, read_write> bstart: array<u32>;
+@group(0) @binding(10) var<storage, read_write> bsum: array<u32>;
+@group(0) @binding(11) var<storage, read_write> blist: array<u32>;
+
+const SCAN: u32 = 256u;
+var<workgroup> sh: array<u32, 256>;
+
+@compute @workgroup_size(WG)
+fn grid_clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let b = flat_index(gid, nwg);
+    if (b >= params.buckets) {
+        return;
+    }
+    atomicStore(&bcount[b], 0u);
+    atomicStore(&bfill[b], 0u);
+}
+
+@compute @workgroup_size(WG)
+fn grid_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n) {
+        return;
+    }
+    let c = cell_of(x0[i] + u[i]);
+    let b = bucket_of(c);
+    cellc[i] = c;
+    bkt[i] = b;
+    atomicAdd(&bcount[b], 1u);
+}
+
+// Hillis-Steele inclusive scan of `sh` by the 256 threads of a workgroup.
+fn scan_shared(lid: u32) {
+    for (var off = 1u; off < SCAN; off = off * 2u) {
+        workgroupBarrier();
+        var add = 0u;
+        if (lid >= off) {
+            add = sh[lid - off];
+        }
+        workgroupBarrier();
+        sh[lid] = sh[lid] + add;
+    }
+    workgroupBarrier();
+}
+
+// Exclusive scan within blocks of 256 buckets; block totals to `bsum`.
+@compute @workgroup_size(256)
+fn scan_local(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let lid = lid3.x;
+    let block = wid.x + wid.y * nwg.x;
+    let b = block * SCAN + lid;
+    var v = 0u;
+    if (b < params.buckets) {
+        v = atomicLoad(&bcount[b]);
+    }
+    sh[lid] = v;
+    scan_shared(lid);
+    if (b < params.buckets) {
+        bstart[b] = sh[lid] - v;
+    }
+    if (lid == SCAN - 1u) {
+        bsum[block] = sh[lid];
+    }
+}
+
+// Exclusive scan of the block totals by one workgroup, in order.
+@compute @workgroup_size(256)
+fn scan_blocks(@builtin(local_invocation_id) lid3: vec3<u32>) {
+    let lid = lid3.x;
+    let nb = (params.buckets + SCAN - 1u) / SCAN;
+    var carry = 0u;
+    for (var base = 0u; base < nb; base = base + SCAN) {
+        let k = base + lid;
+        var v = 0u;
+        if (k < nb) {
+            v = bsum[k];
+        }
+        workgroupBarrier();
+        sh[lid] = v;
+        scan_shared(lid);
+        if (k < nb) {
+            bsum[k] = carry + sh[lid] - v;
+        }
+        carry = carry + sh[SCAN - 1u];
+    }
+}
+
+@compute @workgroup_size(256)
+fn scan_add(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let block = wid.x + wid.y * nwg.x;
+    let b = block * SCAN + lid3.x;
+    if (b < params.buckets) {
+        bstart[b] = bstart[b] + bsum[block];
+    }
+    if (b == 0u) {
+        bstart[params.buckets] = params.n;
+    }
+}
+
+@compute @workgroup_size(WG)
+fn grid_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n) {
+        return;
+    }
+    let b = bkt[i];
+    blist[bstart[b] + atomicAdd(&bfill[b], 1u)] = i;
+}
+
+// Insertion sort of each bucket by slot: buckets hold a cell's few
+// particles (plus the rare hash collision).
+@compute @workgroup_size(WG)
+fn grid_sort(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let b = flat_index(gid, nwg);
+    if (b >= params.buckets) {
+        return;
+    }
+    let lo = bstart[b];
+    let hi = bstart[b + 1u];
+    for (var k = lo + 1u; k < hi; k = k + 1u) {
+        let key = blist[k];
+        var m = k;
+        while (m > lo && blist[m - 1u] > key) {
+            blist[m] = blist[m - 1u];
+            m = m - 1u;
+        }
+        blist[m] = key;
+    }
+}

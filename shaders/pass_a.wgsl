@@ -1,0 +1,177 @@
+// Pass A (METHOD.md §5, §6, §8.1): per particle, the correction matrix L_i
+// and colour gradient from one neighbour loop, then the equation of state,
+// sigma/rho^2 and the sound speed, then the velocity gradient with L_i from a
+// second loop, giving the continuity rate and the Jaumann stress rate.
+// CPU twins: cpu::kinematics::{correction_and_colour,
+// density_and_stress_rates}, cpu::eos_and_stress.
+
+@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
+@group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
+@group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
+@group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
+@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
+@group(0) @binding(9) var<storage, read> cellc: array<vec2<i32>>;
+@group(0) @binding(10) var<storage, read> bstart: array<u32>;
+@group(0) @binding(11) var<storage, read> blist: array<u32>;
+@group(0) @binding(12) var<storage, read_write> lmat: array<vec4<f32>>;
+@group(0) @binding(13) var<storage, read_write> nbo: array<vec4<f32>>;
+@group(0) @binding(14) var<storage, read_write> sr2c: array<vec4<f32>>;
+@group(0) @binding(15) var<storage, read_write> art: array<vec4<f32>>;
+@group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
+@group(0) @binding(17) var<storage, read_write> ds: array<vec4<f32>>;
+
+// Artificial stress (METHOD.md §4): -eps sigma/rho^2 of each tensile
+// principal value, rotated back.
+fn artificial_stress(sig: vec4<f32>, rho: f32) -> vec4<f32> {
+    let m = 0.5 * (sig.x + sig.y);
+    let rad = sqrt(0.25 * (sig.x - sig.y) * (sig.x - sig.y) + sig.z * sig.z);
+    let th = 0.5 * atan2(2.0 * sig.z, sig.x - sig.y);
+    let a = m + rad;
+    let b = m - rad;
+    let r2 = rho * rho;
+    var ra = 0.0;
+    var rb = 0.0;
+    if (a > 0.0) {
+        ra = -params.as_eps * a / r2;
+    }
+    if (b > 0.0) {
+        rb = -params.as_eps * b / r2;
+    }
+    let sn = sin(th);
+    let cs = cos(th);
+    return vec4<f32>(ra * cs * cs + rb * sn * sn, ra * sn * sn + rb * cs * cs, (ra - rb) * sn * cs, 0.0);
+}
+
+@compute @workgroup_size(WG)
+fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n) {
+        return;
+    }
+    let mi = pinfo[i];
+    let bi = mi.z;
+    let body = bodies[bi];
+    let hi = body.h;
+    let ci = cellc[i];
+    let rows = scan_rows();
+
+    var m = vec4<f32>(0.0);
+    var gpsi = vec2<f32>(0.0);
+    for (var dy = -rows; dy <= rows; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let c = ci + vec2<i32>(dx, dy);
+            let b = bucket_of(c);
+            let end = bstart[b + 1u];
+            for (var k = bstart[b]; k < end; k++) {
+                let j = blist[k];
+                if (j == i || any(cellc[j] != c)) {
+                    continue;
+                }
+                let mj = pinfo[j];
+                if (CONTACT && mj.z != bi) {
+                    continue;
+                }
+                let hij = 0.5 * (hi + bodies[mj.z].h);
+                let d = (x0[i] - x0[j]) + (u[i] - u[j]);
+                let dist = length(d);
+                if (dist >= 2.0 * hij || dist <= 0.0) {
+                    continue;
+                }
+                let gw = d * (kernel_dw(dist, hij) / dist);
+                let vj = bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
+                m += outer(gw * vj, -d);
+                gpsi -= gw * vj;
+            }
+        }
+    }
+
+    var l = vec4<f32>(1.0, 0.0, 0.0, 1.0);
+    if (CORRECTED) {
+        if (DIM == 1u) {
+            m.w = 1.0;
+        }
+        let det = m.x * m.w - m.y * m.z;
+        if (abs(det) > params.min_det) {
+            let q = 1.0 / det;
+            l = vec4<f32>(m.w * q, -m.y * q, -m.z * q, m.x * q);
+        } else {
+            atomicAdd(&ctl.fallback_now, 1u);
+        }
+    }
+    lmat[i] = l;
+
+    var normal = vec2<f32>(0.0);
+    let glen = length(gpsi);
+    if (glen > 0.0) {
+        normal = gpsi / glen;
+    }
+    var boundary = 0.0;
+    if (hi * glen > params.boundary_threshold) {
+        boundary = 1.0;
+    }
+    nbo[i] = vec4<f32>(normal, boundary, 0.0);
+
+    // Equation of state and sigma/rho^2 (tension positive), sound speed in w.
+    let mu = r[i].x;
+    let e = r[i].y;
+    let p = eos_pressure(body, mu, e);
+    let c = eos_sound_speed(body, mu, e);
+    let si = s[i];
+    let sig = vec4<f32>(si.x - p, si.y - p, si.z, si.w - p);
+    let rho = body.rho0 * (1.0 + mu);
+    sr2c[i] = vec4<f32>(sig.xyz / (rho * rho), c);
+    if (ART_STRESS) {
+        art[i] = artificial_stress(sig, rho);
+    }
+
+    if (body.rigid != 0u) {
+        dr[i] = vec2<f32>(0.0);
+        ds[i] = vec4<f32>(0.0);
+        return;
+    }
+
+    // Velocity gradient with the corrected kernel gradient (METHOD.md §6).
+    var gv = vec4<f32>(0.0);
+    let vi = v[i];
+    for (var dy = -rows; dy <= rows; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let c = ci + vec2<i32>(dx, dy);
+            let b = bucket_of(c);
+            let end = bstart[b + 1u];
+            for (var k = bstart[b]; k < end; k++) {
+                let j = blist[k];
+                if (j == i || any(cellc[j] != c)) {
+                    continue;
+                }
+                let mj = pinfo[j];
+                if (CONTACT && mj.z != bi) {
+                    continue;
+                }
+                let hij = 0.5 * (hi + bodies[mj.z].h);
+                let d = (x0[i] - x0[j]) + (u[i] - u[j]);
+                let dist = length(d);
+                if (dist >= 2.0 * hij || dist <= 0.0) {
+                    continue;
+                }
+                let gw = d * (kernel_dw(dist, hij) / dist);
+                let vj = bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
+                gv += outer((v[j] - vi) * vj, mat_mul(l, gw));
+            }
+        }
+    }
+    let tr = gv.x + gv.w;
+    dr[i].x = -(1.0 + mu) * tr;
+
+    // Jaumann-rate hypoelastic deviatoric stress rate, plane strain.
+    let g = body.g;
+    let exy = 0.5 * (gv.y + gv.z);
+    let w = 0.5 * (gv.y - gv.z);
+    let tr3 = tr / 3.0;
+    ds[i] = vec4<f32>(
+        2.0 * g * (gv.x - tr3) + 2.0 * w * si.z,
+        2.0 * g * (gv.w - tr3) - 2.0 * w * si.z,
+        2.0 * g * exy + w * (si.y - si.x),
+        -2.0 * g * tr3,
+    );
+}

@@ -1,0 +1,129 @@
+// Pass C (METHOD.md §4): momentum and energy sums with the pair-symmetric
+// corrected gradient G_ij = (L_i + L_j)/2 grad_i W_ij, Monaghan viscosity
+// and, when the scene switches it on, artificial stress. With contact on it
+// also measures each boundary particle's contact area (METHOD.md §8.4).
+// CPU twins: cpu::forces::momentum_energy, cpu::kinematics::boundary.
+
+@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
+@group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
+@group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
+@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
+@group(0) @binding(9) var<storage, read> cellc: array<vec2<i32>>;
+@group(0) @binding(10) var<storage, read> bstart: array<u32>;
+@group(0) @binding(11) var<storage, read> blist: array<u32>;
+@group(0) @binding(12) var<storage, read> lmat: array<vec4<f32>>;
+@group(0) @binding(13) var<storage, read> nbo: array<vec4<f32>>;
+@group(0) @binding(14) var<storage, read> sr2c: array<vec4<f32>>;
+@group(0) @binding(15) var<storage, read> art: array<vec4<f32>>;
+@group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
+@group(0) @binding(18) var<storage, read_write> dv: array<vec2<f32>>;
+@group(0) @binding(19) var<storage, read_write> area: array<f32>;
+
+@compute @workgroup_size(WG)
+fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n) {
+        return;
+    }
+    let mi = pinfo[i];
+    let bi = mi.z;
+    let body = bodies[bi];
+    let hi = body.h;
+    let rigid = body.rigid != 0u;
+    let boundary = CONTACT && nbo[i].z > 0.0;
+    if (rigid && !boundary) {
+        dv[i] = vec2<f32>(0.0);
+        dr[i].y = 0.0;
+        if (CONTACT) {
+            area[i] = 0.0;
+        }
+        return;
+    }
+    let ci = cellc[i];
+    let rows = scan_rows();
+    let li = lmat[i];
+    let ti = sr2c[i];
+    let vi = v[i];
+    let rhoi = body.rho0 * (1.0 + r[i].x);
+    var ri = vec4<f32>(0.0);
+    if (ART_STRESS) {
+        ri = art[i];
+    }
+
+    var acc = vec2<f32>(0.0);
+    var de = 0.0;
+    var sw = kernel_w(0.0, hi);
+    for (var dy = -rows; dy <= rows; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let c = ci + vec2<i32>(dx, dy);
+            let b = bucket_of(c);
+            let end = bstart[b + 1u];
+            for (var k = bstart[b]; k < end; k++) {
+                let j = blist[k];
+                if (j == i || any(cellc[j] != c)) {
+                    continue;
+                }
+                let mj = pinfo[j];
+                if (CONTACT && mj.z != bi) {
+                    continue;
+                }
+                let bj = bodies[mj.z];
+                let hij = 0.5 * (hi + bj.h);
+                let d = (x0[i] - x0[j]) + (u[i] - u[j]);
+                let dist = length(d);
+                if (dist >= 2.0 * hij) {
+                    continue;
+                }
+                if (boundary && nbo[j].z > 0.0) {
+                    sw += kernel_w(dist, hij);
+                }
+                if (rigid || dist <= 0.0) {
+                    continue;
+                }
+                let gw = d * (kernel_dw(dist, hij) / dist);
+                let g = mat_mul(0.5 * (li + lmat[j]), gw);
+                let tj = sr2c[j];
+                let vij = vi - v[j];
+                // Monaghan viscosity, zero for receding pairs.
+                var pi = 0.0;
+                let vx = dot(vij, d);
+                if (vx < 0.0) {
+                    let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
+                    let cm = 0.5 * (ti.w + tj.w);
+                    let rhom = 0.5 * (rhoi + bj.rho0 * (1.0 + r[j].x));
+                    pi = (-params.alpha * cm * muv + params.beta * muv * muv) / rhom;
+                }
+                var t = vec4<f32>(ti.xyz + tj.xyz, 0.0);
+                t.x -= pi;
+                t.y -= pi;
+                if (ART_STRESS) {
+                    let dp = 0.5 * (body.spacing + bj.spacing);
+                    let f = kernel_w(dist, hij) / kernel_w(dp, hij);
+                    t += (ri + art[j]) * pow(f, params.as_n);
+                }
+                let mass_j = bitcast<f32>(mj.x);
+                acc += sym_mul(t, g) * mass_j;
+                de -= mass_j * (dot(vij, sym_mul(ti, g)) - 0.5 * pi * dot(vij, g));
+            }
+        }
+    }
+    if (rigid) {
+        dv[i] = vec2<f32>(0.0);
+        dr[i].y = 0.0;
+    } else {
+        dv[i] = acc;
+        dr[i].y = de;
+    }
+    if (CONTACT) {
+        var a = 0.0;
+        if (boundary) {
+            if (DIM == 1u) {
+                a = 1.0;
+            } else {
+                a = 15.0 / (7.0 * PI * hi) / sw;
+            }
+        }
+        area[i] = a;
+    }
+}

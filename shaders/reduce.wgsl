@@ -1,0 +1,256 @@
+// Reductions and bookkeeping, all in a fixed order (deterministic):
+// the CFL step (METHOD.md §9) as a two-level minimum, the time and step
+// counters, and the per-step observations the history is built from
+// (body sums, contact statistics, particle probes) written into a ring the
+// host reads back only when it needs rows.
+
+@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
+@group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
+@group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
+@group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
+@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
+@group(0) @binding(14) var<storage, read> sr2c: array<vec4<f32>>;
+@group(0) @binding(20) var<storage, read> cown: array<vec4<f32>>;
+@group(0) @binding(22) var<storage, read> cstat: array<vec4<f32>>;
+@group(0) @binding(24) var<storage, read> qheat: array<f32>;
+@group(0) @binding(25) var<storage, read_write> red: array<f32>;
+@group(0) @binding(26) var<storage, read_write> ring: array<f32>;
+@group(0) @binding(27) var<storage, read> slots: array<vec4<u32>>;
+@group(0) @binding(28) var<storage, read> probes: array<vec2<u32>>;
+@group(0) @binding(29) var<storage, read> slot_of: array<u32>;
+
+const RED: u32 = 256u;
+const PER_THREAD: u32 = 4u;
+var<workgroup> shf: array<f32, 256>;
+
+// Tree reduction of `shf` (sum, or max when `op` is 1), result in shf[0].
+fn reduce_shared(lid: u32, op: u32) {
+    for (var off = RED / 2u; off > 0u; off = off / 2u) {
+        workgroupBarrier();
+        if (lid < off) {
+            if (op == 1u) {
+                shf[lid] = max(shf[lid], shf[lid + off]);
+            } else if (op == 2u) {
+                shf[lid] = min(shf[lid], shf[lid + off]);
+            } else {
+                shf[lid] = shf[lid] + shf[lid + off];
+            }
+        }
+    }
+    workgroupBarrier();
+}
+
+fn row_base() -> u32 {
+    return (ctl.step % params.ring_len) * params.ring_width;
+}
+
+// Level 1 of the CFL minimum: one value per 1,024 particles.
+@compute @workgroup_size(256)
+fn cfl_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let lid = lid3.x;
+    let g = wid.x + wid.y * nwg.x;
+    var m = BIG;
+    for (var k = 0u; k < PER_THREAD; k++) {
+        let i = g * RED * PER_THREAD + k * RED + lid;
+        if (i < params.n) {
+            let b = bodies[pinfo[i].z];
+            if (b.rigid == 0u) {
+                m = min(m, params.cfl * b.h / (sr2c[i].w + length(v[i])));
+            }
+        }
+    }
+    shf[lid] = m;
+    reduce_shared(lid, 2u);
+    if (lid == 0u) {
+        red[g] = shf[0];
+    }
+}
+
+// Level 2 and the step: dt = min(CFL step, time left), the time record of
+// this state's ring row, and the dt-collapse check.
+@compute @workgroup_size(256)
+fn cfl_final(@builtin(local_invocation_id) lid3: vec3<u32>) {
+    let lid = lid3.x;
+    var m = BIG;
+    for (var k = lid; k < params.red_groups; k += RED) {
+        m = min(m, red[k]);
+    }
+    shf[lid] = m;
+    reduce_shared(lid, 2u);
+    if (lid != 0u) {
+        return;
+    }
+    var cfl_dt = shf[0];
+    if (params.fixed_dt > 0.0) {
+        cfl_dt = params.fixed_dt;
+    }
+    let rem = (params.end_hi - ctl.t_hi) + (params.end_lo - ctl.t_lo);
+    var dt = min(cfl_dt, rem);
+    // The end is reached when what is left is round-off of the time sum.
+    if (rem <= 1e-4 * cfl_dt) {
+        dt = 0.0;
+    }
+    if (ctl.dt0 == 0.0 && dt > 0.0) {
+        ctl.dt0 = dt;
+    }
+    if (dt > 0.0 && !(cfl_dt > 1e-6 * ctl.dt0 && cfl_dt < BIG)) {
+        let fs = atomicLoad(&ctl.fail_step);
+        if (fs == NONE) {
+            atomicMin(&ctl.fail_step, ctl.step);
+            atomicMin(&ctl.fail_code, 4u);
+        }
+    }
+    ctl.dt = dt;
+    ctl.fallback_max = max(ctl.fallback_max, atomicLoad(&ctl.fallback_now));
+    let row = row_base();
+    ring[row] = ctl.t_hi;
+    ring[row + 1u] = ctl.t_lo;
+    ring[row + 2u] = dt;
+}
+
+// The value particle i adds to observation slot `sl` (codes: gpu::probes).
+fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
+    let mi = pinfo[i];
+    let bi = mi.z;
+    let code = sl.x;
+    if (code <= 5u) {
+        if (sl.y != NONE && bi != sl.y) {
+            return 0.0;
+        }
+        let m = bitcast<f32>(mi.x);
+        switch code {
+            case 0u: { return m * v[i].x; }
+            case 1u: { return m * v[i].y; }
+            case 2u: { return m * (x0[i].x + u[i].x); }
+            case 3u: { return m * (x0[i].y + u[i].y); }
+            case 4u: { return 0.5 * m * dot(v[i], v[i]); }
+            default: {
+                if (bodies[bi].rigid != 0u) {
+                    return 0.0;
+                }
+                return m * r[i].y;
+            }
+        }
+    }
+    if (!CONTACT) {
+        return 0.0;
+    }
+    switch code {
+        case 6u, 7u: {
+            let partner = cown[i].w;
+            let a = f32(sl.y);
+            let b = f32(sl.z);
+            let fb = f32(bi);
+            if ((fb == a && partner == b) || (fb == b && partner == a)) {
+                if (code == 6u) {
+                    return cstat[i].x;
+                }
+                return cstat[i].y;
+            }
+            return 0.0;
+        }
+        case 8u: { return cstat[i].z; }
+        default: { return qheat[i]; }
+    }
+}
+
+// Level 1 of the observation sums: one partial per slot per 1,024 particles.
+@compute @workgroup_size(256)
+fn obs_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let lid = lid3.x;
+    let g = wid.x + wid.y * nwg.x;
+    for (var sl = 0u; sl < params.nslots; sl++) {
+        let slot = slots[sl];
+        var acc = 0.0;
+        for (var k = 0u; k < PER_THREAD; k++) {
+            let i = g * RED * PER_THREAD + k * RED + lid;
+            if (i < params.n) {
+                let x = slot_value(slot, i);
+                if (slot.w == 1u) {
+                    acc = max(acc, x);
+                } else {
+                    acc += x;
+                }
+            }
+        }
+        workgroupBarrier();
+        shf[lid] = acc;
+        reduce_shared(lid, slot.w);
+        if (lid == 0u) {
+            red[params.red_groups + sl * params.red_groups + g] = shf[0];
+        }
+    }
+}
+
+// Level 2: one workgroup per slot, into this state's ring row.
+@compute @workgroup_size(256)
+fn obs_final(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
+    let lid = lid3.x;
+    let sl = wid.x;
+    let op = slots[sl].w;
+    var acc = 0.0;
+    for (var k = lid; k < params.red_groups; k += RED) {
+        let x = red[params.red_groups + sl * params.red_groups + k];
+        if (op == 1u) {
+            acc = max(acc, x);
+        } else {
+            acc += x;
+        }
+    }
+    shf[lid] = acc;
+    reduce_shared(lid, op);
+    if (lid == 0u) {
+        ring[row_base() + 3u + sl] = shf[0];
+    }
+}
+
+// Particle probes (codes: gpu::probes), one thread each.
+@compute @workgroup_size(64)
+fn probe_values(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k = gid.x;
+    if (k >= params.nprobes) {
+        return;
+    }
+    let pr = probes[k];
+    let i = slot_of[pr.x];
+    let b = bodies[pinfo[i].z];
+    let mu = r[i].x;
+    let p = eos_pressure(b, mu, r[i].y);
+    let si = s[i];
+    var val = 0.0;
+    switch pr.y {
+        case 0u: { val = x0[i].x + u[i].x; }
+        case 1u: { val = x0[i].y + u[i].y; }
+        case 2u: { val = v[i].x; }
+        case 3u: { val = v[i].y; }
+        case 4u: { val = b.rho0 * (1.0 + mu); }
+        case 5u: { val = p; }
+        case 6u: { val = si.x - p; }
+        case 7u: { val = si.y - p; }
+        case 8u: { val = si.z; }
+        case 9u: { val = von_mises(si); }
+        default: { val = r[i].y; }
+    }
+    ring[row_base() + 3u + params.nslots + k] = val;
+}
+
+// End of a step: t += dt as a compensated sum, the step counter.
+@compute @workgroup_size(1)
+fn end_step() {
+    let dt = ctl.dt;
+    if (dt > 0.0) {
+        let a = ctl.t_hi;
+        let sum = a + dt;
+        let bb = sum - a;
+        let err = (a - (sum - bb)) + (dt - bb);
+        let lo = ctl.t_lo + err;
+        let hi = sum + lo;
+        ctl.t_lo = lo - (hi - sum);
+        ctl.t_hi = hi;
+        ctl.step = ctl.step + 1u;
+    } else {
+        ctl.zero_steps = ctl.zero_steps + 1u;
+    }
+    atomicStore(&ctl.fallback_now, 0u);
+}

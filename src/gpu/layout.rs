@@ -1,0 +1,184 @@
+//! Host mirrors of the WGSL structs, byte for byte (checked against naga's
+//! layouter by [`check_layouts`]).
+
+use bytemuck::{Pod, Zeroable};
+
+/// `Params` in common.wgsl: run-wide constants.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Params {
+    pub n: u32,
+    pub nbodies: u32,
+    pub buckets: u32,
+    pub row_stride: u32,
+    pub origin_x: f32,
+    pub origin_y: f32,
+    pub inv_cell: f32,
+    pub alpha: f32,
+    pub beta: f32,
+    pub cfl: f32,
+    pub fixed_dt: f32,
+    pub boundary_threshold: f32,
+    pub as_eps: f32,
+    pub as_n: f32,
+    pub end_hi: f32,
+    pub end_lo: f32,
+    pub ring_len: u32,
+    pub ring_width: u32,
+    pub nslots: u32,
+    pub nprobes: u32,
+    pub pad1: u32,
+    pub red_groups: u32,
+    pub min_det: f32,
+    pub pad0: u32,
+}
+
+/// `Body` in common.wgsl: per-body constants.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct BodyGpu {
+    pub rho0: f32,
+    pub k: f32,
+    pub s: f32,
+    pub gamma0: f32,
+    pub g: f32,
+    pub y0: f32,
+    pub z: f32,
+    pub young: f32,
+    pub spacing: f32,
+    pub h: f32,
+    pub rigid: u32,
+    pub linear: u32,
+    pub elastic: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+/// `Control` in common.wgsl: time, step and run status on the device.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Control {
+    pub t_hi: f32,
+    pub t_lo: f32,
+    pub dt: f32,
+    pub dt0: f32,
+    pub step: u32,
+    pub zero_steps: u32,
+    pub fail_step: u32,
+    pub fail_code: u32,
+    pub fallback_now: u32,
+    pub fallback_max: u32,
+    pub multi_partner: u32,
+    pub pad0: u32,
+}
+
+/// Field offsets of a host struct, for the layout check.
+macro_rules! offsets {
+    ($t:ty, $($f:ident),*) => {
+        vec![$((stringify!($f), std::mem::offset_of!($t, $f))),*]
+    };
+}
+
+/// `(WGSL name, size, [(field, offset)])` of every shared struct.
+pub fn host_layouts() -> Vec<(&'static str, usize, Vec<(&'static str, usize)>)> {
+    vec![
+        (
+            "Params",
+            std::mem::size_of::<Params>(),
+            offsets!(
+                Params,
+                n,
+                nbodies,
+                buckets,
+                row_stride,
+                origin_x,
+                origin_y,
+                inv_cell,
+                alpha,
+                beta,
+                cfl,
+                fixed_dt,
+                boundary_threshold,
+                as_eps,
+                as_n,
+                end_hi,
+                end_lo,
+                ring_len,
+                ring_width,
+                nslots,
+                nprobes,
+                pad1,
+                red_groups,
+                min_det,
+                pad0
+            ),
+        ),
+        (
+            "Body",
+            std::mem::size_of::<BodyGpu>(),
+            offsets!(
+                BodyGpu, rho0, k, s, gamma0, g, y0, z, young, spacing, h, rigid, linear, elastic,
+                pad0, pad1, pad2
+            ),
+        ),
+        (
+            "Control",
+            std::mem::size_of::<Control>(),
+            offsets!(
+                Control,
+                t_hi,
+                t_lo,
+                dt,
+                dt0,
+                step,
+                zero_steps,
+                fail_step,
+                fail_code,
+                fallback_now,
+                fallback_max,
+                multi_partner,
+                pad0
+            ),
+        ),
+    ]
+}
+
+/// Compare every host struct with naga's layout of the WGSL struct of the
+/// same name: size, and each member's name and offset, in order.
+pub fn check_layouts(module: &naga::Module) -> Result<(), String> {
+    let mut layouter = naga::proc::Layouter::default();
+    layouter
+        .update(module.to_ctx())
+        .map_err(|e| format!("naga layouter: {e}"))?;
+    for (name, size, fields) in host_layouts() {
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .ok_or_else(|| format!("no WGSL struct {name}"))?;
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            return Err(format!("{name} is not a struct"));
+        };
+        if *span as usize != size || layouter[handle].size as usize != size {
+            return Err(format!("{name}: WGSL size {span}, host size {size}"));
+        }
+        if members.len() != fields.len() {
+            return Err(format!(
+                "{name}: WGSL has {} members, host {}",
+                members.len(),
+                fields.len()
+            ));
+        }
+        for (m, (f, off)) in members.iter().zip(&fields) {
+            let mname = m.name.as_deref().unwrap_or("");
+            if mname != *f || m.offset as usize != *off {
+                return Err(format!(
+                    "{name}.{mname} at {} but host {f} at {off}",
+                    m.offset
+                ));
+            }
+        }
+    }
+    Ok(())
+}

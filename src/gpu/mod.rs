@@ -1,0 +1,1064 @@
+//! The GPU path: the whole time step in WGSL compute shaders, particle state
+//! resident in device storage buffers for the whole run.
+//!
+//! ## One step on the device
+//!
+//! | dispatches | shader | CPU twin |
+//! |---|---|---|
+//! | cell list: cells, count, 3-pass prefix sum, scatter, per-bucket sort | `grid.wgsl` | [`crate::cpu::neighbours`] |
+//! | correction, colour gradient, EOS, velocity gradient, rates | `pass_a.wgsl` | [`crate::cpu::kinematics`], [`crate::cpu::eos_and_stress`] |
+//! | momentum, energy, contact area | `pass_c.wgsl` | [`crate::cpu::forces`] |
+//! | contact pass 1 and 2 (only with contact) | `contact.wgsl` | [`crate::cpu::contact`] |
+//! | CFL minimum, time, observations | `reduce.wgsl` | [`crate::cpu::cfl_step`], [`crate::probe`] |
+//! | midpoint half step, then the evaluation again, full step | `advance.wgsl` | `cpu::advance` |
+//! | every 16 steps: particles reordered by cell | `reorder.wgsl` | (none needed) |
+//!
+//! The host encodes a batch of steps into one submission and reads back
+//! only a small control block and the ring of per-step observations the
+//! history is interpolated from (and the whole state at the end).
+//!
+//! ## Precision plan (f32 on the device)
+//!
+//! * Positions are a reference `x0` (the start position) plus a
+//!   displacement `u`; pair differences are `(x0_i − x0_j) + (u_i − u_j)`.
+//!   A step's increment `v dt` is then added to a number of its own size,
+//!   not to a coordinate 10³–10⁵ times larger.
+//! * Density is `μ = ρ/ρ0 − 1`: the EOS needs μ, and a step changes ρ by
+//!   parts in 10⁶, which f32 would lose against ρ itself.
+//! * Time is a compensated `(hi, lo)` pair, so thousands of steps of
+//!   ~10⁻⁸ s add up without drift; the end time is met exactly.
+//! * Sums over neighbours are gathers in a fixed order (no atomics on
+//!   floats): a run is bitwise repeatable on one adapter.
+//!
+//! ## Model only what a scene needs
+//!
+//! Dimension, contact, gradient correction, plasticity and artificial
+//! stress are pipeline-override constants: a scene that does not switch
+//! them on compiles them out, and the contact passes are not dispatched.
+
+pub mod context;
+pub mod layout;
+pub mod probes;
+pub mod shaders;
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use glam::DVec2;
+
+use crate::cpu::kinematics::CORRECTION_MIN_DET;
+use crate::error::Instability;
+use crate::math::Sym;
+use crate::model::{Model, State};
+use crate::probe::Resolved;
+use crate::scene::Correction;
+pub use context::GpuContext;
+use context::Pipeline;
+use layout::{BodyGpu, Control, Params};
+pub use probes::ProbePlan;
+
+/// Threads per workgroup of the per-particle kernels.
+const WG: u32 = 64;
+/// Ring rows: a batch is at most `RING_LEN − 2` steps.
+pub const RING_LEN: u32 = 256;
+/// Steps between reorderings of the particles by cell.
+const REORDER_EVERY: u64 = 16;
+const NONE: u32 = u32::MAX;
+/// Particles per workgroup of the reductions (256 threads × 4).
+const RED_CHUNK: u32 = 1024;
+
+/// How many threads a kernel runs.
+#[derive(Debug, Clone, Copy)]
+enum Size {
+    Particles,
+    Buckets,
+    ScanBlocks,
+    RedGroups,
+    One,
+    Slots,
+    Probes,
+}
+
+/// Which state the evaluation reads: the step's base state or the midpoint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Var {
+    Base,
+    Mid,
+}
+
+struct Kernel {
+    pipeline: Arc<Pipeline>,
+    bind: wgpu::BindGroup,
+    groups: (u32, u32),
+}
+
+impl Kernel {
+    fn dispatch(&self, pass: &mut wgpu::ComputePass<'_>) {
+        pass.set_pipeline(&self.pipeline.pipeline);
+        pass.set_bind_group(0, &self.bind, &[]);
+        pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+    }
+}
+
+/// An evaluation's kernels for one state variant.
+struct Eval {
+    cells: Kernel,
+    pass_a: Kernel,
+    pass_c: Kernel,
+    contact: Option<(Kernel, Kernel)>,
+}
+
+struct Kernels {
+    clear: Kernel,
+    scan_local: Kernel,
+    scan_blocks: Kernel,
+    scan_add: Kernel,
+    scatter: Kernel,
+    sort: Kernel,
+    eval: [Eval; 2],
+    cfl_partial: Kernel,
+    cfl_final: Kernel,
+    obs: Option<(Kernel, Kernel)>,
+    probes: Option<Kernel>,
+    advance_half: Kernel,
+    advance_full: Kernel,
+    end_step: Kernel,
+    permute: Kernel,
+    map_slots: Kernel,
+}
+
+/// What one batch of steps produced.
+#[derive(Debug, Default)]
+pub struct Batch {
+    /// `(t, probe values)` of every state observed, in order.
+    pub states: Vec<(f64, Vec<f64>)>,
+    /// The end time was reached (and the final state observed).
+    pub done: bool,
+    pub failure: Option<Instability>,
+}
+
+/// Per-particle results of one evaluation, in the model's particle order
+/// (for checking the device stage by stage against the CPU).
+#[derive(Debug, Clone, Default)]
+pub struct StageOutputs {
+    /// Neighbours within `2 h_ij` of every particle (all bodies), sorted.
+    pub neighbours: Vec<Vec<u32>>,
+    /// `L_i` as (xx, xy, yx, yy).
+    pub l: Vec<[f64; 4]>,
+    pub normal: Vec<DVec2>,
+    pub boundary: Vec<bool>,
+    /// `σ/ρ²` (xx, yy, xy) and the sound speed.
+    pub sr2: Vec<[f64; 3]>,
+    pub c: Vec<f64>,
+    pub drho: Vec<f64>,
+    pub ds: Vec<Sym>,
+    /// SPH part of `dv/dt` and `de/dt` (pass C), before contact.
+    pub dv_sph: Vec<DVec2>,
+    pub de_sph: Vec<f64>,
+    /// Contact area (0 off the boundary or without contact).
+    pub area: Vec<f64>,
+    /// Contact force on each particle.
+    pub contact_force: Vec<DVec2>,
+    /// Full rates.
+    pub dv: Vec<DVec2>,
+    pub de: Vec<f64>,
+    /// The device's step (CFL, clipped to the end time).
+    pub dt: f64,
+}
+
+/// The GPU solver: model constants on the host, everything else on the device.
+pub struct GpuSolver {
+    ctx: Arc<GpuContext>,
+    pub model: Model,
+    n: usize,
+    buckets: u32,
+    red_groups: u32,
+    buffers: HashMap<&'static str, wgpu::Buffer>,
+    staging: wgpu::Buffer,
+    plan: ProbePlan,
+    k: Kernels,
+    encoded: u64,
+    /// States observed so far (the next state to deliver).
+    delivered: u64,
+    zero_seen: u32,
+    last_dt: f64,
+    device_bytes: u64,
+}
+
+/// `(hi, lo)` f32 pair of an f64.
+fn split(t: f64) -> (f32, f32) {
+    let hi = t as f32;
+    (hi, (t - hi as f64) as f32)
+}
+
+impl GpuSolver {
+    /// Upload a model and state. `probes` are the scene's resolved probes;
+    /// `end_time` is where the device stops stepping. `Err` when the scene
+    /// does not fit the adapter.
+    pub fn new(
+        ctx: Arc<GpuContext>,
+        model: Model,
+        state: &State,
+        probes: &[Resolved],
+        end_time: f64,
+    ) -> Result<Self, String> {
+        let n = model.len();
+        let plan = ProbePlan::new(probes, &model);
+        let buckets = (2 * n).next_power_of_two().max(256) as u32;
+        let red_groups = (n as u32).div_ceil(RED_CHUNK).max(1);
+        let h_max = model.h.iter().cloned().fold(0.0, f64::max);
+        // Cells of 2 h_max, a hair larger so that f32 rounding of the cell
+        // coordinate can never put a pair within 2 h two cells apart.
+        let cell = 2.0 * h_max * (1.0 + 1e-5);
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        for p in &state.x {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let origin = lo - DVec2::splat(1.5 * cell);
+        let row_stride = ((hi.x - origin.x) / cell).floor() as u32 + 3;
+        let (end_hi, end_lo) = split(end_time);
+        let params = Params {
+            n: n as u32,
+            nbodies: model.bodies.len() as u32,
+            buckets,
+            row_stride,
+            origin_x: origin.x as f32,
+            origin_y: origin.y as f32,
+            inv_cell: (1.0 / cell) as f32,
+            alpha: model.alpha as f32,
+            beta: model.beta as f32,
+            cfl: model.cfl as f32,
+            fixed_dt: model.fixed_dt.unwrap_or(0.0) as f32,
+            boundary_threshold: model.boundary_threshold as f32,
+            as_eps: model.artificial_stress.map_or(0.0, |a| a.0) as f32,
+            as_n: model.artificial_stress.map_or(0.0, |a| a.1) as f32,
+            end_hi,
+            end_lo,
+            ring_len: RING_LEN,
+            ring_width: plan.row_width() as u32,
+            nslots: plan.slots.len() as u32,
+            nprobes: plan.particles.len() as u32,
+            pad1: 0,
+            red_groups,
+            min_det: CORRECTION_MIN_DET as f32,
+            pad0: 0,
+        };
+        let bodies: Vec<BodyGpu> = model
+            .bodies
+            .iter()
+            .map(|b| {
+                let m = &b.material;
+                BodyGpu {
+                    rho0: m.rho0 as f32,
+                    k: m.k as f32,
+                    s: m.s as f32,
+                    gamma0: m.gamma0 as f32,
+                    g: m.g as f32,
+                    y0: if m.y0.is_finite() { m.y0 as f32 } else { 0.0 },
+                    z: m.z as f32,
+                    young: m.e as f32,
+                    spacing: b.spacing as f32,
+                    h: model.h[b.range.start] as f32,
+                    rigid: b.rigid as u32,
+                    linear: m.linear as u32,
+                    elastic: (!m.y0.is_finite()) as u32,
+                    ..Default::default()
+                }
+            })
+            .collect();
+        let control = Control {
+            fail_step: NONE,
+            fail_code: NONE,
+            ..Default::default()
+        };
+
+        // Per-particle arrays, in the model's order to start with.
+        let x0: Vec<[f32; 2]> = state.x.iter().map(|p| [p.x as f32, p.y as f32]).collect();
+        let zeros2 = vec![[0f32; 2]; n];
+        let v: Vec<[f32; 2]> = state.v.iter().map(|p| [p.x as f32, p.y as f32]).collect();
+        let r: Vec<[f32; 2]> = (0..n)
+            .map(|i| {
+                let rho0 = model.material(i).rho0;
+                [(state.rho[i] / rho0 - 1.0) as f32, state.e[i] as f32]
+            })
+            .collect();
+        let s: Vec<[f32; 4]> = state
+            .s
+            .iter()
+            .map(|s| [s.xx as f32, s.yy as f32, s.xy as f32, s.zz as f32])
+            .collect();
+        let meta: Vec<[u32; 4]> = (0..n)
+            .map(|i| {
+                [
+                    (model.mass[i] as f32).to_bits(),
+                    (model.offset[i] as f32).to_bits(),
+                    model.body[i],
+                    i as u32,
+                ]
+            })
+            .collect();
+        let slot_of: Vec<u32> = (0..n as u32).collect();
+        let contact = model.contact;
+
+        let dev = &ctx.device;
+        let limits = &ctx.limits;
+        let max_binding = limits.max_storage_buffer_binding_size;
+        let max_buffer = limits.max_buffer_size;
+        let mut buffers = HashMap::new();
+        let mut device_bytes = 0u64;
+        let mut make = |name: &'static str, size: u64, data: Option<&[u8]>| -> Result<(), String> {
+            let size = size.max(16).next_multiple_of(4);
+            if size > max_binding || size > max_buffer {
+                return Err(format!(
+                    "the scene needs a {size}-byte device buffer '{name}' for {n} particles; \
+                     this adapter allows {} (binding) and {} (buffer)",
+                    max_binding, max_buffer
+                ));
+            }
+            let usage = wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST;
+            let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(name),
+                size,
+                usage,
+                mapped_at_creation: false,
+            });
+            if let Some(d) = data {
+                ctx.queue.write_buffer(&buf, 0, d);
+            }
+            device_bytes += size;
+            buffers.insert(name, buf);
+            Ok(())
+        };
+        let nn = n as u64;
+        make("x0", 8 * nn, Some(bytemuck::cast_slice(&x0)))?;
+        make("u", 8 * nn, Some(bytemuck::cast_slice(&zeros2)))?;
+        make("v", 8 * nn, Some(bytemuck::cast_slice(&v)))?;
+        make("r", 8 * nn, Some(bytemuck::cast_slice(&r)))?;
+        make("s", 16 * nn, Some(bytemuck::cast_slice(&s)))?;
+        make("pinfo", 16 * nn, Some(bytemuck::cast_slice(&meta)))?;
+        make("slot_of", 4 * nn, Some(bytemuck::cast_slice(&slot_of)))?;
+        for name in ["um", "vm", "rm", "dv", "dr"] {
+            make(name, 8 * nn, None)?;
+        }
+        for name in ["sm", "ds", "lmat", "nbo", "sr2c"] {
+            make(name, 16 * nn, None)?;
+        }
+        if model.artificial_stress.is_some() {
+            make("art", 16 * nn, None)?;
+        }
+        if contact {
+            make("qheat", 4 * nn, Some(bytemuck::cast_slice(&vec![0f32; n])))?;
+            make("area", 4 * nn, None)?;
+            make("cheat", 4 * nn, None)?;
+            for name in ["cown", "cshare", "cstat"] {
+                make(name, 16 * nn, None)?;
+            }
+        }
+        make("cellc", 8 * nn, None)?;
+        make("bkt", 4 * nn, None)?;
+        make("blist", 4 * nn, None)?;
+        make("bcount", 4 * buckets as u64, None)?;
+        make("bfill", 4 * buckets as u64, None)?;
+        make("bstart", 4 * (buckets as u64 + 1), None)?;
+        make("bsum", 4 * buckets.div_ceil(256) as u64, None)?;
+        let red_len = red_groups as u64 * (1 + plan.slots.len() as u64);
+        make("red", 4 * red_len, None)?;
+        let ring_bytes = 4 * RING_LEN as u64 * plan.row_width() as u64;
+        make("ring", ring_bytes, None)?;
+        make(
+            "slots",
+            16 * plan.slots.len() as u64,
+            Some(bytemuck::cast_slice(&plan.slots)),
+        )?;
+        make(
+            "probes",
+            8 * plan.particles.len() as u64,
+            Some(bytemuck::cast_slice(&plan.particles)),
+        )?;
+        make(
+            "bodies",
+            64 * bodies.len() as u64,
+            Some(bytemuck::cast_slice(&bodies)),
+        )?;
+        make("ctl", 48, Some(bytemuck::bytes_of(&control)))?;
+        let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("params"),
+            size: std::mem::size_of::<Params>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        ctx.queue
+            .write_buffer(&params_buf, 0, bytemuck::bytes_of(&params));
+        buffers.insert("params", params_buf);
+        let staging = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("staging"),
+            size: 48 + ring_bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+
+        let constants: Vec<(&str, f64)> = vec![
+            ("DIM", model.dim as f64),
+            ("CONTACT", contact as u8 as f64),
+            (
+                "CORRECTED",
+                (model.correction == Correction::Gradient) as u8 as f64,
+            ),
+            ("PLASTIC", model.plastic as u8 as f64),
+            ("ART_STRESS", model.artificial_stress.is_some() as u8 as f64),
+            ("WG", WG as f64),
+        ];
+        let maxd = limits.max_compute_workgroups_per_dimension.max(1);
+        let groups_of = |size: Size| -> (u32, u32) {
+            let g = match size {
+                Size::Particles => (n as u32).div_ceil(WG),
+                Size::Buckets => buckets.div_ceil(WG),
+                Size::ScanBlocks => buckets.div_ceil(256),
+                Size::RedGroups => red_groups,
+                Size::One => 1,
+                Size::Slots => plan.slots.len() as u32,
+                Size::Probes => (plan.particles.len() as u32).div_ceil(64),
+            }
+            .max(1);
+            if g <= maxd {
+                (g, 1)
+            } else {
+                (maxd, g.div_ceil(maxd))
+            }
+        };
+        let mid_aliases: &[(&str, &str)] = &[("u", "um"), ("v", "vm"), ("r", "rm"), ("s", "sm")];
+        let kernel = |stage: &str,
+                      entry: &str,
+                      size: Size,
+                      aliases: &[(&str, &str)]|
+         -> Result<Kernel, String> {
+            let pipeline = ctx.pipeline(stage, entry, &constants);
+            let storage_used = pipeline.bindings.iter().filter(|b| !b.uniform).count() as u32;
+            if storage_used > limits.max_storage_buffers_per_shader_stage {
+                return Err(format!(
+                    "{stage}::{entry} binds {storage_used} storage buffers; this adapter allows {}",
+                    limits.max_storage_buffers_per_shader_stage
+                ));
+            }
+            // Buffers a scene does not need (artificial stress, contact)
+            // are bound to small placeholders the compiled-out code never
+            // reads (the bind group keeps them alive).
+            let key_of = |name: &str| -> String {
+                aliases
+                    .iter()
+                    .find(|a| a.0 == name)
+                    .map_or(name, |a| a.1)
+                    .to_string()
+            };
+            let placeholders: Vec<(u32, wgpu::Buffer)> = pipeline
+                .bindings
+                .iter()
+                .filter(|bu| !buffers.contains_key(key_of(&bu.name).as_str()))
+                .map(|bu| {
+                    let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some(&bu.name),
+                        size: 64,
+                        usage: wgpu::BufferUsages::STORAGE,
+                        mapped_at_creation: false,
+                    });
+                    (bu.binding, buf)
+                })
+                .collect();
+            let mut entries: Vec<wgpu::BindGroupEntry> = pipeline
+                .bindings
+                .iter()
+                .filter_map(|bu| {
+                    buffers
+                        .get(key_of(&bu.name).as_str())
+                        .map(|buf| wgpu::BindGroupEntry {
+                            binding: bu.binding,
+                            resource: buf.as_entire_binding(),
+                        })
+                })
+                .collect();
+            entries.extend(placeholders.iter().map(|(b, buf)| wgpu::BindGroupEntry {
+                binding: *b,
+                resource: buf.as_entire_binding(),
+            }));
+            let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(entry),
+                layout: &pipeline.layout,
+                entries: &entries,
+            });
+            Ok(Kernel {
+                pipeline,
+                bind,
+                groups: groups_of(size),
+            })
+        };
+
+        let mut evals = Vec::new();
+        for var in [Var::Base, Var::Mid] {
+            let al: &[(&str, &str)] = if var == Var::Base { &[] } else { mid_aliases };
+            evals.push(Eval {
+                cells: kernel("grid", "grid_cells", Size::Particles, al)?,
+                pass_a: kernel("pass_a", "pass_a", Size::Particles, al)?,
+                pass_c: kernel("pass_c", "pass_c", Size::Particles, al)?,
+                contact: if contact {
+                    Some((
+                        kernel("contact", "contact_pass1", Size::Particles, al)?,
+                        kernel("contact", "contact_pass2", Size::Particles, al)?,
+                    ))
+                } else {
+                    None
+                },
+            });
+        }
+        let mid = evals.pop().expect("two variants");
+        let base = evals.pop().expect("two variants");
+        let k = Kernels {
+            clear: kernel("grid", "grid_clear", Size::Buckets, &[])?,
+            scan_local: kernel("grid", "scan_local", Size::ScanBlocks, &[])?,
+            scan_blocks: kernel("grid", "scan_blocks", Size::One, &[])?,
+            scan_add: kernel("grid", "scan_add", Size::ScanBlocks, &[])?,
+            scatter: kernel("grid", "grid_scatter", Size::Particles, &[])?,
+            sort: kernel("grid", "grid_sort", Size::Buckets, &[])?,
+            eval: [base, mid],
+            cfl_partial: kernel("reduce", "cfl_partial", Size::RedGroups, &[])?,
+            cfl_final: kernel("reduce", "cfl_final", Size::One, &[])?,
+            obs: if plan.slots.is_empty() {
+                None
+            } else {
+                Some((
+                    kernel("reduce", "obs_partial", Size::RedGroups, &[])?,
+                    kernel("reduce", "obs_final", Size::Slots, &[])?,
+                ))
+            },
+            probes: if plan.particles.is_empty() {
+                None
+            } else {
+                Some(kernel("reduce", "probe_values", Size::Probes, &[])?)
+            },
+            advance_half: kernel(
+                "advance",
+                "advance_half",
+                Size::Particles,
+                &[("u_w", "um"), ("v_w", "vm"), ("r_w", "rm"), ("s_w", "sm")],
+            )?,
+            advance_full: kernel(
+                "advance",
+                "advance_full",
+                Size::Particles,
+                &[
+                    ("u_w", "u"),
+                    ("v_w", "v"),
+                    ("r_w", "r"),
+                    ("s_w", "s"),
+                    ("qheat_w", "qheat"),
+                ],
+            )?,
+            end_step: kernel("reduce", "end_step", Size::One, &[])?,
+            permute: kernel(
+                "reorder",
+                "permute",
+                Size::Particles,
+                &[
+                    ("t_x0", "dv"),
+                    ("t_u", "um"),
+                    ("t_v", "vm"),
+                    ("t_r", "rm"),
+                    ("t_s", "sm"),
+                    ("t_pinfo", "ds"),
+                    ("t_qheat", "area"),
+                ],
+            )?,
+            map_slots: kernel("reorder", "map_slots", Size::Particles, &[])?,
+        };
+        Ok(Self {
+            ctx,
+            model,
+            n,
+            buckets,
+            red_groups,
+            buffers,
+            staging,
+            plan,
+            k,
+            encoded: 0,
+            delivered: 0,
+            zero_seen: 0,
+            last_dt: 0.0,
+            device_bytes,
+        })
+    }
+
+    /// Bytes of device memory the run holds.
+    pub fn device_bytes(&self) -> u64 {
+        self.device_bytes
+    }
+
+    pub fn adapter_name(&self) -> String {
+        self.ctx.adapter_name()
+    }
+
+    /// Buckets of the hashed cell table and partial groups of the reductions.
+    pub fn table_sizes(&self) -> (u32, u32) {
+        (self.buckets, self.red_groups)
+    }
+
+    fn buf(&self, name: &str) -> &wgpu::Buffer {
+        &self.buffers[name]
+    }
+
+    fn encode_grid(&self, pass: &mut wgpu::ComputePass<'_>, var: Var) {
+        let k = &self.k;
+        k.clear.dispatch(pass);
+        k.eval[var as usize].cells.dispatch(pass);
+        k.scan_local.dispatch(pass);
+        k.scan_blocks.dispatch(pass);
+        k.scan_add.dispatch(pass);
+        k.scatter.dispatch(pass);
+        k.sort.dispatch(pass);
+    }
+
+    fn encode_eval(&self, pass: &mut wgpu::ComputePass<'_>, var: Var) {
+        self.encode_grid(pass, var);
+        let e = &self.k.eval[var as usize];
+        e.pass_a.dispatch(pass);
+        e.pass_c.dispatch(pass);
+        if let Some((c1, c2)) = &e.contact {
+            c1.dispatch(pass);
+            c2.dispatch(pass);
+        }
+    }
+
+    /// Reorder the particles by cell: gather into scratch, copy back.
+    fn encode_reorder(&self, enc: &mut wgpu::CommandEncoder) {
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            self.encode_grid(&mut pass, Var::Base);
+            self.k.permute.dispatch(&mut pass);
+        }
+        let n = self.n as u64;
+        let mut copy = |from: &str, to: &str, bytes: u64| {
+            enc.copy_buffer_to_buffer(self.buf(from), 0, self.buf(to), 0, bytes * n);
+        };
+        copy("dv", "x0", 8);
+        copy("um", "u", 8);
+        copy("vm", "v", 8);
+        copy("rm", "r", 8);
+        copy("sm", "s", 16);
+        copy("ds", "pinfo", 16);
+        if self.model.contact {
+            copy("area", "qheat", 4);
+        }
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        self.k.map_slots.dispatch(&mut pass);
+    }
+
+    fn encode_step(&self, enc: &mut wgpu::CommandEncoder, step_index: u64) {
+        if step_index % REORDER_EVERY == 0 {
+            self.encode_reorder(enc);
+        }
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        let k = &self.k;
+        self.encode_eval(&mut pass, Var::Base);
+        k.cfl_partial.dispatch(&mut pass);
+        k.cfl_final.dispatch(&mut pass);
+        if let Some((a, b)) = &k.obs {
+            a.dispatch(&mut pass);
+            b.dispatch(&mut pass);
+        }
+        if let Some(p) = &k.probes {
+            p.dispatch(&mut pass);
+        }
+        k.advance_half.dispatch(&mut pass);
+        self.encode_eval(&mut pass, Var::Mid);
+        k.advance_full.dispatch(&mut pass);
+        k.end_step.dispatch(&mut pass);
+    }
+
+    /// Copy `bytes` from the start of each named buffer back to the host.
+    fn read_buffers(
+        &self,
+        enc: Option<wgpu::CommandEncoder>,
+        names: &[(&str, u64)],
+    ) -> Vec<Vec<u8>> {
+        let dev = &self.ctx.device;
+        let total: u64 = names.iter().map(|x| x.1.next_multiple_of(4)).sum();
+        let stage = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: total.max(4),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = enc.unwrap_or_else(|| dev.create_command_encoder(&Default::default()));
+        let mut off = 0;
+        for (name, bytes) in names {
+            enc.copy_buffer_to_buffer(self.buf(name), 0, &stage, off, *bytes);
+            off += bytes.next_multiple_of(4);
+        }
+        self.ctx.queue.submit([enc.finish()]);
+        let data = map_read(dev, &stage, total.max(4));
+        let mut out = Vec::new();
+        let mut off = 0usize;
+        for (_, bytes) in names {
+            out.push(data[off..off + *bytes as usize].to_vec());
+            off += bytes.next_multiple_of(4) as usize;
+        }
+        out
+    }
+
+    /// Run up to `steps` steps in one submission and deliver the states
+    /// they observed.
+    pub fn run_batch(&mut self, steps: u32) -> Batch {
+        let steps = steps.clamp(1, RING_LEN - 2);
+        let dev = &self.ctx.device;
+        let mut enc = dev.create_command_encoder(&Default::default());
+        for s in 0..steps as u64 {
+            self.encode_step(&mut enc, self.encoded + s);
+        }
+        self.encoded += steps as u64;
+        let ring_bytes = self.staging.size() - 48;
+        enc.copy_buffer_to_buffer(self.buf("ctl"), 0, &self.staging, 0, 48);
+        enc.copy_buffer_to_buffer(self.buf("ring"), 0, &self.staging, 48, ring_bytes);
+        self.ctx.queue.submit([enc.finish()]);
+        let data = map_read(dev, &self.staging, self.staging.size());
+        let ctl: Control = bytemuck::pod_read_unaligned(&data[..48]);
+        let ring: &[f32] = bytemuck::cast_slice(&data[48..]);
+        let width = self.plan.row_width();
+        let row = |s: u64| {
+            let r = (s % RING_LEN as u64) as usize * width;
+            &ring[r..r + width]
+        };
+        let mut batch = Batch::default();
+        let failed = ctl.fail_step != NONE;
+        let reached = ctl.step as u64;
+        let done = ctl.zero_steps > self.zero_seen;
+        self.zero_seen = ctl.zero_steps;
+        // States before `reached` were observed by the step that left them;
+        // `reached` itself only by a zero-length step at the end.
+        let last = if failed {
+            ctl.fail_step as u64
+        } else if done {
+            reached
+        } else {
+            reached.saturating_sub(1)
+        };
+        while self.delivered <= last && (self.delivered < reached || done || failed) {
+            let r = row(self.delivered);
+            let t = r[0] as f64 + r[1] as f64;
+            batch.states.push((t, self.plan.values(r)));
+            self.delivered += 1;
+        }
+        let r = row(reached.saturating_sub(1));
+        if r[2] > 0.0 {
+            self.last_dt = r[2] as f64;
+        }
+        batch.done = done && !failed;
+        if failed {
+            batch.failure = Some(self.instability(&ctl, row(ctl.fail_step as u64)));
+        }
+        batch
+    }
+
+    /// The last step the device took (for sizing the next batch).
+    pub fn last_dt(&self) -> f64 {
+        self.last_dt
+    }
+
+    fn instability(&self, ctl: &Control, row: &[f32]) -> Instability {
+        let code = ctl.fail_code;
+        let (id, q) = ((code / 8) as usize, code % 8);
+        let time = row[0] as f64 + row[1] as f64;
+        let (quantity, value) = if q == 4 {
+            ("time step".to_string(), row[2] as f64)
+        } else {
+            let st = self.download();
+            let v = match q {
+                0 => st.x[id].x + st.x[id].y,
+                1 => st.v[id].x + st.v[id].y,
+                2 => st.e[id],
+                _ => st.rho[id],
+            };
+            let name = ["position", "velocity", "internal energy", "density"][q.min(3) as usize];
+            (name.to_string(), v)
+        };
+        let id = if q == 4 { 0 } else { id };
+        let (body, particle) = self.model.locate(id.min(self.n - 1));
+        // As the CPU path: a bad state is reported with its own step and
+        // time; a collapsed step with the state it was computed at.
+        let (step, time) = if q == 4 {
+            (ctl.fail_step as u64, time)
+        } else {
+            (ctl.fail_step as u64 + 1, time + row[2] as f64)
+        };
+        Instability {
+            step,
+            time,
+            body: body.to_string(),
+            particle,
+            quantity,
+            value,
+        }
+    }
+
+    /// The device state in f64, in the model's particle order.
+    pub fn download(&self) -> State {
+        let n = self.n as u64;
+        let mut names = vec![
+            ("x0", 8 * n),
+            ("u", 8 * n),
+            ("v", 8 * n),
+            ("r", 8 * n),
+            ("s", 16 * n),
+            ("pinfo", 16 * n),
+            ("ctl", 48),
+        ];
+        if self.model.contact {
+            names.push(("qheat", 4 * n));
+        }
+        let d = self.read_buffers(None, &names);
+        let x0: &[[f32; 2]] = bytemuck::cast_slice(&d[0]);
+        let u: &[[f32; 2]] = bytemuck::cast_slice(&d[1]);
+        let v: &[[f32; 2]] = bytemuck::cast_slice(&d[2]);
+        let r: &[[f32; 2]] = bytemuck::cast_slice(&d[3]);
+        let s: &[[f32; 4]] = bytemuck::cast_slice(&d[4]);
+        let meta: &[[u32; 4]] = bytemuck::cast_slice(&d[5]);
+        let ctl: Control = bytemuck::pod_read_unaligned(&d[6]);
+        let n = self.n;
+        let mut st = State {
+            t: ctl.t_hi as f64 + ctl.t_lo as f64,
+            step: ctl.step as u64,
+            x: vec![DVec2::ZERO; n],
+            v: vec![DVec2::ZERO; n],
+            rho: vec![0.0; n],
+            e: vec![0.0; n],
+            s: vec![Sym::default(); n],
+            heat: 0.0,
+        };
+        for k in 0..n {
+            let i = meta[k][3] as usize;
+            st.x[i] = DVec2::new(
+                x0[k][0] as f64 + u[k][0] as f64,
+                x0[k][1] as f64 + u[k][1] as f64,
+            );
+            st.v[i] = DVec2::new(v[k][0] as f64, v[k][1] as f64);
+            st.rho[i] = self.model.material(i).rho0 * (1.0 + r[k][0] as f64);
+            st.e[i] = r[k][1] as f64;
+            st.s[i] = Sym {
+                xx: s[k][0] as f64,
+                yy: s[k][1] as f64,
+                xy: s[k][2] as f64,
+                zz: s[k][3] as f64,
+            };
+        }
+        if self.model.contact {
+            let q: &[f32] = bytemuck::cast_slice(&d[7]);
+            st.heat = q.iter().map(|&x| x as f64).sum();
+        }
+        st
+    }
+
+    /// The control block: time, step, status.
+    pub fn control(&self) -> Control {
+        let d = self.read_buffers(None, &[("ctl", 48)]);
+        bytemuck::pod_read_unaligned(&d[0])
+    }
+
+    /// Particles whose correction fell back to `L = I` (most at one state).
+    pub fn max_fallback(&self) -> u32 {
+        self.control().fallback_max
+    }
+
+    /// Particles that met more than one partner body at once (the device
+    /// pairs each with the first).
+    pub fn multi_partner(&self) -> u32 {
+        self.control().multi_partner
+    }
+
+    /// Stored penalty energy in the observation of the last delivered state.
+    pub fn stored_energy_of(&self, values_row: &[f32]) -> f64 {
+        self.plan.stored_energy(values_row)
+    }
+
+    /// The stored penalty energy at the last observed state.
+    pub fn last_stored_energy(&self) -> f64 {
+        if self.delivered == 0 || self.plan.stored.is_none() {
+            return 0.0;
+        }
+        let d = self.read_buffers(None, &[("ring", self.staging.size() - 48)]);
+        let ring: &[f32] = bytemuck::cast_slice(&d[0]);
+        let width = self.plan.row_width();
+        let r = ((self.delivered - 1) % RING_LEN as u64) as usize * width;
+        self.plan.stored_energy(&ring[r..r + width])
+    }
+
+    /// One evaluation at the current state, with every stage's output read
+    /// back (tests: the device against its CPU twins). Does not step.
+    pub fn stage_outputs(&mut self) -> StageOutputs {
+        let n = self.n;
+        let nn = n as u64;
+        let dev = &self.ctx.device;
+        // Reorder first, as a run does, so the check covers permuted slots.
+        let mut enc = dev.create_command_encoder(&Default::default());
+        self.encode_reorder(&mut enc);
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            self.encode_grid(&mut pass, Var::Base);
+            let e = &self.k.eval[0];
+            e.pass_a.dispatch(&mut pass);
+            e.pass_c.dispatch(&mut pass);
+        }
+        let first = self.read_buffers(
+            Some(enc),
+            &[
+                ("pinfo", 16 * nn),
+                ("lmat", 16 * nn),
+                ("nbo", 16 * nn),
+                ("sr2c", 16 * nn),
+                ("dr", 8 * nn),
+                ("ds", 16 * nn),
+                ("dv", 8 * nn),
+            ],
+        );
+        let mut enc = dev.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            if let Some((c1, c2)) = &self.k.eval[0].contact {
+                c1.dispatch(&mut pass);
+                c2.dispatch(&mut pass);
+            }
+            self.k.cfl_partial.dispatch(&mut pass);
+            self.k.cfl_final.dispatch(&mut pass);
+        }
+        let mut names = vec![("dv", 8 * nn), ("dr", 8 * nn), ("ctl", 48)];
+        if self.model.contact {
+            names.push(("area", 4 * nn));
+        }
+        let second = self.read_buffers(Some(enc), &names);
+
+        // Neighbour dump (test-only kernel), indexed by original id.
+        let consts = [("DIM", self.model.dim as f64), ("WG", WG as f64)];
+        let p = self.ctx.pipeline("debug", "dump_neighbours", &consts);
+        let dump = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("dump"),
+            size: 4 * 128 * nn,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let entries: Vec<wgpu::BindGroupEntry> = p
+            .bindings
+            .iter()
+            .map(|b| wgpu::BindGroupEntry {
+                binding: b.binding,
+                resource: if b.name == "dump" {
+                    dump.as_entire_binding()
+                } else {
+                    self.buf(&b.name).as_entire_binding()
+                },
+            })
+            .collect();
+        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("dump"),
+            layout: &p.layout,
+            entries: &entries,
+        });
+        let mut enc = dev.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&p.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            let g = (n as u32).div_ceil(WG);
+            let maxd = self.ctx.limits.max_compute_workgroups_per_dimension;
+            if g <= maxd {
+                pass.dispatch_workgroups(g, 1, 1);
+            } else {
+                pass.dispatch_workgroups(maxd, g.div_ceil(maxd), 1);
+            }
+        }
+        let stage = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("dump readback"),
+            size: 4 * 128 * nn,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        enc.copy_buffer_to_buffer(&dump, 0, &stage, 0, 4 * 128 * nn);
+        self.ctx.queue.submit([enc.finish()]);
+        let dump_data = map_read(dev, &stage, 4 * 128 * nn);
+        let dump_u: &[u32] = bytemuck::cast_slice(&dump_data);
+
+        let meta: &[[u32; 4]] = bytemuck::cast_slice(&first[0]);
+        let l: &[[f32; 4]] = bytemuck::cast_slice(&first[1]);
+        let nbo: &[[f32; 4]] = bytemuck::cast_slice(&first[2]);
+        let sr2c: &[[f32; 4]] = bytemuck::cast_slice(&first[3]);
+        let dr1: &[[f32; 2]] = bytemuck::cast_slice(&first[4]);
+        let ds: &[[f32; 4]] = bytemuck::cast_slice(&first[5]);
+        let dv1: &[[f32; 2]] = bytemuck::cast_slice(&first[6]);
+        let dv2: &[[f32; 2]] = bytemuck::cast_slice(&second[0]);
+        let dr2: &[[f32; 2]] = bytemuck::cast_slice(&second[1]);
+        let ctl: Control = bytemuck::pod_read_unaligned(&second[2]);
+        let area: Option<&[f32]> = second.get(3).map(|a| bytemuck::cast_slice(a));
+        let mut out = StageOutputs {
+            neighbours: vec![Vec::new(); n],
+            l: vec![[0.0; 4]; n],
+            normal: vec![DVec2::ZERO; n],
+            boundary: vec![false; n],
+            sr2: vec![[0.0; 3]; n],
+            c: vec![0.0; n],
+            drho: vec![0.0; n],
+            ds: vec![Sym::default(); n],
+            dv_sph: vec![DVec2::ZERO; n],
+            de_sph: vec![0.0; n],
+            area: vec![0.0; n],
+            contact_force: vec![DVec2::ZERO; n],
+            dv: vec![DVec2::ZERO; n],
+            de: vec![0.0; n],
+            dt: ctl.dt as f64,
+        };
+        let v2 = |a: [f32; 2]| DVec2::new(a[0] as f64, a[1] as f64);
+        for k in 0..n {
+            let i = meta[k][3] as usize;
+            let base = i * 128;
+            let cnt = dump_u[base] as usize;
+            let mut nb = dump_u[base + 1..base + 1 + cnt].to_vec();
+            nb.sort_unstable();
+            out.neighbours[i] = nb;
+            out.l[i] = l[k].map(|x| x as f64);
+            out.normal[i] = DVec2::new(nbo[k][0] as f64, nbo[k][1] as f64);
+            out.boundary[i] = nbo[k][2] > 0.0;
+            out.sr2[i] = [sr2c[k][0] as f64, sr2c[k][1] as f64, sr2c[k][2] as f64];
+            out.c[i] = sr2c[k][3] as f64;
+            out.drho[i] = self.model.material(i).rho0 * dr1[k][0] as f64;
+            out.ds[i] = Sym {
+                xx: ds[k][0] as f64,
+                yy: ds[k][1] as f64,
+                xy: ds[k][2] as f64,
+                zz: ds[k][3] as f64,
+            };
+            out.dv_sph[i] = v2(dv1[k]);
+            out.de_sph[i] = dr1[k][1] as f64;
+            out.dv[i] = v2(dv2[k]);
+            out.de[i] = dr2[k][1] as f64;
+            out.contact_force[i] = (out.dv[i] - out.dv_sph[i]) * self.model.mass[i];
+            if let Some(a) = area {
+                out.area[i] = a[k] as f64;
+            }
+        }
+        out
+    }
+}
+
+/// Map a MAP_READ buffer and copy out its first `size` bytes.
+fn map_read(dev: &wgpu::Device, buf: &wgpu::Buffer, size: u64) -> Vec<u8> {
+    let slice = buf.slice(0..size);
+    slice.map_async(wgpu::MapMode::Read, |r| {
+        r.expect("mapping a readback buffer");
+    });
+    dev.poll(wgpu::PollType::wait_indefinitely())
+        .expect("the device finishes its work");
+    let data = slice
+        .get_mapped_range()
+        .expect("mapped range of a mapped buffer")
+        .to_vec();
+    buf.unmap();
+    data
+}

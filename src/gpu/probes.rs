@@ -1,0 +1,155 @@
+//! Probes on the device: each probe becomes observation slots (sums or
+//! maxima over particles, codes shared with reduce.wgsl) or a particle
+//! probe, and a row of the device's ring turns back into probe values.
+
+use crate::model::Model;
+use crate::probe::Resolved;
+use crate::scene::{BodyQuantity, ContactQuantity, EnergyQuantity, ParticleQuantity};
+
+const NONE: u32 = u32::MAX;
+
+/// Slot codes of `slot_value` in reduce.wgsl.
+mod code {
+    pub const MVX: u32 = 0;
+    pub const MVY: u32 = 1;
+    pub const MX: u32 = 2;
+    pub const MY: u32 = 3;
+    pub const KINETIC: u32 = 4;
+    pub const INTERNAL: u32 = 5;
+    pub const PAIR_FORCE: u32 = 6;
+    pub const PAIR_PMAX: u32 = 7;
+    pub const STORED: u32 = 8;
+    pub const HEAT: u32 = 9;
+}
+
+/// How a probe value is made from a ring row.
+#[derive(Debug, Clone)]
+enum Expr {
+    /// `scale · slot`.
+    Slot(usize, f64),
+    Particle(usize),
+    /// Kinetic + internal + stored penalty energy.
+    Total(usize, usize, Option<usize>),
+}
+
+/// The device-side form of a scene's probes.
+#[derive(Debug, Clone, Default)]
+pub struct ProbePlan {
+    /// `(code, body or pair a, pair b, op)`; op 1 is a maximum.
+    pub slots: Vec<[u32; 4]>,
+    /// `(original particle index, quantity code)`.
+    pub particles: Vec<[u32; 2]>,
+    exprs: Vec<Expr>,
+    /// The slot of the stored penalty energy (always present with contact).
+    pub stored: Option<usize>,
+}
+
+fn particle_code(q: ParticleQuantity) -> u32 {
+    match q {
+        ParticleQuantity::PositionX => 0,
+        ParticleQuantity::PositionY => 1,
+        ParticleQuantity::VelocityX => 2,
+        ParticleQuantity::VelocityY => 3,
+        ParticleQuantity::Density => 4,
+        ParticleQuantity::Pressure => 5,
+        ParticleQuantity::StressXx => 6,
+        ParticleQuantity::StressYy => 7,
+        ParticleQuantity::StressXy => 8,
+        ParticleQuantity::VonMises => 9,
+        ParticleQuantity::InternalEnergy => 10,
+    }
+}
+
+impl ProbePlan {
+    pub fn new(probes: &[Resolved], model: &Model) -> Self {
+        let mut plan = ProbePlan::default();
+        if model.contact {
+            plan.stored = Some(plan.slot([code::STORED, NONE, NONE, 0]));
+        }
+        for p in probes {
+            let e = match *p {
+                Resolved::Particle(i, q) => {
+                    plan.particles.push([i as u32, particle_code(q)]);
+                    Expr::Particle(plan.particles.len() - 1)
+                }
+                Resolved::Body(b, q) => {
+                    let mass: f64 = model.bodies[b].range.clone().map(|i| model.mass[i]).sum();
+                    let b = b as u32;
+                    let (c, scale) = match q {
+                        BodyQuantity::VelocityX => (code::MVX, 1.0 / mass),
+                        BodyQuantity::VelocityY => (code::MVY, 1.0 / mass),
+                        BodyQuantity::PositionX => (code::MX, 1.0 / mass),
+                        BodyQuantity::PositionY => (code::MY, 1.0 / mass),
+                        BodyQuantity::KineticEnergy => (code::KINETIC, 1.0),
+                        BodyQuantity::MomentumX => (code::MVX, 1.0),
+                        BodyQuantity::MomentumY => (code::MVY, 1.0),
+                    };
+                    Expr::Slot(plan.slot([c, b, NONE, 0]), scale)
+                }
+                Resolved::Contact(a, b, q) => {
+                    let (a, b) = (a.min(b), a.max(b));
+                    match q {
+                        ContactQuantity::Force => {
+                            Expr::Slot(plan.slot([code::PAIR_FORCE, a, b, 0]), 1.0)
+                        }
+                        ContactQuantity::PressureMax => {
+                            Expr::Slot(plan.slot([code::PAIR_PMAX, a, b, 1]), 1.0)
+                        }
+                    }
+                }
+                Resolved::Energy(q) => match q {
+                    EnergyQuantity::Kinetic => {
+                        Expr::Slot(plan.slot([code::KINETIC, NONE, NONE, 0]), 1.0)
+                    }
+                    EnergyQuantity::Internal => {
+                        Expr::Slot(plan.slot([code::INTERNAL, NONE, NONE, 0]), 1.0)
+                    }
+                    EnergyQuantity::ContactHeat => {
+                        Expr::Slot(plan.slot([code::HEAT, NONE, NONE, 0]), 1.0)
+                    }
+                    EnergyQuantity::Total => Expr::Total(
+                        plan.slot([code::KINETIC, NONE, NONE, 0]),
+                        plan.slot([code::INTERNAL, NONE, NONE, 0]),
+                        plan.stored,
+                    ),
+                },
+            };
+            plan.exprs.push(e);
+        }
+        plan
+    }
+
+    fn slot(&mut self, s: [u32; 4]) -> usize {
+        match self.slots.iter().position(|x| *x == s) {
+            Some(k) => k,
+            None => {
+                self.slots.push(s);
+                self.slots.len() - 1
+            }
+        }
+    }
+
+    /// Floats per ring row: time (hi, lo), dt, slots, particle probes.
+    pub fn row_width(&self) -> usize {
+        3 + self.slots.len() + self.particles.len()
+    }
+
+    /// Probe values from one ring row (header included).
+    pub fn values(&self, row: &[f32]) -> Vec<f64> {
+        let slot = |k: usize| row[3 + k] as f64;
+        let base = 3 + self.slots.len();
+        self.exprs
+            .iter()
+            .map(|e| match *e {
+                Expr::Slot(k, scale) => slot(k) * scale,
+                Expr::Particle(k) => row[base + k] as f64,
+                Expr::Total(k, i, s) => slot(k) + slot(i) + s.map_or(0.0, slot),
+            })
+            .collect()
+    }
+
+    /// The stored penalty energy in a row (0 without contact).
+    pub fn stored_energy(&self, row: &[f32]) -> f64 {
+        self.stored.map_or(0.0, |k| row[3 + k] as f64)
+    }
+}

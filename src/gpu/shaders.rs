@@ -1,0 +1,105 @@
+//! The WGSL sources, assembled (shared declarations + one stage file) and
+//! reflected with naga: which buffers each entry point binds, and how.
+
+use std::collections::BTreeMap;
+
+const COMMON: &str = include_str!("../../shaders/common.wgsl");
+
+/// Every stage file: `(name, source)`.
+pub const STAGES: &[(&str, &str)] = &[
+    ("grid", include_str!("../../shaders/grid.wgsl")),
+    ("pass_a", include_str!("../../shaders/pass_a.wgsl")),
+    ("pass_c", include_str!("../../shaders/pass_c.wgsl")),
+    ("contact", include_str!("../../shaders/contact.wgsl")),
+    ("reduce", include_str!("../../shaders/reduce.wgsl")),
+    ("advance", include_str!("../../shaders/advance.wgsl")),
+    ("reorder", include_str!("../../shaders/reorder.wgsl")),
+    ("debug", include_str!("../../shaders/debug.wgsl")),
+];
+
+/// The full source of a stage: the shared declarations, then the stage.
+pub fn source(stage: &str) -> String {
+    let body = STAGES
+        .iter()
+        .find(|s| s.0 == stage)
+        .unwrap_or_else(|| panic!("no shader stage '{stage}'"))
+        .1;
+    format!("{COMMON}\n// ---- {stage}.wgsl ----\n{body}")
+}
+
+/// How an entry point uses one binding.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BindingUse {
+    pub binding: u32,
+    /// The global's name: the host binds the buffer of that name.
+    pub name: String,
+    pub uniform: bool,
+    pub read_only: bool,
+}
+
+/// A parsed and validated stage.
+pub struct Reflected {
+    pub module: naga::Module,
+    pub info: naga::valid::ModuleInfo,
+}
+
+/// Parse and validate a stage with naga; the error names the stage and
+/// carries naga's full report.
+pub fn reflect(stage: &str) -> Result<Reflected, String> {
+    let src = source(stage);
+    let module = naga::front::wgsl::parse_str(&src)
+        .map_err(|e| format!("{stage}.wgsl: {}", e.emit_to_string(&src)))?;
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .map_err(|e| format!("{stage}.wgsl: {}", e.emit_to_string(&src)))?;
+    Ok(Reflected { module, info })
+}
+
+impl Reflected {
+    /// Entry point names.
+    pub fn entry_points(&self) -> Vec<String> {
+        self.module
+            .entry_points
+            .iter()
+            .map(|e| e.name.clone())
+            .collect()
+    }
+
+    /// The bindings an entry point uses, by binding number.
+    pub fn bindings(&self, entry: &str) -> Vec<BindingUse> {
+        let idx = self
+            .module
+            .entry_points
+            .iter()
+            .position(|e| e.name == entry)
+            .unwrap_or_else(|| panic!("no entry point '{entry}'"));
+        let fi = self.info.get_entry_point(idx);
+        let mut out = BTreeMap::new();
+        for (h, var) in self.module.global_variables.iter() {
+            let Some(rb) = &var.binding else { continue };
+            if fi[h].is_empty() {
+                continue;
+            }
+            let (uniform, read_only) = match var.space {
+                naga::AddressSpace::Uniform => (true, true),
+                naga::AddressSpace::Storage { access } => {
+                    (false, !access.contains(naga::StorageAccess::STORE))
+                }
+                _ => continue,
+            };
+            out.insert(
+                rb.binding,
+                BindingUse {
+                    binding: rb.binding,
+                    name: var.name.clone().unwrap_or_default(),
+                    uniform,
+                    read_only,
+                },
+            );
+        }
+        out.into_values().collect()
+    }
+}
