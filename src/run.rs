@@ -7,9 +7,13 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::cpu::CpuSolver;
-use crate::error::RunError;
-use crate::model::Model;
+use std::sync::Arc;
+
+use crate::cpu::contact::ContactStats;
+use crate::cpu::{CpuSolver, Diagnostics};
+use crate::error::{Instability, RunError};
+use crate::gpu::{GpuContext, GpuSolver, RING_LEN};
+use crate::model::{Model, State};
 use crate::output::{BodySummary, History, Summary};
 use crate::probe;
 use crate::scene::{Backend, Scene};
@@ -54,24 +58,94 @@ pub fn output_dir(scene: &Scene, scene_path: Option<&Path>, opts: &RunOptions) -
     PathBuf::from("out").join(stem)
 }
 
-/// Which backend runs, and the warning to print if the choice was a fallback.
-pub fn choose_backend(
-    scene: &Scene,
-    opts: &RunOptions,
-) -> Result<(Backend, Option<String>), RunError> {
+/// The backend that runs, its device when it is the GPU, and the warning to
+/// print when the choice was a fallback.
+pub struct BackendChoice {
+    pub backend: Backend,
+    pub gpu: Option<Arc<GpuContext>>,
+    pub warning: Option<String>,
+}
+
+/// `cpu` runs the CPU path; `gpu` runs on any adapter (a software one
+/// included) or fails; `auto` runs on a hardware GPU when there is one and
+/// otherwise on the CPU path with one warning line: a software rasteriser
+/// (lavapipe) is slower than the CPU path on the same cores.
+pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice, RunError> {
+    let cpu = |warning| BackendChoice {
+        backend: Backend::Cpu,
+        gpu: None,
+        warning,
+    };
     match opts.backend.unwrap_or(scene.simulation.backend) {
-        Backend::Cpu => Ok((Backend::Cpu, None)),
-        Backend::Auto => Ok((
-            Backend::Cpu,
-            Some(
-                "backend auto: this build has no GPU path yet; running the CPU reference path"
-                    .into(),
-            ),
-        )),
-        Backend::Gpu => Err(RunError::Backend(
-            "the GPU backend is not built yet; use --backend cpu or auto".into(),
-        )),
+        Backend::Cpu => Ok(cpu(None)),
+        Backend::Gpu => match crate::gpu::shared_context() {
+            Ok(ctx) => Ok(BackendChoice {
+                backend: Backend::Gpu,
+                gpu: Some(ctx),
+                warning: None,
+            }),
+            Err(e) => Err(RunError::Backend(format!(
+                "backend gpu: {e}; use --backend cpu (or auto) to run on the CPU"
+            ))),
+        },
+        Backend::Auto => match crate::gpu::shared_context() {
+            Ok(ctx) if !ctx.is_software() => Ok(BackendChoice {
+                backend: Backend::Gpu,
+                gpu: Some(ctx),
+                warning: None,
+            }),
+            Ok(ctx) => Ok(cpu(Some(format!(
+                "backend auto: the only adapter is a software one ({}); running the CPU path (--backend gpu uses it anyway)",
+                ctx.adapter_name()
+            )))),
+            Err(e) => Ok(cpu(Some(format!(
+                "backend auto: {e}; running the CPU path"
+            )))),
+        },
     }
+}
+
+/// History rows at exact times from a sequence of observed states: a row
+/// between two states is their linear interpolation, so steps are never
+/// shortened for output.
+struct RowFeeder {
+    times: Vec<f64>,
+    next: usize,
+    prev: Option<(f64, Vec<f64>)>,
+}
+
+impl RowFeeder {
+    fn feed(&mut self, t: f64, obs: Vec<f64>, history: &mut History) -> Result<(), RunError> {
+        while self.next < self.times.len() && self.times[self.next] <= t * (1.0 + 1e-12) {
+            let tr = self.times[self.next];
+            let row = match &self.prev {
+                Some((tp, vp)) if tr < t => {
+                    let a = (tr - tp) / (t - tp);
+                    vp.iter().zip(&obs).map(|(p, c)| p + a * (c - p)).collect()
+                }
+                _ => obs.clone(),
+            };
+            history.push(tr, row)?;
+            self.next += 1;
+        }
+        self.prev = Some((t, obs));
+        Ok(())
+    }
+
+    fn finished(&self) -> bool {
+        self.next >= self.times.len()
+    }
+}
+
+/// What a backend's loop hands back for the summary.
+struct Outcome {
+    state: State,
+    /// Stored penalty energy at the first and the last state.
+    stored: (f64, f64),
+    failure: Option<Instability>,
+    max_fallback: u32,
+    adapter: Option<String>,
+    warnings: Vec<String>,
 }
 
 /// History times: `k · interval` from 0 through `end`, plus `end` itself if
@@ -168,9 +242,10 @@ pub fn run_scene(
         }
         scene.simulation.end_time = t;
     }
-    let (backend, warning) = choose_backend(&scene, opts)?;
+    let choice = choose_backend(&scene, opts)?;
+    let backend = choice.backend;
     let mut warnings = Vec::new();
-    if let Some(w) = warning {
+    if let Some(w) = choice.warning {
         if !opts.silent {
             eprintln!("warning: {w}");
         }
@@ -189,72 +264,71 @@ pub fn run_scene(
     let probes = probe::resolve(&scene, &model, &state);
     let names = scene.probes.iter().map(|p| p.name().to_string()).collect();
     let mut history = History::new(names, dir.as_deref())?;
-    let mut solver = CpuSolver::new(model, state);
-
     let end = scene.simulation.end_time;
-    let times = history_times(end, scene.history_interval());
-    let mut next_row = 0;
-    let n = solver.model.len();
-    let p0 = probe::momentum(&solver.model, &solver.state);
-    let e0 = {
-        let (model, st, diag) = solver.observe();
-        probe::energies(model, st, diag).total()
+    let mut rows = RowFeeder {
+        times: history_times(end, scene.history_interval()),
+        next: 0,
+        prev: None,
     };
+    let n = model.len();
+    let p0 = probe::momentum(&model, &state);
+    let base_energy = probe::energies(&model, &state, &Diagnostics::default()).total();
     let mut progress = Progress::new(opts);
     let start = Instant::now();
-    let mut max_fallback = 0;
-
-    // Each state is observed once; rows between two states are linear
-    // interpolations, so history times are exact without shortening steps.
-    let mut prev: Option<(f64, Vec<f64>)> = None;
-    let mut failure = None;
-    loop {
-        let t = solver.state.t;
-        let (model, st, diag) = solver.observe();
-        max_fallback = max_fallback.max(diag.correction_fallback);
-        let obs = probe::evaluate(&probes, model, st, diag);
-        while next_row < times.len() && times[next_row] <= t * (1.0 + 1e-12) {
-            let tr = times[next_row];
-            let row = match &prev {
-                Some((tp, vp)) if tr < t => {
-                    let a = (tr - tp) / (t - tp);
-                    vp.iter().zip(&obs).map(|(p, c)| p + a * (c - p)).collect()
-                }
-                _ => obs.clone(),
-            };
-            history.push(tr, row)?;
-            next_row += 1;
-        }
-        if next_row >= times.len() || t >= end {
-            break;
-        }
-        prev = Some((t, obs));
-        if let Err(e) = solver.step(end - t) {
-            failure = Some(e);
-            break;
-        }
-        let secs = start.elapsed().as_secs_f64().max(1e-9);
-        progress.update(
-            solver.state.t,
+    let out = match choice.gpu {
+        Some(ctx) => run_gpu(
+            ctx,
+            model,
+            state,
+            &probes,
             end,
-            solver.state.step,
-            solver.state.step as f64 * n as f64 / secs,
-        );
-    }
+            &mut rows,
+            &mut history,
+            &mut progress,
+            start,
+        )?,
+        None => run_cpu(
+            model,
+            state,
+            &probes,
+            end,
+            &mut rows,
+            &mut history,
+            &mut progress,
+            start,
+        )?,
+    };
     progress.finish();
     let wall = start.elapsed().as_secs_f64();
-
+    let (model, st) = (&out.1, &out.0.state);
+    let Outcome {
+        stored,
+        failure,
+        max_fallback,
+        adapter,
+        warnings: extra,
+        ..
+    } = &out.0;
+    warnings.extend(extra.iter().cloned());
+    let max_fallback = *max_fallback;
+    let e0 = base_energy + stored.0;
+    let final_diag = Diagnostics {
+        contact: ContactStats {
+            stored: stored.1,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
     if max_fallback > 0 {
         warnings.push(format!(
             "up to {max_fallback} particle(s) at a time had too few neighbours for the corrected gradient and used L = I"
         ));
     }
-    let (model, st, diag) = solver.observe();
     let summary = Summary {
         scene: scene_path.map_or(String::new(), |p| p.display().to_string()),
         dimension: dim,
         backend: backend.to_string(),
-        adapter: None,
+        adapter: adapter.clone(),
         particles: n,
         steps: st.step,
         end_time: end,
@@ -264,7 +338,7 @@ pub fn run_scene(
         momentum_initial: vec_of(p0, dim),
         momentum_final: vec_of(probe::momentum(model, st), dim),
         energy_initial: e0,
-        energy_final: probe::energies(model, st, diag).total(),
+        energy_final: probe::energies(model, st, &final_diag).total(),
         bodies: (0..model.bodies.len())
             .map(|b| {
                 let (m, mv, _, _) = probe::body_means(model, st, b);
@@ -289,11 +363,143 @@ pub fn run_scene(
         summary.write(d)?;
     }
     if let Some(f) = failure {
-        return Err(RunError::Unstable(f));
+        return Err(RunError::Unstable(f.clone()));
     }
     Ok(RunOutput {
         history,
         summary,
         out_dir: dir,
     })
+}
+
+/// The CPU loop: each state is evaluated once and observed once.
+#[allow(clippy::too_many_arguments)]
+fn run_cpu(
+    model: Model,
+    state: State,
+    probes: &[probe::Resolved],
+    end: f64,
+    rows: &mut RowFeeder,
+    history: &mut History,
+    progress: &mut Progress,
+    start: Instant,
+) -> Result<(Outcome, Model), RunError> {
+    let n = model.len();
+    let mut solver = CpuSolver::new(model, state);
+    let mut max_fallback = 0;
+    let mut failure = None;
+    let mut stored0 = None;
+    loop {
+        let t = solver.state.t;
+        let (model, st, diag) = solver.observe();
+        max_fallback = max_fallback.max(diag.correction_fallback);
+        stored0.get_or_insert(diag.contact.stored);
+        let obs = probe::evaluate(probes, model, st, diag);
+        rows.feed(t, obs, history)?;
+        if rows.finished() || t >= end {
+            break;
+        }
+        if let Err(e) = solver.step(end - t) {
+            failure = Some(e);
+            break;
+        }
+        let secs = start.elapsed().as_secs_f64().max(1e-9);
+        progress.update(
+            solver.state.t,
+            end,
+            solver.state.step,
+            solver.state.step as f64 * n as f64 / secs,
+        );
+    }
+    let stored1 = solver.diagnostics().contact.stored;
+    let CpuSolver { model, state, .. } = solver;
+    Ok((
+        Outcome {
+            state,
+            stored: (stored0.unwrap_or(0.0), stored1),
+            failure,
+            max_fallback: max_fallback as u32,
+            adapter: None,
+            warnings: Vec::new(),
+        },
+        model,
+    ))
+}
+
+/// The GPU loop: batches of steps on the device; each batch hands back the
+/// observations of the states it passed through.
+#[allow(clippy::too_many_arguments)]
+fn run_gpu(
+    ctx: Arc<GpuContext>,
+    model: Model,
+    state: State,
+    probes: &[probe::Resolved],
+    end: f64,
+    rows: &mut RowFeeder,
+    history: &mut History,
+    progress: &mut Progress,
+    start: Instant,
+) -> Result<(Outcome, Model), RunError> {
+    let n = model.len();
+    let adapter = ctx.adapter_name();
+    let mut solver = GpuSolver::new(ctx, model, &state, probes, end).map_err(RunError::Backend)?;
+    let mut failure = None;
+    let mut stored = (None, 0.0);
+    let mut t_last = 0.0;
+    let mut steps = 0u64;
+    loop {
+        // Enough steps to reach the end at the last step size, plus the
+        // zero-length step that observes the final state.
+        let dt = solver.last_dt();
+        let want = if dt > 0.0 {
+            ((end - t_last) / dt).ceil() + 2.0
+        } else {
+            16.0
+        };
+        let batch = solver.run_batch(want.clamp(1.0, (RING_LEN - 2) as f64) as u32);
+        let count = batch.states.len();
+        for (k, (t, obs, e_stored)) in batch.states.into_iter().enumerate() {
+            // The device stops within 1e-4 of a step of the end: that state
+            // is the end.
+            let t = if batch.done && k + 1 == count { end } else { t };
+            stored.0.get_or_insert(e_stored);
+            stored.1 = e_stored;
+            rows.feed(t, obs, history)?;
+            t_last = t;
+        }
+        steps += count as u64;
+        if batch.failure.is_some() {
+            failure = batch.failure;
+            break;
+        }
+        if batch.done || rows.finished() {
+            break;
+        }
+        let secs = start.elapsed().as_secs_f64().max(1e-9);
+        progress.update(t_last, end, steps, steps as f64 * n as f64 / secs);
+    }
+    let mut state = solver.download();
+    if failure.is_none() {
+        state.t = end;
+    }
+    let mut warnings = Vec::new();
+    let multi = solver.multi_partner();
+    if multi > 0 {
+        warnings.push(format!(
+            "{multi} contact evaluation(s) met two partner bodies at one particle; the GPU path pairs each particle with the first"
+        ));
+    }
+    let max_fallback = solver.max_fallback();
+    let model = solver.model.clone();
+    Ok((
+        Outcome {
+            state,
+            stored: (stored.0.unwrap_or(0.0), stored.1),
+            failure,
+            max_fallback,
+            adapter: Some(adapter),
+            warnings,
+        },
+        model,
+    ))
 }

@@ -102,3 +102,20 @@ fn disks_at_rest_and_translating() {
         .fold(0.0f64, |a, &b| a.max(b.abs()));
     assert!(worst < 1e-3, "translating disk: von Mises {worst} Pa");
 }
+
+// The same physics on the GPU backend (f32 on the device).
+
+#[test]
+fn disks_square_lattice_gpu() {
+    on_gpu(disks_square_lattice);
+}
+
+#[test]
+fn disks_polar_lattice_gpu() {
+    on_gpu(disks_polar_lattice);
+}
+
+#[test]
+fn disks_at_rest_and_translating_gpu() {
+    on_gpu(disks_at_rest_and_translating);
+}

@@ -57,6 +57,13 @@ use context::Pipeline;
 use layout::{BodyGpu, Control, Params};
 pub use probes::ProbePlan;
 
+/// The process-wide GPU context (opened once; pipelines compiled once),
+/// or why there is none.
+pub fn shared_context() -> Result<Arc<GpuContext>, String> {
+    static CTX: std::sync::OnceLock<Result<Arc<GpuContext>, String>> = std::sync::OnceLock::new();
+    CTX.get_or_init(|| GpuContext::new().map(Arc::new)).clone()
+}
+
 /// Threads per workgroup of the per-particle kernels.
 const WG: u32 = 64;
 /// Ring rows: a batch is at most `RING_LEN − 2` steps.
@@ -130,8 +137,9 @@ struct Kernels {
 /// What one batch of steps produced.
 #[derive(Debug, Default)]
 pub struct Batch {
-    /// `(t, probe values)` of every state observed, in order.
-    pub states: Vec<(f64, Vec<f64>)>,
+    /// `(t, probe values, stored penalty energy)` of every state observed,
+    /// in order.
+    pub states: Vec<(f64, Vec<f64>, f64)>,
     /// The end time was reached (and the final state observed).
     pub done: bool,
     pub failure: Option<Instability>,
@@ -746,7 +754,9 @@ impl GpuSolver {
         while self.delivered <= last && (self.delivered < reached || done || failed) {
             let r = row(self.delivered);
             let t = r[0] as f64 + r[1] as f64;
-            batch.states.push((t, self.plan.values(r)));
+            batch
+                .states
+                .push((t, self.plan.values(r), self.plan.stored_energy(r)));
             self.delivered += 1;
         }
         let r = row(reached.saturating_sub(1));
@@ -873,23 +883,6 @@ impl GpuSolver {
     /// pairs each with the first).
     pub fn multi_partner(&self) -> u32 {
         self.control().multi_partner
-    }
-
-    /// Stored penalty energy in the observation of the last delivered state.
-    pub fn stored_energy_of(&self, values_row: &[f32]) -> f64 {
-        self.plan.stored_energy(values_row)
-    }
-
-    /// The stored penalty energy at the last observed state.
-    pub fn last_stored_energy(&self) -> f64 {
-        if self.delivered == 0 || self.plan.stored.is_none() {
-            return 0.0;
-        }
-        let d = self.read_buffers(None, &[("ring", self.staging.size() - 48)]);
-        let ring: &[f32] = bytemuck::cast_slice(&d[0]);
-        let width = self.plan.row_width();
-        let r = ((self.delivered - 1) % RING_LEN as u64) as usize * width;
-        self.plan.stored_energy(&ring[r..r + width])
     }
 
     /// One evaluation at the current state, with every stage's output read
