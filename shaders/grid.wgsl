@@ -59,6 +59,10 @@ fn scan_shared(lid: u32) {
 fn scan_local(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let lid = lid3.x;
     let block = wid.x + wid.y * nwg.x;
+    // A wrapped 2-D dispatch has a few whole workgroups past the end.
+    if (block * SCAN >= params.buckets) {
+        return;
+    }
     let b = block * SCAN + lid;
     var v = 0u;
     if (b < params.buckets) {
@@ -100,7 +104,7 @@ fn scan_blocks(@builtin(local_invocation_id) lid3: vec3<u32>) {
 fn scan_add(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let block = wid.x + wid.y * nwg.x;
     let b = block * SCAN + lid3.x;
-    if (b < params.buckets) {
+    if (b < params.buckets && block * SCAN < params.buckets) {
         bstart[b] = bstart[b] + bsum[block];
     }
     if (b == 0u) {

@@ -50,6 +50,10 @@ fn row_base() -> u32 {
 fn cfl_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let lid = lid3.x;
     let g = wid.x + wid.y * nwg.x;
+    // A wrapped 2-D dispatch has a few whole workgroups past the end.
+    if (g >= params.red_groups) {
+        return;
+    }
     var m = BIG;
     for (var k = 0u; k < PER_THREAD; k++) {
         let i = g * RED * PER_THREAD + k * RED + lid;
@@ -160,6 +164,9 @@ fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
 fn obs_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let lid = lid3.x;
     let g = wid.x + wid.y * nwg.x;
+    if (g >= params.red_groups) {
+        return;
+    }
     for (var sl = 0u; sl < params.nslots; sl++) {
         let slot = slots[sl];
         var acc = 0.0;

@@ -238,3 +238,49 @@ fn stages_match_cpu_bars_steel_aluminium() {
 fn stages_match_cpu_kernel_mode() {
     check_stages("scenes/paper/disks_square_kernel.toml", 2e-6);
 }
+
+/// Dispatches wrap into a second dimension past the adapter's workgroup
+/// limit: with the limit forced down to 3, every kernel runs as a 2-D grid
+/// and the step is bitwise the same as with 1-D dispatches.
+#[test]
+fn wrapped_dispatches_give_the_same_step() {
+    let Some(ctx) = gpu() else { return };
+    let (model, st) = state_during_contact("scenes/paper/disks_polar.toml", 1e-6);
+    let run = |opts: sphcontact::gpu::GpuOptions| {
+        let mut g = GpuSolver::with_options(ctx.clone(), model.clone(), &st, &[], 1.0, opts)
+            .expect("fits the adapter");
+        let b = g.run_batch(20);
+        assert!(b.failure.is_none());
+        g.download()
+    };
+    let plain = run(Default::default());
+    let wrapped = run(sphcontact::gpu::GpuOptions {
+        max_workgroups_per_dimension: Some(3),
+        ..Default::default()
+    });
+    assert_eq!(plain.step, 20);
+    assert!(plain == wrapped, "wrapped dispatches changed the state");
+}
+
+/// A scene larger than the adapter's binding size is refused with a clear
+/// error, before anything runs.
+#[test]
+fn too_large_for_the_adapter_is_a_clear_error() {
+    let Some(ctx) = gpu() else { return };
+    let (model, st) = state_during_contact("scenes/paper/disks_polar.toml", 0.0);
+    let err = GpuSolver::with_options(
+        ctx,
+        model,
+        &st,
+        &[],
+        1.0,
+        sphcontact::gpu::GpuOptions {
+            max_binding_size: Some(4096),
+            ..Default::default()
+        },
+    )
+    .err()
+    .expect("refused");
+    assert!(err.contains("does not fit this adapter"), "{err}");
+    assert!(err.contains("4096"), "{err}");
+}

@@ -80,8 +80,11 @@ macro_rules! offsets {
     };
 }
 
-/// `(WGSL name, size, [(field, offset)])` of every shared struct.
-pub fn host_layouts() -> Vec<(&'static str, usize, Vec<(&'static str, usize)>)> {
+/// A host struct's WGSL name, size and `(field, offset)` list.
+pub type HostLayout = (&'static str, usize, Vec<(&'static str, usize)>);
+
+/// The layout of every shared struct.
+pub fn host_layouts() -> Vec<HostLayout> {
     vec![
         (
             "Params",

@@ -174,6 +174,14 @@ pub struct StageOutputs {
     pub dt: f64,
 }
 
+/// Limits below the adapter's, to exercise a small adapter's paths (2-D
+/// dispatch wrap-around, the too-large-scene error) on any device.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct GpuOptions {
+    pub max_workgroups_per_dimension: Option<u32>,
+    pub max_binding_size: Option<u64>,
+}
+
 /// The GPU solver: model constants on the host, everything else on the device.
 pub struct GpuSolver {
     ctx: Arc<GpuContext>,
@@ -209,6 +217,18 @@ impl GpuSolver {
         state: &State,
         probes: &[Resolved],
         end_time: f64,
+    ) -> Result<Self, String> {
+        Self::with_options(ctx, model, state, probes, end_time, GpuOptions::default())
+    }
+
+    /// [`GpuSolver::new`] under limits tighter than the adapter's.
+    pub fn with_options(
+        ctx: Arc<GpuContext>,
+        model: Model,
+        state: &State,
+        probes: &[Resolved],
+        end_time: f64,
+        opts: GpuOptions,
     ) -> Result<Self, String> {
         let n = model.len();
         let plan = ProbePlan::new(probes, &model);
@@ -311,7 +331,11 @@ impl GpuSolver {
 
         let dev = &ctx.device;
         let limits = &ctx.limits;
-        let max_binding = limits.max_storage_buffer_binding_size;
+        let max_binding = opts
+            .max_binding_size
+            .map_or(limits.max_storage_buffer_binding_size, |m| {
+                m.min(limits.max_storage_buffer_binding_size)
+            });
         let max_buffer = limits.max_buffer_size;
         let mut buffers = HashMap::new();
         let mut device_bytes = 0u64;
@@ -319,8 +343,9 @@ impl GpuSolver {
             let size = size.max(16).next_multiple_of(4);
             if size > max_binding || size > max_buffer {
                 return Err(format!(
-                    "the scene needs a {size}-byte device buffer '{name}' for {n} particles; \
-                     this adapter allows {} (binding) and {} (buffer)",
+                    "the scene does not fit this adapter: its {n} particles need a {size}-byte \
+                     device buffer '{name}', and the adapter allows {} bytes per binding and {} per \
+                     buffer; use fewer particles or --backend cpu",
                     max_binding, max_buffer
                 ));
             }
@@ -419,7 +444,12 @@ impl GpuSolver {
             ("ART_STRESS", model.artificial_stress.is_some() as u8 as f64),
             ("WG", WG as f64),
         ];
-        let maxd = limits.max_compute_workgroups_per_dimension.max(1);
+        let maxd = opts
+            .max_workgroups_per_dimension
+            .map_or(limits.max_compute_workgroups_per_dimension, |m| {
+                m.min(limits.max_compute_workgroups_per_dimension)
+            })
+            .max(1);
         let groups_of = |size: Size| -> (u32, u32) {
             let g = match size {
                 Size::Particles => (n as u32).div_ceil(WG),
