@@ -168,3 +168,88 @@ fn gpu_histories_are_bitwise_repeatable() {
         assert!(files[0] == files[1], "{path}: the two GPU histories differ");
     }
 }
+
+fn cli(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_sphcontact"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the binary runs")
+}
+
+fn summary(dir: &std::path::Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary written");
+    serde_json::from_str(&text).expect("valid JSON")
+}
+
+/// `--backend gpu` runs on the device and `summary.json` names the adapter;
+/// `auto` runs on a hardware GPU, or on the CPU path with exactly one
+/// warning line when the only adapter is a software one; the scene key
+/// `simulation.backend` chooses when the flag is absent.
+#[test]
+fn backend_flag_auto_and_scene_key() {
+    let Some(ctx) = gpu() else { return };
+    let dir = tempfile::tempdir().expect("a temp dir");
+    let scene = "scenes/paper/bars_steel.toml";
+    let g = dir.path().join("gpu");
+    let out = cli(&[
+        "run",
+        scene,
+        "--backend",
+        "gpu",
+        "--end-time",
+        "3e-7",
+        "--quiet",
+        "--out",
+        g.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s = summary(&g);
+    assert_eq!(s["backend"], "gpu");
+    assert_eq!(s["adapter"], ctx.adapter_name());
+
+    let a = dir.path().join("auto");
+    let out = cli(&[
+        "run",
+        scene,
+        "--backend",
+        "auto",
+        "--end-time",
+        "3e-7",
+        "--quiet",
+        "--out",
+        a.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let warnings = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning: backend auto"))
+        .count();
+    if ctx.is_software() {
+        assert_eq!(summary(&a)["backend"], "cpu");
+        assert_eq!(warnings, 1, "one fallback warning: {stderr}");
+    } else {
+        assert_eq!(summary(&a)["backend"], "gpu");
+        assert_eq!(warnings, 0, "{stderr}");
+    }
+
+    let mut sc = load(scene);
+    sc.simulation.end_time = 3e-7;
+    sc.simulation.backend = Backend::Gpu;
+    let out = run_scene(
+        &sc,
+        None,
+        &RunOptions {
+            silent: true,
+            ..Default::default()
+        },
+    )
+    .expect("runs");
+    assert_eq!(out.summary.backend, "gpu");
+    assert!(out.summary.adapter.is_some());
+}
