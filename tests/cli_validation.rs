@@ -832,14 +832,52 @@ fn run_base(tmp: &Path, name: &str, backend: &str) -> (Output, PathBuf) {
     (sphcontact(tmp, &args), out_dir)
 }
 
+/// Without an adapter (here: wgpu asked for a backend this platform does not
+/// have), `--backend gpu` is bad input with a clear message and `auto` runs
+/// the CPU path with one warning line.
 #[test]
-fn gpu_backend_is_not_built_yet() {
+fn no_adapter_gpu_refuses_and_auto_falls_back() {
+    if cfg!(target_os = "macos") {
+        return;
+    }
     let tmp = tempfile::tempdir().unwrap();
-    let (out, _) = run_base(tmp.path(), "gpu", "gpu");
+    let scene = write_scene(tmp.path(), "noadapter", BASE_1D);
+    let run = |backend: &str| {
+        let out_dir = tmp.path().join(backend);
+        let out = Command::new(BIN)
+            .args([
+                "run",
+                scene.to_str().unwrap(),
+                "--backend",
+                backend,
+                "--out",
+                out_dir.to_str().unwrap(),
+                "--quiet",
+            ])
+            .current_dir(tmp.path())
+            .env("WGPU_BACKEND", "metal")
+            .output()
+            .expect("the sphcontact binary runs");
+        (out, out_dir)
+    };
+    let (out, _) = run("gpu");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert!(stderr.contains("GPU"), "stderr: {stderr}");
+    assert!(stderr.contains("no GPU adapter"), "stderr: {stderr}");
+    assert!(stderr.contains("--backend cpu"), "stderr: {stderr}");
     assert!(!stderr.to_lowercase().contains("panicked"), "{stderr}");
+
+    let (out, dir) = run("auto");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "stderr: {stderr}");
+    assert!(warnings[0].contains("CPU path"), "{}", warnings[0]);
+    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
 }
 
 #[test]
