@@ -8,7 +8,7 @@
 @group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
-@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
 @group(0) @binding(16) var<storage, read> dr: array<vec2<f32>>;
 @group(0) @binding(17) var<storage, read> ds: array<vec4<f32>>;
 @group(0) @binding(18) var<storage, read> dv: array<vec2<f32>>;
@@ -85,7 +85,7 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (CONTACT) {
         qheat_w[i] = qheat_w[i] + cheat[i] * dt;
     }
-    let xn = x0[i] + un;
+    let xn = x0[i].zw + un;
     if (!(finite(xn.x) && finite(xn.y))) {
         fail(i, 0u);
     } else if (!(finite(vn.x) && finite(vn.y))) {

@@ -2,9 +2,9 @@
 // this file to each stage file before compiling (WGSL has no includes).
 //
 // Precision plan (f32 on the device, see src/gpu/mod.rs): positions are kept
-// as a constant reference x0 plus a displacement u, and pair differences are
-// formed as (x0_i - x0_j) + (u_i - u_j), so round-off scales with the
-// displacement, not the coordinate. Density is kept as mu = rho/rho0 - 1, the
+// as a reference cell (integer), an offset in that cell and a displacement u,
+// and pair differences are formed part by part, so round-off scales with
+// the pair distance, not with the coordinate. Density is kept as mu = rho/rho0 - 1, the
 // quantity the equation of state needs and the one a step changes. Time is a
 // compensated (hi, lo) pair.
 
@@ -42,7 +42,7 @@ struct Params {
     ring_width: u32,
     nslots: u32,
     nprobes: u32,
-    pad1: u32,
+    cell: f32,
     red_groups: u32,
     min_det: f32,
     pad0: u32,
@@ -177,14 +177,9 @@ fn outer(a: vec2<f32>, b: vec2<f32>) -> vec4<f32> {
     return vec4<f32>(a.x * b.x, a.x * b.y, a.y * b.x, a.y * b.y);
 }
 
-// Cell of a position and its bucket in the hashed cell table: row-major
-// keys modulo a power of two, so neighbouring cells of a row are
-// neighbouring buckets and far-apart bodies need no large grid.
-fn cell_of(p: vec2<f32>) -> vec2<i32> {
-    let c = floor(vec2<f32>((p.x - params.origin_x) * params.inv_cell, (p.y - params.origin_y) * params.inv_cell));
-    return vec2<i32>(c);
-}
-
+// Bucket of a cell in the hashed cell table: row-major keys modulo a power
+// of two, so neighbouring cells of a row are neighbouring buckets and
+// far-apart bodies need no large grid.
 fn bucket_of(c: vec2<i32>) -> u32 {
     return (bitcast<u32>(c.x) + bitcast<u32>(c.y) * params.row_stride) & (params.buckets - 1u);
 }

@@ -10,7 +10,7 @@
 // at one particle; here each particle pairs with the first partner body its
 // neighbour scan meets, and such particles are counted).
 
-@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
@@ -30,7 +30,7 @@
 // not a contact candidate of p (METHOD.md §8.2). Both passes call it with
 // the same arguments in the same order, so both see the same weight.
 fn candidate(p: u32, q: u32, op: f32, oq: f32, hp: f32, hq: f32) -> f32 {
-    let d = (x0[q] - x0[p]) + (u[q] - u[p]);
+    let d = pair_d(q, p);
     let hpq = 0.5 * (hp + hq);
     let dist = length(d);
     if (dist >= 2.0 * hpq) {
@@ -114,7 +114,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
                 }
                 let nq = nbo[q].xy;
                 // s_q - S_P, formed from the precise centre difference.
-                let rel = ((x0[q] - x0[p]) + (u[q] - u[p])) + nq * oq - np * op;
+                let rel = pair_d(q, p) + nq * oq - np * op;
                 sw += w;
                 sws += rel * w;
                 swn += nq * w;
@@ -235,4 +235,26 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         dr[q].y += booked / m;
     }
     cheat[q] = booked;
+}
+
+// x0 holds each particle's reference cell (integral, exact in f32) and its
+// offset in that cell at the start; u the displacement since. A pair's
+// difference is formed from the three parts, so its round-off scales with
+// the pair distance, not with the distance from the origin.
+fn pair_d(i: u32, j: u32) -> vec2<f32> {
+    let a = x0[i];
+    let b = x0[j];
+    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
+}
+
+// The cell a particle is in now: its reference cell plus whole cells moved.
+fn current_cell(i: u32) -> vec2<i32> {
+    let a = x0[i];
+    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
+}
+
+// Absolute position (output only).
+fn position(i: u32) -> vec2<f32> {
+    let a = x0[i];
+    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
 }

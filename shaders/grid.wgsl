@@ -4,7 +4,7 @@
 // within a cell is fixed whatever order the scatter's atomics took.
 // Integer atomics only; the result is deterministic.
 
-@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(5) var<storage, read_write> cellc: array<vec2<i32>>;
 @group(0) @binding(6) var<storage, read_write> bkt: array<u32>;
@@ -33,7 +33,7 @@ fn grid_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if (i >= params.n) {
         return;
     }
-    let c = cell_of(x0[i] + u[i]);
+    let c = current_cell(i);
     let b = bucket_of(c);
     cellc[i] = c;
     bkt[i] = b;
@@ -141,4 +141,26 @@ fn grid_sort(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         }
         blist[m] = key;
     }
+}
+
+// x0 holds each particle's reference cell (integral, exact in f32) and its
+// offset in that cell at the start; u the displacement since. A pair's
+// difference is formed from the three parts, so its round-off scales with
+// the pair distance, not with the distance from the origin.
+fn pair_d(i: u32, j: u32) -> vec2<f32> {
+    let a = x0[i];
+    let b = x0[j];
+    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
+}
+
+// The cell a particle is in now: its reference cell plus whole cells moved.
+fn current_cell(i: u32) -> vec2<i32> {
+    let a = x0[i];
+    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
+}
+
+// Absolute position (output only).
+fn position(i: u32) -> vec2<f32> {
+    let a = x0[i];
+    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
 }

@@ -5,7 +5,7 @@
 // CPU twins: cpu::kinematics::{correction_and_colour,
 // density_and_stress_rates}, cpu::eos_and_stress.
 
-@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
@@ -73,7 +73,7 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
                     continue;
                 }
                 let hij = 0.5 * (hi + bodies[mj.z].h);
-                let d = (x0[i] - x0[j]) + (u[i] - u[j]);
+                let d = pair_d(i, j);
                 let dist = length(d);
                 if (dist >= 2.0 * hij || dist <= 0.0) {
                     continue;
@@ -149,7 +149,7 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
                     continue;
                 }
                 let hij = 0.5 * (hi + bodies[mj.z].h);
-                let d = (x0[i] - x0[j]) + (u[i] - u[j]);
+                let d = pair_d(i, j);
                 let dist = length(d);
                 if (dist >= 2.0 * hij || dist <= 0.0) {
                     continue;
@@ -174,4 +174,26 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         2.0 * g * exy + w * (si.y - si.x),
         -2.0 * g * tr3,
     );
+}
+
+// x0 holds each particle's reference cell (integral, exact in f32) and its
+// offset in that cell at the start; u the displacement since. A pair's
+// difference is formed from the three parts, so its round-off scales with
+// the pair distance, not with the distance from the origin.
+fn pair_d(i: u32, j: u32) -> vec2<f32> {
+    let a = x0[i];
+    let b = x0[j];
+    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
+}
+
+// The cell a particle is in now: its reference cell plus whole cells moved.
+fn current_cell(i: u32) -> vec2<i32> {
+    let a = x0[i];
+    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
+}
+
+// Absolute position (output only).
+fn position(i: u32) -> vec2<f32> {
+    let a = x0[i];
+    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
 }

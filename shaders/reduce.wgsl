@@ -4,7 +4,7 @@
 // (body sums, contact statistics, particle probes) written into a ring the
 // host reads back only when it needs rows.
 
-@group(0) @binding(3) var<storage, read> x0: array<vec2<f32>>;
+@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
@@ -126,8 +126,8 @@ fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
         switch code {
             case 0u: { return m * v[i].x; }
             case 1u: { return m * v[i].y; }
-            case 2u: { return m * (x0[i].x + u[i].x); }
-            case 3u: { return m * (x0[i].y + u[i].y); }
+            case 2u: { return m * position(i).x; }
+            case 3u: { return m * position(i).y; }
             case 4u: { return 0.5 * m * dot(v[i], v[i]); }
             default: {
                 if (bodies[bi].rigid != 0u) {
@@ -227,8 +227,8 @@ fn probe_values(@builtin(global_invocation_id) gid: vec3<u32>) {
     let si = s[i];
     var val = 0.0;
     switch pr.y {
-        case 0u: { val = x0[i].x + u[i].x; }
-        case 1u: { val = x0[i].y + u[i].y; }
+        case 0u: { val = position(i).x; }
+        case 1u: { val = position(i).y; }
         case 2u: { val = v[i].x; }
         case 3u: { val = v[i].y; }
         case 4u: { val = b.rho0 * (1.0 + mu); }
@@ -260,4 +260,26 @@ fn end_step() {
         ctl.zero_steps = ctl.zero_steps + 1u;
     }
     atomicStore(&ctl.fallback_now, 0u);
+}
+
+// x0 holds each particle's reference cell (integral, exact in f32) and its
+// offset in that cell at the start; u the displacement since. A pair's
+// difference is formed from the three parts, so its round-off scales with
+// the pair distance, not with the distance from the origin.
+fn pair_d(i: u32, j: u32) -> vec2<f32> {
+    let a = x0[i];
+    let b = x0[j];
+    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
+}
+
+// The cell a particle is in now: its reference cell plus whole cells moved.
+fn current_cell(i: u32) -> vec2<i32> {
+    let a = x0[i];
+    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
+}
+
+// Absolute position (output only).
+fn position(i: u32) -> vec2<f32> {
+    let a = x0[i];
+    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
 }

@@ -213,16 +213,23 @@ quantity = "velocity_x"
     rest.bodies[1].velocity = Some(vec![0.0]);
     rest.simulation.end_time = 2e-6;
     let out = run(&rest);
-    for name in [
-        "velocity_left",
-        "velocity_right",
-        "velocity_b",
-        "contact_force",
+    // Exactly at rest in f64. In f32 the touching faces' gap is known to
+    // about 1e-7 Δx (a few units in the last place of a cell size), and the
+    // spring E*/h0 turns that into up to ~1e5 Pa (2e-4 of the impact's
+    // contact stress): body velocities of order 1e-6 m/s and a wave of
+    // particle velocity σ/Z of order 1e-5 m/s (1e-6 of the impact speed).
+    let gpu = backend() == sphcontact::scene::Backend::Gpu;
+    for (name, tol) in [
+        ("velocity_left", if gpu { 1e-5 } else { 1e-9 }),
+        ("velocity_right", if gpu { 1e-5 } else { 1e-9 }),
+        ("velocity_b", if gpu { 1e-4 } else { 1e-9 }),
+        ("contact_force", if gpu { 1e5 } else { 1e-9 }),
     ] {
         let worst = column(&out, name)
             .iter()
             .fold(0.0f64, |a, &b| a.max(b.abs()));
-        assert!(worst < 1e-9, "{name}: {worst} for bodies at rest");
+        println!("{name}: worst {worst:e}");
+        assert!(worst < tol, "{name}: {worst} for bodies at rest");
     }
 }
 

@@ -27,7 +27,7 @@ pub struct Params {
     pub ring_width: u32,
     pub nslots: u32,
     pub nprobes: u32,
-    pub pad1: u32,
+    pub cell: f32,
     pub red_groups: u32,
     pub min_det: f32,
     pub pad0: u32,
@@ -111,7 +111,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 ring_width,
                 nslots,
                 nprobes,
-                pad1,
+                cell,
                 red_groups,
                 min_det,
                 pad0

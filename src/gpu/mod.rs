@@ -19,10 +19,12 @@
 //!
 //! ## Precision plan (f32 on the device)
 //!
-//! * Positions are a reference `x0` (the start position) plus a
-//!   displacement `u`; pair differences are `(x0_i − x0_j) + (u_i − u_j)`.
-//!   A step's increment `v dt` is then added to a number of its own size,
-//!   not to a coordinate 10³–10⁵ times larger.
+//! * Positions are a reference cell (integral, exact in f32), the offset in
+//!   it at the start, and a displacement `u`; a pair's difference is
+//!   `(c_i − c_j)·cell + (o_i − o_j) + (u_i − u_j)`, so its round-off scales
+//!   with the pair distance wherever the pair is, and a step's increment
+//!   `v dt` is added to a number of its own size, not to a coordinate
+//!   10³–10⁵ times larger.
 //! * Density is `μ = ρ/ρ0 − 1`: the EOS needs μ, and a step changes ρ by
 //!   parts in 10⁶, which f32 would lose against ρ itself.
 //! * Time is a compensated `(hi, lo)` pair, so thousands of steps of
@@ -199,6 +201,9 @@ pub struct GpuSolver {
     zero_seen: u32,
     last_dt: f64,
     device_bytes: u64,
+    /// Grid origin and cell size: the frame of the reference positions.
+    origin: DVec2,
+    cell: f64,
 }
 
 /// `(hi, lo)` f32 pair of an f64.
@@ -267,7 +272,7 @@ impl GpuSolver {
             ring_width: plan.row_width() as u32,
             nslots: plan.slots.len() as u32,
             nprobes: plan.particles.len() as u32,
-            pad1: 0,
+            cell: cell as f32,
             red_groups,
             min_det: CORRECTION_MIN_DET as f32,
             pad0: 0,
@@ -302,7 +307,17 @@ impl GpuSolver {
         };
 
         // Per-particle arrays, in the model's order to start with.
-        let x0: Vec<[f32; 2]> = state.x.iter().map(|p| [p.x as f32, p.y as f32]).collect();
+        // Reference cell and offset in it (precision plan), from f64.
+        let x0: Vec<[f32; 4]> = state
+            .x
+            .iter()
+            .map(|p| {
+                let d = (*p - origin) / cell;
+                let c = d.floor();
+                let off = *p - origin - c * cell;
+                [c.x as f32, c.y as f32, off.x as f32, off.y as f32]
+            })
+            .collect();
         let zeros2 = vec![[0f32; 2]; n];
         let v: Vec<[f32; 2]> = state.v.iter().map(|p| [p.x as f32, p.y as f32]).collect();
         let r: Vec<[f32; 2]> = (0..n)
@@ -366,7 +381,7 @@ impl GpuSolver {
             Ok(())
         };
         let nn = n as u64;
-        make("x0", 8 * nn, Some(bytemuck::cast_slice(&x0)))?;
+        make("x0", 16 * nn, Some(bytemuck::cast_slice(&x0)))?;
         make("u", 8 * nn, Some(bytemuck::cast_slice(&zeros2)))?;
         make("v", 8 * nn, Some(bytemuck::cast_slice(&v)))?;
         make("r", 8 * nn, Some(bytemuck::cast_slice(&r)))?;
@@ -599,7 +614,7 @@ impl GpuSolver {
                 "permute",
                 Size::Particles,
                 &[
-                    ("t_x0", "dv"),
+                    ("t_x0", "lmat"),
                     ("t_u", "um"),
                     ("t_v", "vm"),
                     ("t_r", "rm"),
@@ -625,6 +640,8 @@ impl GpuSolver {
             zero_seen: 0,
             last_dt: 0.0,
             device_bytes,
+            origin,
+            cell,
         })
     }
 
@@ -679,7 +696,7 @@ impl GpuSolver {
         let mut copy = |from: &str, to: &str, bytes: u64| {
             enc.copy_buffer_to_buffer(self.buf(from), 0, self.buf(to), 0, bytes * n);
         };
-        copy("dv", "x0", 8);
+        copy("lmat", "x0", 16);
         copy("um", "u", 8);
         copy("vm", "v", 8);
         copy("rm", "r", 8);
@@ -845,7 +862,7 @@ impl GpuSolver {
     pub fn download(&self) -> State {
         let n = self.n as u64;
         let mut names = vec![
-            ("x0", 8 * n),
+            ("x0", 16 * n),
             ("u", 8 * n),
             ("v", 8 * n),
             ("r", 8 * n),
@@ -857,7 +874,7 @@ impl GpuSolver {
             names.push(("qheat", 4 * n));
         }
         let d = self.read_buffers(None, &names);
-        let x0: &[[f32; 2]] = bytemuck::cast_slice(&d[0]);
+        let x0: &[[f32; 4]] = bytemuck::cast_slice(&d[0]);
         let u: &[[f32; 2]] = bytemuck::cast_slice(&d[1]);
         let v: &[[f32; 2]] = bytemuck::cast_slice(&d[2]);
         let r: &[[f32; 2]] = bytemuck::cast_slice(&d[3]);
@@ -877,10 +894,12 @@ impl GpuSolver {
         };
         for k in 0..n {
             let i = meta[k][3] as usize;
-            st.x[i] = DVec2::new(
-                x0[k][0] as f64 + u[k][0] as f64,
-                x0[k][1] as f64 + u[k][1] as f64,
+            let c = DVec2::new(x0[k][0] as f64, x0[k][1] as f64);
+            let off = DVec2::new(
+                x0[k][2] as f64 + u[k][0] as f64,
+                x0[k][3] as f64 + u[k][1] as f64,
             );
+            st.x[i] = self.origin + c * self.cell + off;
             st.v[i] = DVec2::new(v[k][0] as f64, v[k][1] as f64);
             st.rho[i] = self.model.material(i).rho0 * (1.0 + r[k][0] as f64);
             st.e[i] = r[k][1] as f64;
