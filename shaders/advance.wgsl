@@ -6,9 +6,6 @@
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
 @group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
-@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
-@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
 @group(0) @binding(16) var<storage, read> dr: array<vec2<f32>>;
 @group(0) @binding(17) var<storage, read> ds: array<vec4<f32>>;
 @group(0) @binding(18) var<storage, read> dv: array<vec2<f32>>;

@@ -90,11 +90,22 @@ fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
     return gid.x + gid.y * nwg.x * WG;
 }
 
-// Bindings every stage may read. Each stage file declares the buffers it
-// writes, with its own binding numbers; the host binds buffers by name.
+// Bindings every stage may read (an entry point binds only those it uses).
+// Each stage file declares the rest with its own binding numbers; the host
+// binds buffers by name.
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> bodies: array<Body>;
 @group(0) @binding(2) var<storage, read_write> ctl: Control;
+// Particle reference position (see `pair_d`), displacement, and
+// (mass bits, surface offset bits, body, original index).
+@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
+@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
+// The cell list (written by grid.wgsl): each particle's cell, the start of
+// each bucket in the sorted list, the sorted list of particles.
+@group(0) @binding(9) var<storage, read> cellc: array<vec2<i32>>;
+@group(0) @binding(10) var<storage, read> bstart: array<u32>;
+@group(0) @binding(11) var<storage, read> blist: array<u32>;
 
 // Cubic B-spline (METHOD.md §3).
 fn kernel_alpha(h: f32) -> f32 {
@@ -184,10 +195,52 @@ fn bucket_of(c: vec2<i32>) -> u32 {
     return (bitcast<u32>(c.x) + bitcast<u32>(c.y) * params.row_stride) & (params.buckets - 1u);
 }
 
-// Rows of cells to scan: one in 1-D, three in 2-D.
-fn scan_rows() -> i32 {
+// Cells scanned around a particle's cell: 3 in 1-D, 3x3 in 2-D, rows
+// outermost, always in this order (the neighbour order is fixed).
+fn scan_cells() -> u32 {
     if (DIM == 1u) {
-        return 0;
+        return 3u;
     }
-    return 1;
+    return 9u;
+}
+
+struct CellSpan {
+    cell: vec2<i32>,
+    start: u32,
+    end: u32,
+}
+
+// Scanned cell `c` around cell `ci`, and the range of the sorted particle
+// list that holds its bucket (a bucket may also hold other cells: callers
+// keep only particles whose `cellc` is `span.cell`).
+fn cell_span(ci: vec2<i32>, c: u32) -> CellSpan {
+    var off = vec2<i32>(i32(c % 3u) - 1, i32(c / 3u) - 1);
+    if (DIM == 1u) {
+        off.y = 0;
+    }
+    let cell = ci + off;
+    let b = bucket_of(cell);
+    return CellSpan(cell, bstart[b], bstart[b + 1u]);
+}
+
+// x0 holds each particle's reference cell (integral, exact in f32) and its
+// offset in that cell at the start; u the displacement since. A pair's
+// difference is formed from the three parts, so its round-off scales with
+// the pair distance, not with the distance from the origin.
+fn pair_d(i: u32, j: u32) -> vec2<f32> {
+    let a = x0[i];
+    let b = x0[j];
+    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
+}
+
+// The cell a particle is in now: its reference cell plus whole cells moved.
+fn current_cell(i: u32) -> vec2<i32> {
+    let a = x0[i];
+    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
+}
+
+// Absolute position (output only).
+fn position(i: u32) -> vec2<f32> {
+    let a = x0[i];
+    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
 }

@@ -10,13 +10,7 @@
 // at one particle; here each particle pairs with the first partner body its
 // neighbour scan meets, and such particles are counted).
 
-@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
-@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
-@group(0) @binding(9) var<storage, read> cellc: array<vec2<i32>>;
-@group(0) @binding(10) var<storage, read> bstart: array<u32>;
-@group(0) @binding(11) var<storage, read> blist: array<u32>;
 @group(0) @binding(13) var<storage, read> nbo: array<vec4<f32>>;
 @group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
 @group(0) @binding(18) var<storage, read_write> dv: array<vec2<f32>>;
@@ -26,11 +20,11 @@
 @group(0) @binding(22) var<storage, read_write> cstat: array<vec4<f32>>;
 @group(0) @binding(23) var<storage, read_write> cheat: array<f32>;
 
-// Kernel weight of the candidate pair (p, q), or a negative value when q is
-// not a contact candidate of p (METHOD.md §8.2). Both passes call it with
-// the same arguments in the same order, so both see the same weight.
-fn candidate(p: u32, q: u32, op: f32, oq: f32, hp: f32, hq: f32) -> f32 {
-    let d = pair_d(q, p);
+// Kernel weight of the candidate pair (p, q), d = x_q - x_p = pair_d(q, p),
+// or a negative value when q is not a contact candidate of p (METHOD.md
+// §8.2). Both passes call it with the same arguments in the same order, so
+// both see the same weight.
+fn candidate(p: u32, q: u32, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32) -> f32 {
     let hpq = 0.5 * (hp + hq);
     let dist = length(d);
     if (dist >= 2.0 * hpq) {
@@ -78,7 +72,6 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let op = bitcast<f32>(mp.y);
     let np = np4.xy;
     let ci = cellc[p];
-    let rows = scan_rows();
 
     var partner = NONE;
     var multi = false;
@@ -87,40 +80,37 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     var swn = vec2<f32>(0.0);
     var swv = vec2<f32>(0.0);
     var swt = 0.0;
-    for (var dy = -rows; dy <= rows; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let c = ci + vec2<i32>(dx, dy);
-            let b = bucket_of(c);
-            let end = bstart[b + 1u];
-            for (var k = bstart[b]; k < end; k++) {
-                let q = blist[k];
-                if (any(cellc[q] != c)) {
-                    continue;
-                }
-                let mq = pinfo[q];
-                if (mq.z == bp || nbo[q].z <= 0.0) {
-                    continue;
-                }
-                let oq = bitcast<f32>(mq.y);
-                let w = candidate(p, q, op, oq, bodyp.h, bodies[mq.z].h);
-                if (w < 0.0) {
-                    continue;
-                }
-                if (partner == NONE) {
-                    partner = mq.z;
-                } else if (mq.z != partner) {
-                    multi = true;
-                    continue;
-                }
-                let nq = nbo[q].xy;
-                // s_q - S_P, formed from the precise centre difference.
-                let rel = pair_d(q, p) + nq * oq - np * op;
-                sw += w;
-                sws += rel * w;
-                swn += nq * w;
-                swv += v[q] * w;
-                swt += dot(nq, -rel) * w;
+    for (var c = 0u; c < scan_cells(); c++) {
+        let span = cell_span(ci, c);
+        for (var k = span.start; k < span.end; k++) {
+            let q = blist[k];
+            if (any(cellc[q] != span.cell)) {
+                continue;
             }
+            let mq = pinfo[q];
+            if (mq.z == bp || nbo[q].z <= 0.0) {
+                continue;
+            }
+            let oq = bitcast<f32>(mq.y);
+            let d = pair_d(q, p);
+            let w = candidate(p, q, d, op, oq, bodyp.h, bodies[mq.z].h);
+            if (w < 0.0) {
+                continue;
+            }
+            if (partner == NONE) {
+                partner = mq.z;
+            } else if (mq.z != partner) {
+                multi = true;
+                continue;
+            }
+            let nq = nbo[q].xy;
+            // s_q - S_P, formed from the precise centre difference.
+            let rel = d + nq * oq - np * op;
+            sw += w;
+            sws += rel * w;
+            swn += nq * w;
+            swv += v[q] * w;
+            swt += dot(nq, -rel) * w;
         }
     }
     if (multi) {
@@ -197,31 +187,26 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let bodyq = bodies[bq];
     let oq = bitcast<f32>(mq.y);
     let ci = cellc[q];
-    let rows = scan_rows();
     var f = vec2<f32>(0.0);
     var heat = 0.0;
-    for (var dy = -rows; dy <= rows; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let c = ci + vec2<i32>(dx, dy);
-            let b = bucket_of(c);
-            let end = bstart[b + 1u];
-            for (var k = bstart[b]; k < end; k++) {
-                let p = blist[k];
-                if (any(cellc[p] != c)) {
-                    continue;
-                }
-                let mp = pinfo[p];
-                if (mp.z == bq || nbo[p].z <= 0.0 || cown[p].w != f32(bq)) {
-                    continue;
-                }
-                let w = candidate(p, q, bitcast<f32>(mp.y), oq, bodies[mp.z].h, bodyq.h);
-                if (w < 0.0) {
-                    continue;
-                }
-                let sh = cshare[p];
-                f += sh.xy * w;
-                heat += sh.z * w;
+    for (var c = 0u; c < scan_cells(); c++) {
+        let span = cell_span(ci, c);
+        for (var k = span.start; k < span.end; k++) {
+            let p = blist[k];
+            if (any(cellc[p] != span.cell)) {
+                continue;
             }
+            let mp = pinfo[p];
+            if (mp.z == bq || nbo[p].z <= 0.0 || cown[p].w != f32(bq)) {
+                continue;
+            }
+            let w = candidate(p, q, pair_d(q, p), bitcast<f32>(mp.y), oq, bodies[mp.z].h, bodyq.h);
+            if (w < 0.0) {
+                continue;
+            }
+            let sh = cshare[p];
+            f += sh.xy * w;
+            heat += sh.z * w;
         }
     }
     let own = cown[q];
@@ -235,26 +220,4 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         dr[q].y += booked / m;
     }
     cheat[q] = booked;
-}
-
-// x0 holds each particle's reference cell (integral, exact in f32) and its
-// offset in that cell at the start; u the displacement since. A pair's
-// difference is formed from the three parts, so its round-off scales with
-// the pair distance, not with the distance from the origin.
-fn pair_d(i: u32, j: u32) -> vec2<f32> {
-    let a = x0[i];
-    let b = x0[j];
-    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
-}
-
-// The cell a particle is in now: its reference cell plus whole cells moved.
-fn current_cell(i: u32) -> vec2<i32> {
-    let a = x0[i];
-    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
-}
-
-// Absolute position (output only).
-fn position(i: u32) -> vec2<f32> {
-    let a = x0[i];
-    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
 }

@@ -4,15 +4,15 @@
 // within a cell is fixed whatever order the scatter's atomics took.
 // Integer atomics only; the result is deterministic.
 
-@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
-@group(0) @binding(5) var<storage, read_write> cellc: array<vec2<i32>>;
-@group(0) @binding(6) var<storage, read_write> bkt: array<u32>;
-@group(0) @binding(7) var<storage, read_write> bcount: array<atomic<u32>>;
-@group(0) @binding(8) var<storage, read_write> bfill: array<atomic<u32>>;
-@group(0) @binding(9) var<storage, read_write> bstart: array<u32>;
-@group(0) @binding(10) var<storage, read_write> bsum: array<u32>;
-@group(0) @binding(11) var<storage, read_write> blist: array<u32>;
+// The host binds `cellc_w`, `bstart_w` and `blist_w` to the buffers the
+// other stages read as `cellc`, `bstart` and `blist`.
+@group(0) @binding(12) var<storage, read_write> cellc_w: array<vec2<i32>>;
+@group(0) @binding(13) var<storage, read_write> bkt: array<u32>;
+@group(0) @binding(14) var<storage, read_write> bcount: array<atomic<u32>>;
+@group(0) @binding(15) var<storage, read_write> bfill: array<atomic<u32>>;
+@group(0) @binding(16) var<storage, read_write> bstart_w: array<u32>;
+@group(0) @binding(17) var<storage, read_write> bsum: array<u32>;
+@group(0) @binding(18) var<storage, read_write> blist_w: array<u32>;
 
 const SCAN: u32 = 256u;
 var<workgroup> sh: array<u32, 256>;
@@ -35,7 +35,7 @@ fn grid_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     }
     let c = current_cell(i);
     let b = bucket_of(c);
-    cellc[i] = c;
+    cellc_w[i] = c;
     bkt[i] = b;
     atomicAdd(&bcount[b], 1u);
 }
@@ -71,7 +71,7 @@ fn scan_local(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_
     sh[lid] = v;
     scan_shared(lid);
     if (b < params.buckets) {
-        bstart[b] = sh[lid] - v;
+        bstart_w[b] = sh[lid] - v;
     }
     if (lid == SCAN - 1u) {
         bsum[block] = sh[lid];
@@ -105,10 +105,10 @@ fn scan_add(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id
     let block = wid.x + wid.y * nwg.x;
     let b = block * SCAN + lid3.x;
     if (b < params.buckets && block * SCAN < params.buckets) {
-        bstart[b] = bstart[b] + bsum[block];
+        bstart_w[b] = bstart_w[b] + bsum[block];
     }
     if (b == 0u) {
-        bstart[params.buckets] = params.n;
+        bstart_w[params.buckets] = params.n;
     }
 }
 
@@ -119,7 +119,7 @@ fn grid_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         return;
     }
     let b = bkt[i];
-    blist[bstart[b] + atomicAdd(&bfill[b], 1u)] = i;
+    blist_w[bstart_w[b] + atomicAdd(&bfill[b], 1u)] = i;
 }
 
 // Insertion sort of each bucket by slot: buckets hold a cell's few
@@ -130,37 +130,15 @@ fn grid_sort(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     if (b >= params.buckets) {
         return;
     }
-    let lo = bstart[b];
-    let hi = bstart[b + 1u];
+    let lo = bstart_w[b];
+    let hi = bstart_w[b + 1u];
     for (var k = lo + 1u; k < hi; k = k + 1u) {
-        let key = blist[k];
+        let key = blist_w[k];
         var m = k;
-        while (m > lo && blist[m - 1u] > key) {
-            blist[m] = blist[m - 1u];
+        while (m > lo && blist_w[m - 1u] > key) {
+            blist_w[m] = blist_w[m - 1u];
             m = m - 1u;
         }
-        blist[m] = key;
+        blist_w[m] = key;
     }
-}
-
-// x0 holds each particle's reference cell (integral, exact in f32) and its
-// offset in that cell at the start; u the displacement since. A pair's
-// difference is formed from the three parts, so its round-off scales with
-// the pair distance, not with the distance from the origin.
-fn pair_d(i: u32, j: u32) -> vec2<f32> {
-    let a = x0[i];
-    let b = x0[j];
-    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
-}
-
-// The cell a particle is in now: its reference cell plus whole cells moved.
-fn current_cell(i: u32) -> vec2<i32> {
-    let a = x0[i];
-    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
-}
-
-// Absolute position (output only).
-fn position(i: u32) -> vec2<f32> {
-    let a = x0[i];
-    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
 }

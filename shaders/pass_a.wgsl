@@ -5,15 +5,9 @@
 // CPU twins: cpu::kinematics::{correction_and_colour,
 // density_and_stress_rates}, cpu::eos_and_stress.
 
-@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
 @group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
-@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
-@group(0) @binding(9) var<storage, read> cellc: array<vec2<i32>>;
-@group(0) @binding(10) var<storage, read> bstart: array<u32>;
-@group(0) @binding(11) var<storage, read> blist: array<u32>;
 @group(0) @binding(12) var<storage, read_write> lmat: array<vec4<f32>>;
 @group(0) @binding(13) var<storage, read_write> nbo: array<vec4<f32>>;
 @group(0) @binding(14) var<storage, read_write> sr2c: array<vec4<f32>>;
@@ -54,35 +48,30 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let body = bodies[bi];
     let hi = body.h;
     let ci = cellc[i];
-    let rows = scan_rows();
 
     var m = vec4<f32>(0.0);
     var gpsi = vec2<f32>(0.0);
-    for (var dy = -rows; dy <= rows; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let c = ci + vec2<i32>(dx, dy);
-            let b = bucket_of(c);
-            let end = bstart[b + 1u];
-            for (var k = bstart[b]; k < end; k++) {
-                let j = blist[k];
-                if (j == i || any(cellc[j] != c)) {
-                    continue;
-                }
-                let mj = pinfo[j];
-                if (CONTACT && mj.z != bi) {
-                    continue;
-                }
-                let hij = 0.5 * (hi + bodies[mj.z].h);
-                let d = pair_d(i, j);
-                let dist = length(d);
-                if (dist >= 2.0 * hij || dist <= 0.0) {
-                    continue;
-                }
-                let gw = d * (kernel_dw(dist, hij) / dist);
-                let vj = bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
-                m += outer(gw * vj, -d);
-                gpsi -= gw * vj;
+    for (var c = 0u; c < scan_cells(); c++) {
+        let span = cell_span(ci, c);
+        for (var k = span.start; k < span.end; k++) {
+            let j = blist[k];
+            if (j == i || any(cellc[j] != span.cell)) {
+                continue;
             }
+            let mj = pinfo[j];
+            if (CONTACT && mj.z != bi) {
+                continue;
+            }
+            let hij = 0.5 * (hi + bodies[mj.z].h);
+            let d = pair_d(i, j);
+            let dist = length(d);
+            if (dist >= 2.0 * hij || dist <= 0.0) {
+                continue;
+            }
+            let gw = d * (kernel_dw(dist, hij) / dist);
+            let vj = bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
+            m += outer(gw * vj, -d);
+            gpsi -= gw * vj;
         }
     }
 
@@ -134,30 +123,26 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     // Velocity gradient with the corrected kernel gradient (METHOD.md §6).
     var gv = vec4<f32>(0.0);
     let vi = v[i];
-    for (var dy = -rows; dy <= rows; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let c = ci + vec2<i32>(dx, dy);
-            let b = bucket_of(c);
-            let end = bstart[b + 1u];
-            for (var k = bstart[b]; k < end; k++) {
-                let j = blist[k];
-                if (j == i || any(cellc[j] != c)) {
-                    continue;
-                }
-                let mj = pinfo[j];
-                if (CONTACT && mj.z != bi) {
-                    continue;
-                }
-                let hij = 0.5 * (hi + bodies[mj.z].h);
-                let d = pair_d(i, j);
-                let dist = length(d);
-                if (dist >= 2.0 * hij || dist <= 0.0) {
-                    continue;
-                }
-                let gw = d * (kernel_dw(dist, hij) / dist);
-                let vj = bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
-                gv += outer((v[j] - vi) * vj, mat_mul(l, gw));
+    for (var c = 0u; c < scan_cells(); c++) {
+        let span = cell_span(ci, c);
+        for (var k = span.start; k < span.end; k++) {
+            let j = blist[k];
+            if (j == i || any(cellc[j] != span.cell)) {
+                continue;
             }
+            let mj = pinfo[j];
+            if (CONTACT && mj.z != bi) {
+                continue;
+            }
+            let hij = 0.5 * (hi + bodies[mj.z].h);
+            let d = pair_d(i, j);
+            let dist = length(d);
+            if (dist >= 2.0 * hij || dist <= 0.0) {
+                continue;
+            }
+            let gw = d * (kernel_dw(dist, hij) / dist);
+            let vj = bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
+            gv += outer((v[j] - vi) * vj, mat_mul(l, gw));
         }
     }
     let tr = gv.x + gv.w;
@@ -174,26 +159,4 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         2.0 * g * exy + w * (si.y - si.x),
         -2.0 * g * tr3,
     );
-}
-
-// x0 holds each particle's reference cell (integral, exact in f32) and its
-// offset in that cell at the start; u the displacement since. A pair's
-// difference is formed from the three parts, so its round-off scales with
-// the pair distance, not with the distance from the origin.
-fn pair_d(i: u32, j: u32) -> vec2<f32> {
-    let a = x0[i];
-    let b = x0[j];
-    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
-}
-
-// The cell a particle is in now: its reference cell plus whole cells moved.
-fn current_cell(i: u32) -> vec2<i32> {
-    let a = x0[i];
-    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
-}
-
-// Absolute position (output only).
-fn position(i: u32) -> vec2<f32> {
-    let a = x0[i];
-    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
 }

@@ -4,14 +4,8 @@
 // also measures each boundary particle's contact area (METHOD.md §8.4).
 // CPU twins: cpu::forces::momentum_energy, cpu::kinematics::boundary.
 
-@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
-@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
-@group(0) @binding(9) var<storage, read> cellc: array<vec2<i32>>;
-@group(0) @binding(10) var<storage, read> bstart: array<u32>;
-@group(0) @binding(11) var<storage, read> blist: array<u32>;
 @group(0) @binding(12) var<storage, read> lmat: array<vec4<f32>>;
 @group(0) @binding(13) var<storage, read> nbo: array<vec4<f32>>;
 @group(0) @binding(14) var<storage, read> sr2c: array<vec4<f32>>;
@@ -41,7 +35,6 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         return;
     }
     let ci = cellc[i];
-    let rows = scan_rows();
     let li = lmat[i];
     let ti = sr2c[i];
     let vi = v[i];
@@ -54,58 +47,54 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     var acc = vec2<f32>(0.0);
     var de = 0.0;
     var sw = kernel_w(0.0, hi);
-    for (var dy = -rows; dy <= rows; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let c = ci + vec2<i32>(dx, dy);
-            let b = bucket_of(c);
-            let end = bstart[b + 1u];
-            for (var k = bstart[b]; k < end; k++) {
-                let j = blist[k];
-                if (j == i || any(cellc[j] != c)) {
-                    continue;
-                }
-                let mj = pinfo[j];
-                if (CONTACT && mj.z != bi) {
-                    continue;
-                }
-                let bj = bodies[mj.z];
-                let hij = 0.5 * (hi + bj.h);
-                let d = pair_d(i, j);
-                let dist = length(d);
-                if (dist >= 2.0 * hij) {
-                    continue;
-                }
-                if (boundary && nbo[j].z > 0.0) {
-                    sw += kernel_w(dist, hij);
-                }
-                if (rigid || dist <= 0.0) {
-                    continue;
-                }
-                let gw = d * (kernel_dw(dist, hij) / dist);
-                let g = mat_mul(0.5 * (li + lmat[j]), gw);
-                let tj = sr2c[j];
-                let vij = vi - v[j];
-                // Monaghan viscosity, zero for receding pairs.
-                var pi = 0.0;
-                let vx = dot(vij, d);
-                if (vx < 0.0) {
-                    let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
-                    let cm = 0.5 * (ti.w + tj.w);
-                    let rhom = 0.5 * (rhoi + bj.rho0 * (1.0 + r[j].x));
-                    pi = (-params.alpha * cm * muv + params.beta * muv * muv) / rhom;
-                }
-                var t = vec4<f32>(ti.xyz + tj.xyz, 0.0);
-                t.x -= pi;
-                t.y -= pi;
-                if (ART_STRESS) {
-                    let dp = 0.5 * (body.spacing + bj.spacing);
-                    let f = kernel_w(dist, hij) / kernel_w(dp, hij);
-                    t += (ri + art[j]) * pow(f, params.as_n);
-                }
-                let mass_j = bitcast<f32>(mj.x);
-                acc += sym_mul(t, g) * mass_j;
-                de -= mass_j * (dot(vij, sym_mul(ti, g)) - 0.5 * pi * dot(vij, g));
+    for (var c = 0u; c < scan_cells(); c++) {
+        let span = cell_span(ci, c);
+        for (var k = span.start; k < span.end; k++) {
+            let j = blist[k];
+            if (j == i || any(cellc[j] != span.cell)) {
+                continue;
             }
+            let mj = pinfo[j];
+            if (CONTACT && mj.z != bi) {
+                continue;
+            }
+            let bj = bodies[mj.z];
+            let hij = 0.5 * (hi + bj.h);
+            let d = pair_d(i, j);
+            let dist = length(d);
+            if (dist >= 2.0 * hij) {
+                continue;
+            }
+            if (boundary && nbo[j].z > 0.0) {
+                sw += kernel_w(dist, hij);
+            }
+            if (rigid || dist <= 0.0) {
+                continue;
+            }
+            let gw = d * (kernel_dw(dist, hij) / dist);
+            let g = mat_mul(0.5 * (li + lmat[j]), gw);
+            let tj = sr2c[j];
+            let vij = vi - v[j];
+            // Monaghan viscosity, zero for receding pairs.
+            var pi = 0.0;
+            let vx = dot(vij, d);
+            if (vx < 0.0) {
+                let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
+                let cm = 0.5 * (ti.w + tj.w);
+                let rhom = 0.5 * (rhoi + bj.rho0 * (1.0 + r[j].x));
+                pi = (-params.alpha * cm * muv + params.beta * muv * muv) / rhom;
+            }
+            var t = vec4<f32>(ti.xyz + tj.xyz, 0.0);
+            t.x -= pi;
+            t.y -= pi;
+            if (ART_STRESS) {
+                let dp = 0.5 * (body.spacing + bj.spacing);
+                let f = kernel_w(dist, hij) / kernel_w(dp, hij);
+                t += (ri + art[j]) * pow(f, params.as_n);
+            }
+            let mass_j = bitcast<f32>(mj.x);
+            acc += sym_mul(t, g) * mass_j;
+            de -= mass_j * (dot(vij, sym_mul(ti, g)) - 0.5 * pi * dot(vij, g));
         }
     }
     if (rigid) {
@@ -126,26 +115,4 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         }
         area[i] = a;
     }
-}
-
-// x0 holds each particle's reference cell (integral, exact in f32) and its
-// offset in that cell at the start; u the displacement since. A pair's
-// difference is formed from the three parts, so its round-off scales with
-// the pair distance, not with the distance from the origin.
-fn pair_d(i: u32, j: u32) -> vec2<f32> {
-    let a = x0[i];
-    let b = x0[j];
-    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
-}
-
-// The cell a particle is in now: its reference cell plus whole cells moved.
-fn current_cell(i: u32) -> vec2<i32> {
-    let a = x0[i];
-    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
-}
-
-// Absolute position (output only).
-fn position(i: u32) -> vec2<f32> {
-    let a = x0[i];
-    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
 }

@@ -4,12 +4,9 @@
 // (body sums, contact statistics, particle probes) written into a ring the
 // host reads back only when it needs rows.
 
-@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
 @group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
-@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
 @group(0) @binding(14) var<storage, read> sr2c: array<vec4<f32>>;
 @group(0) @binding(20) var<storage, read> cown: array<vec4<f32>>;
 @group(0) @binding(22) var<storage, read> cstat: array<vec4<f32>>;
@@ -260,26 +257,4 @@ fn end_step() {
         ctl.zero_steps = ctl.zero_steps + 1u;
     }
     atomicStore(&ctl.fallback_now, 0u);
-}
-
-// x0 holds each particle's reference cell (integral, exact in f32) and its
-// offset in that cell at the start; u the displacement since. A pair's
-// difference is formed from the three parts, so its round-off scales with
-// the pair distance, not with the distance from the origin.
-fn pair_d(i: u32, j: u32) -> vec2<f32> {
-    let a = x0[i];
-    let b = x0[j];
-    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
-}
-
-// The cell a particle is in now: its reference cell plus whole cells moved.
-fn current_cell(i: u32) -> vec2<i32> {
-    let a = x0[i];
-    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
-}
-
-// Absolute position (output only).
-fn position(i: u32) -> vec2<f32> {
-    let a = x0[i];
-    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
 }

@@ -2,13 +2,9 @@
 // per-particle array into scratch in the order of the cell list (the host
 // copies it back), then refresh the id -> slot map the probes use.
 
-@group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
 @group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
-@group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
-@group(0) @binding(11) var<storage, read> blist: array<u32>;
 @group(0) @binding(24) var<storage, read> qheat: array<f32>;
 @group(0) @binding(29) var<storage, read_write> slot_of: array<u32>;
 @group(0) @binding(40) var<storage, read_write> t_x0: array<vec4<f32>>;

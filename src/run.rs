@@ -12,7 +12,7 @@ use std::sync::Arc;
 use crate::cpu::contact::ContactStats;
 use crate::cpu::{CpuSolver, Diagnostics};
 use crate::error::{Instability, RunError};
-use crate::gpu::{GpuContext, GpuSolver, RING_LEN};
+use crate::gpu::{GpuContext, GpuSolver};
 use crate::model::{Model, State};
 use crate::output::{BodySummary, History, Summary};
 use crate::probe;
@@ -139,6 +139,7 @@ impl RowFeeder {
 
 /// What a backend's loop hands back for the summary.
 struct Outcome {
+    model: Model,
     state: State,
     /// Stored penalty energy at the first and the last state.
     stored: (f64, f64),
@@ -300,17 +301,17 @@ pub fn run_scene(
     };
     progress.finish();
     let wall = start.elapsed().as_secs_f64();
-    let (model, st) = (&out.1, &out.0.state);
     let Outcome {
+        model,
+        state,
         stored,
         failure,
         max_fallback,
         adapter,
         warnings: extra,
-        ..
-    } = &out.0;
-    warnings.extend(extra.iter().cloned());
-    let max_fallback = *max_fallback;
+    } = out;
+    let (model, st) = (&model, &state);
+    warnings.extend(extra);
     let e0 = base_energy + stored.0;
     let final_diag = Diagnostics {
         contact: ContactStats {
@@ -328,7 +329,7 @@ pub fn run_scene(
         scene: scene_path.map_or(String::new(), |p| p.display().to_string()),
         dimension: dim,
         backend: backend.to_string(),
-        adapter: adapter.clone(),
+        adapter,
         particles: n,
         steps: st.step,
         end_time: end,
@@ -363,7 +364,7 @@ pub fn run_scene(
         summary.write(d)?;
     }
     if let Some(f) = failure {
-        return Err(RunError::Unstable(f.clone()));
+        return Err(RunError::Unstable(f));
     }
     Ok(RunOutput {
         history,
@@ -383,7 +384,7 @@ fn run_cpu(
     history: &mut History,
     progress: &mut Progress,
     start: Instant,
-) -> Result<(Outcome, Model), RunError> {
+) -> Result<Outcome, RunError> {
     let n = model.len();
     let mut solver = CpuSolver::new(model, state);
     let mut max_fallback = 0;
@@ -413,17 +414,15 @@ fn run_cpu(
     }
     let stored1 = solver.diagnostics().contact.stored;
     let CpuSolver { model, state, .. } = solver;
-    Ok((
-        Outcome {
-            state,
-            stored: (stored0.unwrap_or(0.0), stored1),
-            failure,
-            max_fallback: max_fallback as u32,
-            adapter: None,
-            warnings: Vec::new(),
-        },
+    Ok(Outcome {
         model,
-    ))
+        state,
+        stored: (stored0.unwrap_or(0.0), stored1),
+        failure,
+        max_fallback: max_fallback as u32,
+        adapter: None,
+        warnings: Vec::new(),
+    })
 }
 
 /// The GPU loop: batches of steps on the device; each batch hands back the
@@ -439,7 +438,7 @@ fn run_gpu(
     history: &mut History,
     progress: &mut Progress,
     start: Instant,
-) -> Result<(Outcome, Model), RunError> {
+) -> Result<Outcome, RunError> {
     let n = model.len();
     let adapter = ctx.adapter_name();
     let mut solver = GpuSolver::new(ctx, model, &state, probes, end).map_err(RunError::Backend)?;
@@ -456,7 +455,8 @@ fn run_gpu(
         } else {
             16.0
         };
-        let batch = solver.run_batch(want.clamp(1.0, (RING_LEN - 2) as f64) as u32);
+        // (`run_batch` caps a batch at what the observation ring holds.)
+        let batch = solver.run_batch(want as u32);
         let count = batch.states.len();
         for (k, (t, obs, e_stored)) in batch.states.into_iter().enumerate() {
             // The device stops within 1e-4 of a step of the end: that state
@@ -478,28 +478,24 @@ fn run_gpu(
         let secs = start.elapsed().as_secs_f64().max(1e-9);
         progress.update(t_last, end, steps, steps as f64 * n as f64 / secs);
     }
-    let mut state = solver.download();
+    let (mut state, ctl) = solver.download_with_control();
     if failure.is_none() {
         state.t = end;
     }
     let mut warnings = Vec::new();
-    let multi = solver.multi_partner();
+    let multi = ctl.multi_partner;
     if multi > 0 {
         warnings.push(format!(
             "{multi} contact evaluation(s) met two partner bodies at one particle; the GPU path pairs each particle with the first"
         ));
     }
-    let max_fallback = solver.max_fallback();
-    let model = solver.model.clone();
-    Ok((
-        Outcome {
-            state,
-            stored: (stored.0.unwrap_or(0.0), stored.1),
-            failure,
-            max_fallback,
-            adapter: Some(adapter),
-            warnings,
-        },
-        model,
-    ))
+    Ok(Outcome {
+        model: solver.into_model(),
+        state,
+        stored: (stored.0.unwrap_or(0.0), stored.1),
+        failure,
+        max_fallback: ctl.fallback_max,
+        adapter: Some(adapter),
+        warnings,
+    })
 }

@@ -147,10 +147,16 @@ fn edit(base: &str, edits: &[(&str, &str)]) -> Result<String, String> {
 }
 
 fn sphcontact(dir: &Path, args: &[&str]) -> Output {
+    sphcontact_env(dir, args, &[])
+}
+
+/// As [`sphcontact`] with extra environment variables.
+fn sphcontact_env(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
     Command::new(BIN)
         .args(args)
         .current_dir(dir)
         .env_remove("RUST_BACKTRACE")
+        .envs(env.iter().copied())
         .output()
         .expect("the sphcontact binary runs")
 }
@@ -844,20 +850,16 @@ fn no_adapter_gpu_refuses_and_auto_falls_back() {
     let scene = write_scene(tmp.path(), "noadapter", BASE_1D);
     let run = |backend: &str| {
         let out_dir = tmp.path().join(backend);
-        let out = Command::new(BIN)
-            .args([
-                "run",
-                scene.to_str().unwrap(),
-                "--backend",
-                backend,
-                "--out",
-                out_dir.to_str().unwrap(),
-                "--quiet",
-            ])
-            .current_dir(tmp.path())
-            .env("WGPU_BACKEND", "metal")
-            .output()
-            .expect("the sphcontact binary runs");
+        let args = [
+            "run",
+            scene.to_str().unwrap(),
+            "--backend",
+            backend,
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--quiet",
+        ];
+        let out = sphcontact_env(tmp.path(), &args, &[("WGPU_BACKEND", "metal")]);
         (out, out_dir)
     };
     let (out, _) = run("gpu");

@@ -6,22 +6,6 @@ mod common;
 use common::*;
 use sphcontact::run::{run_scene, RunOptions, RunOutput};
 use sphcontact::scene::Backend;
-use sphcontact::Scene;
-
-fn run_with(scene: &Scene, backend: Backend, out_dir: Option<&std::path::Path>) -> RunOutput {
-    run_scene(
-        scene,
-        None,
-        &RunOptions {
-            silent: true,
-            backend: Some(backend),
-            write: out_dir.is_some(),
-            out_dir: out_dir.map(|d| d.to_path_buf()),
-            ..Default::default()
-        },
-    )
-    .expect("the run completes")
-}
 
 fn close(what: &str, gpu: f64, cpu: f64, tol: f64) {
     let e = (gpu / cpu - 1.0).abs();
@@ -56,8 +40,8 @@ fn compare_bars(path: &str, plateau: (f64, f64), bodies: [&str; 2]) {
         return;
     }
     let scene = load(path);
-    let cpu = run_with(&scene, Backend::Cpu, None);
-    let gpu_out = run_with(&scene, Backend::Gpu, None);
+    let cpu = run_on(&scene, Backend::Cpu, None);
+    let gpu_out = run_on(&scene, Backend::Gpu, None);
     println!(
         "{path}: cpu {:.2} s, gpu {:.2} s",
         cpu.summary.wall_seconds, gpu_out.summary.wall_seconds
@@ -99,8 +83,8 @@ fn compare_disks(path: &str) {
         return;
     }
     let scene = load(path);
-    let cpu = run_with(&scene, Backend::Cpu, None);
-    let gpu_out = run_with(&scene, Backend::Gpu, None);
+    let cpu = run_on(&scene, Backend::Cpu, None);
+    let gpu_out = run_on(&scene, Backend::Gpu, None);
     println!(
         "{path}: cpu {:.2} s, gpu {:.2} s",
         cpu.summary.wall_seconds, gpu_out.summary.wall_seconds
@@ -160,7 +144,7 @@ fn gpu_histories_are_bitwise_repeatable() {
         let mut files = Vec::new();
         for k in 0..2 {
             let d = dir.path().join(format!("{k}"));
-            let out = run_with(&scene, Backend::Gpu, Some(&d));
+            let out = run_on(&scene, Backend::Gpu, Some(&d));
             assert!(out.summary.steps > 100, "a real run");
             files.push(std::fs::read(d.join("history.csv")).expect("history written"));
         }

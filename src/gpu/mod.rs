@@ -73,6 +73,13 @@ pub const RING_LEN: u32 = 256;
 /// Steps between reorderings of the particles by cell.
 const REORDER_EVERY: u64 = 16;
 const NONE: u32 = u32::MAX;
+/// The cell-list build writes, under these names, the buffers every other
+/// stage reads under the second names.
+const WRITER_ALIASES: &[(&str, &str)] = &[
+    ("cellc_w", "cellc"),
+    ("bstart_w", "bstart"),
+    ("blist_w", "blist"),
+];
 /// Particles per workgroup of the reductions (256 threads × 4).
 const RED_CHUNK: u32 = 1024;
 
@@ -189,8 +196,6 @@ pub struct GpuSolver {
     ctx: Arc<GpuContext>,
     pub model: Model,
     n: usize,
-    buckets: u32,
-    red_groups: u32,
     buffers: HashMap<&'static str, wgpu::Buffer>,
     staging: wgpu::Buffer,
     plan: ProbePlan,
@@ -502,6 +507,7 @@ impl GpuSolver {
             let key_of = |name: &str| -> String {
                 aliases
                     .iter()
+                    .chain(WRITER_ALIASES)
                     .find(|a| a.0 == name)
                     .map_or(name, |a| a.1)
                     .to_string()
@@ -629,8 +635,6 @@ impl GpuSolver {
             ctx,
             model,
             n,
-            buckets,
-            red_groups,
             buffers,
             staging,
             plan,
@@ -652,11 +656,6 @@ impl GpuSolver {
 
     pub fn adapter_name(&self) -> String {
         self.ctx.adapter_name()
-    }
-
-    /// Buckets of the hashed cell table and partial groups of the reductions.
-    pub fn table_sizes(&self) -> (u32, u32) {
-        (self.buckets, self.red_groups)
     }
 
     fn buf(&self, name: &str) -> &wgpu::Buffer {
@@ -860,6 +859,16 @@ impl GpuSolver {
 
     /// The device state in f64, in the model's particle order.
     pub fn download(&self) -> State {
+        self.download_with_control().0
+    }
+
+    /// Give the model back (the device buffers are dropped).
+    pub fn into_model(self) -> Model {
+        self.model
+    }
+
+    /// The state and the control block, in one readback.
+    pub fn download_with_control(&self) -> (State, Control) {
         let n = self.n as u64;
         let mut names = vec![
             ("x0", 16 * n),
@@ -914,24 +923,15 @@ impl GpuSolver {
             let q: &[f32] = bytemuck::cast_slice(&d[7]);
             st.heat = q.iter().map(|&x| x as f64).sum();
         }
-        st
+        (st, ctl)
     }
 
-    /// The control block: time, step, status.
+    /// The control block: time, step, status, and the counts of particles
+    /// whose correction fell back to `L = I` (most at one state) and of
+    /// contact evaluations that met two partner bodies.
     pub fn control(&self) -> Control {
         let d = self.read_buffers(None, &[("ctl", 48)]);
         bytemuck::pod_read_unaligned(&d[0])
-    }
-
-    /// Particles whose correction fell back to `L = I` (most at one state).
-    pub fn max_fallback(&self) -> u32 {
-        self.control().fallback_max
-    }
-
-    /// Particles that met more than one partner body at once (the device
-    /// pairs each with the first).
-    pub fn multi_partner(&self) -> u32 {
-        self.control().multi_partner
     }
 
     /// One evaluation at the current state, with every stage's output read

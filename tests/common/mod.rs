@@ -41,12 +41,19 @@ pub fn on_gpu(test: impl FnOnce()) {
 
 /// Run silently, in memory, on this thread's backend.
 pub fn run(scene: &Scene) -> RunOutput {
+    run_on(scene, backend(), None)
+}
+
+/// Run silently on `backend`, writing the outputs into `out_dir` if given.
+pub fn run_on(scene: &Scene, backend: Backend, out_dir: Option<&Path>) -> RunOutput {
     run_scene(
         scene,
         None,
         &RunOptions {
             silent: true,
-            backend: Some(backend()),
+            backend: Some(backend),
+            write: out_dir.is_some(),
+            out_dir: out_dir.map(Path::to_path_buf),
             ..Default::default()
         },
     )
