@@ -233,6 +233,29 @@ fn pair_d(i: u32, j: u32) -> vec2<f32> {
     return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
 }
 
+// An SPH pair (i, j), h_ij the mean of the bodies' h: separation x_i - x_j,
+// distance, and grad_i W_ij (computed only inside the support, zero at zero
+// distance); `inside` when the distance is below 2 h_ij.
+struct Pair {
+    d: vec2<f32>,
+    dist: f32,
+    hij: f32,
+    gw: vec2<f32>,
+    inside: bool,
+}
+
+fn sph_pair(i: u32, j: u32, hi: f32, body_j: u32) -> Pair {
+    let hij = 0.5 * (hi + bodies[body_j].h);
+    let d = pair_d(i, j);
+    let dist = length(d);
+    let inside = dist < 2.0 * hij;
+    var gw = vec2<f32>(0.0);
+    if (inside && dist > 0.0) {
+        gw = d * (kernel_dw(dist, hij) / dist);
+    }
+    return Pair(d, dist, hij, gw, inside);
+}
+
 // The cell a particle is in now: its reference cell plus whole cells moved.
 fn current_cell(i: u32) -> vec2<i32> {
     let a = x0[i];

@@ -37,6 +37,11 @@ fn artificial_stress(sig: vec4<f32>, rho: f32) -> vec4<f32> {
     return vec4<f32>(ra * cs * cs + rb * sn * sn, ra * sn * sn + rb * cs * cs, (ra - rb) * sn * cs, 0.0);
 }
 
+// V_j = m_j / rho_j.
+fn volume(j: u32, mj: vec4<u32>) -> f32 {
+    return bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
+}
+
 @compute @workgroup_size(WG)
 fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
@@ -62,16 +67,13 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             if (CONTACT && mj.z != bi) {
                 continue;
             }
-            let hij = 0.5 * (hi + bodies[mj.z].h);
-            let d = pair_d(i, j);
-            let dist = length(d);
-            if (dist >= 2.0 * hij || dist <= 0.0) {
+            let pr = sph_pair(i, j, hi, mj.z);
+            if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }
-            let gw = d * (kernel_dw(dist, hij) / dist);
-            let vj = bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
-            m += outer(gw * vj, -d);
-            gpsi -= gw * vj;
+            let vj = volume(j, mj);
+            m += outer(pr.gw * vj, -pr.d);
+            gpsi -= pr.gw * vj;
         }
     }
 
@@ -134,15 +136,12 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             if (CONTACT && mj.z != bi) {
                 continue;
             }
-            let hij = 0.5 * (hi + bodies[mj.z].h);
-            let d = pair_d(i, j);
-            let dist = length(d);
-            if (dist >= 2.0 * hij || dist <= 0.0) {
+            let pr = sph_pair(i, j, hi, mj.z);
+            if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }
-            let gw = d * (kernel_dw(dist, hij) / dist);
-            let vj = bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
-            gv += outer((v[j] - vi) * vj, mat_mul(l, gw));
+            let vj = volume(j, mj);
+            gv += outer((v[j] - vi) * vj, mat_mul(l, pr.gw));
         }
     }
     let tr = gv.x + gv.w;

@@ -58,20 +58,21 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             if (CONTACT && mj.z != bi) {
                 continue;
             }
-            let bj = bodies[mj.z];
-            let hij = 0.5 * (hi + bj.h);
-            let d = pair_d(i, j);
-            let dist = length(d);
-            if (dist >= 2.0 * hij) {
+            let pr = sph_pair(i, j, hi, mj.z);
+            if (!pr.inside) {
                 continue;
             }
+            let hij = pr.hij;
+            let dist = pr.dist;
             if (boundary && nbo[j].z > 0.0) {
                 sw += kernel_w(dist, hij);
             }
             if (rigid || dist <= 0.0) {
                 continue;
             }
-            let gw = d * (kernel_dw(dist, hij) / dist);
+            let bj = bodies[mj.z];
+            let d = pr.d;
+            let gw = pr.gw;
             let g = mat_mul(0.5 * (li + lmat[j]), gw);
             let tj = sr2c[j];
             let vij = vi - v[j];

@@ -19,6 +19,19 @@ fn close(what: &str, gpu: f64, cpu: f64, tol: f64) {
     );
 }
 
+/// The scene run on the CPU and on the GPU (`None`: no adapter, skipped).
+fn both(path: &str) -> Option<(RunOutput, RunOutput)> {
+    gpu()?;
+    let scene = load(path);
+    let cpu = run_on(&scene, Backend::Cpu, None);
+    let gpu_out = run_on(&scene, Backend::Gpu, None);
+    println!(
+        "{path}: cpu {:.2} s, gpu {:.2} s",
+        cpu.summary.wall_seconds, gpu_out.summary.wall_seconds
+    );
+    Some((cpu, gpu_out))
+}
+
 fn last(out: &RunOutput, name: &str) -> f64 {
     *column(out, name).last().expect("a history")
 }
@@ -36,16 +49,9 @@ fn mean_over(out: &RunOutput, name: &str, t0: f64, t1: f64) -> f64 {
 /// Bars: the contact-pressure plateau, the separation time, the final mean
 /// velocities.
 fn compare_bars(path: &str, plateau: (f64, f64), bodies: [&str; 2]) {
-    if gpu().is_none() {
+    let Some((cpu, gpu_out)) = both(path) else {
         return;
-    }
-    let scene = load(path);
-    let cpu = run_on(&scene, Backend::Cpu, None);
-    let gpu_out = run_on(&scene, Backend::Gpu, None);
-    println!(
-        "{path}: cpu {:.2} s, gpu {:.2} s",
-        cpu.summary.wall_seconds, gpu_out.summary.wall_seconds
-    );
+    };
     close(
         "pressure plateau",
         mean_over(&gpu_out, "contact_pressure", plateau.0, plateau.1),
@@ -79,16 +85,9 @@ fn bars_steel_aluminium_gpu_matches_cpu() {
 
 /// Disks: peak contact force, contact time, final velocities.
 fn compare_disks(path: &str) {
-    if gpu().is_none() {
+    let Some((cpu, gpu_out)) = both(path) else {
         return;
-    }
-    let scene = load(path);
-    let cpu = run_on(&scene, Backend::Cpu, None);
-    let gpu_out = run_on(&scene, Backend::Gpu, None);
-    println!(
-        "{path}: cpu {:.2} s, gpu {:.2} s",
-        cpu.summary.wall_seconds, gpu_out.summary.wall_seconds
-    );
+    };
     let peak = |o: &RunOutput| {
         column(o, "contact_force")
             .iter()
