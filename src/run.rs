@@ -108,14 +108,23 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
 /// History rows at exact times from a sequence of observed states: a row
 /// between two states is their linear interpolation, so steps are never
 /// shortened for output.
-struct RowFeeder {
+/// What both backends' loops record into: history rows at exact times
+/// (interpolated between the observed states) and the progress display.
+struct Recorder {
     times: Vec<f64>,
     next: usize,
     prev: Option<(f64, Vec<f64>)>,
+    history: History,
+    progress: Progress,
+    start: Instant,
+    end: f64,
+    particles: usize,
 }
 
-impl RowFeeder {
-    fn feed(&mut self, t: f64, obs: Vec<f64>, history: &mut History) -> Result<(), RunError> {
+impl Recorder {
+    /// Observations `obs` of the state at time `t`: writes every history
+    /// row up to `t`.
+    fn feed(&mut self, t: f64, obs: Vec<f64>) -> Result<(), RunError> {
         while self.next < self.times.len() && self.times[self.next] <= t * (1.0 + 1e-12) {
             let tr = self.times[self.next];
             let row = match &self.prev {
@@ -125,7 +134,7 @@ impl RowFeeder {
                 }
                 _ => obs.clone(),
             };
-            history.push(tr, row)?;
+            self.history.push(tr, row)?;
             self.next += 1;
         }
         self.prev = Some((t, obs));
@@ -134,6 +143,13 @@ impl RowFeeder {
 
     fn finished(&self) -> bool {
         self.next >= self.times.len()
+    }
+
+    /// Progress after `steps` steps, at simulated time `t`.
+    fn report(&mut self, t: f64, steps: u64) {
+        let secs = self.start.elapsed().as_secs_f64().max(1e-9);
+        let rate = steps as f64 * self.particles as f64 / secs;
+        self.progress.update(t, self.end, steps, rate);
     }
 }
 
@@ -264,43 +280,27 @@ pub fn run_scene(
     let dim = model.dim;
     let probes = probe::resolve(&scene, &model, &state);
     let names = scene.probes.iter().map(|p| p.name().to_string()).collect();
-    let mut history = History::new(names, dir.as_deref())?;
     let end = scene.simulation.end_time;
-    let mut rows = RowFeeder {
-        times: history_times(end, scene.history_interval()),
-        next: 0,
-        prev: None,
-    };
     let n = model.len();
     let p0 = probe::momentum(&model, &state);
     let base_energy = probe::energies(&model, &state, &Diagnostics::default()).total();
-    let mut progress = Progress::new(opts);
-    let start = Instant::now();
-    let out = match choice.gpu {
-        Some(ctx) => run_gpu(
-            ctx,
-            model,
-            state,
-            &probes,
-            end,
-            &mut rows,
-            &mut history,
-            &mut progress,
-            start,
-        )?,
-        None => run_cpu(
-            model,
-            state,
-            &probes,
-            end,
-            &mut rows,
-            &mut history,
-            &mut progress,
-            start,
-        )?,
+    let mut rec = Recorder {
+        times: history_times(end, scene.history_interval()),
+        next: 0,
+        prev: None,
+        history: History::new(names, dir.as_deref())?,
+        progress: Progress::new(opts),
+        start: Instant::now(),
+        end,
+        particles: n,
     };
-    progress.finish();
-    let wall = start.elapsed().as_secs_f64();
+    let out = match choice.gpu {
+        Some(ctx) => run_gpu(ctx, model, state, &probes, &mut rec)?,
+        None => run_cpu(model, state, &probes, &mut rec)?,
+    };
+    rec.progress.finish();
+    let wall = rec.start.elapsed().as_secs_f64();
+    let history = rec.history;
     let Outcome {
         model,
         state,
@@ -374,18 +374,13 @@ pub fn run_scene(
 }
 
 /// The CPU loop: each state is evaluated once and observed once.
-#[allow(clippy::too_many_arguments)]
 fn run_cpu(
     model: Model,
     state: State,
     probes: &[probe::Resolved],
-    end: f64,
-    rows: &mut RowFeeder,
-    history: &mut History,
-    progress: &mut Progress,
-    start: Instant,
+    rec: &mut Recorder,
 ) -> Result<Outcome, RunError> {
-    let n = model.len();
+    let end = rec.end;
     let mut solver = CpuSolver::new(model, state);
     let mut max_fallback = 0;
     let mut failure = None;
@@ -396,21 +391,15 @@ fn run_cpu(
         max_fallback = max_fallback.max(diag.correction_fallback);
         stored0.get_or_insert(diag.contact.stored);
         let obs = probe::evaluate(probes, model, st, diag);
-        rows.feed(t, obs, history)?;
-        if rows.finished() || t >= end {
+        rec.feed(t, obs)?;
+        if rec.finished() || t >= end {
             break;
         }
         if let Err(e) = solver.step(end - t) {
             failure = Some(e);
             break;
         }
-        let secs = start.elapsed().as_secs_f64().max(1e-9);
-        progress.update(
-            solver.state.t,
-            end,
-            solver.state.step,
-            solver.state.step as f64 * n as f64 / secs,
-        );
+        rec.report(solver.state.t, solver.state.step);
     }
     let stored1 = solver.diagnostics().contact.stored;
     let CpuSolver { model, state, .. } = solver;
@@ -427,19 +416,14 @@ fn run_cpu(
 
 /// The GPU loop: batches of steps on the device; each batch hands back the
 /// observations of the states it passed through.
-#[allow(clippy::too_many_arguments)]
 fn run_gpu(
     ctx: Arc<GpuContext>,
     model: Model,
     state: State,
     probes: &[probe::Resolved],
-    end: f64,
-    rows: &mut RowFeeder,
-    history: &mut History,
-    progress: &mut Progress,
-    start: Instant,
+    rec: &mut Recorder,
 ) -> Result<Outcome, RunError> {
-    let n = model.len();
+    let end = rec.end;
     let adapter = ctx.adapter_name();
     let mut solver = GpuSolver::new(ctx, model, &state, probes, end).map_err(RunError::Backend)?;
     let mut failure = None;
@@ -464,7 +448,7 @@ fn run_gpu(
             let t = if batch.done && k + 1 == count { end } else { t };
             stored.0.get_or_insert(e_stored);
             stored.1 = e_stored;
-            rows.feed(t, obs, history)?;
+            rec.feed(t, obs)?;
             t_last = t;
         }
         steps += count as u64;
@@ -472,11 +456,10 @@ fn run_gpu(
             failure = batch.failure;
             break;
         }
-        if batch.done || rows.finished() {
+        if batch.done || rec.finished() {
             break;
         }
-        let secs = start.elapsed().as_secs_f64().max(1e-9);
-        progress.update(t_last, end, steps, steps as f64 * n as f64 / secs);
+        rec.report(t_last, steps);
     }
     let (mut state, ctl) = solver.download_with_control();
     if failure.is_none() {
