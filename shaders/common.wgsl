@@ -14,6 +14,9 @@ override CONTACT: bool = false;
 override CORRECTED: bool = true;
 override PLASTIC: bool = false;
 override ART_STRESS: bool = false;
+// Limited reconstruction of the velocity jump in the viscosity (pass C reads
+// the velocity gradient pass A stores).
+override RECON: bool = false;
 override WG: u32 = 64u;
 
 const NONE: u32 = 0xffffffffu;
@@ -57,7 +60,8 @@ struct Body {
     g: f32,
     y0: f32,
     z: f32,
-    young: f32,
+    // Constrained modulus M = K + 4G/3 (the penalty spring's layers).
+    modulus: f32,
     spacing: f32,
     h: f32,
     rigid: u32,

@@ -2,7 +2,8 @@
 // Pass 1: each boundary particle P interpolates the partner body's surface
 // points s_q = x_q + o_q n_q with kernel weights, takes the gap as the mean
 // of the chord and tangent-line estimates, and the pressure
-// p = max(0, Z* w + (E*/h0) delta); it keeps -p A n / 2 and leaves +p A n / 2
+// p = max(0, Z* w + k delta), k from the two surface layers
+// (cpu::contact::spring_stiffness); it keeps -p A n / 2 and leaves +p A n / 2
 // per unit weight for its partners. Pass 2: each boundary particle gathers
 // those shares over the same candidate pairs, and adds the contact force and
 // the dashpot heat to its rates.
@@ -39,6 +40,16 @@ fn candidate(p: u32, q: u32, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32) -
         return -1.0;
     }
     return kernel_w(dist, hpq);
+}
+
+// Penalty spring stiffness: the two surface layers (thickness o, at least
+// spacing/4) in series, a rigid side adding no compliance.
+// CPU twin: cpu::contact::spring_stiffness.
+fn layer(o: f32, b: Body) -> f32 {
+    if (b.rigid != 0u) {
+        return 0.0;
+    }
+    return max(o, 0.25 * b.spacing) / b.modulus;
 }
 
 // Series combination, a rigid side counting as infinite (METHOD.md §8.5).
@@ -80,6 +91,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     var swn = vec2<f32>(0.0);
     var swv = vec2<f32>(0.0);
     var swt = 0.0;
+    var swo = 0.0;
     for (var c = 0u; c < scan_cells(); c++) {
         let span = cell_span(ci, c);
         for (var k = span.start; k < span.end; k++) {
@@ -111,6 +123,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
             swn += nq * w;
             swv += v[q] * w;
             swt += dot(nq, -rel) * w;
+            swo += oq * w;
         }
     }
     if (multi) {
@@ -154,9 +167,13 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let bodyq = bodies[partner];
     let pr = bodyp.rigid != 0u;
     let qr = bodyq.rigid != 0u;
+    if (pr && qr) {
+        // Two rigid bodies move as prescribed: nothing to push.
+        cown[p] = vec4<f32>(0.0, 0.0, 0.0, f32(partner));
+        return;
+    }
     let z = series(bodyp.z, pr, bodyq.z, qr);
-    let h0 = 0.5 * (bodyp.spacing + bodyq.spacing);
-    let stiffness = series(bodyp.young, pr, bodyq.young, qr) / h0;
+    let stiffness = 1.0 / (layer(op, bodyp) + layer(swo / sw, bodyq));
     let pres = max(z * w_rate + stiffness * delta, 0.0);
     let a = area[p];
     let heat = 0.5 * (pres - stiffness * delta) * a * w_rate;

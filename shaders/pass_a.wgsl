@@ -14,6 +14,7 @@
 @group(0) @binding(15) var<storage, read_write> art: array<vec4<f32>>;
 @group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
 @group(0) @binding(17) var<storage, read_write> ds: array<vec4<f32>>;
+@group(0) @binding(36) var<storage, read_write> gradv: array<vec4<f32>>;
 
 // Artificial stress (METHOD.md §4): -eps sigma/rho^2 of each tensile
 // principal value, rotated back.
@@ -119,6 +120,9 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if (body.rigid != 0u) {
         dr[i] = vec2<f32>(0.0);
         ds[i] = vec4<f32>(0.0);
+        if (RECON) {
+            gradv[i] = vec4<f32>(0.0);
+        }
         return;
     }
 
@@ -143,6 +147,9 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             let vj = volume(j, mj);
             gv += outer((v[j] - vi) * vj, mat_mul(l, pr.gw));
         }
+    }
+    if (RECON) {
+        gradv[i] = gv;
     }
     let tr = gv.x + gv.w;
     dr[i].x = -(1.0 + mu) * tr;

@@ -13,6 +13,23 @@
 @group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
 @group(0) @binding(18) var<storage, read_write> dv: array<vec2<f32>>;
 @group(0) @binding(19) var<storage, read_write> area: array<f32>;
+@group(0) @binding(36) var<storage, read> gradv: array<vec4<f32>>;
+
+// The velocity jump the viscosity sees: v_ij less each side's linear
+// reconstruction to the pair midpoint, van Leer limited (xij = x_i - x_j).
+// CPU twin: cpu::forces::reconstructed_jump.
+fn reconstructed_jump(vij: vec2<f32>, xij: vec2<f32>, gi: vec4<f32>, gj: vec4<f32>) -> vec2<f32> {
+    let di = mat_mul(gi, xij);
+    let dj = mat_mul(gj, xij);
+    let si = dot(xij, di);
+    let sj = dot(xij, dj);
+    if (si * sj <= 0.0) {
+        return vij;
+    }
+    let q = si / sj;
+    let phi = min(4.0 * q / ((1.0 + q) * (1.0 + q)), 1.0);
+    return vij - (di + dj) * (0.5 * phi);
+}
 
 @compute @workgroup_size(WG)
 fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
@@ -38,6 +55,10 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let li = lmat[i];
     let ti = sr2c[i];
     let vi = v[i];
+    var gi = vec4<f32>(0.0);
+    if (RECON) {
+        gi = gradv[i];
+    }
     let rhoi = body.rho0 * (1.0 + r[i].x);
     var ri = vec4<f32>(0.0);
     if (ART_STRESS) {
@@ -76,9 +97,16 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             let g = mat_mul(0.5 * (li + lmat[j]), gw);
             let tj = sr2c[j];
             let vij = vi - v[j];
-            // Monaghan viscosity, zero for receding pairs.
+            // Monaghan viscosity, zero for receding pairs; it sees the
+            // reconstructed jump, the energy sum keeps the true v_ij.
+            var vis = vij;
+            // Not at a surface (h |grad psi| above the threshold): there
+            // grad v is one-sided and a contact loads the face impulsively.
+            if (RECON && nbo[i].z <= 0.0 && nbo[j].z <= 0.0) {
+                vis = reconstructed_jump(vij, d, gi, gradv[j]);
+            }
             var pi = 0.0;
-            let vx = dot(vij, d);
+            let vx = dot(vis, d);
             if (vx < 0.0) {
                 let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
                 let cm = 0.5 * (ti.w + tj.w);

@@ -58,9 +58,11 @@ pub mod math;
 pub mod model;
 pub mod output;
 pub mod physics;
+pub mod plot;
 pub mod probe;
 pub mod run;
 pub mod scene;
+pub mod validation;
 
 pub use error::{RunError, SceneError};
 pub use scene::Scene;

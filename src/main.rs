@@ -51,6 +51,157 @@ enum Command {
         /// The scene file (TOML).
         scene: PathBuf,
     },
+    /// Run the paper's cases against their exact answers: table, figures
+    /// (PNG), the CSV behind every curve and validation.json.
+    Validate {
+        /// Cases to run: bars, steel_aluminium, disks (default: all).
+        cases: Vec<String>,
+        /// Which backend runs the cases (default: the scenes' auto).
+        #[arg(long, value_enum)]
+        backend: Option<BackendArg>,
+        /// Output directory.
+        #[arg(long, default_value = "out/validate")]
+        out: PathBuf,
+        /// Particles per bar (cases bars, steel_aluminium).
+        #[arg(long, default_value_t = 100)]
+        bar_particles: usize,
+        /// Disk radius over particle spacing (case disks).
+        #[arg(long, default_value_t = 50.0)]
+        disk_resolution: f64,
+        /// Instead of the cases: the speed-against-error sweep over
+        /// resolution, on every available backend (or the one --backend names).
+        #[arg(long)]
+        sweep: bool,
+        /// Largest R/Δx of the sweep's disks.
+        #[arg(long, default_value_t = 50.0)]
+        sweep_max_disk_resolution: f64,
+    },
+}
+
+fn backend_of(b: BackendArg) -> Backend {
+    match b {
+        BackendArg::Auto => Backend::Auto,
+        BackendArg::Gpu => Backend::Gpu,
+        BackendArg::Cpu => Backend::Cpu,
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn validate_cmd(
+    cases: Vec<String>,
+    backend: Option<BackendArg>,
+    out: PathBuf,
+    bar_particles: usize,
+    disk_resolution: f64,
+    sweep: bool,
+    sweep_max: f64,
+) -> ExitCode {
+    use sphcontact::validation as v;
+    let bad = |msg: String| {
+        eprintln!("error: {msg}");
+        ExitCode::from(2)
+    };
+    if bar_particles < 10 {
+        return bad(format!(
+            "--bar-particles must be at least 10 (got {bar_particles})"
+        ));
+    }
+    if !(disk_resolution.is_finite() && disk_resolution >= 5.0) {
+        return bad(format!(
+            "--disk-resolution must be at least 5 (got {disk_resolution})"
+        ));
+    }
+    let mut chosen = Vec::new();
+    for c in &cases {
+        match v::Case::parse(c) {
+            Some(k) => chosen.push(k),
+            None => {
+                return bad(format!(
+                    "unknown case '{c}' (known: bars, steel_aluminium, disks)"
+                ))
+            }
+        }
+    }
+    if chosen.is_empty() {
+        chosen = v::Case::ALL.to_vec();
+    }
+    if sweep {
+        let backends = match backend.map(backend_of) {
+            Some(Backend::Auto) | None => {
+                let mut b = vec![Backend::Cpu];
+                match sphcontact::gpu::shared_context() {
+                    Ok(ctx) => {
+                        eprintln!("sweep: GPU adapter {}", ctx.adapter_name());
+                        b.push(Backend::Gpu);
+                    }
+                    Err(e) => eprintln!("sweep: no GPU adapter ({e}); CPU only"),
+                }
+                b
+            }
+            Some(b) => vec![b],
+        };
+        let mut opts = v::SweepOptions::new(backends, out.clone());
+        opts.disk_r_over_dx.retain(|&r| r <= sweep_max);
+        opts.verbose = true;
+        return match v::sweep(&opts) {
+            Ok((points, warnings)) => {
+                println!("| case | lattice | backend | resolution | particles | wall (s) | observable | relative error |");
+                println!("|---|---|---|---|---|---|---|---|");
+                for p in &points {
+                    println!(
+                        "| {} | {} | {} | {} | {} | {:.2} | {} | {:+.3} % |",
+                        p.case,
+                        p.lattice,
+                        p.backend,
+                        p.resolution,
+                        p.particles,
+                        p.wall_seconds,
+                        p.observable,
+                        100.0 * p.relative_error
+                    );
+                }
+                for w in warnings {
+                    eprintln!("warning: {w}");
+                }
+                eprintln!("sweep written to {}", out.display());
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(e.exit_code() as u8)
+            }
+        };
+    }
+    let opts = v::Options {
+        cases: chosen,
+        backend: backend.map(backend_of),
+        out: out.clone(),
+        resolution: v::Resolution {
+            bar_particles,
+            disk_r_over_dx: disk_resolution,
+        },
+        verbose: true,
+    };
+    match v::validate(&opts) {
+        Ok(rep) => {
+            print!("{}", rep.table());
+            for w in &rep.warnings {
+                eprintln!("warning: {w}");
+            }
+            let failed = rep.records.iter().filter(|r| !r.pass).count();
+            eprintln!(
+                "{} observables, {} outside their target; figures, CSV and validation.json in {}",
+                rep.records.len(),
+                failed,
+                out.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code() as u8)
+        }
+    }
 }
 
 fn load(path: &Path) -> Result<Scene, ExitCode> {
@@ -105,12 +256,16 @@ fn check(path: &Path, scene: &Scene) {
         for (i, a) in model.bodies.iter().enumerate() {
             for b in &model.bodies[i + 1..] {
                 let z = series(inf(a, a.material.z), inf(b, b.material.z));
-                let e = series(inf(a, a.material.e), inf(b, b.material.e));
-                let spring = format!(
-                    "E* {:.4e} Pa, spring E*/h0 {:.4e} Pa/m",
-                    e,
-                    e / (0.5 * (a.spacing + b.spacing))
+                // The spring at conforming-lattice offsets (Δx/2 each side).
+                let k = sphcontact::cpu::contact::spring_stiffness(
+                    0.5 * a.spacing,
+                    a.spacing,
+                    inf(a, a.material.m),
+                    0.5 * b.spacing,
+                    b.spacing,
+                    inf(b, b.material.m),
                 );
+                let spring = format!("spring (surface layers Δx/2) {k:.4e} Pa/m");
                 println!(
                     "contact     {} | {}: Z* {:.4e} Pa s/m, {}",
                     a.name, b.name, z, spring
@@ -143,6 +298,23 @@ fn check(path: &Path, scene: &Scene) {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::Validate {
+            cases,
+            backend,
+            out,
+            bar_particles,
+            disk_resolution,
+            sweep,
+            sweep_max_disk_resolution,
+        } => validate_cmd(
+            cases,
+            backend,
+            out,
+            bar_particles,
+            disk_resolution,
+            sweep,
+            sweep_max_disk_resolution,
+        ),
         Command::Check { scene } => match load(&scene) {
             Ok(s) => {
                 check(&scene, &s);
@@ -163,11 +335,7 @@ fn main() -> ExitCode {
             };
             let opts = RunOptions {
                 out_dir: out,
-                backend: backend.map(|b| match b {
-                    BackendArg::Auto => Backend::Auto,
-                    BackendArg::Gpu => Backend::Gpu,
-                    BackendArg::Cpu => Backend::Cpu,
-                }),
+                backend: backend.map(backend_of),
                 end_time,
                 quiet,
                 silent: false,

@@ -29,6 +29,8 @@ pub struct Model {
     pub fixed_dt: Option<f64>,
     pub alpha: f64,
     pub beta: f64,
+    /// Limited reconstruction of the velocity jump in the viscosity.
+    pub av_reconstruct: bool,
     /// Artificial stress `(ε, n)` when the scene switches it on.
     pub artificial_stress: Option<(f64, f64)>,
     pub boundary_threshold: f64,
@@ -77,6 +79,7 @@ impl Model {
             fixed_dt: sim.dt,
             alpha: av.alpha,
             beta: av.beta,
+            av_reconstruct: av.reconstruct,
             artificial_stress: scene.artificial_stress.map(|a| (a.epsilon, a.n)),
             boundary_threshold: cs.boundary_threshold,
             bodies: Vec::with_capacity(placed.len()),

@@ -42,6 +42,10 @@ pub struct RunOutput {
     pub history: History,
     pub summary: Summary,
     pub out_dir: Option<PathBuf>,
+    /// The particles' constants and their state at the end of the run (on
+    /// the GPU path, read back once).
+    pub model: Model,
+    pub state: State,
 }
 
 /// The output directory SCENES.md prescribes.
@@ -310,7 +314,8 @@ pub fn run_scene(
         adapter,
         warnings: extra,
     } = out;
-    let (model, st) = (&model, &state);
+    let (final_model, final_state) = (model, state);
+    let (model, st) = (&final_model, &final_state);
     warnings.extend(extra);
     let e0 = base_energy + stored.0;
     let final_diag = Diagnostics {
@@ -370,6 +375,8 @@ pub fn run_scene(
         history,
         summary,
         out_dir: dir,
+        model: final_model,
+        state: final_state,
     })
 }
 

@@ -922,3 +922,78 @@ fn check_prints_the_derived_set_up() {
     // check runs nothing and writes nothing.
     assert!(std::fs::read_dir(tmp.path()).unwrap().next().is_none());
 }
+
+/// `validate` at small resolutions writes every figure, the CSV behind each,
+/// and `validation.json` with the contract's keys; bad arguments exit 2.
+#[test]
+fn validate_writes_figures_csv_and_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = sphcontact(
+        dir.path(),
+        &[
+            "validate",
+            "--backend",
+            "cpu",
+            "--bar-particles",
+            "25",
+            "--disk-resolution",
+            "8",
+            "--out",
+            "v",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "validate failed: {stderr}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("| case | observable | exact | measured |"),
+        "{stdout}"
+    );
+    let v = dir.path().join("v");
+    let fonts = sphcontact::plot::font_available();
+    for stem in [
+        "fig4_velocity_b",
+        "fig5_stress_a",
+        "fig6_mean_velocity",
+        "fig7_stress_profiles",
+        "fig8_von_mises",
+        "fig9_contact_force",
+    ] {
+        let csv = std::fs::read_to_string(v.join(format!("{stem}.csv"))).unwrap();
+        assert!(csv.lines().count() > 10, "{stem}.csv is nearly empty");
+        let png = v.join(format!("{stem}.png"));
+        if fonts {
+            let bytes = std::fs::read(&png).unwrap();
+            assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{stem}.png");
+        } else if std::env::var_os("SPHCONTACT_REQUIRE_FONT").is_some() {
+            panic!("SPHCONTACT_REQUIRE_FONT is set but no TrueType font was found");
+        } else {
+            eprintln!("SKIP: no TrueType font, {stem}.png not checked");
+        }
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(v.join("validation.json")).unwrap()).unwrap();
+    let records = json.as_array().unwrap();
+    assert!(records.len() >= 20, "{} records", records.len());
+    for r in records {
+        for key in [
+            "case",
+            "observable",
+            "exact",
+            "measured",
+            "relative_error",
+            "backend",
+            "particles",
+            "wall_seconds",
+        ] {
+            assert!(r.get(key).is_some(), "record without {key}: {r}");
+        }
+        assert_eq!(r["backend"], "cpu");
+    }
+
+    let bad = sphcontact(dir.path(), &["validate", "nonsense"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("unknown case 'nonsense'"));
+    let bad = sphcontact(dir.path(), &["validate", "--bar-particles", "3"]);
+    assert_eq!(bad.status.code(), Some(2));
+}

@@ -162,7 +162,8 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     let c: Vec<f64> = pts.iter().map(|p| p.c).collect();
     assert_field("sound speed", &out.c, &c, 1e-5, &none);
 
-    let (drho, ds) = kinematics::density_and_stress_rates(&model, &st, &nb, &a.l);
+    let kinematics::PassB { drho, ds, gv } =
+        kinematics::density_and_stress_rates(&model, &st, &nb, &a.l);
     assert_field("dρ/dt", &out.drho, &drho, 1e-4, &none);
     for (k, name) in ["ds.xx", "ds.yy", "ds.xy", "ds.zz"].iter().enumerate() {
         let c: Vec<f64> = ds.iter().map(|s| [s.xx, s.yy, s.xy, s.zz][k]).collect();
@@ -171,7 +172,15 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     }
 
     // Pass C: momentum and energy before contact.
-    let (dv, de) = forces::momentum_energy(&model, &st, &nb, &a.l, &pts);
+    let (dv, de) = forces::momentum_energy(
+        &model,
+        &st,
+        &nb,
+        &a.l,
+        &gv,
+        &kinematics::surface_flags(&model, &a.grad_psi),
+        &pts,
+    );
     let xs = |v: &[DVec2]| v.iter().map(|p| p.x).collect::<Vec<_>>();
     let ys = |v: &[DVec2]| v.iter().map(|p| p.y).collect::<Vec<_>>();
     assert_field("dv/dt.x (SPH)", &xs(&out.dv_sph), &xs(&dv), 1e-4, &none);

@@ -215,7 +215,7 @@ quantity = "velocity_x"
     let out = run(&rest);
     // Exactly at rest in f64. In f32 the touching faces' gap is known to
     // about 1e-7 Δx (a few units in the last place of a cell size), and the
-    // spring E*/h0 turns that into up to ~1e5 Pa (2e-4 of the impact's
+    // penalty spring (M/Δx) turns that into up to ~1e5 Pa (2e-4 of the impact's
     // contact stress): body velocities of order 1e-6 m/s and a wave of
     // particle velocity σ/Z of order 1e-5 m/s (1e-6 of the impact speed).
     let gpu = backend() == sphcontact::scene::Backend::Gpu;

@@ -96,15 +96,42 @@ impl ContactStats {
     }
 }
 
-/// Impedance and Young's modulus of a body (∞ when rigid, METHOD.md §8.5).
+/// Impedance and constrained modulus of a body (∞ when rigid, METHOD.md §8.5).
 #[inline]
 fn body_constants(model: &Model, b: u32) -> (f64, f64) {
     let info = &model.bodies[b as usize];
     if info.rigid {
         (f64::INFINITY, f64::INFINITY)
     } else {
-        (info.material.z, info.material.e)
+        (info.material.z, info.material.m)
     }
+}
+
+/// Stiffness of the penalty spring, Pa/m (METHOD.md §8.3, derived here).
+///
+/// The spring stands for the two surface layers between the particle
+/// centres and the surfaces they meet: thickness `o_a` of body A and `o_b`
+/// of body B, each squeezed in uniaxial strain (the layer is thin against
+/// the body, so the constrained modulus `M = K + 4G/3 = ρ0 c_L²` holds).
+/// In series their compliance is `o_a/M_a + o_b/M_b`. On a conforming
+/// lattice (`o = Δx/2`) between equal bodies this is `M/Δx`, where the
+/// paper's `E*/h0` gives `E/(2Δx)`: for steel 2.7 times more compliant than
+/// the material it stands for, which made contacts soft and long.
+///
+/// A layer is taken at least `Δx/4` thick: on a square lattice around a curve
+/// a particle centre can sit almost on the surface, and a zero-thickness
+/// layer would be an infinitely stiff spring. At the floor the spring's
+/// frequency is `√2 c_L/Δx`, so `ω Δt ≈ 0.5` at the CFL step: stable with margin.
+/// A rigid side (`M = ∞`) adds no compliance.
+pub fn spring_stiffness(o_a: f64, dx_a: f64, m_a: f64, o_b: f64, dx_b: f64, m_b: f64) -> f64 {
+    let layer = |o: f64, dx: f64, m: f64| {
+        if m.is_infinite() {
+            0.0
+        } else {
+            o.max(0.25 * dx) / m
+        }
+    };
+    1.0 / (layer(o_a, dx_a, m_a) + layer(o_b, dx_b, m_b))
 }
 
 /// One pass of P against partner body `body` from the weighted sums.
@@ -135,6 +162,7 @@ fn pressure(
     nbar: DVec2,
     tangent_gap: f64,
     vrel: DVec2,
+    partner_offset: f64,
 ) -> Option<Pass> {
     // Contact normal: of n_P, −n̄ and their bisector, the one with the largest
     // projected distance (least penetration; METHOD.md §8.2).
@@ -155,12 +183,21 @@ fn pressure(
     let delta = -gap;
     let w_rate = vrel.dot(n);
     let bp = model.body[p_idx];
-    let (za, ea) = body_constants(model, bp);
-    let (zb, eb) = body_constants(model, partner);
+    let (za, ma) = body_constants(model, bp);
+    let (zb, mb) = body_constants(model, partner);
+    if za.is_infinite() && zb.is_infinite() {
+        // Two rigid bodies move as prescribed: nothing to push.
+        return None;
+    }
     let z = series(za, zb);
-    // eq. 25: E*/h0, h0 the mean initial spacing of the two bodies.
-    let h0 = 0.5 * (model.bodies[bp as usize].spacing + model.bodies[partner as usize].spacing);
-    let stiffness = series(ea, eb) / h0;
+    let stiffness = spring_stiffness(
+        model.offset[p_idx],
+        model.bodies[bp as usize].spacing,
+        ma,
+        partner_offset,
+        model.bodies[partner as usize].spacing,
+        mb,
+    );
     let p = (z * w_rate + stiffness * delta).max(0.0);
     Some(Pass {
         p,
@@ -187,8 +224,9 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                 return (own_force, own_heat, shares, stats);
             }
             // Weighted sums per partner body (almost always one).
-            // (body, ΣW, ΣW (s_q − S_P), ΣW n_q, ΣW v_q, ΣW n_q·(S_P − s_q))
-            let mut sums: Vec<(u32, f64, DVec2, DVec2, DVec2, f64)> = Vec::new();
+            // (body, ΣW, ΣW (s_q − S_P), ΣW n_q, ΣW v_q, ΣW n_q·(S_P − s_q), ΣW o_q)
+            type Sums = (u32, f64, DVec2, DVec2, DVec2, f64, f64);
+            let mut sums: Vec<Sums> = Vec::new();
             let sp = st.x[p] + bd.normal[p] * model.offset[p];
             for &q in nb.cross_of(p) {
                 let q = q as usize;
@@ -202,7 +240,7 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                 let k = match sums.iter().position(|s| s.0 == bq) {
                     Some(k) => k,
                     None => {
-                        sums.push((bq, 0.0, DVec2::ZERO, DVec2::ZERO, DVec2::ZERO, 0.0));
+                        sums.push((bq, 0.0, DVec2::ZERO, DVec2::ZERO, DVec2::ZERO, 0.0, 0.0));
                         sums.len() - 1
                     }
                 };
@@ -213,8 +251,9 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                 s.3 += bd.normal[q] * w;
                 s.4 += st.v[q] * w;
                 s.5 += bd.normal[q].dot(sp - sq) * w;
+                s.6 += model.offset[q] * w;
             }
-            for (bq, sw, sws, swn, swv, swt) in sums {
+            for (bq, sw, sws, swn, swv, swt, swo) in sums {
                 if sw <= 0.0 {
                     continue;
                 }
@@ -224,7 +263,17 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                 }
                 let r = sws / sw;
                 let vrel = st.v[p] - swv / sw;
-                let Some(ps) = pressure(model, p, bq, bd.normal[p], r, nbar, swt / sw, vrel) else {
+                let Some(ps) = pressure(
+                    model,
+                    p,
+                    bq,
+                    bd.normal[p],
+                    r,
+                    nbar,
+                    swt / sw,
+                    vrel,
+                    swo / sw,
+                ) else {
                     continue;
                 };
                 let a = bd.area[p];

@@ -77,6 +77,14 @@ pub struct Boundary {
     pub area: Vec<f64>,
 }
 
+/// Surface particles: `h_i |∇ψ|_i` above the boundary threshold (METHOD.md
+/// §8.1), the same set the contact calls boundary particles.
+pub fn surface_flags(model: &Model, grad_psi: &[DVec2]) -> Vec<bool> {
+    (0..model.len())
+        .map(|i| model.h[i] * grad_psi[i].length() > model.boundary_threshold)
+        .collect()
+}
+
 /// `n_i = ∇ψ/|∇ψ|`, boundary when `h_i |∇ψ|_i > threshold` (METHOD.md §8.1), and
 /// `A_i = (15/(7π h)) / Σ_j W_ij` over the body's boundary particles, self
 /// included (METHOD.md §8.4, "Contact area").
@@ -141,22 +149,35 @@ pub fn stress_rate(g_mod: f64, s: &Sym, gv: &Mat2) -> Sym {
 }
 
 /// Pass B: continuity `dρ/dt = −ρ tr(∇v)` (the difference form of METHOD.md
-/// §4 with the corrected gradient) and the stress rate.
-pub fn density_and_stress_rates(
-    model: &Model,
-    st: &State,
-    nb: &Neighbours,
-    l: &[Mat2],
-) -> (Vec<f64>, Vec<Sym>) {
-    (0..model.len())
+/// §4 with the corrected gradient), the stress rate, and the velocity
+/// gradient itself (pass C reconstructs velocities with it).
+pub struct PassB {
+    pub drho: Vec<f64>,
+    pub ds: Vec<Sym>,
+    pub gv: Vec<Mat2>,
+}
+
+pub fn density_and_stress_rates(model: &Model, st: &State, nb: &Neighbours, l: &[Mat2]) -> PassB {
+    let per: Vec<(f64, Sym, Mat2)> = (0..model.len())
         .into_par_iter()
         .map(|i| {
             if model.rigid(i) {
-                return (0.0, Sym::default());
+                return (0.0, Sym::default(), Mat2::default());
             }
             let gv = velocity_gradient(model, st, nb, &l[i], i);
             let drho = -st.rho[i] * gv.trace();
-            (drho, stress_rate(model.material(i).g, &st.s[i], &gv))
+            (drho, stress_rate(model.material(i).g, &st.s[i], &gv), gv)
         })
-        .unzip()
+        .collect();
+    let mut out = PassB {
+        drho: Vec::with_capacity(per.len()),
+        ds: Vec::with_capacity(per.len()),
+        gv: Vec::with_capacity(per.len()),
+    };
+    for (d, s, g) in per {
+        out.drho.push(d);
+        out.ds.push(s);
+        out.gv.push(g);
+    }
+    out
 }

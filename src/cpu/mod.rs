@@ -82,8 +82,10 @@ pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
     let nb = neighbours::find(model, &st.x);
     let pts = eos_and_stress(model, st);
     let a = kinematics::correction_and_colour(model, st, &nb);
-    let (drho, ds) = kinematics::density_and_stress_rates(model, st, &nb, &a.l);
-    let (mut dv, mut de) = forces::momentum_energy(model, st, &nb, &a.l, &pts);
+    let kinematics::PassB { drho, ds, gv } =
+        kinematics::density_and_stress_rates(model, st, &nb, &a.l);
+    let surface = kinematics::surface_flags(model, &a.grad_psi);
+    let (mut dv, mut de) = forces::momentum_energy(model, st, &nb, &a.l, &gv, &surface, &pts);
     let mut diag = Diagnostics {
         cfl_dt: cfl_step(model, st, &pts),
         correction_fallback: a.fallback.len(),

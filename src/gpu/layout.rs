@@ -44,7 +44,7 @@ pub struct BodyGpu {
     pub g: f32,
     pub y0: f32,
     pub z: f32,
-    pub young: f32,
+    pub modulus: f32,
     pub spacing: f32,
     pub h: f32,
     pub rigid: u32,
@@ -121,7 +121,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
             "Body",
             std::mem::size_of::<BodyGpu>(),
             offsets!(
-                BodyGpu, rho0, k, s, gamma0, g, y0, z, young, spacing, h, rigid, linear, elastic,
+                BodyGpu, rho0, k, s, gamma0, g, y0, z, modulus, spacing, h, rigid, linear, elastic,
                 pad0, pad1, pad2
             ),
         ),

@@ -295,7 +295,7 @@ impl GpuSolver {
                     g: m.g as f32,
                     y0: if m.y0.is_finite() { m.y0 as f32 } else { 0.0 },
                     z: m.z as f32,
-                    young: m.e as f32,
+                    modulus: m.m as f32,
                     spacing: b.spacing as f32,
                     h: model.h[b.range.start] as f32,
                     rigid: b.rigid as u32,
@@ -402,6 +402,9 @@ impl GpuSolver {
         if model.artificial_stress.is_some() {
             make("art", 16 * nn, None)?;
         }
+        if model.av_reconstruct {
+            make("gradv", 16 * nn, None)?;
+        }
         if contact {
             make("qheat", 4 * nn, Some(bytemuck::cast_slice(&vec![0f32; n])))?;
             make("area", 4 * nn, None)?;
@@ -462,6 +465,7 @@ impl GpuSolver {
             ),
             ("PLASTIC", model.plastic as u8 as f64),
             ("ART_STRESS", model.artificial_stress.is_some() as u8 as f64),
+            ("RECON", model.av_reconstruct as u8 as f64),
             ("WG", WG as f64),
         ];
         let maxd = opts

@@ -131,6 +131,17 @@ impl Summary {
     pub fn write(&self, dir: &Path) -> Result<(), RunError> {
         let path = dir.join("summary.json");
         let text = serde_json::to_string_pretty(self).expect("a summary always serialises");
-        std::fs::write(&path, text + "\n").map_err(|e| RunError::io(&path, e))
+        write_atomic(&path, (text + "\n").as_bytes())
     }
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same directory
+/// and a rename, so a reader (or a killed run) never sees a half-written file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), RunError> {
+    let name = path
+        .file_name()
+        .map_or("out".into(), |n| n.to_string_lossy().into_owned());
+    let tmp = path.with_file_name(format!(".{name}.tmp"));
+    std::fs::write(&tmp, bytes).map_err(|e| RunError::io(&tmp, e))?;
+    std::fs::rename(&tmp, path).map_err(|e| RunError::io(path, e))
 }

@@ -130,19 +130,28 @@ pub struct ArtificialViscosity {
     pub alpha: f64,
     #[serde(default = "default_av_beta")]
     pub beta: f64,
+    /// Limited linear reconstruction of the velocity jump to the pair
+    /// midpoint (`cpu::forces::reconstructed_jump`): the viscosity acts at
+    /// fronts, not on smooth compression. Default on.
+    #[serde(default = "default_true")]
+    pub reconstruct: bool,
+}
+fn default_true() -> bool {
+    true
 }
 /// Documented defaults: see `docs/method.md` ("Defaults").
 pub fn default_av_alpha() -> f64 {
-    0.5
+    0.75
 }
 pub fn default_av_beta() -> f64 {
-    0.5
+    0.75
 }
 impl Default for ArtificialViscosity {
     fn default() -> Self {
         Self {
             alpha: default_av_alpha(),
             beta: default_av_beta(),
+            reconstruct: true,
         }
     }
 }

@@ -1,0 +1,130 @@
+//! The accuracy goals of `sphcontact validate` (issue: "go past the paper"),
+//! asserted at resolutions CI can afford, and the sweep's convergence.
+//!
+//! Goals: the 1-D rebound at 100 particles per bar at least 0.97 of the
+//! impact speed; two steel disks at R/Δx = 50 on both lattices with peak
+//! force and contact time within 3 % of the converged dynamic answer (and
+//! inside the quasi-static Hertz bracket of METHOD.md §10), restitution
+//! between 0.95 and 1; contact pressure never tensile in contact mode.
+
+mod common;
+
+use sphcontact::output::contact_window;
+use sphcontact::physics::exact::{hertz_c_inertia, hertz_disks, HERTZ_C_JOHNSON};
+use sphcontact::physics::material::MaterialModel;
+use sphcontact::scene::Backend;
+use sphcontact::validation::{
+    bar_errors, convergence_order, disk_errors, disk_scene, DISKS_CONTACT_TIME, DISKS_PEAK_FORCE,
+};
+
+fn rebound(backend: Backend, n: usize) -> f64 {
+    let (run, obs) = bar_errors(n, Some(backend)).expect("bars run");
+    // Contact pressure is never tensile (Kuhn–Tucker, METHOD.md §8.3).
+    let p = run.col("contact_pressure");
+    assert!(p.iter().all(|&x| x >= 0.0), "tensile contact pressure");
+    let (_, exact, measured) = &obs[0];
+    measured / exact
+}
+
+#[test]
+fn bars_rebound_at_100_per_bar_is_at_least_0_97() {
+    let r = rebound(Backend::Cpu, 100);
+    println!("rebound / v0 at N = 100: {r:.4}");
+    assert!(r >= 0.97, "rebound {r}");
+    assert!(r <= 1.0 + 1e-9, "rebound above the impact speed: {r}");
+}
+
+#[test]
+fn bars_rebound_at_100_per_bar_is_at_least_0_97_gpu() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let r = rebound(Backend::Gpu, 100);
+    println!("GPU rebound / v0 at N = 100: {r:.4}");
+    assert!((0.97..=1.0).contains(&r), "rebound {r}");
+}
+
+/// The rebound error falls with resolution at order ≥ 1/2 (METHOD.md §11:
+/// the unloading front smeared over a fixed number of particles), and
+/// monotonically; the plateau stays within 0.5 % at every resolution.
+#[test]
+fn bars_rebound_error_converges() {
+    let ns = [25usize, 50, 100, 200];
+    let mut errs = Vec::new();
+    for &n in &ns {
+        let (_, obs) = bar_errors(n, Some(Backend::Cpu)).unwrap();
+        let e = (obs[0].2 / obs[0].1 - 1.0).abs();
+        let plateau = (obs[1].2 / obs[1].1 - 1.0).abs();
+        println!("N = {n}: rebound error {e:.4}, plateau error {plateau:.4}");
+        assert!(plateau < 0.005, "plateau error {plateau} at N = {n}");
+        errs.push(e);
+    }
+    for w in errs.windows(2) {
+        assert!(w[1] < w[0], "rebound error does not fall: {errs:?}");
+    }
+    let res: Vec<f64> = ns.iter().map(|&n| n as f64).collect();
+    let order = convergence_order(&res, &errs);
+    println!("rebound error order {order:.3}");
+    assert!(order >= 0.5, "order {order}");
+}
+
+#[test]
+fn convergence_order_of_a_power_law() {
+    let res = [10.0, 20.0, 40.0, 80.0];
+    let err: Vec<f64> = res.iter().map(|r: &f64| 3.0 * r.powf(-1.5)).collect();
+    assert!((convergence_order(&res, &err) - 1.5).abs() < 1e-12);
+}
+
+/// Both lattices at R/Δx = 50 meet the 2-D goals.
+fn disks_at_50(lattice: &str) {
+    let (run, obs) = disk_errors(lattice, 50.0, Some(Backend::Cpu)).unwrap();
+    let steel = MaterialModel::new(&disk_scene(lattice, 50.0).materials["steel"]);
+    let johnson = hertz_disks(&steel, 0.005, 10.0, HERTZ_C_JOHNSON);
+    let inertia = hertz_disks(&steel, 0.005, 10.0, hertz_c_inertia(steel.nu));
+    let (peak, time, e) = (obs[0].2, obs[1].2, obs[2].2);
+    println!(
+        "{lattice} R/Δx = 50: peak {:.4} MN/m ({:+.2} %), contact {:.3} µs ({:+.2} %), restitution {e:.4}",
+        peak / 1e6,
+        100.0 * (peak / DISKS_PEAK_FORCE - 1.0),
+        time * 1e6,
+        100.0 * (time / DISKS_CONTACT_TIME - 1.0)
+    );
+    assert!((peak / DISKS_PEAK_FORCE - 1.0).abs() < 0.03, "peak {peak}");
+    assert!(
+        (time / DISKS_CONTACT_TIME - 1.0).abs() < 0.03,
+        "contact time {time}"
+    );
+    // Inside the quasi-static Hertz bracket (C = 1 stiffer and shorter).
+    assert!(
+        peak >= inertia.peak_force && peak <= johnson.peak_force,
+        "peak {peak} outside [{}, {}]",
+        inertia.peak_force,
+        johnson.peak_force
+    );
+    assert!(
+        time >= johnson.contact_time && time <= inertia.contact_time,
+        "contact time {time} outside [{}, {}]",
+        johnson.contact_time,
+        inertia.contact_time
+    );
+    assert!((0.95..=1.0).contains(&e), "restitution {e}");
+    // Never tension between the bodies, and the force starts at once.
+    let f = run.col("contact_force");
+    assert!(f.iter().all(|&x| x >= 0.0), "tensile contact force");
+    let (t0, _) = contact_window(run.times(), &f);
+    assert!(t0 < 0.05e-6, "contact starts late: {t0}");
+    // Momentum: round-off.
+    let s = &run.out.summary;
+    let mass: f64 = s.bodies.iter().map(|b| b.mass).sum();
+    assert!((s.momentum_final[0] - s.momentum_initial[0]).abs() < 1e-9 * mass * 5.0);
+}
+
+#[test]
+fn disks_square_lattice_at_r50_meet_the_goals() {
+    disks_at_50("square");
+}
+
+#[test]
+fn disks_polar_lattice_at_r50_meet_the_goals() {
+    disks_at_50("polar");
+}
