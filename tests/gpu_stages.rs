@@ -126,7 +126,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
         let gpu_l: Vec<f64> = out.l.iter().map(|m| m[k]).collect();
         assert_field(name, &gpu_l, &cpu_l, 1e-4, &none);
     }
-    let bd = kinematics::boundary(&model, &nb, &a.grad_psi);
+    let bd = kinematics::boundary(&model, &nb, &a.grad_psi, a.surface.clone());
     for i in 0..n {
         if bd.is_boundary[i] != out.boundary[i] {
             let x = model.h[i] * a.grad_psi[i].length();
@@ -172,15 +172,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     }
 
     // Pass C: momentum and energy before contact.
-    let (dv, de) = forces::momentum_energy(
-        &model,
-        &st,
-        &nb,
-        &a.l,
-        &gv,
-        &kinematics::surface_flags(&model, &a.grad_psi),
-        &pts,
-    );
+    let (dv, de) = forces::momentum_energy(&model, &st, &nb, &a.l, &gv, &a.surface, &pts);
     let xs = |v: &[DVec2]| v.iter().map(|p| p.x).collect::<Vec<_>>();
     let ys = |v: &[DVec2]| v.iter().map(|p| p.y).collect::<Vec<_>>();
     assert_field("dv/dt.x (SPH)", &xs(&out.dv_sph), &xs(&dv), 1e-4, &none);

@@ -143,7 +143,7 @@ fn normal_errors_deg(
 ) -> (usize, f64, f64) {
     let nb = neighbours::find(model, &st.x);
     let pa = kinematics::correction_and_colour(model, st, &nb);
-    let bd = kinematics::boundary(model, &nb, &pa.grad_psi);
+    let bd = kinematics::boundary(model, &nb, &pa.grad_psi, pa.surface.clone());
     let mut worst: f64 = 0.0;
     let mut sum = 0.0;
     let mut n = 0;

@@ -134,6 +134,38 @@ pub fn spring_stiffness(o_a: f64, dx_a: f64, m_a: f64, o_b: f64, dx_b: f64, m_b:
     1.0 / (layer(o_a, dx_a, m_a) + layer(o_b, dx_b, m_b))
 }
 
+/// P's kernel-weighted sums over the candidates of one partner body.
+#[derive(Debug, Clone, Copy)]
+struct PartnerSums {
+    body: u32,
+    /// `ΣW`
+    sw: f64,
+    /// `ΣW (s_q − S_P)`: partner surface points relative to P's.
+    sws: DVec2,
+    /// `ΣW n_q`
+    swn: DVec2,
+    /// `ΣW v_q`
+    swv: DVec2,
+    /// `ΣW n_q·(S_P − s_q)`: distances to the partners' tangent lines.
+    swt: f64,
+    /// `ΣW o_q`: the partners' surface offsets (the spring's far layer).
+    swo: f64,
+}
+
+impl PartnerSums {
+    fn new(body: u32) -> Self {
+        Self {
+            body,
+            sw: 0.0,
+            sws: DVec2::ZERO,
+            swn: DVec2::ZERO,
+            swv: DVec2::ZERO,
+            swt: 0.0,
+            swo: 0.0,
+        }
+    }
+}
+
 /// One pass of P against partner body `body` from the weighted sums.
 struct Pass {
     p: f64,
@@ -152,18 +184,18 @@ struct Pass {
 /// surface by ≈ Rφ²/2 (φ the angle the partners span); the weighted distance
 /// to the partners' tangent lines errs by the same amount the other way.
 /// Their mean is exact to second order in φ.
-#[allow(clippy::too_many_arguments)]
-fn pressure(
-    model: &Model,
-    p_idx: usize,
-    partner: u32,
-    np: DVec2,
-    r: DVec2,
-    nbar: DVec2,
-    tangent_gap: f64,
-    vrel: DVec2,
-    partner_offset: f64,
-) -> Option<Pass> {
+fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) -> Option<Pass> {
+    if s.sw <= 0.0 {
+        return None;
+    }
+    let nbar = s.swn.normalize_or_zero();
+    if nbar == DVec2::ZERO {
+        return None;
+    }
+    let partner = s.body;
+    let r = s.sws / s.sw;
+    let tangent_gap = s.swt / s.sw;
+    let vrel = vp - s.swv / s.sw;
     // Contact normal: of n_P, −n̄ and their bisector, the one with the largest
     // projected distance (least penetration; METHOD.md §8.2).
     let mut best = (np, np.dot(r));
@@ -194,7 +226,7 @@ fn pressure(
         model.offset[p_idx],
         model.bodies[bp as usize].spacing,
         ma,
-        partner_offset,
+        s.swo / s.sw,
         model.bodies[partner as usize].spacing,
         mb,
     );
@@ -224,9 +256,8 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                 return (own_force, own_heat, shares, stats);
             }
             // Weighted sums per partner body (almost always one).
-            // (body, ΣW, ΣW (s_q − S_P), ΣW n_q, ΣW v_q, ΣW n_q·(S_P − s_q), ΣW o_q)
-            type Sums = (u32, f64, DVec2, DVec2, DVec2, f64, f64);
-            let mut sums: Vec<Sums> = Vec::new();
+            // One set of sums per partner body (almost always one).
+            let mut sums: Vec<PartnerSums> = Vec::new();
             let sp = st.x[p] + bd.normal[p] * model.offset[p];
             for &q in nb.cross_of(p) {
                 let q = q as usize;
@@ -237,51 +268,33 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                     continue;
                 };
                 let bq = model.body[q];
-                let k = match sums.iter().position(|s| s.0 == bq) {
+                let k = match sums.iter().position(|s| s.body == bq) {
                     Some(k) => k,
                     None => {
-                        sums.push((bq, 0.0, DVec2::ZERO, DVec2::ZERO, DVec2::ZERO, 0.0, 0.0));
+                        sums.push(PartnerSums::new(bq));
                         sums.len() - 1
                     }
                 };
                 let s = &mut sums[k];
                 let sq = st.x[q] + bd.normal[q] * model.offset[q];
-                s.1 += w;
-                s.2 += (sq - sp) * w;
-                s.3 += bd.normal[q] * w;
-                s.4 += st.v[q] * w;
-                s.5 += bd.normal[q].dot(sp - sq) * w;
-                s.6 += model.offset[q] * w;
+                s.sw += w;
+                s.sws += (sq - sp) * w;
+                s.swn += bd.normal[q] * w;
+                s.swv += st.v[q] * w;
+                s.swt += bd.normal[q].dot(sp - sq) * w;
+                s.swo += model.offset[q] * w;
             }
-            for (bq, sw, sws, swn, swv, swt, swo) in sums {
-                if sw <= 0.0 {
-                    continue;
-                }
-                let nbar = swn.normalize_or_zero();
-                if nbar == DVec2::ZERO {
-                    continue;
-                }
-                let r = sws / sw;
-                let vrel = st.v[p] - swv / sw;
-                let Some(ps) = pressure(
-                    model,
-                    p,
-                    bq,
-                    bd.normal[p],
-                    r,
-                    nbar,
-                    swt / sw,
-                    vrel,
-                    swo / sw,
-                ) else {
+            for s in &sums {
+                let Some(ps) = pressure(model, p, bd.normal[p], st.v[p], s) else {
                     continue;
                 };
+                let (bq, sw) = (s.body, s.sw);
                 let a = bd.area[p];
                 // Dashpot heat of this half pass: ½ (p − kδ) A w ≥ 0 (the
                 // spring's share of the work is stored, the rest dissipated).
                 let heat = 0.5 * (ps.p - ps.stiffness * ps.delta) * a * ps.w_rate;
+                // Finite: a pair with two rigid sides has no pressure.
                 let stored = 0.25 * ps.stiffness * ps.delta * ps.delta * a;
-                let stored = if stored.is_finite() { stored } else { 0.0 };
                 own_force -= ps.n * (0.5 * ps.p * a);
                 let rigid = model.rigid(p);
                 if !rigid {

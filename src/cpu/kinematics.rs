@@ -24,6 +24,10 @@ pub struct PassA {
     pub fallback: Vec<u32>,
     /// Colour gradient `(∇ψ)_i = −Σ_j V_j ∇_i W_ij` (METHOD.md §8.1, eq. 26).
     pub grad_psi: Vec<DVec2>,
+    /// Surface particles, `h_i |∇ψ|_i` above the boundary threshold (METHOD.md
+    /// §8.1): the contact's boundary set, and where the viscosity keeps the
+    /// plain velocity jump.
+    pub surface: Vec<bool>,
 }
 
 /// Pass A: `L_i = [Σ_j V_j ∇_i W_ij ⊗ (x_j − x_i)]⁻¹` and `(∇ψ)_i`.
@@ -57,9 +61,12 @@ pub fn correction_and_colour(model: &Model, st: &State, nb: &Neighbours) -> Pass
         l: Vec::with_capacity(per.len()),
         fallback: Vec::new(),
         grad_psi: Vec::with_capacity(per.len()),
+        surface: Vec::with_capacity(per.len()),
     };
     for (i, (l, ok, g)) in per.into_iter().enumerate() {
         out.l.push(l);
+        out.surface
+            .push(model.h[i] * g.length() > model.boundary_threshold);
         out.grad_psi.push(g);
         if !ok {
             out.fallback.push(i as u32);
@@ -77,22 +84,16 @@ pub struct Boundary {
     pub area: Vec<f64>,
 }
 
-/// Surface particles: `h_i |∇ψ|_i` above the boundary threshold (METHOD.md
-/// §8.1), the same set the contact calls boundary particles.
-pub fn surface_flags(model: &Model, grad_psi: &[DVec2]) -> Vec<bool> {
-    (0..model.len())
-        .map(|i| model.h[i] * grad_psi[i].length() > model.boundary_threshold)
-        .collect()
-}
-
-/// `n_i = ∇ψ/|∇ψ|`, boundary when `h_i |∇ψ|_i > threshold` (METHOD.md §8.1), and
+/// `n_i = ∇ψ/|∇ψ|` for the boundary set of pass A ([`PassA::surface`]), and
 /// `A_i = (15/(7π h)) / Σ_j W_ij` over the body's boundary particles, self
 /// included (METHOD.md §8.4, "Contact area").
-pub fn boundary(model: &Model, nb: &Neighbours, grad_psi: &[DVec2]) -> Boundary {
+pub fn boundary(
+    model: &Model,
+    nb: &Neighbours,
+    grad_psi: &[DVec2],
+    is_boundary: Vec<bool>,
+) -> Boundary {
     let n = model.len();
-    let is_boundary: Vec<bool> = (0..n)
-        .map(|i| model.h[i] * grad_psi[i].length() > model.boundary_threshold)
-        .collect();
     let normal: Vec<DVec2> = grad_psi.iter().map(|g| g.normalize_or_zero()).collect();
     let area = (0..n)
         .into_par_iter()
@@ -150,7 +151,8 @@ pub fn stress_rate(g_mod: f64, s: &Sym, gv: &Mat2) -> Sym {
 
 /// Pass B: continuity `dρ/dt = −ρ tr(∇v)` (the difference form of METHOD.md
 /// §4 with the corrected gradient), the stress rate, and the velocity
-/// gradient itself (pass C reconstructs velocities with it).
+/// gradient itself when pass C reconstructs velocities with it (empty
+/// otherwise).
 pub struct PassB {
     pub drho: Vec<f64>,
     pub ds: Vec<Sym>,
@@ -169,15 +171,18 @@ pub fn density_and_stress_rates(model: &Model, st: &State, nb: &Neighbours, l: &
             (drho, stress_rate(model.material(i).g, &st.s[i], &gv), gv)
         })
         .collect();
+    let keep_gv = model.av_reconstruct;
     let mut out = PassB {
         drho: Vec::with_capacity(per.len()),
         ds: Vec::with_capacity(per.len()),
-        gv: Vec::with_capacity(per.len()),
+        gv: Vec::with_capacity(if keep_gv { per.len() } else { 0 }),
     };
     for (d, s, g) in per {
         out.drho.push(d);
         out.ds.push(s);
-        out.gv.push(g);
+        if keep_gv {
+            out.gv.push(g);
+        }
     }
     out
 }

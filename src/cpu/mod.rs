@@ -84,8 +84,7 @@ pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
     let a = kinematics::correction_and_colour(model, st, &nb);
     let kinematics::PassB { drho, ds, gv } =
         kinematics::density_and_stress_rates(model, st, &nb, &a.l);
-    let surface = kinematics::surface_flags(model, &a.grad_psi);
-    let (mut dv, mut de) = forces::momentum_energy(model, st, &nb, &a.l, &gv, &surface, &pts);
+    let (mut dv, mut de) = forces::momentum_energy(model, st, &nb, &a.l, &gv, &a.surface, &pts);
     let mut diag = Diagnostics {
         cfl_dt: cfl_step(model, st, &pts),
         correction_fallback: a.fallback.len(),
@@ -93,7 +92,7 @@ pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
     };
     let mut heat_rate = 0.0;
     if model.contact {
-        let bd = kinematics::boundary(model, &nb, &a.grad_psi);
+        let bd = kinematics::boundary(model, &nb, &a.grad_psi, a.surface);
         diag.boundary_count = bd.is_boundary.iter().filter(|&&b| b).count();
         let c = contact::penalty(model, st, &nb, &bd);
         for i in 0..model.len() {
