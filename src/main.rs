@@ -1,6 +1,6 @@
 //! The `sphcontact` command line (SCENES.md, "Command line").
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -53,29 +53,32 @@ enum Command {
     },
     /// Run the paper's cases against their exact answers: table, figures
     /// (PNG), the CSV behind every curve and validation.json.
-    Validate {
-        /// Cases to run: bars, steel_aluminium, disks (default: all).
-        cases: Vec<String>,
-        /// Which backend runs the cases (default: the scenes' auto).
-        #[arg(long, value_enum)]
-        backend: Option<BackendArg>,
-        /// Output directory.
-        #[arg(long, default_value = "out/validate")]
-        out: PathBuf,
-        /// Particles per bar (cases bars, steel_aluminium).
-        #[arg(long, default_value_t = 100)]
-        bar_particles: usize,
-        /// Disk radius over particle spacing (case disks).
-        #[arg(long, default_value_t = 50.0)]
-        disk_resolution: f64,
-        /// Instead of the cases: the speed-against-error sweep over
-        /// resolution, on every available backend (or the one --backend names).
-        #[arg(long)]
-        sweep: bool,
-        /// Largest R/Δx of the sweep's disks.
-        #[arg(long, default_value_t = 50.0)]
-        sweep_max_disk_resolution: f64,
-    },
+    Validate(ValidateArgs),
+}
+
+#[derive(Args)]
+struct ValidateArgs {
+    /// Cases to run: bars, steel_aluminium, disks (default: all).
+    cases: Vec<String>,
+    /// Which backend runs the cases (default: the scenes' auto).
+    #[arg(long, value_enum)]
+    backend: Option<BackendArg>,
+    /// Output directory.
+    #[arg(long, default_value = "out/validate")]
+    out: PathBuf,
+    /// Particles per bar (cases bars, steel_aluminium).
+    #[arg(long, default_value_t = 100)]
+    bar_particles: usize,
+    /// Disk radius over particle spacing (case disks).
+    #[arg(long, default_value_t = 50.0)]
+    disk_resolution: f64,
+    /// Instead of the cases: the speed-against-error sweep over
+    /// resolution, on every available backend (or the one --backend names).
+    #[arg(long)]
+    sweep: bool,
+    /// Largest R/Δx of the sweep's disks.
+    #[arg(long, default_value_t = 50.0)]
+    sweep_max_disk_resolution: f64,
 }
 
 fn backend_of(b: BackendArg) -> Backend {
@@ -86,17 +89,24 @@ fn backend_of(b: BackendArg) -> Backend {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn validate_cmd(
-    cases: Vec<String>,
-    backend: Option<BackendArg>,
-    out: PathBuf,
-    bar_particles: usize,
-    disk_resolution: f64,
-    sweep: bool,
-    sweep_max: f64,
-) -> ExitCode {
+/// Exit status and message of a run that failed (SCENES.md: 2 bad input,
+/// 1 the run itself).
+fn failed(e: sphcontact::RunError) -> ExitCode {
+    eprintln!("error: {e}");
+    ExitCode::from(e.exit_code() as u8)
+}
+
+fn validate_cmd(args: ValidateArgs) -> ExitCode {
     use sphcontact::validation as v;
+    let ValidateArgs {
+        cases,
+        backend,
+        out,
+        bar_particles,
+        disk_resolution,
+        sweep,
+        sweep_max_disk_resolution: sweep_max,
+    } = args;
     let bad = |msg: String| {
         eprintln!("error: {msg}");
         ExitCode::from(2)
@@ -166,10 +176,7 @@ fn validate_cmd(
                 eprintln!("sweep written to {}", out.display());
                 ExitCode::SUCCESS
             }
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::from(e.exit_code() as u8)
-            }
+            Err(e) => failed(e),
         };
     }
     let opts = v::Options {
@@ -197,10 +204,7 @@ fn validate_cmd(
             );
             ExitCode::SUCCESS
         }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(e.exit_code() as u8)
-        }
+        Err(e) => failed(e),
     }
 }
 
@@ -223,7 +227,16 @@ fn check(path: &Path, scene: &Scene) {
         sim.dimension, sim.interaction, sim.correction, sim.smoothing_ratio
     );
     let av = scene.viscosity();
-    println!("viscosity   alpha {}, beta {}", av.alpha, av.beta);
+    println!(
+        "viscosity   alpha {}, beta {}, {}",
+        av.alpha,
+        av.beta,
+        if av.reconstruct {
+            "on the reconstructed velocity jump (plain at surfaces)"
+        } else {
+            "plain Monaghan"
+        }
+    );
     println!("particles   {}", model.len());
     for b in &model.bodies {
         let m = &b.material;
@@ -298,23 +311,7 @@ fn check(path: &Path, scene: &Scene) {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Validate {
-            cases,
-            backend,
-            out,
-            bar_particles,
-            disk_resolution,
-            sweep,
-            sweep_max_disk_resolution,
-        } => validate_cmd(
-            cases,
-            backend,
-            out,
-            bar_particles,
-            disk_resolution,
-            sweep,
-            sweep_max_disk_resolution,
-        ),
+        Command::Validate(args) => validate_cmd(args),
         Command::Check { scene } => match load(&scene) {
             Ok(s) => {
                 check(&scene, &s);
@@ -354,10 +351,7 @@ fn main() -> ExitCode {
                     );
                     ExitCode::SUCCESS
                 }
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::from(e.exit_code() as u8)
-                }
+                Err(e) => failed(e),
             }
         }
     }

@@ -14,16 +14,16 @@ use sphcontact::physics::exact::{hertz_c_inertia, hertz_disks, HERTZ_C_JOHNSON};
 use sphcontact::physics::material::MaterialModel;
 use sphcontact::scene::Backend;
 use sphcontact::validation::{
-    bar_errors, convergence_order, disk_errors, disk_scene, DISKS_CONTACT_TIME, DISKS_PEAK_FORCE,
+    bar_observables, convergence_order, disk_observables, disk_scene, DISKS_CONTACT_TIME,
+    DISKS_PEAK_FORCE,
 };
 
 fn rebound(backend: Backend, n: usize) -> f64 {
-    let (run, obs) = bar_errors(n, Some(backend)).expect("bars run");
+    let (run, obs) = bar_observables(n, Some(backend)).expect("bars run");
     // Contact pressure is never tensile (Kuhn–Tucker, METHOD.md §8.3).
     let p = run.col("contact_pressure");
     assert!(p.iter().all(|&x| x >= 0.0), "tensile contact pressure");
-    let (_, exact, measured) = &obs[0];
-    measured / exact
+    obs[0].measured / obs[0].exact
 }
 
 #[test]
@@ -52,9 +52,9 @@ fn bars_rebound_error_converges() {
     let ns = [25usize, 50, 100, 200];
     let mut errs = Vec::new();
     for &n in &ns {
-        let (_, obs) = bar_errors(n, Some(Backend::Cpu)).unwrap();
-        let e = (obs[0].2 / obs[0].1 - 1.0).abs();
-        let plateau = (obs[1].2 / obs[1].1 - 1.0).abs();
+        let (_, obs) = bar_observables(n, Some(Backend::Cpu)).unwrap();
+        let e = obs[0].error().abs();
+        let plateau = obs[1].error().abs();
         println!("N = {n}: rebound error {e:.4}, plateau error {plateau:.4}");
         assert!(plateau < 0.005, "plateau error {plateau} at N = {n}");
         errs.push(e);
@@ -77,11 +77,11 @@ fn convergence_order_of_a_power_law() {
 
 /// Both lattices at R/Δx = 50 meet the 2-D goals.
 fn disks_at_50(lattice: &str) {
-    let (run, obs) = disk_errors(lattice, 50.0, Some(Backend::Cpu)).unwrap();
+    let (run, obs) = disk_observables(lattice, 50.0, Some(Backend::Cpu)).unwrap();
     let steel = MaterialModel::new(&disk_scene(lattice, 50.0).materials["steel"]);
     let johnson = hertz_disks(&steel, 0.005, 10.0, HERTZ_C_JOHNSON);
     let inertia = hertz_disks(&steel, 0.005, 10.0, hertz_c_inertia(steel.nu));
-    let (peak, time, e) = (obs[0].2, obs[1].2, obs[2].2);
+    let (peak, time, e) = (obs[0].measured, obs[1].measured, obs[2].measured);
     println!(
         "{lattice} R/Δx = 50: peak {:.4} MN/m ({:+.2} %), contact {:.3} µs ({:+.2} %), restitution {e:.4}",
         peak / 1e6,
