@@ -94,25 +94,37 @@ fn disks_at_50(lattice: &str) {
         (time / DISKS_CONTACT_TIME - 1.0).abs() < 0.03,
         "contact time {time}"
     );
-    // Inside the quasi-static Hertz bracket (C = 1 stiffer and shorter).
+    // Inside the quasi-static Hertz bracket (C = 1 the softer, longer
+    // bound; the free disk's C the stiffer, shorter one).
     assert!(
-        peak >= inertia.peak_force && peak <= johnson.peak_force,
+        peak >= johnson.peak_force && peak <= inertia.peak_force,
         "peak {peak} outside [{}, {}]",
-        inertia.peak_force,
-        johnson.peak_force
+        johnson.peak_force,
+        inertia.peak_force
     );
     assert!(
-        time >= johnson.contact_time && time <= inertia.contact_time,
+        time >= inertia.contact_time && time <= johnson.contact_time,
         "contact time {time} outside [{}, {}]",
-        johnson.contact_time,
-        inertia.contact_time
+        inertia.contact_time,
+        johnson.contact_time
     );
     assert!((0.95..=1.0).contains(&e), "restitution {e}");
-    // Never tension between the bodies, and the force starts at once.
+    // Never tension between the bodies, and the force starts as soon as
+    // the discrete surfaces meet: on the square lattice they start apart by
+    // at most the sagitta of a chord of 2Δx on each disk, 2 (2Δx)²/(8R),
+    // closed at 10 m/s; allow one history row on top. (The paper's contact
+    // test rejected the first facet pairs and started 0.3–0.6 µs late.)
     let f = run.col("contact_force");
     assert!(f.iter().all(|&x| x >= 0.0), "tensile contact force");
     let (t0, _) = contact_window(run.times(), &f);
-    assert!(t0 < 0.05e-6, "contact starts late: {t0}");
+    let (dx, radius) = (0.005 / 50.0, 0.005);
+    let late = 2.0 * (2.0 * dx) * (2.0 * dx) / (8.0 * radius) / 10.0;
+    let row = run.times()[1];
+    println!(
+        "{lattice}: contact starts at {t0:e} s (bound {:e} s)",
+        late + row
+    );
+    assert!(t0 <= late + row, "contact starts late: {t0}");
     // Momentum: round-off.
     let s = &run.out.summary;
     let mass: f64 = s.bodies.iter().map(|b| b.mass).sum();
