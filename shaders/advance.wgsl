@@ -9,12 +9,14 @@
 @group(0) @binding(16) var<storage, read> dr: array<vec2<f32>>;
 @group(0) @binding(17) var<storage, read> ds: array<vec4<f32>>;
 @group(0) @binding(18) var<storage, read> dv: array<vec2<f32>>;
+@group(0) @binding(21) var<storage, read> cshare: array<vec4<f32>>;
 @group(0) @binding(23) var<storage, read> cheat: array<f32>;
 @group(0) @binding(30) var<storage, read_write> u_w: array<vec2<f32>>;
 @group(0) @binding(31) var<storage, read_write> v_w: array<vec2<f32>>;
 @group(0) @binding(32) var<storage, read_write> r_w: array<vec2<f32>>;
 @group(0) @binding(33) var<storage, read_write> s_w: array<vec4<f32>>;
-@group(0) @binding(34) var<storage, read_write> qheat_w: array<f32>;
+// Per particle: (dashpot heat booked, spring work of its own passes).
+@group(0) @binding(34) var<storage, read_write> qheat_w: array<vec2<f32>>;
 @group(0) @binding(35) var<storage, read> vm: array<vec2<f32>>;
 
 fn plastic_return(sn: vec4<f32>, b: Body) -> vec4<f32> {
@@ -71,6 +73,11 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     let b = bodies[pinfo[i].z];
     let un = u_w[i] + vm[i] * dt;
     u_w[i] = un;
+    if (CONTACT) {
+        // A rigid particle books no heat (cheat is 0) but its passes' springs
+        // still do work.
+        qheat_w[i] = qheat_w[i] + vec2<f32>(cheat[i], cshare[i].w) * dt;
+    }
     if (b.rigid != 0u) {
         return;
     }
@@ -79,9 +86,6 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     v_w[i] = vn;
     r_w[i] = rn;
     s_w[i] = plastic_return(s_w[i] + ds[i] * dt, b);
-    if (CONTACT) {
-        qheat_w[i] = qheat_w[i] + cheat[i] * dt;
-    }
     let xn = x0[i].zw + un;
     if (!(finite(xn.x) && finite(xn.y))) {
         fail(i, 0u);

@@ -185,7 +185,8 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         eta = heat / sw;
     }
     cown[p] = vec4<f32>(-n * (0.5 * pres * a), own_heat, f32(partner));
-    cshare[p] = vec4<f32>(n * (0.5 * pres * a / sw), eta, 0.0);
+    // w: the spring power 1/2 k delta A w of this pass (the spring-work ledger).
+    cshare[p] = vec4<f32>(n * (0.5 * pres * a / sw), eta, 0.5 * stiffness * delta * a * w_rate);
     cstat[p] = vec4<f32>(0.5 * pres * a, pres, stored, heat);
 }
 

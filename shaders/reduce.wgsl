@@ -10,7 +10,7 @@
 @group(0) @binding(14) var<storage, read> sr2c: array<vec4<f32>>;
 @group(0) @binding(20) var<storage, read> cown: array<vec4<f32>>;
 @group(0) @binding(22) var<storage, read> cstat: array<vec4<f32>>;
-@group(0) @binding(24) var<storage, read> qheat: array<f32>;
+@group(0) @binding(24) var<storage, read> qheat: array<vec2<f32>>;
 @group(0) @binding(25) var<storage, read_write> red: array<f32>;
 @group(0) @binding(26) var<storage, read_write> ring: array<f32>;
 @group(0) @binding(27) var<storage, read> slots: array<vec4<u32>>;
@@ -152,7 +152,7 @@ fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
             return 0.0;
         }
         case 8u: { return cstat[i].z; }
-        default: { return qheat[i]; }
+        default: { return qheat[i].x; }
     }
 }
 

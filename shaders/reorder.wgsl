@@ -5,7 +5,7 @@
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
 @group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
-@group(0) @binding(24) var<storage, read> qheat: array<f32>;
+@group(0) @binding(24) var<storage, read> qheat: array<vec2<f32>>;
 @group(0) @binding(29) var<storage, read_write> slot_of: array<u32>;
 @group(0) @binding(40) var<storage, read_write> t_x0: array<vec4<f32>>;
 @group(0) @binding(41) var<storage, read_write> t_u: array<vec2<f32>>;
@@ -13,7 +13,7 @@
 @group(0) @binding(43) var<storage, read_write> t_r: array<vec2<f32>>;
 @group(0) @binding(44) var<storage, read_write> t_s: array<vec4<f32>>;
 @group(0) @binding(45) var<storage, read_write> t_pinfo: array<vec4<u32>>;
-@group(0) @binding(46) var<storage, read_write> t_qheat: array<f32>;
+@group(0) @binding(46) var<storage, read_write> t_qheat: array<vec2<f32>>;
 
 @compute @workgroup_size(WG)
 fn permute(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {

@@ -61,6 +61,11 @@ pub struct State {
     /// Cumulative dashpot heat (already booked into `e`), J (per unit area
     /// in 1-D, per unit thickness in 2-D).
     pub heat: f64,
+    /// Cumulative work the contact forces' spring part absorbed,
+    /// `∫ Σ ½ k δ A w dt` (METHOD.md §8.3). On a conservative spring it
+    /// equals the stored energy `Σ ¼ k δ² A`; the difference is the energy
+    /// the discrete spring lost ([`crate::probe::Energies::spring_loss`]).
+    pub spring_work: f64,
 }
 
 impl Model {
@@ -99,6 +104,7 @@ impl Model {
             e: vec![0.0; n],
             s: vec![Default::default(); n],
             heat: 0.0,
+            spring_work: 0.0,
         };
         for (bi, (b, p)) in scene.bodies.iter().zip(&placed).enumerate() {
             let material = MaterialModel::new(&scene.materials[&b.material]);

@@ -345,6 +345,7 @@ pub fn run_scene(
         momentum_final: vec_of(probe::momentum(model, st), dim),
         energy_initial: e0,
         energy_final: probe::energies(model, st, &final_diag).total(),
+        energy_spring_loss: st.spring_work - (stored.1 - stored.0),
         bodies: (0..model.bodies.len())
             .map(|b| {
                 let (m, mv, _, _) = probe::body_means(model, st, b);

@@ -47,6 +47,14 @@ fn check_lattice(path: &str) {
         "restitution {restitution}"
     );
     assert!(column(&out, "contact_pressure").iter().all(|&p| p >= 0.0));
+    // The discrete spring is not exactly conservative (its gap is not the
+    // time integral of the relative normal velocity on a curved face): at
+    // R/Δx = 25 it loses 0.7 % of the impact energy (polar lattice,
+    // measured), and 0.08 % at R/Δx = 50 (tests/validation.rs).
+    let s = &out.summary;
+    let loss = s.energy_spring_loss / s.energy_initial;
+    println!("{path}: spring loss {loss:.3e} of the impact energy");
+    assert!(loss < 1e-2, "the penalty spring lost {loss:e} of the energy");
 }
 
 #[test]
@@ -63,13 +71,19 @@ fn disks_polar_lattice() {
 /// stress-free. On the square lattice the facet gap is positive and nothing
 /// moves at all; on the polar lattice the interpolated partner surface is
 /// exact to second order in the angle it spans, and the residual overlap
-/// (≈ 1e-9 m, 5e-6 Δx) gives a drift of 2.2e-4 m/s over 2 µs (2e-5 of the
-/// paper's impact speed) and a force of 170 N/m (1.4e-4 of its peak).
+/// (≈ 1e-9 m, 5e-6 Δx) gives a drift of about 2e-4 m/s over 2 µs (2e-5 of
+/// the paper's impact speed). The force it makes is bounded by an overlap
+/// of 1e-5 Δx on the spring of two Δx/2 layers (`k = M/Δx`) over a width of
+/// 2Δx: `2 M · 1e-5 Δx` ≈ 1.1 kN/m, 1e-3 of the impact's peak (measured:
+/// 460 N/m).
 #[test]
 fn disks_at_rest_and_translating() {
+    let polar = load("scenes/paper/disks_polar.toml");
+    let m = material(&polar, "steel").m;
+    let f_polar = 2.0 * m * 1e-5 * polar.bodies[0].spacing;
     for (path, v_tol, f_tol) in [
         ("scenes/paper/disks_square.toml", 1e-9, 1e-9),
-        ("scenes/paper/disks_polar.toml", 5e-4, 2e2),
+        ("scenes/paper/disks_polar.toml", 5e-4, f_polar),
     ] {
         let mut scene = load(path);
         scene.bodies[0].velocity = Some(vec![0.0, 0.0]);

@@ -73,6 +73,8 @@ pub struct ContactStats {
     pub stored: f64,
     /// Total dashpot heat rate.
     pub heat_rate: f64,
+    /// Rate of work absorbed by the springs, `Σ ½ k δ A w` over the passes.
+    pub spring_rate: f64,
 }
 
 impl ContactStats {
@@ -166,6 +168,21 @@ impl PartnerSums {
     }
 }
 
+/// What one pass of P adds to the statistics.
+#[derive(Debug, Clone, Copy)]
+struct PassStat {
+    partner: u32,
+    /// `½ p A`, the pass's share of the pair force.
+    force: f64,
+    pressure: f64,
+    /// `¼ k δ² A`
+    stored: f64,
+    /// Dashpot heat rate `½ (p − kδ) A w`.
+    heat: f64,
+    /// Spring power `½ k δ A w`.
+    spring_rate: f64,
+}
+
 /// One pass of P against partner body `body` from the weighted sums.
 struct Pass {
     p: f64,
@@ -244,7 +261,7 @@ fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) 
 pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> ContactForces {
     let n = model.len();
     // Pass 1: every boundary particle against each partner body around it.
-    type P1 = (DVec2, f64, Vec<Share>, Vec<(u32, f64, f64, f64, f64)>);
+    type P1 = (DVec2, f64, Vec<Share>, Vec<PassStat>);
     let pass1: Vec<P1> = (0..n)
         .into_par_iter()
         .map(|p| {
@@ -305,7 +322,14 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                     q: ps.n * (0.5 * ps.p * a / sw),
                     eta: if rigid { heat / sw } else { 0.0 },
                 });
-                stats.push((bq, 0.5 * ps.p * a, ps.p, stored, heat));
+                stats.push(PassStat {
+                    partner: bq,
+                    force: 0.5 * ps.p * a,
+                    pressure: ps.p,
+                    stored,
+                    heat,
+                    spring_rate: 0.5 * ps.stiffness * ps.delta * a * ps.w_rate,
+                });
             }
             (own_force, own_heat, shares, stats)
         })
@@ -349,10 +373,11 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
         out.force.push(own.0 + g.0);
         out.heat
             .push(if model.rigid(p) { 0.0 } else { own.1 + g.1 });
-        for &(bq, force, pr, stored, heat) in &own.3 {
-            out.stats.add(model.body[p], bq, force, pr);
-            out.stats.stored += stored;
-            out.stats.heat_rate += heat;
+        for s in &own.3 {
+            out.stats.add(model.body[p], s.partner, s.force, s.pressure);
+            out.stats.stored += s.stored;
+            out.stats.heat_rate += s.heat;
+            out.stats.spring_rate += s.spring_rate;
         }
     }
     out

@@ -38,6 +38,8 @@ pub struct Rates {
     pub ds: Vec<Sym>,
     /// Total dashpot heat rate (for the cumulative heat diagnostic).
     pub heat_rate: f64,
+    /// Total spring power (for the spring-work ledger).
+    pub spring_rate: f64,
 }
 
 /// What an evaluation tells about the state it was made at, beyond the rates.
@@ -91,6 +93,7 @@ pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
         ..Default::default()
     };
     let mut heat_rate = 0.0;
+    let mut spring_rate = 0.0;
     if model.contact {
         let bd = kinematics::boundary(model, &nb, &a.grad_psi, a.surface);
         diag.boundary_count = bd.is_boundary.iter().filter(|&&b| b).count();
@@ -102,6 +105,7 @@ pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
             }
         }
         heat_rate = c.stats.heat_rate;
+        spring_rate = c.stats.spring_rate;
         diag.contact = c.stats;
     }
     (
@@ -111,6 +115,7 @@ pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
             de,
             ds,
             heat_rate,
+            spring_rate,
         },
         diag,
     )
@@ -161,6 +166,7 @@ fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &
             *s = ns;
         });
     out.heat = base.heat + r.heat_rate * k;
+    out.spring_work = base.spring_work + r.spring_rate * k;
 }
 
 /// The CPU solver: the state and the evaluation made at it.

@@ -406,7 +406,8 @@ impl GpuSolver {
             make("gradv", 16 * nn, None)?;
         }
         if contact {
-            make("qheat", 4 * nn, Some(bytemuck::cast_slice(&vec![0f32; n])))?;
+            // Per particle: (dashpot heat booked, spring work of its passes).
+            make("qheat", 8 * nn, Some(bytemuck::cast_slice(&vec![0f32; 2 * n])))?;
             make("area", 4 * nn, None)?;
             make("cheat", 4 * nn, None)?;
             for name in ["cown", "cshare", "cstat"] {
@@ -630,7 +631,7 @@ impl GpuSolver {
                     ("t_r", "rm"),
                     ("t_s", "sm"),
                     ("t_pinfo", "ds"),
-                    ("t_qheat", "area"),
+                    ("t_qheat", "cown"),
                 ],
             )?,
             map_slots: kernel("reorder", "map_slots", Size::Particles, &[])?,
@@ -706,7 +707,7 @@ impl GpuSolver {
         copy("sm", "s", 16);
         copy("ds", "pinfo", 16);
         if self.model.contact {
-            copy("area", "qheat", 4);
+            copy("cown", "qheat", 8);
         }
         let mut pass = enc.begin_compute_pass(&Default::default());
         self.k.map_slots.dispatch(&mut pass);
@@ -884,7 +885,7 @@ impl GpuSolver {
             ("ctl", 48),
         ];
         if self.model.contact {
-            names.push(("qheat", 4 * n));
+            names.push(("qheat", 8 * n));
         }
         let d = self.read_buffers(None, &names);
         let x0: &[[f32; 4]] = bytemuck::cast_slice(&d[0]);
@@ -904,6 +905,7 @@ impl GpuSolver {
             e: vec![0.0; n],
             s: vec![Sym::default(); n],
             heat: 0.0,
+            spring_work: 0.0,
         };
         for k in 0..n {
             let i = meta[k][3] as usize;
@@ -924,8 +926,9 @@ impl GpuSolver {
             };
         }
         if self.model.contact {
-            let q: &[f32] = bytemuck::cast_slice(&d[7]);
-            st.heat = q.iter().map(|&x| x as f64).sum();
+            let q: &[[f32; 2]] = bytemuck::cast_slice(&d[7]);
+            st.heat = q.iter().map(|x| x[0] as f64).sum();
+            st.spring_work = q.iter().map(|x| x[1] as f64).sum();
         }
         (st, ctl)
     }

@@ -102,8 +102,8 @@ pub struct BodySummary {
     pub velocity_final: Vec<f64>,
 }
 
-/// `summary.json` (SCENES.md): the contract's keys, plus `status`, `error`
-/// and `time_reached`.
+/// `summary.json` (SCENES.md): the contract's keys, plus `status`, `error`,
+/// `time_reached` and `energy_spring_loss`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
     pub scene: String,
@@ -120,6 +120,10 @@ pub struct Summary {
     pub momentum_final: Vec<f64>,
     pub energy_initial: f64,
     pub energy_final: f64,
+    /// Work the penalty springs absorbed and did not store (J per unit area
+    /// in 1-D, per unit thickness in 2-D): the energy the discrete contact
+    /// lost, which `energy_final` does not count. 0 without contact.
+    pub energy_spring_loss: f64,
     pub bodies: Vec<BodySummary>,
     pub warnings: Vec<String>,
     /// "completed" or "failed".
