@@ -158,11 +158,12 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         }
     }
     let gap = 0.5 * (chord + swt / sw);
-    if (gap > 0.0) {
+    // Round-off counts as touching (CPU twin: cpu::contact::touching).
+    if (gap > 1e-5 * bodyp.spacing) {
         cown[p] = vec4<f32>(0.0, 0.0, 0.0, f32(partner));
         return;
     }
-    let delta = -gap;
+    let delta = max(-gap, 0.0);
     let w_rate = dot(vrel, n);
     let bodyq = bodies[partner];
     let pr = bodyp.rigid != 0u;
