@@ -54,7 +54,10 @@ fn check_lattice(path: &str) {
     let s = &out.summary;
     let loss = s.energy_spring_loss / s.energy_initial;
     println!("{path}: spring loss {loss:.3e} of the impact energy");
-    assert!(loss < 1e-2, "the penalty spring lost {loss:e} of the energy");
+    assert!(
+        loss < 1e-2,
+        "the penalty spring lost {loss:e} of the energy"
+    );
 }
 
 #[test]

@@ -8,6 +8,7 @@
 //! between 0.95 and 1; contact pressure never tensile in contact mode.
 
 mod common;
+use common::assert_conserved;
 
 use sphcontact::output::contact_window;
 use sphcontact::physics::exact::{hertz_c_inertia, hertz_disks, HERTZ_C_JOHNSON};
@@ -132,7 +133,10 @@ fn disks_at_50(lattice: &str) {
     let s = &run.out.summary;
     let loss = s.energy_spring_loss / s.energy_initial;
     println!("{lattice}: spring loss {loss:.3e} of the impact energy");
-    assert!(loss < 2e-3, "the penalty spring lost {loss:e} of the energy");
+    assert!(
+        loss < 2e-3,
+        "the penalty spring lost {loss:e} of the energy"
+    );
     // Momentum: round-off.
     let mass: f64 = s.bodies.iter().map(|b| b.mass).sum();
     assert!((s.momentum_final[0] - s.momentum_initial[0]).abs() < 1e-9 * mass * 5.0);

@@ -407,7 +407,11 @@ impl GpuSolver {
         }
         if contact {
             // Per particle: (dashpot heat booked, spring work of its passes).
-            make("qheat", 8 * nn, Some(bytemuck::cast_slice(&vec![0f32; 2 * n])))?;
+            make(
+                "qheat",
+                8 * nn,
+                Some(bytemuck::cast_slice(&vec![0f32; 2 * n])),
+            )?;
             make("area", 4 * nn, None)?;
             make("cheat", 4 * nn, None)?;
             for name in ["cown", "cshare", "cstat"] {
