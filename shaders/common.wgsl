@@ -260,6 +260,18 @@ fn sph_pair(i: u32, j: u32, hi: f32, body_j: u32) -> Pair {
     return Pair(d, dist, hij, gw, inside);
 }
 
+// The SPH pair (i, j) for j = blist[k] of scanned cell `cell`; `inside` is
+// false when j is i, lies in another cell of the same bucket, or (with
+// contact on) belongs to another body: bodies then meet only through the
+// contact force. Every SPH sum scans its neighbours through this filter.
+fn body_pair(i: u32, j: u32, cell: vec2<i32>, hi: f32, bi: u32) -> Pair {
+    let bj = pinfo[j].z;
+    if (j == i || any(cellc[j] != cell) || (CONTACT && bj != bi)) {
+        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false);
+    }
+    return sph_pair(i, j, hi, bj);
+}
+
 // The cell a particle is in now: its reference cell plus whole cells moved.
 fn current_cell(i: u32) -> vec2<i32> {
     let a = x0[i];

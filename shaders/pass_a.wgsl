@@ -61,18 +61,11 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         let span = cell_span(ci, c);
         for (var k = span.start; k < span.end; k++) {
             let j = blist[k];
-            if (j == i || any(cellc[j] != span.cell)) {
-                continue;
-            }
-            let mj = pinfo[j];
-            if (CONTACT && mj.z != bi) {
-                continue;
-            }
-            let pr = sph_pair(i, j, hi, mj.z);
+            let pr = body_pair(i, j, span.cell, hi, bi);
             if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }
-            let vj = volume(j, mj);
+            let vj = volume(j, pinfo[j]);
             m += outer(pr.gw * vj, -pr.d);
             gpsi -= pr.gw * vj;
         }
@@ -133,18 +126,11 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         let span = cell_span(ci, c);
         for (var k = span.start; k < span.end; k++) {
             let j = blist[k];
-            if (j == i || any(cellc[j] != span.cell)) {
-                continue;
-            }
-            let mj = pinfo[j];
-            if (CONTACT && mj.z != bi) {
-                continue;
-            }
-            let pr = sph_pair(i, j, hi, mj.z);
+            let pr = body_pair(i, j, span.cell, hi, bi);
             if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }
-            let vj = volume(j, mj);
+            let vj = volume(j, pinfo[j]);
             gv += outer((v[j] - vi) * vj, mat_mul(l, pr.gw));
         }
     }

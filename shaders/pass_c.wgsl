@@ -72,17 +72,11 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         let span = cell_span(ci, c);
         for (var k = span.start; k < span.end; k++) {
             let j = blist[k];
-            if (j == i || any(cellc[j] != span.cell)) {
-                continue;
-            }
-            let mj = pinfo[j];
-            if (CONTACT && mj.z != bi) {
-                continue;
-            }
-            let pr = sph_pair(i, j, hi, mj.z);
+            let pr = body_pair(i, j, span.cell, hi, bi);
             if (!pr.inside) {
                 continue;
             }
+            let mj = pinfo[j];
             let hij = pr.hij;
             let dist = pr.dist;
             if (boundary && nbo[j].z > 0.0) {

@@ -861,7 +861,7 @@ fn disks(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
         // The ledger: bodies' energy plus what the discrete spring lost
         // against the start; the loss itself falls with resolution
         // (0.7 % at R/Δx = 25, 0.08 % at 50 on the polar lattice).
-        let balance = (s.energy_final + s.energy_spring_loss) / s.energy_initial - 1.0;
+        let balance = s.energy_balance();
         rep.add(
             &case,
             "energy balance incl. spring loss (relative)",

@@ -132,6 +132,13 @@ pub struct Summary {
 }
 
 impl Summary {
+    /// The energy ledger's closure, relative to the start: what the bodies
+    /// hold plus what the discrete penalty spring lost, against what they
+    /// started with. What is left is the time integration's error.
+    pub fn energy_balance(&self) -> f64 {
+        (self.energy_final + self.energy_spring_loss) / self.energy_initial - 1.0
+    }
+
     pub fn write(&self, dir: &Path) -> Result<(), RunError> {
         let path = dir.join("summary.json");
         let text = serde_json::to_string_pretty(self).expect("a summary always serialises");

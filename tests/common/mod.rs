@@ -103,8 +103,7 @@ pub fn assert_conserved(scene: &Scene, out: &RunOutput) {
     // penalty spring lost (reported, and bounded by the tests that make
     // contact) is what they started with, up to the time integration.
     if s.energy_initial > 0.0 {
-        let drift =
-            (s.energy_final + s.energy_spring_loss - s.energy_initial).abs() / s.energy_initial;
+        let drift = s.energy_balance().abs();
         assert!(drift < 5e-3, "energy drift {drift:e}");
         assert!(
             s.energy_spring_loss >= -1e-3 * s.energy_initial,
