@@ -251,6 +251,40 @@ impl CpuSolver {
         Ok(dt)
     }
 
+    /// Bytes of host memory the solver holds for its particles: the model's
+    /// per-particle constants, the three states (current, midpoint, next)
+    /// and the rates and neighbour lists of the current evaluation.
+    pub fn memory_bytes(&self) -> u64 {
+        use std::mem::size_of_val;
+        let m = &self.model;
+        let model = size_of_val(&m.mass[..])
+            + size_of_val(&m.h[..])
+            + size_of_val(&m.body[..])
+            + size_of_val(&m.offset[..]);
+        let state = |s: &State| {
+            size_of_val(&s.x[..])
+                + size_of_val(&s.v[..])
+                + size_of_val(&s.rho[..])
+                + size_of_val(&s.e[..])
+                + size_of_val(&s.s[..])
+        };
+        let states = state(&self.state) + state(&self.scratch) + state(&self.spare);
+        let rates = self.current.as_ref().map_or(0, |(r, _)| {
+            size_of_val(&r.dv[..])
+                + size_of_val(&r.drho[..])
+                + size_of_val(&r.de[..])
+                + size_of_val(&r.ds[..])
+        });
+        // The neighbour lists are rebuilt inside each evaluation: count one
+        // set at the current positions.
+        let nb = neighbours::find(m, &self.state.x);
+        let lists = size_of_val(&nb.list[..])
+            + size_of_val(&nb.start[..])
+            + size_of_val(&nb.cross[..])
+            + size_of_val(&nb.cross_start[..]);
+        (model + states + rates + lists) as u64
+    }
+
     fn instability(&self, i: usize, quantity: &str, value: f64) -> Instability {
         let (body, particle) = self.model.locate(i);
         Instability {

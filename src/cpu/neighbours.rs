@@ -122,6 +122,17 @@ pub fn pair_kernel(dim: usize, xi: DVec2, xj: DVec2, hij: f64) -> (f64, DVec2, f
     (w, gw, r)
 }
 
+/// Mean number of neighbours per particle within `2 h_ij` at positions `x`
+/// (SPH partners and other-body contact candidates together): the work
+/// measure that goes with a throughput figure.
+pub fn mean_neighbours(model: &Model, x: &[DVec2]) -> f64 {
+    if x.is_empty() {
+        return 0.0;
+    }
+    let nb = find(model, x);
+    (nb.list.len() + nb.cross.len()) as f64 / x.len() as f64
+}
+
 /// Build the neighbour lists of every particle.
 pub fn find(model: &Model, x: &[DVec2]) -> Neighbours {
     let h_max = model.h.iter().cloned().fold(0.0, f64::max);
