@@ -67,6 +67,17 @@ impl Mat2 {
         })
     }
 
+    /// `self · bᵀ`.
+    #[inline]
+    pub fn mul_transpose(&self, b: &Mat2) -> Mat2 {
+        Mat2 {
+            xx: self.xx * b.xx + self.xy * b.xy,
+            xy: self.xx * b.yx + self.xy * b.yy,
+            yx: self.yx * b.xx + self.yy * b.xy,
+            yy: self.yx * b.yx + self.yy * b.yy,
+        }
+    }
+
     #[inline]
     pub fn scale(&self, s: f64) -> Mat2 {
         Mat2 {

@@ -57,11 +57,10 @@ fn kernel_gradient_is_antisymmetric() {
     let nb = neighbours::find(&model, &st.x);
     let mut checked = 0;
     for i in 0..model.len() {
-        for b in nb.of(i) {
+        for b in nb.of(&model, &st.x, i) {
             let j = b.j as usize;
             let back = nb
-                .of(j)
-                .iter()
+                .of(&model, &st.x, j)
                 .find(|c| c.j as usize == i)
                 .expect("symmetric lists");
             assert_eq!(b.gw, -back.gw, "pair ({i}, {j})");
@@ -88,11 +87,11 @@ fn corrected_gradient_reproduces_linear_fields() {
             st.v[i] = a.mul_vec(st.x[i]) + DVec2::new(4.0, -2.0);
         }
         let nb = neighbours::find(&model, &st.x);
-        let pa = kinematics::correction_and_colour(&model, &st, &nb);
+        let pa = kinematics::kinematics(&model, &st, &nb);
         assert!(pa.fallback.is_empty());
         let mut worst: f64 = 0.0;
         for i in 0..model.len() {
-            let g = kinematics::velocity_gradient(&model, &st, &nb, &pa.l[i], i);
+            let g = pa.gv[i];
             for (x, y) in [(g.xx, a.xx), (g.xy, a.xy), (g.yx, a.yx), (g.yy, a.yy)] {
                 worst = worst.max((x - y).abs() / 3.0);
             }
@@ -101,10 +100,10 @@ fn corrected_gradient_reproduces_linear_fields() {
 
         // Uncorrected, the surface particles are badly off: the test can fail.
         let (model_n, _) = scene(2, shape, "none");
-        let pn = kinematics::correction_and_colour(&model_n, &st, &nb);
+        let pn = kinematics::kinematics(&model_n, &st, &nb);
         let mut worst_n: f64 = 0.0;
         for i in 0..model.len() {
-            let g = kinematics::velocity_gradient(&model_n, &st, &nb, &pn.l[i], i);
+            let g = pn.gv[i];
             worst_n = worst_n.max((g.xx - a.xx).abs() / 3.0);
         }
         assert!(
@@ -128,9 +127,9 @@ shape = { kind = "segment", from = -0.001, to = 0.002 }
         st.v[i] = DVec2::new(-7.0 * st.x[i].x + 1.0, 0.0);
     }
     let nb = neighbours::find(&model, &st.x);
-    let pa = kinematics::correction_and_colour(&model, &st, &nb);
+    let pa = kinematics::kinematics(&model, &st, &nb);
     for i in 0..model.len() {
-        let g = kinematics::velocity_gradient(&model, &st, &nb, &pa.l[i], i);
+        let g = pa.gv[i];
         assert!((g.xx + 7.0).abs() < 1e-10 * 7.0, "particle {i}: {}", g.xx);
     }
 }
@@ -142,8 +141,8 @@ fn normal_errors_deg(
     truth: impl Fn(DVec2) -> Option<DVec2>,
 ) -> (usize, f64, f64) {
     let nb = neighbours::find(model, &st.x);
-    let pa = kinematics::correction_and_colour(model, st, &nb);
-    let bd = kinematics::boundary(model, &nb, &pa.grad_psi, pa.surface.clone());
+    let pa = kinematics::kinematics(model, st, &nb);
+    let bd = kinematics::boundary(model, &st.x, &nb, &pa.grad_psi, pa.surface.clone());
     let mut worst: f64 = 0.0;
     let mut sum = 0.0;
     let mut n = 0;

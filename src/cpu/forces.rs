@@ -65,8 +65,8 @@ pub fn reconstructed_jump(vij: DVec2, xij: DVec2, gv_i: &Mat2, gv_j: &Mat2) -> D
     if si * sj <= 0.0 {
         return vij;
     }
-    let r = si / sj;
-    let phi = (4.0 * r / ((1.0 + r) * (1.0 + r))).min(1.0);
+    // 4r/(1+r)² with r = si/sj, in one division.
+    let phi = (4.0 * si * sj / ((si + sj) * (si + sj))).min(1.0);
     vij - (di + dj) * (0.5 * phi)
 }
 
@@ -85,8 +85,10 @@ pub fn viscosity_pi(
     if vx >= 0.0 {
         return 0.0;
     }
-    let mu = hij * vx / (xij.length_squared() + 0.01 * hij * hij);
-    (-alpha * c_mean * mu + beta * mu * mu) / rho_mean
+    // μ = h v·x / D, Π = (−α c̄ μ + β μ²)/ρ̄, in one division.
+    let d = xij.length_squared() + 0.01 * hij * hij;
+    let hv = hij * vx;
+    hv * (-alpha * c_mean * d + beta * hv) / (d * d * rho_mean)
 }
 
 /// Pass C: `dv_i/dt` and `de_i/dt` from the SPH sums.
@@ -109,7 +111,7 @@ pub fn momentum_energy(
             let pi_ = &pts[i];
             let mut dv = DVec2::ZERO;
             let mut de = 0.0;
-            for b in nb.of(i) {
+            for b in nb.of(model, &st.x, i) {
                 let j = b.j as usize;
                 let pj = &pts[j];
                 let hij = 0.5 * (model.h[i] + model.h[j]);

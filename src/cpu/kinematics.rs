@@ -1,6 +1,6 @@
-//! Kinematic passes: the correction matrix and colour gradient (pass A), then
-//! the boundary set and area, the velocity gradient, continuity and the
-//! deviatoric stress rate (pass B).
+//! Kinematic pass: the correction matrix, the colour gradient, the velocity
+//! gradient, continuity and the deviatoric stress rate in one walk over the
+//! neighbours (METHOD.md §5, §6, §8.1); then the boundary set and area.
 
 use glam::DVec2;
 use rayon::prelude::*;
@@ -15,9 +15,9 @@ use crate::scene::Correction;
 /// dimensionless and ≈ I inside a body, ≈ ½ at a face, ≈ ¼ at a corner.
 pub const CORRECTION_MIN_DET: f64 = 1e-3;
 
-/// Output of pass A.
+/// Output of the kinematic pass.
 #[derive(Debug, Clone, Default)]
-pub struct PassA {
+pub struct Kinematics {
     /// Correction matrix `L_i` (METHOD.md §5); identity without correction.
     pub l: Vec<Mat2>,
     /// Particles whose `M_i` could not be inverted and fell back to `L = I`.
@@ -28,49 +28,98 @@ pub struct PassA {
     /// §8.1): the contact's boundary set, and where the viscosity keeps the
     /// plain velocity jump.
     pub surface: Vec<bool>,
+    /// Corrected velocity gradient `∇v_i` (zero on rigid particles).
+    pub gv: Vec<Mat2>,
+    /// Continuity `dρ/dt = −ρ tr(∇v)` (the difference form of METHOD.md §4
+    /// with the corrected gradient).
+    pub drho: Vec<f64>,
+    /// Deviatoric stress rate ([`stress_rate`]).
+    pub ds: Vec<Sym>,
 }
 
-/// Pass A: `L_i = [Σ_j V_j ∇_i W_ij ⊗ (x_j − x_i)]⁻¹` and `(∇ψ)_i`.
-pub fn correction_and_colour(model: &Model, st: &State, nb: &Neighbours) -> PassA {
+/// One particle's result of the kinematic pass.
+struct Point {
+    l: Mat2,
+    ok: bool,
+    gpsi: DVec2,
+    gv: Mat2,
+}
+
+/// The kinematic pass at `st`.
+///
+/// `L_i = [Σ_j V_j ∇_i W_ij ⊗ (x_j − x_i)]⁻¹`, `(∇ψ)_i`, and the velocity
+/// gradient `∇v_i = Σ_j V_j (v_j − v_i) ⊗ ∇̃_i W_ij` with `∇̃ = L_i ∇`.
+/// Because `L_i` is particle i's own, `∇v_i = [Σ_j V_j (v_j − v_i) ⊗
+/// ∇_i W_ij] L_iᵀ`: the uncorrected sum is gathered in the same walk as
+/// `M_i` and corrected once at the end, so one pass over the neighbours
+/// serves what would otherwise take two.
+pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
     let corrected = model.correction == Correction::Gradient;
-    let per: Vec<(Mat2, bool, DVec2)> = (0..model.len())
+    let vol: Vec<f64> = (0..model.len())
+        .into_par_iter()
+        .map(|j| model.mass[j] / st.rho[j])
+        .collect();
+    let per: Vec<Point> = (0..model.len())
         .into_par_iter()
         .map(|i| {
             let mut m = Mat2::ZERO;
             let mut gpsi = DVec2::ZERO;
-            for b in nb.of(i) {
+            let mut gsum = Mat2::ZERO;
+            let (xi, vi) = (st.x[i], st.v[i]);
+            for b in nb.of(model, &st.x, i) {
                 let j = b.j as usize;
-                let vj = model.mass[j] / st.rho[j];
-                m += Mat2::outer(b.gw * vj, st.x[j] - st.x[i]);
-                gpsi -= b.gw * vj;
+                let gwv = b.gw * vol[j];
+                m += Mat2::outer(gwv, st.x[j] - xi);
+                gsum += Mat2::outer(st.v[j] - vi, gwv);
+                gpsi -= gwv;
             }
-            if !corrected {
-                return (Mat2::IDENTITY, true, gpsi);
-            }
-            if model.dim == 1 {
-                // 1-D: L is the scalar 1/M_xx; keep the unused yy entry neutral.
-                m.yy = 1.0;
-            }
-            match m.inverse(CORRECTION_MIN_DET) {
-                Some(l) => (l, true, gpsi),
-                None => (Mat2::IDENTITY, false, gpsi),
-            }
+            let (l, ok) = if !corrected {
+                (Mat2::IDENTITY, true)
+            } else {
+                if model.dim == 1 {
+                    // 1-D: L is the scalar 1/M_xx; keep the unused yy entry neutral.
+                    m.yy = 1.0;
+                }
+                match m.inverse(CORRECTION_MIN_DET) {
+                    Some(l) => (l, true),
+                    None => (Mat2::IDENTITY, false),
+                }
+            };
+            let gv = if model.rigid(i) {
+                Mat2::ZERO
+            } else {
+                gsum.mul_transpose(&l)
+            };
+            Point { l, ok, gpsi, gv }
         })
         .collect();
-    let mut out = PassA {
-        l: Vec::with_capacity(per.len()),
+    let n = per.len();
+    let mut out = Kinematics {
+        l: Vec::with_capacity(n),
         fallback: Vec::new(),
-        grad_psi: Vec::with_capacity(per.len()),
-        surface: Vec::with_capacity(per.len()),
+        grad_psi: Vec::with_capacity(n),
+        surface: Vec::with_capacity(n),
+        gv: Vec::with_capacity(n),
+        drho: Vec::with_capacity(n),
+        ds: Vec::with_capacity(n),
     };
-    for (i, (l, ok, g)) in per.into_iter().enumerate() {
-        out.l.push(l);
+    for (i, p) in per.into_iter().enumerate() {
+        out.l.push(p.l);
         out.surface
-            .push(model.h[i] * g.length() > model.boundary_threshold);
-        out.grad_psi.push(g);
-        if !ok {
+            .push(model.h[i] * p.gpsi.length() > model.boundary_threshold);
+        out.grad_psi.push(p.gpsi);
+        if !p.ok {
             out.fallback.push(i as u32);
         }
+        if model.rigid(i) {
+            out.drho.push(0.0);
+            out.ds.push(Sym::default());
+        } else {
+            out.drho.push(-st.rho[i] * p.gv.trace());
+            out.ds
+                .push(stress_rate(model.material(i).g, &st.s[i], &p.gv));
+        }
+        out.gv.push(p.gv);
     }
     out
 }
@@ -86,9 +135,10 @@ pub struct Boundary {
 
 /// `n_i = ∇ψ/|∇ψ|` for the boundary set of pass A ([`PassA::surface`]), and
 /// `A_i = (15/(7π h)) / Σ_j W_ij` over the body's boundary particles, self
-/// included (METHOD.md §8.4, "Contact area").
+/// included (METHOD.md §8.4, "Contact area"), at positions `x`.
 pub fn boundary(
     model: &Model,
+    x: &[DVec2],
     nb: &Neighbours,
     grad_psi: &[DVec2],
     is_boundary: Vec<bool>,
@@ -106,7 +156,7 @@ pub fn boundary(
             }
             let h = model.h[i];
             let mut sw = kernel::w(2, 0.0, h);
-            for b in nb.of(i) {
+            for b in nb.of(model, x, i) {
                 if is_boundary[b.j as usize] {
                     sw += b.w;
                 }
@@ -119,18 +169,6 @@ pub fn boundary(
         is_boundary,
         area,
     }
-}
-
-/// Velocity gradient `∇v_i = Σ_j V_j (v_j − v_i) ⊗ ∇̃_i W_ij` (METHOD.md §6).
-#[inline]
-pub fn velocity_gradient(model: &Model, st: &State, nb: &Neighbours, l: &Mat2, i: usize) -> Mat2 {
-    let mut g = Mat2::ZERO;
-    for b in nb.of(i) {
-        let j = b.j as usize;
-        let vj = model.mass[j] / st.rho[j];
-        g += Mat2::outer((st.v[j] - st.v[i]) * vj, l.mul_vec(b.gw));
-    }
-    g
 }
 
 /// Jaumann-rate hypoelastic deviatoric stress rate (METHOD.md §6):
@@ -147,42 +185,4 @@ pub fn stress_rate(g_mod: f64, s: &Sym, gv: &Mat2) -> Sym {
         xy: 2.0 * g_mod * exy + w * (s.yy - s.xx),
         zz: -2.0 * g_mod * tr3,
     }
-}
-
-/// Pass B: continuity `dρ/dt = −ρ tr(∇v)` (the difference form of METHOD.md
-/// §4 with the corrected gradient), the stress rate, and the velocity
-/// gradient itself when pass C reconstructs velocities with it (empty
-/// otherwise).
-pub struct PassB {
-    pub drho: Vec<f64>,
-    pub ds: Vec<Sym>,
-    pub gv: Vec<Mat2>,
-}
-
-pub fn density_and_stress_rates(model: &Model, st: &State, nb: &Neighbours, l: &[Mat2]) -> PassB {
-    let per: Vec<(f64, Sym, Mat2)> = (0..model.len())
-        .into_par_iter()
-        .map(|i| {
-            if model.rigid(i) {
-                return (0.0, Sym::default(), Mat2::default());
-            }
-            let gv = velocity_gradient(model, st, nb, &l[i], i);
-            let drho = -st.rho[i] * gv.trace();
-            (drho, stress_rate(model.material(i).g, &st.s[i], &gv), gv)
-        })
-        .collect();
-    let keep_gv = model.av_reconstruct;
-    let mut out = PassB {
-        drho: Vec::with_capacity(per.len()),
-        ds: Vec::with_capacity(per.len()),
-        gv: Vec::with_capacity(if keep_gv { per.len() } else { 0 }),
-    };
-    for (d, s, g) in per {
-        out.drho.push(d);
-        out.ds.push(s);
-        if keep_gv {
-            out.gv.push(g);
-        }
-    }
-    out
 }

@@ -85,26 +85,103 @@ pub struct Nbr {
     pub gw: DVec2,
 }
 
-/// Neighbour lists in compressed rows.
+/// Candidate neighbours in compressed rows: every particle within
+/// `2 h_ij + skin` of particle i when the lists were built.
+///
+/// The kernel values are not stored: a pass computes `W_ij` and `∇_i W_ij`
+/// from the current positions as it walks a row ([`Neighbours::of`]). Stored
+/// pairs cost 32 bytes each, written once and read by every pass of every
+/// evaluation, and at 10⁵ particles that traffic alone (≈ 60 MB per
+/// evaluation) took longer than the arithmetic it saved. Four bytes per pair
+/// plus the kernel recomputed in registers is what the GPU path does too.
+///
+/// With a skin the lists stay valid while no particle has moved more than
+/// half the skin from where it was when they were built (a pair can then
+/// close by at most the skin), so a solver rebuilds them only every many
+/// steps ([`Neighbours::still_valid`]); the true pairs are exactly the
+/// candidates closer than `2 h_ij`, whatever the skin.
 #[derive(Debug, Clone, Default)]
 pub struct Neighbours {
-    /// SPH partners (same body in penalty mode, everyone in kernel mode).
-    pub start: Vec<usize>,
-    pub list: Vec<Nbr>,
-    /// Particles of other bodies within `2 h_ij` (penalty mode): contact candidates.
-    pub cross_start: Vec<usize>,
+    /// Candidate SPH partners (same body in penalty mode, everyone in kernel mode).
+    pub start: Vec<u32>,
+    pub list: Vec<u32>,
+    /// Candidate particles of other bodies (penalty mode): contact candidates.
+    pub cross_start: Vec<u32>,
     pub cross: Vec<u32>,
+    /// Extra reach beyond `2 h_ij` the lists were built with.
+    pub skin: f64,
+    /// Positions at the build.
+    pub x_ref: Vec<DVec2>,
 }
 
 impl Neighbours {
+    /// The SPH partners of particle `i` at positions `x`: candidates closer
+    /// than `2 h_ij`, with `W_ij` and `∇_i W_ij`, in list order.
     #[inline]
-    pub fn of(&self, i: usize) -> &[Nbr] {
-        &self.list[self.start[i]..self.start[i + 1]]
+    pub fn of<'a>(
+        &'a self,
+        model: &'a Model,
+        x: &'a [DVec2],
+        i: usize,
+    ) -> impl Iterator<Item = Nbr> + 'a {
+        let (xi, hi, dim) = (x[i], model.h[i], model.dim);
+        let inv_hi = 1.0 / hi;
+        self.candidates(i).iter().filter_map(move |&j| {
+            let hj = model.h[j as usize];
+            // h_ij = (h_i + h_j)/2; one division only across bodies of
+            // different spacing.
+            let inv_h = if hj == hi { inv_hi } else { 2.0 / (hi + hj) };
+            let d = xi - x[j as usize];
+            kernel::w_grad(dim, d, d.length_squared(), inv_h).map(|(w, gw)| Nbr { j, w, gw })
+        })
     }
 
+    /// Raw candidate SPH partners of `i` (a superset of [`Neighbours::of`]).
+    #[inline]
+    pub fn candidates(&self, i: usize) -> &[u32] {
+        &self.list[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+
+    /// Candidate particles of other bodies near `i`; the contact test
+    /// itself rejects those beyond `2 h_ij`.
     #[inline]
     pub fn cross_of(&self, i: usize) -> &[u32] {
-        &self.cross[self.cross_start[i]..self.cross_start[i + 1]]
+        &self.cross[self.cross_start[i] as usize..self.cross_start[i + 1] as usize]
+    }
+
+    /// Other-body particles of `i` closer than `2 h_ij` at positions `x`.
+    pub fn cross_within<'a>(
+        &'a self,
+        model: &'a Model,
+        x: &'a [DVec2],
+        i: usize,
+    ) -> impl Iterator<Item = u32> + 'a {
+        self.cross_of(i).iter().copied().filter(move |&j| {
+            let hij = 0.5 * (model.h[i] + model.h[j as usize]);
+            (x[i] - x[j as usize]).length_squared() < 4.0 * hij * hij
+        })
+    }
+
+    /// Whether the lists still hold every pair at positions `x`: no particle
+    /// moved more than half the skin since the build.
+    pub fn still_valid(&self, x: &[DVec2]) -> bool {
+        if self.x_ref.len() != x.len() {
+            return false;
+        }
+        let lim2 = 0.25 * self.skin * self.skin;
+        x.par_iter()
+            .zip(self.x_ref.par_iter())
+            .all(|(a, b)| (*a - *b).length_squared() <= lim2)
+    }
+
+    /// Bytes the lists hold.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(&self.start[..])
+            + size_of_val(&self.list[..])
+            + size_of_val(&self.cross_start[..])
+            + size_of_val(&self.cross[..])
+            + size_of_val(&self.x_ref[..])
     }
 }
 
@@ -113,12 +190,8 @@ impl Neighbours {
 pub fn pair_kernel(dim: usize, xi: DVec2, xj: DVec2, hij: f64) -> (f64, DVec2, f64) {
     let d = xi - xj;
     let r = d.length();
-    let w = kernel::w(dim, r, hij);
-    let gw = if r > 0.0 {
-        d * (kernel::dw(dim, r, hij) / r)
-    } else {
-        DVec2::ZERO
-    };
+    let (w, dw) = kernel::w_dw(dim, r, hij);
+    let gw = if r > 0.0 { d * (dw / r) } else { DVec2::ZERO };
     (w, gw, r)
 }
 
@@ -130,52 +203,83 @@ pub fn mean_neighbours(model: &Model, x: &[DVec2]) -> f64 {
         return 0.0;
     }
     let nb = find(model, x);
-    (nb.list.len() + nb.cross.len()) as f64 / x.len() as f64
+    let pairs: usize = (0..x.len())
+        .into_par_iter()
+        .map(|i| nb.of(model, x, i).count() + nb.cross_within(model, x, i).count())
+        .sum();
+    pairs as f64 / x.len() as f64
 }
 
-/// Build the neighbour lists of every particle.
+/// Exact lists (no skin) at positions `x`.
 pub fn find(model: &Model, x: &[DVec2]) -> Neighbours {
+    find_with_skin(model, x, 0.0)
+}
+
+/// Particles per block of the parallel list build: large enough that the
+/// per-block vectors amortise, small enough to balance two to many cores.
+const BLOCK: usize = 2048;
+
+/// Build the candidate lists of every particle: all particles within
+/// `2 h_ij + skin`, SPH partners and other-body candidates apart.
+pub fn find_with_skin(model: &Model, x: &[DVec2], skin: f64) -> Neighbours {
     let h_max = model.h.iter().cloned().fold(0.0, f64::max);
-    let cells = CellList::build(x, 2.0 * h_max);
+    let cells = CellList::build(x, 2.0 * h_max + skin);
     let dim = model.dim;
     let split = model.contact;
-    let per: Vec<(Vec<Nbr>, Vec<u32>)> = (0..x.len())
+    let n = x.len();
+    // Each block of particles fills its own rows; the blocks are then joined
+    // in order, so the lists are the same whatever the thread count.
+    type Block = (Vec<u32>, Vec<u32>, Vec<u32>, Vec<u32>);
+    let blocks: Vec<Block> = (0..n.div_ceil(BLOCK))
         .into_par_iter()
-        .map(|i| {
-            let mut own = Vec::new();
+        .map(|b| {
+            let range = b * BLOCK..((b + 1) * BLOCK).min(n);
+            let mut own = Vec::with_capacity(range.len() * 24);
+            let mut own_len = Vec::with_capacity(range.len());
             let mut cross = Vec::new();
-            cells.for_each_near(x[i], dim, |j| {
-                if j == i {
-                    return;
-                }
-                let hij = 0.5 * (model.h[i] + model.h[j]);
-                let r = (x[i] - x[j]).length();
-                if r >= 2.0 * hij {
-                    return;
-                }
-                if split && model.body[i] != model.body[j] {
-                    cross.push(j as u32);
-                } else {
-                    let (w, gw, _) = pair_kernel(dim, x[i], x[j], hij);
-                    own.push(Nbr { j: j as u32, w, gw });
-                }
-            });
-            (own, cross)
+            let mut cross_len = Vec::with_capacity(range.len());
+            for i in range {
+                let (o0, c0) = (own.len(), cross.len());
+                cells.for_each_near(x[i], dim, |j| {
+                    if j == i {
+                        return;
+                    }
+                    let reach = model.h[i] + model.h[j] + skin;
+                    if (x[i] - x[j]).length_squared() >= reach * reach {
+                        return;
+                    }
+                    if split && model.body[i] != model.body[j] {
+                        cross.push(j as u32);
+                    } else {
+                        own.push(j as u32);
+                    }
+                });
+                own_len.push((own.len() - o0) as u32);
+                cross_len.push((cross.len() - c0) as u32);
+            }
+            (own, own_len, cross, cross_len)
         })
         .collect();
     let mut nb = Neighbours {
-        start: Vec::with_capacity(x.len() + 1),
-        cross_start: Vec::with_capacity(x.len() + 1),
-        ..Default::default()
+        start: Vec::with_capacity(n + 1),
+        cross_start: Vec::with_capacity(n + 1),
+        list: Vec::with_capacity(blocks.iter().map(|b| b.0.len()).sum()),
+        cross: Vec::with_capacity(blocks.iter().map(|b| b.2.len()).sum()),
+        skin,
+        x_ref: x.to_vec(),
     };
-    nb.list.reserve(per.iter().map(|p| p.0.len()).sum());
     nb.start.push(0);
     nb.cross_start.push(0);
-    for (own, cross) in per {
+    for (own, own_len, cross, cross_len) in blocks {
+        for l in own_len {
+            nb.start.push(nb.start.last().copied().unwrap_or(0) + l);
+        }
+        for l in cross_len {
+            nb.cross_start
+                .push(nb.cross_start.last().copied().unwrap_or(0) + l);
+        }
         nb.list.extend_from_slice(&own);
         nb.cross.extend_from_slice(&cross);
-        nb.start.push(nb.list.len());
-        nb.cross_start.push(nb.cross.len());
     }
     nb
 }
@@ -226,8 +330,8 @@ shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
         let n = state.x.len();
         let mut pairs_found = 0;
         for i in 0..n {
-            let mut fast: Vec<u32> = nb.of(i).iter().map(|b| b.j).collect();
-            fast.extend_from_slice(nb.cross_of(i));
+            let mut fast: Vec<u32> = nb.of(&model, &state.x, i).map(|b| b.j).collect();
+            fast.extend(nb.cross_within(&model, &state.x, i));
             fast.sort();
             let mut slow = Vec::new();
             for j in 0..n {
@@ -247,5 +351,49 @@ shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
                 assert!(nb.cross_of(j as usize).contains(&(i as u32)));
             }
         }
+        // With a skin: the candidates are a superset, and the true pairs
+        // filtered from them are the same pairs with the same kernel values
+        // (in another order: the cells are larger).
+        let skinned = find_with_skin(&model, &state.x, 0.3 * model.h[0]);
+        assert!(skinned.list.len() > nb.list.len());
+        for i in 0..n {
+            let mut a: Vec<Nbr> = nb.of(&model, &state.x, i).collect();
+            let mut b: Vec<Nbr> = skinned.of(&model, &state.x, i).collect();
+            a.sort_by_key(|p| p.j);
+            b.sort_by_key(|p| p.j);
+            assert_eq!(a, b, "particle {i}");
+        }
+    }
+
+    /// Lists built with a skin stay valid until some particle has moved half
+    /// the skin, and then say so.
+    #[test]
+    fn skin_validity() {
+        let text = r#"
+[simulation]
+dimension = 2
+end_time = 1e-6
+[materials.m]
+density = 1000.0
+eos = { kind = "linear", c0 = 1000.0 }
+[[bodies]]
+name = "a"
+material = "m"
+spacing = 0.1
+shape = { kind = "rectangle", min = [0.0, 0.0], max = [1.0, 1.0] }
+"#;
+        let scene = Scene::from_toml_str(text, "test").unwrap();
+        let (model, state) = Model::new(&scene);
+        let skin = 0.04;
+        let nb = find_with_skin(&model, &state.x, skin);
+        let mut x = state.x.clone();
+        x[7].x += 0.49 * skin;
+        assert!(nb.still_valid(&x));
+        x[7].x += 0.02 * skin;
+        assert!(!nb.still_valid(&x));
+        // Without a skin the lists hold only at the build positions.
+        let exact = find(&model, &state.x);
+        assert!(exact.still_valid(&state.x));
+        assert!(!exact.still_valid(&x));
     }
 }

@@ -40,6 +40,53 @@ pub fn dw(dim: usize, r: f64, h: f64) -> f64 {
     alpha(dim, h) * f / h
 }
 
+/// `W(r, h)` and `∂W/∂r (r, h)` together: one normalisation and one branch
+/// for the pair loops that need both.
+#[inline]
+pub fn w_dw(dim: usize, r: f64, h: f64) -> (f64, f64) {
+    let inv_h = 1.0 / h;
+    let q = r * inv_h;
+    let (f, g) = if q < 1.0 {
+        (
+            1.0 - 1.5 * q * q + 0.75 * q * q * q,
+            -3.0 * q + 2.25 * q * q,
+        )
+    } else if q < 2.0 {
+        let t = 2.0 - q;
+        (0.25 * t * t * t, -0.75 * t * t)
+    } else {
+        (0.0, 0.0)
+    };
+    let a = alpha(dim, h);
+    (a * f, a * g * inv_h)
+}
+
+/// `W` and `∇_i W` for the separation `d = x_i − x_j` (`r2 = |d|²`) at
+/// smoothing length `1/inv_h`, or `None` beyond the support. The pair loops'
+/// form: no division by `h`, and none by `r` inside `h`, where
+/// `∂W/∂r / r` is a polynomial.
+#[inline]
+pub fn w_grad(dim: usize, d: glam::DVec2, r2: f64, inv_h: f64) -> Option<(f64, glam::DVec2)> {
+    let q2 = r2 * inv_h * inv_h;
+    if q2 >= 4.0 {
+        return None;
+    }
+    let q = q2.sqrt();
+    let a = match dim {
+        1 => (2.0 / 3.0) * inv_h,
+        2 => 10.0 / (7.0 * std::f64::consts::PI) * inv_h * inv_h,
+        _ => inv_h * inv_h * inv_h / std::f64::consts::PI,
+    };
+    // f(q) and (df/dq)/q.
+    let (f, g_q) = if q < 1.0 {
+        (1.0 - 1.5 * q2 + 0.75 * q2 * q, -3.0 + 2.25 * q)
+    } else {
+        let t = 2.0 - q;
+        (0.25 * t * t * t, -0.75 * t * t / q)
+    };
+    Some((a * f, d * (a * inv_h * inv_h * g_q)))
+}
+
 /// The 2-D kernel integrated along a straight line through its centre,
 /// `∫ W dx = 15 / (7 π h)`: the numerator of the kernel measure of a boundary
 /// line (METHOD.md §8.4, contact area).
@@ -78,6 +125,31 @@ mod tests {
             .map(|i| w(2, (-2.0 * h + (i as f64 + 0.5) * d).abs(), h) * d)
             .sum();
         assert!((l - line_integral_2d(h)).abs() < 1e-6 * l);
+        // The pair-loop form agrees with the plain one.
+        for k in 0..=50 {
+            let d = glam::DVec2::new(0.6, -0.8) * (2.1 * h * k as f64 / 50.0);
+            let r = d.length();
+            for dim in [1, 2] {
+                match w_grad(dim, d, d.length_squared(), 1.0 / h) {
+                    None => assert!(r >= 2.0 * h * (1.0 - 1e-15), "cut at {r}"),
+                    Some((a, g)) => {
+                        let scale = alpha(dim, h);
+                        assert!((a - w(dim, r, h)).abs() <= 1e-14 * scale);
+                        let exact = if r > 0.0 { d * (dw(dim, r, h) / r) } else { d };
+                        assert!((g - exact).length() <= 1e-13 * scale / h, "{r}");
+                    }
+                }
+            }
+        }
+        // The paired form agrees with the separate ones.
+        for k in 0..=50 {
+            let r = 2.1 * h * k as f64 / 50.0;
+            for dim in [1, 2] {
+                let (a, b) = w_dw(dim, r, h);
+                assert!((a - w(dim, r, h)).abs() <= 1e-14 * alpha(dim, h));
+                assert!((b - dw(dim, r, h)).abs() <= 1e-14 * alpha(dim, h) / h);
+            }
+        }
     }
 
     /// dW/dr is the derivative of W (central differences), continuous at q = 1, 2.
