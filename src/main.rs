@@ -309,6 +309,7 @@ fn check(path: &Path, scene: &Scene) {
 }
 
 fn main() -> ExitCode {
+    sphcontact::cpu::keep_freed_memory();
     let cli = Cli::parse();
     match cli.command {
         Command::Validate(args) => validate_cmd(args),
