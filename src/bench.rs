@@ -616,7 +616,6 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
     for &n in &opts.particles {
         let case = DiskCase::new(n)?;
         let particles = case.particles();
-        let mean_nb = neighbours::mean_neighbours(&case.model, &case.state.x);
         let record = |backend: &str, adapter: &str, steps: u64, wall: f64| Record {
             backend: backend.into(),
             adapter: adapter.into(),
@@ -628,12 +627,38 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             wall_seconds: wall,
             particle_steps_per_second: (steps * particles as u64) as f64 / wall.max(1e-12),
             particle_steps_per_second_per_core: None,
-            mean_neighbours: mean_nb,
+            mean_neighbours: 0.0,
             bytes_per_particle: 0.0,
             memory_kind: String::new(),
             in_contact: false,
             stages: None,
         };
+        // The GPU solver is built first: a size the adapter cannot hold
+        // fails in a moment, before minutes of CPU work.
+        let mut gpu_bench = None;
+        if let Some(ctx) = &gpu {
+            if opts.verbose {
+                eprintln!(
+                    "bench: gpu, {particles} particles (R/Δx = {:.2})",
+                    case.r_over_dx
+                );
+            }
+            match GpuBench::new(ctx.clone(), &case) {
+                Ok(b) => {
+                    if opts.verbose {
+                        eprintln!("bench: gpu, in contact by step {}", b.onset);
+                    }
+                    gpu_bench = Some(b);
+                }
+                // With every backend asked for, a size the adapter cannot
+                // hold leaves the CPU figures standing.
+                Err(BenchError::Input(e)) if opts.backend == BenchBackend::All => {
+                    eprintln!("warning: GPU skipped at {particles} particles: {e}");
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        let mut here = Vec::new();
         if cpu {
             if opts.verbose {
                 eprintln!(
@@ -653,28 +678,9 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             r.bytes_per_particle = b.memory_bytes() as f64 / particles as f64;
             r.memory_kind = "host".into();
             r.in_contact = b.in_contact();
-            records.push(r);
+            here.push(r);
         }
-        if let Some(ctx) = &gpu {
-            if opts.verbose {
-                eprintln!(
-                    "bench: gpu, {particles} particles (R/Δx = {:.2})",
-                    case.r_over_dx
-                );
-            }
-            let mut b = match GpuBench::new(ctx.clone(), &case) {
-                Ok(b) => b,
-                // With every backend asked for, a size the adapter cannot
-                // hold leaves the CPU figures standing.
-                Err(BenchError::Input(e)) if opts.backend == BenchBackend::All => {
-                    eprintln!("warning: GPU skipped at {particles} particles: {e}");
-                    continue;
-                }
-                Err(e) => return Err(e),
-            };
-            if opts.verbose {
-                eprintln!("bench: gpu, in contact by step {}", b.onset);
-            }
+        if let (Some(ctx), Some(mut b)) = (&gpu, gpu_bench) {
             let (steps, wall) = measure(opts.steps, |k| b.time_steps(k))?;
             let mut r = record("gpu", &ctx.adapter_name(), steps, wall);
             r.bytes_per_particle = b.solver.device_bytes() as f64 / particles as f64;
@@ -683,8 +689,13 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             if opts.stages {
                 r.stages = Some(b.time_stages(0.25)?);
             }
-            records.push(r);
+            here.push(r);
         }
+        let mean_nb = neighbours::mean_neighbours(&case.model, &case.state.x);
+        for r in &mut here {
+            r.mean_neighbours = mean_nb;
+        }
+        records.extend(here);
     }
     Ok(records)
 }

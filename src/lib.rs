@@ -9,7 +9,7 @@
 //! * [`cpu`]: the f64 reference solver, one function per stage;
 //! * [`run`]: running a scene to its outputs (history, summary);
 //! * [`probe`]: the recorded observables;
-//! * [`bench`]: particle throughput of both backends (`sphcontact bench`).
+//! * [`mod@bench`]: particle throughput of both backends (`sphcontact bench`).
 //!
 //! Load a scene, run it in memory, read its history:
 //!

@@ -17,6 +17,9 @@
 //! only a small control block and the ring of per-step observations the
 //! history is interpolated from (and the whole state at the end).
 //!
+//! For benchmarks, each group of dispatches above ([`STAGES`]) can be run
+//! and timed alone on the current state ([`GpuSolver::time_stage`]).
+//!
 //! ## Precision plan (f32 on the device)
 //!
 //! * Positions are a reference cell (integral, exact in f32), the offset in
