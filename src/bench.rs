@@ -172,14 +172,16 @@ pub fn lattice_radius(particles: usize) -> (f64, usize) {
     let per_disk = particles as f64 / 2.0;
     let r = (per_disk / std::f64::consts::PI).sqrt();
     let n = (1.2 * r).ceil() as i64 + 2;
-    let mut q: Vec<i64> = Vec::with_capacity((4 * n * n) as usize);
-    for j in -n..n {
-        for i in -n..n {
+    // One quadrant: i ↦ −1 − i leaves q unchanged, so each point of the
+    // quadrant i, j ≥ 0 stands for four.
+    let mut q: Vec<i64> = Vec::with_capacity((n * n) as usize);
+    for j in 0..n {
+        for i in 0..n {
             q.push(i * i + i + j * j + j);
         }
     }
     q.sort_unstable();
-    // Points strictly below the next larger value: (count, q of the last).
+    // Points up to each distinct q: (total count, that q).
     let mut best = (usize::MAX, 0i64);
     let mut k = 0;
     while k < q.len() {
@@ -187,7 +189,7 @@ pub fn lattice_radius(particles: usize) -> (f64, usize) {
         while k < q.len() && q[k] == v {
             k += 1;
         }
-        let total = 2 * k;
+        let total = 2 * 4 * k;
         if total.abs_diff(particles) < best.0.abs_diff(particles) {
             best = (total, v);
         }
