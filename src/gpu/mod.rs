@@ -1056,6 +1056,9 @@ impl GpuSolver {
     /// what the rest changes (the control block's counters, and for
     /// `advance`, which is not idempotent, the state itself) is saved
     /// before and copied back after, so stepping may go on afterwards.
+    /// (A reordering timed between the steps that reorder anyway leaves a
+    /// different particle order until the next one, so the sums after it
+    /// may differ from an untimed run's in the last bits.)
     ///
     /// Wall time rather than timestamp queries: it needs no optional
     /// adapter feature, and over many repetitions the one submission's
