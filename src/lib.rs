@@ -8,7 +8,8 @@
 //! * [`physics`]: kernel, material model, exact answers;
 //! * [`cpu`]: the f64 reference solver, one function per stage;
 //! * [`run`]: running a scene to its outputs (history, summary);
-//! * [`probe`]: the recorded observables.
+//! * [`probe`]: the recorded observables;
+//! * [`mod@bench`]: particle throughput of both backends (`sphcontact bench`).
 //!
 //! Load a scene, run it in memory, read its history:
 //!
@@ -51,6 +52,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod bench;
 pub mod cpu;
 pub mod error;
 pub mod gpu;

@@ -17,6 +17,9 @@
 //! only a small control block and the ring of per-step observations the
 //! history is interpolated from (and the whole state at the end).
 //!
+//! For benchmarks, each group of dispatches above ([`STAGES`]) can be run
+//! and timed alone on the current state ([`GpuSolver::time_stage`]).
+//!
 //! ## Precision plan (f32 on the device)
 //!
 //! * Positions are a reference cell (integral, exact in f32), the offset in
@@ -82,6 +85,58 @@ const WRITER_ALIASES: &[(&str, &str)] = &[
 ];
 /// Particles per workgroup of the reductions (256 threads × 4).
 const RED_CHUNK: u32 = 1024;
+
+/// A group of kernels of the step that can be timed alone
+/// ([`GpuSolver::time_stage`]), named after how `encode_step` groups them.
+#[derive(Debug, Clone, Copy)]
+pub struct StageSpec {
+    pub name: &'static str,
+    /// How many times one step runs it: the evaluation stages run at the
+    /// base state and at the midpoint, the reordering every
+    /// `REORDER_EVERY` steps.
+    pub per_step: f64,
+    /// What it does, and which CPU stages it stands for.
+    pub what: &'static str,
+}
+
+/// The step's stages, in the order a step runs them.
+pub const STAGES: &[StageSpec] = &[
+    StageSpec {
+        name: "reorder",
+        per_step: 1.0 / REORDER_EVERY as f64,
+        what: "cell list, then particles permuted by cell (every 16 steps)",
+    },
+    StageSpec {
+        name: "grid",
+        per_step: 2.0,
+        what: "cell list: clear, cells, 3-pass prefix sum, scatter, per-cell sort (CPU: neighbours)",
+    },
+    StageSpec {
+        name: "pass_a",
+        per_step: 2.0,
+        what: "correction, colour gradient, normals and boundary, EOS, velocity gradient, density and stress rates (CPU: EOS, pass A, boundary, pass B)",
+    },
+    StageSpec {
+        name: "pass_c",
+        per_step: 2.0,
+        what: "momentum, energy, contact area (CPU: pass C)",
+    },
+    StageSpec {
+        name: "contact",
+        per_step: 2.0,
+        what: "penalty contact, both gathers (CPU: contact)",
+    },
+    StageSpec {
+        name: "reduce",
+        per_step: 1.0,
+        what: "CFL minimum and the step's observations",
+    },
+    StageSpec {
+        name: "advance",
+        per_step: 1.0,
+        what: "midpoint half step, full step, time and step counters",
+    },
+];
 
 /// How many threads a kernel runs.
 #[derive(Debug, Clone, Copy)]
@@ -935,6 +990,146 @@ impl GpuSolver {
             st.spring_work = q.iter().map(|x| x[1] as f64).sum();
         }
         (st, ctl)
+    }
+
+    /// The stages [`GpuSolver::time_stage`] can run for this scene (the
+    /// contact only when the scene has contact), in step order.
+    pub fn stage_names(&self) -> Vec<&'static str> {
+        STAGES
+            .iter()
+            .filter(|s| s.name != "contact" || self.model.contact)
+            .map(|s| s.name)
+            .collect()
+    }
+
+    /// Encode one run of a stage (at the base state).
+    fn encode_stage(&self, enc: &mut wgpu::CommandEncoder, name: &str) {
+        // The reordering copies buffers between its dispatches, so it
+        // cannot live inside a compute pass.
+        if name == "reorder" {
+            self.encode_reorder(enc);
+            return;
+        }
+        let k = &self.k;
+        let e = &k.eval[Var::Base as usize];
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        match name {
+            "grid" => self.encode_grid(&mut pass, Var::Base),
+            "pass_a" => e.pass_a.dispatch(&mut pass),
+            "pass_c" => e.pass_c.dispatch(&mut pass),
+            "contact" => {
+                if let Some((c1, c2)) = &e.contact {
+                    c1.dispatch(&mut pass);
+                    c2.dispatch(&mut pass);
+                }
+            }
+            "reduce" => {
+                k.cfl_partial.dispatch(&mut pass);
+                k.cfl_final.dispatch(&mut pass);
+                if let Some((a, b)) = &k.obs {
+                    a.dispatch(&mut pass);
+                    b.dispatch(&mut pass);
+                }
+                if let Some(p) = &k.probes {
+                    p.dispatch(&mut pass);
+                }
+            }
+            "advance" => {
+                k.advance_half.dispatch(&mut pass);
+                k.advance_full.dispatch(&mut pass);
+                k.end_step.dispatch(&mut pass);
+            }
+            _ => unreachable!("stage names are checked by time_stage"),
+        }
+    }
+
+    /// Wall time of `reps` runs of one stage (a name of
+    /// [`GpuSolver::stage_names`]) encoded into one command buffer, from
+    /// submission to the device going idle: one stage timed alone, on the
+    /// current state.
+    ///
+    /// Before timing, one untimed evaluation at the current state (cell
+    /// list, passes, contact, CFL step) gives every stage valid inputs, so
+    /// a stage can be timed in any order. The state is left as it was: the
+    /// evaluation stages only rewrite per-evaluation scratch that the next
+    /// step recomputes, the reordering only permutes the particles, and
+    /// what the rest changes (the control block's counters, and for
+    /// `advance`, which is not idempotent, the state itself) is saved
+    /// before and copied back after, so stepping may go on afterwards.
+    /// (A reordering timed between the steps that reorder anyway leaves a
+    /// different particle order until the next one, so the sums after it
+    /// may differ from an untimed run's in the last bits.)
+    ///
+    /// Wall time rather than timestamp queries: it needs no optional
+    /// adapter feature, and over many repetitions the one submission's
+    /// overhead is small.
+    pub fn time_stage(&mut self, name: &str, reps: u32) -> Result<std::time::Duration, String> {
+        let names = self.stage_names();
+        if !names.contains(&name) {
+            return Err(format!(
+                "no GPU stage '{name}' for this scene (stages: {})",
+                names.join(", ")
+            ));
+        }
+        if reps == 0 {
+            return Err("a stage is timed over at least one repetition".into());
+        }
+        let dev = &self.ctx.device;
+        let nn = self.n as u64;
+        let mut saved = vec![("ctl", 48)];
+        if name == "advance" {
+            saved.extend([("u", 8 * nn), ("v", 8 * nn), ("r", 8 * nn), ("s", 16 * nn)]);
+            if self.model.contact {
+                saved.push(("qheat", 8 * nn));
+            }
+        }
+        let backups: Vec<wgpu::Buffer> = saved
+            .iter()
+            .map(|(label, bytes)| {
+                dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: *bytes,
+                    usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            })
+            .collect();
+        let wait = || {
+            dev.poll(wgpu::PollType::wait_indefinitely())
+                .map(|_| ())
+                .map_err(|e| format!("waiting for the device: {e}"))
+        };
+
+        let mut enc = dev.create_command_encoder(&Default::default());
+        for ((from, bytes), to) in saved.iter().zip(&backups) {
+            enc.copy_buffer_to_buffer(self.buf(from), 0, to, 0, *bytes);
+        }
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            self.encode_eval(&mut pass, Var::Base);
+            self.k.cfl_partial.dispatch(&mut pass);
+            self.k.cfl_final.dispatch(&mut pass);
+        }
+        self.ctx.queue.submit([enc.finish()]);
+        wait()?;
+
+        let mut enc = dev.create_command_encoder(&Default::default());
+        for _ in 0..reps {
+            self.encode_stage(&mut enc, name);
+        }
+        let commands = enc.finish();
+        let start = std::time::Instant::now();
+        self.ctx.queue.submit([commands]);
+        wait()?;
+        let elapsed = start.elapsed();
+
+        let mut enc = dev.create_command_encoder(&Default::default());
+        for ((to, bytes), from) in saved.iter().zip(&backups) {
+            enc.copy_buffer_to_buffer(from, 0, self.buf(to), 0, *bytes);
+        }
+        self.ctx.queue.submit([enc.finish()]);
+        wait()?;
+        Ok(elapsed)
     }
 
     /// The control block: time, step, status, and the counts of particles

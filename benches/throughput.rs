@@ -1,0 +1,209 @@
+//! Particle throughput of both backends on the two-disk impact (square
+//! lattice), timed while the disks are in contact (see `sphcontact::bench`
+//! for the protocol): whole steps (`cpu_step`, `gpu_step`), one full CPU rate
+//! evaluation (`cpu_stage/evaluate`) and each GPU stage alone
+//! (`gpu_stage/<name>`), at 1e3, 1e4 and 1e5 particles, and 1e6 where
+//! `SPHCONTACT_BENCH_MAX_PARTICLES` allows it and the adapter holds it.
+//!
+//! `SPHCONTACT_BENCH_MAX_PARTICLES` (default 100000) caps the sizes; CI sets
+//! it to 1000 and runs `cargo bench --bench throughput -- --test` (each
+//! benchmark once, as a smoke test). Without a GPU adapter the GPU groups
+//! print one SKIP line; with `SPHCONTACT_REQUIRE_GPU` set that is a failure,
+//! as in the tests.
+
+use std::collections::HashMap;
+use std::hint::black_box;
+use std::sync::Arc;
+use std::time::Duration;
+
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, BenchmarkId, Criterion, SamplingMode, Throughput};
+
+use sphcontact::bench::{cpu_name, CpuBench, DiskCase, GpuBench};
+use sphcontact::gpu::{GpuContext, STAGES};
+
+const SIZES: [usize; 4] = [1_000, 10_000, 100_000, 1_000_000];
+const DEFAULT_MAX: usize = 100_000;
+/// Most repetitions of a stage in one submission.
+const STAGE_CHUNK: u64 = 256;
+
+/// The sizes under `SPHCONTACT_BENCH_MAX_PARTICLES`.
+fn sizes() -> Vec<usize> {
+    let max = match std::env::var("SPHCONTACT_BENCH_MAX_PARTICLES") {
+        Err(_) => DEFAULT_MAX,
+        Ok(v) => match v.trim().parse::<usize>() {
+            Ok(m) => m,
+            Err(_) => {
+                eprintln!(
+                    "error: SPHCONTACT_BENCH_MAX_PARTICLES must be a particle count (got '{v}')"
+                );
+                std::process::exit(2);
+            }
+        },
+    };
+    let s: Vec<usize> = SIZES.into_iter().filter(|&n| n <= max).collect();
+    if s.is_empty() {
+        eprintln!(
+            "throughput: no size at or below SPHCONTACT_BENCH_MAX_PARTICLES = {max} (sizes: {SIZES:?}); nothing to run"
+        );
+    }
+    s
+}
+
+/// The adapter, announced once; `None` with a visible skip line, or a
+/// failure under `SPHCONTACT_REQUIRE_GPU`.
+fn adapter() -> Option<Arc<GpuContext>> {
+    match sphcontact::gpu::shared_context() {
+        Ok(ctx) => {
+            eprintln!("throughput: GPU adapter {}", ctx.adapter_name());
+            Some(ctx)
+        }
+        Err(e) => {
+            if std::env::var_os("SPHCONTACT_REQUIRE_GPU").is_some() {
+                panic!("SPHCONTACT_REQUIRE_GPU is set but there is no GPU adapter: {e}");
+            }
+            eprintln!(
+                "SKIP: no GPU adapter ({e}); the gpu_step and gpu_stage benchmarks did not run"
+            );
+            None
+        }
+    }
+}
+
+/// Whether the solver's largest buffers fit the adapter's limits: 16 bytes
+/// per particle for the widest per-particle arrays, 4 bytes per cell-list
+/// bucket (the next power of two of 2N). Anything else that goes wrong
+/// when building is reported when the benchmark runs.
+fn fits(ctx: &GpuContext, n: usize) -> bool {
+    let n = n as u64;
+    let need = (16 * n).max(4 * (2 * n).next_power_of_two());
+    need <= ctx.limits.max_storage_buffer_binding_size && need <= ctx.limits.max_buffer_size
+}
+
+/// Few samples of flat iterations: a step at 1e5 particles takes a large
+/// fraction of a second on a software adapter.
+fn configure(group: &mut BenchmarkGroup<'_, WallTime>) {
+    group
+        .sample_size(10)
+        .sampling_mode(SamplingMode::Flat)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+}
+
+fn case(n: usize) -> DiskCase {
+    DiskCase::new(n).unwrap_or_else(|e| panic!("the disk case at {n} particles: {e}"))
+}
+
+/// The CPU bench at `n`, built on first use only, so that a filtered run
+/// builds nothing it does not time.
+fn cpu_at(benches: &mut HashMap<usize, CpuBench>, n: usize) -> &mut CpuBench {
+    benches
+        .entry(n)
+        .or_insert_with(|| CpuBench::new(&case(n)).unwrap_or_else(|e| panic!("{e}")))
+}
+
+/// The GPU bench at `n`, built on first use only and shared by the step
+/// and stage groups.
+fn gpu_at<'a>(
+    benches: &'a mut HashMap<usize, GpuBench>,
+    ctx: &Arc<GpuContext>,
+    n: usize,
+) -> &'a mut GpuBench {
+    benches
+        .entry(n)
+        .or_insert_with(|| GpuBench::new(ctx.clone(), &case(n)).unwrap_or_else(|e| panic!("{e}")))
+}
+
+fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
+    eprintln!(
+        "throughput: CPU {} ({} threads)",
+        cpu_name(),
+        rayon::current_num_threads()
+    );
+    let mut benches: HashMap<usize, CpuBench> = HashMap::new();
+
+    let mut group = c.benchmark_group("cpu_step");
+    configure(&mut group);
+    for &n in sizes {
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(BenchmarkId::from_parameter(n), |b| {
+            let bench = cpu_at(&mut benches, n);
+            b.iter_custom(|iters| bench.time_steps(iters).unwrap_or_else(|e| panic!("{e}")));
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("cpu_stage/evaluate");
+    configure(&mut group);
+    for &n in sizes {
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(BenchmarkId::from_parameter(n), |b| {
+            let bench = cpu_at(&mut benches, n);
+            let (model, state) = (bench.model(), bench.state());
+            b.iter(|| black_box(sphcontact::cpu::evaluate(model, state)));
+        });
+    }
+    group.finish();
+}
+
+fn gpu_benches(c: &mut Criterion, sizes: &[usize], ctx: Arc<GpuContext>) {
+    let sizes: Vec<usize> = sizes
+        .iter()
+        .copied()
+        .filter(|&n| {
+            let ok = fits(&ctx, n);
+            if !ok {
+                eprintln!("SKIP: gpu at {n} particles: larger than this adapter's buffers allow");
+            }
+            ok
+        })
+        .collect();
+    let mut benches: HashMap<usize, GpuBench> = HashMap::new();
+
+    let mut group = c.benchmark_group("gpu_step");
+    configure(&mut group);
+    for &n in &sizes {
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(BenchmarkId::from_parameter(n), |b| {
+            let bench = gpu_at(&mut benches, &ctx, n);
+            b.iter_custom(|iters| bench.time_steps(iters).unwrap_or_else(|e| panic!("{e}")));
+        });
+    }
+    group.finish();
+
+    // (The disk scene has contact, so every stage runs.)
+    for stage in STAGES {
+        let mut group = c.benchmark_group(format!("gpu_stage/{}", stage.name));
+        configure(&mut group);
+        for &n in &sizes {
+            group.throughput(Throughput::Elements(n as u64));
+            group.bench_function(BenchmarkId::from_parameter(n), |b| {
+                let solver = gpu_at(&mut benches, &ctx, n).solver();
+                b.iter_custom(|iters| {
+                    let mut total = Duration::ZERO;
+                    let mut left = iters;
+                    while left > 0 {
+                        let reps = left.min(STAGE_CHUNK);
+                        total += solver
+                            .time_stage(stage.name, reps as u32)
+                            .unwrap_or_else(|e| panic!("{e}"));
+                        left -= reps;
+                    }
+                    total
+                });
+            });
+        }
+        group.finish();
+    }
+}
+
+fn main() {
+    let sizes = sizes();
+    let ctx = adapter();
+    let mut c = Criterion::default().configure_from_args();
+    cpu_benches(&mut c, &sizes);
+    if let Some(ctx) = ctx {
+        gpu_benches(&mut c, &sizes, ctx);
+    }
+    c.final_summary();
+}

@@ -1,0 +1,218 @@
+//! `sphcontact bench` from the command line: the JSON records and their
+//! sanity, the table, and bad arguments (exit status 2, one message, no
+//! panic). Speed itself is not asserted anywhere: that is what the benches
+//! are for.
+
+mod common;
+
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_sphcontact");
+
+fn bench(args: &[&str], env: &[(&str, &str)]) -> Output {
+    Command::new(BIN)
+        .arg("bench")
+        .args(args)
+        .env_remove("RUST_BACKTRACE")
+        .envs(env.iter().copied())
+        .output()
+        .expect("the sphcontact binary runs")
+}
+
+/// stdout parsed as the JSON list of records (nothing else may be there).
+fn records(out: &Output) -> Vec<serde_json::Value> {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "stdout is not a JSON list of records ({e}):\n{}",
+            String::from_utf8_lossy(&out.stdout)
+        )
+    })
+}
+
+fn num(r: &serde_json::Value, key: &str) -> f64 {
+    r[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("'{key}' is not a number in {r}"))
+}
+
+/// The fields every record has, with sane values for the 1,000-particle
+/// disk impact.
+fn check_record(r: &serde_json::Value, backend: &str, steps: f64) {
+    assert_eq!(r["backend"], backend, "{r}");
+    assert!(!r["adapter"].as_str().unwrap_or("").is_empty(), "{r}");
+    let n = num(r, "particles");
+    assert!((n / 1000.0 - 1.0).abs() <= 0.05, "particles {n}");
+    assert_eq!(num(r, "requested_particles"), 1000.0);
+    assert_eq!(num(r, "steps"), steps);
+    assert!(num(r, "wall_seconds") > 0.0, "{r}");
+    let rate = num(r, "particle_steps_per_second");
+    assert!(rate > 0.0 && rate.is_finite(), "{r}");
+    let rel = rate * num(r, "wall_seconds") / (n * steps) - 1.0;
+    assert!(rel.abs() < 1e-9, "rate is particles × steps / wall: {r}");
+    let nb = num(r, "mean_neighbours");
+    assert!((10.0..=40.0).contains(&nb), "mean neighbours {nb}");
+    assert!(num(r, "bytes_per_particle") > 0.0, "{r}");
+    assert_eq!(r["in_contact"], true, "the timed steps end in contact: {r}");
+}
+
+#[test]
+fn cpu_records_as_json() {
+    let out = bench(
+        &[
+            "--backend",
+            "cpu",
+            "--particles",
+            "1000",
+            "--steps",
+            "3",
+            "--json",
+        ],
+        &[],
+    );
+    let recs = records(&out);
+    assert_eq!(recs.len(), 1, "{recs:?}");
+    let r = &recs[0];
+    check_record(r, "cpu", 3.0);
+    assert_eq!(r["memory_kind"], "host");
+    let threads = num(r, "threads");
+    assert!(threads >= 1.0);
+    assert!(r["adapter"].as_str().unwrap().starts_with("cpu: "), "{r}");
+    let per_core = num(r, "particle_steps_per_second_per_core");
+    assert!((per_core * threads / num(r, "particle_steps_per_second") - 1.0).abs() < 1e-9);
+}
+
+#[test]
+fn table_lists_every_size() {
+    let out = bench(
+        &[
+            "--backend",
+            "cpu",
+            "--particles",
+            "300",
+            "1000",
+            "--steps",
+            "2",
+        ],
+        &[],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    let rows: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("| cpu |"))
+        .collect();
+    assert_eq!(rows.len(), 2, "{stdout}");
+    assert!(stdout.contains("(host)"), "{stdout}");
+}
+
+#[test]
+fn bad_arguments_exit_2() {
+    for (args, needle) in [
+        (vec!["--particles", "0"], "--particles"),
+        (vec!["--particles", "99"], "--particles"),
+        (vec!["--particles", "1000", "--steps", "0"], "--steps"),
+        (vec!["--particles", "many"], "--particles"),
+        (vec!["--backend", "tpu"], "--backend"),
+    ] {
+        let mut all = vec!["--backend", "cpu"];
+        if args[0] == "--backend" {
+            all.clear();
+        }
+        all.extend(&args);
+        let out = bench(&all, &[]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(out.stdout.is_empty(), "{args:?}: nothing on stdout");
+    }
+}
+
+/// Without an adapter (wgpu asked for a backend this platform does not
+/// have): `--backend gpu` is an error with a clear message, `all` times the
+/// CPU alone.
+#[test]
+fn no_adapter_gpu_fails_and_all_runs_the_cpu() {
+    if cfg!(target_os = "macos") {
+        return;
+    }
+    let none = [("WGPU_BACKEND", "metal")];
+    let out = bench(
+        &["--backend", "gpu", "--particles", "1000", "--steps", "2"],
+        &none,
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("no GPU adapter"), "{stderr}");
+    assert!(stderr.contains("--backend cpu"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+
+    let out = bench(
+        &[
+            "--backend",
+            "all",
+            "--particles",
+            "1000",
+            "--steps",
+            "2",
+            "--json",
+        ],
+        &none,
+    );
+    let recs = records(&out);
+    assert_eq!(recs.len(), 1, "{recs:?}");
+    check_record(&recs[0], "cpu", 2.0);
+}
+
+/// On an adapter: the GPU record, its stage times, and the ratio line.
+#[test]
+fn gpu_records_and_stages() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let out = bench(
+        &[
+            "--backend",
+            "gpu",
+            "--particles",
+            "1000",
+            "--steps",
+            "3",
+            "--stages",
+            "--json",
+        ],
+        &[],
+    );
+    let recs = records(&out);
+    assert_eq!(recs.len(), 1, "{recs:?}");
+    let r = &recs[0];
+    check_record(r, "gpu", 3.0);
+    assert_eq!(r["memory_kind"], "device");
+    assert!(r["threads"].is_null(), "{r}");
+    assert!(r["particle_steps_per_second_per_core"].is_null(), "{r}");
+    let stages = r["stages"].as_array().expect("stage times with --stages");
+    let names: Vec<&str> = stages.iter().map(|s| s["name"].as_str().unwrap()).collect();
+    let expected: Vec<&str> = sphcontact::gpu::STAGES.iter().map(|s| s.name).collect();
+    assert_eq!(names, expected);
+    for s in stages {
+        assert!(num(s, "seconds_per_call") > 0.0, "{s}");
+        let per_step = num(s, "calls_per_step") * num(s, "seconds_per_call");
+        assert!(
+            (num(s, "seconds_per_step") / per_step - 1.0).abs() < 1e-9,
+            "{s}"
+        );
+    }
+
+    let out = bench(
+        &["--backend", "all", "--particles", "1000", "--steps", "2"],
+        &[],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(
+        stdout.contains("GPU/CPU throughput at 1000 particles:"),
+        "{stdout}"
+    );
+}
