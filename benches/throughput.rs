@@ -1,7 +1,8 @@
 //! Particle throughput of both backends on the two-disk impact (square
 //! lattice), timed while the disks are in contact (see `sphcontact::bench`
 //! for the protocol): whole steps (`cpu_step`, `gpu_step`), one full CPU rate
-//! evaluation (`cpu_stage/evaluate`) and each GPU stage alone
+//! evaluation and each of its stages (`cpu_stage/<name>`: neighbour list
+//! build, EOS, kinematics, forces, contact, evaluate) and each GPU stage alone
 //! (`gpu_stage/<name>`), at 1e3, 1e4 and 1e5 particles, and 1e6 where
 //! `SPHCONTACT_BENCH_MAX_PARTICLES` allows it and the adapter holds it.
 //!
@@ -20,7 +21,11 @@ use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, BenchmarkId, Criterion, SamplingMode, Throughput};
 
 use sphcontact::bench::{cpu_name, CpuBench, DiskCase, GpuBench};
+use sphcontact::cpu::forces::{self, StressPoint};
+use sphcontact::cpu::neighbours::{self, Neighbours};
+use sphcontact::cpu::{self, contact, kinematics};
 use sphcontact::gpu::{GpuContext, STAGES};
+use sphcontact::model::{Model, State};
 
 const SIZES: [usize; 4] = [1_000, 10_000, 100_000, 1_000_000];
 const DEFAULT_MAX: usize = 100_000;
@@ -133,17 +138,75 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
     }
     group.finish();
 
-    let mut group = c.benchmark_group("cpu_stage/evaluate");
-    configure(&mut group);
-    for &n in sizes {
-        group.throughput(Throughput::Elements(n as u64));
-        group.bench_function(BenchmarkId::from_parameter(n), |b| {
-            let bench = cpu_at(&mut benches, n);
-            let (model, state) = (bench.model(), bench.state());
-            b.iter(|| black_box(sphcontact::cpu::evaluate(model, state)));
-        });
+    // The CPU stages one evaluation runs, each alone on the contact-phase
+    // state with its inputs made beforehand; `evaluate` is all of them on
+    // lists that are still valid, as in a step that does not rebuild them,
+    // and `neighbours` is one rebuild.
+    type Stage = fn(&Model, &State, &Inputs);
+    let stages: [(&str, Stage); 6] = [
+        ("neighbours", |m, s, _| {
+            black_box(neighbours::find_with_skin(m, &s.x, skin(m)));
+        }),
+        ("eos", |m, s, _| {
+            black_box(cpu::eos_and_stress(m, s));
+        }),
+        ("kinematics", |m, s, i| {
+            black_box(kinematics::kinematics(m, s, &i.nb));
+        }),
+        ("forces", |m, s, i| {
+            let k = &i.k;
+            black_box(forces::momentum_energy(
+                m, s, &i.nb, &k.l, &k.gv, &k.surface, &i.pts,
+            ));
+        }),
+        ("contact", |m, s, i| {
+            let k = &i.k;
+            let bd = kinematics::boundary(m, &s.x, &i.nb, &k.grad_psi, k.surface.clone());
+            black_box(contact::penalty(m, s, &i.nb, &bd));
+        }),
+        ("evaluate", |m, s, i| {
+            black_box(cpu::evaluate_with(m, s, &i.nb));
+        }),
+    ];
+    let mut inputs: HashMap<usize, Inputs> = HashMap::new();
+    for (name, run) in stages {
+        let mut group = c.benchmark_group(format!("cpu_stage/{name}"));
+        configure(&mut group);
+        for &n in sizes {
+            group.throughput(Throughput::Elements(n as u64));
+            group.bench_function(BenchmarkId::from_parameter(n), |b| {
+                let bench = cpu_at(&mut benches, n);
+                let (model, state) = (bench.model(), bench.state());
+                let input = inputs.entry(n).or_insert_with(|| Inputs::new(model, state));
+                b.iter(|| run(model, state, input));
+            });
+        }
+        group.finish();
     }
-    group.finish();
+}
+
+/// The skin the CPU solver builds its lists with.
+fn skin(model: &Model) -> f64 {
+    cpu::SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max)
+}
+
+/// What the CPU stages take from the ones before them.
+struct Inputs {
+    nb: Neighbours,
+    pts: Vec<StressPoint>,
+    k: kinematics::Kinematics,
+}
+
+impl Inputs {
+    fn new(model: &Model, state: &State) -> Self {
+        let nb = neighbours::find_with_skin(model, &state.x, skin(model));
+        let k = kinematics::kinematics(model, state, &nb);
+        Inputs {
+            pts: cpu::eos_and_stress(model, state),
+            k,
+            nb,
+        }
+    }
 }
 
 fn gpu_benches(c: &mut Criterion, sizes: &[usize], ctx: Arc<GpuContext>) {
