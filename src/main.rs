@@ -354,7 +354,7 @@ fn main() -> ExitCode {
                     let sm = &out.summary;
                     let snaps = if sm.snapshots > 0 {
                         format!(
-                            ", {} snapshots ({:.1} MB, {:.2} s writing)",
+                            ", {} snapshots ({:.1} MB, {:.2} s)",
                             sm.snapshots,
                             sm.snapshot_bytes as f64 / 1e6,
                             sm.snapshot_seconds

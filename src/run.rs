@@ -1,5 +1,5 @@
-//! Running a scene: the stepping loop, history rows at exact times, the
-//! progress display and the output files.
+//! Running a scene: the stepping loop, history rows and snapshots at exact
+//! times, the progress display and the output files.
 
 use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -186,11 +186,15 @@ impl Recorder {
     }
 
     /// Write the snapshot due at the state at `t` (labelled with its exact
-    /// time, which `t` meets up to round-off).
-    fn snapshot(&mut self, t: f64, fields: &Fields) -> Result<(), RunError> {
+    /// time, which `t` meets up to round-off). `prepared` is when the loop
+    /// began making `fields` (the boundary set, the device readback), so
+    /// that the snapshot's whole cost is booked.
+    fn snapshot(&mut self, t: f64, fields: &Fields, prepared: Instant) -> Result<(), RunError> {
         let Some(s) = &mut self.snaps else {
             return Ok(());
         };
+        let writing = Instant::now();
+        s.series.seconds += (writing - prepared).as_secs_f64();
         while let Some(&ts) = s.times.get(s.next).filter(|&&ts| ts <= t * (1.0 + AT_TIME)) {
             s.series.write(ts, fields)?;
             s.next += 1;
@@ -498,6 +502,7 @@ fn run_cpu(
         let obs = probe::evaluate(probes, model, st, diag);
         rec.feed(t, obs)?;
         if rec.snapshot_due(t) {
+            let prepared = Instant::now();
             let (model, st) = (&solver.model, &solver.state);
             let (normal, boundary) = crate::cpu::surface(model, st);
             let fields = Fields {
@@ -506,7 +511,7 @@ fn run_cpu(
                 normal: &normal,
                 boundary: &boundary,
             };
-            rec.snapshot(t, &fields)?;
+            rec.snapshot(t, &fields, prepared)?;
         }
         if rec.finished() || t >= end {
             break;
@@ -640,6 +645,7 @@ fn run_gpu(
 
 /// The snapshot of the device's current state, at time `t`.
 fn gpu_snapshot(solver: &mut GpuSolver, rec: &mut Recorder, t: f64) -> Result<(), RunError> {
+    let prepared = Instant::now();
     let (state, normal, boundary) = solver.snapshot();
     let fields = Fields {
         model: &solver.model,
@@ -647,5 +653,5 @@ fn gpu_snapshot(solver: &mut GpuSolver, rec: &mut Recorder, t: f64) -> Result<()
         normal: &normal,
         boundary: &boundary,
     };
-    rec.snapshot(t, &fields)
+    rec.snapshot(t, &fields, prepared)
 }

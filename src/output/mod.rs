@@ -129,8 +129,9 @@ pub struct Summary {
     pub energy_spring_loss: f64,
     pub bodies: Vec<BodySummary>,
     /// Snapshots written (0 without `output.snapshot_interval`), their
-    /// bytes on disk and the wall seconds spent writing them (inside
-    /// `wall_seconds`).
+    /// bytes on disk and the wall seconds they took (inside
+    /// `wall_seconds`): the boundary set or the device readback, and the
+    /// writing.
     pub snapshots: usize,
     pub snapshot_bytes: u64,
     pub snapshot_seconds: f64,

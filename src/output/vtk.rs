@@ -296,7 +296,8 @@ pub fn collection_text(entries: &[(f64, String)]) -> String {
 pub struct SnapshotSeries {
     out: PathBuf,
     entries: Vec<(f64, String)>,
-    /// Bytes and wall seconds spent writing, over all snapshots.
+    /// Bytes and wall seconds spent writing, over all snapshots (the run
+    /// adds the time it took to gather each snapshot's fields).
     pub bytes: u64,
     pub seconds: f64,
 }
