@@ -66,15 +66,24 @@ struct Array<'a> {
     make: Box<dyn Fn() -> Vec<u8> + 'a>,
 }
 
-fn le_f64(values: impl IntoIterator<Item = f64>) -> Vec<u8> {
-    values.into_iter().flat_map(f64::to_le_bytes).collect()
+/// Little-endian bytes of `values`, `W` bytes each, into a buffer sized
+/// once (a million-particle array is megabytes: no regrowing).
+fn le_bytes<T, const W: usize>(values: &[T], bytes: impl Fn(&T) -> [u8; W]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(W * values.len());
+    for v in values {
+        out.extend_from_slice(&bytes(v));
+    }
+    out
 }
 
 /// 3-component Float64 bytes of 2-D vectors (z = 0).
 fn vec3_bytes(v: &[DVec2]) -> Vec<u8> {
-    v.par_iter()
-        .flat_map_iter(|p| le_f64([p.x, p.y, 0.0]))
-        .collect()
+    le_bytes(v, |p| {
+        let mut b = [0u8; 24];
+        b[..8].copy_from_slice(&p.x.to_le_bytes());
+        b[8..16].copy_from_slice(&p.y.to_le_bytes());
+        b
+    })
 }
 
 /// Escape text for an XML attribute value. Control characters, which XML
@@ -118,7 +127,7 @@ pub fn write_vtu(path: &Path, time: f64, f: &Fields) -> Result<u64, RunError> {
                     .into_par_iter()
                     .map(|i| particle_value(model, st, i, q))
                     .collect();
-                le_f64(v)
+                le_bytes(&v, |x| x.to_le_bytes())
             }),
         });
     }
@@ -127,13 +136,7 @@ pub fn write_vtu(path: &Path, time: f64, f: &Fields) -> Result<u64, RunError> {
         vtk_type: "Int32",
         components: 1,
         bytes_per_value: 4,
-        make: Box::new(move || {
-            model
-                .body
-                .iter()
-                .flat_map(|&b| (b as i32).to_le_bytes())
-                .collect()
-        }),
+        make: Box::new(move || le_bytes(&model.body, |&b| (b as i32).to_le_bytes())),
     });
     let boundary = f.boundary;
     point_data.push(Array {
@@ -141,7 +144,7 @@ pub fn write_vtu(path: &Path, time: f64, f: &Fields) -> Result<u64, RunError> {
         vtk_type: "UInt8",
         components: 1,
         bytes_per_value: 1,
-        make: Box::new(move || boundary.iter().map(|&b| b as u8).collect()),
+        make: Box::new(move || le_bytes(boundary, |&b| [b as u8])),
     });
     let normal = f.normal;
     point_data.push(Array {
@@ -165,14 +168,20 @@ pub fn write_vtu(path: &Path, time: f64, f: &Fields) -> Result<u64, RunError> {
             vtk_type: "Int64",
             components: 1,
             bytes_per_value: 8,
-            make: Box::new(move || (0..n as i64).flat_map(i64::to_le_bytes).collect()),
+            make: Box::new(move || {
+                let ids: Vec<i64> = (0..n as i64).collect();
+                le_bytes(&ids, |k| k.to_le_bytes())
+            }),
         },
         Array {
             name: "offsets",
             vtk_type: "Int64",
             components: 1,
             bytes_per_value: 8,
-            make: Box::new(move || (1..=n as i64).flat_map(i64::to_le_bytes).collect()),
+            make: Box::new(move || {
+                let ends: Vec<i64> = (1..=n as i64).collect();
+                le_bytes(&ends, |k| k.to_le_bytes())
+            }),
         },
         Array {
             name: "types",
