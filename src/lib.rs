@@ -7,7 +7,7 @@
 //! * [`scene`]: the scene file (TOML) and particle placement;
 //! * [`physics`]: kernel, material model, exact answers;
 //! * [`cpu`]: the f64 reference solver, one function per stage;
-//! * [`run`]: running a scene to its outputs (history, summary);
+//! * [`run`]: running a scene to its outputs (history, summary, snapshots);
 //! * [`probe`]: the recorded observables;
 //! * [`mod@bench`]: particle throughput of both backends (`sphcontact bench`).
 //!

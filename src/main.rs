@@ -370,10 +370,21 @@ fn check(path: &Path, scene: &Scene) {
         (sim.end_time / used).ceil()
     );
     println!(
-        "output      {} ({} history rows, {} probes)",
+        "output      {} ({} history rows, {} probes{})",
         output_dir(scene, Some(path), &RunOptions::default()).display(),
         history_times(sim.end_time, scene.history_interval()).len(),
-        scene.probes.len()
+        scene.probes.len(),
+        match scene.output.snapshot_interval {
+            // About 150 bytes a particle (vtk.rs): a size to plan disk for.
+            Some(dt) => {
+                let k = history_times(sim.end_time, dt).len();
+                format!(
+                    ", {k} snapshots of about {:.0} MB each",
+                    150.0 * model.len() as f64 / 1e6
+                )
+            }
+            None => String::new(),
+        }
     );
 }
 
@@ -412,8 +423,18 @@ fn main() -> ExitCode {
             match run_scene(&s, Some(&scene), &opts) {
                 Ok(out) => {
                     let sm = &out.summary;
+                    let snaps = if sm.snapshots > 0 {
+                        format!(
+                            ", {} snapshots ({:.1} MB, {:.2} s)",
+                            sm.snapshots,
+                            sm.snapshot_bytes as f64 / 1e6,
+                            sm.snapshot_seconds
+                        )
+                    } else {
+                        String::new()
+                    };
                     eprintln!(
-                        "done: {} particles, {} steps, {:.2} s wall, {:.3e} particle-steps/s; outputs in {}",
+                        "done: {} particles, {} steps, {:.2} s wall, {:.3e} particle-steps/s{snaps}; outputs in {}",
                         sm.particles,
                         sm.steps,
                         sm.wall_seconds,

@@ -1,5 +1,5 @@
-//! Running a scene: the stepping loop, history rows at exact times, the
-//! progress display and the output files.
+//! Running a scene: the stepping loop, history rows and snapshots at exact
+//! times, the progress display and the output files.
 
 use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -14,6 +14,7 @@ use crate::cpu::{CpuSolver, Diagnostics};
 use crate::error::{Instability, RunError};
 use crate::gpu::{GpuContext, GpuSolver};
 use crate::model::{Model, State};
+use crate::output::vtk::{Fields, SnapshotSeries};
 use crate::output::{BodySummary, History, Summary};
 use crate::probe;
 use crate::scene::{Backend, Scene};
@@ -32,7 +33,9 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Print no progress at all (library use, tests).
     pub silent: bool,
-    /// Write `history.csv` and `summary.json`.
+    /// Write `history.csv`, `summary.json` and, when the scene sets
+    /// `output.snapshot_interval`, the snapshots. Without it a run keeps
+    /// nothing on disk, and does not shorten steps for snapshots either.
     pub write: bool,
 }
 
@@ -109,27 +112,43 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
     }
 }
 
-/// History rows at exact times from a sequence of observed states: a row
-/// between two states is their linear interpolation, so steps are never
-/// shortened for output.
-/// What both backends' loops record into: history rows at exact times
-/// (interpolated between the observed states) and the progress display.
+/// What both backends' loops record into: history rows at exact times,
+/// snapshots at exact times, and the progress display.
+///
+/// A history row between two observed states is their linear
+/// interpolation, so steps are never shortened for history. A snapshot
+/// holds a whole state, which interpolation would not make a state of the
+/// method (its boundary set and normals least of all), so the loops shorten
+/// the step that would cross a snapshot time to land on it
+/// ([`Recorder::next_stop`]): about one shortened step per snapshot.
 struct Recorder {
     times: Vec<f64>,
     next: usize,
     prev: Option<(f64, Vec<f64>)>,
     history: History,
+    snaps: Option<Snapshots>,
     progress: Progress,
     start: Instant,
     end: f64,
     particles: usize,
 }
 
+/// The snapshot times not yet written and the files written so far.
+struct Snapshots {
+    times: Vec<f64>,
+    next: usize,
+    series: SnapshotSeries,
+}
+
+/// Relative tolerance under which a state's time counts as a recorded
+/// time: round-off of the time sum, far below any step.
+const AT_TIME: f64 = 1e-12;
+
 impl Recorder {
     /// Observations `obs` of the state at time `t`: writes every history
     /// row up to `t`.
     fn feed(&mut self, t: f64, obs: Vec<f64>) -> Result<(), RunError> {
-        while self.next < self.times.len() && self.times[self.next] <= t * (1.0 + 1e-12) {
+        while self.next < self.times.len() && self.times[self.next] <= t * (1.0 + AT_TIME) {
             let tr = self.times[self.next];
             let row = match &self.prev {
                 Some((tp, vp)) if tr < t => {
@@ -149,11 +168,46 @@ impl Recorder {
         self.next >= self.times.len()
     }
 
+    /// A snapshot is due at the state at time `t`.
+    fn snapshot_due(&self, t: f64) -> bool {
+        self.snaps.as_ref().is_some_and(|s| {
+            s.times
+                .get(s.next)
+                .is_some_and(|&ts| ts <= t * (1.0 + AT_TIME))
+        })
+    }
+
+    /// Where the coming steps must stop: the next snapshot time, else the end.
+    fn next_stop(&self) -> f64 {
+        self.snaps
+            .as_ref()
+            .and_then(|s| s.times.get(s.next))
+            .map_or(self.end, |&ts| ts.min(self.end))
+    }
+
+    /// Write the snapshot due at the state at `t` (labelled with its exact
+    /// time, which `t` meets up to round-off). `prepared` is when the loop
+    /// began making `fields` (the boundary set, the device readback), so
+    /// that the snapshot's whole cost is booked.
+    fn snapshot(&mut self, t: f64, fields: &Fields, prepared: Instant) -> Result<(), RunError> {
+        let Some(s) = &mut self.snaps else {
+            return Ok(());
+        };
+        let writing = Instant::now();
+        s.series.seconds += (writing - prepared).as_secs_f64();
+        while let Some(&ts) = s.times.get(s.next).filter(|&&ts| ts <= t * (1.0 + AT_TIME)) {
+            s.series.write(ts, fields)?;
+            s.next += 1;
+        }
+        self.progress.snapshots = Some(s.series.count());
+        Ok(())
+    }
+
     /// Progress after `steps` steps, at simulated time `t`.
     fn report(&mut self, t: f64, steps: u64) {
         let secs = self.start.elapsed().as_secs_f64().max(1e-9);
         let rate = steps as f64 * self.particles as f64 / secs;
-        self.progress.update(t, self.end, steps, rate);
+        self.progress.update(t, self.end, steps, rate, secs);
     }
 }
 
@@ -188,20 +242,32 @@ fn vec_of(v: DVec2, dim: usize) -> Vec<f64> {
     }
 }
 
+/// Plain progress lines come at least this often in simulated time (per
+/// cent of the end time) and in wall time (seconds), whichever is first.
+const LINE_PERCENT: f64 = 5.0;
+const LINE_SECONDS: f64 = 10.0;
+
 struct Progress {
     bar: Option<ProgressBar>,
     plain: bool,
-    next_tenth: u32,
+    /// Per cent of the end time at which the next plain line is due.
+    next_percent: f64,
+    last_line: Instant,
+    /// Snapshots written so far, when the run writes snapshots.
+    snapshots: Option<usize>,
 }
 
 impl Progress {
     fn new(opts: &RunOptions) -> Self {
+        let mut p = Self {
+            bar: None,
+            plain: false,
+            next_percent: LINE_PERCENT,
+            last_line: Instant::now(),
+            snapshots: None,
+        };
         if opts.silent {
-            return Self {
-                bar: None,
-                plain: false,
-                next_tenth: 11,
-            };
+            return p;
         }
         if !opts.quiet && std::io::stderr().is_terminal() {
             let bar = ProgressBar::new(1000);
@@ -211,31 +277,39 @@ impl Progress {
                 )
                 .expect("a valid template"),
             );
-            return Self {
-                bar: Some(bar),
-                plain: false,
-                next_tenth: 11,
-            };
+            p.bar = Some(bar);
+        } else {
+            p.plain = true;
         }
-        Self {
-            bar: None,
-            plain: true,
-            next_tenth: 1,
-        }
+        p
     }
 
-    fn update(&mut self, t: f64, end: f64, steps: u64, rate: f64) {
+    /// `elapsed`: wall seconds since the run started.
+    fn update(&mut self, t: f64, end: f64, steps: u64, rate: f64, elapsed: f64) {
         let frac = (t / end).clamp(0.0, 1.0);
+        let snaps = self
+            .snapshots
+            .map_or(String::new(), |k| format!(", snapshots written: {k}"));
         if let Some(bar) = &self.bar {
             bar.set_position((frac * 1000.0) as u64);
             bar.set_message(format!(
-                "{t:.3e} / {end:.3e} s, {steps} steps, {rate:.3e} particle-steps/s"
+                "{t:.3e} / {end:.3e} s, {steps} steps, {rate:.3e} particle-steps/s{snaps}"
             ));
-        } else if self.plain && frac * 10.0 >= self.next_tenth as f64 {
-            self.next_tenth = (frac * 10.0).floor() as u32 + 1;
+        } else if self.plain {
+            let percent = frac * 100.0;
+            let quiet_for = self.last_line.elapsed().as_secs_f64();
+            if percent < self.next_percent && quiet_for < LINE_SECONDS {
+                return;
+            }
+            self.next_percent = ((percent / LINE_PERCENT).floor() + 1.0) * LINE_PERCENT;
+            self.last_line = Instant::now();
+            let eta = if frac > 0.0 {
+                duration(elapsed * (1.0 - frac) / frac)
+            } else {
+                "unknown".into()
+            };
             eprintln!(
-                "t = {t:.4e} s ({:.0} %), {steps} steps, {rate:.3e} particle-steps/s",
-                frac * 100.0
+                "t = {t:.4e} s ({percent:.0} %), {steps} steps, {rate:.3e} particle-steps/s, ETA {eta}{snaps}"
             );
         }
     }
@@ -244,6 +318,18 @@ impl Progress {
         if let Some(bar) = &self.bar {
             bar.finish_and_clear();
         }
+    }
+}
+
+/// A wall-clock duration for people: `42 s`, `3 min 07 s`, `2 h 05 min`.
+fn duration(secs: f64) -> String {
+    let s = secs.max(0.0).round() as u64;
+    if s < 60 {
+        format!("{s} s")
+    } else if s < 3600 {
+        format!("{} min {:02} s", s / 60, s % 60)
+    } else {
+        format!("{} h {:02} min", s / 3600, (s % 3600) / 60)
     }
 }
 
@@ -288,11 +374,20 @@ pub fn run_scene(
     let n = model.len();
     let p0 = probe::momentum(&model, &state);
     let base_energy = probe::energies(&model, &state, &Diagnostics::default()).total();
+    let snaps = match (&dir, scene.output.snapshot_interval) {
+        (Some(d), Some(interval)) => Some(Snapshots {
+            times: history_times(end, interval),
+            next: 0,
+            series: SnapshotSeries::create(d)?,
+        }),
+        _ => None,
+    };
     let mut rec = Recorder {
         times: history_times(end, scene.history_interval()),
         next: 0,
         prev: None,
         history: History::new(names, dir.as_deref())?,
+        snaps,
         progress: Progress::new(opts),
         start: Instant::now(),
         end,
@@ -305,6 +400,9 @@ pub fn run_scene(
     rec.progress.finish();
     let wall = rec.start.elapsed().as_secs_f64();
     let history = rec.history;
+    let (snapshots, snapshot_bytes, snapshot_seconds) = rec.snaps.map_or((0, 0, 0.0), |s| {
+        (s.series.count(), s.series.bytes, s.series.seconds)
+    });
     let Outcome {
         model,
         state,
@@ -357,6 +455,9 @@ pub fn run_scene(
                 }
             })
             .collect(),
+        snapshots,
+        snapshot_bytes,
+        snapshot_seconds,
         warnings,
         status: if failure.is_some() {
             "failed"
@@ -400,10 +501,22 @@ fn run_cpu(
         stored0.get_or_insert(diag.contact.stored);
         let obs = probe::evaluate(probes, model, st, diag);
         rec.feed(t, obs)?;
+        if rec.snapshot_due(t) {
+            let prepared = Instant::now();
+            let (model, st) = (&solver.model, &solver.state);
+            let (normal, boundary) = crate::cpu::surface(model, st);
+            let fields = Fields {
+                model,
+                state: st,
+                normal: &normal,
+                boundary: &boundary,
+            };
+            rec.snapshot(t, &fields, prepared)?;
+        }
         if rec.finished() || t >= end {
             break;
         }
-        if let Err(e) = solver.step(end - t) {
+        if let Err(e) = solver.step(rec.next_stop() - t) {
             failure = Some(e);
             break;
         }
@@ -422,8 +535,15 @@ fn run_cpu(
     })
 }
 
+/// Wall seconds a GPU batch is sized to take at most, so that a slow
+/// device (a software one, a scene of millions of particles) still returns
+/// to the host for progress lines and history rows every few seconds.
+const BATCH_SECONDS: f64 = 2.0;
+
 /// The GPU loop: batches of steps on the device; each batch hands back the
-/// observations of the states it passed through.
+/// observations of the states it passed through. The device stops at the
+/// next snapshot time (then the end): the batches of one segment run until
+/// it reports the stop reached.
 fn run_gpu(
     ctx: Arc<GpuContext>,
     model: Model,
@@ -438,33 +558,65 @@ fn run_gpu(
     let mut stored = (None, 0.0);
     let mut t_last = 0.0;
     let mut steps = 0u64;
-    loop {
-        // Enough steps to reach the end at the last step size, plus the
-        // zero-length step that observes the final state.
-        let dt = solver.last_dt();
-        let want = if dt > 0.0 {
-            ((end - t_last) / dt).ceil() + 2.0
-        } else {
-            16.0
-        };
-        // (`run_batch` caps a batch at what the observation ring holds.)
-        let batch = solver.run_batch(want as u32);
-        let count = batch.states.len();
-        for (k, (t, obs, e_stored)) in batch.states.into_iter().enumerate() {
-            // The device stops within 1e-4 of a step of the end: that state
-            // is the end.
-            let t = if batch.done && k + 1 == count { end } else { t };
-            stored.0.get_or_insert(e_stored);
-            stored.1 = e_stored;
-            rec.feed(t, obs)?;
-            t_last = t;
+    // The step size the batches are sized by: the longest step of the last
+    // batch (the device's own last step may be one shortened to a stop).
+    let mut dt_est = 0.0;
+    let mut seconds_per_step = 0.0;
+    if rec.snapshot_due(0.0) {
+        gpu_snapshot(&mut solver, rec, 0.0)?;
+    }
+    'run: loop {
+        let stop = rec.next_stop();
+        solver.set_stop_time(stop);
+        loop {
+            // Enough steps to reach the stop at the estimated step size,
+            // plus the zero-length step that observes the state there.
+            let mut want = if dt_est > 0.0 {
+                ((stop - t_last) / dt_est).ceil() + 2.0
+            } else {
+                16.0
+            };
+            if seconds_per_step > 0.0 {
+                want = want.min((BATCH_SECONDS / seconds_per_step).floor().max(1.0));
+            }
+            // (`run_batch` caps a batch at what the observation ring holds.)
+            let started = Instant::now();
+            let encoded = (want as u32).clamp(1, crate::gpu::RING_LEN - 2);
+            let batch = solver.run_batch(encoded);
+            seconds_per_step = started.elapsed().as_secs_f64() / encoded as f64;
+            let count = batch.states.len();
+            let mut longest: f64 = 0.0;
+            for (k, (t, obs, e_stored)) in batch.states.into_iter().enumerate() {
+                // The device stops within 1e-4 of a step of the stop: that
+                // state is at the stop.
+                let t = if batch.done && k + 1 == count {
+                    stop
+                } else {
+                    t
+                };
+                stored.0.get_or_insert(e_stored);
+                stored.1 = e_stored;
+                rec.feed(t, obs)?;
+                longest = longest.max(t - t_last);
+                t_last = t;
+            }
+            if longest > 0.0 {
+                dt_est = longest;
+            }
+            steps += count as u64;
+            if batch.failure.is_some() {
+                failure = batch.failure;
+                break 'run;
+            }
+            if batch.done || rec.finished() {
+                break;
+            }
+            rec.report(t_last, steps);
         }
-        steps += count as u64;
-        if batch.failure.is_some() {
-            failure = batch.failure;
-            break;
+        if rec.snapshot_due(stop) {
+            gpu_snapshot(&mut solver, rec, stop)?;
         }
-        if batch.done || rec.finished() {
+        if stop >= end || rec.finished() {
             break;
         }
         rec.report(t_last, steps);
@@ -489,4 +641,17 @@ fn run_gpu(
         adapter: Some(adapter),
         warnings,
     })
+}
+
+/// The snapshot of the device's current state, at time `t`.
+fn gpu_snapshot(solver: &mut GpuSolver, rec: &mut Recorder, t: f64) -> Result<(), RunError> {
+    let prepared = Instant::now();
+    let (state, normal, boundary) = solver.snapshot();
+    let fields = Fields {
+        model: &solver.model,
+        state: &state,
+        normal: &normal,
+        boundary: &boundary,
+    };
+    rec.snapshot(t, &fields, prepared)
 }

@@ -156,6 +156,30 @@ pub fn evaluate_with(
     )
 }
 
+/// Outward unit normals and the boundary set at `st`, for output
+/// (snapshots): the kinematic pass's colour gradient, normalised on the surface
+/// particles and zero elsewhere. The step never calls this: it costs one
+/// neighbour search and one kinematic pass, paid only when a snapshot is written.
+/// In kernel mode the SPH sums run across bodies, so faces in contact with
+/// another body are not surface there.
+pub fn surface(model: &Model, st: &State) -> (Vec<DVec2>, Vec<bool>) {
+    let nb = neighbours::find(model, &st.x);
+    let a = kinematics::kinematics(model, st, &nb);
+    let normal = a
+        .grad_psi
+        .iter()
+        .zip(&a.surface)
+        .map(|(g, &on)| {
+            if on {
+                g.normalize_or_zero()
+            } else {
+                DVec2::ZERO
+            }
+        })
+        .collect();
+    (normal, a.surface)
+}
+
 /// The CFL step (METHOD.md §9): `C min_i h_i / (c_i + |v_i|)` over deformable
 /// particles, with the sound speeds of `pts`.
 pub fn cfl_step(model: &Model, st: &State, pts: &[StressPoint]) -> f64 {

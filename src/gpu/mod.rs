@@ -933,6 +933,62 @@ impl GpuSolver {
 
     /// The state and the control block, in one readback.
     pub fn download_with_control(&self) -> (State, Control) {
+        let d = self.read_buffers(None, &self.state_buffers());
+        self.unpack_state(&d)
+    }
+
+    /// Move the time the device stops at (a snapshot time, then the end
+    /// time): the step that would cross it is shortened to land on it and
+    /// the steps after it have zero length, as at the end of a run, until
+    /// the stop moves again. Takes effect from the next batch.
+    pub fn set_stop_time(&mut self, t: f64) {
+        let (hi, lo) = split(t);
+        let at = std::mem::offset_of!(Params, end_hi) as u64;
+        debug_assert_eq!(std::mem::offset_of!(Params, end_lo) as u64, at + 4);
+        self.ctx
+            .queue
+            .write_buffer(self.buf("params"), at, bytemuck::cast_slice(&[hi, lo]));
+    }
+
+    /// The state with its outward unit normals and boundary set, in the
+    /// model's particle order (snapshots). The normals in "nbo" after a step
+    /// belong to its midpoint, so the cell list and pass A run once more at
+    /// the state itself first. They only rewrite per-evaluation scratch
+    /// that every step recomputes before reading, except the correction
+    /// fallback counter, which is put back to the zero `end_step` leaves.
+    /// Normals are zero off the boundary, as on the CPU path.
+    pub fn snapshot(&mut self) -> (State, Vec<DVec2>, Vec<bool>) {
+        let mut enc = self.ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            self.encode_grid(&mut pass, Var::Base);
+            self.k.eval[Var::Base as usize].pass_a.dispatch(&mut pass);
+        }
+        let mut names = self.state_buffers();
+        names.push(("nbo", 16 * self.n as u64));
+        let d = self.read_buffers(Some(enc), &names);
+        let at = std::mem::offset_of!(Control, fallback_now) as u64;
+        self.ctx
+            .queue
+            .write_buffer(self.buf("ctl"), at, bytemuck::bytes_of(&0u32));
+        let (st, _) = self.unpack_state(&d);
+        let meta: &[[u32; 4]] = bytemuck::cast_slice(&d[5]);
+        let nbo: &[[f32; 4]] = bytemuck::cast_slice(d.last().expect("nbo was read"));
+        let mut normal = vec![DVec2::ZERO; self.n];
+        let mut boundary = vec![false; self.n];
+        for (m, nb) in meta.iter().zip(nbo) {
+            let i = m[3] as usize;
+            if nb[2] > 0.0 {
+                boundary[i] = true;
+                normal[i] = DVec2::new(nb[0] as f64, nb[1] as f64);
+            }
+        }
+        (st, normal, boundary)
+    }
+
+    /// The buffers the state is read from, in the order `unpack_state`
+    /// takes them.
+    fn state_buffers(&self) -> Vec<(&'static str, u64)> {
         let n = self.n as u64;
         let mut names = vec![
             ("x0", 16 * n),
@@ -946,7 +1002,12 @@ impl GpuSolver {
         if self.model.contact {
             names.push(("qheat", 8 * n));
         }
-        let d = self.read_buffers(None, &names);
+        names
+    }
+
+    /// The f64 state (model order) and the control block from the buffers
+    /// of `state_buffers`.
+    fn unpack_state(&self, d: &[Vec<u8>]) -> (State, Control) {
         let x0: &[[f32; 4]] = bytemuck::cast_slice(&d[0]);
         let u: &[[f32; 2]] = bytemuck::cast_slice(&d[1]);
         let v: &[[f32; 2]] = bytemuck::cast_slice(&d[2]);

@@ -1,4 +1,7 @@
-//! Output files (SCENES.md, "Outputs"): `history.csv` and `summary.json`.
+//! Output files (SCENES.md, "Outputs"): `history.csv`, `summary.json` and
+//! the particle snapshots ([`vtk`]).
+
+pub mod vtk;
 
 use serde::Serialize;
 use std::fs::File;
@@ -103,7 +106,7 @@ pub struct BodySummary {
 }
 
 /// `summary.json` (SCENES.md): the contract's keys, plus `status`, `error`,
-/// `time_reached` and `energy_spring_loss`.
+/// `time_reached`, `energy_spring_loss` and the snapshot counts.
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
     pub scene: String,
@@ -125,6 +128,13 @@ pub struct Summary {
     /// lost, which `energy_final` does not count. 0 without contact.
     pub energy_spring_loss: f64,
     pub bodies: Vec<BodySummary>,
+    /// Snapshots written (0 without `output.snapshot_interval`), their
+    /// bytes on disk and the wall seconds they took (inside
+    /// `wall_seconds`): the boundary set or the device readback, and the
+    /// writing.
+    pub snapshots: usize,
+    pub snapshot_bytes: u64,
+    pub snapshot_seconds: f64,
     pub warnings: Vec<String>,
     /// "completed" or "failed".
     pub status: String,
