@@ -114,12 +114,12 @@ pub const STAGES: &[StageSpec] = &[
     StageSpec {
         name: "pass_a",
         per_step: 2.0,
-        what: "correction, colour gradient, normals and boundary, EOS, velocity gradient, density and stress rates (CPU: EOS, pass A, boundary, pass B)",
+        what: "correction, colour gradient, normals and boundary, EOS, velocity gradient, density and stress rates (CPU: eos, kinematics, boundary)",
     },
     StageSpec {
         name: "pass_c",
         per_step: 2.0,
-        what: "momentum, energy, contact area (CPU: pass C)",
+        what: "momentum, energy, contact area (CPU: forces)",
     },
     StageSpec {
         name: "contact",
