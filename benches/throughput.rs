@@ -261,6 +261,9 @@ fn gpu_benches(c: &mut Criterion, sizes: &[usize], ctx: Arc<GpuContext>) {
 }
 
 fn main() {
+    // The same allocator set-up as the command line, so the figures match
+    // `sphcontact bench` (docs/performance.md).
+    sphcontact::cpu::keep_freed_memory();
     let sizes = sizes();
     let ctx = adapter();
     let mut c = Criterion::default().configure_from_args();
