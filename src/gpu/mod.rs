@@ -772,6 +772,22 @@ impl GpuSolver {
         self.k.map_slots.dispatch(&mut pass);
     }
 
+    /// The reductions after the first evaluation of a step: the CFL step,
+    /// then the per-step observations and probes when the run records any.
+    /// One sequence for the step and for timing the stage alone.
+    fn encode_reduce(&self, pass: &mut wgpu::ComputePass<'_>) {
+        let k = &self.k;
+        k.cfl_partial.dispatch(pass);
+        k.cfl_final.dispatch(pass);
+        if let Some((a, b)) = &k.obs {
+            a.dispatch(pass);
+            b.dispatch(pass);
+        }
+        if let Some(p) = &k.probes {
+            p.dispatch(pass);
+        }
+    }
+
     fn encode_step(&self, enc: &mut wgpu::CommandEncoder, step_index: u64) {
         if step_index % REORDER_EVERY == 0 {
             self.encode_reorder(enc);
@@ -779,15 +795,7 @@ impl GpuSolver {
         let mut pass = enc.begin_compute_pass(&Default::default());
         let k = &self.k;
         self.encode_eval(&mut pass, Var::Base);
-        k.cfl_partial.dispatch(&mut pass);
-        k.cfl_final.dispatch(&mut pass);
-        if let Some((a, b)) = &k.obs {
-            a.dispatch(&mut pass);
-            b.dispatch(&mut pass);
-        }
-        if let Some(p) = &k.probes {
-            p.dispatch(&mut pass);
-        }
+        self.encode_reduce(&mut pass);
         k.advance_half.dispatch(&mut pass);
         self.encode_eval(&mut pass, Var::Mid);
         k.advance_full.dispatch(&mut pass);
@@ -1084,17 +1092,7 @@ impl GpuSolver {
                     c2.dispatch(&mut pass);
                 }
             }
-            "reduce" => {
-                k.cfl_partial.dispatch(&mut pass);
-                k.cfl_final.dispatch(&mut pass);
-                if let Some((a, b)) = &k.obs {
-                    a.dispatch(&mut pass);
-                    b.dispatch(&mut pass);
-                }
-                if let Some(p) = &k.probes {
-                    p.dispatch(&mut pass);
-                }
-            }
+            "reduce" => self.encode_reduce(&mut pass),
             "advance" => {
                 k.advance_half.dispatch(&mut pass);
                 k.advance_full.dispatch(&mut pass);
