@@ -95,7 +95,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     let mut pairs = 0;
     for i in 0..n {
         let mut cpu_set: Vec<u32> = nb.of(&model, &st.x, i).map(|b| b.j).collect();
-        cpu_set.extend(nb.cross_within(&model, &st.x, i));
+        cpu_set.extend_from_slice(nb.cross_of(i));
         cpu_set.sort_unstable();
         pairs += cpu_set.len();
         if cpu_set != out.neighbours[i] {

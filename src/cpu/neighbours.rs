@@ -142,24 +142,12 @@ impl Neighbours {
         &self.list[self.start[i] as usize..self.start[i + 1] as usize]
     }
 
-    /// Candidate particles of other bodies near `i`; the contact test
-    /// itself rejects those beyond `2 h_ij`.
+    /// Candidate particles of other bodies near `i` (exactly those within
+    /// `2 h_ij` in lists without a skin); the contact test itself rejects
+    /// those beyond.
     #[inline]
     pub fn cross_of(&self, i: usize) -> &[u32] {
         &self.cross[self.cross_start[i] as usize..self.cross_start[i + 1] as usize]
-    }
-
-    /// Other-body particles of `i` closer than `2 h_ij` at positions `x`.
-    pub fn cross_within<'a>(
-        &'a self,
-        model: &'a Model,
-        x: &'a [DVec2],
-        i: usize,
-    ) -> impl Iterator<Item = u32> + 'a {
-        self.cross_of(i).iter().copied().filter(move |&j| {
-            let hij = 0.5 * (model.h[i] + model.h[j as usize]);
-            (x[i] - x[j as usize]).length_squared() < 4.0 * hij * hij
-        })
     }
 
     /// Whether the lists still hold every pair at positions `x`: no particle
@@ -185,16 +173,6 @@ impl Neighbours {
     }
 }
 
-/// `W_ij` and `∇_i W_ij` for the pair, with `h_ij = (h_i + h_j)/2`.
-#[inline]
-pub fn pair_kernel(dim: usize, xi: DVec2, xj: DVec2, hij: f64) -> (f64, DVec2, f64) {
-    let d = xi - xj;
-    let r = d.length();
-    let (w, dw) = kernel::w_dw(dim, r, hij);
-    let gw = if r > 0.0 { d * (dw / r) } else { DVec2::ZERO };
-    (w, gw, r)
-}
-
 /// Mean number of neighbours per particle within `2 h_ij` at positions `x`
 /// (SPH partners and other-body contact candidates together): the work
 /// measure that goes with a throughput figure.
@@ -202,12 +180,9 @@ pub fn mean_neighbours(model: &Model, x: &[DVec2]) -> f64 {
     if x.is_empty() {
         return 0.0;
     }
+    // Lists without a skin hold exactly the pairs within `2 h_ij`.
     let nb = find(model, x);
-    let pairs: usize = (0..x.len())
-        .into_par_iter()
-        .map(|i| nb.of(model, x, i).count() + nb.cross_within(model, x, i).count())
-        .sum();
-    pairs as f64 / x.len() as f64
+    (nb.list.len() + nb.cross.len()) as f64 / x.len() as f64
 }
 
 /// Exact lists (no skin) at positions `x`.
@@ -289,17 +264,29 @@ mod tests {
     use super::*;
     use crate::scene::Scene;
 
-    /// The cell list finds exactly the pairs an O(N²) search finds, in a
-    /// scattered 2-D cloud spanning many cells and two bodies.
-    #[test]
-    fn cell_list_equals_brute_force() {
-        let text = r#"
+    /// The model of a 2-D scene of one linear-EOS material `m` and the
+    /// bodies given as TOML.
+    fn model_of(bodies: &str) -> (Model, crate::model::State) {
+        let text = format!(
+            r#"
 [simulation]
 dimension = 2
 end_time = 1e-6
 [materials.m]
 density = 1000.0
-eos = { kind = "linear", c0 = 1000.0 }
+eos = {{ kind = "linear", c0 = 1000.0 }}
+{bodies}"#
+        );
+        let scene = Scene::from_toml_str(&text, "test").unwrap();
+        Model::new(&scene)
+    }
+
+    /// The cell list finds exactly the pairs an O(N²) search finds, in a
+    /// scattered 2-D cloud spanning many cells and two bodies.
+    #[test]
+    fn cell_list_equals_brute_force() {
+        let (model, mut state) = model_of(
+            r#"
 [[bodies]]
 name = "a"
 material = "m"
@@ -310,9 +297,8 @@ name = "b"
 material = "m"
 spacing = 0.13
 shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
-"#;
-        let scene = Scene::from_toml_str(text, "test").unwrap();
-        let (model, mut state) = Model::new(&scene);
+"#,
+        );
         // Jitter positions deterministically so no pair sits on a lattice.
         let mut seed = 12345u64;
         for p in state.x.iter_mut() {
@@ -331,7 +317,7 @@ shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
         let mut pairs_found = 0;
         for i in 0..n {
             let mut fast: Vec<u32> = nb.of(&model, &state.x, i).map(|b| b.j).collect();
-            fast.extend(nb.cross_within(&model, &state.x, i));
+            fast.extend_from_slice(nb.cross_of(i));
             fast.sort();
             let mut slow = Vec::new();
             for j in 0..n {
@@ -369,21 +355,15 @@ shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
     /// the skin, and then say so.
     #[test]
     fn skin_validity() {
-        let text = r#"
-[simulation]
-dimension = 2
-end_time = 1e-6
-[materials.m]
-density = 1000.0
-eos = { kind = "linear", c0 = 1000.0 }
+        let (model, state) = model_of(
+            r#"
 [[bodies]]
 name = "a"
 material = "m"
 spacing = 0.1
 shape = { kind = "rectangle", min = [0.0, 0.0], max = [1.0, 1.0] }
-"#;
-        let scene = Scene::from_toml_str(text, "test").unwrap();
-        let (model, state) = Model::new(&scene);
+"#,
+        );
         let skin = 0.04;
         let nb = find_with_skin(&model, &state.x, skin);
         let mut x = state.x.clone();

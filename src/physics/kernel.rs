@@ -40,27 +40,6 @@ pub fn dw(dim: usize, r: f64, h: f64) -> f64 {
     alpha(dim, h) * f / h
 }
 
-/// `W(r, h)` and `∂W/∂r (r, h)` together: one normalisation and one branch
-/// for the pair loops that need both.
-#[inline]
-pub fn w_dw(dim: usize, r: f64, h: f64) -> (f64, f64) {
-    let inv_h = 1.0 / h;
-    let q = r * inv_h;
-    let (f, g) = if q < 1.0 {
-        (
-            1.0 - 1.5 * q * q + 0.75 * q * q * q,
-            -3.0 * q + 2.25 * q * q,
-        )
-    } else if q < 2.0 {
-        let t = 2.0 - q;
-        (0.25 * t * t * t, -0.75 * t * t)
-    } else {
-        (0.0, 0.0)
-    };
-    let a = alpha(dim, h);
-    (a * f, a * g * inv_h)
-}
-
 /// `W` and `∇_i W` for the separation `d = x_i − x_j` (`r2 = |d|²`) at
 /// smoothing length `1/inv_h`, or `None` beyond the support. The pair loops'
 /// form: no division by `h`, and none by `r` inside `h`, where
@@ -139,15 +118,6 @@ mod tests {
                         assert!((g - exact).length() <= 1e-13 * scale / h, "{r}");
                     }
                 }
-            }
-        }
-        // The paired form agrees with the separate ones.
-        for k in 0..=50 {
-            let r = 2.1 * h * k as f64 / 50.0;
-            for dim in [1, 2] {
-                let (a, b) = w_dw(dim, r, h);
-                assert!((a - w(dim, r, h)).abs() <= 1e-14 * alpha(dim, h));
-                assert!((b - dw(dim, r, h)).abs() <= 1e-14 * alpha(dim, h) / h);
             }
         }
     }
