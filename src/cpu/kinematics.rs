@@ -28,7 +28,9 @@ pub struct Kinematics {
     /// §8.1): the contact's boundary set, and where the viscosity keeps the
     /// plain velocity jump.
     pub surface: Vec<bool>,
-    /// Corrected velocity gradient `∇v_i` (zero on rigid particles).
+    /// Corrected velocity gradient `∇v_i` (zero on rigid particles), kept
+    /// only when the viscosity reconstructs velocities with it
+    /// (`Model::av_reconstruct`); empty otherwise.
     pub gv: Vec<Mat2>,
     /// Continuity `dρ/dt = −ρ tr(∇v)` (the difference form of METHOD.md §4
     /// with the corrected gradient).
@@ -99,7 +101,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
         fallback: Vec::new(),
         grad_psi: Vec::with_capacity(n),
         surface: Vec::with_capacity(n),
-        gv: Vec::with_capacity(n),
+        gv: Vec::with_capacity(if model.av_reconstruct { n } else { 0 }),
         drho: Vec::with_capacity(n),
         ds: Vec::with_capacity(n),
     };
@@ -119,7 +121,9 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
             out.ds
                 .push(stress_rate(model.material(i).g, &st.s[i], &p.gv));
         }
-        out.gv.push(p.gv);
+        if model.av_reconstruct {
+            out.gv.push(p.gv);
+        }
     }
     out
 }
