@@ -75,16 +75,6 @@ fn adapter() -> Option<Arc<GpuContext>> {
     }
 }
 
-/// Whether the solver's largest buffers fit the adapter's limits: 16 bytes
-/// per particle for the widest per-particle arrays, 4 bytes per cell-list
-/// bucket (the next power of two of 2N). Anything else that goes wrong
-/// when building is reported when the benchmark runs.
-fn fits(ctx: &GpuContext, n: usize) -> bool {
-    let n = n as u64;
-    let need = (16 * n).max(4 * (2 * n).next_power_of_two());
-    need <= ctx.limits.max_storage_buffer_binding_size && need <= ctx.limits.max_buffer_size
-}
-
 /// Few samples of flat iterations: a step at 1e5 particles takes a large
 /// fraction of a second on a software adapter.
 fn configure(group: &mut BenchmarkGroup<'_, WallTime>) {
@@ -214,7 +204,7 @@ fn gpu_benches(c: &mut Criterion, sizes: &[usize], ctx: Arc<GpuContext>) {
         .iter()
         .copied()
         .filter(|&n| {
-            let ok = fits(&ctx, n);
+            let ok = sphcontact::gpu::fits(&ctx, n);
             if !ok {
                 eprintln!("SKIP: gpu at {n} particles: larger than this adapter's buffers allow");
             }

@@ -114,3 +114,17 @@ fn time_stage_leaves_the_state_as_it_was() {
         "the control block after timing"
     );
 }
+
+/// The size check the benches skip sizes with: a size it accepts builds,
+/// and the first size whose widest per-particle array is over the adapter's
+/// binding limit is refused (the solver's own refusal of such a size is
+/// `too_large_for_the_adapter_is_a_clear_error` in gpu_stages.rs).
+#[test]
+fn fits_agrees_with_the_solver() {
+    let Some(ctx) = gpu() else { return };
+    let case = DiskCase::new(1_000).expect("a valid size");
+    assert!(sphcontact::gpu::fits(&ctx, case.particles()));
+    assert!(GpuSolver::new(ctx.clone(), case.model.clone(), &case.state, &[], 1e-6).is_ok());
+    let too_many = (ctx.limits.max_storage_buffer_binding_size / 16 + 1) as usize;
+    assert!(!sphcontact::gpu::fits(&ctx, too_many));
+}

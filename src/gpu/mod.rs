@@ -62,6 +62,21 @@ use context::Pipeline;
 use layout::{BodyGpu, Control, Params};
 pub use probes::ProbePlan;
 
+/// Cell-list buckets for `n` particles: a power of two at least twice the
+/// count, so that hashed cells rarely share a bucket.
+fn bucket_count(n: usize) -> u32 {
+    (2 * n).next_power_of_two().max(256) as u32
+}
+
+/// Whether the largest buffers [`GpuSolver::new`] makes for `n` particles
+/// fit the adapter's limits: the widest per-particle arrays (one `vec4<f32>`,
+/// 16 bytes, a particle) and the bucket starts. A check before building
+/// (the bench skips a size with it); `new` itself checks every buffer.
+pub fn fits(ctx: &GpuContext, n: usize) -> bool {
+    let need = (16 * n as u64).max(4 * (bucket_count(n) as u64 + 1));
+    need <= ctx.limits.max_storage_buffer_binding_size && need <= ctx.limits.max_buffer_size
+}
+
 /// The process-wide GPU context (opened once; pipelines compiled once),
 /// or why there is none.
 pub fn shared_context() -> Result<Arc<GpuContext>, String> {
@@ -297,7 +312,7 @@ impl GpuSolver {
     ) -> Result<Self, String> {
         let n = model.len();
         let plan = ProbePlan::new(probes, &model);
-        let buckets = (2 * n).next_power_of_two().max(256) as u32;
+        let buckets = bucket_count(n);
         let red_groups = (n as u32).div_ceil(RED_CHUNK).max(1);
         let h_max = model.h.iter().cloned().fold(0.0, f64::max);
         // Cells of 2 h_max, a hair larger so that f32 rounding of the cell
