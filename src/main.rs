@@ -375,12 +375,12 @@ fn check(path: &Path, scene: &Scene) {
         history_times(sim.end_time, scene.history_interval()).len(),
         scene.probes.len(),
         match scene.output.snapshot_interval {
-            // About 150 bytes a particle (vtk.rs): a size to plan disk for.
+            // A size to plan disk for.
             Some(dt) => {
                 let k = history_times(sim.end_time, dt).len();
                 format!(
                     ", {k} snapshots of about {:.0} MB each",
-                    150.0 * model.len() as f64 / 1e6
+                    (sphcontact::output::vtk::BYTES_PER_PARTICLE * model.len() as u64) as f64 / 1e6
                 )
             }
             None => String::new(),

@@ -286,6 +286,14 @@ fn cpu_snapshots_hold_the_state_at_their_times() {
         );
     }
 
+    // The size `check` announces: the arrays, plus a header of a few kB.
+    let bytes = std::fs::metadata(out_dir.join(&pvd[0].1)).unwrap().len();
+    let arrays = sphcontact::output::vtk::BYTES_PER_PARTICLE * n as u64;
+    assert!(
+        bytes >= arrays && bytes < arrays + 8192,
+        "{bytes} bytes for {n} particles"
+    );
+
     // The last snapshot is the final state, bit for bit.
     let last = read_vtu(&out_dir.join(&pvd.last().unwrap().1));
     let st = &out.state;

@@ -14,7 +14,7 @@
 //!
 //! The arrays are raw little-endian binary in one `AppendedData` block
 //! (each array: a UInt64 byte count, then the values), Float64 for the
-//! real quantities: about 150 bytes a particle, written at disk speed,
+//! real quantities: [`BYTES_PER_PARTICLE`] a particle, written at disk speed,
 //! where ASCII would take three times the space and much longer to print.
 
 use glam::DVec2;
@@ -34,6 +34,12 @@ use crate::scene::ParticleQuantity;
 pub const SNAPSHOT_DIR: &str = "snapshots";
 /// The collection file, in the output directory.
 pub const COLLECTION: &str = "snapshots.pvd";
+
+/// Bytes a particle takes in a `.vtu` file, the XML header and the arrays'
+/// byte counts aside: position, velocity and normal (3 × Float64 each),
+/// the seven scalars (Float64), `body` (Int32), `boundary` (UInt8), and the
+/// vertex cell's connectivity and offset (Int64 each) and type (UInt8).
+pub const BYTES_PER_PARTICLE: u64 = 3 * 24 + 7 * 8 + 4 + 1 + 2 * 8 + 1;
 
 /// What one snapshot writes: the particles' constants and state, and the
 /// boundary set with its normals (computed at the same state).
