@@ -33,6 +33,9 @@ fn finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
 }
 
+// Record the first failing step and, within it, the lowest particle id.
+// Quantity codes (GpuSolver::instability): 0 position, 1 velocity,
+// 2 internal energy, 3 density band, 4 time step (reduce.wgsl), 5 domain.
 fn fail(i: u32, quantity: u32) {
     let fs = atomicLoad(&ctl.fail_step);
     if (fs == NONE || fs == ctl.step) {
@@ -45,7 +48,9 @@ fn fail(i: u32, quantity: u32) {
 @compute @workgroup_size(WG)
 fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
-    if (i >= params.n) {
+    // A zero-length step (past the stop, or after a failure) leaves the
+    // state as it is: non-finite rates times zero would not.
+    if (i >= params.n || ctl.dt == 0.0) {
         return;
     }
     let k = 0.5 * ctl.dt;
@@ -66,7 +71,9 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
 @compute @workgroup_size(WG)
 fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
-    if (i >= params.n) {
+    // A zero-length step (past the stop, or after a failure) leaves the
+    // state as it is: non-finite rates times zero would not.
+    if (i >= params.n || ctl.dt == 0.0) {
         return;
     }
     let dt = ctl.dt;
@@ -95,5 +102,13 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         fail(i, 2u);
     } else if (!(rn.x > -0.9 && rn.x < 9.0)) {
         fail(i, 3u);
+    } else {
+        // The domain (Model::domain_of), in the grid origin's frame; f32 is
+        // ample for a box this coarse.
+        let p = x0[i].xy * params.cell + xn;
+        let d = params.domain;
+        if (!(all(p >= d.xy) && all(p <= d.zw))) {
+            fail(i, 5u);
+        }
     }
 }

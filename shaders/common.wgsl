@@ -49,6 +49,8 @@ struct Params {
     red_groups: u32,
     min_det: f32,
     pad0: u32,
+    // The domain relative to the grid origin: lower x, lower y, upper x, upper y.
+    domain: vec4<f32>,
 }
 
 // Per-body constants (mirrored by `gpu::layout::BodyGpu`).

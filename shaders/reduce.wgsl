@@ -92,6 +92,12 @@ fn cfl_final(@builtin(local_invocation_id) lid3: vec3<u32>) {
     if (rem <= 1e-4 * cfl_dt) {
         dt = 0.0;
     }
+    // After a failure the rest of the batch takes zero-length steps, so the
+    // state read back is the one that failed, with its time and step (as on
+    // the CPU path), not what the bad values made of it since.
+    if (atomicLoad(&ctl.fail_step) != NONE) {
+        dt = 0.0;
+    }
     if (ctl.dt0 == 0.0 && dt > 0.0) {
         ctl.dt0 = dt;
     }

@@ -44,6 +44,9 @@ pub struct Model {
     pub contact: bool,
     /// `true` when some material has a yield stress.
     pub plastic: bool,
+    /// The box a particle may not leave (`[lower, upper]` corners): see
+    /// [`Model::domain_of`].
+    pub domain: [DVec2; 2],
 }
 
 /// The evolving state: what an integrator advances and a checkpoint saves.
@@ -94,6 +97,7 @@ impl Model {
             offset: Vec::with_capacity(n),
             contact: sim.interaction == Interaction::Penalty && scene.bodies.len() > 1,
             plastic: false,
+            domain: [DVec2::ZERO; 2],
         };
         let mut state = State {
             t: 0.0,
@@ -136,7 +140,40 @@ impl Model {
                 velocity0: v0,
             });
         }
+        model.domain = Model::domain_of(&model, &state, sim.end_time);
         (model, state)
+    }
+
+    /// The domain: the bodies' initial bounding box grown on every side by
+    /// the larger of its largest side and `T (|v|max + c_L,max)`, with `T`
+    /// the end time, `|v|max` the largest initial speed and `c_L,max` the
+    /// largest longitudinal wave speed at rest. Nothing in a sound run gets
+    /// there: a particle must outrun the fastest wave for the whole run to
+    /// leave, so one that does was flung out by an instability. Stopping
+    /// then beats computing a particle alone in space, where the GPU's f32
+    /// positions lose their precision too.
+    pub fn domain_of(model: &Model, state: &State, end_time: f64) -> [DVec2; 2] {
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        for p in &state.x {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let v_max = state.v.iter().map(|v| v.length()).fold(0.0, f64::max);
+        let c_max = model
+            .bodies
+            .iter()
+            .map(|b| b.material.sound_speed(b.material.rho0, 0.0))
+            .fold(0.0, f64::max);
+        let extent = (hi - lo).max_element();
+        let margin = extent.max(end_time * (v_max + c_max));
+        [lo - DVec2::splat(margin), hi + DVec2::splat(margin)]
+    }
+
+    /// Whether `x` lies in the domain ([`Model::domain_of`]).
+    #[inline]
+    pub fn in_domain(&self, x: DVec2) -> bool {
+        let [lo, hi] = self.domain;
+        x.cmpge(lo).all() && x.cmple(hi).all()
     }
 
     pub fn len(&self) -> usize {

@@ -386,32 +386,56 @@ impl CpuSolver {
         }
     }
 
-    /// Stop on a non-finite value or a density outside `[0.1, 10] ρ0`.
+    /// Stop on a non-finite value, a particle outside the domain
+    /// ([`Model::domain_of`]) or a density outside `[0.1, 10] ρ0`.
     fn check(&self) -> Result<(), Instability> {
         let st = &self.state;
-        let bad = (0..self.model.len()).into_par_iter().find_first(|&i| {
-            let rho0 = self.model.material(i).rho0;
+        let m = &self.model;
+        let dense = |i: usize| {
+            let rho0 = m.material(i).rho0;
+            st.rho[i] > 0.1 * rho0 && st.rho[i] < 10.0 * rho0
+        };
+        let bad = (0..m.len()).into_par_iter().find_first(|&i| {
             let sane = st.x[i].is_finite()
                 && st.v[i].is_finite()
                 && st.e[i].is_finite()
-                && st.rho[i] > 0.1 * rho0
-                && st.rho[i] < 10.0 * rho0;
+                && dense(i)
+                && m.in_domain(st.x[i]);
             !sane
         });
         match bad {
             None => Ok(()),
             Some(i) => {
+                // The GPU's order (advance.wgsl): the density band before
+                // the domain.
                 let (q, v) = if !st.x[i].is_finite() {
-                    ("position", st.x[i].x + st.x[i].y)
+                    ("position".to_string(), st.x[i].x + st.x[i].y)
                 } else if !st.v[i].is_finite() {
-                    ("velocity", st.v[i].x + st.v[i].y)
+                    ("velocity".to_string(), st.v[i].x + st.v[i].y)
                 } else if !st.e[i].is_finite() {
-                    ("internal energy", st.e[i])
+                    ("internal energy".to_string(), st.e[i])
+                } else if !dense(i) {
+                    ("density".to_string(), st.rho[i])
                 } else {
-                    ("density", st.rho[i])
+                    outside_domain(m, st.x[i])
                 };
-                Err(self.instability(i, q, v))
+                Err(self.instability(i, &q, v))
             }
         }
     }
+}
+
+/// The quantity and value that name a particle at `x` outside the domain:
+/// the coordinate that is out and the interval it left.
+pub fn outside_domain(model: &Model, x: DVec2) -> (String, f64) {
+    let [lo, hi] = model.domain;
+    let (axis, value, a, b) = if x.x < lo.x || x.x > hi.x {
+        ("x", x.x, lo.x, hi.x)
+    } else {
+        ("y", x.y, lo.y, hi.y)
+    };
+    (
+        format!("position {axis} (outside the domain [{a:e}, {b:e}] m)"),
+        value,
+    )
 }

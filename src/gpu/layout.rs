@@ -31,6 +31,9 @@ pub struct Params {
     pub red_groups: u32,
     pub min_det: f32,
     pub pad0: u32,
+    /// The domain ([`crate::model::Model::domain_of`]) relative to the grid
+    /// origin: lower x, lower y, upper x, upper y.
+    pub domain: [f32; 4],
 }
 
 /// `Body` in common.wgsl: per-body constants.
@@ -114,7 +117,8 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 cell,
                 red_groups,
                 min_det,
-                pad0
+                pad0,
+                domain
             ),
         ),
         (

@@ -351,6 +351,11 @@ impl GpuSolver {
             red_groups,
             min_det: CORRECTION_MIN_DET as f32,
             pad0: 0,
+            domain: {
+                let [lo, hi] = model.domain;
+                let (lo, hi) = (lo - origin, hi - origin);
+                [lo.x as f32, lo.y as f32, hi.x as f32, hi.y as f32]
+            },
         };
         let bodies: Vec<BodyGpu> = model
             .bodies
@@ -914,6 +919,8 @@ impl GpuSolver {
         let time = row[0] as f64 + row[1] as f64;
         let (quantity, value) = if q == 4 {
             ("time step".to_string(), row[2] as f64)
+        } else if q == 5 {
+            crate::cpu::outside_domain(&self.model, self.download().x[id])
         } else {
             let st = self.download();
             let v = match q {

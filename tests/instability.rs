@@ -1,0 +1,270 @@
+//! A run that goes unstable stops with exit status 1 and one message naming
+//! the step, time, body, particle and quantity, and keeps what it had
+//! written: the history and a summary marked failed, both still parseable
+//! (SCENES.md, "Command line"). On both backends.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use glam::DVec2;
+use sphcontact::cpu::CpuSolver;
+use sphcontact::model::Model;
+
+const BIN: &str = env!("CARGO_BIN_EXE_sphcontact");
+
+/// The paper's steel bars at a CFL number of 3, ten times the stable one:
+/// the first steps overshoot and the run blows up within a few steps.
+fn unstable_bars(dir: &Path) -> std::path::PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("scenes/paper/bars_steel.toml")).unwrap();
+    let text = text.replacen(
+        "interaction = \"penalty\"",
+        "interaction = \"penalty\"\ncfl = 3.0",
+        1,
+    );
+    assert!(text.contains("cfl = 3.0"), "the base scene changed");
+    let path = dir.join("unstable.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// `unstable at step N (t = T s): body 'B', particle K: Q = V`, parsed.
+struct Message {
+    step: u64,
+    time: f64,
+    body: String,
+    particle: usize,
+    quantity: String,
+}
+
+fn parse_message(line: &str) -> Message {
+    try_parse(line).unwrap_or_else(|| panic!("not an instability message: {line:?}"))
+}
+
+fn try_parse(line: &str) -> Option<Message> {
+    let rest = line.strip_prefix("unstable at step ")?;
+    let (step, rest) = rest.split_once(" (t = ")?;
+    let (time, rest) = rest.split_once(" s): body '")?;
+    let (body, rest) = rest.split_once("', particle ")?;
+    let (particle, rest) = rest.split_once(": ")?;
+    let (quantity, value) = rest.rsplit_once(" = ")?;
+    if !(value == "NaN" || value.contains("inf") || value.parse::<f64>().is_ok()) {
+        return None;
+    }
+    Some(Message {
+        step: step.parse().ok()?,
+        time: time.parse().ok()?,
+        body: body.to_string(),
+        particle: particle.parse().ok()?,
+        quantity: quantity.to_string(),
+    })
+}
+
+fn stops_and_keeps_outputs(backend: &str) {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = unstable_bars(tmp.path());
+    let out_dir = tmp.path().join("out");
+    let out = Command::new(BIN)
+        .args(["run", "--backend", backend, "--out"])
+        .arg(&out_dir)
+        .arg(&scene)
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "exit status; stderr:\n{stderr}");
+    assert!(!stderr.contains("panicked"), "a panic:\n{stderr}");
+    let errors: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("error: "))
+        .collect();
+    // lavapipe may add its own "error: XDG_RUNTIME_DIR ..." lines.
+    let ours: Vec<&str> = errors
+        .iter()
+        .filter_map(|l| l.strip_prefix("error: "))
+        .filter(|l| l.starts_with("unstable"))
+        .collect();
+    assert_eq!(ours.len(), 1, "one instability message:\n{stderr}");
+    let msg = parse_message(ours[0]);
+    assert!(msg.step >= 1 && msg.step < 100, "step {}", msg.step);
+    assert!(msg.time > 0.0 && msg.time < 4e-6, "time {:e}", msg.time);
+    assert!(["left", "right"].contains(&msg.body.as_str()));
+    assert!(msg.particle < 100, "particle {}", msg.particle);
+    assert!(
+        [
+            "position",
+            "velocity",
+            "internal energy",
+            "density",
+            "time step"
+        ]
+        .iter()
+        .any(|q| msg.quantity.starts_with(q)),
+        "quantity {:?}",
+        msg.quantity
+    );
+
+    // The summary: valid JSON, marked failed, the same message, the time
+    // it reached.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
+            .expect("summary.json parses");
+    assert_eq!(summary["status"], "failed");
+    assert_eq!(summary["error"], ours[0]);
+    let reached = summary["time_reached"].as_f64().unwrap();
+    // The state that failed is the last one: its time, to the message's six
+    // digits.
+    assert!(
+        (reached - msg.time).abs() <= 1e-6 * msg.time,
+        "time reached {reached:e}, failure at {:e}",
+        msg.time
+    );
+
+    // The history: a header and complete numeric rows up to the failure.
+    let csv = std::fs::read_to_string(out_dir.join("history.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    assert_eq!(header[0], "time");
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            let row: Vec<f64> = l
+                .split(',')
+                .map(|x| x.parse().unwrap_or_else(|_| panic!("row {l:?}")))
+                .collect();
+            assert_eq!(row.len(), header.len(), "row {l:?}");
+            row
+        })
+        .collect();
+    assert!(rows.len() >= 2, "rows before the failure");
+    assert_eq!(rows[0][0], 0.0);
+    for w in rows.windows(2) {
+        assert!(w[1][0] > w[0][0], "times increase");
+    }
+    assert!(rows.last().unwrap()[0] <= msg.time);
+    assert!(csv.ends_with('\n'), "the last row is whole");
+}
+
+#[test]
+fn unstable_run_stops_with_a_message_and_keeps_its_outputs() {
+    stops_and_keeps_outputs("cpu");
+}
+
+#[test]
+fn unstable_run_stops_with_a_message_and_keeps_its_outputs_gpu() {
+    if common::gpu().is_some() {
+        stops_and_keeps_outputs("gpu");
+    }
+}
+
+/// A 6 × 6 steel block, at rest, for the domain cases.
+fn block() -> (Model, sphcontact::model::State) {
+    let scene = common::parse(
+        r#"[simulation]
+dimension = 2
+end_time = 2.0e-6
+
+[materials.steel]
+density = 7850.0
+shear_modulus = 77.0e9
+eos = { kind = "mie_gruneisen", c0 = 4580.0, s = 1.49, gamma0 = 2.02 }
+
+[[bodies]]
+name = "block"
+material = "steel"
+spacing = 1.0e-3
+shape = { kind = "rectangle", min = [0.0, 0.0], max = [0.006, 0.006] }
+"#,
+    );
+    Model::new(&scene)
+}
+
+/// The block flung at 20 c_L in +x (a uniform motion, so no rate changes
+/// and nothing but the domain can stop it): it must leave the domain long
+/// before the end time, and the run must say so.
+fn flung() -> (Model, sphcontact::model::State) {
+    let (model, mut state) = block();
+    let c = model.bodies[0].material.sound_speed(7850.0, 0.0);
+    for v in &mut state.v {
+        *v = DVec2::new(20.0 * c, 0.0);
+    }
+    (model, state)
+}
+
+#[test]
+fn domain_is_the_box_grown_by_the_fastest_wave_over_the_run() {
+    let (model, state) = block();
+    let c = model.bodies[0].material.sound_speed(7850.0, 0.0);
+    // Margin T c_L = 2e-6 × ~5900 m/s ≈ 12 mm, larger than the 5 mm box.
+    let margin = 2.0e-6 * c;
+    assert!(margin > 0.005);
+    let [lo, hi] = model.domain;
+    let (blo, bhi) = state.x.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(a, b), p| (a.min(*p), b.max(*p)),
+    );
+    assert!((blo - lo - DVec2::splat(margin)).abs().max_element() < 1e-12);
+    assert!((hi - bhi - DVec2::splat(margin)).abs().max_element() < 1e-12);
+    assert!(model.in_domain(hi) && !model.in_domain(hi + DVec2::new(1e-9, 0.0)));
+}
+
+fn cpu_leaves_domain() -> sphcontact::error::Instability {
+    let (model, state) = flung();
+    let upper = model.domain[1].x;
+    let mut solver = CpuSolver::new(model, state);
+    loop {
+        let t = solver.state.t;
+        assert!(t < 2.0e-6, "the block never left the domain");
+        if let Err(e) = solver.step(2.0e-6 - t) {
+            let x = solver.state.x.iter().map(|p| p.x).fold(f64::MIN, f64::max);
+            assert!(x > upper, "stopped at max x {x} inside {upper}");
+            return e;
+        }
+    }
+}
+
+#[test]
+fn a_particle_leaving_the_domain_stops_the_run() {
+    let e = cpu_leaves_domain();
+    assert_eq!(e.body, "block");
+    assert!(
+        e.quantity.starts_with("position x (outside the domain ["),
+        "{}",
+        e.quantity
+    );
+    // The lowest-numbered particle of the leading column.
+    let (model, state) = flung();
+    let right = state.x.iter().map(|p| p.x).fold(f64::MIN, f64::max);
+    let first = (0..model.len())
+        .find(|&i| state.x[i].x == right)
+        .expect("a leading particle");
+    assert_eq!(e.particle, first);
+    assert!(e.value > model.domain[1].x);
+    assert!(e.to_string().contains("body 'block'"));
+}
+
+#[test]
+fn a_particle_leaving_the_domain_stops_the_run_gpu() {
+    let Some(ctx) = common::gpu() else { return };
+    let cpu = cpu_leaves_domain();
+    let (model, state) = flung();
+    let mut solver = sphcontact::gpu::GpuSolver::new(ctx, model, &state, &[], 2.0e-6)
+        .expect("the device takes the block");
+    let failure = loop {
+        let batch = solver.run_batch(64);
+        if let Some(f) = batch.failure {
+            break f;
+        }
+        assert!(!batch.done, "the block never left the domain on the GPU");
+    };
+    assert_eq!(failure.body, cpu.body);
+    assert_eq!(failure.particle, cpu.particle);
+    assert_eq!(failure.quantity, cpu.quantity);
+    // f32 positions may cross the boundary a step apart from f64 ones.
+    assert!(
+        failure.step.abs_diff(cpu.step) <= 1,
+        "GPU step {} against CPU step {}",
+        failure.step,
+        cpu.step
+    );
+}
