@@ -32,7 +32,15 @@ impl SceneError {
     /// Turn a TOML/serde error into one line naming the key as a dotted path
     /// (`bodies[1].spacing`), its line and column.
     pub fn parse(origin: &str, text: &str, err: &toml::de::Error) -> Self {
-        let message = err.message().trim().to_string();
+        let mut message = err.message().trim().to_string();
+        if message.is_empty() {
+            // The TOML parser leaves some syntax errors unexplained (a key
+            // with no value at the end of the file, stray bytes); the
+            // position still says where.
+            message =
+                "invalid TOML syntax (a value, key, quote or bracket is missing or malformed)"
+                    .to_string();
+        }
         Self {
             file: origin.to_string(),
             key: err.span().map(|span| locate(text, span, &message)),
