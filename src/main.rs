@@ -355,6 +355,18 @@ fn check(path: &Path, scene: &Scene) {
             }
         }
     }
+    let [lo, hi] = model.domain;
+    if model.dim == 1 {
+        println!(
+            "domain      x in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
+            lo.x, hi.x
+        );
+    } else {
+        println!(
+            "domain      x in [{:.4e}, {:.4e}] m, y in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
+            lo.x, hi.x, lo.y, hi.y
+        );
+    }
     let placed = sphcontact::scene::place_bodies(scene);
     let dt = cfl_step_at_start(scene, &placed);
     let used = sim.dt.unwrap_or(dt);

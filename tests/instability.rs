@@ -268,3 +268,28 @@ fn a_particle_leaving_the_domain_stops_the_run_gpu() {
         cpu.step
     );
 }
+
+/// `check` states the domain: for the paper's bars, the particle centres
+/// span ±4.975 mm and the margin is `T (|v|max + c_L)` = 4 µs × (10 +
+/// 5835.66) m/s = 23.383 mm.
+#[test]
+fn check_prints_the_domain() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = Command::new(BIN)
+        .arg("check")
+        .arg(root.join("scenes/paper/bars_steel.toml"))
+        .output()
+        .expect("the binary runs");
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("domain"))
+        .expect("a domain line");
+    let steel = common::material(&common::load("scenes/paper/bars_steel.toml"), "steel");
+    let c_l = steel.sound_speed(steel.rho0, 0.0);
+    assert!((c_l - 5835.66).abs() < 0.01, "c_L {c_l}");
+    let half = 0.004975 + 4.0e-6 * (10.0 + c_l);
+    let want = format!("x in [{:.4e}, {:.4e}] m", -half, half);
+    assert!(line.contains(&want), "{line:?} against {want:?}");
+}
