@@ -2,6 +2,15 @@
 
 use glam::DVec2;
 
+/// Lower and upper corners of the box around `points` (infinite, inside
+/// out, when there are none).
+pub fn bounds<'a>(points: impl IntoIterator<Item = &'a DVec2>) -> (DVec2, DVec2) {
+    points.into_iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
+}
+
 /// A general 2×2 matrix, row-major names: `m[α][β]` = `aβ`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Mat2 {

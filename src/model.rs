@@ -153,16 +153,12 @@ impl Model {
     /// then beats computing a particle alone in space, where the GPU's f32
     /// positions lose their precision too.
     pub fn domain_of(model: &Model, state: &State, end_time: f64) -> [DVec2; 2] {
-        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for p in &state.x {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-        }
+        let (lo, hi) = crate::math::bounds(&state.x);
         let v_max = state.v.iter().map(|v| v.length()).fold(0.0, f64::max);
         let c_max = model
             .bodies
             .iter()
-            .map(|b| b.material.sound_speed(b.material.rho0, 0.0))
+            .map(|b| b.material.c_l)
             .fold(0.0, f64::max);
         let extent = (hi - lo).max_element();
         let margin = extent.max(end_time * (v_max + c_max));
@@ -174,6 +170,22 @@ impl Model {
     pub fn in_domain(&self, x: DVec2) -> bool {
         let [lo, hi] = self.domain;
         x.cmpge(lo).all() && x.cmple(hi).all()
+    }
+
+    /// The quantity and value that name a particle at `x` outside the
+    /// domain in an instability message: the coordinate that is out and
+    /// the interval it left (both backends).
+    pub fn outside_domain(&self, x: DVec2) -> (String, f64) {
+        let [lo, hi] = self.domain;
+        let (axis, value, a, b) = if x.x < lo.x || x.x > hi.x {
+            ("x", x.x, lo.x, hi.x)
+        } else {
+            ("y", x.y, lo.y, hi.y)
+        };
+        (
+            format!("position {axis} (outside the domain [{a:e}, {b:e}] m)"),
+            value,
+        )
     }
 
     pub fn len(&self) -> usize {

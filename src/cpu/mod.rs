@@ -417,25 +417,10 @@ impl CpuSolver {
                 } else if !dense(i) {
                     ("density".to_string(), st.rho[i])
                 } else {
-                    outside_domain(m, st.x[i])
+                    m.outside_domain(st.x[i])
                 };
                 Err(self.instability(i, &q, v))
             }
         }
     }
-}
-
-/// The quantity and value that name a particle at `x` outside the domain:
-/// the coordinate that is out and the interval it left.
-pub fn outside_domain(model: &Model, x: DVec2) -> (String, f64) {
-    let [lo, hi] = model.domain;
-    let (axis, value, a, b) = if x.x < lo.x || x.x > hi.x {
-        ("x", x.x, lo.x, hi.x)
-    } else {
-        ("y", x.y, lo.y, hi.y)
-    };
-    (
-        format!("position {axis} (outside the domain [{a:e}, {b:e}] m)"),
-        value,
-    )
 }

@@ -23,11 +23,7 @@ pub struct CellList {
 
 impl CellList {
     pub fn build(x: &[DVec2], cell: f64) -> CellList {
-        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for p in x {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-        }
+        let (lo, hi) = crate::math::bounds(x);
         // At least one padding cell on every side keeps the 3×3 scan inside
         // the grid; 1.5 so that rounding can never put the lowest particle
         // in cell 0 (whose lower neighbour would underflow).

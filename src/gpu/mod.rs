@@ -318,11 +318,7 @@ impl GpuSolver {
         // Cells of 2 h_max, a hair larger so that f32 rounding of the cell
         // coordinate can never put a pair within 2 h two cells apart.
         let cell = 2.0 * h_max * (1.0 + 1e-5);
-        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for p in &state.x {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-        }
+        let (lo, hi) = crate::math::bounds(&state.x);
         let origin = lo - DVec2::splat(1.5 * cell);
         let row_stride = ((hi.x - origin.x) / cell).floor() as u32 + 3;
         let (end_hi, end_lo) = split(end_time);
@@ -919,18 +915,16 @@ impl GpuSolver {
         let time = row[0] as f64 + row[1] as f64;
         let (quantity, value) = if q == 4 {
             ("time step".to_string(), row[2] as f64)
-        } else if q == 5 {
-            crate::cpu::outside_domain(&self.model, self.download().x[id])
         } else {
             let st = self.download();
-            let v = match q {
-                0 => st.x[id].x + st.x[id].y,
-                1 => st.v[id].x + st.v[id].y,
-                2 => st.e[id],
-                _ => st.rho[id],
-            };
-            let name = ["position", "velocity", "internal energy", "density"][q.min(3) as usize];
-            (name.to_string(), v)
+            let named = |name: &str, v: f64| (name.to_string(), v);
+            match q {
+                0 => named("position", st.x[id].x + st.x[id].y),
+                1 => named("velocity", st.v[id].x + st.v[id].y),
+                2 => named("internal energy", st.e[id]),
+                5 => self.model.outside_domain(st.x[id]),
+                _ => named("density", st.rho[id]),
+            }
         };
         let id = if q == 4 { 0 } else { id };
         let (body, particle) = self.model.locate(id.min(self.n - 1));
