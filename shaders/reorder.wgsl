@@ -1,6 +1,14 @@
 // Particles reordered by cell for memory locality: gather every
 // per-particle array into scratch in the order of the cell list (the host
 // copies it back), then refresh the id -> slot map the probes use.
+//
+// A state reached by a zero-length step (the run waiting at a stop: a
+// snapshot, a checkpoint or the end) keeps its order. The host schedules a
+// reorder every few *real* steps, but how many zero-length steps a batch
+// spends at a stop depends on how the host sized it (by wall time); were
+// they reordered, the order, hence the sums' order and the result's last
+// bits, would depend on the batch sizes. Skipping them makes a run the same
+// whatever its batches, which a resumed run relies on.
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
@@ -21,7 +29,10 @@ fn permute(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
     if (k >= params.n) {
         return;
     }
-    let i = blist[k];
+    var i = blist[k];
+    if (ctl.dt == 0.0 && ctl.step > 0u) {
+        i = k;
+    }
     t_x0[k] = x0[i];
     t_u[k] = u[i];
     t_v[k] = v[i];

@@ -53,6 +53,7 @@
 //! ```
 
 pub mod bench;
+pub mod checkpoint;
 pub mod cpu;
 pub mod error;
 pub mod gpu;

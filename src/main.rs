@@ -31,8 +31,10 @@ enum BackendArg {
 enum Command {
     /// Run a scene and write history.csv and summary.json.
     Run {
-        /// The scene file (TOML).
-        scene: PathBuf,
+        /// The scene file (TOML); not with --resume, which takes the scene
+        /// from the checkpoint.
+        #[arg(required_unless_present = "resume", conflicts_with = "resume")]
+        scene: Option<PathBuf>,
         /// Output directory (default: the scene's output.dir, else out/<scene stem>).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -45,6 +47,17 @@ enum Command {
         /// Occasional plain progress lines instead of a progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Write the run's whole state to OUT/checkpoint.bin at the first
+        /// step at or after every multiple of this simulated time, s (the
+        /// steps themselves are not changed).
+        #[arg(long, value_name = "T", allow_negative_numbers = true)]
+        checkpoint_every: Option<f64>,
+        /// Continue the run whose checkpoint is in DIR (its output
+        /// directory), on the backend that wrote it; the history comes out
+        /// as the uninterrupted run's. Outputs go to DIR unless --out says
+        /// otherwise.
+        #[arg(long, value_name = "DIR")]
+        resume: Option<PathBuf>,
     },
     /// Parse and validate a scene, print the derived set-up, run nothing.
     Check {
@@ -419,11 +432,9 @@ fn main() -> ExitCode {
             backend,
             end_time,
             quiet,
+            checkpoint_every,
+            resume,
         } => {
-            let s = match load(&scene) {
-                Ok(s) => s,
-                Err(code) => return code,
-            };
             let opts = RunOptions {
                 out_dir: out,
                 backend: backend.map(backend_of),
@@ -431,8 +442,17 @@ fn main() -> ExitCode {
                 quiet,
                 silent: false,
                 write: true,
+                checkpoint_every,
             };
-            match run_scene(&s, Some(&scene), &opts) {
+            let result = match (&resume, &scene) {
+                (Some(dir), _) => sphcontact::run::resume_run(dir, &opts),
+                (None, Some(scene)) => match load(scene) {
+                    Ok(s) => run_scene(&s, Some(scene), &opts),
+                    Err(code) => return code,
+                },
+                (None, None) => unreachable!("clap requires a scene or --resume"),
+            };
+            match result {
                 Ok(out) => {
                     let sm = &out.summary;
                     let snaps = if sm.snapshots > 0 {

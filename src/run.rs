@@ -9,6 +9,7 @@ use std::time::Instant;
 
 use std::sync::Arc;
 
+use crate::checkpoint::{Checkpoint, CpuState, GpuState, Ledger, RecorderState, SolverState};
 use crate::cpu::contact::ContactStats;
 use crate::cpu::{CpuSolver, Diagnostics};
 use crate::error::{Instability, RunError};
@@ -37,6 +38,9 @@ pub struct RunOptions {
     /// `output.snapshot_interval`, the snapshots. Without it a run keeps
     /// nothing on disk, and does not shorten steps for snapshots either.
     pub write: bool,
+    /// Write a checkpoint ([`crate::checkpoint`]) at the first state at or
+    /// after every multiple of this simulated time, s (needs `write`).
+    pub checkpoint_every: Option<f64>,
 }
 
 /// What a run returns.
@@ -131,6 +135,24 @@ struct Recorder {
     start: Instant,
     end: f64,
     particles: usize,
+    checkpoints: Option<Checkpoints>,
+}
+
+/// Where and when checkpoints go, and what each carries besides the
+/// solver's and the recorder's state.
+struct Checkpoints {
+    dir: PathBuf,
+    every: f64,
+    next: f64,
+    scene: Scene,
+    scene_label: String,
+    backend: Backend,
+    adapter: Option<String>,
+    base_energy: f64,
+    momentum: DVec2,
+    /// Wall seconds of the run before this process took it over.
+    wall_before: f64,
+    warnings: Vec<String>,
 }
 
 /// The snapshot times not yet written and the files written so far.
@@ -200,6 +222,65 @@ impl Recorder {
             s.next += 1;
         }
         self.progress.snapshots = Some(s.series.count());
+        Ok(())
+    }
+
+    /// The time of the next checkpoint, if the run writes checkpoints.
+    fn next_checkpoint(&self) -> Option<f64> {
+        self.checkpoints.as_ref().map(|c| c.next)
+    }
+
+    /// A checkpoint is due at the state at time `t` (never at the end: the
+    /// run is complete there).
+    fn checkpoint_due(&self, t: f64) -> bool {
+        self.checkpoints
+            .as_ref()
+            .is_some_and(|c| t >= c.next * (1.0 - AT_TIME) && !self.finished() && t < self.end)
+    }
+
+    /// Write the checkpoint of the state at `t`: the solver's part comes
+    /// from the loop, with the stored penalty energy at the first state
+    /// and the largest correction fallback so far.
+    fn checkpoint(
+        &mut self,
+        t: f64,
+        stored0: f64,
+        max_fallback: u32,
+        solver: SolverState,
+    ) -> Result<(), RunError> {
+        let wall = self.start.elapsed().as_secs_f64();
+        let Some(c) = &mut self.checkpoints else {
+            return Ok(());
+        };
+        let k = (t / c.every * (1.0 + AT_TIME)).floor() + 1.0;
+        let next = k * c.every;
+        let ck = Checkpoint {
+            scene_label: c.scene_label.clone(),
+            scene: c.scene.clone(),
+            backend: c.backend,
+            adapter: c.adapter.clone(),
+            ledger: Ledger {
+                base_energy: c.base_energy,
+                momentum: c.momentum,
+                stored0,
+                max_fallback,
+                wall_seconds: c.wall_before + wall,
+                warnings: c.warnings.clone(),
+            },
+            recorder: RecorderState {
+                times: self.history.times.clone(),
+                rows: self.history.rows.clone(),
+                prev: self.prev.clone(),
+                snapshots: self
+                    .snaps
+                    .as_ref()
+                    .map_or(Vec::new(), |s| s.series.entries().to_vec()),
+                next_checkpoint: next,
+            },
+            solver,
+        };
+        ck.write(&c.dir)?;
+        c.next = next;
         Ok(())
     }
 
@@ -349,6 +430,66 @@ pub fn run_scene(
         }
         scene.simulation.end_time = t;
     }
+    let label = scene_path.map_or(String::new(), |p| p.display().to_string());
+    let dir = opts.write.then(|| output_dir(&scene, scene_path, opts));
+    run_from(scene, label, dir, opts, None)
+}
+
+/// Continue the run whose checkpoint is in output directory `dir`
+/// ([`crate::checkpoint`]) to its end time, on the backend that wrote the
+/// checkpoint, writing into `opts.out_dir` (default: `dir` itself). The
+/// history comes out as the uninterrupted run's.
+pub fn resume_run(dir: &Path, opts: &RunOptions) -> Result<RunOutput, RunError> {
+    let ck = Checkpoint::read(dir)?;
+    if opts.end_time.is_some() {
+        return Err(RunError::Backend(
+            "--end-time cannot be combined with --resume: a resumed run continues to the end time it was started with".into(),
+        ));
+    }
+    if let Some(b) = opts
+        .backend
+        .filter(|&b| b != Backend::Auto && b != ck.backend)
+    {
+        return Err(RunError::Backend(format!(
+            "--backend {b}: the checkpoint in {} was written by the {} backend, and a run resumes on the backend that wrote it",
+            dir.display(),
+            ck.backend
+        )));
+    }
+    let mut opts = opts.clone();
+    opts.backend = Some(ck.backend);
+    opts.write = true;
+    let out = opts.out_dir.clone().unwrap_or_else(|| dir.to_path_buf());
+    run_from(
+        ck.scene.clone(),
+        ck.scene_label.clone(),
+        Some(out),
+        &opts,
+        Some(ck),
+    )
+}
+
+/// Run `scene` (its end time final), from its start or from checkpoint
+/// `resume`, writing into `dir` when given.
+fn run_from(
+    scene: Scene,
+    label: String,
+    dir: Option<PathBuf>,
+    opts: &RunOptions,
+    resume: Option<Checkpoint>,
+) -> Result<RunOutput, RunError> {
+    if let Some(every) = opts.checkpoint_every {
+        if !(every.is_finite() && every > 0.0) {
+            return Err(RunError::Backend(format!(
+                "--checkpoint-every must be > 0 (got {every})"
+            )));
+        }
+        if dir.is_none() {
+            return Err(RunError::Backend(
+                "checkpoints need an output directory (a run that writes its outputs)".into(),
+            ));
+        }
+    }
     let choice = choose_backend(&scene, opts)?;
     let backend = choice.backend;
     let mut warnings = Vec::new();
@@ -358,47 +499,98 @@ pub fn run_scene(
         }
         warnings.push(w);
     }
-    let dir = if opts.write {
-        let d = output_dir(&scene, scene_path, opts);
-        std::fs::create_dir_all(&d).map_err(|e| RunError::io(&d, e))?;
-        Some(d)
-    } else {
-        None
-    };
+    if let Some(d) = &dir {
+        std::fs::create_dir_all(d).map_err(|e| RunError::io(d, e))?;
+    }
+    let adapter = choice.gpu.as_ref().map(|c| c.adapter_name());
+    if let Some(ck) = &resume {
+        warnings.extend(ck.ledger.warnings.iter().cloned());
+        if let (Some(was), Some(now)) = (&ck.adapter, &adapter) {
+            if was != now {
+                let w = format!(
+                    "the checkpoint was written on adapter '{was}' and resumes on '{now}': the history may differ from an uninterrupted run in its last digits"
+                );
+                if !opts.silent {
+                    eprintln!("warning: {w}");
+                }
+                warnings.push(w);
+            }
+        }
+    }
 
+    // The model and the probes come from the scene's initial state, also
+    // when resuming: probes are fixed by where particles start.
     let (model, state) = Model::new(&scene);
     let dim = model.dim;
     let probes = probe::resolve(&scene, &model, &state);
     let names = scene.probes.iter().map(|p| p.name().to_string()).collect();
     let end = scene.simulation.end_time;
     let n = model.len();
-    let p0 = probe::momentum(&model, &state);
-    let base_energy = probe::energies(&model, &state, &Diagnostics::default()).total();
+    let (p0, base_energy) = match &resume {
+        Some(ck) => (ck.ledger.momentum, ck.ledger.base_energy),
+        None => (
+            probe::momentum(&model, &state),
+            probe::energies(&model, &state, &Diagnostics::default()).total(),
+        ),
+    };
+    let (done_rows, done_snaps, prev) = match &resume {
+        Some(ck) => (
+            (ck.recorder.times.clone(), ck.recorder.rows.clone()),
+            ck.recorder.snapshots.clone(),
+            ck.recorder.prev.clone(),
+        ),
+        None => ((Vec::new(), Vec::new()), Vec::new(), None),
+    };
     let snaps = match (&dir, scene.output.snapshot_interval) {
         (Some(d), Some(interval)) => Some(Snapshots {
             times: history_times(end, interval),
-            next: 0,
-            series: SnapshotSeries::create(d)?,
+            next: done_snaps.len(),
+            series: if resume.is_some() {
+                SnapshotSeries::resume(d, done_snaps)?
+            } else {
+                SnapshotSeries::create(d)?
+            },
         }),
         _ => None,
     };
+    let checkpoints = match (&dir, opts.checkpoint_every) {
+        (Some(d), Some(every)) => Some(Checkpoints {
+            dir: d.clone(),
+            every,
+            next: resume
+                .as_ref()
+                .map_or(every, |ck| ck.recorder.next_checkpoint),
+            scene: scene.clone(),
+            scene_label: label.clone(),
+            backend,
+            adapter: adapter.clone(),
+            base_energy,
+            momentum: p0,
+            wall_before: resume.as_ref().map_or(0.0, |ck| ck.ledger.wall_seconds),
+            warnings: warnings.clone(),
+        }),
+        _ => None,
+    };
+    let (done_times, done_rows) = done_rows;
     let mut rec = Recorder {
         times: history_times(end, scene.history_interval()),
-        next: 0,
-        prev: None,
-        history: History::new(names, dir.as_deref())?,
+        next: done_times.len(),
+        prev,
+        history: History::resume(names, done_times, done_rows, dir.as_deref())?,
         snaps,
         progress: Progress::new(opts),
         start: Instant::now(),
         end,
         particles: n,
+        checkpoints,
     };
+    let wall_before = resume.as_ref().map_or(0.0, |ck| ck.ledger.wall_seconds);
     let out = match choice.gpu {
-        Some(ctx) => run_gpu(ctx, model, state, &probes, &mut rec)?,
-        None => run_cpu(model, state, &probes, &mut rec)?,
+        Some(ctx) => run_gpu(ctx, model, state, &probes, &mut rec, resume)?,
+        None => run_cpu(model, state, &probes, &mut rec, resume)?,
     };
     rec.progress.finish();
-    let wall = rec.start.elapsed().as_secs_f64();
+    let wall = wall_before + rec.start.elapsed().as_secs_f64();
     let history = rec.history;
     let (snapshots, snapshot_bytes, snapshot_seconds) = rec.snaps.map_or((0, 0, 0.0), |s| {
         (s.series.count(), s.series.bytes, s.series.seconds)
@@ -429,7 +621,7 @@ pub fn run_scene(
         ));
     }
     let summary = Summary {
-        scene: scene_path.map_or(String::new(), |p| p.display().to_string()),
+        scene: label,
         dimension: dim,
         backend: backend.to_string(),
         adapter,
@@ -488,12 +680,30 @@ fn run_cpu(
     state: State,
     probes: &[probe::Resolved],
     rec: &mut Recorder,
+    resume: Option<Checkpoint>,
 ) -> Result<Outcome, RunError> {
     let end = rec.end;
-    let mut solver = CpuSolver::new(model, state);
     let mut max_fallback = 0;
-    let mut failure = None;
     let mut stored0 = None;
+    let mut solver = match resume {
+        Some(ck) => {
+            let SolverState::Cpu(c) = ck.solver else {
+                unreachable!("a checkpoint resumes on the backend that wrote it");
+            };
+            max_fallback = ck.ledger.max_fallback as usize;
+            stored0 = Some(ck.ledger.stored0);
+            let CpuState {
+                state,
+                initial_dt,
+                lists,
+            } = *c;
+            CpuSolver::restored(model, state, initial_dt, lists)
+        }
+        None => CpuSolver::new(model, state),
+    };
+    // Progress counts this process's steps.
+    let first_step = solver.state.step;
+    let mut failure = None;
     loop {
         let t = solver.state.t;
         let (model, st, diag) = solver.observe();
@@ -516,11 +726,20 @@ fn run_cpu(
         if rec.finished() || t >= end {
             break;
         }
+        if rec.checkpoint_due(t) {
+            let (initial_dt, lists) = solver.resume_parts();
+            let saved = SolverState::Cpu(Box::new(CpuState {
+                state: solver.state.clone(),
+                initial_dt,
+                lists: lists.clone(),
+            }));
+            rec.checkpoint(t, stored0.unwrap_or(0.0), max_fallback as u32, saved)?;
+        }
         if let Err(e) = solver.step(rec.next_stop() - t) {
             failure = Some(e);
             break;
         }
-        rec.report(solver.state.t, solver.state.step);
+        rec.report(solver.state.t, solver.state.step - first_step);
     }
     let stored1 = solver.diagnostics().contact.stored;
     let CpuSolver { model, state, .. } = solver;
@@ -550,31 +769,64 @@ fn run_gpu(
     state: State,
     probes: &[probe::Resolved],
     rec: &mut Recorder,
+    resume: Option<Checkpoint>,
 ) -> Result<Outcome, RunError> {
     let end = rec.end;
     let adapter = ctx.adapter_name();
+    // A resumed solver is made from the initial state (which fixes the
+    // grid's frame and every constant) before its buffers are overwritten.
     let mut solver = GpuSolver::new(ctx, model, &state, probes, end).map_err(RunError::Backend)?;
     let mut failure = None;
     let mut stored = (None, 0.0);
     let mut t_last = 0.0;
+    if let Some(ck) = resume {
+        let SolverState::Gpu(g) = ck.solver else {
+            unreachable!("a checkpoint resumes on the backend that wrote it");
+        };
+        solver.restore_raw(&g.device).map_err(RunError::Backend)?;
+        stored = (Some(ck.ledger.stored0), g.stored_last);
+        t_last = g.t_last;
+    }
     let mut steps = 0u64;
     // The step size the batches are sized by: the longest step of the last
     // batch (the device's own last step may be one shortened to a stop).
     let mut dt_est = 0.0;
     let mut seconds_per_step = 0.0;
-    if rec.snapshot_due(0.0) {
-        gpu_snapshot(&mut solver, rec, 0.0)?;
+    if rec.snapshot_due(t_last) {
+        gpu_snapshot(&mut solver, rec, t_last)?;
     }
+    // The checkpoint of the device's state after the states delivered so
+    // far (the last at `t_last`).
+    let checkpoint =
+        |solver: &GpuSolver, rec: &mut Recorder, t_last: f64, stored: (Option<f64>, f64)| {
+            let g = GpuState {
+                device: solver.save_raw(),
+                t_last,
+                stored_last: stored.1,
+            };
+            // (The device keeps its own count of correction fallbacks, in
+            // the saved control block.)
+            let fallback = 0;
+            rec.checkpoint(
+                t_last,
+                stored.0.unwrap_or(0.0),
+                fallback,
+                SolverState::Gpu(Box::new(g)),
+            )
+        };
     'run: loop {
         let stop = rec.next_stop();
         solver.set_stop_time(stop);
         loop {
             // Enough steps to reach the stop at the estimated step size,
-            // plus the zero-length step that observes the state there.
-            let mut want = if dt_est > 0.0 {
-                ((stop - t_last) / dt_est).ceil() + 2.0
-            } else {
-                16.0
+            // plus the zero-length step that observes the state there; or,
+            // with a checkpoint due before the stop, to reach its time (a
+            // checkpoint is taken between batches, and steps are never
+            // shortened for one).
+            let mut want = match (dt_est > 0.0, rec.next_checkpoint()) {
+                (false, _) => 16.0,
+                (true, Some(tc)) if tc < stop => ((tc - t_last) / dt_est).ceil().max(1.0),
+                (true, _) => ((stop - t_last) / dt_est).ceil() + 2.0,
             };
             if seconds_per_step > 0.0 {
                 want = want.min((BATCH_SECONDS / seconds_per_step).floor().max(1.0));
@@ -611,6 +863,9 @@ fn run_gpu(
             if batch.done || rec.finished() {
                 break;
             }
+            if rec.checkpoint_due(t_last) {
+                checkpoint(&solver, rec, t_last, stored)?;
+            }
             rec.report(t_last, steps);
         }
         if rec.snapshot_due(stop) {
@@ -618,6 +873,9 @@ fn run_gpu(
         }
         if stop >= end || rec.finished() {
             break;
+        }
+        if rec.checkpoint_due(t_last) {
+            checkpoint(&solver, rec, t_last, stored)?;
         }
         rec.report(t_last, steps);
     }

@@ -269,6 +269,27 @@ impl CpuSolver {
         }
     }
 
+    /// A solver continuing from a checkpoint: its state, its first step
+    /// (the time-step collapse test's reference) and the candidate lists
+    /// it had, so that every sum keeps its order.
+    pub fn restored(
+        model: Model,
+        state: State,
+        initial_dt: Option<f64>,
+        lists: neighbours::Neighbours,
+    ) -> Self {
+        let mut s = Self::new(model, state);
+        s.initial_dt = initial_dt;
+        s.nb = lists;
+        s
+    }
+
+    /// What a checkpoint needs beyond the state: the first step and the
+    /// candidate lists.
+    pub fn resume_parts(&self) -> (Option<f64>, &neighbours::Neighbours) {
+        (self.initial_dt, &self.nb)
+    }
+
     /// Make the candidate lists valid for positions `x`.
     fn refresh_lists(
         model: &Model,

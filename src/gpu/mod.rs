@@ -261,6 +261,18 @@ pub struct GpuOptions {
     pub max_binding_size: Option<u64>,
 }
 
+/// A device state as stored: the buffers that carry a run from step to
+/// step, byte for byte, and the host's counters of encoded and delivered
+/// steps ([`GpuSolver::save_raw`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawDevice {
+    pub buffers: Vec<(String, Vec<u8>)>,
+    pub encoded: u64,
+    pub delivered: u64,
+    pub zero_seen: u32,
+    pub last_dt: f64,
+}
+
 /// The GPU solver: model constants on the host, everything else on the device.
 pub struct GpuSolver {
     ctx: Arc<GpuContext>,
@@ -270,6 +282,10 @@ pub struct GpuSolver {
     staging: wgpu::Buffer,
     plan: ProbePlan,
     k: Kernels,
+    /// The real step the next encoded step will be, if it is not one of
+    /// the zero-length steps at a stop: the reorder schedule counts real
+    /// steps (see reorder.wgsl), re-based on the device's count after
+    /// every batch.
     encoded: u64,
     /// States observed so far (the next state to deliver).
     delivered: u64,
@@ -858,7 +874,6 @@ impl GpuSolver {
         for s in 0..steps as u64 {
             self.encode_step(&mut enc, self.encoded + s);
         }
-        self.encoded += steps as u64;
         let ring_bytes = self.staging.size() - 48;
         enc.copy_buffer_to_buffer(self.buf("ctl"), 0, &self.staging, 0, 48);
         enc.copy_buffer_to_buffer(self.buf("ring"), 0, &self.staging, 48, ring_bytes);
@@ -874,6 +889,7 @@ impl GpuSolver {
         let mut batch = Batch::default();
         let failed = ctl.fail_step != NONE;
         let reached = ctl.step as u64;
+        self.encoded = reached;
         let done = ctl.zero_steps > self.zero_seen;
         self.zero_seen = ctl.zero_steps;
         // States before `reached` were observed by the step that left them;
@@ -1008,6 +1024,57 @@ impl GpuSolver {
             }
         }
         (st, normal, boundary)
+    }
+
+    /// The buffers that carry a run from one step to the next, as stored
+    /// (checkpoints): the state, the id -> slot map of the current order
+    /// and the control block. Everything else is rewritten by every step
+    /// before it is read.
+    fn persistent_buffers(&self) -> Vec<(&'static str, u64)> {
+        let mut names = self.state_buffers();
+        names.push(("slot_of", 4 * self.n as u64));
+        names
+    }
+
+    /// The device's state as stored, with the host's step counters (a
+    /// checkpoint's part from the device).
+    pub fn save_raw(&self) -> RawDevice {
+        let names = self.persistent_buffers();
+        let data = self.read_buffers(None, &names);
+        RawDevice {
+            buffers: names
+                .iter()
+                .zip(data)
+                .map(|((name, _), d)| (name.to_string(), d))
+                .collect(),
+            encoded: self.encoded,
+            delivered: self.delivered,
+            zero_seen: self.zero_seen,
+            last_dt: self.last_dt,
+        }
+    }
+
+    /// Put a saved device state back (a solver made for the same scene):
+    /// the buffers byte for byte, then the counters. `Err` when the saved
+    /// buffers are not this solver's.
+    pub fn restore_raw(&mut self, raw: &RawDevice) -> Result<(), String> {
+        let names = self.persistent_buffers();
+        let same = names.len() == raw.buffers.len()
+            && names
+                .iter()
+                .zip(&raw.buffers)
+                .all(|((n, size), (m, d))| n == m && *size == d.len() as u64);
+        if !same {
+            return Err("the saved device buffers do not match this scene's".into());
+        }
+        for (name, d) in &raw.buffers {
+            self.ctx.queue.write_buffer(self.buf(name), 0, d);
+        }
+        self.encoded = raw.encoded;
+        self.delivered = raw.delivered;
+        self.zero_seen = raw.zero_seen;
+        self.last_dt = raw.last_dt;
+        Ok(())
     }
 
     /// The buffers the state is read from, in the order `unpack_state`

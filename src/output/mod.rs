@@ -4,7 +4,6 @@
 pub mod vtk;
 
 use serde::Serialize;
-use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
@@ -18,42 +17,56 @@ pub struct History {
     pub names: Vec<String>,
     pub times: Vec<f64>,
     pub rows: Vec<Vec<f64>>,
-    file: Option<(PathBuf, BufWriter<File>)>,
+    file: Option<(PathBuf, BufWriter<std::fs::File>)>,
 }
 
 impl History {
     pub fn new(names: Vec<String>, dir: Option<&Path>) -> Result<Self, RunError> {
+        Self::resume(names, Vec::new(), Vec::new(), dir)
+    }
+
+    /// A history that already holds `times` and `rows` (a resumed run):
+    /// `history.csv` is written anew with them (through a temporary file,
+    /// so the old one stays whole until the new one is), then grows as
+    /// rows come.
+    pub fn resume(
+        names: Vec<String>,
+        times: Vec<f64>,
+        rows: Vec<Vec<f64>>,
+        dir: Option<&Path>,
+    ) -> Result<Self, RunError> {
         let file = match dir {
             Some(d) => {
                 let path = d.join("history.csv");
-                let f = File::create(&path).map_err(|e| RunError::io(&path, e))?;
-                let mut w = BufWriter::new(f);
-                let mut header = String::from("time");
+                let mut text = String::from("time");
                 for n in &names {
-                    header.push(',');
-                    header.push_str(n);
+                    text.push(',');
+                    text.push_str(n);
                 }
-                writeln!(w, "{header}").map_err(|e| RunError::io(&path, e))?;
-                Some((path, w))
+                text.push('\n');
+                for (t, row) in times.iter().zip(&rows) {
+                    text.push_str(&line(*t, row));
+                }
+                write_atomic(&path, text.as_bytes())?;
+                let f = std::fs::OpenOptions::new()
+                    .append(true)
+                    .open(&path)
+                    .map_err(|e| RunError::io(&path, e))?;
+                Some((path, BufWriter::new(f)))
             }
             None => None,
         };
         Ok(Self {
             names,
-            times: Vec::new(),
-            rows: Vec::new(),
+            times,
+            rows,
             file,
         })
     }
 
     pub fn push(&mut self, t: f64, row: Vec<f64>) -> Result<(), RunError> {
         if let Some((path, w)) = &mut self.file {
-            let mut line = format!("{t:e}");
-            for v in &row {
-                line.push(',');
-                line.push_str(&format!("{v:e}"));
-            }
-            writeln!(w, "{line}")
+            w.write_all(line(t, &row).as_bytes())
                 .and_then(|_| w.flush())
                 .map_err(|e| RunError::io(&*path, e))?;
         }
@@ -67,6 +80,18 @@ impl History {
         let k = self.names.iter().position(|n| n == name)?;
         Some(self.rows.iter().map(|r| r[k]).collect())
     }
+}
+
+/// One row of `history.csv`, its newline included: full precision, so
+/// that a row read back is the value recorded.
+fn line(t: f64, row: &[f64]) -> String {
+    let mut line = format!("{t:e}");
+    for v in row {
+        line.push(',');
+        line.push_str(&format!("{v:e}"));
+    }
+    line.push('\n');
+    line
 }
 
 /// Time of the first and the last contact: where `force` first and last

@@ -344,6 +344,34 @@ impl SnapshotSeries {
         Ok(series)
     }
 
+    /// Continue the series of a resumed run: `entries` are the snapshots
+    /// it had written by its checkpoint. Files past them (written after the
+    /// checkpoint by the run that stopped) are removed: the resumed run
+    /// writes them again.
+    pub fn resume(out: &Path, entries: Vec<(f64, String)>) -> Result<Self, RunError> {
+        let dir = out.join(SNAPSHOT_DIR);
+        std::fs::create_dir_all(&dir).map_err(|e| RunError::io(&dir, e))?;
+        let listing = std::fs::read_dir(&dir).map_err(|e| RunError::io(&dir, e))?;
+        for entry in listing.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let listed = entries
+                .iter()
+                .any(|(_, f)| f.rsplit('/').next() == Some(name.as_str()));
+            if name.starts_with("snapshot_") && name.ends_with(".vtu") && !listed {
+                let p = entry.path();
+                std::fs::remove_file(&p).map_err(|e| RunError::io(&p, e))?;
+            }
+        }
+        let series = Self {
+            out: out.to_path_buf(),
+            entries,
+            bytes: 0,
+            seconds: 0.0,
+        };
+        series.write_collection()?;
+        Ok(series)
+    }
+
     /// Snapshots written so far.
     pub fn count(&self) -> usize {
         self.entries.len()

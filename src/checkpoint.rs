@@ -1,0 +1,647 @@
+//! Checkpoints: the whole state of a run at one of its steps, written by
+//! `run --checkpoint-every T` and continued by `run --resume DIR`.
+//!
+//! A resumed run gives the same history, byte for byte, as the run that was
+//! never stopped, on either backend (on the GPU path, on the same adapter).
+//! That takes more than the particles' state:
+//!
+//! * the CPU path saves its candidate neighbour lists with their reference
+//!   positions: the lists fix the order of every SPH sum, and lists rebuilt
+//!   at another step would add the same terms in another order;
+//! * the GPU path saves its device buffers as they are (f32, in the
+//!   device's cell order) and its step counters, rather than an f64 state
+//!   that would be rounded again on upload;
+//! * the recorder saves the history rows so far and the last observation,
+//!   which the next row is interpolated from.
+//!
+//! Checkpoints never shorten a step: one is written at the first state at
+//! or after each multiple of the interval (on the GPU path, where the host
+//! sees the state between batches of steps, at the end of the batch sized
+//! to reach that time: a step or two past it), so a run with checkpoints
+//! takes the same steps as one without.
+//!
+//! The file (`checkpoint.bin` in the output directory) is written through a
+//! temporary file and a rename, so a run killed while writing one leaves the
+//! previous checkpoint whole. It is a versioned little-endian format closed
+//! by a checksum; a damaged or foreign file is refused with a message, never
+//! read into a state.
+
+use glam::DVec2;
+use std::path::{Path, PathBuf};
+
+use crate::cpu::neighbours::Neighbours;
+use crate::error::RunError;
+use crate::gpu::RawDevice;
+use crate::math::Sym;
+use crate::model::State;
+use crate::scene::{Backend, Scene};
+
+/// The checkpoint's file name in the output directory.
+pub const FILE: &str = "checkpoint.bin";
+
+const MAGIC: &[u8; 8] = b"SPHCKPT\n";
+const VERSION: u64 = 1;
+
+/// What the summary of the whole run needs from its start.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ledger {
+    /// Total energy of the initial state without the stored penalty energy.
+    pub base_energy: f64,
+    /// Total momentum of the initial state.
+    pub momentum: DVec2,
+    /// Stored penalty energy at the first state.
+    pub stored0: f64,
+    /// Most particles at once on the identity correction so far.
+    pub max_fallback: u32,
+    /// Wall seconds the run took before this checkpoint.
+    pub wall_seconds: f64,
+    pub warnings: Vec<String>,
+}
+
+/// The recorder's state: the rows written so far, the observation the next
+/// rows are interpolated from, the snapshots written and the next
+/// checkpoint's time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecorderState {
+    pub times: Vec<f64>,
+    pub rows: Vec<Vec<f64>>,
+    pub prev: Option<(f64, Vec<f64>)>,
+    pub snapshots: Vec<(f64, String)>,
+    pub next_checkpoint: f64,
+}
+
+/// The CPU solver's state: the particles, the first step (the reference
+/// of the time-step collapse test) and the candidate lists.
+#[derive(Debug, Clone)]
+pub struct CpuState {
+    pub state: State,
+    pub initial_dt: Option<f64>,
+    pub lists: Neighbours,
+}
+
+/// The GPU solver's state: the device's own, and the last delivered
+/// state's time and stored penalty energy.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GpuState {
+    pub device: RawDevice,
+    pub t_last: f64,
+    pub stored_last: f64,
+}
+
+/// The solver's state.
+#[derive(Debug, Clone)]
+pub enum SolverState {
+    Cpu(Box<CpuState>),
+    Gpu(Box<GpuState>),
+}
+
+/// A whole checkpoint.
+#[derive(Debug, Clone)]
+pub struct Checkpoint {
+    /// The scene as the summary names it (its path when run from a file).
+    pub scene_label: String,
+    /// The scene as run (an `--end-time` applied).
+    pub scene: Scene,
+    pub backend: Backend,
+    pub adapter: Option<String>,
+    pub ledger: Ledger,
+    pub recorder: RecorderState,
+    pub solver: SolverState,
+}
+
+impl Checkpoint {
+    /// The simulated time of the saved state.
+    pub fn time(&self) -> f64 {
+        match &self.solver {
+            SolverState::Cpu(c) => c.state.t,
+            SolverState::Gpu(g) => g.t_last,
+        }
+    }
+
+    /// Encode into the file format.
+    pub fn to_bytes(&self) -> Result<Vec<u8>, RunError> {
+        let scene = toml::to_string(&self.scene)
+            .map_err(|e| RunError::Backend(format!("cannot encode the scene: {e}")))?;
+        let mut w = Writer(MAGIC.to_vec());
+        w.u64(VERSION);
+        w.str(&self.scene_label);
+        w.str(&scene);
+        w.str(&self.backend.to_string());
+        w.str(self.adapter.as_deref().unwrap_or(""));
+        let l = &self.ledger;
+        w.f64(l.base_energy);
+        w.f64(l.momentum.x);
+        w.f64(l.momentum.y);
+        w.f64(l.stored0);
+        w.u64(l.max_fallback as u64);
+        w.f64(l.wall_seconds);
+        w.u64(l.warnings.len() as u64);
+        for s in &l.warnings {
+            w.str(s);
+        }
+        let r = &self.recorder;
+        w.f64s(&r.times);
+        w.u64(r.rows.len() as u64);
+        for row in &r.rows {
+            w.f64s(row);
+        }
+        match &r.prev {
+            Some((t, obs)) => {
+                w.u64(1);
+                w.f64(*t);
+                w.f64s(obs);
+            }
+            None => w.u64(0),
+        }
+        w.u64(r.snapshots.len() as u64);
+        for (t, f) in &r.snapshots {
+            w.f64(*t);
+            w.str(f);
+        }
+        w.f64(r.next_checkpoint);
+        match &self.solver {
+            SolverState::Cpu(c) => {
+                let CpuState {
+                    state,
+                    initial_dt,
+                    lists,
+                } = &**c;
+                w.u64(0);
+                w.f64(state.t);
+                w.u64(state.step);
+                w.vec2s(&state.x);
+                w.vec2s(&state.v);
+                w.f64s(&state.rho);
+                w.f64s(&state.e);
+                let s: Vec<f64> = state
+                    .s
+                    .iter()
+                    .flat_map(|s| [s.xx, s.yy, s.xy, s.zz])
+                    .collect();
+                w.f64s(&s);
+                w.f64(state.heat);
+                w.f64(state.spring_work);
+                w.f64(initial_dt.unwrap_or(f64::NAN));
+                w.u32s(&lists.start);
+                w.u32s(&lists.list);
+                w.u32s(&lists.cross_start);
+                w.u32s(&lists.cross);
+                w.f64(lists.skin);
+                w.vec2s(&lists.x_ref);
+            }
+            SolverState::Gpu(g) => {
+                let d = &g.device;
+                w.u64(1);
+                w.u64(d.buffers.len() as u64);
+                for (name, bytes) in &d.buffers {
+                    w.str(name);
+                    w.bytes(bytes);
+                }
+                w.u64(d.encoded);
+                w.u64(d.delivered);
+                w.u64(d.zero_seen as u64);
+                w.f64(d.last_dt);
+                w.f64(g.t_last);
+                w.f64(g.stored_last);
+            }
+        }
+        let sum = fnv1a(&w.0);
+        w.u64(sum);
+        Ok(w.0)
+    }
+
+    /// Decode a checkpoint file's bytes; `origin` names it in errors.
+    pub fn from_bytes(bytes: &[u8], origin: &str) -> Result<Checkpoint, RunError> {
+        let bad = |what: String| RunError::Backend(format!("{origin}: {what}"));
+        if bytes.len() < MAGIC.len() + 16 || &bytes[..MAGIC.len()] != MAGIC {
+            return Err(bad("not a sphcontact checkpoint".into()));
+        }
+        let (body, sum) = bytes.split_at(bytes.len() - 8);
+        let sum = u64::from_le_bytes(sum.try_into().expect("8 bytes"));
+        if fnv1a(body) != sum {
+            return Err(bad(
+                "the checkpoint is damaged (its checksum does not match); resume from an intact copy or rerun".into(),
+            ));
+        }
+        let mut r = Reader {
+            b: body,
+            at: MAGIC.len(),
+        };
+        let decode = |r: &mut Reader| -> Result<Checkpoint, String> {
+            let version = r.u64()?;
+            if version != VERSION {
+                return Err(format!(
+                    "checkpoint format version {version}; this build reads version {VERSION}"
+                ));
+            }
+            let scene_label = r.str()?;
+            let scene_text = r.str()?;
+            let scene = Scene::from_toml_str(&scene_text, "the checkpoint's scene")
+                .map_err(|e| e.to_string())?;
+            let backend = match r.str()?.as_str() {
+                "cpu" => Backend::Cpu,
+                "gpu" => Backend::Gpu,
+                other => return Err(format!("unknown backend '{other}'")),
+            };
+            let adapter = Some(r.str()?).filter(|a| !a.is_empty());
+            let base_energy = r.f64()?;
+            let momentum = DVec2::new(r.f64()?, r.f64()?);
+            let stored0 = r.f64()?;
+            let max_fallback = r.u64()? as u32;
+            let wall_seconds = r.f64()?;
+            let nw = r.count(8)?;
+            let warnings = (0..nw).map(|_| r.str()).collect::<Result<_, _>>()?;
+            let times = r.f64s()?;
+            let nrows = r.count(8)?;
+            let rows = (0..nrows)
+                .map(|_| r.f64s())
+                .collect::<Result<Vec<_>, _>>()?;
+            let prev = match r.u64()? {
+                0 => None,
+                _ => Some((r.f64()?, r.f64s()?)),
+            };
+            let nsnap = r.count(16)?;
+            let snapshots = (0..nsnap)
+                .map(|_| Ok((r.f64()?, r.str()?)))
+                .collect::<Result<_, String>>()?;
+            let next_checkpoint = r.f64()?;
+            let solver = match r.u64()? {
+                0 => {
+                    let t = r.f64()?;
+                    let step = r.u64()?;
+                    let x = r.vec2s()?;
+                    let v = r.vec2s()?;
+                    let rho = r.f64s()?;
+                    let e = r.f64s()?;
+                    let s: Vec<Sym> = r
+                        .f64s()?
+                        .chunks_exact(4)
+                        .map(|c| Sym {
+                            xx: c[0],
+                            yy: c[1],
+                            xy: c[2],
+                            zz: c[3],
+                        })
+                        .collect();
+                    let heat = r.f64()?;
+                    let spring_work = r.f64()?;
+                    let initial_dt = Some(r.f64()?).filter(|d| !d.is_nan());
+                    let lists = Neighbours {
+                        start: r.u32s()?,
+                        list: r.u32s()?,
+                        cross_start: r.u32s()?,
+                        cross: r.u32s()?,
+                        skin: r.f64()?,
+                        x_ref: r.vec2s()?,
+                    };
+                    SolverState::Cpu(Box::new(CpuState {
+                        state: State {
+                            t,
+                            step,
+                            x,
+                            v,
+                            rho,
+                            e,
+                            s,
+                            heat,
+                            spring_work,
+                        },
+                        initial_dt,
+                        lists,
+                    }))
+                }
+                1 => {
+                    let nb = r.count(16)?;
+                    let buffers = (0..nb)
+                        .map(|_| Ok((r.str()?, r.bytes()?.to_vec())))
+                        .collect::<Result<_, String>>()?;
+                    SolverState::Gpu(Box::new(GpuState {
+                        device: RawDevice {
+                            buffers,
+                            encoded: r.u64()?,
+                            delivered: r.u64()?,
+                            zero_seen: r.u64()? as u32,
+                            last_dt: r.f64()?,
+                        },
+                        t_last: r.f64()?,
+                        stored_last: r.f64()?,
+                    }))
+                }
+                k => return Err(format!("unknown solver kind {k}")),
+            };
+            if r.at != r.b.len() {
+                return Err("trailing bytes after the state".into());
+            }
+            Ok(Checkpoint {
+                scene_label,
+                scene,
+                backend,
+                adapter,
+                ledger: Ledger {
+                    base_energy,
+                    momentum,
+                    stored0,
+                    max_fallback,
+                    wall_seconds,
+                    warnings,
+                },
+                recorder: RecorderState {
+                    times,
+                    rows,
+                    prev,
+                    snapshots,
+                    next_checkpoint,
+                },
+                solver,
+            })
+        };
+        let ck = decode(&mut r).map_err(bad)?;
+        ck.check_sizes().map_err(bad)?;
+        Ok(ck)
+    }
+
+    /// The saved arrays agree with the scene's particle count and the
+    /// history's width, so a state is never half-filled.
+    fn check_sizes(&self) -> Result<(), String> {
+        let (model, _) = crate::model::Model::new(&self.scene);
+        let n = model.len();
+        let width = self.scene.probes.len();
+        let r = &self.recorder;
+        if r.rows.len() != r.times.len()
+            || r.rows.iter().any(|row| row.len() != width)
+            || r.prev.as_ref().is_some_and(|p| p.1.len() != width)
+        {
+            return Err("its history rows do not match the scene's probes".into());
+        }
+        if let SolverState::Cpu(c) = &self.solver {
+            let (state, lists) = (&c.state, &c.lists);
+            let ok = state.x.len() == n
+                && state.v.len() == n
+                && state.rho.len() == n
+                && state.e.len() == n
+                && state.s.len() == n
+                && lists.start.len() == n + 1
+                && lists.cross_start.len() == n + 1
+                && lists.x_ref.len() == n
+                && lists
+                    .start
+                    .last()
+                    .is_some_and(|&k| k as usize == lists.list.len())
+                && lists
+                    .cross_start
+                    .last()
+                    .is_some_and(|&k| k as usize == lists.cross.len())
+                && lists
+                    .list
+                    .iter()
+                    .chain(&lists.cross)
+                    .all(|&j| (j as usize) < n);
+            if !ok {
+                return Err(format!(
+                    "its particle arrays do not match the scene's {n} particles"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Write atomically to `dir/checkpoint.bin`.
+    pub fn write(&self, dir: &Path) -> Result<(), RunError> {
+        crate::output::write_atomic(&path(dir), &self.to_bytes()?)
+    }
+
+    /// Read `dir/checkpoint.bin`.
+    pub fn read(dir: &Path) -> Result<Checkpoint, RunError> {
+        let p = path(dir);
+        let bytes = std::fs::read(&p).map_err(|e| {
+            RunError::Backend(format!(
+                "{}: cannot read the checkpoint ({e}); was the run started with --checkpoint-every?",
+                p.display()
+            ))
+        })?;
+        Self::from_bytes(&bytes, &p.display().to_string())
+    }
+}
+
+/// The checkpoint file of output directory `dir`.
+pub fn path(dir: &Path) -> PathBuf {
+    dir.join(FILE)
+}
+
+/// 64-bit FNV-1a: enough to tell a damaged file from an intact one.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+struct Writer(Vec<u8>);
+
+impl Writer {
+    fn u64(&mut self, v: u64) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    fn f64(&mut self, v: f64) {
+        self.u64(v.to_bits());
+    }
+    fn bytes(&mut self, b: &[u8]) {
+        self.u64(b.len() as u64);
+        self.0.extend_from_slice(b);
+    }
+    fn str(&mut self, s: &str) {
+        self.bytes(s.as_bytes());
+    }
+    fn f64s(&mut self, v: &[f64]) {
+        self.u64(v.len() as u64);
+        for x in v {
+            self.f64(*x);
+        }
+    }
+    fn vec2s(&mut self, v: &[DVec2]) {
+        self.u64(v.len() as u64);
+        for p in v {
+            self.f64(p.x);
+            self.f64(p.y);
+        }
+    }
+    fn u32s(&mut self, v: &[u32]) {
+        self.u64(v.len() as u64);
+        for x in v {
+            self.0.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+}
+
+/// Bounds-checked reads: a count larger than what is left is an error, not
+/// an allocation.
+struct Reader<'a> {
+    b: &'a [u8],
+    at: usize,
+}
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize) -> Result<&[u8], String> {
+        if n > self.b.len() - self.at {
+            return Err("the checkpoint ends early".into());
+        }
+        let s = &self.b[self.at..self.at + n];
+        self.at += n;
+        Ok(s)
+    }
+    fn u64(&mut self) -> Result<u64, String> {
+        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8")))
+    }
+    fn f64(&mut self) -> Result<f64, String> {
+        Ok(f64::from_bits(self.u64()?))
+    }
+    /// A count of items of at least `item` bytes each.
+    fn count(&mut self, item: usize) -> Result<usize, String> {
+        let k = self.u64()?;
+        if k > ((self.b.len() - self.at) / item) as u64 {
+            return Err("the checkpoint ends early".into());
+        }
+        Ok(k as usize)
+    }
+    fn bytes(&mut self) -> Result<&[u8], String> {
+        let k = self.count(1)?;
+        self.take(k)
+    }
+    fn str(&mut self) -> Result<String, String> {
+        String::from_utf8(self.bytes()?.to_vec()).map_err(|_| "a text is not UTF-8".into())
+    }
+    fn f64s(&mut self) -> Result<Vec<f64>, String> {
+        let k = self.count(8)?;
+        (0..k).map(|_| self.f64()).collect()
+    }
+    fn vec2s(&mut self) -> Result<Vec<DVec2>, String> {
+        let k = self.count(16)?;
+        (0..k)
+            .map(|_| Ok(DVec2::new(self.f64()?, self.f64()?)))
+            .collect()
+    }
+    fn u32s(&mut self) -> Result<Vec<u32>, String> {
+        let k = self.count(4)?;
+        Ok(self
+            .take(4 * k)?
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes(c.try_into().expect("4")))
+            .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scenes() -> Vec<Scene> {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        ["scenes/paper", "scenes/large"]
+            .iter()
+            .flat_map(|d| std::fs::read_dir(root.join(d)).expect("scene folder"))
+            .map(|e| e.expect("entry").path())
+            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+            .map(|p| Scene::from_file(&p).expect("a valid scene"))
+            .collect()
+    }
+
+    /// The scene travels as TOML text: every shipped scene comes back equal.
+    #[test]
+    fn scenes_survive_their_toml_round_trip() {
+        for s in scenes() {
+            let text = toml::to_string(&s).expect("serialises");
+            let back = Scene::from_toml_str(&text, "round trip").expect("parses");
+            assert_eq!(back, s, "{text}");
+        }
+    }
+
+    fn small() -> Checkpoint {
+        let scene = Scene::from_toml_str(
+            r#"
+            [simulation]
+            dimension = 1
+            end_time = 1.0e-7
+            [materials.steel]
+            density = 7850.0
+            eos = { kind = "linear", c0 = 4580.0 }
+            [[bodies]]
+            name = "a"
+            material = "steel"
+            spacing = 1.0e-3
+            velocity = [1.0]
+            shape = { kind = "segment", from = 0.0, to = 0.002 }
+            [[probes]]
+            name = "ke"
+            kind = "energy"
+            quantity = "kinetic"
+            "#,
+            "small",
+        )
+        .expect("valid");
+        let (_, state) = crate::model::Model::new(&scene);
+        Checkpoint {
+            scene_label: "small.toml".into(),
+            scene,
+            backend: Backend::Cpu,
+            adapter: None,
+            ledger: Ledger {
+                base_energy: 1.5,
+                momentum: DVec2::new(2.0, -0.0),
+                stored0: 0.0,
+                max_fallback: 3,
+                wall_seconds: 0.25,
+                warnings: vec!["w".into()],
+            },
+            recorder: RecorderState {
+                times: vec![0.0, 1e-8],
+                rows: vec![vec![1.0], vec![f64::MIN_POSITIVE]],
+                prev: Some((1.2e-8, vec![0.1 + 0.2])),
+                snapshots: vec![(0.0, "snapshots/snapshot_000000.vtu".into())],
+                next_checkpoint: 2e-8,
+            },
+            solver: SolverState::Cpu(Box::new(CpuState {
+                lists: Neighbours {
+                    start: vec![0, 1, 2],
+                    list: vec![1, 0],
+                    cross_start: vec![0, 0, 0],
+                    cross: vec![],
+                    skin: 1e-4,
+                    x_ref: state.x.clone(),
+                },
+                state,
+                initial_dt: Some(3e-9),
+            })),
+        }
+    }
+
+    /// Every field comes back bit for bit.
+    #[test]
+    fn round_trip_is_exact() {
+        let c = small();
+        let bytes = c.to_bytes().expect("encodes");
+        let back = Checkpoint::from_bytes(&bytes, "t").expect("decodes");
+        assert_eq!(back.to_bytes().expect("encodes"), bytes);
+        assert_eq!(back.recorder, c.recorder);
+        assert_eq!(back.ledger, c.ledger);
+        assert_eq!(back.scene, c.scene);
+    }
+
+    /// A flipped bit, a truncation or a foreign file is refused with a
+    /// message naming the file; no decode panics or allocates from a
+    /// damaged count.
+    #[test]
+    fn damage_is_refused() {
+        let bytes = small().to_bytes().expect("encodes");
+        for k in (0..bytes.len()).step_by(7) {
+            let mut b = bytes.clone();
+            b[k] ^= 0x10;
+            let e = Checkpoint::from_bytes(&b, "ck.bin").expect_err("damaged");
+            assert!(e.to_string().starts_with("ck.bin: "), "{e}");
+        }
+        for len in [0, 5, 20, bytes.len() / 2, bytes.len() - 1] {
+            let e = Checkpoint::from_bytes(&bytes[..len], "ck.bin").expect_err("short");
+            assert!(e.to_string().starts_with("ck.bin: "), "{e}");
+        }
+        let e = Checkpoint::from_bytes(b"time,a\n0,1\n.......", "h.csv").expect_err("foreign");
+        assert!(e.to_string().contains("not a sphcontact checkpoint"), "{e}");
+    }
+}

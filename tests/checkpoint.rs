@@ -1,0 +1,281 @@
+//! Checkpoints and restart: a run stopped at a checkpoint (or killed after
+//! one) and resumed writes the same history, byte for byte, as the run
+//! that was never stopped, on the CPU path and on the GPU path (same
+//! adapter); its snapshots too. Bad resumes are refused with a message.
+
+mod common;
+use common::*;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use sphcontact::cpu::CpuSolver;
+use sphcontact::model::Model;
+use sphcontact::run::{resume_run, run_scene, RunOptions};
+use sphcontact::scene::Backend;
+use sphcontact::Scene;
+
+const BIN: &str = env!("CARGO_BIN_EXE_sphcontact");
+
+/// The paper's polar-lattice disks, coarse (Δx = 0.5 mm, 630 particles),
+/// closing at 80 m/s so that the CPU path rebuilds its neighbour lists
+/// several times after the checkpoint, with snapshots every 3 µs, so that
+/// the run also stops at snapshot times on both sides of it.
+fn disks() -> Scene {
+    let mut s = load("scenes/paper/disks_polar.toml");
+    for (b, v) in s.bodies.iter_mut().zip([40.0, -40.0]) {
+        b.spacing = 5.0e-4;
+        b.velocity = Some(vec![v, 0.0]);
+    }
+    s.output.snapshot_interval = Some(3.0e-6);
+    s
+}
+
+fn write_opts(dir: &Path, backend: Backend, every: Option<f64>) -> RunOptions {
+    RunOptions {
+        out_dir: Some(dir.to_path_buf()),
+        backend: Some(backend),
+        silent: true,
+        write: true,
+        checkpoint_every: every,
+        ..Default::default()
+    }
+}
+
+fn read(p: impl AsRef<Path>) -> Vec<u8> {
+    let p = p.as_ref();
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Every file of the two runs' outputs that must match: the history, the
+/// snapshot collection and each snapshot.
+fn assert_same_outputs(a: &Path, b: &Path) {
+    let ha = read(a.join("history.csv"));
+    let hb = read(b.join("history.csv"));
+    let rows = ha.iter().filter(|&&c| c == b'\n').count();
+    assert!(rows > 100, "a history of {rows} lines");
+    if ha != hb {
+        let (la, lb) = (String::from_utf8_lossy(&ha), String::from_utf8_lossy(&hb));
+        let k = la.lines().zip(lb.lines()).position(|(x, y)| x != y);
+        panic!(
+            "histories differ ({} and {} bytes), first at line {k:?}",
+            ha.len(),
+            hb.len()
+        );
+    }
+    let pvd = read(a.join("snapshots.pvd"));
+    assert_eq!(pvd, read(b.join("snapshots.pvd")), "snapshot collections");
+    let list = |d: &Path| -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = std::fs::read_dir(d.join("snapshots"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        v.sort();
+        v
+    };
+    let (fa, fb) = (list(a), list(b));
+    assert_eq!(fa.len(), 5, "snapshots at 0, 3, 6, 9, 12 µs");
+    assert_eq!(fa.len(), fb.len());
+    for (x, y) in fa.iter().zip(&fb) {
+        assert_eq!(x.file_name(), y.file_name());
+        assert!(read(x) == read(y), "{} differs", x.display());
+    }
+}
+
+/// One backend's case: the uninterrupted run; a run with checkpoints
+/// (which must not change the steps: same bytes); then that run's
+/// directory damaged as a kill after the checkpoint would leave it (a
+/// history cut mid-row, no summary, a snapshot written after the
+/// checkpoint and a stray one) and resumed.
+fn resume_matches(backend: Backend) {
+    let scene = disks();
+    let tmp = tempfile::tempdir().unwrap();
+    let (full, ck) = (tmp.path().join("full"), tmp.path().join("ck"));
+    run_scene(&scene, None, &write_opts(&full, backend, None)).expect("runs");
+    // One checkpoint, at the first state after 7 µs (mid-contact, between
+    // the snapshots at 6 and 9 µs).
+    run_scene(&scene, None, &write_opts(&ck, backend, Some(7.0e-6))).expect("runs");
+    assert_same_outputs(&full, &ck);
+
+    let saved = sphcontact::checkpoint::Checkpoint::read(&ck).expect("a checkpoint");
+    let t = saved.time();
+    assert!((7.0e-6..7.2e-6).contains(&t), "checkpoint at {t:e} s");
+    let history = read(ck.join("history.csv"));
+    std::fs::write(
+        ck.join("history.csv"),
+        &history[..history.len() * 4 / 5 - 7],
+    )
+    .unwrap();
+    std::fs::remove_file(ck.join("summary.json")).unwrap();
+    std::fs::write(ck.join("snapshots/snapshot_000099.vtu"), b"stray").unwrap();
+
+    let opts = RunOptions {
+        backend: Some(backend),
+        silent: true,
+        ..Default::default()
+    };
+    let out = resume_run(&ck, &opts).expect("resumes");
+    assert_same_outputs(&full, &ck);
+    assert_eq!(out.summary.status, "completed");
+    let whole: serde_json::Value =
+        serde_json::from_slice(&read(full.join("summary.json"))).unwrap();
+    let resumed: serde_json::Value =
+        serde_json::from_slice(&read(ck.join("summary.json"))).unwrap();
+    for key in [
+        "steps",
+        "particles",
+        "energy_initial",
+        "energy_final",
+        "momentum_initial",
+        "momentum_final",
+        "bodies",
+        "backend",
+    ] {
+        assert_eq!(whole[key], resumed[key], "summary key {key}");
+    }
+}
+
+#[test]
+fn cpu_resume_gives_the_same_bytes() {
+    resume_matches(Backend::Cpu);
+}
+
+#[test]
+fn gpu_resume_gives_the_same_bytes() {
+    on_gpu(|| resume_matches(Backend::Gpu));
+}
+
+/// The case above is a real test of the CPU path's saved neighbour lists:
+/// the run rebuilds them after the checkpoint, so a resume that rebuilt
+/// them at its own first step would sum in another order.
+#[test]
+fn the_disks_rebuild_their_lists_after_the_checkpoint() {
+    let scene = disks();
+    let (model, state) = Model::new(&scene);
+    let mut solver = CpuSolver::new(model, state);
+    let mut at_checkpoint = None;
+    while solver.state.t < scene.simulation.end_time {
+        if solver.state.t >= 7.0e-6 && at_checkpoint.is_none() {
+            at_checkpoint = Some(solver.list_builds);
+        }
+        solver
+            .step(scene.simulation.end_time - solver.state.t)
+            .expect("stable");
+    }
+    let after = solver.list_builds - at_checkpoint.expect("reached 7 µs");
+    assert!(after >= 2, "{after} list builds after the checkpoint");
+}
+
+/// The binary, killed: a run with a checkpoint every 0.5 µs is killed
+/// (SIGKILL) as soon as its first checkpoint is on disk, then resumed with
+/// `run --resume`; its history is the uninterrupted run's, byte for byte.
+/// (Should the machine finish the run before the kill lands, the resume
+/// still starts from the last checkpoint and the comparison still holds.)
+#[test]
+fn killed_run_resumes_to_the_same_history() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/paper/disks_polar.toml");
+    let run = |out: &Path, extra: &[&str]| {
+        let mut c = Command::new(BIN);
+        c.arg("run")
+            .arg(&scene)
+            .args(["--backend", "cpu", "--quiet", "--end-time", "6e-6", "--out"])
+            .arg(out)
+            .args(extra)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null());
+        c
+    };
+    let (full, killed) = (tmp.path().join("full"), tmp.path().join("killed"));
+    let st = run(&full, &[]).status().unwrap();
+    assert!(st.success());
+
+    let mut child = run(&killed, &["--checkpoint-every", "5e-7"])
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    while !killed.join("checkpoint.bin").exists() && started.elapsed() < Duration::from_secs(120) {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().ok();
+    let status = child.wait().unwrap();
+    eprintln!(
+        "killed run: {status} after {:.2} s",
+        started.elapsed().as_secs_f64()
+    );
+    let ck = sphcontact::checkpoint::Checkpoint::read(&killed).expect("a whole checkpoint");
+    eprintln!("resuming from t = {:e} s", ck.time());
+
+    let out = Command::new(BIN)
+        .args(["run", "--quiet", "--resume"])
+        .arg(&killed)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        read(full.join("history.csv")) == read(killed.join("history.csv")),
+        "the resumed history differs"
+    );
+}
+
+/// Bad resumes: exit status 2 and one message saying what is wrong.
+#[test]
+fn bad_resumes_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("bars");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/paper/bars_steel.toml");
+    let st = Command::new(BIN)
+        .arg("run")
+        .arg(&scene)
+        .args([
+            "--backend",
+            "cpu",
+            "--quiet",
+            "--checkpoint-every",
+            "2e-6",
+            "--out",
+        ])
+        .arg(&dir)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let refused = |args: &[&str], says: &str| {
+        let out = Command::new(BIN).args(args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    };
+    let d = dir.to_str().unwrap();
+    let s = scene.to_str().unwrap();
+    let empty = tmp.path().to_str().unwrap();
+    refused(&["run", "--resume", empty], "cannot read the checkpoint");
+    refused(
+        &["run", "--resume", d, "--backend", "gpu"],
+        "written by the cpu backend",
+    );
+    refused(&["run", "--resume", d, "--end-time", "1e-6"], "--end-time");
+    refused(&["run", s, "--resume", d], "cannot be used with");
+    refused(&["run", s, "--checkpoint-every", "0"], "--checkpoint-every");
+    refused(
+        &["run", s, "--checkpoint-every", "-1"],
+        "--checkpoint-every",
+    );
+
+    let ck = dir.join("checkpoint.bin");
+    let mut bytes = read(&ck);
+    let k = bytes.len() / 2;
+    bytes[k] ^= 1;
+    std::fs::write(&ck, &bytes).unwrap();
+    refused(&["run", "--resume", d], "damaged");
+    std::fs::write(&ck, &bytes[..k]).unwrap();
+    refused(&["run", "--resume", d], "damaged");
+}
