@@ -590,6 +590,7 @@ fn run_from(
         None => run_cpu(model, state, &probes, &mut rec, resume)?,
     };
     rec.progress.finish();
+    rec.history.flush()?;
     let wall = wall_before + rec.start.elapsed().as_secs_f64();
     let history = rec.history;
     let (snapshots, snapshot_bytes, snapshot_seconds) = rec.snaps.map_or((0, 0, 0.0), |s| {

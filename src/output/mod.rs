@@ -4,74 +4,100 @@
 pub mod vtk;
 
 use serde::Serialize;
-use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use crate::error::RunError;
 
 /// The recorded history: one row per history time, kept in memory and,
-/// when a directory is given, streamed to `history.csv` as it grows (flushed
-/// every row, so a failed run keeps what it had recorded).
+/// when a directory is given, in `history.csv`.
+///
+/// The file is only ever replaced whole (written to a temporary file and
+/// renamed, [`write_atomic`]), never appended to, so a run killed at any
+/// moment leaves a file of whole rows: at most [`History::EVERY`] seconds
+/// of wall time behind the run, and complete once the run ends or fails
+/// ([`History::flush`]). The CSV text is kept alongside the rows so that a
+/// rewrite costs one write, not a re-formatting.
 #[derive(Debug)]
 pub struct History {
     pub names: Vec<String>,
     pub times: Vec<f64>,
     pub rows: Vec<Vec<f64>>,
-    file: Option<(PathBuf, BufWriter<std::fs::File>)>,
+    file: Option<HistoryFile>,
+}
+
+#[derive(Debug)]
+struct HistoryFile {
+    path: PathBuf,
+    text: String,
+    /// The text's length at the last write, and when that was.
+    written: usize,
+    at: std::time::Instant,
 }
 
 impl History {
+    /// Wall seconds between rewrites of `history.csv` while rows come.
+    pub const EVERY: f64 = 1.0;
+
     pub fn new(names: Vec<String>, dir: Option<&Path>) -> Result<Self, RunError> {
         Self::resume(names, Vec::new(), Vec::new(), dir)
     }
 
     /// A history that already holds `times` and `rows` (a resumed run):
-    /// `history.csv` is written anew with them (through a temporary file,
-    /// so the old one stays whole until the new one is), then grows as
-    /// rows come.
+    /// `history.csv` is written anew with them at once.
     pub fn resume(
         names: Vec<String>,
         times: Vec<f64>,
         rows: Vec<Vec<f64>>,
         dir: Option<&Path>,
     ) -> Result<Self, RunError> {
-        let file = match dir {
-            Some(d) => {
-                let path = d.join("history.csv");
-                let mut text = String::from("time");
-                for n in &names {
-                    text.push(',');
-                    text.push_str(n);
-                }
-                text.push('\n');
-                for (t, row) in times.iter().zip(&rows) {
-                    text.push_str(&line(*t, row));
-                }
-                write_atomic(&path, text.as_bytes())?;
-                let f = std::fs::OpenOptions::new()
-                    .append(true)
-                    .open(&path)
-                    .map_err(|e| RunError::io(&path, e))?;
-                Some((path, BufWriter::new(f)))
+        let file = dir.map(|d| {
+            let mut text = String::from("time");
+            for n in &names {
+                text.push(',');
+                text.push_str(n);
             }
-            None => None,
-        };
-        Ok(Self {
+            text.push('\n');
+            for (t, row) in times.iter().zip(&rows) {
+                text.push_str(&line(*t, row));
+            }
+            HistoryFile {
+                path: d.join("history.csv"),
+                text,
+                written: 0,
+                at: std::time::Instant::now(),
+            }
+        });
+        let mut h = Self {
             names,
             times,
             rows,
             file,
-        })
+        };
+        h.flush()?;
+        Ok(h)
     }
 
     pub fn push(&mut self, t: f64, row: Vec<f64>) -> Result<(), RunError> {
-        if let Some((path, w)) = &mut self.file {
-            w.write_all(line(t, &row).as_bytes())
-                .and_then(|_| w.flush())
-                .map_err(|e| RunError::io(&*path, e))?;
+        if let Some(f) = &mut self.file {
+            f.text.push_str(&line(t, &row));
+            if f.at.elapsed().as_secs_f64() >= Self::EVERY {
+                self.flush()?;
+            }
         }
         self.times.push(t);
         self.rows.push(row);
+        Ok(())
+    }
+
+    /// Bring `history.csv` up to date with every row recorded.
+    pub fn flush(&mut self) -> Result<(), RunError> {
+        if let Some(f) = &mut self.file {
+            if f.written != f.text.len() || f.written == 0 {
+                write_atomic(&f.path, f.text.as_bytes())?;
+                f.written = f.text.len();
+            }
+            f.at = std::time::Instant::now();
+        }
         Ok(())
     }
 
