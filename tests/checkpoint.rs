@@ -168,8 +168,9 @@ fn the_disks_rebuild_their_lists_after_the_checkpoint() {
 }
 
 /// The binary, killed: a run with a checkpoint every 0.5 µs is killed
-/// (SIGKILL) as soon as its first checkpoint is on disk, then resumed with
-/// `run --resume`; its history is the uninterrupted run's, byte for byte.
+/// (SIGKILL) as soon as its first checkpoint is on disk, leaving a history
+/// of whole rows, then resumed with `run --resume`; its history is the
+/// uninterrupted run's, byte for byte.
 /// (Should the machine finish the run before the kill lands, the resume
 /// still starts from the last checkpoint and the comparison still holds.)
 #[test]
@@ -207,6 +208,16 @@ fn killed_run_resumes_to_the_same_history() {
         "killed run: {status} after {:.2} s",
         started.elapsed().as_secs_f64()
     );
+    // What the kill left: whole files only (every output is replaced by a
+    // rename, never appended to).
+    let text = String::from_utf8(read(killed.join("history.csv"))).unwrap();
+    assert!(text.ends_with('\n'), "a history cut mid-row");
+    let width = text.lines().next().unwrap().split(',').count();
+    for l in text.lines().skip(1) {
+        let cells: Vec<&str> = l.split(',').collect();
+        assert_eq!(cells.len(), width, "{l}");
+        assert!(cells.iter().all(|c| c.parse::<f64>().is_ok()), "{l}");
+    }
     let ck = sphcontact::checkpoint::Checkpoint::read(&killed).expect("a whole checkpoint");
     eprintln!("resuming from t = {:e} s", ck.time());
 
