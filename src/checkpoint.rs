@@ -67,6 +67,9 @@ pub struct RecorderState {
     pub rows: Vec<Vec<f64>>,
     pub prev: Option<(f64, Vec<f64>)>,
     pub snapshots: Vec<(f64, String)>,
+    /// The checkpoint interval the run was started with, and the time of
+    /// the checkpoint after this one.
+    pub checkpoint_every: f64,
     pub next_checkpoint: f64,
 }
 
@@ -158,6 +161,7 @@ impl Checkpoint {
             w.f64(*t);
             w.str(f);
         }
+        w.f64(r.checkpoint_every);
         w.f64(r.next_checkpoint);
         match &self.solver {
             SolverState::Cpu(c) => {
@@ -264,6 +268,7 @@ impl Checkpoint {
             let snapshots = (0..nsnap)
                 .map(|_| Ok((r.f64()?, r.str()?)))
                 .collect::<Result<_, String>>()?;
+            let checkpoint_every = r.f64()?;
             let next_checkpoint = r.f64()?;
             let solver = match r.u64()? {
                 0 => {
@@ -350,6 +355,7 @@ impl Checkpoint {
                     rows,
                     prev,
                     snapshots,
+                    checkpoint_every,
                     next_checkpoint,
                 },
                 solver,
@@ -596,6 +602,7 @@ mod tests {
                 rows: vec![vec![1.0], vec![f64::MIN_POSITIVE]],
                 prev: Some((1.2e-8, vec![0.1 + 0.2])),
                 snapshots: vec![(0.0, "snapshots/snapshot_000000.vtu".into())],
+                checkpoint_every: 1e-8,
                 next_checkpoint: 2e-8,
             },
             solver: SolverState::Cpu(Box::new(CpuState {

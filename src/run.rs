@@ -252,8 +252,7 @@ impl Recorder {
         let Some(c) = &mut self.checkpoints else {
             return Ok(());
         };
-        let k = (t / c.every * (1.0 + AT_TIME)).floor() + 1.0;
-        let next = k * c.every;
+        let next = next_multiple(t, c.every);
         let ck = Checkpoint {
             scene_label: c.scene_label.clone(),
             scene: c.scene.clone(),
@@ -275,6 +274,7 @@ impl Recorder {
                     .snaps
                     .as_ref()
                     .map_or(Vec::new(), |s| s.series.entries().to_vec()),
+                checkpoint_every: c.every,
                 next_checkpoint: next,
             },
             solver,
@@ -290,6 +290,12 @@ impl Recorder {
         let rate = steps as f64 * self.particles as f64 / secs;
         self.progress.update(t, self.end, steps, rate, secs);
     }
+}
+
+/// The first multiple of `every` after `t` (a `t` within round-off of a
+/// multiple counts as on it).
+fn next_multiple(t: f64, every: f64) -> f64 {
+    ((t / every * (1.0 + AT_TIME)).floor() + 1.0) * every
 }
 
 /// What a backend's loop hands back for the summary.
@@ -553,13 +559,20 @@ fn run_from(
         }),
         _ => None,
     };
-    let checkpoints = match (&dir, opts.checkpoint_every) {
+    // A resumed run goes on writing checkpoints at the interval it was
+    // started with, unless told another.
+    let every = opts
+        .checkpoint_every
+        .or(resume.as_ref().map(|ck| ck.recorder.checkpoint_every));
+    let checkpoints = match (&dir, every) {
         (Some(d), Some(every)) => Some(Checkpoints {
             dir: d.clone(),
             every,
-            next: resume
-                .as_ref()
-                .map_or(every, |ck| ck.recorder.next_checkpoint),
+            next: match &resume {
+                Some(ck) if ck.recorder.checkpoint_every == every => ck.recorder.next_checkpoint,
+                Some(ck) => next_multiple(ck.time(), every),
+                None => every,
+            },
             scene: scene.clone(),
             scene_label: label.clone(),
             backend,

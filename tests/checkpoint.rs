@@ -170,7 +170,7 @@ fn the_disks_rebuild_their_lists_after_the_checkpoint() {
 /// The binary, killed: a run with a checkpoint every 0.5 µs is killed
 /// (SIGKILL) as soon as its first checkpoint is on disk, leaving a history
 /// of whole rows, then resumed with `run --resume`; its history is the
-/// uninterrupted run's, byte for byte.
+/// uninterrupted run's, byte for byte, and it goes on checkpointing.
 /// (Should the machine finish the run before the kill lands, the resume
 /// still starts from the last checkpoint and the comparison still holds.)
 #[test]
@@ -234,6 +234,14 @@ fn killed_run_resumes_to_the_same_history() {
     assert!(
         read(full.join("history.csv")) == read(killed.join("history.csv")),
         "the resumed history differs"
+    );
+    // The resumed run went on writing checkpoints at the interval it was
+    // started with (the last multiple of 0.5 µs before the 6 µs end).
+    let last = sphcontact::checkpoint::Checkpoint::read(&killed).expect("a checkpoint");
+    assert!(
+        (5.5e-6..5.7e-6).contains(&last.time()),
+        "last checkpoint at {:e} s",
+        last.time()
     );
 }
 
