@@ -51,6 +51,12 @@ struct Params {
     pad0: u32,
     // The domain relative to the grid origin: lower x, lower y, upper x, upper y.
     domain: vec4<f32>,
+    // The energy guard: limit and the ring-row slots of kinetic and
+    // internal energy (Model::energy_limit_of).
+    energy_limit: f32,
+    energy_kin: u32,
+    energy_int: u32,
+    pad1: u32,
 }
 
 // Per-body constants (mirrored by `gpu::layout::BodyGpu`).

@@ -47,7 +47,13 @@ pub struct Model {
     /// The box a particle may not leave (`[lower, upper]` corners): see
     /// [`Model::domain_of`].
     pub domain: [DVec2; 2],
+    /// The most kinetic + internal energy the particles may hold: see
+    /// [`Model::energy_limit_of`]. `None`: not watched.
+    pub energy_limit: Option<f64>,
 }
+
+/// The energy guard's factor ([`Model::energy_limit_of`]).
+pub const ENERGY_GROWTH: f64 = 1.5;
 
 /// The evolving state: what an integrator advances and a checkpoint saves.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -98,6 +104,7 @@ impl Model {
             contact: sim.interaction == Interaction::Penalty && scene.bodies.len() > 1,
             plastic: false,
             domain: [DVec2::ZERO; 2],
+            energy_limit: None,
         };
         let mut state = State {
             t: 0.0,
@@ -141,7 +148,59 @@ impl Model {
             });
         }
         model.domain = Model::domain_of(&model, &state, sim.end_time);
+        model.energy_limit = Model::energy_limit_of(&model, &state);
         (model, state)
+    }
+
+    /// The energy guard: the particles' kinetic + internal energy (dashpot
+    /// heat included) may not exceed [`ENERGY_GROWTH`] times what they
+    /// start with. The method conserves total energy (METHOD.md §4; the
+    /// penalty spring stores at most a little of it for a while), so energy
+    /// that grows by half was made by the time integration going unstable:
+    /// the run stops instead of finishing with answers that look right and
+    /// energy many times the start's. Not watched when a rigid body moves
+    /// (it does work on what it pushes) or when there is no energy to
+    /// compare with.
+    pub fn energy_limit_of(model: &Model, state: &State) -> Option<f64> {
+        let moving_rigid = model
+            .bodies
+            .iter()
+            .any(|b| b.rigid && b.velocity0 != DVec2::ZERO);
+        let e0 = Model::particle_energy(model, state);
+        (!moving_rigid && e0 > 0.0 && e0.is_finite()).then_some(ENERGY_GROWTH * e0)
+    }
+
+    /// `Σ m (½ v² + e)` over the particles, summed in fixed chunks so that
+    /// the result does not depend on the thread count.
+    pub fn particle_energy(model: &Model, state: &State) -> f64 {
+        use rayon::prelude::*;
+        const CHUNK: usize = 4096;
+        let parts: Vec<f64> = (0..model.len().div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                (c * CHUNK..((c + 1) * CHUNK).min(model.len()))
+                    .map(|i| model.mass[i] * (0.5 * state.v[i].length_squared() + state.e[i]))
+                    .sum::<f64>()
+            })
+            .collect();
+        parts.iter().sum()
+    }
+
+    /// The quantity of an energy-guard message (both backends); its value
+    /// is the particles' kinetic + internal energy.
+    pub fn energy_quantity(&self) -> String {
+        let e0 = self.energy_limit.unwrap_or(f64::NAN) / ENERGY_GROWTH;
+        format!("kinetic + internal energy (over {ENERGY_GROWTH} times the initial {e0:.4e})")
+    }
+
+    /// The particle an energy-guard message names: the deformable one with
+    /// the most specific energy `½ v² + e` (where the growth shows first).
+    pub fn most_energetic(&self, state: &State) -> usize {
+        (0..self.len())
+            .filter(|&i| !self.rigid(i))
+            .map(|i| (i, 0.5 * state.v[i].length_squared() + state.e[i]))
+            .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a })
+            .0
     }
 
     /// The domain: the bodies' initial bounding box grown on every side by

@@ -408,7 +408,8 @@ impl CpuSolver {
     }
 
     /// Stop on a non-finite value, a particle outside the domain
-    /// ([`Model::domain_of`]) or a density outside `[0.1, 10] ρ0`.
+    /// ([`Model::domain_of`]), a density outside `[0.1, 10] ρ0` or energy
+    /// past the guard ([`Model::energy_limit_of`]).
     fn check(&self) -> Result<(), Instability> {
         let st = &self.state;
         let m = &self.model;
@@ -425,7 +426,17 @@ impl CpuSolver {
             !sane
         });
         match bad {
-            None => Ok(()),
+            None => match m.energy_limit {
+                Some(limit) => {
+                    let e = Model::particle_energy(m, st);
+                    if e > limit {
+                        Err(self.instability(m.most_energetic(st), &m.energy_quantity(), e))
+                    } else {
+                        Ok(())
+                    }
+                }
+                None => Ok(()),
+            },
             Some(i) => {
                 // The GPU's order (advance.wgsl): the density band before
                 // the domain.

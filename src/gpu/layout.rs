@@ -34,6 +34,13 @@ pub struct Params {
     /// The domain ([`crate::model::Model::domain_of`]) relative to the grid
     /// origin: lower x, lower y, upper x, upper y.
     pub domain: [f32; 4],
+    /// The energy guard ([`crate::model::Model::energy_limit_of`]): the
+    /// limit and the ring-row slots of the kinetic and internal energy
+    /// (the guard kernel runs only when the model has a limit).
+    pub energy_limit: f32,
+    pub energy_kin: u32,
+    pub energy_int: u32,
+    pub pad1: u32,
 }
 
 /// `Body` in common.wgsl: per-body constants.
@@ -118,7 +125,11 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 red_groups,
                 min_det,
                 pad0,
-                domain
+                domain,
+                energy_limit,
+                energy_kin,
+                energy_int,
+                pad1
             ),
         ),
         (

@@ -205,6 +205,7 @@ struct Kernels {
     cfl_partial: Kernel,
     cfl_final: Kernel,
     obs: Option<(Kernel, Kernel)>,
+    energy_guard: Option<Kernel>,
     probes: Option<Kernel>,
     advance_half: Kernel,
     advance_full: Kernel,
@@ -368,6 +369,10 @@ impl GpuSolver {
                 let (lo, hi) = (lo - origin, hi - origin);
                 [lo.x as f32, lo.y as f32, hi.x as f32, hi.y as f32]
             },
+            energy_limit: model.energy_limit.unwrap_or(f64::INFINITY) as f32,
+            energy_kin: plan.energy.map_or(0, |e| e.0 as u32),
+            energy_int: plan.energy.map_or(0, |e| e.1 as u32),
+            pad1: 0,
         };
         let bodies: Vec<BodyGpu> = model
             .bodies
@@ -687,6 +692,11 @@ impl GpuSolver {
                     kernel("reduce", "obs_final", Size::Slots, &[])?,
                 ))
             },
+            energy_guard: if plan.energy.is_some() {
+                Some(kernel("reduce", "energy_guard", Size::One, &[])?)
+            } else {
+                None
+            },
             probes: if plan.particles.is_empty() {
                 None
             } else {
@@ -815,6 +825,9 @@ impl GpuSolver {
             a.dispatch(pass);
             b.dispatch(pass);
         }
+        if let Some(g) = &k.energy_guard {
+            g.dispatch(pass);
+        }
         if let Some(p) = &k.probes {
             p.dispatch(pass);
         }
@@ -929,8 +942,11 @@ impl GpuSolver {
         let code = ctl.fail_code;
         let (id, q) = ((code / 8) as usize, code % 8);
         let time = row[0] as f64 + row[1] as f64;
+        let guard = q == 6;
         let (quantity, value) = if q == 4 {
             ("time step".to_string(), row[2] as f64)
+        } else if guard {
+            (self.model.energy_quantity(), self.plan.guarded_energy(row))
         } else {
             let st = self.download();
             let named = |name: &str, v: f64| (name.to_string(), v);
@@ -942,11 +958,15 @@ impl GpuSolver {
                 _ => named("density", st.rho[id]),
             }
         };
-        let id = if q == 4 { 0 } else { id };
+        let id = match q {
+            4 => 0,
+            6 => self.model.most_energetic(&self.download()),
+            _ => id,
+        };
         let (body, particle) = self.model.locate(id.min(self.n - 1));
         // As the CPU path: a bad state is reported with its own step and
         // time; a collapsed step with the state it was computed at.
-        let (step, time) = if q == 4 {
+        let (step, time) = if q == 4 || guard {
             (ctl.fail_step as u64, time)
         } else {
             (ctl.fail_step as u64 + 1, time + row[2] as f64)

@@ -42,6 +42,9 @@ pub struct ProbePlan {
     exprs: Vec<Expr>,
     /// The slot of the stored penalty energy (always present with contact).
     pub stored: Option<usize>,
+    /// The slots of the kinetic and the internal energy the energy guard
+    /// reads (present when the model has an energy limit).
+    pub energy: Option<(usize, usize)>,
 }
 
 fn particle_code(q: ParticleQuantity) -> u32 {
@@ -65,6 +68,12 @@ impl ProbePlan {
         let mut plan = ProbePlan::default();
         if model.contact {
             plan.stored = Some(plan.slot([code::STORED, NONE, NONE, 0]));
+        }
+        if model.energy_limit.is_some() {
+            plan.energy = Some((
+                plan.slot([code::KINETIC, NONE, NONE, 0]),
+                plan.slot([code::INTERNAL, NONE, NONE, 0]),
+            ));
         }
         for p in probes {
             let e = match *p {
@@ -146,6 +155,13 @@ impl ProbePlan {
                 Expr::Total(k, i, s) => slot(k) + slot(i) + s.map_or(0.0, slot),
             })
             .collect()
+    }
+
+    /// The kinetic + internal energy in a row (the energy guard's value; 0
+    /// without the guard).
+    pub fn guarded_energy(&self, row: &[f32]) -> f64 {
+        self.energy
+            .map_or(0.0, |(k, i)| row[3 + k] as f64 + row[3 + i] as f64)
     }
 
     /// The stored penalty energy in a row (0 without contact).
