@@ -11,8 +11,10 @@ pub struct Params {
     pub nbodies: u32,
     pub buckets: u32,
     pub row_stride: u32,
-    pub origin_x: f32,
-    pub origin_y: f32,
+    /// Unused (the grid origin stays on the host, in f64: position
+    /// observations leave the device relative to it).
+    pub pad1: u32,
+    pub pad2: u32,
     pub inv_cell: f32,
     pub alpha: f32,
     pub beta: f32,
@@ -98,8 +100,8 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 nbodies,
                 buckets,
                 row_stride,
-                origin_x,
-                origin_y,
+                pad1,
+                pad2,
                 inv_cell,
                 alpha,
                 beta,
