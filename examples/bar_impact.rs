@@ -42,6 +42,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         velocity: Some(vec![v]),
         rigid: false,
         shape: Shape::Segment { from, to },
+        jitter: None,
+        seed: None,
     };
     let scene = Scene {
         title: Some("steel striker onto a long aluminium bar".into()),

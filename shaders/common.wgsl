@@ -29,8 +29,10 @@ struct Params {
     nbodies: u32,
     buckets: u32,
     row_stride: u32,
-    origin_x: f32,
-    origin_y: f32,
+    // Unused (were the grid origin in f32; positions now leave the device
+    // relative to it, see `position_rel`).
+    pad1: u32,
+    pad2: u32,
     inv_cell: f32,
     alpha: f32,
     beta: f32,
@@ -56,7 +58,7 @@ struct Params {
     energy_limit: f32,
     energy_kin: u32,
     energy_int: u32,
-    pad1: u32,
+    pad3: u32,
 }
 
 // Per-body constants (mirrored by `gpu::layout::BodyGpu`).
@@ -286,8 +288,11 @@ fn current_cell(i: u32) -> vec2<i32> {
     return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
 }
 
-// Absolute position (output only).
-fn position(i: u32) -> vec2<f32> {
+// Position relative to the grid origin (output only). The host adds the
+// origin in f64 (gpu::probes): far from the coordinate origin an absolute
+// f32 position is coarse (7.6e-6 m near 100 m, 0.15 of a typical spacing),
+// while this relative one keeps the f32 resolution of the bodies' own size.
+fn position_rel(i: u32) -> vec2<f32> {
     let a = x0[i];
-    return vec2<f32>(params.origin_x, params.origin_y) + a.xy * params.cell + (a.zw + u[i]);
+    return a.xy * params.cell + (a.zw + u[i]);
 }

@@ -129,8 +129,8 @@ fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
         switch code {
             case 0u: { return m * v[i].x; }
             case 1u: { return m * v[i].y; }
-            case 2u: { return m * position(i).x; }
-            case 3u: { return m * position(i).y; }
+            case 2u: { return m * position_rel(i).x; }
+            case 3u: { return m * position_rel(i).y; }
             case 4u: { return 0.5 * m * dot(v[i], v[i]); }
             default: {
                 if (bodies[bi].rigid != 0u) {
@@ -246,8 +246,8 @@ fn probe_values(@builtin(global_invocation_id) gid: vec3<u32>) {
     let si = s[i];
     var val = 0.0;
     switch pr.y {
-        case 0u: { val = position(i).x; }
-        case 1u: { val = position(i).y; }
+        case 0u: { val = position_rel(i).x; }
+        case 1u: { val = position_rel(i).y; }
         case 2u: { val = v[i].x; }
         case 3u: { val = v[i].y; }
         case 4u: { val = b.rho0 * (1.0 + mu); }

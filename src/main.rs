@@ -320,7 +320,7 @@ fn check(path: &Path, scene: &Scene) {
         }
     );
     println!("particles   {}", model.len());
-    for b in &model.bodies {
+    for (bi, (b, sb)) in model.bodies.iter().zip(&scene.bodies).enumerate() {
         let m = &b.material;
         let mass: f64 = b.range.clone().map(|i| model.mass[i]).sum();
         println!(
@@ -334,6 +334,13 @@ fn check(path: &Path, scene: &Scene) {
             b.velocity0.y,
             if b.rigid { ", rigid" } else { "" }
         );
+        if let Some(j) = sb.jitter.filter(|&j| j > 0.0) {
+            println!(
+                "            jitter ±{j} Δx per coordinate (seed {}), mass from the nominal cells",
+                sb.seed
+                    .map_or_else(|| format!("{bi}, the body's index"), |s| s.to_string())
+            );
+        }
         println!(
             "            rho0 {} kg/m3, K {:.4e} Pa, G {:.4e} Pa, E {:.4e} Pa, nu {:.4}, c_L {:.2} m/s, Z {:.4e} Pa s/m{}",
             m.rho0,

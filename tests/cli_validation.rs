@@ -689,6 +689,79 @@ fn placement() {
     ]);
 }
 
+/// The optional placement jitter (`jitter`, a fraction of the spacing in
+/// [0, 0.5), and its `seed`): out-of-range and mistyped values.
+#[test]
+fn jitter_and_seed() {
+    check_cases(&[
+        case(
+            "jitter_negative",
+            &[(RIGHT_VELOCITY, "velocity = [-10.0]\njitter = -0.1")],
+            "bodies[1].jitter",
+        )
+        .also(&["-0.1", "0.5"]),
+        case(
+            "jitter_half_a_spacing",
+            &[(RIGHT_VELOCITY, "velocity = [-10.0]\njitter = 0.5")],
+            "bodies[1].jitter",
+        )
+        .also(&["< 0.5", "got 0.5"]),
+        case(
+            "jitter_not_a_number",
+            &[(RIGHT_VELOCITY, "velocity = [-10.0]\njitter = nan")],
+            "bodies[1].jitter",
+        )
+        .also(&["NaN"]),
+        case(
+            "jitter_mistyped",
+            &[(RIGHT_VELOCITY, "velocity = [-10.0]\njitter = \"some\"")],
+            "bodies[1].jitter",
+        )
+        .located(),
+        case(
+            "seed_negative",
+            &[(
+                RIGHT_VELOCITY,
+                "velocity = [-10.0]\njitter = 0.1\nseed = -3",
+            )],
+            "bodies[1].seed",
+        )
+        .located(),
+        case(
+            "seed_fractional",
+            &[(
+                RIGHT_VELOCITY,
+                "velocity = [-10.0]\njitter = 0.1\nseed = 1.5",
+            )],
+            "bodies[1].seed",
+        )
+        .located(),
+    ]);
+    // In range, the scene is valid and `check` reports the jitter.
+    let tmp = tempfile::tempdir().unwrap();
+    let text = edit(
+        BASE_1D,
+        &[(
+            RIGHT_VELOCITY,
+            "velocity = [-10.0]\njitter = 0.2\nseed = 42",
+        )],
+    )
+    .unwrap();
+    let path = write_scene(tmp.path(), "jitter_ok", &text);
+    let out = sphcontact(tmp.path(), &["check", path.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("jitter ±0.2 Δx") && stdout.contains("seed 42"),
+        "{stdout}"
+    );
+}
+
 #[test]
 fn dt_below_the_cfl_step_is_accepted() {
     let tmp = tempfile::tempdir().unwrap();

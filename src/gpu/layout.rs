@@ -11,8 +11,10 @@ pub struct Params {
     pub nbodies: u32,
     pub buckets: u32,
     pub row_stride: u32,
-    pub origin_x: f32,
-    pub origin_y: f32,
+    /// Unused (the grid origin stays on the host, in f64: position
+    /// observations leave the device relative to it).
+    pub pad1: u32,
+    pub pad2: u32,
     pub inv_cell: f32,
     pub alpha: f32,
     pub beta: f32,
@@ -40,7 +42,7 @@ pub struct Params {
     pub energy_limit: f32,
     pub energy_kin: u32,
     pub energy_int: u32,
-    pub pad1: u32,
+    pub pad3: u32,
 }
 
 /// `Body` in common.wgsl: per-body constants.
@@ -105,8 +107,8 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 nbodies,
                 buckets,
                 row_stride,
-                origin_x,
-                origin_y,
+                pad1,
+                pad2,
                 inv_cell,
                 alpha,
                 beta,
@@ -129,7 +131,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 energy_limit,
                 energy_kin,
                 energy_int,
-                pad1
+                pad3
             ),
         ),
         (

@@ -328,7 +328,6 @@ impl GpuSolver {
         opts: GpuOptions,
     ) -> Result<Self, String> {
         let n = model.len();
-        let plan = ProbePlan::new(probes, &model);
         let buckets = bucket_count(n);
         let red_groups = (n as u32).div_ceil(RED_CHUNK).max(1);
         let h_max = model.h.iter().cloned().fold(0.0, f64::max);
@@ -337,6 +336,9 @@ impl GpuSolver {
         let cell = 2.0 * h_max * (1.0 + 1e-5);
         let (lo, hi) = crate::math::bounds(&state.x);
         let origin = lo - DVec2::splat(1.5 * cell);
+        // Positions are observed relative to the grid origin; the plan adds
+        // it back in f64.
+        let plan = ProbePlan::new(probes, &model, origin);
         let row_stride = ((hi.x - origin.x) / cell).floor() as u32 + 3;
         let (end_hi, end_lo) = split(end_time);
         let params = Params {
@@ -344,8 +346,8 @@ impl GpuSolver {
             nbodies: model.bodies.len() as u32,
             buckets,
             row_stride,
-            origin_x: origin.x as f32,
-            origin_y: origin.y as f32,
+            pad1: 0,
+            pad2: 0,
             inv_cell: (1.0 / cell) as f32,
             alpha: model.alpha as f32,
             beta: model.beta as f32,
@@ -372,7 +374,7 @@ impl GpuSolver {
             energy_limit: model.energy_limit.unwrap_or(f64::INFINITY) as f32,
             energy_kin: plan.energy.map_or(0, |e| e.0 as u32),
             energy_int: plan.energy.map_or(0, |e| e.1 as u32),
-            pad1: 0,
+            pad3: 0,
         };
         let bodies: Vec<BodyGpu> = model
             .bodies

@@ -1,6 +1,13 @@
 //! Probes on the device: each probe becomes observation slots (sums or
 //! maxima over particles, codes shared with reduce.wgsl) or a particle
 //! probe, and a row of the device's ring turns back into probe values.
+//!
+//! Positions are observed relative to the grid origin (`position_rel` in
+//! common.wgsl) and the origin is added back here, in f64: an absolute f32
+//! coordinate near 100 m resolves only 7.6e-6 m, a relative one the f32
+//! resolution of the bodies' extent.
+
+use glam::DVec2;
 
 use crate::model::Model;
 use crate::probe::Resolved;
@@ -25,9 +32,11 @@ mod code {
 /// How a probe value is made from a ring row.
 #[derive(Debug, Clone)]
 enum Expr {
-    /// `scale · slot`.
-    Slot(usize, f64),
-    Particle(usize),
+    /// `scale · slot + shift` (the shift: the grid origin's coordinate for
+    /// a mean position, else 0).
+    Slot(usize, f64, f64),
+    /// `value + shift` (the shift as for `Slot`).
+    Particle(usize, f64),
     /// Kinetic + internal + stored penalty energy.
     Total(usize, usize, Option<usize>),
 }
@@ -64,7 +73,8 @@ fn particle_code(q: ParticleQuantity) -> u32 {
 }
 
 impl ProbePlan {
-    pub fn new(probes: &[Resolved], model: &Model) -> Self {
+    /// `origin`: the grid origin that device positions are relative to.
+    pub fn new(probes: &[Resolved], model: &Model, origin: DVec2) -> Self {
         let mut plan = ProbePlan::default();
         if model.contact {
             plan.stored = Some(plan.slot([code::STORED, NONE, NONE, 0]));
@@ -79,42 +89,47 @@ impl ProbePlan {
             let e = match *p {
                 Resolved::Particle(i, q) => {
                     plan.particles.push([i as u32, particle_code(q)]);
-                    Expr::Particle(plan.particles.len() - 1)
+                    let shift = match q {
+                        ParticleQuantity::PositionX => origin.x,
+                        ParticleQuantity::PositionY => origin.y,
+                        _ => 0.0,
+                    };
+                    Expr::Particle(plan.particles.len() - 1, shift)
                 }
                 Resolved::Body(b, q) => {
                     let mass: f64 = model.bodies[b].range.clone().map(|i| model.mass[i]).sum();
                     let b = b as u32;
-                    let (c, scale) = match q {
-                        BodyQuantity::VelocityX => (code::MVX, 1.0 / mass),
-                        BodyQuantity::VelocityY => (code::MVY, 1.0 / mass),
-                        BodyQuantity::PositionX => (code::MX, 1.0 / mass),
-                        BodyQuantity::PositionY => (code::MY, 1.0 / mass),
-                        BodyQuantity::KineticEnergy => (code::KINETIC, 1.0),
-                        BodyQuantity::MomentumX => (code::MVX, 1.0),
-                        BodyQuantity::MomentumY => (code::MVY, 1.0),
+                    let (c, scale, shift) = match q {
+                        BodyQuantity::VelocityX => (code::MVX, 1.0 / mass, 0.0),
+                        BodyQuantity::VelocityY => (code::MVY, 1.0 / mass, 0.0),
+                        BodyQuantity::PositionX => (code::MX, 1.0 / mass, origin.x),
+                        BodyQuantity::PositionY => (code::MY, 1.0 / mass, origin.y),
+                        BodyQuantity::KineticEnergy => (code::KINETIC, 1.0, 0.0),
+                        BodyQuantity::MomentumX => (code::MVX, 1.0, 0.0),
+                        BodyQuantity::MomentumY => (code::MVY, 1.0, 0.0),
                     };
-                    Expr::Slot(plan.slot([c, b, NONE, 0]), scale)
+                    Expr::Slot(plan.slot([c, b, NONE, 0]), scale, shift)
                 }
                 Resolved::Contact(a, b, q) => {
                     let (a, b) = (a.min(b), a.max(b));
                     match q {
                         ContactQuantity::Force => {
-                            Expr::Slot(plan.slot([code::PAIR_FORCE, a, b, 0]), 1.0)
+                            Expr::Slot(plan.slot([code::PAIR_FORCE, a, b, 0]), 1.0, 0.0)
                         }
                         ContactQuantity::PressureMax => {
-                            Expr::Slot(plan.slot([code::PAIR_PMAX, a, b, 1]), 1.0)
+                            Expr::Slot(plan.slot([code::PAIR_PMAX, a, b, 1]), 1.0, 0.0)
                         }
                     }
                 }
                 Resolved::Energy(q) => match q {
                     EnergyQuantity::Kinetic => {
-                        Expr::Slot(plan.slot([code::KINETIC, NONE, NONE, 0]), 1.0)
+                        Expr::Slot(plan.slot([code::KINETIC, NONE, NONE, 0]), 1.0, 0.0)
                     }
                     EnergyQuantity::Internal => {
-                        Expr::Slot(plan.slot([code::INTERNAL, NONE, NONE, 0]), 1.0)
+                        Expr::Slot(plan.slot([code::INTERNAL, NONE, NONE, 0]), 1.0, 0.0)
                     }
                     EnergyQuantity::ContactHeat => {
-                        Expr::Slot(plan.slot([code::HEAT, NONE, NONE, 0]), 1.0)
+                        Expr::Slot(plan.slot([code::HEAT, NONE, NONE, 0]), 1.0, 0.0)
                     }
                     EnergyQuantity::Total => Expr::Total(
                         plan.slot([code::KINETIC, NONE, NONE, 0]),
@@ -150,8 +165,8 @@ impl ProbePlan {
         self.exprs
             .iter()
             .map(|e| match *e {
-                Expr::Slot(k, scale) => slot(k) * scale,
-                Expr::Particle(k) => row[base + k] as f64,
+                Expr::Slot(k, scale, shift) => slot(k) * scale + shift,
+                Expr::Particle(k, shift) => row[base + k] as f64 + shift,
                 Expr::Total(k, i, s) => slot(k) + slot(i) + s.map_or(0.0, slot),
             })
             .collect()

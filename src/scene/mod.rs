@@ -219,6 +219,17 @@ pub struct Body {
     #[serde(default)]
     pub rigid: bool,
     pub shape: Shape,
+    /// Optional placement jitter (an addition to the contract), a fraction
+    /// of the spacing in `[0, 0.5)`: each coordinate of each particle is
+    /// displaced uniformly in `[−jitter, +jitter]·Δx` after placement (see
+    /// [`place_bodies`]). Absent or 0: the regular lattice.
+    #[serde(default)]
+    pub jitter: Option<f64>,
+    /// Seed of the jitter's generator (absent: the body's index in the
+    /// file), so a jittered scene places the same particles on every run
+    /// and every backend.
+    #[serde(default)]
+    pub seed: Option<u64>,
 }
 
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]

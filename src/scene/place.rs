@@ -29,16 +29,94 @@ fn cells(len: f64, spacing: f64) -> usize {
     (len / spacing).round().max(0.0) as usize
 }
 
-/// Place every body of a validated scene.
+/// Place every body of a validated scene, with its optional jitter
+/// ([`jitter`]). Both backends build their particles from this, so they get
+/// the same positions.
 pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
     scene
         .bodies
         .iter()
-        .map(|b| {
+        .enumerate()
+        .map(|(i, b)| {
             let rho0 = scene.materials[&b.material].density;
-            place(&b.shape, b.spacing, rho0)
+            let mut placed = place(&b.shape, b.spacing, rho0);
+            if let Some(fraction) = b.jitter.filter(|&j| j > 0.0) {
+                jitter(&mut placed, &b.shape, fraction, b.seed.unwrap_or(i as u64));
+            }
+            placed
         })
         .collect()
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014): a tiny deterministic generator,
+/// enough for placement noise and the same on every platform (no
+/// dependency whose sequence could change with its version).
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[−1, 1)`, from the top 53 bits.
+    fn symmetric(&mut self) -> f64 {
+        2.0 * ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+    }
+}
+
+/// Displace every particle of `placed` by a uniform random amount in
+/// `[−fraction, +fraction]·Δx` on each axis of the shape's dimension (Δx the
+/// placed spacing), deterministically from `seed`.
+///
+/// Why the rest follows as it does:
+/// * masses stay `ρ0 ×` the nominal cell volume: the jitter perturbs where a
+///   particle sits, not how much matter it stands for, so the body's mass
+///   and momentum are those of the regular lattice;
+/// * the surface offsets are recomputed from the displaced centres (the
+///   shape's surface has not moved): bodies built touching still start with
+///   zero gap (METHOD.md §8.3's `d_c = o_i + o_j` follows the particles), and
+///   a particle pushed past a curved surface gets offset 0 rather than a
+///   negative one.
+///
+/// `fraction < 0.5` (validated) keeps each particle inside its own cell, so
+/// the particle order along a segment is kept and no two particles meet.
+fn jitter(placed: &mut PlacedBody, shape: &Shape, fraction: f64, seed: u64) {
+    let mut rng = SplitMix64(seed);
+    let amplitude = fraction * placed.spacing;
+    let two_d = !matches!(shape, Shape::Segment { .. });
+    for (p, o) in placed.positions.iter_mut().zip(placed.offsets.iter_mut()) {
+        p.x += amplitude * rng.symmetric();
+        if two_d {
+            p.y += amplitude * rng.symmetric();
+        }
+        *o = surface_distance(shape, *p).max(0.0);
+    }
+}
+
+/// Signed distance of `p` to the boundary of `shape` (positive inside):
+/// the surface offset `o` of a particle centred at `p` (METHOD.md §8.3).
+fn surface_distance(shape: &Shape, p: DVec2) -> f64 {
+    match shape {
+        Shape::Segment { from, to } => (p.x - from).min(to - p.x),
+        Shape::Rectangle { min, max } => (p.x - min[0])
+            .min(max[0] - p.x)
+            .min(p.y - min[1])
+            .min(max[1] - p.y),
+        Shape::Disk { center, radius, .. } => radius - p.distance(DVec2::new(center[0], center[1])),
+        Shape::Ring {
+            center,
+            inner_radius,
+            outer_radius,
+            ..
+        } => {
+            let r = p.distance(DVec2::new(center[0], center[1]));
+            (outer_radius - r).min(r - inner_radius)
+        }
+    }
 }
 
 /// Place one shape with nominal spacing `dx` and density `rho0`.
@@ -188,6 +266,65 @@ mod tests {
         assert!((b.offsets[99] - 2.5e-5).abs() < 1e-15);
         let m: f64 = b.masses.iter().sum();
         assert!((m - 7850.0 * 0.005).abs() < 1e-9);
+    }
+
+    /// The jitter moves each particle by at most `fraction·Δx` per axis,
+    /// actually uses the range (not a constant shift), keeps the masses and
+    /// the order along a segment, recomputes the surface offsets from the
+    /// moved centres, and repeats exactly for one seed (another seed gives
+    /// other positions).
+    #[test]
+    fn jitter_bounds_offsets_and_determinism() {
+        let shape = Shape::Segment {
+            from: -0.005,
+            to: 0.0,
+        };
+        let regular = place(&shape, 5e-5, 7850.0);
+        let jittered = |seed| {
+            let mut b = place(&shape, 5e-5, 7850.0);
+            jitter(&mut b, &shape, 0.1, seed);
+            b
+        };
+        let a = jittered(3);
+        let d: Vec<f64> = a
+            .positions
+            .iter()
+            .zip(&regular.positions)
+            .map(|(p, q)| (p.x - q.x) / regular.spacing)
+            .collect();
+        assert!(d.iter().all(|x| x.abs() <= 0.1));
+        let (lo, hi) = d
+            .iter()
+            .fold((0.0f64, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+        assert!(lo < -0.08 && hi > 0.08, "range used: {lo} .. {hi}");
+        let mean = d.iter().sum::<f64>() / d.len() as f64;
+        assert!(mean.abs() < 0.02, "no systematic shift: {mean}");
+        assert_eq!(a.masses, regular.masses);
+        assert!(a.positions.windows(2).all(|w| w[1].x > w[0].x));
+        for (p, o) in a.positions.iter().zip(&a.offsets) {
+            assert_eq!(*o, (p.x + 0.005).min(-p.x));
+        }
+        assert_eq!(a.positions, jittered(3).positions);
+        assert_ne!(a.positions, jittered(4).positions);
+
+        // 2-D: both axes move; a particle pushed past a curved surface gets
+        // offset 0, never a negative one.
+        let disk = Shape::Disk {
+            center: vec![0.0, 0.0],
+            radius: 5e-3,
+            lattice: Lattice::Square,
+        };
+        let regular = place(&disk, 2.5e-4, 7850.0);
+        let mut b = place(&disk, 2.5e-4, 7850.0);
+        jitter(&mut b, &disk, 0.3, 1);
+        let moved = |f: fn(DVec2) -> f64| {
+            b.positions
+                .iter()
+                .zip(&regular.positions)
+                .any(|(p, q)| f(*p - *q).abs() > 0.2 * 2.5e-4)
+        };
+        assert!(moved(|d| d.x) && moved(|d| d.y));
+        assert!(b.offsets.iter().all(|&o| o >= 0.0));
     }
 
     #[test]

@@ -135,6 +135,16 @@ pub fn validate(scene: &Scene) -> R {
                 "a rigid body needs simulation.interaction = \"penalty\"",
             ));
         }
+        if let Some(j) = b.jitter {
+            // Below half a spacing every particle stays inside its own cell:
+            // no two particles of a body can meet or swap.
+            if !(j.is_finite() && (0.0..0.5).contains(&j)) {
+                return Err(SceneError::at(
+                    k("jitter"),
+                    format!("must be >= 0 and < 0.5 (a fraction of the spacing; got {j})"),
+                ));
+            }
+        }
         validate_shape(&b.shape, dim, &k("shape"))?;
     }
 
