@@ -205,6 +205,11 @@ fn disk_on_wall() {
     // impulse the wall gave.
     let s = &out.summary;
     let drift = s.energy_balance().abs();
+    println!(
+        "energy balance {:+.3e}, y-momentum {:e} N s/m",
+        s.energy_balance(),
+        s.momentum_final[1]
+    );
     assert!(drift < 5e-3, "energy drift {drift:e}");
     let mass = s.bodies[0].mass;
     let round_off = if backend() == Backend::Gpu {
@@ -415,13 +420,14 @@ fn assert_momentum(out: &RunOutput, scale: f64) {
 /// shortens it). Asserted, at Δx = 2 mm (five particles through the wall):
 ///
 /// * they rebound: mean velocities reversed, restitution
-///   `(v_right − v_left)/(2 v0)` in [0.5, 0.9], and the contact force is
-///   zero after they separate. Not an exact answer: elastic rings rebound
-///   (a ring that breaks or clumps does not, see below), but at 0.059 c0
-///   their ovalling mode keeps a large share of the impact energy. Measured
-///   0.762 (CPU), separation at 300 µs; at Δx = 1 mm (not in the test,
-///   350 s) 0.607 at 338 µs: the restitution is not converged at these
-///   resolutions.
+///   `(v_right − v_left)/(2 v0)` in [0.5, 0.9], and no contact in the last
+///   10 µs. Not an exact answer: elastic rings rebound (a ring that breaks
+///   or clumps does not, see below), but at 0.059 c0 their ovalling mode
+///   keeps a large share of the impact energy. Measured: CPU 0.762,
+///   separation at 300 µs; GPU 0.704 at 304 µs (CPU and GPU agree to 1e-5
+///   for the first 100 µs; the rings in tension then amplify f32 round-off);
+///   at Δx = 1 mm (CPU, not in the test: 350 s) 0.607 at 338 µs: the
+///   restitution is not converged at these resolutions.
 /// * momentum to round-off.
 /// * total energy within 10 % of its initial value at every history row.
 ///   METHOD.md §4 adds the artificial stress to the momentum equation only,
@@ -436,9 +442,11 @@ fn assert_momentum(out: &RunOutput, scale: f64) {
 /// * (full run only) the run spans two periods of the ovalling mode after
 ///   the separation, the period measured from the left ring's diameters
 ///   (`D_y − D_x` crossing its mean). Thin-ring theory (plane strain) gives
-///   288.3 µs, a lower bound (shear and rotary inertia only lower the
-///   frequency): the measured period must lie in [0.95, 1.5] times it.
-///   Measured 382 µs (1.33×; 350 µs, 1.21×, at 1 mm).
+///   288.3 µs, a lower bound (shear, rotary inertia and a stretching
+///   mid-line only lower the frequency): the measured period must lie in
+///   [0.95, 1.5] times it, the upper end failing a ring left with less than
+///   half its bending stiffness. Measured 384 µs (1.33×; 339 µs, 1.18×, at
+///   1 mm: the coarse ring is soft in bending).
 fn rings_with_artificial_stress(end: Option<f64>) {
     let mut scene = load("scenes/hard/rubber_rings.toml");
     assert!(scene.artificial_stress.is_some());
@@ -460,7 +468,10 @@ fn rings_with_artificial_stress(end: Option<f64>) {
         out.summary.backend,
         t_sep * 1e6
     );
-    assert!(t_sep < 0.95 * scene.simulation.end_time, "still in contact");
+    assert!(
+        t_sep <= scene.simulation.end_time - 1e-5,
+        "in contact within 10 µs of the end"
+    );
     assert!(vl < 0.0 && vr > 0.0, "not reversed: {vl} / {vr}");
     assert!(
         (0.5..=0.9).contains(&restitution),
@@ -597,10 +608,10 @@ fn rubber_rings_rebound_intact_with_artificial_stress() {
     rings_with_artificial_stress(None);
 }
 
-/// GPU: to 320 µs, just past the separation (300 µs), without the period.
+/// GPU: to 330 µs, just past the separation (300 µs), without the period.
 #[test]
 fn rubber_rings_rebound_intact_with_artificial_stress_gpu() {
-    on_gpu(|| rings_with_artificial_stress(Some(3.2e-4)));
+    on_gpu(|| rings_with_artificial_stress(Some(3.3e-4)));
 }
 
 #[test]
