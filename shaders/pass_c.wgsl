@@ -110,14 +110,19 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             var t = vec4<f32>(ti.xyz + tj.xyz, 0.0);
             t.x -= pi;
             t.y -= pi;
+            // The artificial stress's work, half to each particle of the
+            // pair, is booked as heat so total energy stays conserved.
+            var art_work = 0.0;
             if (ART_STRESS) {
                 let dp = 0.5 * (body.spacing + bj.spacing);
                 let f = kernel_w(dist, hij) / kernel_w(dp, hij);
-                t += (ri + art[j]) * pow(f, params.as_n);
+                let rf = (ri + art[j]) * pow(f, params.as_n);
+                t += rf;
+                art_work = 0.5 * dot(vij, sym_mul(rf, g));
             }
             let mass_j = bitcast<f32>(mj.x);
             acc += sym_mul(t, g) * mass_j;
-            de -= mass_j * (dot(vij, sym_mul(ti, g)) - 0.5 * pi * dot(vij, g));
+            de -= mass_j * (dot(vij, sym_mul(ti, g)) - 0.5 * pi * dot(vij, g) + art_work);
         }
     }
     if (rigid) {

@@ -141,17 +141,26 @@ pub fn momentum_energy(
                 let mut t = pi_.sr2.add_scaled(&pj.sr2, 1.0);
                 t.xx -= pi;
                 t.yy -= pi;
+                // The artificial stress's work on the pair, half to each
+                // particle, is booked as heat: ½ (R_i + R_j) f^n : (v_ij ⊗
+                // G_ij). METHOD.md §4 puts R in the momentum bracket only,
+                // which leaves its work in no energy (the rubber rings'
+                // total swung by 8 %); booked, the ledger closes as for
+                // the viscosity.
+                let mut art_work = 0.0;
                 if let Some((_, n)) = model.artificial_stress {
                     let dp = 0.5
                         * (model.bodies[model.body[i] as usize].spacing
                             + model.bodies[model.body[j] as usize].spacing);
                     let f = b.w / kernel::w(dim, dp, hij);
-                    t = t.add_scaled(&pi_.r.add_scaled(&pj.r, 1.0), f.powf(n));
+                    let rf = pi_.r.add_scaled(&pj.r, 1.0).scale(f.powf(n));
+                    t = t.add_scaled(&rf, 1.0);
+                    art_work = 0.5 * vij.dot(rf.mul_vec(g));
                 }
                 let mj = model.mass[j];
                 dv += t.mul_vec(g) * mj;
-                // −(σ_i/ρ_i² − ½Π I) : (v_ij ⊗ G_ij)
-                de -= mj * (vij.dot(pi_.sr2.mul_vec(g)) - 0.5 * pi * vij.dot(g));
+                // −(σ_i/ρ_i² − ½Π I + ½ (R_i + R_j) f^n) : (v_ij ⊗ G_ij)
+                de -= mj * (vij.dot(pi_.sr2.mul_vec(g)) - 0.5 * pi * vij.dot(g) + art_work);
             }
             (dv, de)
         })
