@@ -541,7 +541,7 @@ mod tests {
 
     fn scenes() -> Vec<Scene> {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        ["scenes/paper", "scenes/large"]
+        ["scenes/paper", "scenes/large", "scenes/hard"]
             .iter()
             .flat_map(|d| std::fs::read_dir(root.join(d)).expect("scene folder"))
             .map(|e| e.expect("entry").path())

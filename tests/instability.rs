@@ -286,3 +286,30 @@ fn check_prints_the_domain() {
     let want = format!("x in [{:.4e}, {:.4e}] m", -half, half);
     assert!(line.contains(&want), "{line:?} against {want:?}");
 }
+
+/// The energy guard's rule (`Model::energy_limit_of`): 1.5 times the
+/// particles' initial kinetic + internal energy, exactly ½ m v² for the
+/// paper's bars (7850 kg/m³ × 10 mm × (10 m/s)² / 2 = 3925 J/m²); off when
+/// a rigid body moves (it does work on what it pushes) and when nothing
+/// moves.
+#[test]
+fn energy_guard_is_one_and_a_half_times_the_initial_energy() {
+    let mut scene = common::load("scenes/paper/bars_steel.toml");
+    let (model, _) = Model::new(&scene);
+    let limit = model.energy_limit.expect("guarded");
+    assert!((limit / (1.5 * 3925.0) - 1.0).abs() < 1e-12, "{limit}");
+
+    scene.bodies[1].rigid = true;
+    let (model, _) = Model::new(&scene);
+    assert_eq!(model.energy_limit, None, "a moving rigid body does work");
+    scene.bodies[1].velocity = Some(vec![0.0]);
+    let (model, _) = Model::new(&scene);
+    assert!(
+        (model.energy_limit.expect("a resting wall") / (1.5 * 0.5 * 3925.0) - 1.0).abs() < 1e-12
+    );
+    for b in &mut scene.bodies {
+        b.velocity = Some(vec![0.0]);
+    }
+    let (model, _) = Model::new(&scene);
+    assert_eq!(model.energy_limit, None, "no energy to compare with");
+}
