@@ -53,12 +53,13 @@ struct Params {
     pad0: u32,
     // The domain relative to the grid origin: lower x, lower y, upper x, upper y.
     domain: vec4<f32>,
-    // The energy guard: limit and the ring-row slots of kinetic and
-    // internal energy (Model::energy_limit_of).
-    energy_limit: f32,
+    // The energy guard (Model::guards_energy): the ring-row slots of the
+    // kinetic, internal and stored penalty energy (stored: NONE without
+    // contact).
     energy_kin: u32,
     energy_int: u32,
-    pad3: u32,
+    energy_stored: u32,
+    energy_growth: f32,
 }
 
 // Per-body constants (mirrored by `gpu::layout::BodyGpu`).
@@ -95,7 +96,8 @@ struct Control {
     fallback_now: atomic<u32>,
     fallback_max: u32,
     multi_partner: atomic<u32>,
-    pad0: u32,
+    // The energy guard's limit: negative until the first state sets it.
+    energy_limit: f32,
 }
 
 // Global invocation index of a 2-D dispatch of `WG`-wide workgroups

@@ -215,16 +215,25 @@ fn obs_final(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_i
     }
 }
 
-// The energy guard (Model::energy_limit_of), after obs_final: kinetic +
-// internal energy of the state this step starts from, from its ring row,
-// against the limit. Past it, the step gets zero length (the advances
-// leave the state as it is) and the failure is recorded against this
-// state: code 6, the host names the particle.
+// The energy guard (Model::guards_energy), after obs_final: the total
+// energy (kinetic + internal + stored penalty) of the state this step
+// starts from, from its ring row. The first state sets the limit; past
+// it, the step gets zero length (the advances leave the state as it is)
+// and the failure is recorded against this state: code 6, the host names
+// the particle.
 @compute @workgroup_size(1)
 fn energy_guard() {
     let row = row_base() + 3u;
-    let e = ring[row + params.energy_kin] + ring[row + params.energy_int];
-    if (e > params.energy_limit && atomicLoad(&ctl.fail_step) == NONE) {
+    var e = ring[row + params.energy_kin] + ring[row + params.energy_int];
+    if (params.energy_stored != NONE) {
+        e += ring[row + params.energy_stored];
+    }
+    if (ctl.energy_limit < 0.0) {
+        // (As Model::energy_limit: no energy, no guard.)
+        ctl.energy_limit = select(BIG, params.energy_growth * e, e > 0.0);
+        return;
+    }
+    if (e > ctl.energy_limit && atomicLoad(&ctl.fail_step) == NONE) {
         atomicMin(&ctl.fail_step, ctl.step);
         atomicMin(&ctl.fail_code, 6u);
         ctl.dt = 0.0;

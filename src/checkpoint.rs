@@ -74,11 +74,14 @@ pub struct RecorderState {
 }
 
 /// The CPU solver's state: the particles, the first step (the reference
-/// of the time-step collapse test) and the candidate lists.
+/// of the time-step collapse test), the energy guard's limit and the
+/// candidate lists.
 #[derive(Debug, Clone)]
 pub struct CpuState {
     pub state: State,
     pub initial_dt: Option<f64>,
+    /// The energy guard's limit, once set.
+    pub energy_limit: Option<f64>,
     pub lists: Neighbours,
 }
 
@@ -168,6 +171,7 @@ impl Checkpoint {
                 let CpuState {
                     state,
                     initial_dt,
+                    energy_limit,
                     lists,
                 } = &**c;
                 w.u64(0);
@@ -186,6 +190,7 @@ impl Checkpoint {
                 w.f64(state.heat);
                 w.f64(state.spring_work);
                 w.f64(initial_dt.unwrap_or(f64::NAN));
+                w.f64(energy_limit.unwrap_or(f64::NAN));
                 w.u32s(&lists.start);
                 w.u32s(&lists.list);
                 w.u32s(&lists.cross_start);
@@ -291,6 +296,7 @@ impl Checkpoint {
                     let heat = r.f64()?;
                     let spring_work = r.f64()?;
                     let initial_dt = Some(r.f64()?).filter(|d| !d.is_nan());
+                    let energy_limit = Some(r.f64()?).filter(|d| !d.is_nan());
                     let lists = Neighbours {
                         start: r.u32s()?,
                         list: r.u32s()?,
@@ -312,6 +318,7 @@ impl Checkpoint {
                             spring_work,
                         },
                         initial_dt,
+                        energy_limit,
                         lists,
                     }))
                 }
@@ -616,6 +623,7 @@ mod tests {
                 },
                 state,
                 initial_dt: Some(3e-9),
+                energy_limit: Some(f64::INFINITY),
             })),
         }
     }

@@ -709,9 +709,10 @@ fn run_cpu(
             let CpuState {
                 state,
                 initial_dt,
+                energy_limit,
                 lists,
             } = *c;
-            CpuSolver::restored(model, state, initial_dt, lists)
+            CpuSolver::restored(model, state, initial_dt, energy_limit, lists)
         }
         None => CpuSolver::new(model, state),
     };
@@ -741,10 +742,11 @@ fn run_cpu(
             break;
         }
         if rec.checkpoint_due(t) {
-            let (initial_dt, lists) = solver.resume_parts();
+            let (initial_dt, energy_limit, lists) = solver.resume_parts();
             let saved = SolverState::Cpu(Box::new(CpuState {
                 state: solver.state.clone(),
                 initial_dt,
+                energy_limit,
                 lists: lists.clone(),
             }));
             rec.checkpoint(t, stored0.unwrap_or(0.0), max_fallback as u32, saved)?;

@@ -787,7 +787,7 @@ fn run_at_the_edge(
                     "internal energy",
                     "density",
                     "time step",
-                    "kinetic + internal energy"
+                    "total energy"
                 ]
                 .iter()
                 .any(|q| quantity.starts_with(q)),
@@ -944,7 +944,7 @@ fn edge_check_accepts_the_stable_settings() {
 /// CFL 0.9 with the default viscosity (α = β = 0.75): the explicit
 /// midpoint rule amplifies an undamped mode of frequency ω by
 /// sqrt(1 + (ωΔt)⁴/4) per step. Before the energy guard
-/// (`Model::energy_limit_of`) both scenes completed with exit status 0 and
+/// (`Model::guards_energy`) both scenes completed with exit status 0 and
 /// silently wrong energy (the bars with 28 times their initial energy, the
 /// disks with 135 times, restitution 1.29); now both stop with the
 /// instability message on both backends, which is asserted.

@@ -238,6 +238,9 @@ pub struct CpuSolver {
     scratch: State,
     spare: State,
     initial_dt: Option<f64>,
+    /// The energy guard's limit ([`Model::guards_energy`]), set at the
+    /// first state's evaluation.
+    energy_limit: Option<f64>,
     /// Candidate neighbour lists with a skin, rebuilt only when a particle
     /// has moved more than half the skin since the last build.
     nb: neighbours::Neighbours,
@@ -264,6 +267,7 @@ impl CpuSolver {
             scratch,
             spare,
             initial_dt: None,
+            energy_limit: None,
             nb: neighbours::Neighbours::default(),
             list_builds: 0,
         }
@@ -276,18 +280,26 @@ impl CpuSolver {
         model: Model,
         state: State,
         initial_dt: Option<f64>,
+        energy_limit: Option<f64>,
         lists: neighbours::Neighbours,
     ) -> Self {
         let mut s = Self::new(model, state);
         s.initial_dt = initial_dt;
+        s.energy_limit = energy_limit;
         s.nb = lists;
         s
     }
 
-    /// What a checkpoint needs beyond the state: the first step and the
-    /// candidate lists.
-    pub fn resume_parts(&self) -> (Option<f64>, &neighbours::Neighbours) {
-        (self.initial_dt, &self.nb)
+    /// What a checkpoint needs beyond the state: the first step, the
+    /// energy guard's limit and the candidate lists.
+    pub fn resume_parts(&self) -> (Option<f64>, Option<f64>, &neighbours::Neighbours) {
+        (self.initial_dt, self.energy_limit, &self.nb)
+    }
+
+    /// The energy guard's limit, once the first state has been evaluated
+    /// (`None` before, or when the run is not guarded).
+    pub fn energy_limit(&self) -> Option<f64> {
+        self.energy_limit
     }
 
     /// Make the candidate lists valid for positions `x`.
@@ -345,6 +357,21 @@ impl CpuSolver {
             return Err(self.instability(0, "time step", dt));
         }
         self.current();
+        if self.model.energy_guard {
+            let stored = self
+                .current
+                .as_ref()
+                .expect("evaluated above")
+                .1
+                .contact
+                .stored;
+            let e = Model::particle_energy(&self.model, &self.state) + stored;
+            let limit = *self.energy_limit.get_or_insert(Model::energy_limit(e));
+            if e > limit {
+                let i = self.model.most_energetic(&self.state);
+                return Err(self.instability(i, &Model::energy_quantity(limit), e));
+            }
+        }
         let (k1, _) = self.current.take().expect("evaluated above");
         let mut half = std::mem::take(&mut self.scratch);
         advance(
@@ -408,8 +435,8 @@ impl CpuSolver {
     }
 
     /// Stop on a non-finite value, a particle outside the domain
-    /// ([`Model::domain_of`]), a density outside `[0.1, 10] ρ0` or energy
-    /// past the guard ([`Model::energy_limit_of`]).
+    /// ([`Model::domain_of`]) or a density outside `[0.1, 10] ρ0` (the
+    /// energy guard runs at the start of a step, [`CpuSolver::step`]).
     fn check(&self) -> Result<(), Instability> {
         let st = &self.state;
         let m = &self.model;
@@ -426,17 +453,7 @@ impl CpuSolver {
             !sane
         });
         match bad {
-            None => match m.energy_limit {
-                Some(limit) => {
-                    let e = Model::particle_energy(m, st);
-                    if e > limit {
-                        Err(self.instability(m.most_energetic(st), &m.energy_quantity(), e))
-                    } else {
-                        Ok(())
-                    }
-                }
-                None => Ok(()),
-            },
+            None => Ok(()),
             Some(i) => {
                 // The GPU's order (advance.wgsl): the density band before
                 // the domain.

@@ -36,13 +36,15 @@ pub struct Params {
     /// The domain ([`crate::model::Model::domain_of`]) relative to the grid
     /// origin: lower x, lower y, upper x, upper y.
     pub domain: [f32; 4],
-    /// The energy guard ([`crate::model::Model::energy_limit_of`]): the
-    /// limit and the ring-row slots of the kinetic and internal energy
-    /// (the guard kernel runs only when the model has a limit).
-    pub energy_limit: f32,
+    /// The energy guard ([`crate::model::Model::guards_energy`]): the
+    /// ring-row slots of the kinetic, internal and stored penalty energy
+    /// (stored: `u32::MAX` without contact; the guard kernel runs only
+    /// when the run is guarded).
     pub energy_kin: u32,
     pub energy_int: u32,
-    pub pad3: u32,
+    pub energy_stored: u32,
+    /// [`crate::model::ENERGY_GROWTH`].
+    pub energy_growth: f32,
 }
 
 /// `Body` in common.wgsl: per-body constants.
@@ -82,7 +84,9 @@ pub struct Control {
     pub fallback_now: u32,
     pub fallback_max: u32,
     pub multi_partner: u32,
-    pub pad0: u32,
+    /// The energy guard's limit ([`crate::model::Model::guards_energy`]):
+    /// negative until the first state sets it.
+    pub energy_limit: f32,
 }
 
 /// Field offsets of a host struct, for the layout check.
@@ -128,10 +132,10 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 min_det,
                 pad0,
                 domain,
-                energy_limit,
                 energy_kin,
                 energy_int,
-                pad3
+                energy_stored,
+                energy_growth
             ),
         ),
         (
@@ -158,7 +162,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 fallback_now,
                 fallback_max,
                 multi_partner,
-                pad0
+                energy_limit
             ),
         ),
     ]

@@ -371,10 +371,10 @@ impl GpuSolver {
                 let (lo, hi) = (lo - origin, hi - origin);
                 [lo.x as f32, lo.y as f32, hi.x as f32, hi.y as f32]
             },
-            energy_limit: model.energy_limit.unwrap_or(f64::INFINITY) as f32,
             energy_kin: plan.energy.map_or(0, |e| e.0 as u32),
             energy_int: plan.energy.map_or(0, |e| e.1 as u32),
-            pad3: 0,
+            energy_stored: plan.stored.map_or(NONE, |k| k as u32),
+            energy_growth: crate::model::ENERGY_GROWTH as f32,
         };
         let bodies: Vec<BodyGpu> = model
             .bodies
@@ -402,6 +402,7 @@ impl GpuSolver {
         let control = Control {
             fail_step: NONE,
             fail_code: NONE,
+            energy_limit: -1.0,
             ..Default::default()
         };
 
@@ -948,7 +949,10 @@ impl GpuSolver {
         let (quantity, value) = if q == 4 {
             ("time step".to_string(), row[2] as f64)
         } else if guard {
-            (self.model.energy_quantity(), self.plan.guarded_energy(row))
+            (
+                Model::energy_quantity(ctl.energy_limit as f64),
+                self.plan.guarded_energy(row),
+            )
         } else {
             let st = self.download();
             let named = |name: &str, v: f64| (name.to_string(), v);

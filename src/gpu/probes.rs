@@ -52,7 +52,7 @@ pub struct ProbePlan {
     /// The slot of the stored penalty energy (always present with contact).
     pub stored: Option<usize>,
     /// The slots of the kinetic and the internal energy the energy guard
-    /// reads (present when the model has an energy limit).
+    /// reads with the stored one (present when the run is guarded).
     pub energy: Option<(usize, usize)>,
 }
 
@@ -79,7 +79,7 @@ impl ProbePlan {
         if model.contact {
             plan.stored = Some(plan.slot([code::STORED, NONE, NONE, 0]));
         }
-        if model.energy_limit.is_some() {
+        if model.energy_guard {
             plan.energy = Some((
                 plan.slot([code::KINETIC, NONE, NONE, 0]),
                 plan.slot([code::INTERNAL, NONE, NONE, 0]),
@@ -172,11 +172,12 @@ impl ProbePlan {
             .collect()
     }
 
-    /// The kinetic + internal energy in a row (the energy guard's value; 0
-    /// without the guard).
+    /// The total energy in a row (the energy guard's value; 0 without the
+    /// guard).
     pub fn guarded_energy(&self, row: &[f32]) -> f64 {
-        self.energy
-            .map_or(0.0, |(k, i)| row[3 + k] as f64 + row[3 + i] as f64)
+        self.energy.map_or(0.0, |(k, i)| {
+            row[3 + k] as f64 + row[3 + i] as f64 + self.stored_energy(row)
+        })
     }
 
     /// The stored penalty energy in a row (0 without contact).
