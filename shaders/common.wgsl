@@ -60,6 +60,10 @@ struct Params {
     energy_int: u32,
     energy_stored: u32,
     energy_growth: f32,
+    energy_floor: f32,
+    pad4: u32,
+    pad5: u32,
+    pad6: u32,
 }
 
 // Per-body constants (mirrored by `gpu::layout::BodyGpu`).

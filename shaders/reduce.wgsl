@@ -229,8 +229,8 @@ fn energy_guard() {
         e += ring[row + params.energy_stored];
     }
     if (ctl.energy_limit < 0.0) {
-        // (As Model::energy_limit: no energy, no guard.)
-        ctl.energy_limit = select(BIG, params.energy_growth * e, e > 0.0);
+        // As Model::energy_limit.
+        ctl.energy_limit = params.energy_growth * e + params.energy_floor;
         return;
     }
     if (e > ctl.energy_limit && atomicLoad(&ctl.fail_step) == NONE) {

@@ -47,13 +47,18 @@ pub struct Model {
     /// The box a particle may not leave (`[lower, upper]` corners): see
     /// [`Model::domain_of`].
     pub domain: [DVec2; 2],
-    /// Whether the energy guard watches this run: see
-    /// [`Model::guards_energy`].
+    /// Whether the energy guard watches this run, and the energy its limit
+    /// adds to the growth of the first state's: see [`Model::guards_energy`].
     pub energy_guard: bool,
+    pub energy_floor: f64,
 }
 
 /// The energy guard's factor ([`Model::guards_energy`]).
 pub const ENERGY_GROWTH: f64 = 1.5;
+
+/// The energy guard's floor as a fraction of `Σ m c_L²`
+/// ([`Model::guards_energy`]).
+pub const ENERGY_FLOOR: f64 = 1e-10;
 
 /// The evolving state: what an integrator advances and a checkpoint saves.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -105,6 +110,7 @@ impl Model {
             plastic: false,
             domain: [DVec2::ZERO; 2],
             energy_guard: false,
+            energy_floor: 0.0,
         };
         let mut state = State {
             t: 0.0,
@@ -149,20 +155,28 @@ impl Model {
         }
         model.domain = Model::domain_of(&model, &state, sim.end_time);
         model.energy_guard = Model::guards_energy(&model);
+        model.energy_floor = ENERGY_FLOOR
+            * (0..model.len())
+                .filter(|&i| !model.rigid(i))
+                .map(|i| model.mass[i] * model.material(i).c_l.powi(2))
+                .sum::<f64>();
         (model, state)
     }
 
     /// The energy guard: the total energy (kinetic + internal, dashpot heat
     /// included, + stored penalty energy) may not exceed [`ENERGY_GROWTH`]
     /// times its value at the first state (where bodies built overlapping
-    /// on a coarse lattice already hold penalty energy). The method
-    /// conserves it (METHOD.md §4; the discrete spring loses a little), so
-    /// energy grown by half was made by the time integration going
-    /// unstable: the run stops instead of finishing with answers that look
-    /// right and energy many times the start's. Both solvers check each
-    /// state at the start of the step that leaves it, with the evaluation
-    /// they make there anyway. Not watched when a rigid body moves (it does
-    /// work on what it pushes), nor when the first state holds no energy.
+    /// on a coarse lattice already hold penalty energy), plus a floor of
+    /// [`ENERGY_FLOOR`] `Σ m c_L²`: the energy of a motion at 1e-5 c_L, far
+    /// above the round-off energy of bodies at rest (1e-17 of it in f32)
+    /// and far below any impact's. The method conserves the total
+    /// (METHOD.md §4; the discrete spring loses a little), so energy grown
+    /// by half was made by the time integration going unstable: the run
+    /// stops instead of finishing with answers that look right and energy
+    /// many times the start's. Both solvers check each state at the start
+    /// of the step that leaves it, with the evaluation they make there
+    /// anyway. Not watched when a rigid body moves (it does work on what it
+    /// pushes).
     pub fn guards_energy(model: &Model) -> bool {
         !model
             .bodies
@@ -171,12 +185,8 @@ impl Model {
     }
 
     /// The guard's limit from the total energy `e0` of the first state.
-    pub fn energy_limit(e0: f64) -> f64 {
-        if e0 > 0.0 && e0.is_finite() {
-            ENERGY_GROWTH * e0
-        } else {
-            f64::INFINITY
-        }
+    pub fn energy_limit(&self, e0: f64) -> f64 {
+        ENERGY_GROWTH * e0 + self.energy_floor
     }
 
     /// `Σ m (½ v² + e)` over the particles, summed in fixed chunks so that
@@ -197,8 +207,8 @@ impl Model {
 
     /// The quantity of an energy-guard message (both backends) under
     /// `limit`; its value is the total energy.
-    pub fn energy_quantity(limit: f64) -> String {
-        let e0 = limit / ENERGY_GROWTH;
+    pub fn energy_quantity(&self, limit: f64) -> String {
+        let e0 = (limit - self.energy_floor) / ENERGY_GROWTH;
         format!("total energy (over {ENERGY_GROWTH} times the initial {e0:.4e})")
     }
 

@@ -907,7 +907,7 @@ fn stiff_bars_stop_with_a_message_or_hold() {
 /// A coarse disk pair at CFL 0.9 with α = β = 0.01
 /// (scenes/hard/disks_stiff.toml). Either contract may hold; today the run
 /// stops on both backends during the loading on the energy guard, at step
-/// 11 (1.02 µs), naming left disk particle 254 by the contact (without the
+/// 10 (0.92 µs), naming left disk particle 254 by the contact (without the
 /// guard it went on to a negative density at step 41–43), and that is
 /// asserted so that a change is noticed.
 #[test]

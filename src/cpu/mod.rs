@@ -366,10 +366,10 @@ impl CpuSolver {
                 .contact
                 .stored;
             let e = Model::particle_energy(&self.model, &self.state) + stored;
-            let limit = *self.energy_limit.get_or_insert(Model::energy_limit(e));
+            let limit = *self.energy_limit.get_or_insert(self.model.energy_limit(e));
             if e > limit {
                 let i = self.model.most_energetic(&self.state);
-                return Err(self.instability(i, &Model::energy_quantity(limit), e));
+                return Err(self.instability(i, &self.model.energy_quantity(limit), e));
             }
         }
         let (k1, _) = self.current.take().expect("evaluated above");

@@ -43,8 +43,12 @@ pub struct Params {
     pub energy_kin: u32,
     pub energy_int: u32,
     pub energy_stored: u32,
-    /// [`crate::model::ENERGY_GROWTH`].
+    /// [`crate::model::ENERGY_GROWTH`] and the model's energy floor.
     pub energy_growth: f32,
+    pub energy_floor: f32,
+    pub pad4: u32,
+    pub pad5: u32,
+    pub pad6: u32,
 }
 
 /// `Body` in common.wgsl: per-body constants.
@@ -135,7 +139,11 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 energy_kin,
                 energy_int,
                 energy_stored,
-                energy_growth
+                energy_growth,
+                energy_floor,
+                pad4,
+                pad5,
+                pad6
             ),
         ),
         (

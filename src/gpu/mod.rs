@@ -375,6 +375,10 @@ impl GpuSolver {
             energy_int: plan.energy.map_or(0, |e| e.1 as u32),
             energy_stored: plan.stored.map_or(NONE, |k| k as u32),
             energy_growth: crate::model::ENERGY_GROWTH as f32,
+            energy_floor: model.energy_floor as f32,
+            pad4: 0,
+            pad5: 0,
+            pad6: 0,
         };
         let bodies: Vec<BodyGpu> = model
             .bodies
@@ -950,7 +954,7 @@ impl GpuSolver {
             ("time step".to_string(), row[2] as f64)
         } else if guard {
             (
-                Model::energy_quantity(ctl.energy_limit as f64),
+                self.model.energy_quantity(ctl.energy_limit as f64),
                 self.plan.guarded_energy(row),
             )
         } else {
