@@ -557,6 +557,30 @@ fn tolerances(offset: f64, c_over_v: f64, spacing: f64, n: usize) -> Stray {
     }
 }
 
+/// Every measure of the run at offset `o` (m) within its tolerance.
+fn assert_within(o: f64, s: &Stray, tol: &Stray) {
+    assert!(
+        s.force < tol.force,
+        "{o} m: force history off by {:e} of the peak",
+        s.force
+    );
+    assert!(
+        s.window < tol.window,
+        "{o} m: end of contact off by {:e}",
+        s.window
+    );
+    assert!(
+        s.velocity < tol.velocity,
+        "{o} m: rebound off by {:e} of v0",
+        s.velocity
+    );
+    assert!(
+        s.position < tol.position,
+        "{o} m: positions off by {:e} m",
+        s.position
+    );
+}
+
 fn stray(origin: &RunOutput, far: &RunOutput, offset: f64, v_scale: f64) -> Stray {
     let f0 = column(origin, "contact_force");
     let f1 = column(far, "contact_force");
@@ -635,26 +659,7 @@ fn far_bars() {
             "bars at {o} m: force {:.2e} (tolerance {:.1e}), contact end {:.2e}, velocity {:.2e}, position {:.2e} m (tolerance {:.1e})",
             s.force, tol.force, s.window, s.velocity, s.position, tol.position
         );
-        assert!(
-            s.force < tol.force,
-            "{o} m: force history off by {:e} of the peak",
-            s.force
-        );
-        assert!(
-            s.window < tol.window,
-            "{o} m: separation off by {:e}",
-            s.window
-        );
-        assert!(
-            s.velocity < tol.velocity,
-            "{o} m: rebound off by {:e} of v0",
-            s.velocity
-        );
-        assert!(
-            s.position < tol.position,
-            "{o} m: positions off by {:e} m",
-            s.position
-        );
+        assert_within(*o, &s, &tol);
     }
 }
 
@@ -706,26 +711,7 @@ fn far_disks() {
             "disks at ({o}, {o}) m: force {:.2e} (tolerance {:.1e}), contact end {:.2e}, velocity {:.2e}, position {:.2e} m (tolerance {:.1e})",
             s.force, tol.force, s.window, s.velocity, s.position, tol.position
         );
-        assert!(
-            s.force < tol.force,
-            "{o} m: force history off by {:e} of the peak",
-            s.force
-        );
-        assert!(
-            s.window < tol.window,
-            "{o} m: contact end off by {:e}",
-            s.window
-        );
-        assert!(
-            s.velocity < tol.velocity,
-            "{o} m: rebound off by {:e} of v0",
-            s.velocity
-        );
-        assert!(
-            s.position < tol.position,
-            "{o} m: positions off by {:e} m",
-            s.position
-        );
+        assert_within(*o, &s, &tol);
     }
 }
 
