@@ -641,57 +641,6 @@ enum Outcome {
     Unstable,
 }
 
-/// `history.csv` as written: the header and the rows (every row whole and
-/// numeric, else a panic).
-fn read_history(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let csv = std::fs::read_to_string(path).expect("history.csv");
-    assert!(csv.ends_with('\n'), "the last row is whole");
-    let mut lines = csv.lines();
-    let header: Vec<String> = lines
-        .next()
-        .expect("a header")
-        .split(',')
-        .map(String::from)
-        .collect();
-    assert_eq!(header[0], "time");
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| {
-            let row: Vec<f64> = l
-                .split(',')
-                .map(|x| x.parse().unwrap_or_else(|_| panic!("row {l:?}")))
-                .collect();
-            assert_eq!(row.len(), header.len(), "row {l:?}");
-            row
-        })
-        .collect();
-    assert!(!rows.is_empty() && rows[0][0] == 0.0, "rows from t = 0");
-    for w in rows.windows(2) {
-        assert!(w[1][0] > w[0][0], "times increase");
-    }
-    (header, rows)
-}
-
-/// `unstable at step N (t = T s): body 'B', particle K: Q = V`, parsed into
-/// (step, time, body, particle, quantity).
-fn parse_instability(line: &str) -> Option<(u64, f64, String, usize, String)> {
-    let rest = line.strip_prefix("unstable at step ")?;
-    let (step, rest) = rest.split_once(" (t = ")?;
-    let (time, rest) = rest.split_once(" s): body '")?;
-    let (body, rest) = rest.split_once("', particle ")?;
-    let (particle, rest) = rest.split_once(": ")?;
-    let (quantity, value) = rest.rsplit_once(" = ")?;
-    if !(value == "NaN" || value.contains("inf") || value.parse::<f64>().is_ok()) {
-        return None;
-    }
-    Some((
-        step.parse().ok()?,
-        time.parse().ok()?,
-        body.to_string(),
-        particle.parse().ok()?,
-        quantity.to_string(),
-    ))
-}
-
 /// Run `scene` through the command line on `backend` and check the contract
 /// of whichever way it ended: completed (status 0: every history value
 /// finite, momentum to round-off, energy balance within 1 %, and the main
@@ -766,7 +715,13 @@ fn run_at_the_edge(
                 .collect();
             assert_eq!(ours.len(), 1, "one instability message:\n{stderr}");
             println!("{backend}: {}", ours[0]);
-            let (step, time, body, particle, quantity) = parse_instability(ours[0])
+            let Message {
+                step,
+                time,
+                body,
+                particle,
+                quantity,
+            } = parse_instability(ours[0])
                 .unwrap_or_else(|| panic!("not an instability message: {:?}", ours[0]));
             assert!(step >= 1, "step {step}");
             assert!(

@@ -128,3 +128,65 @@ pub fn gpu() -> Option<std::sync::Arc<sphcontact::gpu::GpuContext>> {
         }
     }
 }
+
+/// `history.csv` as written: the header and the rows. Every row is whole
+/// and numeric, the rows start at t = 0 and their times increase (else a
+/// panic).
+pub fn read_history(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let csv = std::fs::read_to_string(path).expect("history.csv");
+    assert!(csv.ends_with('\n'), "the last row is whole");
+    let mut lines = csv.lines();
+    let header: Vec<String> = lines
+        .next()
+        .expect("a header")
+        .split(',')
+        .map(String::from)
+        .collect();
+    assert_eq!(header[0], "time");
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            let row: Vec<f64> = l
+                .split(',')
+                .map(|x| x.parse().unwrap_or_else(|_| panic!("row {l:?}")))
+                .collect();
+            assert_eq!(row.len(), header.len(), "row {l:?}");
+            row
+        })
+        .collect();
+    assert!(!rows.is_empty() && rows[0][0] == 0.0, "rows from t = 0");
+    for w in rows.windows(2) {
+        assert!(w[1][0] > w[0][0], "times increase");
+    }
+    (header, rows)
+}
+
+/// An instability message, parsed.
+#[derive(Debug)]
+pub struct Message {
+    pub step: u64,
+    pub time: f64,
+    pub body: String,
+    pub particle: usize,
+    pub quantity: String,
+}
+
+/// `unstable at step N (t = T s): body 'B', particle K: Q = V`, parsed
+/// (`None` for any other text).
+pub fn parse_instability(line: &str) -> Option<Message> {
+    let rest = line.strip_prefix("unstable at step ")?;
+    let (step, rest) = rest.split_once(" (t = ")?;
+    let (time, rest) = rest.split_once(" s): body '")?;
+    let (body, rest) = rest.split_once("', particle ")?;
+    let (particle, rest) = rest.split_once(": ")?;
+    let (quantity, value) = rest.rsplit_once(" = ")?;
+    if !(value == "NaN" || value.contains("inf") || value.parse::<f64>().is_ok()) {
+        return None;
+    }
+    Some(Message {
+        step: step.parse().ok()?,
+        time: time.parse().ok()?,
+        body: body.to_string(),
+        particle: particle.parse().ok()?,
+        quantity: quantity.to_string(),
+    })
+}
