@@ -669,6 +669,7 @@ fn run_at_the_edge(
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
             .expect("summary.json parses");
     let (names, rows) = read_history(&out_dir.join("history.csv"));
+    assert!(!rows.is_empty(), "no history rows");
     assert!(
         rows.iter().flatten().all(|x| x.is_finite()),
         "a non-finite value in the history"

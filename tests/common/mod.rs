@@ -129,9 +129,9 @@ pub fn gpu() -> Option<std::sync::Arc<sphcontact::gpu::GpuContext>> {
     }
 }
 
-/// `history.csv` as written: the header and the rows. Every row is whole
-/// and numeric, the rows start at t = 0 and their times increase (else a
-/// panic).
+/// `history.csv` as written: the header and the rows (perhaps none yet).
+/// Every row is whole and numeric, the rows start at t = 0 and their times
+/// increase (else a panic).
 pub fn read_history(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let csv = std::fs::read_to_string(path).expect("history.csv");
     assert!(csv.ends_with('\n'), "the last row is whole");
@@ -153,7 +153,7 @@ pub fn read_history(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
             row
         })
         .collect();
-    assert!(!rows.is_empty() && rows[0][0] == 0.0, "rows from t = 0");
+    assert!(rows.first().map_or(true, |r| r[0] == 0.0), "rows from t = 0");
     for w in rows.windows(2) {
         assert!(w[1][0] > w[0][0], "times increase");
     }
