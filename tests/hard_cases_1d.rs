@@ -557,28 +557,56 @@ fn tolerances(offset: f64, c_over_v: f64, spacing: f64, n: usize) -> Stray {
     }
 }
 
-/// Every measure of the run at offset `o` (m) within its tolerance.
-fn assert_within(o: f64, s: &Stray, tol: &Stray) {
-    assert!(
-        s.force < tol.force,
-        "{o} m: force history off by {:e} of the peak",
-        s.force
-    );
-    assert!(
-        s.window < tol.window,
-        "{o} m: end of contact off by {:e}",
-        s.window
-    );
-    assert!(
-        s.velocity < tol.velocity,
-        "{o} m: rebound off by {:e} of v0",
-        s.velocity
-    );
-    assert!(
-        s.position < tol.position,
-        "{o} m: positions off by {:e} m",
-        s.position
-    );
+/// `far` (placed near 100 m) run moved to the origin, to 1 m and as it is.
+fn runs_at_offsets(far: &Scene) -> Vec<(f64, RunOutput)> {
+    [0.0, 1.0, 100.0]
+        .iter()
+        .map(|&o| (o, run(&shifted(far, 100.0 - o))))
+        .collect()
+}
+
+/// The runs of [`runs_at_offsets`] away from the origin conserve and give
+/// the origin run's answers within [`tolerances`] (impact speed 10 m/s,
+/// `n` particles in a mean position).
+fn assert_offsets_match(
+    what: &str,
+    far: &Scene,
+    runs: &[(f64, RunOutput)],
+    spacing: f64,
+    n: usize,
+) {
+    let steel = material(far, "steel");
+    let origin = &runs[0].1;
+    for (o, out) in &runs[1..] {
+        assert_conserved(far, out);
+        let s = stray(origin, out, *o, 10.0);
+        // The contact stress is Z v0 with v0 = 10 m/s per body.
+        let tol = tolerances(*o, steel.c_l / 10.0, spacing, n);
+        println!(
+            "{what} at {o} m: force {:.2e} (tolerance {:.1e}), contact end {:.2e}, velocity {:.2e}, position {:.2e} m (tolerance {:.1e})",
+            s.force, tol.force, s.window, s.velocity, s.position, tol.position
+        );
+        assert!(
+            s.force < tol.force,
+            "{o} m: force history off by {:e} of the peak",
+            s.force
+        );
+        assert!(
+            s.window < tol.window,
+            "{o} m: end of contact off by {:e}",
+            s.window
+        );
+        assert!(
+            s.velocity < tol.velocity,
+            "{o} m: rebound off by {:e} of v0",
+            s.velocity
+        );
+        assert!(
+            s.position < tol.position,
+            "{o} m: positions off by {:e} m",
+            s.position
+        );
+    }
 }
 
 fn stray(origin: &RunOutput, far: &RunOutput, offset: f64, v_scale: f64) -> Stray {
@@ -631,10 +659,7 @@ fn far_bars() {
     let far = load("scenes/hard/far_bars_steel.toml");
     let steel = material(&far, "steel");
     let exact = bar_impact(&steel, 0.005, 10.0, &steel, 0.005, -10.0);
-    let runs: Vec<(f64, RunOutput)> = [0.0, 1.0, 100.0]
-        .iter()
-        .map(|&o| (o, run(&shifted(&far, 100.0 - o))))
-        .collect();
+    let runs = runs_at_offsets(&far);
     let origin = &runs[0].1;
     assert_conserved(&far, origin);
     let f = column(origin, "contact_force");
@@ -650,17 +675,7 @@ fn far_bars() {
     let vl = *column(origin, "velocity_left").last().unwrap();
     assert!((vl / exact.final_velocity_1 - 1.0).abs() < 0.05);
 
-    for (o, out) in &runs[1..] {
-        assert_conserved(&far, out);
-        let s = stray(origin, out, *o, 10.0);
-        // The contact stress is Z v0 with v0 = 10 m/s per bar.
-        let tol = tolerances(*o, steel.c_l / 10.0, 5e-5, 100);
-        println!(
-            "bars at {o} m: force {:.2e} (tolerance {:.1e}), contact end {:.2e}, velocity {:.2e}, position {:.2e} m (tolerance {:.1e})",
-            s.force, tol.force, s.window, s.velocity, s.position, tol.position
-        );
-        assert_within(*o, &s, &tol);
-    }
+    assert_offsets_match("bars", &far, &runs, 5e-5, 100);
 }
 
 #[test]
@@ -682,11 +697,7 @@ fn far_from_origin_bars_gpu() {
 /// answer is tests/paper_disks.rs's).
 fn far_disks() {
     let far = load("scenes/hard/far_disks_polar.toml");
-    let steel = material(&far, "steel");
-    let runs: Vec<(f64, RunOutput)> = [0.0, 1.0, 100.0]
-        .iter()
-        .map(|&o| (o, run(&shifted(&far, 100.0 - o))))
-        .collect();
+    let runs = runs_at_offsets(&far);
     let origin = &runs[0].1;
     assert_conserved(&far, origin);
     let (t0, t1) = contact_window(&origin.history.times, &column(origin, "contact_force"));
@@ -703,16 +714,7 @@ fn far_disks() {
     );
 
     let n = origin.summary.bodies[0].particles;
-    for (o, out) in &runs[1..] {
-        assert_conserved(&far, out);
-        let s = stray(origin, out, *o, 10.0);
-        let tol = tolerances(*o, steel.c_l / 10.0, 5e-4, n);
-        println!(
-            "disks at ({o}, {o}) m: force {:.2e} (tolerance {:.1e}), contact end {:.2e}, velocity {:.2e}, position {:.2e} m (tolerance {:.1e})",
-            s.force, tol.force, s.window, s.velocity, s.position, tol.position
-        );
-        assert_within(*o, &s, &tol);
-    }
+    assert_offsets_match("disks", &far, &runs, 5e-4, n);
 }
 
 #[test]
