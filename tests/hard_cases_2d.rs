@@ -709,21 +709,15 @@ fn run_at_the_edge(
             Outcome::Completed
         }
         Some(1) => {
-            let ours: Vec<&str> = stderr
-                .lines()
-                .filter_map(|l| l.strip_prefix("error: "))
-                .filter(|l| l.starts_with("unstable"))
-                .collect();
-            assert_eq!(ours.len(), 1, "one instability message:\n{stderr}");
-            println!("{backend}: {}", ours[0]);
+            let (line, msg, _) = failed_run(&out_dir, &stderr);
+            println!("{backend}: {line}");
             let Message {
                 step,
                 time,
                 body,
                 particle,
-                quantity,
-            } = parse_instability(ours[0])
-                .unwrap_or_else(|| panic!("not an instability message: {:?}", ours[0]));
+                ..
+            } = msg;
             assert!(step >= 1, "step {step}");
             assert!(
                 time > 0.0 && time < scene.simulation.end_time,
@@ -736,27 +730,6 @@ fn run_at_the_edge(
                 .find(|b| b.name == body)
                 .unwrap_or_else(|| panic!("no body '{body}'"));
             assert!(particle < b.range.len(), "particle {particle} of '{body}'");
-            assert!(
-                [
-                    "position",
-                    "velocity",
-                    "internal energy",
-                    "density",
-                    "time step",
-                    "total energy"
-                ]
-                .iter()
-                .any(|q| quantity.starts_with(q)),
-                "quantity {quantity:?}"
-            );
-            assert_eq!(summary["status"], "failed");
-            assert_eq!(summary["error"], ours[0]);
-            let reached = summary["time_reached"].as_f64().unwrap();
-            assert!(
-                (reached - time).abs() <= 1e-6 * time,
-                "time reached {reached:e}"
-            );
-            assert!(rows.last().unwrap()[0] <= time, "rows past the failure");
             Outcome::Unstable
         }
         other => panic!("exit status {other:?}:\n{stderr}"),

@@ -193,3 +193,50 @@ pub fn parse_instability(line: &str) -> Option<Message> {
         quantity: quantity.to_string(),
     })
 }
+
+/// What a run that went unstable left, checked as SCENES.md and the
+/// instability contract ask: `stderr` holds exactly one instability
+/// message (the adapter may add lines of its own), naming a known
+/// quantity; `summary.json` in `out_dir` parses, is marked failed and
+/// carries that message and the failing state's time (to the message's six
+/// digits); `history.csv` holds whole numeric rows up to the failure.
+/// Returns the message (its line and parsed) and the history rows.
+pub fn failed_run(out_dir: &Path, stderr: &str) -> (String, Message, Vec<Vec<f64>>) {
+    let ours: Vec<&str> = stderr
+        .lines()
+        .filter_map(|l| l.strip_prefix("error: "))
+        .filter(|l| l.starts_with("unstable"))
+        .collect();
+    assert_eq!(ours.len(), 1, "one instability message:\n{stderr}");
+    let msg = parse_instability(ours[0])
+        .unwrap_or_else(|| panic!("not an instability message: {:?}", ours[0]));
+    assert!(
+        [
+            "position",
+            "velocity",
+            "internal energy",
+            "density",
+            "time step",
+            "total energy"
+        ]
+        .iter()
+        .any(|q| msg.quantity.starts_with(q)),
+        "quantity {:?}",
+        msg.quantity
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
+            .expect("summary.json parses");
+    assert_eq!(summary["status"], "failed");
+    assert_eq!(summary["error"], ours[0]);
+    let reached = summary["time_reached"].as_f64().unwrap();
+    assert!(
+        (reached - msg.time).abs() <= 1e-6 * msg.time,
+        "time reached {reached:e}, failure at {:e}",
+        msg.time
+    );
+    let (_, rows) = read_history(&out_dir.join("history.csv"));
+    assert!(!rows.is_empty(), "no history rows");
+    assert!(rows.last().unwrap()[0] <= msg.time, "rows past the failure");
+    (ours[0].to_string(), msg, rows)
+}
