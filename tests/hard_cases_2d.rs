@@ -252,55 +252,14 @@ fn disk_bounces_off_a_rigid_wall_gpu() {
 /// Positions and body indices of the particles in a snapshot file (the
 /// `Points` and `body` arrays of SCENES.md's VTK output).
 fn snapshot_particles(path: &Path) -> (f64, Vec<(usize, glam::DVec2)>) {
-    let bytes = std::fs::read(path).expect("a snapshot file");
-    let marker = b"<AppendedData encoding=\"raw\">";
-    let at = bytes
-        .windows(marker.len())
-        .position(|w| w == marker)
-        .expect("appended data");
-    let data = at
-        + marker.len()
-        + bytes[at + marker.len()..]
-            .iter()
-            .position(|&b| b == b'_')
-            .unwrap()
-        + 1;
-    let header = std::str::from_utf8(&bytes[..at]).expect("an ASCII header");
-    let attr = |tag: &str, key: &str| -> String {
-        let key = format!(" {key}=\"");
-        let start = tag.find(&key).unwrap_or_else(|| panic!("{key} in {tag}")) + key.len();
-        tag[start..start + tag[start..].find('"').unwrap()].to_string()
-    };
-    let n: usize = attr(header, "NumberOfPoints").parse().unwrap();
-    let time_tag = &header[header.find("Name=\"TimeValue\"").unwrap()..];
-    let time: f64 = time_tag[time_tag.find('>').unwrap() + 1..time_tag.find('<').unwrap()]
-        .trim()
-        .parse()
-        .unwrap();
-    let block = |name: &str| -> &[u8] {
-        let tag = &header[header.find(&format!("Name=\"{name}\"")).unwrap()..];
-        let tag = &tag[..tag.find('>').unwrap()];
-        let start = data + attr(tag, "offset").parse::<usize>().unwrap();
-        let len = u64::from_le_bytes(bytes[start..start + 8].try_into().unwrap()) as usize;
-        &bytes[start + 8..start + 8 + len]
-    };
-    let f64s: Vec<f64> = block("Points")
-        .chunks_exact(8)
-        .map(|x| f64::from_le_bytes(x.try_into().unwrap()))
+    let v = common::vtu::read_vtu(path);
+    let particles = v
+        .ints("body")
+        .into_iter()
+        .zip(v.xy("Points"))
+        .map(|(b, [x, y])| (b as usize, glam::DVec2::new(x, y)))
         .collect();
-    let body = block("body");
-    assert_eq!(
-        (f64s.len(), body.len()),
-        (3 * n, 4 * n),
-        "Float64 points, Int32 bodies"
-    );
-    let particles = (0..n)
-        .map(|i| {
-            let b = i32::from_le_bytes(body[4 * i..4 * i + 4].try_into().unwrap());
-            (b as usize, glam::DVec2::new(f64s[3 * i], f64s[3 * i + 1]))
-        })
-        .collect();
-    (time, particles)
+    (v.time, particles)
 }
 
 /// What a ring's particle cloud looks like: the sizes of its connected

@@ -2,6 +2,8 @@
 //! and read observables off its history.
 #![allow(dead_code)]
 
+pub mod vtu;
+
 use std::path::Path;
 
 use sphcontact::physics::material::MaterialModel;
@@ -175,7 +177,7 @@ pub struct Message {
 
 /// `unstable at step N (t = T s): body 'B', particle K: Q = V`, parsed
 /// (`None` for any other text).
-pub fn parse_instability(line: &str) -> Option<Message> {
+fn parse_instability(line: &str) -> Option<Message> {
     let rest = line.strip_prefix("unstable at step ")?;
     let (step, rest) = rest.split_once(" (t = ")?;
     let (time, rest) = rest.split_once(" s): body '")?;
