@@ -237,12 +237,7 @@ fn bar_observables(out: &RunOutput) -> ([f64; 3], f64, f64) {
     let t = &out.history.times;
     let p = column(out, "contact_pressure");
     let (_, t_sep) = contact_window(t, &p);
-    let plateau: Vec<f64> = t
-        .iter()
-        .zip(&p)
-        .filter(|(&tk, _)| tk > 0.1 * t_sep && tk < 0.9 * t_sep)
-        .map(|(_, &x)| x)
-        .collect();
+    let plateau = plateau(t, &p, t_sep);
     let mean = plateau.iter().sum::<f64>() / plateau.len() as f64;
     let lo = plateau.iter().cloned().fold(f64::INFINITY, f64::min);
     let hi = plateau.iter().cloned().fold(0.0, f64::max);

@@ -123,14 +123,9 @@ fn steel_against_aluminium() {
     let (_, t_sep) = contact_window(t, &p);
     let sep_err = t_sep / exact.separation_time - 1.0;
     assert!(sep_err.abs() < 0.03, "separation {t_sep:e} ({sep_err:+.4})");
-    let plateau: Vec<f64> = t
-        .iter()
-        .zip(&p)
-        .filter(|(&tk, _)| tk > 0.1 * t_sep && tk < 0.9 * t_sep)
-        .map(|(_, &x)| x)
-        .collect();
-    let mean = plateau.iter().sum::<f64>() / plateau.len() as f64;
-    for x in &plateau {
+    let steady = plateau(t, &p, t_sep);
+    let mean = steady.iter().sum::<f64>() / steady.len() as f64;
+    for x in &steady {
         let e = x / -exact.contact_stress - 1.0;
         assert!(e.abs() < 0.02, "interface stress {x:e} ({e:+.4})");
     }
@@ -141,15 +136,8 @@ fn steel_against_aluminium() {
     let (_, out_g) = steel_aluminium(20.0, 0.0);
     let pg = column(&out_g, "contact_pressure");
     let (_, t_sep_g) = contact_window(&out_g.history.times, &pg);
-    let mean_g = out_g
-        .history
-        .times
-        .iter()
-        .zip(&pg)
-        .filter(|(&tk, _)| tk > 0.1 * t_sep && tk < 0.9 * t_sep)
-        .map(|(_, &x)| x)
-        .sum::<f64>()
-        / plateau.len() as f64;
+    let steady_g = plateau(&out_g.history.times, &pg, t_sep);
+    let mean_g = steady_g.iter().sum::<f64>() / steady_g.len() as f64;
     assert!(
         (mean_g / mean - 1.0).abs() < 0.005,
         "Galilean pressure {mean_g:e} vs {mean:e}"

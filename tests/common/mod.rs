@@ -75,6 +75,18 @@ pub fn column(out: &RunOutput, name: &str) -> Vec<f64> {
 #[allow(unused_imports)]
 pub use sphcontact::output::contact_window;
 
+/// The values of `column` over the middle of a contact, 10–90 % of
+/// `t_sep` (away from the loading and unloading transients): the contact
+/// plateau.
+pub fn plateau(times: &[f64], column: &[f64], t_sep: f64) -> Vec<f64> {
+    times
+        .iter()
+        .zip(column)
+        .filter(|(&tk, _)| tk > 0.1 * t_sep && tk < 0.9 * t_sep)
+        .map(|(_, &x)| x)
+        .collect()
+}
+
 /// Momentum to round-off (relative to Σ m |v0|: 1e-12 in f64 on the CPU,
 /// 1e-6 for f32 on the GPU) and total energy (kinetic + internal + stored
 /// penalty; dashpot heat is inside the internal energy) within 0.5 %.
