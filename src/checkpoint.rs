@@ -368,16 +368,18 @@ impl Checkpoint {
                 solver,
             })
         };
-        let ck = decode(&mut r).map_err(bad)?;
-        ck.check_sizes().map_err(bad)?;
-        Ok(ck)
+        decode(&mut r).map_err(bad)
     }
 
-    /// The saved arrays agree with the scene's particle count and the
-    /// history's width, so a state is never half-filled.
-    fn check_sizes(&self) -> Result<(), String> {
-        let (model, _) = crate::model::Model::new(&self.scene);
-        let n = model.len();
+    /// The saved arrays agree with `model` (the scene's, built by the run
+    /// that resumes) and the history's width, so a state is never
+    /// half-filled. `origin` names the checkpoint in the error.
+    pub fn check_sizes(&self, model: &crate::model::Model, origin: &str) -> Result<(), RunError> {
+        self.sizes_match(model.len())
+            .map_err(|what| RunError::Backend(format!("{origin}: {what}")))
+    }
+
+    fn sizes_match(&self, n: usize) -> Result<(), String> {
         let width = self.scene.probes.len();
         let r = &self.recorder;
         if r.rows.len() != r.times.len()
@@ -638,6 +640,20 @@ mod tests {
         assert_eq!(back.recorder, c.recorder);
         assert_eq!(back.ledger, c.ledger);
         assert_eq!(back.scene, c.scene);
+    }
+
+    /// A state of another particle count than the scene's model is refused
+    /// before anything is restored; the scene's own is accepted.
+    #[test]
+    fn sizes_are_checked_against_the_model() {
+        let c = small();
+        let (model, _) = crate::model::Model::new(&c.scene);
+        c.check_sizes(&model, "ck").expect("its own scene");
+        let mut other = c.scene.clone();
+        other.bodies[0].spacing = 5.0e-4;
+        let (model, _) = crate::model::Model::new(&other);
+        let e = c.check_sizes(&model, "ck").expect_err("4 particles, not 2");
+        assert!(e.to_string().contains("do not match the scene's 4"), "{e}");
     }
 
     /// A flipped bit, a truncation or a foreign file is refused with a

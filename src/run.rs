@@ -527,6 +527,9 @@ fn run_from(
     // The model and the probes come from the scene's initial state, also
     // when resuming: probes are fixed by where particles start.
     let (model, state) = Model::new(&scene);
+    if let Some(ck) = &resume {
+        ck.check_sizes(&model, "the checkpoint")?;
+    }
     let dim = model.dim;
     let probes = probe::resolve(&scene, &model, &state);
     let names = scene.probes.iter().map(|p| p.name().to_string()).collect();
