@@ -61,7 +61,7 @@ pub struct Ledger {
 /// The recorder's state: the rows written so far, the observation the next
 /// rows are interpolated from, the snapshots written and the next
 /// checkpoint's time.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct RecorderState {
     pub times: Vec<f64>,
     pub rows: Vec<Vec<f64>>,

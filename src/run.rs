@@ -535,45 +535,30 @@ fn run_from(
     let names = scene.probes.iter().map(|p| p.name().to_string()).collect();
     let end = scene.simulation.end_time;
     let n = model.len();
-    let (p0, base_energy) = match &resume {
-        Some(ck) => (ck.ledger.momentum, ck.ledger.base_energy),
+    // What a resumed run takes over: the ledger, the recorder's state and
+    // the solver's (the checkpoint taken apart, nothing copied).
+    let resume = resume.map(|ck| (ck.time(), ck.ledger, ck.recorder, ck.solver));
+    let ledger = resume.as_ref().map(|r| &r.1);
+    let (p0, base_energy) = match ledger {
+        Some(l) => (l.momentum, l.base_energy),
         None => (
             probe::momentum(&model, &state),
             probe::energies(&model, &state, &Diagnostics::default()).total(),
         ),
     };
-    let (done_rows, done_snaps, prev) = match &resume {
-        Some(ck) => (
-            (ck.recorder.times.clone(), ck.recorder.rows.clone()),
-            ck.recorder.snapshots.clone(),
-            ck.recorder.prev.clone(),
-        ),
-        None => ((Vec::new(), Vec::new()), Vec::new(), None),
-    };
-    let snaps = match (&dir, scene.output.snapshot_interval) {
-        (Some(d), Some(interval)) => Some(Snapshots {
-            times: history_times(end, interval),
-            next: done_snaps.len(),
-            series: if resume.is_some() {
-                SnapshotSeries::resume(d, done_snaps)?
-            } else {
-                SnapshotSeries::create(d)?
-            },
-        }),
-        _ => None,
-    };
+    let wall_before = ledger.map_or(0.0, |l| l.wall_seconds);
     // A resumed run goes on writing checkpoints at the interval it was
     // started with, unless told another.
     let every = opts
         .checkpoint_every
-        .or(resume.as_ref().map(|ck| ck.recorder.checkpoint_every));
+        .or(resume.as_ref().map(|r| r.2.checkpoint_every));
     let checkpoints = match (&dir, every) {
         (Some(d), Some(every)) => Some(Checkpoints {
             dir: d.clone(),
             every,
             next: match &resume {
-                Some(ck) if ck.recorder.checkpoint_every == every => ck.recorder.next_checkpoint,
-                Some(ck) => next_multiple(ck.time(), every),
+                Some((_, _, rec, _)) if rec.checkpoint_every == every => rec.next_checkpoint,
+                Some((t, ..)) => next_multiple(*t, every),
                 None => every,
             },
             scene: scene.clone(),
@@ -582,12 +567,35 @@ fn run_from(
             adapter: adapter.clone(),
             base_energy,
             momentum: p0,
-            wall_before: resume.as_ref().map_or(0.0, |ck| ck.ledger.wall_seconds),
+            wall_before,
             warnings: warnings.clone(),
         }),
         _ => None,
     };
-    let (done_times, done_rows) = done_rows;
+    let (recorded, resume) = match resume {
+        Some((_, ledger, rec, solver)) => (Some(rec), Some((solver, ledger))),
+        None => (None, None),
+    };
+    let resuming = recorded.is_some();
+    let RecorderState {
+        times: done_times,
+        rows: done_rows,
+        prev,
+        snapshots: done_snaps,
+        ..
+    } = recorded.unwrap_or_default();
+    let snaps = match (&dir, scene.output.snapshot_interval) {
+        (Some(d), Some(interval)) => Some(Snapshots {
+            times: history_times(end, interval),
+            next: done_snaps.len(),
+            series: if resuming {
+                SnapshotSeries::resume(d, done_snaps)?
+            } else {
+                SnapshotSeries::create(d)?
+            },
+        }),
+        _ => None,
+    };
     let mut rec = Recorder {
         times: history_times(end, scene.history_interval()),
         next: done_times.len(),
@@ -600,7 +608,6 @@ fn run_from(
         particles: n,
         checkpoints,
     };
-    let wall_before = resume.as_ref().map_or(0.0, |ck| ck.ledger.wall_seconds);
     let out = match choice.gpu {
         Some(ctx) => run_gpu(ctx, model, state, &probes, &mut rec, resume)?,
         None => run_cpu(model, state, &probes, &mut rec, resume)?,
@@ -697,18 +704,18 @@ fn run_cpu(
     state: State,
     probes: &[probe::Resolved],
     rec: &mut Recorder,
-    resume: Option<Checkpoint>,
+    resume: Option<(SolverState, Ledger)>,
 ) -> Result<Outcome, RunError> {
     let end = rec.end;
     let mut max_fallback = 0;
     let mut stored0 = None;
     let mut solver = match resume {
-        Some(ck) => {
-            let SolverState::Cpu(c) = ck.solver else {
+        Some((saved, ledger)) => {
+            let SolverState::Cpu(c) = saved else {
                 unreachable!("a checkpoint resumes on the backend that wrote it");
             };
-            max_fallback = ck.ledger.max_fallback as usize;
-            stored0 = Some(ck.ledger.stored0);
+            max_fallback = ledger.max_fallback as usize;
+            stored0 = Some(ledger.stored0);
             let CpuState {
                 state,
                 initial_dt,
@@ -788,7 +795,7 @@ fn run_gpu(
     state: State,
     probes: &[probe::Resolved],
     rec: &mut Recorder,
-    resume: Option<Checkpoint>,
+    resume: Option<(SolverState, Ledger)>,
 ) -> Result<Outcome, RunError> {
     let end = rec.end;
     let adapter = ctx.adapter_name();
@@ -798,12 +805,12 @@ fn run_gpu(
     let mut failure = None;
     let mut stored = (None, 0.0);
     let mut t_last = 0.0;
-    if let Some(ck) = resume {
-        let SolverState::Gpu(g) = ck.solver else {
+    if let Some((saved, ledger)) = resume {
+        let SolverState::Gpu(g) = saved else {
             unreachable!("a checkpoint resumes on the backend that wrote it");
         };
         solver.restore_raw(&g.device).map_err(RunError::Backend)?;
-        stored = (Some(ck.ledger.stored0), g.stored_last);
+        stored = (Some(ledger.stored0), g.stored_last);
         t_last = g.t_last;
     }
     let mut steps = 0u64;
