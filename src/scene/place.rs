@@ -99,6 +99,7 @@ fn jitter(placed: &mut PlacedBody, shape: &Shape, fraction: f64, seed: u64) {
 
 /// Signed distance of `p` to the boundary of `shape` (positive inside):
 /// the surface offset `o` of a particle centred at `p` (METHOD.md §8.3).
+/// The one rule for placement and jitter alike.
 fn surface_distance(shape: &Shape, p: DVec2) -> f64 {
     match shape {
         Shape::Segment { from, to } => (p.x - from).min(to - p.x),
@@ -106,16 +107,29 @@ fn surface_distance(shape: &Shape, p: DVec2) -> f64 {
             .min(max[0] - p.x)
             .min(p.y - min[1])
             .min(max[1] - p.y),
-        Shape::Disk { center, radius, .. } => radius - p.distance(DVec2::new(center[0], center[1])),
+        Shape::Disk { center, radius, .. } => {
+            annulus_offset(0.0, *radius, p.distance(DVec2::new(center[0], center[1])))
+        }
         Shape::Ring {
             center,
             inner_radius,
             outer_radius,
             ..
-        } => {
-            let r = p.distance(DVec2::new(center[0], center[1]));
-            (outer_radius - r).min(r - inner_radius)
-        }
+        } => annulus_offset(
+            *inner_radius,
+            *outer_radius,
+            p.distance(DVec2::new(center[0], center[1])),
+        ),
+    }
+}
+
+/// Distance from radius `r` to the nearer circle of an annulus (the inner
+/// one only for a ring, `r_in > 0`).
+fn annulus_offset(r_in: f64, r_out: f64, r: f64) -> f64 {
+    if r_in > 0.0 {
+        (r_out - r).min(r - r_in)
+    } else {
+        r_out - r
     }
 }
 
@@ -137,7 +151,8 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
                 let x = from + (k as f64 + 0.5) * d;
                 out.positions.push(DVec2::new(x, 0.0));
                 out.masses.push(rho0 * d);
-                out.offsets.push((x - from).min(to - x));
+                out.offsets
+                    .push(surface_distance(shape, DVec2::new(x, 0.0)));
             }
         }
         Shape::Rectangle { min, max } => {
@@ -154,13 +169,9 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
                         min[0] + (i as f64 + 0.5) * ddx,
                         min[1] + (j as f64 + 0.5) * ddy,
                     );
-                    let o = (p.x - min[0])
-                        .min(max[0] - p.x)
-                        .min(p.y - min[1])
-                        .min(max[1] - p.y);
                     out.positions.push(p);
                     out.masses.push(rho0 * ddx * ddy);
-                    out.offsets.push(o);
+                    out.offsets.push(surface_distance(shape, p));
                 }
             }
         }
@@ -198,14 +209,9 @@ fn annulus(
     rho0: f64,
 ) {
     let c = DVec2::new(center[0], center[1]);
-    // Distance to the nearer of the two circles (the inner one only for rings).
-    let offset = |r: f64| {
-        if r_in > 0.0 {
-            (r_out - r).min(r - r_in)
-        } else {
-            r_out - r
-        }
-    };
+    // (From the lattice's own radius, not |p − c|, which differs from it
+    // in the last bits.)
+    let offset = |r: f64| annulus_offset(r_in, r_out, r);
     match lattice {
         Lattice::Square => {
             let n = (r_out / dx).ceil() as i64 + 1;
