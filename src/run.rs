@@ -576,7 +576,6 @@ fn run_from(
         Some((_, ledger, rec, solver)) => (Some(rec), Some((solver, ledger))),
         None => (None, None),
     };
-    let resuming = recorded.is_some();
     let RecorderState {
         times: done_times,
         rows: done_rows,
@@ -588,11 +587,8 @@ fn run_from(
         (Some(d), Some(interval)) => Some(Snapshots {
             times: history_times(end, interval),
             next: done_snaps.len(),
-            series: if resuming {
-                SnapshotSeries::resume(d, done_snaps)?
-            } else {
-                SnapshotSeries::create(d)?
-            },
+            // (A fresh run's list is empty: every old file goes.)
+            series: SnapshotSeries::open(d, done_snaps)?,
         }),
         _ => None,
     };

@@ -318,37 +318,14 @@ pub struct SnapshotSeries {
 }
 
 impl SnapshotSeries {
-    /// Make `<out>/snapshots/`. Files an earlier run left there under this
-    /// writer's names are removed, so the folder holds exactly what the
-    /// collection lists.
-    pub fn create(out: &Path) -> Result<Self, RunError> {
-        let dir = out.join(SNAPSHOT_DIR);
-        std::fs::create_dir_all(&dir).map_err(|e| RunError::io(&dir, e))?;
-        let listing = std::fs::read_dir(&dir).map_err(|e| RunError::io(&dir, e))?;
-        for entry in listing.flatten() {
-            let name = entry.file_name().to_string_lossy().into_owned();
-            if name.starts_with("snapshot_") && name.ends_with(".vtu") {
-                let p = entry.path();
-                std::fs::remove_file(&p).map_err(|e| RunError::io(&p, e))?;
-            }
-        }
-        let series = Self {
-            out: out.to_path_buf(),
-            entries: Vec::new(),
-            bytes: 0,
-            seconds: 0.0,
-        };
-        // An empty collection at once: the old one, if any, no longer
-        // describes this folder.
-        series.write_collection()?;
-        Ok(series)
-    }
-
-    /// Continue the series of a resumed run: `entries` are the snapshots
-    /// it had written by its checkpoint. Files past them (written after the
-    /// checkpoint by the run that stopped) are removed: the resumed run
-    /// writes them again.
-    pub fn resume(out: &Path, entries: Vec<(f64, String)>) -> Result<Self, RunError> {
+    /// Make `<out>/snapshots/` for a series that has written `entries` so
+    /// far (none for a fresh run; a resumed run's, up to its checkpoint).
+    /// Files under this writer's names that the list does not hold (an
+    /// earlier run's, or written after the checkpoint by the run that
+    /// stopped) are removed, so the folder holds exactly what the
+    /// collection lists; the collection is written at once (the old one, if
+    /// any, no longer describes the folder).
+    pub fn open(out: &Path, entries: Vec<(f64, String)>) -> Result<Self, RunError> {
         let dir = out.join(SNAPSHOT_DIR);
         std::fs::create_dir_all(&dir).map_err(|e| RunError::io(&dir, e))?;
         let listing = std::fs::read_dir(&dir).map_err(|e| RunError::io(&dir, e))?;
