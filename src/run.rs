@@ -148,11 +148,9 @@ struct Checkpoints {
     scene_label: String,
     backend: Backend,
     adapter: Option<String>,
-    base_energy: f64,
-    momentum: DVec2,
-    /// Wall seconds of the run before this process took it over.
-    wall_before: f64,
-    warnings: Vec<String>,
+    /// The ledger as of the start of this process (its wall seconds those
+    /// of the run before it); each checkpoint fills in the rest.
+    ledger: Ledger,
 }
 
 /// The snapshot times not yet written and the files written so far.
@@ -259,12 +257,10 @@ impl Recorder {
             backend: c.backend,
             adapter: c.adapter.clone(),
             ledger: Ledger {
-                base_energy: c.base_energy,
-                momentum: c.momentum,
                 stored0,
                 max_fallback,
-                wall_seconds: c.wall_before + wall,
-                warnings: c.warnings.clone(),
+                wall_seconds: c.ledger.wall_seconds + wall,
+                ..c.ledger.clone()
             },
             recorder: RecorderState {
                 times: self.history.times.clone(),
@@ -565,10 +561,14 @@ fn run_from(
             scene_label: label.clone(),
             backend,
             adapter: adapter.clone(),
-            base_energy,
-            momentum: p0,
-            wall_before,
-            warnings: warnings.clone(),
+            ledger: Ledger {
+                base_energy,
+                momentum: p0,
+                stored0: 0.0,
+                max_fallback: 0,
+                wall_seconds: wall_before,
+                warnings: warnings.clone(),
+            },
         }),
         _ => None,
     };
