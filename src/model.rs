@@ -189,22 +189,6 @@ impl Model {
         ENERGY_GROWTH * e0 + self.energy_floor
     }
 
-    /// `Σ m (½ v² + e)` over the particles, summed in fixed chunks so that
-    /// the result does not depend on the thread count.
-    pub fn particle_energy(model: &Model, state: &State) -> f64 {
-        use rayon::prelude::*;
-        const CHUNK: usize = 4096;
-        let parts: Vec<f64> = (0..model.len().div_ceil(CHUNK))
-            .into_par_iter()
-            .map(|c| {
-                (c * CHUNK..((c + 1) * CHUNK).min(model.len()))
-                    .map(|i| model.mass[i] * (0.5 * state.v[i].length_squared() + state.e[i]))
-                    .sum::<f64>()
-            })
-            .collect();
-        parts.iter().sum()
-    }
-
     /// The quantity of an energy-guard message (both backends) under
     /// `limit`; its value is the total energy.
     pub fn energy_quantity(&self, limit: f64) -> String {

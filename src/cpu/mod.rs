@@ -358,14 +358,9 @@ impl CpuSolver {
         }
         self.current();
         if self.model.energy_guard {
-            let stored = self
-                .current
-                .as_ref()
-                .expect("evaluated above")
-                .1
-                .contact
-                .stored;
-            let e = Model::particle_energy(&self.model, &self.state) + stored;
+            // The total the summary and the energy probes report.
+            let diag = &self.current.as_ref().expect("evaluated above").1;
+            let e = crate::probe::energies(&self.model, &self.state, diag).total();
             let limit = *self.energy_limit.get_or_insert(self.model.energy_limit(e));
             if e > limit {
                 let i = self.model.most_energetic(&self.state);
