@@ -160,23 +160,24 @@ impl ProbePlan {
 
     /// Probe values from one ring row (header included).
     pub fn values(&self, row: &[f32]) -> Vec<f64> {
-        let slot = |k: usize| row[3 + k] as f64;
-        let base = 3 + self.slots.len();
-        self.exprs
-            .iter()
-            .map(|e| match *e {
-                Expr::Slot(k, scale, shift) => slot(k) * scale + shift,
-                Expr::Particle(k, shift) => row[base + k] as f64 + shift,
-                Expr::Total(k, i, s) => slot(k) + slot(i) + s.map_or(0.0, slot),
-            })
-            .collect()
+        self.exprs.iter().map(|e| self.value(e, row)).collect()
     }
 
-    /// The total energy in a row (the energy guard's value; 0 without the
-    /// guard).
+    /// One probe value from a ring row.
+    fn value(&self, e: &Expr, row: &[f32]) -> f64 {
+        let slot = |k: usize| row[3 + k] as f64;
+        match *e {
+            Expr::Slot(k, scale, shift) => slot(k) * scale + shift,
+            Expr::Particle(k, shift) => row[3 + self.slots.len() + k] as f64 + shift,
+            Expr::Total(k, i, s) => slot(k) + slot(i) + s.map_or(0.0, slot),
+        }
+    }
+
+    /// The total energy in a row (the energy guard's value, as an `energy`
+    /// probe of quantity `total` reads it; 0 without the guard).
     pub fn guarded_energy(&self, row: &[f32]) -> f64 {
         self.energy.map_or(0.0, |(k, i)| {
-            row[3 + k] as f64 + row[3 + i] as f64 + self.stored_energy(row)
+            self.value(&Expr::Total(k, i, self.stored), row)
         })
     }
 
