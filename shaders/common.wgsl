@@ -29,10 +29,9 @@ struct Params {
     nbodies: u32,
     buckets: u32,
     row_stride: u32,
-    // Unused (were the grid origin in f32; positions now leave the device
-    // relative to it, see `position_rel`).
-    pad1: u32,
-    pad2: u32,
+    // The energy guard's growth factor and floor (Model::guards_energy).
+    energy_growth: f32,
+    energy_floor: f32,
     inv_cell: f32,
     alpha: f32,
     beta: f32,
@@ -59,11 +58,7 @@ struct Params {
     energy_kin: u32,
     energy_int: u32,
     energy_stored: u32,
-    energy_growth: f32,
-    energy_floor: f32,
-    pad4: u32,
-    pad5: u32,
-    pad6: u32,
+    pad1: u32,
 }
 
 // Per-body constants (mirrored by `gpu::layout::BodyGpu`).

@@ -11,10 +11,10 @@ pub struct Params {
     pub nbodies: u32,
     pub buckets: u32,
     pub row_stride: u32,
-    /// Unused (the grid origin stays on the host, in f64: position
-    /// observations leave the device relative to it).
-    pub pad1: u32,
-    pub pad2: u32,
+    /// The energy guard's growth factor ([`crate::model::ENERGY_GROWTH`])
+    /// and the model's energy floor ([`crate::model::Model::guards_energy`]).
+    pub energy_growth: f32,
+    pub energy_floor: f32,
     pub inv_cell: f32,
     pub alpha: f32,
     pub beta: f32,
@@ -43,12 +43,7 @@ pub struct Params {
     pub energy_kin: u32,
     pub energy_int: u32,
     pub energy_stored: u32,
-    /// [`crate::model::ENERGY_GROWTH`] and the model's energy floor.
-    pub energy_growth: f32,
-    pub energy_floor: f32,
-    pub pad4: u32,
-    pub pad5: u32,
-    pub pad6: u32,
+    pub pad1: u32,
 }
 
 /// `Body` in common.wgsl: per-body constants.
@@ -115,8 +110,8 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 nbodies,
                 buckets,
                 row_stride,
-                pad1,
-                pad2,
+                energy_growth,
+                energy_floor,
                 inv_cell,
                 alpha,
                 beta,
@@ -139,11 +134,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 energy_kin,
                 energy_int,
                 energy_stored,
-                energy_growth,
-                energy_floor,
-                pad4,
-                pad5,
-                pad6
+                pad1
             ),
         ),
         (

@@ -346,8 +346,8 @@ impl GpuSolver {
             nbodies: model.bodies.len() as u32,
             buckets,
             row_stride,
-            pad1: 0,
-            pad2: 0,
+            energy_growth: crate::model::ENERGY_GROWTH as f32,
+            energy_floor: model.energy_floor as f32,
             inv_cell: (1.0 / cell) as f32,
             alpha: model.alpha as f32,
             beta: model.beta as f32,
@@ -374,11 +374,7 @@ impl GpuSolver {
             energy_kin: plan.energy.map_or(0, |e| e.0 as u32),
             energy_int: plan.energy.map_or(0, |e| e.1 as u32),
             energy_stored: plan.stored.map_or(NONE, |k| k as u32),
-            energy_growth: crate::model::ENERGY_GROWTH as f32,
-            energy_floor: model.energy_floor as f32,
-            pad4: 0,
-            pad5: 0,
-            pad6: 0,
+            pad1: 0,
         };
         let bodies: Vec<BodyGpu> = model
             .bodies
