@@ -304,6 +304,9 @@ impl Checkpoint {
                         cross: r.u32s()?,
                         skin: r.f64()?,
                         x_ref: r.vec2s()?,
+                        // The sweep's row index is rebuilt from the rows by
+                        // the solver that resumes them.
+                        ..Default::default()
                     };
                     SolverState::Cpu(Box::new(CpuState {
                         state: State {
@@ -622,6 +625,7 @@ mod tests {
                     cross: vec![],
                     skin: 1e-4,
                     x_ref: state.x.clone(),
+                    ..Default::default()
                 },
                 state,
                 initial_dt: Some(3e-9),

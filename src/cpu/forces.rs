@@ -4,9 +4,8 @@
 //! momentum and energy exactly in semi-discrete form.
 
 use glam::DVec2;
-use rayon::prelude::*;
 
-use super::neighbours::Neighbours;
+use super::neighbours::{Nbr, Neighbours};
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
 use crate::physics::kernel;
@@ -91,7 +90,94 @@ pub fn viscosity_pi(
     hv * (-alpha * c_mean * d + beta * hv) / (d * d * rho_mean)
 }
 
-/// Pass C: `dv_i/dt` and `de_i/dt` from the SPH sums.
+/// What a pair contributes to both of its particles' momentum and energy
+/// sums, from particle i's side.
+struct PairTerms {
+    /// `t G_ij`, `t = σ_i/ρ_i² + σ_j/ρ_j² − Π_ij I (+ artificial stress)`.
+    tg: DVec2,
+    /// `G_ij = ½ (L_i + L_j) ∇_i W_ij`.
+    g: DVec2,
+    /// `v_ij = v_i − v_j`.
+    vij: DVec2,
+    /// `½ Π_ij v_ij·G_ij − ½ (R_i + R_j) f^n : (v_ij ⊗ G_ij)`, the part of
+    /// either particle's energy term that is the pair's own.
+    shared: f64,
+}
+
+/// The momentum and energy terms of the pair `(i, b.j)`.
+///
+/// Swapping the particles flips `G`, `v_ij`, `x_ij` and the reconstructed
+/// jump and keeps `Π_ij`, `t` and `f`, so particle j's terms are
+/// `dv_j −= m_i t G_ij` and `de_j −= m_i (v_ij·(σ_j/ρ_j² G_ij) − shared)`:
+/// one evaluation of a pair serves both of its particles.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+fn pair_terms(
+    model: &Model,
+    st: &State,
+    l: &[Mat2],
+    gv: &[Mat2],
+    surface: &[bool],
+    pts: &[StressPoint],
+    i: usize,
+    b: &Nbr,
+) -> PairTerms {
+    let j = b.j as usize;
+    let (pi_, pj) = (&pts[i], &pts[j]);
+    let hij = 0.5 * (model.h[i] + model.h[j]);
+    let xij = st.x[i] - st.x[j];
+    let vij = st.v[i] - st.v[j];
+    let g = (l[i] + l[j]).scale(0.5).mul_vec(b.gw);
+    // The viscosity sees the reconstructed jump; the energy equation keeps
+    // the true v_ij, so the viscous work is still exactly the heat booked
+    // (energy conserved). Not at a surface: there ∇v is extrapolated from
+    // one side only, and the face is where a contact loads the body
+    // impulsively; full viscosity damps that start-up ringing.
+    let vis = if model.av_reconstruct && !surface[i] && !surface[j] {
+        reconstructed_jump(vij, xij, &gv[i], &gv[j])
+    } else {
+        vij
+    };
+    let pi = viscosity_pi(
+        model.alpha,
+        model.beta,
+        hij,
+        xij,
+        vis,
+        0.5 * (pi_.c + pj.c),
+        0.5 * (st.rho[i] + st.rho[j]),
+    );
+    let mut t = pi_.sr2.add_scaled(&pj.sr2, 1.0);
+    t.xx -= pi;
+    t.yy -= pi;
+    // The artificial stress's work on the pair, half to each particle, is
+    // booked as heat: ½ (R_i + R_j) f^n : (v_ij ⊗ G_ij). METHOD.md §4 puts
+    // R in the momentum bracket only, which leaves its work in no energy
+    // (the rubber rings' total swung by 8 %); booked, the ledger closes as
+    // for the viscosity.
+    let mut art_work = 0.0;
+    if let Some((_, n)) = model.artificial_stress {
+        let dp = 0.5
+            * (model.bodies[model.body[i] as usize].spacing
+                + model.bodies[model.body[j] as usize].spacing);
+        let f = b.w / kernel::w(model.dim, dp, hij);
+        let rf = pi_.r.add_scaled(&pj.r, 1.0).scale(f.powf(n));
+        t = t.add_scaled(&rf, 1.0);
+        art_work = 0.5 * vij.dot(rf.mul_vec(g));
+    }
+    PairTerms {
+        tg: t.mul_vec(g),
+        g,
+        vij,
+        shared: 0.5 * pi * vij.dot(g) - art_work,
+    }
+}
+
+/// Pass C: `dv_i/dt` and `de_i/dt` from the SPH sums, each pair evaluated
+/// once ([`Neighbours::sweep`]); rigid particles get zero rates.
+///
+/// `dv_i/dt = Σ_j m_j t G_ij` and `de_i/dt = −Σ_j m_j (σ_i/ρ_i² − ½Π I +
+/// ½ (R_i + R_j) f^n) : (v_ij ⊗ G_ij)` (METHOD.md §4).
 pub fn momentum_energy(
     model: &Model,
     st: &State,
@@ -101,68 +187,39 @@ pub fn momentum_energy(
     surface: &[bool],
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>) {
-    let dim = model.dim;
-    (0..model.len())
-        .into_par_iter()
-        .map(|i| {
-            if model.rigid(i) {
-                return (DVec2::ZERO, 0.0);
+    let terms = |i, b: &Nbr| pair_terms(model, st, l, gv, surface, pts, i, b);
+    let mut acc = vec![(DVec2::ZERO, 0.0); model.len()];
+    nb.sweep(
+        model,
+        &st.x,
+        &mut acc,
+        |i, b, ai, aj| {
+            let j = b.j as usize;
+            let (ri, rj) = (model.rigid(i), model.rigid(j));
+            if ri && rj {
+                return;
             }
-            let pi_ = &pts[i];
-            let mut dv = DVec2::ZERO;
-            let mut de = 0.0;
-            for b in nb.of(model, &st.x, i) {
-                let j = b.j as usize;
-                let pj = &pts[j];
-                let hij = 0.5 * (model.h[i] + model.h[j]);
-                let xij = st.x[i] - st.x[j];
-                let vij = st.v[i] - st.v[j];
-                let g = (l[i] + l[j]).scale(0.5).mul_vec(b.gw);
-                // The viscosity sees the reconstructed jump; the energy
-                // equation below keeps the true v_ij, so the viscous work
-                // is still exactly the heat booked (energy conserved).
-                // Not at a surface: there ∇v is extrapolated from one side
-                // only, and the face is where a contact loads the body
-                // impulsively; full viscosity damps that start-up ringing.
-                let vis = if model.av_reconstruct && !surface[i] && !surface[j] {
-                    reconstructed_jump(vij, xij, &gv[i], &gv[j])
-                } else {
-                    vij
-                };
-                let pi = viscosity_pi(
-                    model.alpha,
-                    model.beta,
-                    hij,
-                    xij,
-                    vis,
-                    0.5 * (pi_.c + pj.c),
-                    0.5 * (st.rho[i] + st.rho[j]),
-                );
-                let mut t = pi_.sr2.add_scaled(&pj.sr2, 1.0);
-                t.xx -= pi;
-                t.yy -= pi;
-                // The artificial stress's work on the pair, half to each
-                // particle, is booked as heat: ½ (R_i + R_j) f^n : (v_ij ⊗
-                // G_ij). METHOD.md §4 puts R in the momentum bracket only,
-                // which leaves its work in no energy (the rubber rings'
-                // total swung by 8 %); booked, the ledger closes as for
-                // the viscosity.
-                let mut art_work = 0.0;
-                if let Some((_, n)) = model.artificial_stress {
-                    let dp = 0.5
-                        * (model.bodies[model.body[i] as usize].spacing
-                            + model.bodies[model.body[j] as usize].spacing);
-                    let f = b.w / kernel::w(dim, dp, hij);
-                    let rf = pi_.r.add_scaled(&pj.r, 1.0).scale(f.powf(n));
-                    t = t.add_scaled(&rf, 1.0);
-                    art_work = 0.5 * vij.dot(rf.mul_vec(g));
-                }
+            let p = terms(i, b);
+            if !ri {
                 let mj = model.mass[j];
-                dv += t.mul_vec(g) * mj;
-                // −(σ_i/ρ_i² − ½Π I + ½ (R_i + R_j) f^n) : (v_ij ⊗ G_ij)
-                de -= mj * (vij.dot(pi_.sr2.mul_vec(g)) - 0.5 * pi * vij.dot(g) + art_work);
+                ai.0 += p.tg * mj;
+                ai.1 -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g)) - p.shared);
             }
-            (dv, de)
-        })
-        .unzip()
+            if !rj {
+                let mi = model.mass[i];
+                aj.0 -= p.tg * mi;
+                aj.1 -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g)) - p.shared);
+            }
+        },
+        |i, b, ai| {
+            if model.rigid(i) {
+                return;
+            }
+            let p = terms(i, b);
+            let mj = model.mass[b.j as usize];
+            ai.0 += p.tg * mj;
+            ai.1 -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g)) - p.shared);
+        },
+    );
+    acc.into_iter().unzip()
 }

@@ -39,6 +39,17 @@ pub struct Kinematics {
     pub ds: Vec<Sym>,
 }
 
+/// One particle's sums of the kinematic walk.
+#[derive(Debug, Clone, Copy, Default)]
+struct Sums {
+    /// `M_i = Σ_j V_j ∇_i W_ij ⊗ (x_j − x_i)`.
+    m: Mat2,
+    /// `Σ_j V_j (v_j − v_i) ⊗ ∇_i W_ij`.
+    gsum: Mat2,
+    /// `(∇ψ)_i`.
+    gpsi: DVec2,
+}
+
 /// One particle's result of the kinematic pass.
 struct Point {
     l: Mat2,
@@ -55,26 +66,45 @@ struct Point {
 /// ∇_i W_ij] L_iᵀ`: the uncorrected sum is gathered in the same walk as
 /// `M_i` and corrected once at the end, so one pass over the neighbours
 /// serves what would otherwise take two.
+///
+/// The walk visits each pair once ([`Neighbours::sweep`]): with
+/// `∇_j W_ji = −∇_i W_ij`, particle j's terms are i's outer products
+/// `∇_i W_ij ⊗ (x_j − x_i)` and `(v_j − v_i) ⊗ ∇_i W_ij` weighted by `V_i`
+/// instead of `V_j`, and its colour-gradient term changes sign.
 pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
     let corrected = model.correction == Correction::Gradient;
     let vol: Vec<f64> = (0..model.len())
         .into_par_iter()
         .map(|j| model.mass[j] / st.rho[j])
         .collect();
-    let per: Vec<Point> = (0..model.len())
+    let mut sums = vec![Sums::default(); model.len()];
+    nb.sweep(
+        model,
+        &st.x,
+        &mut sums,
+        |i, b, si, sj| {
+            let j = b.j as usize;
+            let m = Mat2::outer(b.gw, st.x[j] - st.x[i]);
+            let g = Mat2::outer(st.v[j] - st.v[i], b.gw);
+            si.m += m.scale(vol[j]);
+            si.gsum += g.scale(vol[j]);
+            si.gpsi -= b.gw * vol[j];
+            sj.m += m.scale(vol[i]);
+            sj.gsum += g.scale(vol[i]);
+            sj.gpsi += b.gw * vol[i];
+        },
+        |i, b, si| {
+            let j = b.j as usize;
+            let gwv = b.gw * vol[j];
+            si.m += Mat2::outer(gwv, st.x[j] - st.x[i]);
+            si.gsum += Mat2::outer(st.v[j] - st.v[i], gwv);
+            si.gpsi -= gwv;
+        },
+    );
+    let per: Vec<Point> = sums
         .into_par_iter()
-        .map(|i| {
-            let mut m = Mat2::ZERO;
-            let mut gpsi = DVec2::ZERO;
-            let mut gsum = Mat2::ZERO;
-            let (xi, vi) = (st.x[i], st.v[i]);
-            for b in nb.of(model, &st.x, i) {
-                let j = b.j as usize;
-                let gwv = b.gw * vol[j];
-                m += Mat2::outer(gwv, st.x[j] - xi);
-                gsum += Mat2::outer(st.v[j] - vi, gwv);
-                gpsi -= gwv;
-            }
+        .enumerate()
+        .map(|(i, Sums { mut m, gsum, gpsi })| {
             let (l, ok) = if !corrected {
                 (Mat2::IDENTITY, true)
             } else {

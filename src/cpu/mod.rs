@@ -287,6 +287,9 @@ impl CpuSolver {
         s.initial_dt = initial_dt;
         s.energy_limit = energy_limit;
         s.nb = lists;
+        // The rows come back in the order they were indexed in, so this
+        // only restores the segment ends (the partition is stable).
+        s.nb.index_rows();
         s
     }
 
