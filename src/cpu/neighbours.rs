@@ -149,8 +149,12 @@ impl Neighbours {
     /// segments end (the layout of [`Neighbours::fwd_end`]). The partition
     /// is stable, so indexing rows that are already indexed changes nothing.
     pub fn index_rows(&mut self) {
+        self.index_rows_in(chunk_len(self.start.len().saturating_sub(1)));
+    }
+
+    /// [`Neighbours::index_rows`] with chunks of `chunk` particles.
+    fn index_rows_in(&mut self, chunk: usize) {
         let n = self.start.len().saturating_sub(1);
-        let chunk = chunk_len(n);
         let near = |i: usize, j: usize| (i / chunk).abs_diff(j / chunk) <= 1;
         // Rows in blocks: each block's rows are one contiguous run of the
         // list, partitioned in parallel with one scratch row per block.
@@ -477,6 +481,109 @@ shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
             a.sort_by_key(|p| p.j);
             b.sort_by_key(|p| p.j);
             assert_eq!(a, b, "particle {i}");
+        }
+    }
+
+    /// The pair sweep sums what a gather over every particle's own partners
+    /// sums, with small chunks (so that far pairs and both phases occur) as
+    /// with the default, and the same bits on one thread as on three.
+    #[test]
+    fn sweep_equals_gather() {
+        let (model, state) = model_of(
+            r#"
+[[bodies]]
+name = "a"
+material = "m"
+spacing = 0.1
+shape = { kind = "disk", center = [0.0, 0.0], radius = 1.0, lattice = "polar" }
+[[bodies]]
+name = "b"
+material = "m"
+spacing = 0.13
+shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
+"#,
+        );
+        let x = &state.x;
+        let n = x.len();
+        // Σ W_ij, Σ ∇_i W_ij and Σ j W_ij: symmetric, antisymmetric and
+        // neither, so a term added to the wrong side shows.
+        type Acc = (f64, DVec2, f64);
+        let gather: Vec<Acc> = {
+            let nb = find_with_skin(&model, x, 0.05);
+            (0..n)
+                .map(|i| {
+                    nb.of(&model, x, i).fold((0.0, DVec2::ZERO, 0.0), |a, b| {
+                        (a.0 + b.w, a.1 + b.gw, a.2 + b.j as f64 * b.w)
+                    })
+                })
+                .collect()
+        };
+        let sweep = |nb: &Neighbours| {
+            let mut acc = vec![(0.0, DVec2::ZERO, 0.0); n];
+            nb.sweep(
+                &model,
+                x,
+                &mut acc,
+                |i, b, ai: &mut Acc, aj: &mut Acc| {
+                    ai.0 += b.w;
+                    aj.0 += b.w;
+                    ai.1 += b.gw;
+                    aj.1 -= b.gw;
+                    ai.2 += b.j as f64 * b.w;
+                    aj.2 += i as f64 * b.w;
+                },
+                |_, b, ai| {
+                    ai.0 += b.w;
+                    ai.1 += b.gw;
+                    ai.2 += b.j as f64 * b.w;
+                },
+            );
+            acc
+        };
+        for chunk in [8, 64, chunk_len(n)] {
+            let mut nb = find_with_skin(&model, x, 0.05);
+            let plain = nb.clone();
+            nb.index_rows_in(chunk);
+            let far: usize = (0..n)
+                .map(|i| (nb.far_end[i] - nb.fwd_end[i]) as usize)
+                .sum();
+            assert_eq!(far > 0, chunk < n / 2, "far pairs with chunks of {chunk}");
+            for i in 0..n {
+                // Each row is a permutation of the unindexed one, and
+                // indexing again changes nothing.
+                let (mut a, mut b) = (nb.candidates(i).to_vec(), plain.candidates(i).to_vec());
+                a.sort();
+                b.sort();
+                assert_eq!(a, b, "row {i}");
+            }
+            let again = {
+                let mut c = nb.clone();
+                c.index_rows_in(chunk);
+                c
+            };
+            assert_eq!(again.list, nb.list);
+            let one = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap();
+            let three = rayon::ThreadPoolBuilder::new()
+                .num_threads(3)
+                .build()
+                .unwrap();
+            let s1 = one.install(|| sweep(&nb));
+            let s3 = three.install(|| sweep(&nb));
+            for i in 0..n {
+                let (g, s) = (gather[i], s1[i]);
+                let scale = g.0.abs() + g.1.length() * model.h[i];
+                assert!((g.0 - s.0).abs() < 1e-12 * scale, "ΣW at {i}: {g:?} {s:?}");
+                assert!(
+                    (g.1 - s.1).length() * model.h[i] < 1e-12 * scale,
+                    "Σ∇W at {i}"
+                );
+                assert!((g.2 - s.2).abs() < 1e-12 * n as f64 * scale, "Σ jW at {i}");
+                assert_eq!(s1[i].0.to_bits(), s3[i].0.to_bits(), "thread count, {i}");
+                assert_eq!(s1[i].1, s3[i].1, "thread count, {i}");
+            }
         }
     }
 
