@@ -84,14 +84,14 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
         &mut sums,
         |i, b, si, sj| {
             let j = b.j as usize;
-            let m = Mat2::outer(b.gw, st.x[j] - st.x[i]);
-            let g = Mat2::outer(st.v[j] - st.v[i], b.gw);
-            si.m += m.scale(vol[j]);
-            si.gsum += g.scale(vol[j]);
-            si.gpsi -= b.gw * vol[j];
-            sj.m += m.scale(vol[i]);
-            sj.gsum += g.scale(vol[i]);
-            sj.gpsi += b.gw * vol[i];
+            let (dx, dv) = (st.x[j] - st.x[i], st.v[j] - st.v[i]);
+            let (gi, gj) = (b.gw * vol[j], b.gw * vol[i]);
+            si.m += Mat2::outer(gi, dx);
+            si.gsum += Mat2::outer(dv, gi);
+            si.gpsi -= gi;
+            sj.m += Mat2::outer(gj, dx);
+            sj.gsum += Mat2::outer(dv, gj);
+            sj.gpsi += gj;
         },
         |i, b, si| {
             let j = b.j as usize;

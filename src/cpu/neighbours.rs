@@ -211,7 +211,7 @@ impl Neighbours {
     /// whatever the thread count.
     pub fn sweep<T, P, O>(&self, model: &Model, x: &[DVec2], acc: &mut [T], pair_fn: P, one: O)
     where
-        T: Send,
+        T: Send + Default,
         P: Fn(usize, &Nbr, &mut T, &mut T) + Sync,
         O: Fn(usize, &Nbr, &mut T) + Sync,
     {
@@ -235,19 +235,23 @@ impl Neighbours {
                             self.fwd_end[i] as usize,
                             self.far_end[i] as usize,
                         );
+                        // No other row of this task writes to i while
+                        // i's row runs (its partners are all j > i), so its
+                        // sums stay in registers until the row ends.
+                        let mut ai = std::mem::take(&mut piece[i - base]);
                         for &j in &self.list[s..f] {
                             if let Some(b) = pair(model, x, i, inv_hi, j) {
-                                // j > i and j is at most one chunk on: both
-                                // inside this task's piece.
-                                let (lo, hi) = piece.split_at_mut(j as usize - base);
-                                pair_fn(i, &b, &mut lo[i - base], &mut hi[0]);
+                                // j is at most one chunk on: inside this
+                                // task's piece.
+                                pair_fn(i, &b, &mut ai, &mut piece[j as usize - base]);
                             }
                         }
                         for &j in &self.list[f..e] {
                             if let Some(b) = pair(model, x, i, inv_hi, j) {
-                                one(i, &b, &mut piece[i - base]);
+                                one(i, &b, &mut ai);
                             }
                         }
+                        piece[i - base] = ai;
                     }
                 });
         }
