@@ -119,14 +119,48 @@ pub struct Neighbours {
     pub chunk: usize,
 }
 
-/// Particles per chunk of the pair sweep for `n` particles: a function of
-/// `n` alone, so that the order of every sum, and so every result, is the
-/// same whatever the thread count. At least 4096, which is more than the
-/// index distance between neighbours in the generated lattices (two lattice
-/// rows: 1,600 for a 20 mm plate at 25 µm), and a 64th of the particles,
-/// which leaves 32 tasks per phase for the threads.
-fn chunk_len(n: usize) -> usize {
-    (n / 64).max(4096)
+/// Particles per chunk of the pair sweep over the rows `start`/`list`: the
+/// smallest power of two above the index distance `|j − i|` of 99 % of the
+/// candidate pairs (the rest are far pairs, visited from both sides), and
+/// no smaller than 256 particles or a 256th of them, so that a task is
+/// worth scheduling. The chunk depends on the lists alone, so the order of
+/// every sum, and every result, is the same whatever the thread count. In
+/// the generated lattices neighbours are a few lattice rows apart (about
+/// 700 indices in a 10⁵-particle disk).
+fn chunk_len(start: &[u32], list: &[u32]) -> usize {
+    let n = start.len().saturating_sub(1);
+    // Pairs by the bit length of their index distance.
+    let hist = (0..n)
+        .into_par_iter()
+        .fold(
+            || [0u64; 33],
+            |mut h, i| {
+                for &j in &list[start[i] as usize..start[i + 1] as usize] {
+                    h[(usize::BITS - (j as usize).abs_diff(i).leading_zeros()).min(32) as usize] +=
+                        1;
+                }
+                h
+            },
+        )
+        .reduce(
+            || [0u64; 33],
+            |mut a, b| {
+                a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+                a
+            },
+        );
+    let total: u64 = hist.iter().sum();
+    let mut covered = 0;
+    let mut bits = 0;
+    for (b, &c) in hist.iter().enumerate() {
+        covered += c;
+        bits = b;
+        if covered * 100 >= total * 99 {
+            break;
+        }
+    }
+    // Distances below 2^bits: a chunk of that size keeps them near.
+    (1usize << bits).max(256).max(n / 256)
 }
 
 impl Neighbours {
@@ -149,7 +183,7 @@ impl Neighbours {
     /// segments end (the layout of [`Neighbours::fwd_end`]). The partition
     /// is stable, so indexing rows that are already indexed changes nothing.
     pub fn index_rows(&mut self) {
-        self.index_rows_in(chunk_len(self.start.len().saturating_sub(1)));
+        self.index_rows_in(chunk_len(&self.start, &self.list));
     }
 
     /// [`Neighbours::index_rows`] with chunks of `chunk` particles.
@@ -544,14 +578,21 @@ shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
             );
             acc
         };
-        for chunk in [8, 64, chunk_len(n)] {
+        for chunk in [Some(8), Some(64), None] {
             let mut nb = find_with_skin(&model, x, 0.05);
             let plain = nb.clone();
-            nb.index_rows_in(chunk);
-            let far: usize = (0..n)
-                .map(|i| (nb.far_end[i] - nb.fwd_end[i]) as usize)
-                .sum();
-            assert_eq!(far > 0, chunk < n / 2, "far pairs with chunks of {chunk}");
+            // The lists come indexed with the default chunk.
+            let far = |nb: &Neighbours| -> usize {
+                (0..n)
+                    .map(|i| (nb.far_end[i] - nb.fwd_end[i]) as usize)
+                    .sum()
+            };
+            assert!(far(&nb) * 50 < nb.list.len(), "the default leaves 1 % far");
+            if let Some(c) = chunk {
+                nb.index_rows_in(c);
+                assert!(far(&nb) > 0, "far pairs with chunks of {c}");
+            }
+            let chunk = nb.chunk;
             for i in 0..n {
                 // Each row is a permutation of the unindexed one, and
                 // indexing again changes nothing.
