@@ -189,37 +189,25 @@ pub fn momentum_energy(
 ) -> (Vec<DVec2>, Vec<f64>) {
     let terms = |i, b: &Nbr| pair_terms(model, st, l, gv, surface, pts, i, b);
     let mut acc = vec![(DVec2::ZERO, 0.0); model.len()];
-    nb.sweep(
-        model,
-        &st.x,
-        &mut acc,
-        |i, b, ai, aj| {
-            let j = b.j as usize;
-            let (ri, rj) = (model.rigid(i), model.rigid(j));
-            if ri && rj {
-                return;
-            }
-            let p = terms(i, b);
-            if !ri {
-                let mj = model.mass[j];
-                ai.0 += p.tg * mj;
-                ai.1 -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g)) - p.shared);
-            }
-            if !rj {
-                let mi = model.mass[i];
-                aj.0 -= p.tg * mi;
-                aj.1 -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g)) - p.shared);
-            }
-        },
-        |i, b, ai| {
-            if model.rigid(i) {
-                return;
-            }
-            let p = terms(i, b);
-            let mj = model.mass[b.j as usize];
+    nb.sweep(model, &st.x, &mut acc, |i, b, ai, aj| {
+        let j = b.j as usize;
+        // Rigid particles keep zero rates; a far pair has no j side here.
+        let aj = aj.filter(|_| !model.rigid(j));
+        let ri = model.rigid(i);
+        if ri && aj.is_none() {
+            return;
+        }
+        let p = terms(i, b);
+        if !ri {
+            let mj = model.mass[j];
             ai.0 += p.tg * mj;
             ai.1 -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g)) - p.shared);
-        },
-    );
+        }
+        if let Some(aj) = aj {
+            let mi = model.mass[i];
+            aj.0 -= p.tg * mi;
+            aj.1 -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g)) - p.shared);
+        }
+    });
     acc.into_iter().unzip()
 }

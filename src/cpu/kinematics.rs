@@ -78,29 +78,20 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
         .map(|j| model.mass[j] / st.rho[j])
         .collect();
     let mut sums = vec![Sums::default(); model.len()];
-    nb.sweep(
-        model,
-        &st.x,
-        &mut sums,
-        |i, b, si, sj| {
-            let j = b.j as usize;
-            let (dx, dv) = (st.x[j] - st.x[i], st.v[j] - st.v[i]);
-            let (gi, gj) = (b.gw * vol[j], b.gw * vol[i]);
-            si.m += Mat2::outer(gi, dx);
-            si.gsum += Mat2::outer(dv, gi);
-            si.gpsi -= gi;
+    nb.sweep(model, &st.x, &mut sums, |i, b, si, sj| {
+        let j = b.j as usize;
+        let (dx, dv) = (st.x[j] - st.x[i], st.v[j] - st.v[i]);
+        let gi = b.gw * vol[j];
+        si.m += Mat2::outer(gi, dx);
+        si.gsum += Mat2::outer(dv, gi);
+        si.gpsi -= gi;
+        if let Some(sj) = sj {
+            let gj = b.gw * vol[i];
             sj.m += Mat2::outer(gj, dx);
             sj.gsum += Mat2::outer(dv, gj);
             sj.gpsi += gj;
-        },
-        |i, b, si| {
-            let j = b.j as usize;
-            let gwv = b.gw * vol[j];
-            si.m += Mat2::outer(gwv, st.x[j] - st.x[i]);
-            si.gsum += Mat2::outer(st.v[j] - st.v[i], gwv);
-            si.gpsi -= gwv;
-        },
-    );
+        }
+    });
     let per: Vec<Point> = sums
         .into_par_iter()
         .enumerate()

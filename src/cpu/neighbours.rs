@@ -234,20 +234,20 @@ impl Neighbours {
     ///
     /// A pair's kernel gradient and most of its terms are the same for both
     /// particles up to sign, so a near pair is visited once, from its lower
-    /// index, and `pair(i, nbr, acc_i, acc_j)` adds to both sides; a far
-    /// pair (rows indexed by [`Neighbours::index_rows`]) is visited from
-    /// both of its particles and `one(i, nbr, acc_i)` adds to i only.
+    /// index, and `pair(i, nbr, acc_i, Some(acc_j))` adds to both sides; a
+    /// far pair (rows indexed by [`Neighbours::index_rows`]) is visited from
+    /// both of its particles, and `pair(i, nbr, acc_i, None)` adds to i
+    /// only. One function serves both, so i's side is written once.
     ///
     /// Writes to `acc_j` need `j` to be owned by the task too: chunks are
     /// taken in two phases, even chunks with their right neighbour and then
     /// odd ones, so two tasks never share an entry. Each entry then receives
     /// its terms in an order fixed by the lists and the chunk size alone,
     /// whatever the thread count.
-    pub fn sweep<T, P, O>(&self, model: &Model, x: &[DVec2], acc: &mut [T], pair_fn: P, one: O)
+    pub fn sweep<T, P>(&self, model: &Model, x: &[DVec2], acc: &mut [T], pair_fn: P)
     where
         T: Send + Default,
-        P: Fn(usize, &Nbr, &mut T, &mut T) + Sync,
-        O: Fn(usize, &Nbr, &mut T) + Sync,
+        P: Fn(usize, &Nbr, &mut T, Option<&mut T>) + Sync,
     {
         let n = acc.len();
         assert_eq!(self.fwd_end.len(), n, "rows not indexed for the sweep");
@@ -277,12 +277,12 @@ impl Neighbours {
                             if let Some(b) = pair(model, x, i, inv_hi, j) {
                                 // j is at most one chunk on: inside this
                                 // task's piece.
-                                pair_fn(i, &b, &mut ai, &mut piece[j as usize - base]);
+                                pair_fn(i, &b, &mut ai, Some(&mut piece[j as usize - base]));
                             }
                         }
                         for &j in &self.list[f..e] {
                             if let Some(b) = pair(model, x, i, inv_hi, j) {
-                                one(i, &b, &mut ai);
+                                pair_fn(i, &b, &mut ai, None);
                             }
                         }
                         piece[i - base] = ai;
@@ -562,18 +562,15 @@ shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
                 &model,
                 x,
                 &mut acc,
-                |i, b, ai: &mut Acc, aj: &mut Acc| {
-                    ai.0 += b.w;
-                    aj.0 += b.w;
-                    ai.1 += b.gw;
-                    aj.1 -= b.gw;
-                    ai.2 += b.j as f64 * b.w;
-                    aj.2 += i as f64 * b.w;
-                },
-                |_, b, ai| {
+                |i, b, ai: &mut Acc, aj: Option<&mut Acc>| {
                     ai.0 += b.w;
                     ai.1 += b.gw;
                     ai.2 += b.j as f64 * b.w;
+                    if let Some(aj) = aj {
+                        aj.0 += b.w;
+                        aj.1 -= b.gw;
+                        aj.2 += i as f64 * b.w;
+                    }
                 },
             );
             acc
