@@ -452,11 +452,11 @@ eos = {{ kind = "linear", c0 = 1000.0 }}
         Model::new(&scene)
     }
 
-    /// The cell list finds exactly the pairs an O(N²) search finds, in a
-    /// scattered 2-D cloud spanning many cells and two bodies.
-    #[test]
-    fn cell_list_equals_brute_force() {
-        let (model, mut state) = model_of(
+    /// A polar-lattice disk and a coarser rectangle beside it: two bodies of
+    /// different spacing, many cells, and particle orders that put some
+    /// neighbours far apart in index.
+    fn two_bodies() -> (Model, crate::model::State) {
+        model_of(
             r#"
 [[bodies]]
 name = "a"
@@ -469,7 +469,14 @@ material = "m"
 spacing = 0.13
 shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
 "#,
-        );
+        )
+    }
+
+    /// The cell list finds exactly the pairs an O(N²) search finds, in a
+    /// scattered 2-D cloud spanning many cells and two bodies.
+    #[test]
+    fn cell_list_equals_brute_force() {
+        let (model, mut state) = two_bodies();
         // Jitter positions deterministically so no pair sits on a lattice.
         let mut seed = 12345u64;
         for p in state.x.iter_mut() {
@@ -527,20 +534,7 @@ shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
     /// with the default, and the same bits on one thread as on three.
     #[test]
     fn sweep_equals_gather() {
-        let (model, state) = model_of(
-            r#"
-[[bodies]]
-name = "a"
-material = "m"
-spacing = 0.1
-shape = { kind = "disk", center = [0.0, 0.0], radius = 1.0, lattice = "polar" }
-[[bodies]]
-name = "b"
-material = "m"
-spacing = 0.13
-shape = { kind = "rectangle", min = [1.01, -0.5], max = [2.0, 0.7] }
-"#,
-        );
+        let (model, state) = two_bodies();
         let x = &state.x;
         let n = x.len();
         // Σ W_ij, Σ ∇_i W_ij and Σ j W_ij: symmetric, antisymmetric and
