@@ -6,6 +6,7 @@ pub mod vtu;
 
 use std::path::Path;
 
+use sphcontact::physics::exact::HertzImpact;
 use sphcontact::physics::material::MaterialModel;
 use sphcontact::run::{run_scene, RunOptions, RunOutput};
 use sphcontact::scene::Backend;
@@ -253,4 +254,27 @@ pub fn failed_run(out_dir: &Path, stderr: &str) -> (String, Message, Vec<Vec<f64
     assert!(!rows.is_empty(), "no history rows");
     assert!(rows.last().unwrap()[0] <= msg.time, "rows past the failure");
     (ours[0].to_string(), msg, rows)
+}
+
+/// Assert that a contact's peak force and duration lie within `margin` (a
+/// fraction) of the quasi-static Hertz bracket: the peak between the soft
+/// bound's and the stiff bound's, the duration between the stiff bound's
+/// (shorter) and the soft bound's.
+pub fn assert_in_hertz_bracket(
+    peak: f64,
+    duration: f64,
+    soft: &HertzImpact,
+    stiff: &HertzImpact,
+    margin: f64,
+) {
+    let pct = 100.0 * margin;
+    assert!(
+        peak > (1.0 - margin) * soft.peak_force && peak < (1.0 + margin) * stiff.peak_force,
+        "peak force {peak:e} N/m outside ±{pct} % of the Hertz bracket"
+    );
+    assert!(
+        duration > (1.0 - margin) * stiff.contact_time
+            && duration < (1.0 + margin) * soft.contact_time,
+        "contact time {duration:e} s outside ±{pct} % of the Hertz bracket"
+    );
 }
