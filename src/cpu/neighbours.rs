@@ -224,8 +224,7 @@ impl Neighbours {
                     .collect()
             })
             .collect();
-        self.fwd_end = ends.iter().flatten().map(|e| e.0).collect();
-        self.far_end = ends.iter().flatten().map(|e| e.1).collect();
+        (self.fwd_end, self.far_end) = ends.into_iter().flatten().unzip();
         self.chunk = chunk;
     }
 
