@@ -1,33 +1,20 @@
 // Explicit midpoint (RK2) updates (METHOD.md §9) with the radial return of
-// perfect plasticity (METHOD.md §6). Half step: mid = base + dt/2 k1.
-// Full step, in place: base += dt k2 (positions with the midpoint velocity),
-// with the instability check. CPU twin: cpu::advance.
+// perfect plasticity (METHOD.md §6). The evaluation at the base state left
+// its rates k1 in the midpoint buffers; advance_half turns them into the
+// midpoint state in place, mid = base + dt/2 k1. The evaluation at the
+// midpoint adds dt k2 to the base state itself (common.wgsl, MID) and the
+// contact's second pass books its energy ledger, so advance_full only moves
+// the positions with the midpoint velocity and checks the new state. CPU
+// twin: cpu::advance.
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
 @group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
-@group(0) @binding(16) var<storage, read> dr: array<vec2<f32>>;
-@group(0) @binding(17) var<storage, read> ds: array<vec4<f32>>;
-@group(0) @binding(18) var<storage, read> dv: array<vec2<f32>>;
-@group(0) @binding(21) var<storage, read> cshare: array<vec4<f32>>;
-@group(0) @binding(23) var<storage, read> cheat: array<f32>;
 @group(0) @binding(30) var<storage, read_write> u_w: array<vec2<f32>>;
 @group(0) @binding(31) var<storage, read_write> v_w: array<vec2<f32>>;
 @group(0) @binding(32) var<storage, read_write> r_w: array<vec2<f32>>;
 @group(0) @binding(33) var<storage, read_write> s_w: array<vec4<f32>>;
-// Per particle: (dashpot heat booked, spring work of its own passes).
-@group(0) @binding(34) var<storage, read_write> qheat_w: array<vec2<f32>>;
 @group(0) @binding(35) var<storage, read> vm: array<vec2<f32>>;
-
-fn plastic_return(sn: vec4<f32>, b: Body) -> vec4<f32> {
-    if (PLASTIC && b.elastic == 0u) {
-        let j = von_mises(sn);
-        if (j > b.y0) {
-            return sn * (b.y0 / j);
-        }
-    }
-    return sn;
-}
 
 fn finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
@@ -44,7 +31,8 @@ fn fail(i: u32, quantity: u32) {
     }
 }
 
-// Stage 1: the midpoint state (u_w, v_w, r_w, s_w are the midpoint buffers).
+// Stage 1: the midpoint state (u_w, v_w, r_w, s_w are the midpoint buffers;
+// v_w, r_w and s_w hold the rates of the evaluation at the base state).
 @compute @workgroup_size(WG)
 fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
@@ -62,17 +50,19 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         s_w[i] = s[i];
         return;
     }
-    v_w[i] = v[i] + dv[i] * k;
-    r_w[i] = r[i] + dr[i] * k;
-    s_w[i] = plastic_return(s[i] + ds[i] * k, b);
+    v_w[i] = v[i] + v_w[i] * k;
+    r_w[i] = r[i] + r_w[i] * k;
+    s_w[i] = plastic_return(s[i] + s_w[i] * k, b);
 }
 
-// Stage 2: the new state, in place (u_w, v_w, r_w, s_w are the base buffers).
+// Stage 2: the new state, in place (u_w, v_w, r_w, s_w are the base
+// buffers; velocity, density, energy and stress were already advanced by
+// the evaluation at the midpoint).
 @compute @workgroup_size(WG)
 fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
     // A zero-length step (past the stop, or after a failure) leaves the
-    // state as it is: non-finite rates times zero would not.
+    // state as it is.
     if (i >= params.n || ctl.dt == 0.0) {
         return;
     }
@@ -80,19 +70,11 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     let b = bodies[pinfo[i].z];
     let un = u_w[i] + vm[i] * dt;
     u_w[i] = un;
-    if (CONTACT) {
-        // A rigid particle books no heat (cheat is 0) but its passes' springs
-        // still do work.
-        qheat_w[i] = qheat_w[i] + vec2<f32>(cheat[i], cshare[i].w) * dt;
-    }
     if (b.rigid != 0u) {
         return;
     }
-    let vn = v_w[i] + dv[i] * dt;
-    let rn = r_w[i] + dr[i] * dt;
-    v_w[i] = vn;
-    r_w[i] = rn;
-    s_w[i] = plastic_return(s_w[i] + ds[i] * dt, b);
+    let vn = v_w[i];
+    let rn = r_w[i];
     let xn = x0[i].zw + un;
     if (!(finite(xn.x) && finite(xn.y))) {
         fail(i, 0u);

@@ -18,6 +18,14 @@ override ART_STRESS: bool = false;
 // the velocity gradient pass A stores).
 override RECON: bool = false;
 override WG: u32 = 64u;
+// Which evaluation of the midpoint step a pass belongs to (METHOD.md §9).
+// At the base state (false) passes A and C and the contact store their
+// particle's rates in the midpoint buffers, which advance_half then turns
+// into the midpoint state in place. At the midpoint (true) they add
+// dt x rate to the base state in place: only particle i reads or writes its
+// own base state during that evaluation (the neighbours' are read from the
+// midpoint buffers), so no rate buffer is needed.
+override MID: bool = false;
 
 const NONE: u32 = 0xffffffffu;
 const BIG: f32 = 3.0e38;
@@ -192,6 +200,18 @@ fn sym_mul(t: vec4<f32>, g: vec2<f32>) -> vec2<f32> {
 
 fn von_mises(s: vec4<f32>) -> f32 {
     return sqrt(1.5 * (s.x * s.x + s.y * s.y + s.w * s.w + 2.0 * s.z * s.z));
+}
+
+// Perfect plasticity, radial return (METHOD.md §6), on an updated
+// deviatoric stress.
+fn plastic_return(sn: vec4<f32>, b: Body) -> vec4<f32> {
+    if (PLASTIC && b.elastic == 0u) {
+        let j = von_mises(sn);
+        if (j > b.y0) {
+            return sn * (b.y0 / j);
+        }
+    }
+    return sn;
 }
 
 // 2x2 matrices are vec4 (xx, xy, yx, yy).

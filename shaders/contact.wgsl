@@ -18,8 +18,11 @@
 @group(0) @binding(19) var<storage, read> area: array<f32>;
 @group(0) @binding(20) var<storage, read_write> cown: array<vec4<f32>>;
 @group(0) @binding(21) var<storage, read_write> cshare: array<vec4<f32>>;
-@group(0) @binding(22) var<storage, read_write> cstat: array<vec4<f32>>;
-@group(0) @binding(23) var<storage, read_write> cheat: array<f32>;
+// The spring energy each particle's pass stores (observations).
+@group(0) @binding(22) var<storage, read_write> cstored: array<f32>;
+// Per particle: (dashpot heat booked, spring work of its own passes), the
+// contact's energy ledger, booked at the midpoint (MID) with the step.
+@group(0) @binding(34) var<storage, read_write> qheat_w: array<vec2<f32>>;
 
 // Kernel weight of the candidate pair (p, q), d = x_q - x_p = pair_d(q, p),
 // or a negative value when q is not a contact candidate of p (METHOD.md
@@ -72,7 +75,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     // w: the partner body as a float (exact for any realistic count), -1: none.
     cown[p] = vec4<f32>(0.0, 0.0, 0.0, -1.0);
     cshare[p] = vec4<f32>(0.0);
-    cstat[p] = vec4<f32>(0.0);
+    cstored[p] = 0.0;
     let np4 = nbo[p];
     if (np4.z <= 0.0) {
         return;
@@ -188,7 +191,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     cown[p] = vec4<f32>(-n * (0.5 * pres * a), own_heat, f32(partner));
     // w: the spring power 1/2 k delta A w of this pass (the spring-work ledger).
     cshare[p] = vec4<f32>(n * (0.5 * pres * a / sw), eta, 0.5 * stiffness * delta * a * w_rate);
-    cstat[p] = vec4<f32>(0.5 * pres * a, pres, stored, heat);
+    cstored[p] = stored;
 }
 
 @compute @workgroup_size(WG)
@@ -198,7 +201,6 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         return;
     }
     if (nbo[q].z <= 0.0) {
-        cheat[q] = 0.0;
         return;
     }
     let mq = pinfo[q];
@@ -234,9 +236,20 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     if (bodyq.rigid != 0u) {
         booked = 0.0;
     } else {
+        // Rates at the base state, dt x rate at the midpoint (MID; a
+        // zero-length step leaves the state as it is).
         let m = bitcast<f32>(mq.x);
-        dv[q] += total / m;
-        dr[q].y += booked / m;
+        if (!MID) {
+            dv[q] += total / m;
+            dr[q].y += booked / m;
+        } else if (ctl.dt != 0.0) {
+            dv[q] += total * (ctl.dt / m);
+            dr[q].y += booked * (ctl.dt / m);
+        }
     }
-    cheat[q] = booked;
+    if (MID && ctl.dt != 0.0) {
+        // A rigid particle books no heat (booked is 0) but its passes'
+        // springs still do work.
+        qheat_w[q] = qheat_w[q] + vec2<f32>(booked, cshare[q].w) * ctl.dt;
+    }
 }

@@ -4,6 +4,10 @@
 // second loop, giving the continuity rate and the Jaumann stress rate.
 // CPU twins: cpu::kinematics::{correction_and_colour,
 // density_and_stress_rates}, cpu::eos_and_stress.
+//
+// dr and ds are where the rates go (common.wgsl, MID): at the base state
+// the midpoint buffers (rm, sm), which receive the rates themselves; at the
+// midpoint the base state (r, s), which receives dt x rate in place.
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
@@ -111,8 +115,10 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     }
 
     if (body.rigid != 0u) {
-        dr[i] = vec2<f32>(0.0);
-        ds[i] = vec4<f32>(0.0);
+        if (!MID) {
+            dr[i] = vec2<f32>(0.0);
+            ds[i] = vec4<f32>(0.0);
+        }
         if (RECON) {
             gradv[i] = vec4<f32>(0.0);
         }
@@ -138,17 +144,26 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         gradv[i] = gv;
     }
     let tr = gv.x + gv.w;
-    dr[i].x = -(1.0 + mu) * tr;
+    let dmu = -(1.0 + mu) * tr;
 
     // Jaumann-rate hypoelastic deviatoric stress rate, plane strain.
     let g = body.g;
     let exy = 0.5 * (gv.y + gv.z);
     let w = 0.5 * (gv.y - gv.z);
     let tr3 = tr / 3.0;
-    ds[i] = vec4<f32>(
+    let rate = vec4<f32>(
         2.0 * g * (gv.x - tr3) + 2.0 * w * si.z,
         2.0 * g * (gv.w - tr3) - 2.0 * w * si.z,
         2.0 * g * exy + w * (si.y - si.x),
         -2.0 * g * tr3,
     );
+    if (!MID) {
+        dr[i].x = dmu;
+        ds[i] = rate;
+    } else if (ctl.dt != 0.0) {
+        // A zero-length step leaves the state as it is.
+        let dt = ctl.dt;
+        dr[i].x = dr[i].x + dmu * dt;
+        ds[i] = plastic_return(ds[i] + rate * dt, body);
+    }
 }

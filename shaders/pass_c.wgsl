@@ -3,6 +3,10 @@
 // and, when the scene switches it on, artificial stress. With contact on it
 // also measures each boundary particle's contact area (METHOD.md §8.4).
 // CPU twins: cpu::forces::momentum_energy, cpu::kinematics::boundary.
+//
+// dv and dr.y take the rates at the base state (into the midpoint buffers)
+// and dt x rate added in place to the base state at the midpoint
+// (common.wgsl, MID).
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
@@ -44,8 +48,10 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let rigid = body.rigid != 0u;
     let boundary = CONTACT && nbo[i].z > 0.0;
     if (rigid && !boundary) {
-        dv[i] = vec2<f32>(0.0);
-        dr[i].y = 0.0;
+        if (!MID) {
+            dv[i] = vec2<f32>(0.0);
+            dr[i].y = 0.0;
+        }
         if (CONTACT) {
             area[i] = 0.0;
         }
@@ -125,12 +131,17 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             de -= mass_j * (dot(vij, sym_mul(ti, g)) - 0.5 * pi * dot(vij, g) + art_work);
         }
     }
-    if (rigid) {
-        dv[i] = vec2<f32>(0.0);
-        dr[i].y = 0.0;
-    } else {
-        dv[i] = acc;
-        dr[i].y = de;
+    if (!MID) {
+        if (rigid) {
+            dv[i] = vec2<f32>(0.0);
+            dr[i].y = 0.0;
+        } else {
+            dv[i] = acc;
+            dr[i].y = de;
+        }
+    } else if (!rigid && ctl.dt != 0.0) {
+        dv[i] = dv[i] + acc * ctl.dt;
+        dr[i].y = dr[i].y + de * ctl.dt;
     }
     if (CONTACT) {
         var a = 0.0;

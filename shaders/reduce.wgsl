@@ -8,8 +8,9 @@
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
 @group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
 @group(0) @binding(14) var<storage, read> sr2c: array<vec4<f32>>;
+@group(0) @binding(19) var<storage, read> area: array<f32>;
 @group(0) @binding(20) var<storage, read> cown: array<vec4<f32>>;
-@group(0) @binding(22) var<storage, read> cstat: array<vec4<f32>>;
+@group(0) @binding(22) var<storage, read> cstored: array<f32>;
 @group(0) @binding(24) var<storage, read> qheat: array<vec2<f32>>;
 @group(0) @binding(25) var<storage, read_write> red: array<f32>;
 @group(0) @binding(26) var<storage, read_write> ring: array<f32>;
@@ -150,14 +151,21 @@ fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
             let b = f32(sl.z);
             let fb = f32(bi);
             if ((fb == a && partner == b) || (fb == b && partner == a)) {
+                // The particle's own contact force, p A / 2 (contact.wgsl).
+                let f = length(cown[i].xy);
                 if (code == 6u) {
-                    return cstat[i].x;
+                    return f;
                 }
-                return cstat[i].y;
+                // Its pressure p.
+                let a = area[i];
+                if (a > 0.0) {
+                    return 2.0 * f / a;
+                }
+                return 0.0;
             }
             return 0.0;
         }
-        case 8u: { return cstat[i].z; }
+        case 8u: { return cstored[i]; }
         default: { return qheat[i].x; }
     }
 }

@@ -10,8 +10,16 @@
 //! | momentum, energy, contact area | `pass_c.wgsl` | [`crate::cpu::forces`] |
 //! | contact pass 1 and 2 (only with contact) | `contact.wgsl` | [`crate::cpu::contact`] |
 //! | CFL minimum, time, observations | `reduce.wgsl` | [`crate::cpu::cfl_step`], [`crate::probe`] |
-//! | midpoint half step, then the evaluation again, full step | `advance.wgsl` | `cpu::advance` |
+//! | midpoint half step; then the evaluation again, adding `Δt k2` in place; positions and checks | `advance.wgsl`, the passes at the midpoint | `cpu::advance` |
 //! | every 16 steps: particles reordered by cell | `reorder.wgsl` | (none needed) |
+//!
+//! There are no buffers of rates. The evaluation at the base state leaves
+//! its rates in the midpoint buffers, which `advance_half` turns into the
+//! midpoint state in place; the evaluation at the midpoint adds `Δt k2` to
+//! the base state itself, each particle to its own entries (its neighbours
+//! are read from the midpoint buffers then), and the contact's second pass
+//! books the contact energy ledger. The kernels tell the two apart by the
+//! pipeline constant `MID` (`common.wgsl`).
 //!
 //! The host encodes a batch of steps into one submission and reads back
 //! only a small control block and the ring of per-step observations the
@@ -149,7 +157,7 @@ pub const STAGES: &[StageSpec] = &[
     StageSpec {
         name: "advance",
         per_step: 1.0,
-        what: "midpoint half step, full step, time and step counters",
+        what: "midpoint half step, full-step positions and checks, time and step counters",
     },
 ];
 
@@ -488,10 +496,12 @@ impl GpuSolver {
         make("s", 16 * nn, Some(bytemuck::cast_slice(&s)))?;
         make("pinfo", 16 * nn, Some(bytemuck::cast_slice(&meta)))?;
         make("slot_of", 4 * nn, Some(bytemuck::cast_slice(&slot_of)))?;
-        for name in ["um", "vm", "rm", "dv", "dr"] {
+        // The midpoint state; the evaluation at the base state leaves its
+        // rates there (common.wgsl, MID), so there are no rate buffers.
+        for name in ["um", "vm", "rm"] {
             make(name, 8 * nn, None)?;
         }
-        for name in ["sm", "ds", "lmat", "nbo", "sr2c"] {
+        for name in ["sm", "lmat", "nbo", "sr2c"] {
             make(name, 16 * nn, None)?;
         }
         if model.artificial_stress.is_some() {
@@ -508,8 +518,8 @@ impl GpuSolver {
                 Some(bytemuck::cast_slice(&vec![0f32; 2 * n])),
             )?;
             make("area", 4 * nn, None)?;
-            make("cheat", 4 * nn, None)?;
-            for name in ["cown", "cshare", "cstat"] {
+            make("cstored", 4 * nn, None)?;
+            for name in ["cown", "cshare"] {
                 make(name, 16 * nn, None)?;
             }
         }
@@ -591,13 +601,31 @@ impl GpuSolver {
                 (maxd, g.div_ceil(maxd))
             }
         };
-        let mid_aliases: &[(&str, &str)] = &[("u", "um"), ("v", "vm"), ("r", "rm"), ("s", "sm")];
+        // Where an evaluation's rates go (common.wgsl, MID): at the base
+        // state into the midpoint buffers; at the midpoint, which the
+        // evaluation reads instead of the base state, into the base state.
+        let base_aliases: &[(&str, &str)] = &[("dv", "vm"), ("dr", "rm"), ("ds", "sm")];
+        let mid_aliases: &[(&str, &str)] = &[
+            ("u", "um"),
+            ("v", "vm"),
+            ("r", "rm"),
+            ("s", "sm"),
+            ("dv", "v"),
+            ("dr", "r"),
+            ("ds", "s"),
+            ("qheat_w", "qheat"),
+        ];
+        let mut mid_constants = constants.clone();
+        mid_constants.push(("MID", 1.0));
         let kernel = |stage: &str,
                       entry: &str,
                       size: Size,
                       aliases: &[(&str, &str)]|
          -> Result<Kernel, String> {
-            let pipeline = ctx.pipeline(stage, entry, &constants);
+            // MID exactly when the rates are added to the base state.
+            let mid = aliases.contains(&("dv", "v"));
+            let pipeline =
+                ctx.pipeline(stage, entry, if mid { &mid_constants } else { &constants });
             let storage_used = pipeline.bindings.iter().filter(|b| !b.uniform).count() as u32;
             if storage_used > limits.max_storage_buffers_per_shader_stage {
                 return Err(format!(
@@ -660,7 +688,11 @@ impl GpuSolver {
 
         let mut evals = Vec::new();
         for var in [Var::Base, Var::Mid] {
-            let al: &[(&str, &str)] = if var == Var::Base { &[] } else { mid_aliases };
+            let al: &[(&str, &str)] = if var == Var::Base {
+                base_aliases
+            } else {
+                mid_aliases
+            };
             evals.push(Eval {
                 cells: kernel("grid", "grid_cells", Size::Particles, al)?,
                 pass_a: kernel("pass_a", "pass_a", Size::Particles, al)?,
@@ -715,13 +747,7 @@ impl GpuSolver {
                 "advance",
                 "advance_full",
                 Size::Particles,
-                &[
-                    ("u_w", "u"),
-                    ("v_w", "v"),
-                    ("r_w", "r"),
-                    ("s_w", "s"),
-                    ("qheat_w", "qheat"),
-                ],
+                &[("u_w", "u"), ("v_w", "v"), ("r_w", "r")],
             )?,
             end_step: kernel("reduce", "end_step", Size::One, &[])?,
             permute: kernel(
@@ -734,7 +760,7 @@ impl GpuSolver {
                     ("t_v", "vm"),
                     ("t_r", "rm"),
                     ("t_s", "sm"),
-                    ("t_pinfo", "ds"),
+                    ("t_pinfo", "sr2c"),
                     ("t_qheat", "cown"),
                 ],
             )?,
@@ -809,7 +835,7 @@ impl GpuSolver {
         copy("vm", "v", 8);
         copy("rm", "r", 8);
         copy("sm", "s", 16);
-        copy("ds", "pinfo", 16);
+        copy("sr2c", "pinfo", 16);
         if self.model.contact {
             copy("cown", "qheat", 8);
         }
@@ -1246,10 +1272,9 @@ impl GpuSolver {
         let nn = self.n as u64;
         let mut saved = vec![("ctl", 48)];
         if name == "advance" {
-            saved.extend([("u", 8 * nn), ("v", 8 * nn), ("r", 8 * nn), ("s", 16 * nn)]);
-            if self.model.contact {
-                saved.push(("qheat", 8 * nn));
-            }
+            // Of the state it moves the positions only: the rest of the full
+            // step is added in place by the passes at the midpoint.
+            saved.push(("u", 8 * nn));
         }
         let backups: Vec<wgpu::Buffer> = saved
             .iter()
@@ -1331,9 +1356,10 @@ impl GpuSolver {
                 ("lmat", 16 * nn),
                 ("nbo", 16 * nn),
                 ("sr2c", 16 * nn),
-                ("dr", 8 * nn),
-                ("ds", 16 * nn),
-                ("dv", 8 * nn),
+                // The rates at the base state, left in the midpoint buffers.
+                ("rm", 8 * nn),
+                ("sm", 16 * nn),
+                ("vm", 8 * nn),
             ],
         );
         let mut enc = dev.create_command_encoder(&Default::default());
@@ -1346,7 +1372,7 @@ impl GpuSolver {
             self.k.cfl_partial.dispatch(&mut pass);
             self.k.cfl_final.dispatch(&mut pass);
         }
-        let mut names = vec![("dv", 8 * nn), ("dr", 8 * nn), ("ctl", 48)];
+        let mut names = vec![("vm", 8 * nn), ("rm", 8 * nn), ("ctl", 48)];
         if self.model.contact {
             names.push(("area", 4 * nn));
         }
