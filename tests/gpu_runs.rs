@@ -47,7 +47,9 @@ fn mean_over(out: &RunOutput, name: &str, t0: f64, t1: f64) -> f64 {
 }
 
 /// Bars: the contact-pressure plateau, the separation time, the final mean
-/// velocities.
+/// velocities, and the contact's energy ledger: the dashpot heat booked and
+/// the spring's net work (the device books both in the contact's second
+/// pass at the midpoint, the host in its step).
 fn compare_bars(path: &str, plateau: (f64, f64), bodies: [&str; 2]) {
     let Some((cpu, gpu_out)) = both(path) else {
         return;
@@ -63,6 +65,18 @@ fn compare_bars(path: &str, plateau: (f64, f64), bodies: [&str; 2]) {
     for b in bodies {
         close(b, last(&gpu_out, b), last(&cpu, b), 5e-3);
     }
+    close(
+        "dashpot heat",
+        last(&gpu_out, "energy_heat"),
+        last(&cpu, "energy_heat"),
+        5e-3,
+    );
+    close(
+        "spring work",
+        gpu_out.summary.energy_spring_loss,
+        cpu.summary.energy_spring_loss,
+        5e-3,
+    );
 }
 
 #[test]
