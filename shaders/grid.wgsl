@@ -7,9 +7,10 @@
 // The host binds `cellc_w`, `bstart_w` and `blist_w` to the buffers the
 // other stages read as `cellc`, `bstart` and `blist`.
 @group(0) @binding(12) var<storage, read_write> cellc_w: array<vec2<i32>>;
-@group(0) @binding(13) var<storage, read_write> bkt: array<u32>;
+// Particles per bucket: counted up by grid_cells, counted back down to zero
+// by grid_scatter as it hands out the places (in whatever order the atomics
+// take; grid_sort then fixes the order).
 @group(0) @binding(14) var<storage, read_write> bcount: array<atomic<u32>>;
-@group(0) @binding(15) var<storage, read_write> bfill: array<atomic<u32>>;
 @group(0) @binding(16) var<storage, read_write> bstart_w: array<u32>;
 @group(0) @binding(17) var<storage, read_write> bsum: array<u32>;
 @group(0) @binding(18) var<storage, read_write> blist_w: array<u32>;
@@ -24,7 +25,6 @@ fn grid_clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
         return;
     }
     atomicStore(&bcount[b], 0u);
-    atomicStore(&bfill[b], 0u);
 }
 
 @compute @workgroup_size(WG)
@@ -36,7 +36,6 @@ fn grid_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     let c = current_cell(i);
     let b = bucket_of(c);
     cellc_w[i] = c;
-    bkt[i] = b;
     atomicAdd(&bcount[b], 1u);
 }
 
@@ -118,8 +117,10 @@ fn grid_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (i >= params.n) {
         return;
     }
-    let b = bkt[i];
-    blist_w[bstart_w[b] + atomicAdd(&bfill[b], 1u)] = i;
+    // The bucket again from the cell (a hash is cheaper than 4 bytes a
+    // particle to keep it).
+    let b = bucket_of(cellc_w[i]);
+    blist_w[bstart_w[b] + atomicSub(&bcount[b], 1u) - 1u] = i;
 }
 
 // Insertion sort of each bucket by slot: buckets hold a cell's few
