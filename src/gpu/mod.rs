@@ -615,15 +615,13 @@ impl GpuSolver {
         ];
         let mut mid_constants = constants.clone();
         mid_constants.push(("MID", 1.0));
-        let kernel = |stage: &str,
-                      entry: &str,
-                      size: Size,
-                      aliases: &[(&str, &str)]|
+        let kernel_in = |consts: &[(&str, f64)],
+                         stage: &str,
+                         entry: &str,
+                         size: Size,
+                         aliases: &[(&str, &str)]|
          -> Result<Kernel, String> {
-            // MID exactly when the rates are added to the base state.
-            let mid = aliases.contains(&("dv", "v"));
-            let pipeline =
-                ctx.pipeline(stage, entry, if mid { &mid_constants } else { &constants });
+            let pipeline = ctx.pipeline(stage, entry, consts);
             let storage_used = pipeline.bindings.iter().filter(|b| !b.uniform).count() as u32;
             if storage_used > limits.max_storage_buffers_per_shader_stage {
                 return Err(format!(
@@ -683,22 +681,26 @@ impl GpuSolver {
                 groups: groups_of(size),
             })
         };
+        let kernel = |stage: &str, entry: &str, size: Size, aliases: &[(&str, &str)]| {
+            kernel_in(&constants, stage, entry, size, aliases)
+        };
 
         let mut evals = Vec::new();
         for var in [Var::Base, Var::Mid] {
-            let al: &[(&str, &str)] = if var == Var::Base {
-                base_aliases
+            let (consts, al) = if var == Var::Base {
+                (constants.as_slice(), base_aliases)
             } else {
-                mid_aliases
+                (mid_constants.as_slice(), mid_aliases)
             };
+            let eval_kernel = |stage, entry| kernel_in(consts, stage, entry, Size::Particles, al);
             evals.push(Eval {
-                cells: kernel("grid", "grid_cells", Size::Particles, al)?,
-                pass_a: kernel("pass_a", "pass_a", Size::Particles, al)?,
-                pass_c: kernel("pass_c", "pass_c", Size::Particles, al)?,
+                cells: eval_kernel("grid", "grid_cells")?,
+                pass_a: eval_kernel("pass_a", "pass_a")?,
+                pass_c: eval_kernel("pass_c", "pass_c")?,
                 contact: if contact {
                     Some((
-                        kernel("contact", "contact_pass1", Size::Particles, al)?,
-                        kernel("contact", "contact_pass2", Size::Particles, al)?,
+                        eval_kernel("contact", "contact_pass1")?,
+                        eval_kernel("contact", "contact_pass2")?,
                     ))
                 } else {
                     None
@@ -741,12 +743,7 @@ impl GpuSolver {
                 Size::Particles,
                 &[("u_w", "um"), ("v_w", "vm"), ("r_w", "rm"), ("s_w", "sm")],
             )?,
-            advance_full: kernel(
-                "advance",
-                "advance_full",
-                Size::Particles,
-                &[("u_w", "u"), ("v_w", "v"), ("r_w", "r")],
-            )?,
+            advance_full: kernel("advance", "advance_full", Size::Particles, &[("u_w", "u")])?,
             end_step: kernel("reduce", "end_step", Size::One, &[])?,
             permute: kernel(
                 "reorder",
