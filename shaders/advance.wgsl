@@ -55,9 +55,9 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     s_w[i] = plastic_return(s[i] + s_w[i] * k, b);
 }
 
-// Stage 2: the new state, in place (u_w, v_w, r_w, s_w are the base
-// buffers; velocity, density, energy and stress were already advanced by
-// the evaluation at the midpoint).
+// Stage 2: the new positions, in place (u_w is the base buffer), and the
+// checks of the new state (velocity, density, energy and stress were
+// already advanced by the evaluation at the midpoint; v and r read them).
 @compute @workgroup_size(WG)
 fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
@@ -73,8 +73,8 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (b.rigid != 0u) {
         return;
     }
-    let vn = v_w[i];
-    let rn = r_w[i];
+    let vn = v[i];
+    let rn = r[i];
     let xn = x0[i].zw + un;
     if (!(finite(xn.x) && finite(xn.y))) {
         fail(i, 0u);
