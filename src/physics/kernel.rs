@@ -56,12 +56,21 @@ pub fn w_grad(dim: usize, d: glam::DVec2, r2: f64, inv_h: f64) -> Option<(f64, g
         2 => 10.0 / (7.0 * std::f64::consts::PI) * inv_h * inv_h,
         _ => inv_h * inv_h * inv_h / std::f64::consts::PI,
     };
-    // f(q) and (df/dq)/q.
-    let (f, g_q) = if q < 1.0 {
-        (1.0 - 1.5 * q2 + 0.75 * q2 * q, -3.0 + 2.25 * q)
+    // f(q) and (df/dq)/q. Both branches are computed and one is selected:
+    // whether a neighbour lies inside q = 1 is a coin toss the branch
+    // predictor loses, and the select compiles to blends. The outer form's
+    // division is by max(q, 1), the same value wherever it is selected.
+    let t = 2.0 - q;
+    let inner = q < 1.0;
+    let f = if inner {
+        1.0 - 1.5 * q2 + 0.75 * q2 * q
     } else {
-        let t = 2.0 - q;
-        (0.25 * t * t * t, -0.75 * t * t / q)
+        0.25 * t * t * t
+    };
+    let g_q = if inner {
+        -3.0 + 2.25 * q
+    } else {
+        -0.75 * t * t / q.max(1.0)
     };
     Some((a * f, d * (a * inv_h * inv_h * g_q)))
 }
