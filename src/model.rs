@@ -44,6 +44,10 @@ pub struct Model {
     pub contact: bool,
     /// `true` when some material has a yield stress.
     pub plastic: bool,
+    /// `true` when some body is rigid. Without one, [`Model::rigid`]
+    /// answers at once instead of looking through the particle's body (the
+    /// pair loops ask it for both particles of every pair).
+    pub any_rigid: bool,
     /// The box a particle may not leave (`[lower, upper]` corners): see
     /// [`Model::domain_of`].
     pub domain: [DVec2; 2],
@@ -108,6 +112,7 @@ impl Model {
             offset: Vec::with_capacity(n),
             contact: sim.interaction == Interaction::Penalty && scene.bodies.len() > 1,
             plastic: false,
+            any_rigid: false,
             domain: [DVec2::ZERO; 2],
             energy_guard: false,
             energy_floor: 0.0,
@@ -144,6 +149,7 @@ impl Model {
                 state.rho.push(material.rho0);
             }
             model.plastic |= !b.rigid && material.y0.is_finite();
+            model.any_rigid |= b.rigid;
             model.bodies.push(BodyInfo {
                 name: b.name.clone(),
                 material,
@@ -260,7 +266,7 @@ impl Model {
 
     #[inline]
     pub fn rigid(&self, i: usize) -> bool {
-        self.bodies[self.body[i] as usize].rigid
+        self.any_rigid && self.bodies[self.body[i] as usize].rigid
     }
 
     #[inline]

@@ -189,15 +189,11 @@ pub fn momentum_energy(
 ) -> (Vec<DVec2>, Vec<f64>) {
     let terms = |i, b: &Nbr| pair_terms(model, st, l, gv, surface, pts, i, b);
     let mut acc = vec![(DVec2::ZERO, 0.0); model.len()];
-    // Most scenes have no rigid body: then the per-pair look-ups through
-    // the particle's body are skipped altogether.
-    let any_rigid = model.bodies.iter().any(|b| b.rigid);
-    let rigid = |i: usize| any_rigid && model.rigid(i);
     nb.sweep(model, &st.x, &mut acc, |i, b, ai, aj| {
         let j = b.j as usize;
         // Rigid particles keep zero rates; a far pair has no j side here.
-        let aj = aj.filter(|_| !rigid(j));
-        let ri = rigid(i);
+        let aj = aj.filter(|_| !model.rigid(j));
+        let ri = model.rigid(i);
         if ri && aj.is_none() {
             return;
         }
