@@ -343,6 +343,12 @@ struct Progress {
     t0: f64,
 }
 
+/// The per cent of the end time at which the plain line after one at
+/// `percent` is due: the next multiple of [`LINE_PERCENT`].
+fn next_line_percent(percent: f64) -> f64 {
+    ((percent / LINE_PERCENT).floor() + 1.0) * LINE_PERCENT
+}
+
 /// Wall seconds left when this process has taken `elapsed` seconds to go
 /// from simulated time `t0` to `t` of `end`, at the same pace; `None`
 /// before any simulated time has passed.
@@ -355,7 +361,8 @@ impl Progress {
         let mut p = Self {
             bar: None,
             plain: false,
-            next_percent: LINE_PERCENT,
+            // A resumed run's first plain line is due at the next multiple.
+            next_percent: next_line_percent(100.0 * t0 / end),
             last_line: Instant::now(),
             snapshots: None,
             t0,
@@ -378,8 +385,6 @@ impl Progress {
             p.bar = Some(bar);
         } else {
             p.plain = true;
-            // A resumed run's first line is due at the next multiple.
-            p.next_percent = ((100.0 * t0 / end / LINE_PERCENT).floor() + 1.0) * LINE_PERCENT;
         }
         p
     }
@@ -401,7 +406,7 @@ impl Progress {
             if percent < self.next_percent && quiet_for < LINE_SECONDS {
                 return;
             }
-            self.next_percent = ((percent / LINE_PERCENT).floor() + 1.0) * LINE_PERCENT;
+            self.next_percent = next_line_percent(percent);
             self.last_line = Instant::now();
             let eta = eta_seconds(elapsed, self.t0, t, end).map_or("unknown".into(), duration);
             eprintln!(
@@ -965,5 +970,15 @@ mod tests {
         assert!(close(eta_seconds(10.0, 5e-6, 7.5e-6, 1e-5), 10.0));
         assert!(close(eta_seconds(3.0, 0.0, 1e-5, 1e-5), 0.0));
         assert_eq!(eta_seconds(1.0, 5e-6, 5e-6, 1e-5), None);
+    }
+
+    /// Plain lines come at the multiples of LINE_PERCENT: a fresh run's
+    /// first at 5 %, one resumed at 83 % next at 85 %, and after a line at
+    /// exactly 85 % the next at 90 %.
+    #[test]
+    fn plain_lines_at_the_next_multiple() {
+        assert_eq!(next_line_percent(0.0), LINE_PERCENT);
+        assert_eq!(next_line_percent(83.3), 85.0);
+        assert_eq!(next_line_percent(85.0), 90.0);
     }
 }

@@ -48,8 +48,9 @@ fn mean_over(out: &RunOutput, name: &str, t0: f64, t1: f64) -> f64 {
 
 /// Bars: the contact-pressure plateau, the separation time, the final mean
 /// velocities, and the contact's energy ledger: the dashpot heat booked
-/// (`energy_heat`) and the spring's net work (the device books both in the contact's second
-/// pass at the midpoint, the host in its step).
+/// (`energy_heat`) and the energy the spring lost (from its net work; the
+/// device books both in the contact's second pass at the midpoint, the
+/// host in its step).
 fn compare_bars(path: &str, plateau: (f64, f64), bodies: [&str; 2]) {
     let Some((cpu, gpu_out)) = both(path) else {
         return;
@@ -66,7 +67,7 @@ fn compare_bars(path: &str, plateau: (f64, f64), bodies: [&str; 2]) {
         close(name, last(&gpu_out, name), last(&cpu, name), 5e-3);
     }
     close(
-        "spring work",
+        "spring loss",
         gpu_out.summary.energy_spring_loss,
         cpu.summary.energy_spring_loss,
         5e-3,
