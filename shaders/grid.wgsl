@@ -1,17 +1,20 @@
 // Cell-list neighbour search, rebuilt at every evaluation: each particle's
-// cell and bucket, a count per bucket, an exclusive prefix sum (three
+// cell and bucket, a count per bucket, an inclusive prefix sum (three
 // passes), a scatter, and a sort of each bucket by slot so that the order
 // within a cell is fixed whatever order the scatter's atomics took.
 // Integer atomics only; the result is deterministic.
+//
+// One array per bucket does the counting sort (4 bytes a bucket, 2 to 4
+// buckets a particle): it holds the bucket's count, then after the scan the
+// end of the bucket in the sorted list, and the scatter counts that end back
+// down to the bucket's start as it hands out the places, so that when the
+// scatter is done `bstart[b]` is the start of bucket b and `bstart[b + 1]`
+// its end.
 
 // The host binds `cellc_w`, `bstart_w` and `blist_w` to the buffers the
 // other stages read as `cellc`, `bstart` and `blist`.
 @group(0) @binding(12) var<storage, read_write> cellc_w: array<vec2<i32>>;
-// Particles per bucket: counted up by grid_cells, counted back down to zero
-// by grid_scatter as it hands out the places (in whatever order the atomics
-// take; grid_sort then fixes the order).
-@group(0) @binding(14) var<storage, read_write> bcount: array<atomic<u32>>;
-@group(0) @binding(16) var<storage, read_write> bstart_w: array<u32>;
+@group(0) @binding(16) var<storage, read_write> bstart_w: array<atomic<u32>>;
 @group(0) @binding(17) var<storage, read_write> bsum: array<u32>;
 @group(0) @binding(18) var<storage, read_write> blist_w: array<u32>;
 
@@ -24,7 +27,7 @@ fn grid_clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if (b >= params.buckets) {
         return;
     }
-    atomicStore(&bcount[b], 0u);
+    atomicStore(&bstart_w[b], 0u);
 }
 
 @compute @workgroup_size(WG)
@@ -36,7 +39,7 @@ fn grid_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     let c = current_cell(i);
     let b = bucket_of(c);
     cellc_w[i] = c;
-    atomicAdd(&bcount[b], 1u);
+    atomicAdd(&bstart_w[b], 1u);
 }
 
 // Hillis-Steele inclusive scan of `sh` by the 256 threads of a workgroup.
@@ -53,7 +56,7 @@ fn scan_shared(lid: u32) {
     workgroupBarrier();
 }
 
-// Exclusive scan within blocks of 256 buckets; block totals to `bsum`.
+// Inclusive scan within blocks of 256 buckets; block totals to `bsum`.
 @compute @workgroup_size(256)
 fn scan_local(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let lid = lid3.x;
@@ -65,12 +68,12 @@ fn scan_local(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_
     let b = block * SCAN + lid;
     var v = 0u;
     if (b < params.buckets) {
-        v = atomicLoad(&bcount[b]);
+        v = atomicLoad(&bstart_w[b]);
     }
     sh[lid] = v;
     scan_shared(lid);
     if (b < params.buckets) {
-        bstart_w[b] = sh[lid] - v;
+        atomicStore(&bstart_w[b], sh[lid]);
     }
     if (lid == SCAN - 1u) {
         bsum[block] = sh[lid];
@@ -104,10 +107,10 @@ fn scan_add(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id
     let block = wid.x + wid.y * nwg.x;
     let b = block * SCAN + lid3.x;
     if (b < params.buckets && block * SCAN < params.buckets) {
-        bstart_w[b] = bstart_w[b] + bsum[block];
+        atomicAdd(&bstart_w[b], bsum[block]);
     }
     if (b == 0u) {
-        bstart_w[params.buckets] = params.n;
+        atomicStore(&bstart_w[params.buckets], params.n);
     }
 }
 
@@ -120,7 +123,7 @@ fn grid_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     // The bucket again from the cell (a hash is cheaper than 4 bytes a
     // particle to keep it).
     let b = bucket_of(cellc_w[i]);
-    blist_w[bstart_w[b] + atomicSub(&bcount[b], 1u) - 1u] = i;
+    blist_w[atomicSub(&bstart_w[b], 1u) - 1u] = i;
 }
 
 // Insertion sort of each bucket by slot: buckets hold a cell's few
@@ -131,8 +134,8 @@ fn grid_sort(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     if (b >= params.buckets) {
         return;
     }
-    let lo = bstart_w[b];
-    let hi = bstart_w[b + 1u];
+    let lo = atomicLoad(&bstart_w[b]);
+    let hi = atomicLoad(&bstart_w[b + 1u]);
     for (var k = lo + 1u; k < hi; k = k + 1u) {
         let key = blist_w[k];
         var m = k;

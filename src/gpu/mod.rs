@@ -525,7 +525,7 @@ impl GpuSolver {
         }
         make("cellc", 8 * nn, None)?;
         make("blist", 4 * nn, None)?;
-        make("bcount", 4 * buckets as u64, None)?;
+        // Counts, then ends, then starts (grid.wgsl): one array.
         make("bstart", 4 * (buckets as u64 + 1), None)?;
         make("bsum", 4 * buckets.div_ceil(256) as u64, None)?;
         let red_len = red_groups as u64 * (1 + plan.slots.len() as u64);
