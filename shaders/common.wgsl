@@ -124,9 +124,10 @@ fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
 @group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
-// The cell list (written by grid.wgsl): each particle's cell, the start of
-// each bucket in the sorted list, the sorted list of particles.
-@group(0) @binding(9) var<storage, read> cellc: array<vec2<i32>>;
+// The cell list (written by grid.wgsl): the start of each bucket in the
+// sorted list, the sorted list of particles. A particle's cell is not
+// stored: `current_cell` recomputes it from the reference cell and the
+// displacement a pair reads anyway, with the same arithmetic the build used.
 @group(0) @binding(10) var<storage, read> bstart: array<u32>;
 @group(0) @binding(11) var<storage, read> blist: array<u32>;
 
@@ -247,7 +248,7 @@ struct CellSpan {
 
 // Scanned cell `c` around cell `ci`, and the range of the sorted particle
 // list that holds its bucket (a bucket may also hold other cells: callers
-// keep only particles whose `cellc` is `span.cell`).
+// keep only particles whose `current_cell` is `span.cell`).
 fn cell_span(ci: vec2<i32>, c: u32) -> CellSpan {
     var off = vec2<i32>(i32(c % 3u) - 1, i32(c / 3u) - 1);
     if (DIM == 1u) {
@@ -297,13 +298,16 @@ fn sph_pair(i: u32, j: u32, hi: f32, body_j: u32) -> Pair {
 // contact force. Every SPH sum scans its neighbours through this filter.
 fn body_pair(i: u32, j: u32, cell: vec2<i32>, hi: f32, bi: u32) -> Pair {
     let bj = pinfo[j].z;
-    if (j == i || any(cellc[j] != cell) || (CONTACT && bj != bi)) {
+    if (j == i || any(current_cell(j) != cell) || (CONTACT && bj != bi)) {
         return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false);
     }
     return sph_pair(i, j, hi, bj);
 }
 
 // The cell a particle is in now: its reference cell plus whole cells moved.
+// The cell list and every neighbour loop call this one function on the same
+// state, so they agree on every particle's cell bit for bit (an add, a
+// multiply and a floor: nothing a compiler may contract).
 fn current_cell(i: u32) -> vec2<i32> {
     let a = x0[i];
     return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));

@@ -85,7 +85,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let bodyp = bodies[bp];
     let op = bitcast<f32>(mp.y);
     let np = np4.xy;
-    let ci = cellc[p];
+    let ci = current_cell(p);
 
     var partner = NONE;
     var multi = false;
@@ -99,7 +99,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         let span = cell_span(ci, c);
         for (var k = span.start; k < span.end; k++) {
             let q = blist[k];
-            if (any(cellc[q] != span.cell)) {
+            if (any(current_cell(q) != span.cell)) {
                 continue;
             }
             let mq = pinfo[q];
@@ -207,14 +207,14 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let bq = mq.z;
     let bodyq = bodies[bq];
     let oq = bitcast<f32>(mq.y);
-    let ci = cellc[q];
+    let ci = current_cell(q);
     var f = vec2<f32>(0.0);
     var heat = 0.0;
     for (var c = 0u; c < scan_cells(); c++) {
         let span = cell_span(ci, c);
         for (var k = span.start; k < span.end; k++) {
             let p = blist[k];
-            if (any(cellc[p] != span.cell)) {
+            if (any(current_cell(p) != span.cell)) {
                 continue;
             }
             let mp = pinfo[p];

@@ -13,14 +13,14 @@ fn dump_neighbours(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         return;
     }
     let hi = bodies[pinfo[i].z].h;
-    let ci = cellc[i];
+    let ci = current_cell(i);
     let base = pinfo[i].w * (MAX_DUMP + 1u);
     var count = 0u;
     for (var c = 0u; c < scan_cells(); c++) {
         let span = cell_span(ci, c);
         for (var k = span.start; k < span.end; k++) {
             let j = blist[k];
-            if (j == i || any(cellc[j] != span.cell)) {
+            if (j == i || any(current_cell(j) != span.cell)) {
                 continue;
             }
             let hij = 0.5 * (hi + bodies[pinfo[j].z].h);

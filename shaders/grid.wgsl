@@ -11,9 +11,10 @@
 // scatter is done `bstart[b]` is the start of bucket b and `bstart[b + 1]`
 // its end.
 
-// The host binds `cellc_w`, `bstart_w` and `blist_w` to the buffers the
-// other stages read as `cellc`, `bstart` and `blist`.
-@group(0) @binding(12) var<storage, read_write> cellc_w: array<vec2<i32>>;
+// The host binds `bstart_w` and `blist_w` to the buffers the other stages
+// read as `bstart` and `blist`. A particle's cell is `current_cell` (no
+// buffer), so the cells and the scatter pass read the state of the
+// evaluation being built for (the host makes one of each per state).
 @group(0) @binding(16) var<storage, read_write> bstart_w: array<atomic<u32>>;
 @group(0) @binding(17) var<storage, read_write> bsum: array<u32>;
 @group(0) @binding(18) var<storage, read_write> blist_w: array<u32>;
@@ -36,10 +37,7 @@ fn grid_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if (i >= params.n) {
         return;
     }
-    let c = current_cell(i);
-    let b = bucket_of(c);
-    cellc_w[i] = c;
-    atomicAdd(&bstart_w[b], 1u);
+    atomicAdd(&bstart_w[bucket_of(current_cell(i))], 1u);
 }
 
 // Hillis-Steele inclusive scan of `sh` by the 256 threads of a workgroup.
@@ -120,9 +118,9 @@ fn grid_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (i >= params.n) {
         return;
     }
-    // The bucket again from the cell (a hash is cheaper than 4 bytes a
-    // particle to keep it).
-    let b = bucket_of(cellc_w[i]);
+    // The bucket again from the cell: recomputing both is cheaper than
+    // keeping them (8 bytes a particle for the cell, 4 for the bucket).
+    let b = bucket_of(current_cell(i));
     blist_w[atomicSub(&bstart_w[b], 1u) - 1u] = i;
 }
 

@@ -57,7 +57,7 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let bi = mi.z;
     let body = bodies[bi];
     let hi = body.h;
-    let ci = cellc[i];
+    let ci = current_cell(i);
 
     var m = vec4<f32>(0.0);
     var gpsi = vec2<f32>(0.0);

@@ -57,7 +57,7 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         }
         return;
     }
-    let ci = cellc[i];
+    let ci = current_cell(i);
     let li = lmat[i];
     let ti = sr2c[i];
     let vi = v[i];

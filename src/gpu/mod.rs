@@ -101,11 +101,7 @@ const REORDER_EVERY: u64 = 16;
 const NONE: u32 = u32::MAX;
 /// The cell-list build writes, under these names, the buffers every other
 /// stage reads under the second names.
-const WRITER_ALIASES: &[(&str, &str)] = &[
-    ("cellc_w", "cellc"),
-    ("bstart_w", "bstart"),
-    ("blist_w", "blist"),
-];
+const WRITER_ALIASES: &[(&str, &str)] = &[("bstart_w", "bstart"), ("blist_w", "blist")];
 /// Particles per workgroup of the reductions (256 threads × 4).
 const RED_CHUNK: u32 = 1024;
 
@@ -196,7 +192,10 @@ impl Kernel {
 
 /// An evaluation's kernels for one state variant.
 struct Eval {
+    // The cell list's two per-particle passes read the evaluation's state
+    // (a particle's cell is recomputed, not stored; grid.wgsl).
     cells: Kernel,
+    scatter: Kernel,
     pass_a: Kernel,
     pass_c: Kernel,
     contact: Option<(Kernel, Kernel)>,
@@ -207,7 +206,6 @@ struct Kernels {
     scan_local: Kernel,
     scan_blocks: Kernel,
     scan_add: Kernel,
-    scatter: Kernel,
     sort: Kernel,
     eval: [Eval; 2],
     cfl_partial: Kernel,
@@ -523,7 +521,6 @@ impl GpuSolver {
                 make(name, 16 * nn, None)?;
             }
         }
-        make("cellc", 8 * nn, None)?;
         make("blist", 4 * nn, None)?;
         // Counts, then ends, then starts (grid.wgsl): one array.
         make("bstart", 4 * (buckets as u64 + 1), None)?;
@@ -695,6 +692,7 @@ impl GpuSolver {
             let eval_kernel = |stage, entry| kernel_in(consts, stage, entry, Size::Particles, al);
             evals.push(Eval {
                 cells: eval_kernel("grid", "grid_cells")?,
+                scatter: eval_kernel("grid", "grid_scatter")?,
                 pass_a: eval_kernel("pass_a", "pass_a")?,
                 pass_c: eval_kernel("pass_c", "pass_c")?,
                 contact: if contact {
@@ -714,7 +712,6 @@ impl GpuSolver {
             scan_local: kernel("grid", "scan_local", Size::ScanBlocks, &[])?,
             scan_blocks: kernel("grid", "scan_blocks", Size::One, &[])?,
             scan_add: kernel("grid", "scan_add", Size::ScanBlocks, &[])?,
-            scatter: kernel("grid", "grid_scatter", Size::Particles, &[])?,
             sort: kernel("grid", "grid_sort", Size::Buckets, &[])?,
             eval: [base, mid],
             cfl_partial: kernel("reduce", "cfl_partial", Size::RedGroups, &[])?,
@@ -799,7 +796,7 @@ impl GpuSolver {
         k.scan_local.dispatch(pass);
         k.scan_blocks.dispatch(pass);
         k.scan_add.dispatch(pass);
-        k.scatter.dispatch(pass);
+        k.eval[var as usize].scatter.dispatch(pass);
         k.sort.dispatch(pass);
     }
 
