@@ -76,6 +76,26 @@ fn bucket_count(n: usize) -> u32 {
     (2 * n).next_power_of_two().max(256) as u32
 }
 
+/// The pass-scratch buffer a contact gather buffer lives in, if any.
+///
+/// The contact's `cshare` (pass 1 → pass 2) and `cown` (pass 1 → pass 2
+/// and the reductions after the first evaluation) are written after pass C
+/// and dead before the next pass A. The correction matrices (`lmat`), the
+/// velocity gradients (`gradv`, reconstructed viscosity) and the artificial
+/// stresses (`art`) are written by pass A and last read by pass C, and no
+/// kernel binds one of them together with the contact buffer it hosts (the
+/// reorder uses `lmat` and `cown` as scratch, at the start of a step, as
+/// two different buffers). So `cshare` lives in `lmat`, and `cown` in
+/// `gradv` or `art` when the scene has one: 16 or 32 bytes a particle less.
+fn contact_home(model: &Model, name: &str) -> Option<&'static str> {
+    match name {
+        "cshare" => Some("lmat"),
+        "cown" if model.av_reconstruct => Some("gradv"),
+        "cown" if model.artificial_stress.is_some() => Some("art"),
+        _ => None,
+    }
+}
+
 /// Whether the largest buffers [`GpuSolver::new`] makes for `n` particles
 /// fit the adapter's limits: the widest per-particle arrays (one `vec4<f32>`,
 /// 16 bytes, a particle) and the bucket starts. A check before building
@@ -517,8 +537,10 @@ impl GpuSolver {
             )?;
             make("area", 4 * nn, None)?;
             make("cstored", 4 * nn, None)?;
-            for name in ["cown", "cshare"] {
-                make(name, 16 * nn, None)?;
+            // The two gather buffers share memory with pass scratch where
+            // the scene has it (below); the rest get their own.
+            if contact_home(&model, "cown").is_none() {
+                make("cown", 16 * nn, None)?;
             }
         }
         make("blist", 4 * nn, None)?;
@@ -545,6 +567,14 @@ impl GpuSolver {
             Some(bytemuck::cast_slice(&bodies)),
         )?;
         make("ctl", 48, Some(bytemuck::bytes_of(&control)))?;
+        if contact {
+            for name in ["cown", "cshare"] {
+                if let Some(home) = contact_home(&model, name) {
+                    let shared = buffers[home].clone();
+                    buffers.insert(name, shared);
+                }
+            }
+        }
         let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("params"),
             size: std::mem::size_of::<Params>() as u64,
