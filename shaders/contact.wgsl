@@ -18,8 +18,11 @@
 @group(0) @binding(19) var<storage, read> area: array<f32>;
 @group(0) @binding(20) var<storage, read_write> cown: array<vec4<f32>>;
 @group(0) @binding(21) var<storage, read_write> cshare: array<vec4<f32>>;
-// The spring energy each particle's pass stores (observations).
-@group(0) @binding(22) var<storage, read_write> cstored: array<f32>;
+// `x`: the spring energy each particle's pass stores (observations). Pass
+// A writes sr2c and pass C reads it, last; the reductions after this
+// evaluation read only its `w` (sound speed) and this `x`; no other thread
+// touches a particle's entry in these passes (gpu::contact_home).
+@group(0) @binding(14) var<storage, read_write> sr2c: array<vec4<f32>>;
 // Per particle: (dashpot heat booked, spring work of its own passes), the
 // contact's energy ledger, booked at the midpoint (MID) with the step.
 @group(0) @binding(34) var<storage, read_write> qheat_w: array<vec2<f32>>;
@@ -75,7 +78,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     // w: the partner body as a float (exact for any realistic count), -1: none.
     cown[p] = vec4<f32>(0.0, 0.0, 0.0, -1.0);
     cshare[p] = vec4<f32>(0.0);
-    cstored[p] = 0.0;
+    sr2c[p].x = 0.0;
     let np4 = nbo[p];
     if (np4.z <= 0.0) {
         return;
@@ -191,7 +194,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     cown[p] = vec4<f32>(-n * (0.5 * pres * a), own_heat, f32(partner));
     // w: the spring power 1/2 k delta A w of this pass (the spring-work ledger).
     cshare[p] = vec4<f32>(n * (0.5 * pres * a / sw), eta, 0.5 * stiffness * delta * a * w_rate);
-    cstored[p] = stored;
+    sr2c[p].x = stored;
 }
 
 @compute @workgroup_size(WG)

@@ -10,13 +10,13 @@
 @group(0) @binding(14) var<storage, read> sr2c: array<vec4<f32>>;
 @group(0) @binding(19) var<storage, read> area: array<f32>;
 @group(0) @binding(20) var<storage, read> cown: array<vec4<f32>>;
-@group(0) @binding(22) var<storage, read> cstored: array<f32>;
 @group(0) @binding(24) var<storage, read> qheat: array<vec2<f32>>;
 @group(0) @binding(25) var<storage, read_write> red: array<f32>;
 @group(0) @binding(26) var<storage, read_write> ring: array<f32>;
 @group(0) @binding(27) var<storage, read> slots: array<vec4<u32>>;
 @group(0) @binding(28) var<storage, read> probes: array<vec2<u32>>;
-@group(0) @binding(29) var<storage, read> slot_of: array<u32>;
+// Each probed particle's slot (reorder.wgsl, map_slots).
+@group(0) @binding(48) var<storage, read> probe_slot: array<u32>;
 
 const RED: u32 = 256u;
 const PER_THREAD: u32 = 4u;
@@ -165,7 +165,8 @@ fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
             }
             return 0.0;
         }
-        case 8u: { return cstored[i]; }
+        // The stored spring energy, left by the contact in sr2c.x.
+        case 8u: { return sr2c[i].x; }
         default: { return qheat[i].x; }
     }
 }
@@ -256,7 +257,7 @@ fn probe_values(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let pr = probes[k];
-    let i = slot_of[pr.x];
+    let i = probe_slot[pr.x];
     let b = bodies[pinfo[i].z];
     let mu = r[i].x;
     let p = eos_pressure(b, mu, r[i].y);

@@ -1,6 +1,6 @@
 // Particles reordered by cell for memory locality: gather every
 // per-particle array into scratch in the order of the cell list (the host
-// copies it back), then refresh the id -> slot map the probes use.
+// copies it back), then refresh the slots of the probed particles.
 //
 // A state reached by a zero-length step (the run waiting at a stop: a
 // snapshot, a checkpoint or the end) keeps its order. The host schedules a
@@ -14,7 +14,10 @@
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
 @group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
 @group(0) @binding(24) var<storage, read> qheat: array<vec2<f32>>;
-@group(0) @binding(29) var<storage, read_write> slot_of: array<u32>;
+// The probed particles' ids, sorted, padded with 0xffffffff to one entry a
+// probe (`params.nprobes`), and each entry's slot (gpu::probe_tables).
+@group(0) @binding(47) var<storage, read> probe_ids: array<u32>;
+@group(0) @binding(48) var<storage, read_write> probe_slot: array<u32>;
 @group(0) @binding(40) var<storage, read_write> t_x0: array<vec4<f32>>;
 @group(0) @binding(41) var<storage, read_write> t_u: array<vec2<f32>>;
 @group(0) @binding(42) var<storage, read_write> t_v: array<vec2<f32>>;
@@ -50,5 +53,20 @@ fn map_slots(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     if (k >= params.n) {
         return;
     }
-    slot_of[pinfo[k].w] = k;
+    // Binary search of the particle's id among the probed ones: the lowest
+    // entry not below it.
+    let id = pinfo[k].w;
+    var lo = 0u;
+    var hi = params.nprobes;
+    while (lo < hi) {
+        let mid = (lo + hi) / 2u;
+        if (probe_ids[mid] < id) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    if (lo < params.nprobes && probe_ids[lo] == id) {
+        probe_slot[lo] = k;
+    }
 }

@@ -70,10 +70,17 @@ use context::Pipeline;
 use layout::{BodyGpu, Control, Params};
 pub use probes::ProbePlan;
 
-/// Cell-list buckets for `n` particles: a power of two at least twice the
-/// count, so that hashed cells rarely share a bucket.
+/// Cell-list buckets for `n` particles: a power of two at least the count.
+///
+/// A cell's key is row-major over the initial bounding box (`bucket_of`,
+/// common.wgsl), so distinct cells share a bucket only once the keys span
+/// more than the bucket count. Five to six particles share a cell in 2-D,
+/// and bodies that fill their box (the disks: 0.22 cells a particle) stay
+/// collision-free until they have spread over four times their starting
+/// box; twice as many buckets cost 4 bytes a particle more for scattered
+/// bodies' rare collisions.
 fn bucket_count(n: usize) -> u32 {
-    (2 * n).next_power_of_two().max(256) as u32
+    n.next_power_of_two().max(256) as u32
 }
 
 /// The pass-scratch buffer a contact gather buffer lives in, if any.
@@ -87,6 +94,10 @@ fn bucket_count(n: usize) -> u32 {
 /// reorder uses `lmat` and `cown` as scratch, at the start of a step, as
 /// two different buffers). So `cshare` lives in `lmat`, and `cown` in
 /// `gradv` or `art` when the scene has one: 16 or 32 bytes a particle less.
+/// In the same way the stored spring energy (an observation) goes to
+/// `sr2c.x` (`σ_xx/ρ²`, dead after pass C; the reductions read only its
+/// sound speed `w`), written by the particle's own thread in contact pass 1,
+/// which reads no other part of `sr2c`.
 fn contact_home(model: &Model, name: &str) -> Option<&'static str> {
     match name {
         "cshare" => Some("lmat"),
@@ -94,6 +105,26 @@ fn contact_home(model: &Model, name: &str) -> Option<&'static str> {
         "cown" if model.artificial_stress.is_some() => Some("art"),
         _ => None,
     }
+}
+
+/// The GPU's particle-probe tables from the plan's `(particle, code)` list:
+/// the probed particle ids sorted and deduplicated, padded with `u32::MAX`
+/// to one entry a probe, and each probe as `(entry, code)`.
+fn probe_tables(particles: &[[u32; 2]]) -> (Vec<u32>, Vec<[u32; 2]>) {
+    let mut ids: Vec<u32> = particles.iter().map(|p| p[0]).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    let refs = particles
+        .iter()
+        .map(|p| {
+            [
+                ids.binary_search(&p[0]).expect("an id of the list") as u32,
+                p[1],
+            ]
+        })
+        .collect();
+    ids.resize(particles.len(), u32::MAX);
+    (ids, refs)
 }
 
 /// Whether the largest buffers [`GpuSolver::new`] makes for `n` particles
@@ -237,7 +268,9 @@ struct Kernels {
     advance_full: Kernel,
     end_step: Kernel,
     permute: Kernel,
-    map_slots: Kernel,
+    /// Refreshes the probed particles' slots after a reorder (none without
+    /// particle probes).
+    map_slots: Option<Kernel>,
 }
 
 /// What one batch of steps produced.
@@ -467,7 +500,14 @@ impl GpuSolver {
                 ]
             })
             .collect();
-        let slot_of: Vec<u32> = (0..n as u32).collect();
+        // Particle probes find their particle through a slot per probed
+        // particle, not a map of every particle (4 B a particle): the probed
+        // ids sorted (padded to one per probe with ids no particle has, so
+        // that the kernels know the length), each probe pointing at its
+        // entry, and the entry's slot, refreshed after each reorder by a
+        // binary search from every particle (reorder.wgsl, map_slots).
+        let (probe_ids, probe_refs) = probe_tables(&plan.particles);
+        let probe_slot: Vec<u32> = probe_ids.iter().map(|&id| id.min(n as u32)).collect();
         let contact = model.contact;
 
         let dev = &ctx.device;
@@ -513,7 +553,6 @@ impl GpuSolver {
         make("r", 8 * nn, Some(bytemuck::cast_slice(&r)))?;
         make("s", 16 * nn, Some(bytemuck::cast_slice(&s)))?;
         make("pinfo", 16 * nn, Some(bytemuck::cast_slice(&meta)))?;
-        make("slot_of", 4 * nn, Some(bytemuck::cast_slice(&slot_of)))?;
         // The midpoint state; the evaluation at the base state leaves its
         // rates there (common.wgsl, MID), so there are no rate buffers.
         for name in ["um", "vm", "rm"] {
@@ -536,7 +575,6 @@ impl GpuSolver {
                 Some(bytemuck::cast_slice(&vec![0f32; 2 * n])),
             )?;
             make("area", 4 * nn, None)?;
-            make("cstored", 4 * nn, None)?;
             // The two gather buffers share memory with pass scratch where
             // the scene has it (below); the rest get their own.
             if contact_home(&model, "cown").is_none() {
@@ -559,8 +597,20 @@ impl GpuSolver {
         make(
             "probes",
             8 * plan.particles.len() as u64,
-            Some(bytemuck::cast_slice(&plan.particles)),
+            Some(bytemuck::cast_slice(&probe_refs)),
         )?;
+        if !plan.particles.is_empty() {
+            make(
+                "probe_ids",
+                4 * probe_ids.len() as u64,
+                Some(bytemuck::cast_slice(&probe_ids)),
+            )?;
+            make(
+                "probe_slot",
+                4 * probe_slot.len() as u64,
+                Some(bytemuck::cast_slice(&probe_slot)),
+            )?;
+        }
         make(
             "bodies",
             64 * bodies.len() as u64,
@@ -786,7 +836,11 @@ impl GpuSolver {
                     ("t_qheat", "cown"),
                 ],
             )?,
-            map_slots: kernel("reorder", "map_slots", Size::Particles, &[])?,
+            map_slots: if plan.particles.is_empty() {
+                None
+            } else {
+                Some(kernel("reorder", "map_slots", Size::Particles, &[])?)
+            },
         };
         Ok(Self {
             ctx,
@@ -861,8 +915,10 @@ impl GpuSolver {
         if self.model.contact {
             copy("cown", "qheat", 8);
         }
-        let mut pass = enc.begin_compute_pass(&Default::default());
-        self.k.map_slots.dispatch(&mut pass);
+        if let Some(k) = &self.k.map_slots {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            k.dispatch(&mut pass);
+        }
     }
 
     /// The reductions after the first evaluation of a step: the CFL step,
@@ -1101,13 +1157,11 @@ impl GpuSolver {
     }
 
     /// The buffers that carry a run from one step to the next, as stored
-    /// (checkpoints): the state, the id -> slot map of the current order
-    /// and the control block. Everything else is rewritten by every step
-    /// before it is read.
+    /// (checkpoints): the state and the control block. Everything else is
+    /// rewritten by every step before it is read, or (the probed
+    /// particles' slots) follows from the state.
     fn persistent_buffers(&self) -> Vec<(&'static str, u64)> {
-        let mut names = self.state_buffers();
-        names.push(("slot_of", 4 * self.n as u64));
-        names
+        self.state_buffers()
     }
 
     /// The device's state as stored, with the host's step counters (a
@@ -1133,16 +1187,28 @@ impl GpuSolver {
     /// buffers are not this solver's.
     pub fn restore_raw(&mut self, raw: &RawDevice) -> Result<(), String> {
         let names = self.persistent_buffers();
-        let same = names.len() == raw.buffers.len()
+        // Checkpoints from before the probes kept their own slots also hold
+        // a map of every particle's slot: not needed, rebuilt below.
+        let saved: Vec<&(String, Vec<u8>)> =
+            raw.buffers.iter().filter(|(m, _)| m != "slot_of").collect();
+        let same = names.len() == saved.len()
             && names
                 .iter()
-                .zip(&raw.buffers)
+                .zip(&saved)
                 .all(|((n, size), (m, d))| n == m && *size == d.len() as u64);
         if !same {
             return Err("the saved device buffers do not match this scene's".into());
         }
-        for (name, d) in &raw.buffers {
+        for (name, d) in saved {
             self.ctx.queue.write_buffer(self.buf(name), 0, d);
+        }
+        if let Some(k) = &self.k.map_slots {
+            let mut enc = self.ctx.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = enc.begin_compute_pass(&Default::default());
+                k.dispatch(&mut pass);
+            }
+            self.ctx.queue.submit([enc.finish()]);
         }
         self.encoded = raw.encoded;
         self.delivered = raw.delivered;
@@ -1525,4 +1591,19 @@ fn map_read(dev: &wgpu::Device, buf: &wgpu::Buffer, size: u64) -> Vec<u8> {
         .to_vec();
     buf.unmap();
     data
+}
+
+#[cfg(test)]
+mod tests {
+    use super::probe_tables;
+
+    #[test]
+    fn probe_tables_sort_deduplicate_and_pad() {
+        // Three probes on two particles, out of order.
+        let (ids, refs) = probe_tables(&[[40, 1], [7, 2], [40, 5]]);
+        assert_eq!(ids, vec![7, 40, u32::MAX]);
+        assert_eq!(refs, vec![[1, 1], [0, 2], [1, 5]]);
+        let (ids, refs) = probe_tables(&[]);
+        assert!(ids.is_empty() && refs.is_empty());
+    }
 }
