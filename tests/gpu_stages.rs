@@ -308,3 +308,27 @@ fn bodies_far_apart() {
     let (model, st) = Model::new(&scene);
     check_state(model, st, false);
 }
+
+/// The device memory of the benchmark's whole 2-D disk impact (contact and
+/// the reconstructed viscosity on, every buffer a step uses) at four million
+/// particles: at most 200 bytes a particle (docs/performance.md lists the
+/// buffers). Built, not stepped.
+#[test]
+fn device_memory_per_particle_at_four_million() {
+    let Some(ctx) = gpu() else { return };
+    // The benchmark's nearest case to 4e6 holds 3,999,968: ask for the
+    // first one at or above it.
+    let want = (4_000_000..)
+        .step_by(10_000)
+        .find(|&k| sphcontact::bench::lattice_radius(k).1 >= 4_000_000)
+        .expect("a case");
+    let case = sphcontact::bench::DiskCase::new(want).expect("the benchmark case");
+    let n = case.particles();
+    assert!(n >= 4_000_000, "{n} particles");
+    assert!(case.model.contact && case.model.av_reconstruct);
+    let solver = GpuSolver::new(ctx, case.model, &case.state, &case.probes, 1e-5)
+        .expect("four million particles fit the adapter");
+    let per = solver.device_bytes() as f64 / n as f64;
+    println!("{n} particles: {per:.2} device bytes a particle");
+    assert!(per <= 200.0, "{per:.2} device bytes a particle");
+}
