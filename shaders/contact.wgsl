@@ -21,7 +21,7 @@
 // `x`: the spring energy each particle's pass stores (observations). Pass
 // A writes sr2c and pass C reads it, last; the reductions after this
 // evaluation read only its `w` (sound speed) and this `x`; no other thread
-// touches a particle's entry in these passes (gpu::contact_home).
+// touches a particle's entry in these passes (gpu::contact_homes).
 @group(0) @binding(14) var<storage, read_write> sr2c: array<vec4<f32>>;
 // Per particle: (dashpot heat booked, spring work of its own passes), the
 // contact's energy ledger, booked at the midpoint (MID) with the step.

@@ -83,7 +83,8 @@ fn bucket_count(n: usize) -> u32 {
     n.next_power_of_two().max(256) as u32
 }
 
-/// The pass-scratch buffer a contact gather buffer lives in, if any.
+/// The contact's two gather buffers and the pass-scratch buffer each lives
+/// in, if the scene has one (else it gets its own).
 ///
 /// The contact's `cshare` (pass 1 → pass 2) and `cown` (pass 1 → pass 2
 /// and the reductions after the first evaluation) are written after pass C
@@ -98,13 +99,15 @@ fn bucket_count(n: usize) -> u32 {
 /// `sr2c.x` (`σ_xx/ρ²`, dead after pass C; the reductions read only its
 /// sound speed `w`), written by the particle's own thread in contact pass 1,
 /// which reads no other part of `sr2c`.
-fn contact_home(model: &Model, name: &str) -> Option<&'static str> {
-    match name {
-        "cshare" => Some("lmat"),
-        "cown" if model.av_reconstruct => Some("gradv"),
-        "cown" if model.artificial_stress.is_some() => Some("art"),
-        _ => None,
-    }
+fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
+    let own_home = if model.av_reconstruct {
+        Some("gradv")
+    } else if model.artificial_stress.is_some() {
+        Some("art")
+    } else {
+        None
+    };
+    [("cshare", Some("lmat")), ("cown", own_home)]
 }
 
 /// The GPU's particle-probe tables from the plan's `(particle, code)` list:
@@ -577,8 +580,10 @@ impl GpuSolver {
             make("area", 4 * nn, None)?;
             // The two gather buffers share memory with pass scratch where
             // the scene has it (below); the rest get their own.
-            if contact_home(&model, "cown").is_none() {
-                make("cown", 16 * nn, None)?;
+            for (name, home) in contact_homes(&model) {
+                if home.is_none() {
+                    make(name, 16 * nn, None)?;
+                }
             }
         }
         make("blist", 4 * nn, None)?;
@@ -618,8 +623,8 @@ impl GpuSolver {
         )?;
         make("ctl", 48, Some(bytemuck::bytes_of(&control)))?;
         if contact {
-            for name in ["cown", "cshare"] {
-                if let Some(home) = contact_home(&model, name) {
+            for (name, home) in contact_homes(&model) {
+                if let Some(home) = home {
                     let shared = buffers[home].clone();
                     buffers.insert(name, shared);
                 }
