@@ -507,10 +507,9 @@ impl GpuSolver {
         // particle, not a map of every particle (4 B a particle): the probed
         // ids sorted (padded to one per probe with ids no particle has, so
         // that the kernels know the length), each probe pointing at its
-        // entry, and the entry's slot, refreshed after each reorder by a
-        // binary search from every particle (reorder.wgsl, map_slots).
+        // entry, and the entry's slot, found by a binary search from every
+        // particle (reorder.wgsl, map_slots) now and after each reorder.
         let (probe_ids, probe_refs) = probe_tables(&plan.particles);
-        let probe_slot: Vec<u32> = probe_ids.iter().map(|&id| id.min(n as u32)).collect();
         let contact = model.contact;
 
         let dev = &ctx.device;
@@ -610,11 +609,7 @@ impl GpuSolver {
                 4 * probe_ids.len() as u64,
                 Some(bytemuck::cast_slice(&probe_ids)),
             )?;
-            make(
-                "probe_slot",
-                4 * probe_slot.len() as u64,
-                Some(bytemuck::cast_slice(&probe_slot)),
-            )?;
+            make("probe_slot", 4 * probe_ids.len() as u64, None)?;
         }
         make(
             "bodies",
@@ -847,7 +842,7 @@ impl GpuSolver {
                 Some(kernel("reorder", "map_slots", Size::Particles, &[])?)
             },
         };
-        Ok(Self {
+        let solver = Self {
             ctx,
             model,
             n,
@@ -862,7 +857,25 @@ impl GpuSolver {
             device_bytes,
             origin,
             cell,
-        })
+        };
+        solver.refresh_probe_slots();
+        Ok(solver)
+    }
+
+    /// Find the probed particles' slots (nothing without particle probes).
+    fn encode_map_slots(&self, enc: &mut wgpu::CommandEncoder) {
+        if let Some(k) = &self.k.map_slots {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            k.dispatch(&mut pass);
+        }
+    }
+
+    /// [`Self::encode_map_slots`] submitted on its own: for a state that
+    /// did not come from a step (built, or restored from a checkpoint).
+    fn refresh_probe_slots(&self) {
+        let mut enc = self.ctx.device.create_command_encoder(&Default::default());
+        self.encode_map_slots(&mut enc);
+        self.ctx.queue.submit([enc.finish()]);
     }
 
     /// Bytes of device memory the run holds.
@@ -920,10 +933,7 @@ impl GpuSolver {
         if self.model.contact {
             copy("cown", "qheat", 8);
         }
-        if let Some(k) = &self.k.map_slots {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            k.dispatch(&mut pass);
-        }
+        self.encode_map_slots(enc);
     }
 
     /// The reductions after the first evaluation of a step: the CFL step,
@@ -1207,14 +1217,7 @@ impl GpuSolver {
         for (name, d) in saved {
             self.ctx.queue.write_buffer(self.buf(name), 0, d);
         }
-        if let Some(k) = &self.k.map_slots {
-            let mut enc = self.ctx.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = enc.begin_compute_pass(&Default::default());
-                k.dispatch(&mut pass);
-            }
-            self.ctx.queue.submit([enc.finish()]);
-        }
+        self.refresh_probe_slots();
         self.encoded = raw.encoded;
         self.delivered = raw.delivered;
         self.zero_seen = raw.zero_seen;
