@@ -4,8 +4,8 @@
 // within a cell is fixed whatever order the scatter's atomics took.
 // Integer atomics only; the result is deterministic.
 //
-// One array per bucket does the counting sort (4 bytes a bucket, 2 to 4
-// buckets a particle): it holds the bucket's count, then after the scan the
+// One array per bucket does the counting sort (4 bytes a bucket, 1 to 2
+// buckets a particle, gpu::bucket_count): it holds the bucket's count, then after the scan the
 // end of the bucket in the sorted list, and the scatter counts that end back
 // down to the bucket's start as it hands out the places, so that when the
 // scatter is done `bstart[b]` is the start of bucket b and `bstart[b + 1]`

@@ -14,6 +14,7 @@
 @group(0) @binding(25) var<storage, read_write> red: array<f32>;
 @group(0) @binding(26) var<storage, read_write> ring: array<f32>;
 @group(0) @binding(27) var<storage, read> slots: array<vec4<u32>>;
+// Particle probes: (entry of `probe_slot`, quantity code).
 @group(0) @binding(28) var<storage, read> probes: array<vec2<u32>>;
 // Each probed particle's slot (reorder.wgsl, map_slots).
 @group(0) @binding(48) var<storage, read> probe_slot: array<u32>;

@@ -75,10 +75,10 @@ pub use probes::ProbePlan;
 /// A cell's key is row-major over the initial bounding box (`bucket_of`,
 /// common.wgsl), so distinct cells share a bucket only once the keys span
 /// more than the bucket count. Five to six particles share a cell in 2-D,
-/// and bodies that fill their box (the disks: 0.22 cells a particle) stay
+/// so bodies that fill their box (the disks: 0.22 cells a particle) stay
 /// collision-free until they have spread over four times their starting
-/// box; twice as many buckets cost 4 bytes a particle more for scattered
-/// bodies' rare collisions.
+/// box. Twice as many buckets would halve the collisions of scattered
+/// bodies (a wasted candidate read each) for 4 bytes a particle more.
 fn bucket_count(n: usize) -> u32 {
     n.next_power_of_two().max(256) as u32
 }
