@@ -17,6 +17,7 @@
 pub mod contact;
 pub mod forces;
 pub mod kinematics;
+pub mod lanes;
 pub mod neighbours;
 
 use glam::DVec2;

@@ -248,6 +248,72 @@ impl Neighbours {
         T: Send + Default,
         P: Fn(usize, &Nbr, &mut T, Option<&mut T>) + Sync,
     {
+        self.rows(acc, |i, ai, piece, base, _| {
+            let inv_hi = 1.0 / model.h[i];
+            let (s, f, e) = self.row_ends(i);
+            for &j in &self.list[s..f] {
+                if let Some(b) = pair(model, x, i, inv_hi, j) {
+                    // j is at most one chunk on: inside this task's piece.
+                    pair_fn(i, &b, ai, Some(&mut piece[j as usize - base]));
+                }
+            }
+            for &j in &self.list[f..e] {
+                if let Some(b) = pair(model, x, i, inv_hi, j) {
+                    pair_fn(i, &b, ai, None);
+                }
+            }
+        });
+    }
+
+    /// [`Neighbours::sweep`] a row at a time: `row(i, pairs, near, acc_i,
+    /// piece, base)` gets row i's pairs within `2 h_ij` in the order the
+    /// sweep visits them, the first `near` of them near pairs (both sides
+    /// add: particle j's entry is `piece[j − base]`), the rest far pairs
+    /// (i's side only). A pass that evaluates several pairs at once (across
+    /// SIMD lanes) walks rows this way and keeps the sweep's order of sums.
+    pub fn sweep_rows<T, R>(&self, model: &Model, x: &[DVec2], acc: &mut [T], row: R)
+    where
+        T: Send + Default,
+        R: Fn(usize, &[Nbr], usize, &mut T, &mut [T], usize) + Sync,
+    {
+        self.rows(acc, |i, ai, piece, base, pairs| {
+            let inv_hi = 1.0 / model.h[i];
+            let (s, f, e) = self.row_ends(i);
+            pairs.clear();
+            pairs.extend(
+                self.list[s..f]
+                    .iter()
+                    .filter_map(|&j| pair(model, x, i, inv_hi, j)),
+            );
+            let near = pairs.len();
+            pairs.extend(
+                self.list[f..e]
+                    .iter()
+                    .filter_map(|&j| pair(model, x, i, inv_hi, j)),
+            );
+            row(i, pairs, near, ai, piece, base);
+        });
+    }
+
+    /// Row i's list from its start to the end of its near pairs and of its
+    /// far pairs.
+    #[inline]
+    fn row_ends(&self, i: usize) -> (usize, usize, usize) {
+        (
+            self.start[i] as usize,
+            self.fwd_end[i] as usize,
+            self.far_end[i] as usize,
+        )
+    }
+
+    /// The task layout both sweeps share: `row(i, acc_i, piece, base,
+    /// scratch)` for every row, `piece` the task's entries from `base` on
+    /// and `scratch` a buffer the task keeps from row to row.
+    fn rows<T, R>(&self, acc: &mut [T], row: R)
+    where
+        T: Send + Default,
+        R: Fn(usize, &mut T, &mut [T], usize, &mut Vec<Nbr>) + Sync,
+    {
         let n = acc.len();
         assert_eq!(self.fwd_end.len(), n, "rows not indexed for the sweep");
         let c = self.chunk;
@@ -261,29 +327,13 @@ impl Neighbours {
                 .enumerate()
                 .for_each(|(k, piece)| {
                     let base = off + 2 * k * c;
+                    let mut scratch = Vec::new();
                     for i in base..(base + c).min(n) {
-                        let inv_hi = 1.0 / model.h[i];
-                        let (s, f, e) = (
-                            self.start[i] as usize,
-                            self.fwd_end[i] as usize,
-                            self.far_end[i] as usize,
-                        );
                         // No other row of this task writes to i while
                         // i's row runs (its partners are all j > i), so its
                         // sums stay in registers until the row ends.
                         let mut ai = std::mem::take(&mut piece[i - base]);
-                        for &j in &self.list[s..f] {
-                            if let Some(b) = pair(model, x, i, inv_hi, j) {
-                                // j is at most one chunk on: inside this
-                                // task's piece.
-                                pair_fn(i, &b, &mut ai, Some(&mut piece[j as usize - base]));
-                            }
-                        }
-                        for &j in &self.list[f..e] {
-                            if let Some(b) = pair(model, x, i, inv_hi, j) {
-                                pair_fn(i, &b, &mut ai, None);
-                            }
-                        }
+                        row(i, &mut ai, piece, base, &mut scratch);
                         piece[i - base] = ai;
                     }
                 });
@@ -341,6 +391,9 @@ fn pair(model: &Model, x: &[DVec2], i: usize, inv_hi: f64, j: u32) -> Option<Nbr
     kernel::w_grad(model.dim, d, d.length_squared(), inv_h).map(|(w, gw)| Nbr { j, w, gw })
 }
 
+/// The candidates `cands` of row i that lie within `2 h_ij`, appended to
+/// `out` in order with their kernel values: [`pair`] four candidates at a
+/// time, one to a SIMD lane, with the same operations (bit-identical).
 /// Mean number of neighbours per particle within `2 h_ij` at positions `x`
 /// (SPH partners and other-body contact candidates together): the work
 /// measure that goes with a throughput figure.
