@@ -6,7 +6,7 @@
 use glam::DVec2;
 
 use super::lanes::{columns, F4, LANES};
-use super::neighbours::{Nbr, Neighbours};
+use super::neighbours::{Chunk, Nbr, Neighbours};
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
 use crate::physics::kernel;
@@ -214,15 +214,14 @@ fn sums(
     if lanes {
         assert!(!model.any_rigid && model.artificial_stress.is_none());
         let rec = partners(model, st, l, gv, surface, pts);
-        nb.sweep_rows(model, &st.x, &mut acc, |i, pairs, near, ai, piece, base| {
-            for (c, lanes) in pairs.chunks(LANES).enumerate() {
-                let t = lane_terms(&rec, model, i, lanes);
-                for (k, b) in lanes.iter().enumerate() {
-                    let j = b.j as usize;
+        nb.sweep_chunks(model, &st.x, &mut acc, |i, c, ai, piece, base| {
+            let t = lane_terms(&rec, model, i, c);
+            for k in 0..LANES {
+                if c.inside & (1 << k) != 0 {
                     ai.0 += DVec2::new(t.tg_mj[0][k], t.tg_mj[1][k]);
                     ai.1 -= t.e_i[k];
-                    if c * LANES + k < near {
-                        let aj = &mut piece[j - base];
+                    if c.near {
+                        let aj = &mut piece[c.j[k] as usize - base];
                         aj.0 -= DVec2::new(t.tg_mi[0][k], t.tg_mi[1][k]);
                         aj.1 -= t.e_j[k];
                     }
@@ -323,13 +322,12 @@ fn partners(
 /// operation the one-pair code in its order, so the results are
 /// bit-identical; its branches (the reconstruction's early return and
 /// surface test, the viscosity's receding pairs) become selects between
-/// both outcomes. Missing lanes repeat the last pair and are not read.
+/// both outcomes. Lanes that hold no pair (`c.inside` clear) compute
+/// values the caller drops.
 #[inline(always)]
-fn lane_terms(rec: &[Partner], model: &Model, i: usize, pairs: &[Nbr]) -> LaneTerms {
-    let last = pairs.len() - 1;
-    let r: [&Partner; LANES] = std::array::from_fn(|k| &rec[pairs[k.min(last)].j as usize]);
+fn lane_terms(rec: &[Partner], model: &Model, i: usize, c: &Chunk) -> LaneTerms {
+    let r: [&Partner; LANES] = std::array::from_fn(|k| &rec[c.j[k] as usize]);
     let me = &rec[i];
-    let b = |k: usize| &pairs[k.min(last)];
     // Partner j's rows into lanes, particle i's as scalars.
     let [xjx, xjy, vjx, vjy] = columns([&r[0].xv, &r[1].xv, &r[2].xv, &r[3].xv]);
     let [ljxx, ljxy, ljyx, ljyy] = columns([&r[0].l, &r[1].l, &r[2].l, &r[3].l]);
@@ -345,7 +343,7 @@ fn lane_terms(rec: &[Partner], model: &Model, i: usize, pairs: &[Nbr]) -> LaneTe
     let xy = xiy - xjy;
     let vx = vix - vjx;
     let vy = viy - vjy;
-    let (gwx, gwy) = (F4::gather(|k| b(k).gw.x), F4::gather(|k| b(k).gw.y));
+    let (gwx, gwy) = (c.gwx, c.gwy);
     // G = ½ (L_i + L_j) ∇W.
     let axx = (lixx + ljxx) * 0.5;
     let axy = (lixy + ljxy) * 0.5;
@@ -409,21 +407,30 @@ mod tests {
     /// The lane code gives the one-pair code's sums bit for bit, on the
     /// disks in contact with a velocity field stirred so that every branch
     /// is taken both ways in many pairs (receding and approaching pairs,
-    /// the limiter on and off), with the reconstructed viscosity and
-    /// without, and on candidate lists with a skin (pairs beyond the
-    /// support in the rows).
+    /// the limiter on and off): with the reconstructed viscosity and
+    /// without, on candidate lists with a skin (candidates beyond the
+    /// support in the rows), and in kernel mode (SPH sums across the
+    /// bodies) with the second disk's `h` changed, so that pairs across
+    /// the contact take `h_ij` of two different lengths.
     #[test]
     fn lanes_match_one_pair_code_bit_for_bit() {
         let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
-        let (mut model, mut st) = (bench.model().clone(), bench.state().clone());
+        let (base, mut st) = (bench.model().clone(), bench.state().clone());
         for (i, v) in st.v.iter_mut().enumerate() {
             let a = (i as f64 * 0.618_033_988_7).fract() * std::f64::consts::TAU;
             *v += DVec2::new(a.cos(), a.sin()) * 0.3;
         }
-        let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-        let nb = neighbours::find_with_skin(&model, &st.x, skin);
-        for reconstruct in [true, false] {
+        for (reconstruct, h_ratio) in [(true, 1.0), (false, 1.0), (true, 1.15)] {
+            let mut model = base.clone();
             model.av_reconstruct = reconstruct;
+            model.contact = h_ratio == 1.0;
+            for i in 0..model.len() {
+                if model.body[i] == 1 {
+                    model.h[i] *= h_ratio;
+                }
+            }
+            let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
+            let nb = neighbours::find_with_skin(&model, &st.x, skin);
             let k = kinematics::kinematics(&model, &st, &nb);
             let pts = eos_and_stress(&model, &st);
             let args = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);

@@ -47,6 +47,19 @@ mod imp {
         pub fn min(self, o: F4) -> F4 {
             F4(unsafe { _mm256_min_pd(self.0, o.0) })
         }
+        /// `f64::max` where neither lane is NaN.
+        #[inline(always)]
+        pub fn max(self, o: F4) -> F4 {
+            F4(unsafe { _mm256_max_pd(self.0, o.0) })
+        }
+        #[inline(always)]
+        pub fn sqrt(self) -> F4 {
+            F4(unsafe { _mm256_sqrt_pd(self.0) })
+        }
+        #[inline(always)]
+        pub fn lt(self, o: F4) -> M4 {
+            M4(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, o.0) })
+        }
         #[inline(always)]
         pub fn le(self, o: F4) -> M4 {
             M4(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, o.0) })
@@ -73,21 +86,19 @@ mod imp {
         }
     }
 
-    /// Four rows of four, as four columns: column c holds entry c of
-    /// every row (a 4×4 transpose: loads and eight shuffles).
+    /// The 4×4 transpose: lane k of result c is lane c of `r[k]` (eight
+    /// shuffles).
     #[inline(always)]
-    pub fn columns(r: [&[f64; 4]; 4]) -> [F4; 4] {
+    pub fn transpose(r: [F4; 4]) -> [F4; 4] {
         unsafe {
-            let (r0, r1) = (
-                _mm256_loadu_pd(r[0].as_ptr()),
-                _mm256_loadu_pd(r[1].as_ptr()),
+            let (t0, t1) = (
+                _mm256_unpacklo_pd(r[0].0, r[1].0),
+                _mm256_unpackhi_pd(r[0].0, r[1].0),
             );
-            let (r2, r3) = (
-                _mm256_loadu_pd(r[2].as_ptr()),
-                _mm256_loadu_pd(r[3].as_ptr()),
+            let (t2, t3) = (
+                _mm256_unpacklo_pd(r[2].0, r[3].0),
+                _mm256_unpackhi_pd(r[2].0, r[3].0),
             );
-            let (t0, t1) = (_mm256_unpacklo_pd(r0, r1), _mm256_unpackhi_pd(r0, r1));
-            let (t2, t3) = (_mm256_unpacklo_pd(r2, r3), _mm256_unpackhi_pd(r2, r3));
             [
                 F4(_mm256_permute2f128_pd::<0x20>(t0, t2)),
                 F4(_mm256_permute2f128_pd::<0x20>(t1, t3)),
@@ -101,6 +112,11 @@ mod imp {
         #[inline(always)]
         pub fn or(self, o: M4) -> M4 {
             M4(unsafe { _mm256_or_pd(self.0, o.0) })
+        }
+        /// Bit k set where lane k is.
+        #[inline(always)]
+        pub fn bits(self) -> u32 {
+            unsafe { _mm256_movemask_pd(self.0) as u32 }
         }
         /// `t` where the mask is set, `f` elsewhere.
         #[inline(always)]
@@ -143,6 +159,19 @@ mod imp {
         pub fn min(self, o: F4) -> F4 {
             map(|k| self.0[k].min(o.0[k]))
         }
+        /// `f64::max` where neither lane is NaN.
+        #[inline(always)]
+        pub fn max(self, o: F4) -> F4 {
+            map(|k| self.0[k].max(o.0[k]))
+        }
+        #[inline(always)]
+        pub fn sqrt(self) -> F4 {
+            map(|k| self.0[k].sqrt())
+        }
+        #[inline(always)]
+        pub fn lt(self, o: F4) -> M4 {
+            M4(std::array::from_fn(|k| self.0[k] < o.0[k]))
+        }
         #[inline(always)]
         pub fn le(self, o: F4) -> M4 {
             M4(std::array::from_fn(|k| self.0[k] <= o.0[k]))
@@ -169,17 +198,21 @@ mod imp {
         }
     }
 
-    /// Four rows of four, as four columns: column c holds entry c of
-    /// every row.
+    /// The 4×4 transpose: lane k of result c is lane c of `r[k]`.
     #[inline(always)]
-    pub fn columns(r: [&[f64; 4]; 4]) -> [F4; 4] {
-        std::array::from_fn(|c| F4(std::array::from_fn(|k| r[k][c])))
+    pub fn transpose(r: [F4; 4]) -> [F4; 4] {
+        std::array::from_fn(|c| F4(std::array::from_fn(|k| r[k].0[c])))
     }
 
     impl M4 {
         #[inline(always)]
         pub fn or(self, o: M4) -> M4 {
             M4(std::array::from_fn(|k| self.0[k] || o.0[k]))
+        }
+        /// Bit k set where lane k is.
+        #[inline(always)]
+        pub fn bits(self) -> u32 {
+            (0..4).map(|k| (self.0[k] as u32) << k).sum()
         }
         /// `t` where the mask is set, `f` elsewhere.
         #[inline(always)]
@@ -189,7 +222,20 @@ mod imp {
     }
 }
 
-pub use imp::{columns, F4, M4};
+use imp::transpose;
+pub use imp::{F4, M4};
+
+/// Four rows of four, as four columns: column c holds entry c of every row
+/// (four loads and a transpose).
+#[inline(always)]
+pub fn columns(r: [&[f64; 4]; 4]) -> [F4; 4] {
+    transpose([
+        F4::new(*r[0]),
+        F4::new(*r[1]),
+        F4::new(*r[2]),
+        F4::new(*r[3]),
+    ])
+}
 
 impl F4 {
     /// `f(k)` in lane k: a gather.
@@ -245,11 +291,15 @@ mod tests {
         let got = (fa * fb + fc).to_array();
         let div = (fa / fb - fc).to_array();
         let min = fa.min(fb).to_array();
+        let max = fa.max(fb).to_array();
+        let root = fc.max(F4::splat(0.0)).sqrt().to_array();
         let sel = fa.le(fb).or(fa.ge(F4::splat(0.1))).select(fa, fc);
         for k in 0..LANES {
             assert_eq!(got[k].to_bits(), (a[k] * b[k] + c[k]).to_bits());
             assert_eq!(div[k].to_bits(), (a[k] / b[k] - c[k]).to_bits());
             assert_eq!(min[k], a[k].min(b[k]));
+            assert_eq!(max[k], a[k].max(b[k]));
+            assert_eq!(root[k].to_bits(), c[k].max(0.0).sqrt().to_bits());
             let want = if a[k] <= b[k] || a[k] >= 0.1 {
                 a[k]
             } else {
@@ -258,6 +308,8 @@ mod tests {
             assert_eq!(sel.to_array()[k], want);
         }
         assert_eq!((2.0 - fb).to_array()[1], 2.0 - b[1]);
+        assert_eq!(fa.lt(fb).bits(), 0b1011);
+        assert_eq!(fa.le(fa).bits(), 0b1111);
         let rows = [a, b, c, [4.0, 5.0, 6.0, 7.0]];
         let cols = columns([&rows[0], &rows[1], &rows[2], &rows[3]]);
         for (col, f) in cols.iter().enumerate() {

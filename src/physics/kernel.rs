@@ -1,5 +1,7 @@
 //! Cubic B-spline kernel, support `2h` (METHOD.md §3).
 
+use crate::cpu::lanes::F4;
+
 /// Normalisation `α_d` of the cubic spline in `dim` dimensions.
 #[inline]
 pub fn alpha(dim: usize, h: f64) -> f64 {
@@ -73,6 +75,25 @@ pub fn w_grad(dim: usize, d: glam::DVec2, r2: f64, inv_h: f64) -> Option<(f64, g
         -0.75 * t * t / q.max(1.0)
     };
     Some((a * f, d * (a * inv_h * inv_h * g_q)))
+}
+
+/// The gradient of [`w_grad`] for four pairs from `q2 = r²/h²`, one to a
+/// lane: `s` with `∇W = d s`. The same operations in the same order as
+/// [`w_grad`] (bit-identical), its branch on `q < 1` a select; lanes with
+/// `q2 ≥ 4` hold values for the caller to drop. `W` itself is left out:
+/// the passes that run in lanes do not use it.
+#[inline(always)]
+pub fn grad_lanes(dim: usize, q2: F4, inv_h: F4) -> F4 {
+    let q = q2.sqrt();
+    let a = match dim {
+        1 => (2.0 / 3.0) * inv_h,
+        2 => 10.0 / (7.0 * std::f64::consts::PI) * inv_h * inv_h,
+        _ => inv_h * inv_h * inv_h / std::f64::consts::PI,
+    };
+    let t = 2.0 - q;
+    let inner = q.lt(F4::splat(1.0));
+    let g_q = inner.select(-3.0 + 2.25 * q, -0.75 * t * t / q.max(F4::splat(1.0)));
+    a * inv_h * inv_h * g_q
 }
 
 /// The 2-D kernel integrated along a straight line through its centre,
