@@ -57,7 +57,7 @@ struct Share {
 /// Contact result of one evaluation.
 #[derive(Debug, Clone, Default)]
 pub struct ContactForces {
-    /// Contact force on each particle.
+    /// Contact force on each particle (zero off the boundary list).
     pub force: Vec<DVec2>,
     /// Dashpot heat rate booked into each particle, W.
     pub heat: Vec<f64>,
@@ -275,18 +275,19 @@ fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) 
 /// Both passes: returns contact forces, booked heat and the statistics.
 pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> ContactForces {
     let n = model.len();
-    // Pass 1: every boundary particle against each partner body around it.
+    // Pass 1: every boundary particle against each partner body around it
+    // (entry k for particle `bd.list[k]`; only boundary particles have
+    // contact terms, so the passes go over the boundary list alone).
     type P1 = (DVec2, f64, Vec<Share>, Vec<PassStat>);
-    let pass1: Vec<P1> = (0..n)
-        .into_par_iter()
-        .map(|p| {
+    let pass1: Vec<P1> = bd
+        .list
+        .par_iter()
+        .map(|&p| {
+            let p = p as usize;
             let mut own_force = DVec2::ZERO;
             let mut own_heat = 0.0;
             let mut shares = Vec::new();
             let mut stats = Vec::new();
-            if !bd.is_boundary[p] {
-                return (own_force, own_heat, shares, stats);
-            }
             // Weighted sums per partner body (almost always one).
             // One set of sums per partner body (almost always one).
             let mut sums: Vec<PartnerSums> = Vec::new();
@@ -352,21 +353,24 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
 
     // Pass 2: every boundary particle Q gathers what its partners handed it,
     // over exactly the candidate set each of them used.
-    let gathered: Vec<(DVec2, f64)> = (0..n)
-        .into_par_iter()
-        .map(|q| {
+    let gathered: Vec<(DVec2, f64)> = bd
+        .list
+        .par_iter()
+        .map(|&q| {
+            let q = q as usize;
             let mut f = DVec2::ZERO;
             let mut heat = 0.0;
-            if !bd.is_boundary[q] {
-                return (f, heat);
-            }
             let bq = model.body[q];
             for &p in nb.cross_of(q) {
-                let p = p as usize;
-                if pass1[p].2.is_empty() || !bd.is_boundary[p] {
+                if !bd.is_boundary[p as usize] {
                     continue;
                 }
-                let Some(share) = pass1[p].2.iter().find(|s| s.body == bq) else {
+                let k = bd
+                    .list
+                    .binary_search(&p)
+                    .expect("a boundary particle is listed");
+                let p = p as usize;
+                let Some(share) = pass1[k].2.iter().find(|s| s.body == bq) else {
                     continue;
                 };
                 let Some(w) = is_candidate(model, st, bd, p, q) else {
@@ -380,14 +384,14 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
         .collect();
 
     let mut out = ContactForces {
-        force: Vec::with_capacity(n),
-        heat: Vec::with_capacity(n),
+        force: vec![DVec2::ZERO; n],
+        heat: vec![0.0; n],
         stats: ContactStats::default(),
     };
-    for (p, (own, g)) in pass1.iter().zip(&gathered).enumerate() {
-        out.force.push(own.0 + g.0);
-        out.heat
-            .push(if model.rigid(p) { 0.0 } else { own.1 + g.1 });
+    for ((&p, own), g) in bd.list.iter().zip(&pass1).zip(&gathered) {
+        let p = p as usize;
+        out.force[p] = own.0 + g.0;
+        out.heat[p] = if model.rigid(p) { 0.0 } else { own.1 + g.1 };
         for s in &own.3 {
             out.stats.add(model.body[p], s.partner, s.force, s.pressure);
             out.stats.stored += s.stored;

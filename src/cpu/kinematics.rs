@@ -152,10 +152,15 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
 /// Boundary particles, outward normals and the contact area each represents.
 #[derive(Debug, Clone, Default)]
 pub struct Boundary {
+    /// Outward unit normal on the boundary particles, zero elsewhere.
     pub normal: Vec<DVec2>,
     pub is_boundary: Vec<bool>,
-    /// Contact area `A_i` (1 in 1-D; a kernel measure of the boundary line in 2-D).
+    /// Contact area `A_i` (1 in 1-D; a kernel measure of the boundary line
+    /// in 2-D) on the boundary particles, zero elsewhere.
     pub area: Vec<f64>,
+    /// The boundary particles in ascending order: the contact's work goes
+    /// over these alone (some hundreds in a body of 1e5 particles).
+    pub list: Vec<u32>,
 }
 
 /// `n_i = ∇ψ/|∇ψ|` for the boundary set of pass A ([`PassA::surface`]), and
@@ -169,30 +174,40 @@ pub fn boundary(
     is_boundary: Vec<bool>,
 ) -> Boundary {
     let n = model.len();
-    let normal: Vec<DVec2> = grad_psi.iter().map(|g| g.normalize_or_zero()).collect();
-    let area = (0..n)
+    let list: Vec<u32> = (0..n as u32)
         .into_par_iter()
-        .map(|i| {
-            if !is_boundary[i] {
-                return 0.0;
-            }
-            if model.dim == 1 {
-                return 1.0;
-            }
-            let h = model.h[i];
-            let mut sw = kernel::w(2, 0.0, h);
-            for b in nb.of(model, x, i) {
-                if is_boundary[b.j as usize] {
-                    sw += b.w;
+        .filter(|&i| is_boundary[i as usize])
+        .collect();
+    let mut normal = vec![DVec2::ZERO; n];
+    let mut area = vec![0.0; n];
+    let per: Vec<(DVec2, f64)> = list
+        .par_iter()
+        .map(|&i| {
+            let i = i as usize;
+            let a = if model.dim == 1 {
+                1.0
+            } else {
+                let h = model.h[i];
+                let mut sw = kernel::w(2, 0.0, h);
+                for b in nb.of(model, x, i) {
+                    if is_boundary[b.j as usize] {
+                        sw += b.w;
+                    }
                 }
-            }
-            kernel::line_integral_2d(h) / sw
+                kernel::line_integral_2d(h) / sw
+            };
+            (grad_psi[i].normalize_or_zero(), a)
         })
         .collect();
+    for (&i, (n_i, a_i)) in list.iter().zip(per) {
+        normal[i as usize] = n_i;
+        area[i as usize] = a_i;
+    }
     Boundary {
         normal,
         is_boundary,
         area,
+        list,
     }
 }
 

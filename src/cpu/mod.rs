@@ -132,9 +132,11 @@ pub fn evaluate_with(
     let mut spring_rate = 0.0;
     if model.contact {
         let bd = kinematics::boundary(model, &st.x, nb, &grad_psi, surface);
-        diag.boundary_count = bd.is_boundary.iter().filter(|&&b| b).count();
+        diag.boundary_count = bd.list.len();
         let c = contact::penalty(model, st, nb, &bd);
-        for i in 0..model.len() {
+        // Contact terms exist on boundary particles only.
+        for &i in &bd.list {
+            let i = i as usize;
             if !model.rigid(i) {
                 dv[i] += c.force[i] / model.mass[i];
                 de[i] += c.heat[i] / model.mass[i];
