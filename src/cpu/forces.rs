@@ -447,4 +447,29 @@ mod tests {
             assert!(one.0.iter().filter(|a| a.length() > 0.0).count() > model.len() / 2);
         }
     }
+
+    /// The lane code's sums do not depend on the thread count: the chunks
+    /// of the sweep fix every sum's order (one thread against three).
+    #[test]
+    fn lanes_are_the_same_on_any_thread_count() {
+        let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
+        let (model, st) = (bench.model(), bench.state());
+        let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
+        let nb = neighbours::find_with_skin(model, &st.x, skin);
+        let k = kinematics::kinematics(model, st, &nb);
+        let pts = eos_and_stress(model, st);
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("a thread pool");
+            pool.install(|| sums(model, st, &nb, &k.l, &k.gv, &k.surface, &pts, true))
+        };
+        let (one, three) = (on(1), on(3));
+        for i in 0..model.len() {
+            assert_eq!(one.0[i].x.to_bits(), three.0[i].x.to_bits(), "dv.x of {i}");
+            assert_eq!(one.0[i].y.to_bits(), three.0[i].y.to_bits(), "dv.y of {i}");
+            assert_eq!(one.1[i].to_bits(), three.1[i].to_bits(), "de of {i}");
+        }
+    }
 }
