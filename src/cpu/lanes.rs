@@ -61,6 +61,10 @@ mod imp {
             M4(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, o.0) })
         }
         #[inline(always)]
+        pub fn eq(self, o: F4) -> M4 {
+            M4(unsafe { _mm256_cmp_pd::<_CMP_EQ_OQ>(self.0, o.0) })
+        }
+        #[inline(always)]
         pub fn le(self, o: F4) -> M4 {
             M4(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, o.0) })
         }
@@ -171,6 +175,10 @@ mod imp {
         #[inline(always)]
         pub fn lt(self, o: F4) -> M4 {
             M4(std::array::from_fn(|k| self.0[k] < o.0[k]))
+        }
+        #[inline(always)]
+        pub fn eq(self, o: F4) -> M4 {
+            M4(std::array::from_fn(|k| self.0[k] == o.0[k]))
         }
         #[inline(always)]
         pub fn le(self, o: F4) -> M4 {
@@ -310,6 +318,7 @@ mod tests {
         assert_eq!((2.0 - fb).to_array()[1], 2.0 - b[1]);
         assert_eq!(fa.lt(fb).bits(), 0b1011);
         assert_eq!(fa.le(fa).bits(), 0b1111);
+        assert_eq!(fa.eq(F4::new([a[0], 0.0, a[2], 0.0])).bits(), 0b0101);
         let rows = [a, b, c, [4.0, 5.0, 6.0, 7.0]];
         let cols = columns([&rows[0], &rows[1], &rows[2], &rows[3]]);
         for (col, f) in cols.iter().enumerate() {

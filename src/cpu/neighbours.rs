@@ -310,12 +310,11 @@ impl Neighbours {
                     let hj = F4::gather(|k| h[js[k]]);
                     // As `pair`: h_ij's inverse by division only across
                     // bodies of different spacing.
-                    let same = hj.le(F4::splat(hi)).bits() & hj.ge(F4::splat(hi)).bits();
-                    let inv_h = if same == 0b1111 {
+                    let same = hj.eq(F4::splat(hi));
+                    let inv_h = if same.bits() == 0b1111 {
                         F4::splat(inv_hi)
                     } else {
-                        let two = (2.0 / (hi + hj)).to_array();
-                        F4::gather(|k| if same & (1 << k) != 0 { inv_hi } else { two[k] })
+                        same.select(F4::splat(inv_hi), 2.0 / (hi + hj))
                     };
                     let dx = xi.x - F4::gather(|k| x[js[k]].x);
                     let dy = xi.y - F4::gather(|k| x[js[k]].y);
