@@ -57,9 +57,11 @@ struct Share {
 /// Contact result of one evaluation.
 #[derive(Debug, Clone, Default)]
 pub struct ContactForces {
-    /// Contact force on each particle (zero off the boundary list).
+    /// Contact force on each boundary particle, entry k for particle
+    /// `Boundary::list[k]` (no other particle has contact terms).
     pub force: Vec<DVec2>,
-    /// Dashpot heat rate booked into each particle, W.
+    /// Dashpot heat rate booked into each boundary particle, W (entries as
+    /// `force`).
     pub heat: Vec<f64>,
     pub stats: ContactStats,
 }
@@ -274,7 +276,6 @@ fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) 
 
 /// Both passes: returns contact forces, booked heat and the statistics.
 pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> ContactForces {
-    let n = model.len();
     // Pass 1: every boundary particle against each partner body around it
     // (entry k for particle `bd.list[k]`; only boundary particles have
     // contact terms, so the passes go over the boundary list alone).
@@ -288,7 +289,6 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
             let mut own_heat = 0.0;
             let mut shares = Vec::new();
             let mut stats = Vec::new();
-            // Weighted sums per partner body (almost always one).
             // One set of sums per partner body (almost always one).
             let mut sums: Vec<PartnerSums> = Vec::new();
             let sp = st.x[p] + bd.normal[p] * model.offset[p];
@@ -384,14 +384,15 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
         .collect();
 
     let mut out = ContactForces {
-        force: vec![DVec2::ZERO; n],
-        heat: vec![0.0; n],
+        force: Vec::with_capacity(bd.list.len()),
+        heat: Vec::with_capacity(bd.list.len()),
         stats: ContactStats::default(),
     };
     for ((&p, own), g) in bd.list.iter().zip(&pass1).zip(&gathered) {
         let p = p as usize;
-        out.force[p] = own.0 + g.0;
-        out.heat[p] = if model.rigid(p) { 0.0 } else { own.1 + g.1 };
+        out.force.push(own.0 + g.0);
+        out.heat
+            .push(if model.rigid(p) { 0.0 } else { own.1 + g.1 });
         for s in &own.3 {
             out.stats.add(model.body[p], s.partner, s.force, s.pressure);
             out.stats.stored += s.stored;

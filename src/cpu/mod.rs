@@ -135,11 +135,11 @@ pub fn evaluate_with(
         diag.boundary_count = bd.list.len();
         let c = contact::penalty(model, st, nb, &bd);
         // Contact terms exist on boundary particles only.
-        for &i in &bd.list {
+        for (k, &i) in bd.list.iter().enumerate() {
             let i = i as usize;
             if !model.rigid(i) {
-                dv[i] += c.force[i] / model.mass[i];
-                de[i] += c.heat[i] / model.mass[i];
+                dv[i] += c.force[k] / model.mass[i];
+                de[i] += c.heat[k] / model.mass[i];
             }
         }
         heat_rate = c.stats.heat_rate;
