@@ -193,12 +193,17 @@ pub fn momentum_energy(
     surface: &[bool],
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>) {
-    let lanes = !model.any_rigid && model.artificial_stress.is_none();
-    sums(model, st, nb, l, gv, surface, pts, lanes)
+    sums(model, st, nb, l, gv, surface, pts, lanes_serve(model))
 }
 
-/// [`momentum_energy`] by the lane code (`lanes`, which only serves scenes
-/// with no rigid body and no artificial stress) or by the one-pair code.
+/// Whether the lane code serves the scene: it has neither the rigid
+/// bodies' zero rates nor the artificial stress.
+fn lanes_serve(model: &Model) -> bool {
+    !model.any_rigid && model.artificial_stress.is_none()
+}
+
+/// [`momentum_energy`] by the lane code (`lanes`, [`lanes_serve`]) or by
+/// the one-pair code.
 #[allow(clippy::too_many_arguments)]
 fn sums(
     model: &Model,
@@ -212,7 +217,7 @@ fn sums(
 ) -> (Vec<DVec2>, Vec<f64>) {
     let mut acc = vec![(DVec2::ZERO, 0.0); model.len()];
     if lanes {
-        assert!(!model.any_rigid && model.artificial_stress.is_none());
+        assert!(lanes_serve(model), "the lane code serves this scene");
         let rec = partners(model, st, l, gv, surface, pts);
         nb.sweep_chunks(model, &st.x, &mut acc, |i, c, ai, piece, base| {
             let t = lane_terms(&rec, model, i, c);
