@@ -873,6 +873,9 @@ impl GpuSolver {
     /// [`Self::encode_map_slots`] submitted on its own: for a state that
     /// did not come from a step (built, or restored from a checkpoint).
     fn refresh_probe_slots(&self) {
+        if self.k.map_slots.is_none() {
+            return;
+        }
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
         self.encode_map_slots(&mut enc);
         self.ctx.queue.submit([enc.finish()]);
