@@ -129,6 +129,11 @@ pub struct Neighbours {
     /// `far_end[i]`), then its near partners `j < i`. Empty until indexed.
     pub fwd_end: Vec<u32>,
     pub far_end: Vec<u32>,
+    /// Where each row's visited slots (its near `j > i` and far partners,
+    /// `start[i]..far_end[i]`) begin in a per-pair store laid out row after
+    /// row ([`Neighbours::sweep_store`]); `n + 1` entries, the last the
+    /// total. Set with the row layout.
+    pub visited: Vec<u32>,
     /// Particles per chunk of the sweep; near means in the same or an
     /// adjacent chunk.
     pub chunk: usize,
@@ -240,6 +245,13 @@ impl Neighbours {
             })
             .collect();
         (self.fwd_end, self.far_end) = ends.into_iter().flatten().unzip();
+        let mut at = 0;
+        self.visited = std::iter::once(0)
+            .chain((0..n).map(|i| {
+                at += self.far_end[i] - self.start[i];
+                at
+            }))
+            .collect();
         self.chunk = chunk;
     }
 
@@ -263,21 +275,94 @@ impl Neighbours {
         T: Send + Default,
         P: Fn(usize, &Nbr, &mut T, Option<&mut T>) + Sync,
     {
-        self.rows(acc, |i, ai, piece, base| {
+        // A store of zero-sized slots: no memory, and no work once inlined.
+        let mut none = self.no_store();
+        self.sweep_store(model, x, acc, &mut none, |i, b, ai, aj, _| {
+            pair_fn(i, b, ai, aj)
+        });
+    }
+
+    /// [`Neighbours::sweep`] that also hands the pair function the pair's
+    /// slot of `store` (one per visited candidate, laid out by
+    /// [`Neighbours::visited`]); the slots of candidates outside the support
+    /// are reset to the default. A later pass reads them back with
+    /// [`Neighbours::replay`] in the same order.
+    pub fn sweep_store<T, S, P>(
+        &self,
+        model: &Model,
+        x: &[DVec2],
+        acc: &mut [T],
+        store: &mut [S],
+        pair_fn: P,
+    ) where
+        T: Send + Default,
+        S: Send + Default,
+        P: Fn(usize, &Nbr, &mut T, Option<&mut T>, &mut S) + Sync,
+    {
+        self.rows_store(acc, store, |i, ai, piece, base, slots| {
             let inv_hi = 1.0 / model.h[i];
             let (s, f, e) = self.row_ends(i);
-            for &j in &self.list[s..f] {
-                if let Some(b) = pair(model, x, i, inv_hi, j) {
+            for (q, &j) in self.list[s..f].iter().enumerate() {
+                match pair(model, x, i, inv_hi, j) {
                     // j is at most one chunk on: inside this task's piece.
-                    pair_fn(i, &b, ai, Some(&mut piece[j as usize - base]));
+                    Some(b) => pair_fn(
+                        i,
+                        &b,
+                        ai,
+                        Some(&mut piece[j as usize - base]),
+                        &mut slots[q],
+                    ),
+                    None => slots[q] = S::default(),
                 }
             }
-            for &j in &self.list[f..e] {
-                if let Some(b) = pair(model, x, i, inv_hi, j) {
-                    pair_fn(i, &b, ai, None);
+            for (q, &j) in self.list[f..e].iter().enumerate() {
+                let slot = &mut slots[f - s + q];
+                match pair(model, x, i, inv_hi, j) {
+                    Some(b) => pair_fn(i, &b, ai, None, slot),
+                    None => *slot = S::default(),
                 }
             }
         });
+    }
+
+    /// The pairs of the last [`Neighbours::sweep_store`] (or
+    /// [`Neighbours::sweep_chunks_store`]) again, from their slots alone
+    /// (no positions, no kernel), in the sweep's order and with its task
+    /// layout: `pair_fn(i, j, slot, acc_i, acc_j)`, `acc_j` `None` for a
+    /// far pair. Slots of candidates outside the support hold the default.
+    pub fn replay<T, S, P>(&self, acc: &mut [T], store: &[S], pair_fn: P)
+    where
+        T: Send + Default,
+        S: Sync,
+        P: Fn(usize, usize, &S, &mut T, Option<&mut T>) + Sync,
+    {
+        let n = acc.len();
+        assert_eq!(
+            store.len(),
+            self.visited[n] as usize,
+            "a store of this sweep's pairs"
+        );
+        self.rows(acc, |i, ai, piece, base| {
+            let (s, f, e) = self.row_ends(i);
+            let slots = &store[self.visited[i] as usize..self.visited[i + 1] as usize];
+            for (q, &j) in self.list[s..f].iter().enumerate() {
+                let j = j as usize;
+                pair_fn(i, j, &slots[q], ai, Some(&mut piece[j - base]));
+            }
+            for (q, &j) in self.list[f..e].iter().enumerate() {
+                pair_fn(i, j as usize, &slots[f - s + q], ai, None);
+            }
+        });
+    }
+
+    /// A store of zero-sized slots for sweeps that keep nothing.
+    fn no_store(&self) -> Vec<()> {
+        vec![(); self.visited.last().map_or(0, |&t| t as usize)]
+    }
+
+    /// Slots a store for [`Neighbours::sweep_store`] needs.
+    pub fn store_len(&self) -> usize {
+        self.visited.last().map_or(0, |&t| t as usize)
     }
 
     /// [`Neighbours::sweep`] four candidates at a time, for passes whose
@@ -296,14 +381,40 @@ impl Neighbours {
         T: Send + Default,
         R: Fn(usize, &Chunk, &mut T, &mut [T], usize) + Sync,
     {
+        let mut none = self.no_store();
+        self.sweep_chunks_store(model, x, acc, &mut none, |i, c, ai, piece, base, _| {
+            chunk(i, c, ai, piece, base)
+        });
+    }
+
+    /// [`Neighbours::sweep_chunks`] that also hands each chunk its
+    /// candidates' slots of `store` (as [`Neighbours::sweep_store`]); a
+    /// chunk with no pair is not handed on, its slots reset to the default.
+    pub fn sweep_chunks_store<T, S, R>(
+        &self,
+        model: &Model,
+        x: &[DVec2],
+        acc: &mut [T],
+        store: &mut [S],
+        chunk: R,
+    ) where
+        T: Send + Default,
+        S: Send + Default,
+        R: Fn(usize, &Chunk, &mut T, &mut [T], usize, &mut [S]) + Sync,
+    {
         let h = &model.h[..x.len()];
         let top = x.len().saturating_sub(1);
-        self.rows(acc, |i, ai, piece, base| {
+        self.rows_store(acc, store, |i, ai, piece, base, slots| {
             let (hi, xi) = (h[i], x[i]);
             let inv_hi = 1.0 / hi;
             let (s, f, e) = self.row_ends(i);
-            for (near, cands) in [(true, &self.list[s..f]), (false, &self.list[f..e])] {
-                for c in cands.chunks(LANES) {
+            for (near, at, cands) in [
+                (true, 0, &self.list[s..f]),
+                (false, f - s, &self.list[f..e]),
+            ] {
+                for (m, c) in cands.chunks(LANES).enumerate() {
+                    let at = at + m * LANES;
+                    let slots = &mut slots[at..at + c.len()];
                     let last = c.len() - 1;
                     let j: [u32; LANES] = std::array::from_fn(|k| c[k.min(last)]);
                     let js = j.map(|j| (j as usize).min(top));
@@ -323,6 +434,7 @@ impl Neighbours {
                     // reaches the sums (and the instability check).
                     let inside = !q2.ge(F4::splat(4.0)).bits() & ((1 << c.len()) - 1);
                     if inside == 0 {
+                        slots.iter_mut().for_each(|s| *s = S::default());
                         continue;
                     }
                     let g = kernel::grad_lanes(model.dim, q2, inv_h);
@@ -333,7 +445,7 @@ impl Neighbours {
                         gwx: dx * g,
                         gwy: dy * g,
                     };
-                    chunk(i, &ch, ai, piece, base);
+                    chunk(i, &ch, ai, piece, base, slots);
                 }
             }
         });
@@ -350,32 +462,68 @@ impl Neighbours {
         )
     }
 
-    /// The task layout both sweeps share: `row(i, acc_i, piece, base)` for
+    /// The task layout every sweep shares: `row(i, acc_i, piece, base)` for
     /// every row, `piece` the task's entries from `base` on.
     fn rows<T, R>(&self, acc: &mut [T], row: R)
     where
         T: Send + Default,
         R: Fn(usize, &mut T, &mut [T], usize) + Sync,
     {
+        let mut none = self.no_store();
+        self.rows_store(acc, &mut none, |i, ai, piece, base, _| {
+            row(i, ai, piece, base)
+        });
+    }
+
+    /// [`Neighbours::rows`] that also hands each row its slots of `store`
+    /// ([`Neighbours::visited`]): a task's rows' slots are one run of the
+    /// store, split off before the tasks start.
+    fn rows_store<T, S, R>(&self, acc: &mut [T], store: &mut [S], row: R)
+    where
+        T: Send + Default,
+        S: Send,
+        R: Fn(usize, &mut T, &mut [T], usize, &mut [S]) + Sync,
+    {
         let n = acc.len();
         assert_eq!(self.fwd_end.len(), n, "rows not indexed for the sweep");
+        assert_eq!(
+            store.len(),
+            self.visited[n] as usize,
+            "a store for these rows"
+        );
         let c = self.chunk;
+        let vis = &self.visited;
         for phase in 0..2 {
             let off = phase * c;
             if off >= n {
                 break;
             }
+            // Each task's slots, in task order.
+            let mut slots: Vec<&mut [S]> = Vec::with_capacity((n - off).div_ceil(2 * c));
+            let mut rest: &mut [S] = &mut store[..];
+            let mut at = 0;
+            for r0 in (off..n).step_by(2 * c) {
+                let (a, b) = (vis[r0] as usize, vis[(r0 + c).min(n)] as usize);
+                let (_, tail) = std::mem::take(&mut rest).split_at_mut(a - at);
+                let (mine, tail) = tail.split_at_mut(b - a);
+                slots.push(mine);
+                rest = tail;
+                at = b;
+            }
             acc[off..]
                 .par_chunks_mut(2 * c)
+                .zip(slots)
                 .enumerate()
-                .for_each(|(k, piece)| {
+                .for_each(|(k, (piece, sl))| {
                     let base = off + 2 * k * c;
+                    let sbase = vis[base] as usize;
                     for i in base..(base + c).min(n) {
                         // No other row of this task writes to i while
                         // i's row runs (its partners are all j > i), so its
                         // sums stay in registers until the row ends.
                         let mut ai = std::mem::take(&mut piece[i - base]);
-                        row(i, &mut ai, piece, base);
+                        let (a, b) = (vis[i] as usize - sbase, vis[i + 1] as usize - sbase);
+                        row(i, &mut ai, piece, base, &mut sl[a..b]);
                         piece[i - base] = ai;
                     }
                 });
@@ -418,6 +566,7 @@ impl Neighbours {
             + size_of_val(&self.x_ref[..])
             + size_of_val(&self.fwd_end[..])
             + size_of_val(&self.far_end[..])
+            + size_of_val(&self.visited[..])
     }
 }
 
