@@ -165,6 +165,8 @@ struct PartnerSums {
     swn: DVec2,
     /// `ΣW v_q`
     swv: DVec2,
+    /// `ΣW v_q` at the booking velocities ([`penalty_booked`]).
+    swb: DVec2,
     /// `ΣW n_q·(S_P − s_q)`: distances to the partners' tangent lines.
     swt: f64,
     /// `ΣW o_q`: the partners' surface offsets (the spring's far layer).
@@ -179,6 +181,7 @@ impl PartnerSums {
             sws: DVec2::ZERO,
             swn: DVec2::ZERO,
             swv: DVec2::ZERO,
+            swb: DVec2::ZERO,
             swt: 0.0,
             swo: 0.0,
         }
@@ -276,6 +279,25 @@ fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) 
 
 /// Both passes: returns contact forces, booked heat and the statistics.
 pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> ContactForces {
+    penalty_booked(model, st, nb, bd, &st.v)
+}
+
+/// [`penalty`] with the forces of the velocities `st.v` but the heat and
+/// the spring power booked at the velocities `book`: the rate of work of
+/// a pass's force `½ p A` on the bodies is `½ p A w` with the approach
+/// rate `w` the bodies actually move at, and the ledger closes only when
+/// the heat and the spring power split that `w`. The leapfrog
+/// (`CpuSolver::step`) computes its forces at predicted velocities and
+/// books their work at the step's end.
+pub fn penalty_booked(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    bd: &Boundary,
+    book: &[DVec2],
+) -> ContactForces {
+    // The same velocities: the booked rates are the pressure's own.
+    let same = std::ptr::eq(book, &st.v[..]);
     // Pass 1: every boundary particle against each partner body around it
     // (entry k for particle `bd.list[k]`; only boundary particles have
     // contact terms, so the passes go over the boundary list alone).
@@ -314,6 +336,9 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                 s.sws += (sq - sp) * w;
                 s.swn += bd.normal[q] * w;
                 s.swv += st.v[q] * w;
+                if !same {
+                    s.swb += book[q] * w;
+                }
                 s.swt += bd.normal[q].dot(sp - sq) * w;
                 s.swo += model.offset[q] * w;
             }
@@ -323,9 +348,14 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                 };
                 let (bq, sw) = (s.body, s.sw);
                 let a = bd.area[p];
+                let w_book = if same {
+                    ps.w_rate
+                } else {
+                    (book[p] - s.swb / sw).dot(ps.n)
+                };
                 // Dashpot heat of this half pass: ½ (p − kδ) A w ≥ 0 (the
                 // spring's share of the work is stored, the rest dissipated).
-                let heat = 0.5 * (ps.p - ps.stiffness * ps.delta) * a * ps.w_rate;
+                let heat = 0.5 * (ps.p - ps.stiffness * ps.delta) * a * w_book;
                 // Finite: a pair with two rigid sides has no pressure.
                 let stored = 0.25 * ps.stiffness * ps.delta * ps.delta * a;
                 own_force -= ps.n * (0.5 * ps.p * a);
@@ -344,7 +374,7 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
                     pressure: ps.p,
                     stored,
                     heat,
-                    spring_rate: 0.5 * ps.stiffness * ps.delta * a * ps.w_rate,
+                    spring_rate: 0.5 * ps.stiffness * ps.delta * a * w_book,
                 });
             }
             (own_force, own_heat, shares, stats)
