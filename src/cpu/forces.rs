@@ -193,7 +193,64 @@ pub fn momentum_energy(
     surface: &[bool],
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>) {
-    sums(model, st, nb, l, gv, surface, pts, lanes_serve(model))
+    sums(model, st, nb, l, gv, surface, pts, lanes_serve(model), None)
+}
+
+/// A pair's energy vectors, kept by [`momentum_keeping`] in the pair's
+/// slot of the sweep: particle i's `X_i = (σ_i/ρ_i² − ½Π_ij I + ½ (R_i +
+/// R_j) f^n) G_ij` and particle j's `X_j = t G_ij − X_i`, so that the
+/// energy sums at any velocities `w` are `de_i/dt = −Σ_j m_j w_ij·X_i`
+/// and `de_j/dt = −Σ_i m_i w_ij·X_j` ([`energy_replay`]).
+pub type PairVectors = [DVec2; 2];
+
+/// Pass C's momentum sums (`dv/dt`, as [`momentum_energy`], the same bits)
+/// with the energy sums left for later: each pair's [`PairVectors`] go to
+/// `keep` instead. The leapfrog (`CpuSolver::step`) books the work of the
+/// forces on the velocity at the end of the step, which the momentum sums
+/// themselves give.
+#[allow(clippy::too_many_arguments)]
+pub fn momentum_keeping(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    l: &[Mat2],
+    gv: &[Mat2],
+    surface: &[bool],
+    pts: &[StressPoint],
+    keep: &mut Vec<PairVectors>,
+) -> Vec<DVec2> {
+    keep.resize(nb.store_len(), [DVec2::ZERO; 2]);
+    let lanes = lanes_serve(model);
+    sums(model, st, nb, l, gv, surface, pts, lanes, Some(keep)).0
+}
+
+/// `de/dt` from the pairs kept by [`momentum_keeping`] with the work done
+/// on the velocities `w` (rigid particles: zero), in the sweep's order.
+pub fn energy_replay(
+    model: &Model,
+    nb: &Neighbours,
+    kept: &[PairVectors],
+    w: &[DVec2],
+) -> Vec<f64> {
+    let mut acc = vec![0.0f64; model.len()];
+    nb.replay(&mut acc, kept, |i, j, x, ai, aj| {
+        let wij = w[i] - w[j];
+        if !model.rigid(i) {
+            *ai -= model.mass[j] * wij.dot(x[0]);
+        }
+        if let Some(aj) = aj.filter(|_| !model.rigid(j)) {
+            *aj -= model.mass[i] * wij.dot(x[1]);
+        }
+    });
+    acc
+}
+
+/// Particle i's energy vector `X_i = ½ (t G + (σ_i/ρ_i² − σ_j/ρ_j²) G)`
+/// and j's `t G − X_i` ([`PairVectors`]).
+#[inline]
+fn pair_vectors(tg: DVec2, sig: DVec2, sjg: DVec2) -> PairVectors {
+    let xi = (tg + (sig - sjg)) * 0.5;
+    [xi, tg - xi]
 }
 
 /// Whether the lane code serves the scene: it has neither the rigid
@@ -214,8 +271,59 @@ fn sums(
     surface: &[bool],
     pts: &[StressPoint],
     lanes: bool,
+    keep: Option<&mut Vec<PairVectors>>,
 ) -> (Vec<DVec2>, Vec<f64>) {
     let mut acc = vec![(DVec2::ZERO, 0.0); model.len()];
+    if let Some(keep) = keep {
+        // The momentum sums as below, the energy terms' vectors kept.
+        if lanes {
+            let rec = partners(model, st, l, gv, surface, pts);
+            nb.sweep_chunks_store(
+                model,
+                &st.x,
+                &mut acc,
+                keep,
+                |i, c, ai, piece, base, slots| {
+                    let t = lane_terms(&rec, model, i, c);
+                    for (k, slot) in slots.iter_mut().enumerate() {
+                        if c.inside & (1 << k) == 0 {
+                            *slot = [DVec2::ZERO; 2];
+                            continue;
+                        }
+                        ai.0 += DVec2::new(t.tg_mj[0][k], t.tg_mj[1][k]);
+                        if c.near {
+                            piece[c.j[k] as usize - base].0 -=
+                                DVec2::new(t.tg_mi[0][k], t.tg_mi[1][k]);
+                        }
+                        *slot = [
+                            DVec2::new(t.x_i[0][k], t.x_i[1][k]),
+                            DVec2::new(t.x_j[0][k], t.x_j[1][k]),
+                        ];
+                    }
+                },
+            );
+        } else {
+            let terms = |i, b: &Nbr| pair_terms(model, st, l, gv, surface, pts, i, b);
+            nb.sweep_store(model, &st.x, &mut acc, keep, |i, b, ai, aj, slot| {
+                let j = b.j as usize;
+                let aj = aj.filter(|_| !model.rigid(j));
+                let ri = model.rigid(i);
+                if ri && aj.is_none() {
+                    *slot = [DVec2::ZERO; 2];
+                    return;
+                }
+                let p = terms(i, b);
+                if !ri {
+                    ai.0 += p.tg * model.mass[j];
+                }
+                if let Some(aj) = aj {
+                    aj.0 -= p.tg * model.mass[i];
+                }
+                *slot = pair_vectors(p.tg, pts[i].sr2.mul_vec(p.g), pts[j].sr2.mul_vec(p.g));
+            });
+        }
+        return acc.into_iter().unzip();
+    }
     if lanes {
         assert!(lanes_serve(model), "the lane code serves this scene");
         let rec = partners(model, st, l, gv, surface, pts);
@@ -266,6 +374,9 @@ struct LaneTerms {
     tg_mi: [[f64; LANES]; 2],
     e_i: [f64; LANES],
     e_j: [f64; LANES],
+    /// The pair's [`PairVectors`] (x and y rows).
+    x_i: [[f64; LANES]; 2],
+    x_j: [[f64; LANES]; 2],
 }
 
 /// What the momentum pass reads of a particle, in one record of five rows
@@ -393,13 +504,21 @@ fn lane_terms(rec: &[Partner], model: &Model, i: usize, c: &Chunk) -> LaneTerms 
     let tgx = txx * gx + txy * gy;
     let tgy = txy * gx + tyy * gy;
     let shared = 0.5 * pi * (vx * gx + vy * gy);
-    let ei = vx * (sixx * gx + sixy * gy) + vy * (sixy * gx + siyy * gy);
-    let ej = vx * (sjxx * gx + sjxy * gy) + vy * (sjxy * gx + sjyy * gy);
+    // σ_i/ρ_i² G and σ_j/ρ_j² G.
+    let (sigx, sigy) = (sixx * gx + sixy * gy, sixy * gx + siyy * gy);
+    let (sjgx, sjgy) = (sjxx * gx + sjxy * gy, sjxy * gx + sjyy * gy);
+    let ei = vx * sigx + vy * sigy;
+    let ej = vx * sjgx + vy * sjgy;
+    // pair_vectors, lane by lane.
+    let xix = (tgx + (sigx - sjgx)) * 0.5;
+    let xiy = (tgy + (sigy - sjgy)) * 0.5;
     LaneTerms {
         tg_mj: [(tgx * mj).to_array(), (tgy * mj).to_array()],
         tg_mi: [(tgx * mi).to_array(), (tgy * mi).to_array()],
         e_i: (mj * (ei - shared)).to_array(),
         e_j: (mi * (ej - shared)).to_array(),
+        x_i: [xix.to_array(), xiy.to_array()],
+        x_j: [(tgx - xix).to_array(), (tgy - xiy).to_array()],
     }
 }
 
@@ -440,9 +559,11 @@ mod tests {
             let pts = eos_and_stress(&model, &st);
             let args = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
             let one = sums(
-                args.0, args.1, args.2, args.3, args.4, args.5, args.6, false,
+                args.0, args.1, args.2, args.3, args.4, args.5, args.6, false, None,
             );
-            let four = sums(args.0, args.1, args.2, args.3, args.4, args.5, args.6, true);
+            let four = sums(
+                args.0, args.1, args.2, args.3, args.4, args.5, args.6, true, None,
+            );
             let bits = |v: &DVec2| (v.x.to_bits(), v.y.to_bits());
             for i in 0..model.len() {
                 assert_eq!(bits(&one.0[i]), bits(&four.0[i]), "dv of {i}");
@@ -451,6 +572,80 @@ mod tests {
             // The sums are not trivially equal: the pass does work.
             assert!(one.0.iter().filter(|a| a.length() > 0.0).count() > model.len() / 2);
         }
+    }
+
+    /// The leapfrog's momentum pass gives `momentum_energy`'s `dv/dt` bit
+    /// for bit, keeps the same pair vectors in the lane code and in the
+    /// one-pair code, and the energy replayed from them at the pass's own
+    /// velocities is its `de/dt` up to round-off (the same terms, grouped
+    /// `w·(S_i G − ½ΠG)` instead of `w·S_i G − ½Π w·G`). With velocities
+    /// that differ, the replay differs: it does book the work on them.
+    #[test]
+    fn kept_pair_vectors_replay_the_energy_sums() {
+        let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
+        let (model, mut st) = (bench.model().clone(), bench.state().clone());
+        for (i, v) in st.v.iter_mut().enumerate() {
+            let a = (i as f64 * 0.618_033_988_7).fract() * std::f64::consts::TAU;
+            *v += DVec2::new(a.cos(), a.sin()) * 0.3;
+        }
+        let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
+        let nb = neighbours::find_with_skin(&model, &st.x, skin);
+        let k = kinematics::kinematics(&model, &st, &nb);
+        let pts = eos_and_stress(&model, &st);
+        let args = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
+        let (dv, de) = momentum_energy(args.0, args.1, args.2, args.3, args.4, args.5, args.6);
+        let mut kept = [Vec::new(), Vec::new()];
+        for (lanes, kept) in [true, false].into_iter().zip(&mut kept) {
+            kept.resize(nb.store_len(), [DVec2::ZERO; 2]);
+            let (kdv, _) = sums(
+                args.0,
+                args.1,
+                args.2,
+                args.3,
+                args.4,
+                args.5,
+                args.6,
+                lanes,
+                Some(kept),
+            );
+            for i in 0..model.len() {
+                assert_eq!(kdv[i].x.to_bits(), dv[i].x.to_bits(), "dv.x of {i}");
+                assert_eq!(kdv[i].y.to_bits(), dv[i].y.to_bits(), "dv.y of {i}");
+            }
+        }
+        let bits = |x: &PairVectors| x.map(|v| [v.x.to_bits(), v.y.to_bits()]);
+        assert!(kept[0].iter().map(bits).eq(kept[1].iter().map(bits)));
+        let pairs = kept[0].iter().filter(|x| x[0] != DVec2::ZERO).count();
+        assert!(pairs > 5 * model.len(), "{pairs} kept pairs");
+
+        let scale = de.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let replay = energy_replay(&model, &nb, &kept[0], &st.v);
+        for i in 0..model.len() {
+            assert!(
+                (replay[i] - de[i]).abs() <= 1e-12 * scale,
+                "de of {i}: {} against {}",
+                replay[i],
+                de[i]
+            );
+        }
+        // At other velocities the replay moves with them.
+        let w: Vec<DVec2> = st.v.iter().map(|v| *v * 1.5 + DVec2::X).collect();
+        let other = energy_replay(&model, &nb, &kept[0], &w);
+        let moved = (0..model.len()).filter(|&i| (other[i] - de[i]).abs() > 1e-6 * scale);
+        assert!(moved.count() > model.len() / 2);
+        // Energy is conserved pair by pair: Σ m_i de_i = Σ_pairs m_i m_j
+        // w_ij·t G_ij = −Σ m_i w_i·dv_i (the work of the forces on w).
+        let heat: f64 = (0..model.len()).map(|i| model.mass[i] * other[i]).sum();
+        let work: f64 = (0..model.len())
+            .map(|i| model.mass[i] * w[i].dot(dv[i]))
+            .sum();
+        let size: f64 = (0..model.len())
+            .map(|i| model.mass[i] * (w[i].dot(dv[i])).abs())
+            .sum();
+        assert!(
+            (heat + work).abs() <= 1e-10 * size,
+            "internal {heat:e} against work {work:e}"
+        );
     }
 
     /// The lane code's sums do not depend on the thread count: the chunks
@@ -468,7 +663,7 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .expect("a thread pool");
-            pool.install(|| sums(model, st, &nb, &k.l, &k.gv, &k.surface, &pts, true))
+            pool.install(|| sums(model, st, &nb, &k.l, &k.gv, &k.surface, &pts, true, None))
         };
         let (one, three) = (on(1), on(3));
         for i in 0..model.len() {
