@@ -10,7 +10,7 @@ use sphcontact::physics::material::MaterialModel;
 use sphcontact::run::{run_scene, RunOptions};
 use sphcontact::scene::{
     default_cfl, default_smoothing_ratio, Backend, Body, ContactQuantity, Correction, Eos,
-    Interaction, Material, Output, Probe, Scene, Shape, Simulation,
+    Integrator, Interaction, Material, Output, Probe, Scene, Shape, Simulation,
 };
 use std::collections::BTreeMap;
 
@@ -56,6 +56,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             smoothing_ratio: default_smoothing_ratio(),
             correction: Correction::Gradient,
             backend: Backend::Cpu,
+            integrator: Integrator::Midpoint,
         },
         artificial_stress: None,
         artificial_viscosity: None,

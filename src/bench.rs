@@ -37,7 +37,7 @@ use crate::gpu::{GpuContext, GpuSolver, RING_LEN, STAGES};
 use crate::model::{Model, State};
 use crate::probe::{self, Resolved};
 use crate::run::{choose_backend, RunOptions};
-use crate::scene::{Backend, Scene};
+use crate::scene::{Backend, Integrator, Scene};
 use crate::validation::{disk_scene, DISKS_CONTACT_TIME};
 
 /// Fewer particles than this make too small a disk to say anything about
@@ -111,6 +111,8 @@ pub struct BenchOptions {
     pub steps: Option<u64>,
     /// Also time each GPU stage alone.
     pub stages: bool,
+    /// Time integration of the timed steps (the leapfrog: CPU only).
+    pub integrator: Integrator,
     /// Progress lines on stderr.
     pub verbose: bool,
 }
@@ -136,6 +138,8 @@ pub struct Record {
     pub adapter: String,
     /// Worker threads of the CPU path; `None` on the GPU.
     pub threads: Option<usize>,
+    /// `midpoint` (two evaluations a step) or `leapfrog` (one).
+    pub integrator: String,
     pub requested_particles: usize,
     pub particles: usize,
     /// Disk radius over particle spacing that gives `particles`.
@@ -247,6 +251,13 @@ impl DiskCase {
 
     pub fn particles(&self) -> usize {
         self.model.len()
+    }
+
+    /// The same case stepped by integrator `i`.
+    pub fn with_integrator(mut self, i: Integrator) -> Self {
+        self.scene.simulation.integrator = i;
+        self.model.integrator = i;
+        self
     }
 
     /// The step a timed run stops at, from the step `onset` that ended
@@ -558,8 +569,21 @@ fn measure(
 /// The backends to run: the CPU flag and the GPU context.
 fn backends(
     which: BenchBackend,
+    integrator: Integrator,
     verbose: bool,
 ) -> Result<(bool, Option<Arc<GpuContext>>), BenchError> {
+    if integrator == Integrator::Leapfrog {
+        // The GPU path steps with the midpoint rule only.
+        if which == BenchBackend::Gpu {
+            return Err(BenchError::Input(
+                "bench --backend gpu: the leapfrog integrator runs on the CPU path only".into(),
+            ));
+        }
+        if verbose && which != BenchBackend::Cpu {
+            eprintln!("bench: the leapfrog integrator runs on the CPU path only; CPU only");
+        }
+        return Ok((true, None));
+    }
     match which {
         BenchBackend::Cpu => Ok((true, None)),
         BenchBackend::Gpu => match crate::gpu::shared_context() {
@@ -611,17 +635,18 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             "--steps must be at least 1 (got 0)".into(),
         ));
     }
-    let (cpu, gpu) = backends(opts.backend, opts.verbose)?;
+    let (cpu, gpu) = backends(opts.backend, opts.integrator, opts.verbose)?;
     let threads = rayon::current_num_threads();
     let cpu_adapter = format!("cpu: {} ({threads} threads)", cpu_name());
     let mut records = Vec::new();
     for &n in &opts.particles {
-        let case = DiskCase::new(n)?;
+        let case = DiskCase::new(n)?.with_integrator(opts.integrator);
         let particles = case.particles();
         let record = |backend: &str, adapter: &str, steps: u64, wall: f64| Record {
             backend: backend.into(),
             adapter: adapter.into(),
             threads: None,
+            integrator: opts.integrator.to_string(),
             requested_particles: n,
             particles,
             r_over_dx: case.r_over_dx,
@@ -711,13 +736,14 @@ fn sci(x: f64) -> String {
 /// the GPU stages.
 pub fn table(records: &[Record]) -> String {
     let mut s = String::new();
-    s.push_str("| backend | adapter | particles | R/Δx | mean neighbours | steps | wall (s) | particle-steps/s | per core | memory/particle | in contact |\n");
-    s.push_str("|---|---|---|---|---|---|---|---|---|---|---|\n");
+    s.push_str("| backend | adapter | integrator | particles | R/Δx | mean neighbours | steps | wall (s) | particle-steps/s | per core | memory/particle | in contact |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for r in records {
         s.push_str(&format!(
-            "| {} | {} | {} | {:.2} | {:.1} | {} | {:.3} | {} | {} | {:.0} B ({}) | {} |\n",
+            "| {} | {} | {} | {} | {:.2} | {:.1} | {} | {:.3} | {} | {} | {:.0} B ({}) | {} |\n",
             r.backend,
             r.adapter,
+            r.integrator,
             r.particles,
             r.r_over_dx,
             r.mean_neighbours,

@@ -29,7 +29,9 @@
 use glam::DVec2;
 use std::path::{Path, PathBuf};
 
+use crate::cpu::contact::ContactStats;
 use crate::cpu::neighbours::Neighbours;
+use crate::cpu::{Diagnostics, Rates};
 use crate::error::RunError;
 use crate::gpu::RawDevice;
 use crate::math::Sym;
@@ -83,6 +85,8 @@ pub struct CpuState {
     /// The energy guard's limit, once set.
     pub energy_limit: Option<f64>,
     pub lists: Neighbours,
+    /// The leapfrog's rates at the state ([`crate::cpu::CpuSolver::carried`]).
+    pub carried: Option<(Rates, Diagnostics)>,
 }
 
 /// The GPU solver's state: the device's own, and the last delivered
@@ -173,8 +177,10 @@ impl Checkpoint {
                     initial_dt,
                     energy_limit,
                     lists,
+                    carried,
                 } = &**c;
-                w.u64(0);
+                // Kind 2 is kind 0 followed by the carried rates.
+                w.u64(if carried.is_some() { 2 } else { 0 });
                 w.f64(state.t);
                 w.u64(state.step);
                 w.vec2s(&state.x);
@@ -197,6 +203,25 @@ impl Checkpoint {
                 w.u32s(&lists.cross);
                 w.f64(lists.skin);
                 w.vec2s(&lists.x_ref);
+                if let Some((r, d)) = carried {
+                    w.vec2s(&r.dv);
+                    w.f64s(&r.de);
+                    w.f64(r.heat_rate);
+                    w.f64(r.spring_rate);
+                    w.f64(d.cfl_dt);
+                    w.u64(d.correction_fallback as u64);
+                    w.u64(d.boundary_count as u64);
+                    let c = &d.contact;
+                    w.u64(c.pairs.len() as u64);
+                    for &(a, b, f, p) in &c.pairs {
+                        w.u32s(&[a, b]);
+                        w.f64(f);
+                        w.f64(p);
+                    }
+                    w.f64(c.stored);
+                    w.f64(c.heat_rate);
+                    w.f64(c.spring_rate);
+                }
             }
             SolverState::Gpu(g) => {
                 let d = &g.device;
@@ -276,7 +301,7 @@ impl Checkpoint {
             let checkpoint_every = r.f64()?;
             let next_checkpoint = r.f64()?;
             let solver = match r.u64()? {
-                0 => {
+                kind @ (0 | 2) => {
                     let t = r.f64()?;
                     let step = r.u64()?;
                     let x = r.vec2s()?;
@@ -308,6 +333,47 @@ impl Checkpoint {
                         // the solver that resumes them.
                         ..Default::default()
                     };
+                    let carried = if kind == 2 {
+                        let dv = r.vec2s()?;
+                        let de = r.f64s()?;
+                        let (heat_rate, spring_rate) = (r.f64()?, r.f64()?);
+                        let cfl_dt = r.f64()?;
+                        let correction_fallback = r.u64()? as usize;
+                        let boundary_count = r.u64()? as usize;
+                        let np = r.count(24)?;
+                        let pairs = (0..np)
+                            .map(|_| {
+                                let ab = r.u32s()?;
+                                let [a, b] = ab[..] else {
+                                    return Err("a contact pair is not two bodies".to_string());
+                                };
+                                Ok((a, b, r.f64()?, r.f64()?))
+                            })
+                            .collect::<Result<_, String>>()?;
+                        let contact = ContactStats {
+                            pairs,
+                            stored: r.f64()?,
+                            heat_rate: r.f64()?,
+                            spring_rate: r.f64()?,
+                        };
+                        Some((
+                            Rates {
+                                dv,
+                                de,
+                                heat_rate,
+                                spring_rate,
+                                ..Default::default()
+                            },
+                            Diagnostics {
+                                cfl_dt,
+                                contact,
+                                correction_fallback,
+                                boundary_count,
+                            },
+                        ))
+                    } else {
+                        None
+                    };
                     SolverState::Cpu(Box::new(CpuState {
                         state: State {
                             t,
@@ -323,6 +389,7 @@ impl Checkpoint {
                         initial_dt,
                         energy_limit,
                         lists,
+                        carried,
                     }))
                 }
                 1 => {
@@ -413,7 +480,10 @@ impl Checkpoint {
                     .list
                     .iter()
                     .chain(&lists.cross)
-                    .all(|&j| (j as usize) < n);
+                    .all(|&j| (j as usize) < n)
+                && c.carried
+                    .as_ref()
+                    .map_or(true, |(r, _)| r.dv.len() == n && r.de.len() == n);
             if !ok {
                 return Err(format!(
                     "its particle arrays do not match the scene's {n} particles"
@@ -627,6 +697,26 @@ mod tests {
                     x_ref: state.x.clone(),
                     ..Default::default()
                 },
+                carried: Some((
+                    Rates {
+                        dv: vec![DVec2::new(1.0, -2.0); state.x.len()],
+                        de: vec![0.5; state.x.len()],
+                        heat_rate: 0.25,
+                        spring_rate: -0.125,
+                        ..Default::default()
+                    },
+                    Diagnostics {
+                        cfl_dt: 1e-9,
+                        contact: ContactStats {
+                            pairs: vec![(0, 1, 2.5, 3.5)],
+                            stored: 4.0,
+                            heat_rate: 0.25,
+                            spring_rate: -0.125,
+                        },
+                        correction_fallback: 1,
+                        boundary_count: 2,
+                    },
+                )),
                 state,
                 initial_dt: Some(3e-9),
                 energy_limit: Some(f64::INFINITY),

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use sphcontact::model::Model;
 use sphcontact::physics::material::series;
 use sphcontact::run::{history_times, output_dir, run_scene, RunOptions};
-use sphcontact::scene::{validate::cfl_step_at_start, Backend, Scene};
+use sphcontact::scene::{validate::cfl_step_at_start, Backend, Integrator, Scene};
 
 #[derive(Parser)]
 #[command(
@@ -27,6 +27,19 @@ enum BackendArg {
     Cpu,
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum IntegratorArg {
+    Midpoint,
+    Leapfrog,
+}
+
+fn integrator_of(i: IntegratorArg) -> Integrator {
+    match i {
+        IntegratorArg::Midpoint => Integrator::Midpoint,
+        IntegratorArg::Leapfrog => Integrator::Leapfrog,
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Run a scene and write history.csv and summary.json.
@@ -44,6 +57,10 @@ enum Command {
         /// Stop at this simulated time, s (overrides simulation.end_time).
         #[arg(long, allow_negative_numbers = true)]
         end_time: Option<f64>,
+        /// Time integration (overrides simulation.integrator): midpoint
+        /// (two evaluations a step) or leapfrog (one; CPU path only).
+        #[arg(long, value_enum)]
+        integrator: Option<IntegratorArg>,
         /// Occasional plain progress lines instead of a progress bar.
         #[arg(long)]
         quiet: bool,
@@ -97,6 +114,10 @@ struct BenchArgs {
     /// Also time each GPU stage alone.
     #[arg(long)]
     stages: bool,
+    /// Time integration of the timed steps: midpoint (two evaluations a
+    /// step) or leapfrog (one; CPU path only).
+    #[arg(long, value_enum, default_value = "midpoint")]
+    integrator: IntegratorArg,
     /// A JSON list of the records on stdout instead of the table.
     #[arg(long)]
     json: bool,
@@ -109,6 +130,10 @@ struct ValidateArgs {
     /// Which backend runs the cases (default: the scenes' auto).
     #[arg(long, value_enum)]
     backend: Option<BackendArg>,
+    /// Time integration of the cases (default: the scenes' midpoint);
+    /// leapfrog runs on the CPU path only.
+    #[arg(long, value_enum)]
+    integrator: Option<IntegratorArg>,
     /// Output directory.
     #[arg(long, default_value = "out/validate")]
     out: PathBuf,
@@ -147,6 +172,7 @@ fn validate_cmd(args: ValidateArgs) -> ExitCode {
     let ValidateArgs {
         cases,
         backend,
+        integrator,
         out,
         bar_particles,
         disk_resolution,
@@ -183,6 +209,12 @@ fn validate_cmd(args: ValidateArgs) -> ExitCode {
     }
     if sweep {
         let backends = match backend.map(backend_of) {
+            // The leapfrog runs on the CPU path only (--backend gpu says so).
+            Some(Backend::Auto) | None
+                if integrator.is_some_and(|i| matches!(i, IntegratorArg::Leapfrog)) =>
+            {
+                vec![Backend::Cpu]
+            }
             Some(Backend::Auto) | None => {
                 let mut b = vec![Backend::Cpu];
                 match sphcontact::gpu::shared_context() {
@@ -198,6 +230,9 @@ fn validate_cmd(args: ValidateArgs) -> ExitCode {
         };
         let mut opts = v::SweepOptions::new(backends, out.clone());
         opts.disk_r_over_dx.retain(|&r| r <= sweep_max);
+        if let Some(i) = integrator {
+            opts.integrator = integrator_of(i);
+        }
         opts.verbose = true;
         return match v::sweep(&opts) {
             Ok((points, warnings)) => {
@@ -228,6 +263,7 @@ fn validate_cmd(args: ValidateArgs) -> ExitCode {
     let opts = v::Options {
         cases: chosen,
         backend: backend.map(backend_of),
+        integrator: integrator.map(integrator_of),
         out: out.clone(),
         resolution: v::Resolution {
             bar_particles,
@@ -266,6 +302,7 @@ fn bench_cmd(args: BenchArgs) -> ExitCode {
         particles: args.particles,
         steps: args.steps,
         stages: args.stages,
+        integrator: integrator_of(args.integrator),
         verbose: true,
     };
     match bench::bench(&opts) {
@@ -438,6 +475,7 @@ fn main() -> ExitCode {
             out,
             backend,
             end_time,
+            integrator,
             quiet,
             checkpoint_every,
             resume,
@@ -446,6 +484,7 @@ fn main() -> ExitCode {
                 out_dir: out,
                 backend: backend.map(backend_of),
                 end_time,
+                integrator: integrator.map(integrator_of),
                 quiet,
                 silent: false,
                 write: true,

@@ -5,7 +5,7 @@ use glam::DVec2;
 use std::ops::Range;
 
 use crate::physics::material::MaterialModel;
-use crate::scene::{place_bodies, Correction, Interaction, Scene};
+use crate::scene::{place_bodies, Correction, Integrator, Interaction, Scene};
 
 /// One body: its material, its particles (a contiguous range) and flags.
 #[derive(Debug, Clone)]
@@ -27,6 +27,7 @@ pub struct Model {
     pub correction: Correction,
     pub cfl: f64,
     pub fixed_dt: Option<f64>,
+    pub integrator: Integrator,
     pub alpha: f64,
     pub beta: f64,
     /// Limited reconstruction of the velocity jump in the viscosity.
@@ -100,6 +101,7 @@ impl Model {
             correction: sim.correction,
             cfl: sim.cfl,
             fixed_dt: sim.dt,
+            integrator: sim.integrator,
             alpha: av.alpha,
             beta: av.beta,
             av_reconstruct: av.reconstruct,

@@ -18,7 +18,7 @@ use crate::model::{Model, State};
 use crate::output::vtk::{Fields, SnapshotSeries};
 use crate::output::{BodySummary, History, Summary};
 use crate::probe;
-use crate::scene::{Backend, Scene};
+use crate::scene::{Backend, Integrator, Scene};
 
 /// How to run a scene.
 #[derive(Debug, Clone, Default)]
@@ -30,6 +30,8 @@ pub struct RunOptions {
     pub backend: Option<Backend>,
     /// Overrides the scene's end time.
     pub end_time: Option<f64>,
+    /// Overrides the scene's integrator (`simulation.integrator`).
+    pub integrator: Option<Integrator>,
     /// Plain occasional progress lines instead of a bar.
     pub quiet: bool,
     /// Print no progress at all (library use, tests).
@@ -87,7 +89,20 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         gpu: None,
         warning,
     };
-    match opts.backend.unwrap_or(scene.simulation.backend) {
+    let backend = opts.backend.unwrap_or(scene.simulation.backend);
+    if scene.simulation.integrator == Integrator::Leapfrog {
+        // The GPU path steps with the midpoint rule only.
+        return match backend {
+            Backend::Gpu => Err(RunError::Backend(
+                "backend gpu: the leapfrog integrator (simulation.integrator) runs on the CPU path only; use --backend cpu, or integrator = \"midpoint\" on the GPU".into(),
+            )),
+            Backend::Cpu => Ok(cpu(None)),
+            Backend::Auto => Ok(cpu(Some(
+                "backend auto: the leapfrog integrator runs on the CPU path only; running the CPU path".into(),
+            ))),
+        };
+    }
+    match backend {
         Backend::Cpu => Ok(cpu(None)),
         Backend::Gpu => match crate::gpu::shared_context() {
             Ok(ctx) => Ok(BackendChoice {
@@ -450,6 +465,9 @@ pub fn run_scene(
         }
         scene.simulation.end_time = t;
     }
+    if let Some(i) = opts.integrator {
+        scene.simulation.integrator = i;
+    }
     let label = scene_path.map_or(String::new(), |p| p.display().to_string());
     let dir = opts.write.then(|| output_dir(&scene, scene_path, opts));
     run_from(scene, label, dir, opts, None)
@@ -464,6 +482,11 @@ pub fn resume_run(dir: &Path, opts: &RunOptions) -> Result<RunOutput, RunError> 
     if opts.end_time.is_some() {
         return Err(RunError::Backend(
             "--end-time cannot be combined with --resume: a resumed run continues to the end time it was started with".into(),
+        ));
+    }
+    if opts.integrator.is_some() {
+        return Err(RunError::Backend(
+            "--integrator cannot be combined with --resume: a resumed run continues with the integrator it was started with".into(),
         ));
     }
     if let Some(b) = opts
@@ -664,6 +687,7 @@ fn run_from(
         dimension: dim,
         backend: backend.to_string(),
         adapter,
+        integrator: model.integrator.to_string(),
         particles: n,
         steps: st.step,
         end_time: end,
@@ -736,8 +760,9 @@ fn run_cpu(
                 initial_dt,
                 energy_limit,
                 lists,
+                carried,
             } = *c;
-            CpuSolver::restored(model, state, initial_dt, energy_limit, lists)
+            CpuSolver::restored(model, state, initial_dt, energy_limit, lists, carried)
         }
         None => CpuSolver::new(model, state),
     };
@@ -773,6 +798,7 @@ fn run_cpu(
                 initial_dt,
                 energy_limit,
                 lists: lists.clone(),
+                carried: solver.carried().cloned(),
             }));
             rec.checkpoint(t, stored0.unwrap_or(0.0), max_fallback as u32, saved)?;
         }

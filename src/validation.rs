@@ -20,7 +20,7 @@ use crate::physics::material::MaterialModel;
 use crate::plot::{self, Field, Figure, Series, Style};
 use crate::probe::particle_value;
 use crate::run::{run_scene, RunOptions, RunOutput};
-use crate::scene::{Backend, ParticleQuantity, Scene};
+use crate::scene::{Backend, Integrator, ParticleQuantity, Scene};
 use crate::RunError;
 
 /// The paper's scenes, embedded.
@@ -92,6 +92,8 @@ pub struct Options {
     pub cases: Vec<Case>,
     /// `None`: the scenes' `auto`.
     pub backend: Option<Backend>,
+    /// `None`: the scenes' (the midpoint rule).
+    pub integrator: Option<Integrator>,
     pub out: PathBuf,
     pub resolution: Resolution,
     /// Print progress lines.
@@ -172,11 +174,13 @@ pub fn disk_scene(lattice: &str, r_over_dx: f64) -> Scene {
 pub fn run_case(
     scene: &Scene,
     backend: Option<Backend>,
+    integrator: Option<Integrator>,
     end: Option<f64>,
 ) -> Result<CaseRun, RunError> {
     let opts = RunOptions {
         silent: true,
         backend,
+        integrator,
         end_time: end,
         ..Default::default()
     };
@@ -501,8 +505,18 @@ fn exact_bars(scene: &Scene, right: &str) -> Result<BarImpactHistory, RunError> 
 /// and the bars' mean velocities, kernel and contact modes against exact.
 fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
     let n = opts.resolution.bar_particles;
-    let pen = run_case(&bar_scene(BARS, n, 5e-9), opts.backend, None)?;
-    let ker = run_case(&bar_scene(BARS_KERNEL, n, 5e-9), opts.backend, None)?;
+    let pen = run_case(
+        &bar_scene(BARS, n, 5e-9),
+        opts.backend,
+        opts.integrator,
+        None,
+    )?;
+    let ker = run_case(
+        &bar_scene(BARS_KERNEL, n, 5e-9),
+        opts.backend,
+        opts.integrator,
+        None,
+    )?;
     let ex = exact_bars(&pen.scene, "steel")?;
     let t = pen.times().to_vec();
     let tk = ker.times().to_vec();
@@ -694,7 +708,12 @@ fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
 /// against aluminium, kernel and contact modes against the exact profile.
 fn steel_aluminium(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
     let n = opts.resolution.bar_particles;
-    let pen = run_case(&bar_scene(STEEL_AL, n, 5e-9), opts.backend, None)?;
+    let pen = run_case(
+        &bar_scene(STEEL_AL, n, 5e-9),
+        opts.backend,
+        opts.integrator,
+        None,
+    )?;
     let kscene = bar_scene(STEEL_AL_KERNEL, n, 5e-9);
     let ex = exact_bars(&pen.scene, "aluminium")?;
     // Particle positions at t = 0 (the profiles are drawn against them; the
@@ -727,8 +746,8 @@ fn steel_aluminium(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
     let mut header = vec!["position_m".to_string()];
     let mut cols = vec![x0.clone()];
     for (k, tk) in [0.3e-6, 0.6e-6, 1.2e-6].into_iter().enumerate() {
-        let p = run_case(&pen.scene, opts.backend, Some(tk))?;
-        let kr = run_case(&kscene, opts.backend, Some(tk))?;
+        let p = run_case(&pen.scene, opts.backend, opts.integrator, Some(tk))?;
+        let kr = run_case(&kscene, opts.backend, opts.integrator, Some(tk))?;
         let (sp, sk) = (stress(&p), stress(&kr));
         let exact: Vec<f64> = at_face
             .iter()
@@ -819,7 +838,7 @@ fn disks(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
     let mut cols = Vec::new();
     let mut polar_peak = None;
     for (k, lattice) in ["square", "polar"].into_iter().enumerate() {
-        let run = run_case(&disk_scene(lattice, r), opts.backend, None)?;
+        let run = run_case(&disk_scene(lattice, r), opts.backend, opts.integrator, None)?;
         let sc = DiskScores::of(&run);
         let case = format!("disks, {lattice} lattice, contact");
         rep.within(
@@ -932,7 +951,7 @@ fn disks(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
     // Fig. 8: the von Mises field at peak force (polar lattice), from a run
     // stopped at that instant.
     if let Some((scene, tp)) = polar_peak {
-        let run = run_case(&scene, opts.backend, Some(tp))?;
+        let run = run_case(&scene, opts.backend, opts.integrator, Some(tp))?;
         let (m, st) = (&run.out.model, &run.out.state);
         let x: Vec<f64> = st.x.iter().map(|p| p.x * 1e3).collect();
         let y: Vec<f64> = st.x.iter().map(|p| p.y * 1e3).collect();
@@ -989,6 +1008,8 @@ pub struct SweepOptions {
     pub backends: Vec<Backend>,
     pub bar_particles: Vec<usize>,
     pub disk_r_over_dx: Vec<f64>,
+    /// Time integration of every run (the leapfrog: CPU backend only).
+    pub integrator: Integrator,
     pub out: PathBuf,
     pub verbose: bool,
 }
@@ -1000,6 +1021,7 @@ impl SweepOptions {
             backends,
             bar_particles: vec![25, 50, 100, 200, 400],
             disk_r_over_dx: vec![10.0, 15.0, 20.0, 30.0, 40.0, 50.0],
+            integrator: Integrator::Midpoint,
             out,
             verbose: false,
         }
@@ -1056,7 +1078,7 @@ pub fn bar_observables_of(
     scene: &Scene,
     backend: Option<Backend>,
 ) -> Result<(CaseRun, [Observed; 3]), RunError> {
-    let run = run_case(scene, backend, None)?;
+    let run = run_case(scene, backend, None, None)?;
     let r = exact_bars(&run.scene, "steel")?.result;
     let sc = BarScores::of(&run);
     let obs = [
@@ -1094,7 +1116,7 @@ pub fn disk_observables_of(
     scene: &Scene,
     backend: Option<Backend>,
 ) -> Result<(CaseRun, [Observed; 3]), RunError> {
-    let run = run_case(scene, backend, None)?;
+    let run = run_case(scene, backend, None, None)?;
     let sc = DiskScores::of(&run);
     let obs = [
         Observed {
@@ -1145,7 +1167,9 @@ pub fn sweep(opts: &SweepOptions) -> Result<(Vec<SweepPoint>, Vec<String>), RunE
             if opts.verbose {
                 eprintln!("sweep: bars, {n} per bar, {b}");
             }
-            let (run, obs) = bar_observables(n, Some(b))?;
+            let mut scene = bar_scene(BARS, n, 5e-9);
+            scene.simulation.integrator = opts.integrator;
+            let (run, obs) = bar_observables_of(&scene, Some(b))?;
             push("bars", "segment", n as f64, &run, &obs);
         }
         for lattice in ["square", "polar"] {
@@ -1153,7 +1177,9 @@ pub fn sweep(opts: &SweepOptions) -> Result<(Vec<SweepPoint>, Vec<String>), RunE
                 if opts.verbose {
                     eprintln!("sweep: disks, {lattice}, R/dx = {r}, {b}");
                 }
-                let (run, obs) = disk_observables(lattice, r, Some(b))?;
+                let mut scene = disk_scene(lattice, r);
+                scene.simulation.integrator = opts.integrator;
+                let (run, obs) = disk_observables_of(&scene, Some(b))?;
                 push("disks", lattice, r, &run, &obs);
             }
         }

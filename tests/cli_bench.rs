@@ -83,6 +83,34 @@ fn cpu_records_as_json() {
     assert!((per_core * threads / num(r, "particle_steps_per_second") - 1.0).abs() < 1e-9);
 }
 
+/// The leapfrog's records say so; the GPU cannot time it (exit 2).
+#[test]
+fn leapfrog_records_and_the_gpu_refusal() {
+    let args = ["--particles", "1000", "--steps", "2", "--integrator"];
+    let out = bench(
+        &[&["--backend", "cpu"][..], &args, &["leapfrog", "--json"]].concat(),
+        &[],
+    );
+    let recs = records(&out);
+    assert_eq!(recs.len(), 1, "{recs:?}");
+    check_record(&recs[0], "cpu", 2.0);
+    assert_eq!(recs[0]["integrator"], "leapfrog");
+    let out = bench(
+        &[&["--backend", "cpu"][..], &args, &["midpoint", "--json"]].concat(),
+        &[],
+    );
+    assert_eq!(records(&out)[0]["integrator"], "midpoint");
+
+    let out = bench(
+        &[&["--backend", "gpu"][..], &args, &["leapfrog"]].concat(),
+        &[],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("leapfrog"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
 #[test]
 fn table_lists_every_size() {
     let out = bench(

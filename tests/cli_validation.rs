@@ -412,6 +412,13 @@ fn unknown_missing_and_mistyped_keys() {
         .also(&["tpu"])
         .located(),
         case(
+            "bad_enum_integrator",
+            &[("dimension = 1", "dimension = 1\nintegrator = \"euler\"")],
+            "simulation.integrator",
+        )
+        .also(&["euler"])
+        .located(),
+        case(
             "bad_enum_eos_kind",
             &[("kind = \"mie_gruneisen\"", "kind = \"ideal_gas\"")],
             "materials.steel.eos.kind",
@@ -953,6 +960,72 @@ fn no_adapter_gpu_refuses_and_auto_falls_back() {
     assert!(warnings[0].contains("CPU path"), "{}", warnings[0]);
     let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
+}
+
+/// The leapfrog (scene key or `--integrator`) runs on the CPU path: the
+/// summary names it; `--backend gpu` refuses it with a message that says
+/// what to do, and `auto` runs the CPU path with one warning line.
+#[test]
+fn leapfrog_runs_on_the_cpu_path_only() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = BASE_1D.replacen(
+        "dimension = 1",
+        "dimension = 1\nintegrator = \"leapfrog\"",
+        1,
+    );
+    let scene = write_scene(tmp.path(), "leap", &text);
+    let plain = write_scene(tmp.path(), "plain", BASE_1D);
+    let run = |scene: &Path, extra: &[&str], dir: &str| {
+        let out_dir = tmp.path().join(dir);
+        let mut args = vec![
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--quiet",
+        ];
+        args.extend(extra);
+        (sphcontact(tmp.path(), &args), out_dir)
+    };
+    let summary = |dir: &Path| -> serde_json::Value {
+        serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap()
+    };
+    for (scene, extra, dir) in [
+        (&scene, &["--backend", "cpu"][..], "key"),
+        (
+            &plain,
+            &["--backend", "cpu", "--integrator", "leapfrog"][..],
+            "flag",
+        ),
+    ] {
+        let (out, dir) = run(scene, extra, dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
+        let s = summary(&dir);
+        assert_eq!(s["integrator"], "leapfrog", "{s}");
+        assert_eq!(s["backend"], "cpu", "{s}");
+    }
+    let (out, dir) = run(&plain, &["--backend", "cpu"], "plain");
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(summary(&dir)["integrator"], "midpoint");
+
+    let (out, dir) = run(&scene, &["--backend", "gpu"], "gpu");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
+    assert!(stderr.contains("leapfrog"), "stderr: {stderr}");
+    assert!(stderr.contains("--backend cpu"), "stderr: {stderr}");
+    assert!(!stderr.to_lowercase().contains("panicked"), "{stderr}");
+    assert!(!dir.join("history.csv").exists());
+
+    let (out, _) = run(&scene, &["--backend", "auto"], "auto");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "stderr: {stderr}");
+    assert!(warnings[0].contains("leapfrog"), "{}", warnings[0]);
 }
 
 #[test]

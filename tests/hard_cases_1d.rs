@@ -309,6 +309,11 @@ fn jitter_bars() {
 }
 
 #[test]
+fn jitter_bars_leapfrog() {
+    on_leapfrog(jitter_bars);
+}
+
+#[test]
 fn jitter_bars_gpu() {
     on_gpu(jittered_bars);
 }
@@ -465,6 +470,11 @@ fn elastic_plastic_rod() {
 #[test]
 fn elastic_plastic_rod_on_rigid_wall() {
     elastic_plastic_rod();
+}
+
+#[test]
+fn elastic_plastic_rod_on_rigid_wall_leapfrog() {
+    on_leapfrog(elastic_plastic_rod_on_rigid_wall);
 }
 
 #[test]
@@ -806,6 +816,11 @@ fn long_ringing() {
 #[test]
 fn long_ringing_free_bar() {
     long_ringing();
+}
+
+#[test]
+fn long_ringing_free_bar_leapfrog() {
+    on_leapfrog(long_ringing_free_bar);
 }
 
 #[test]

@@ -238,6 +238,11 @@ fn disk_bounces_off_a_rigid_wall_gpu() {
     on_gpu(disk_on_wall);
 }
 
+#[test]
+fn disk_bounces_off_a_rigid_wall_leapfrog() {
+    on_leapfrog(disk_on_wall);
+}
+
 // ---------------------------------------------------------------------------
 // 2. The colliding rubber rings of Gray, Monaghan & Swift (2001)
 // ---------------------------------------------------------------------------
@@ -565,6 +570,13 @@ fn rubber_rings_rebound_intact_with_artificial_stress() {
 #[test]
 fn rubber_rings_rebound_intact_with_artificial_stress_gpu() {
     on_gpu(|| rings_with_artificial_stress(Some(3.3e-4)));
+}
+
+/// The leapfrog (the artificial stress takes the one-pair code's kept
+/// pair vectors) to the same point.
+#[test]
+fn rubber_rings_rebound_intact_with_artificial_stress_leapfrog() {
+    on_leapfrog(|| rings_with_artificial_stress(Some(3.3e-4)));
 }
 
 #[test]

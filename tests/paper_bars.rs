@@ -332,3 +332,30 @@ fn bar_onto_rigid_wall_gpu() {
 fn plasticity_caps_von_mises_gpu() {
     on_gpu(plasticity_caps_von_mises);
 }
+
+// The same exact answers with the one-evaluation leapfrog (CPU path).
+
+#[test]
+fn equal_steel_bars_penalty_leapfrog() {
+    on_leapfrog(equal_steel_bars_penalty);
+}
+
+#[test]
+fn steel_against_aluminium_leapfrog() {
+    on_leapfrog(steel_against_aluminium);
+}
+
+#[test]
+fn translation_and_rest_leapfrog() {
+    on_leapfrog(translation_and_rest);
+}
+
+#[test]
+fn bar_onto_rigid_wall_leapfrog() {
+    on_leapfrog(bar_onto_rigid_wall);
+}
+
+#[test]
+fn plasticity_caps_von_mises_leapfrog() {
+    on_leapfrog(plasticity_caps_von_mises);
+}

@@ -129,3 +129,20 @@ fn disks_polar_lattice_gpu() {
 fn disks_at_rest_and_translating_gpu() {
     on_gpu(disks_at_rest_and_translating);
 }
+
+// The same bracket with the one-evaluation leapfrog (CPU path).
+
+#[test]
+fn disks_square_lattice_leapfrog() {
+    on_leapfrog(disks_square_lattice);
+}
+
+#[test]
+fn disks_polar_lattice_leapfrog() {
+    on_leapfrog(disks_polar_lattice);
+}
+
+#[test]
+fn disks_at_rest_and_translating_leapfrog() {
+    on_leapfrog(disks_at_rest_and_translating);
+}

@@ -12,7 +12,9 @@
 //! | forces | [`forces::momentum_energy`] | `dv/dt`, `de/dt` |
 //! | contact | [`contact::penalty`] | penalty forces, dashpot heat |
 //!
-//! Time integration is the explicit midpoint rule (RK2), METHOD.md §9.
+//! Time integration (METHOD.md §9) is the explicit midpoint rule (RK2, two
+//! evaluations a step) or, when the scene asks for it, a kick–drift–kick
+//! leapfrog with one evaluation a step ([`CpuSolver::step`]).
 
 pub mod contact;
 pub mod forces;
@@ -27,6 +29,7 @@ use crate::error::Instability;
 use crate::math::Sym;
 use crate::model::{Model, State};
 use crate::physics::material;
+use crate::scene::Integrator;
 use forces::StressPoint;
 
 /// Ask the C allocator to keep freed memory for reuse instead of handing it
@@ -216,19 +219,24 @@ fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &
             *v = base.v[i] + r.dv[i] * k;
             *rho = base.rho[i] + r.drho[i] * k;
             *e = base.e[i] + r.de[i] * k;
-            let mut ns = base.s[i].add_scaled(&r.ds[i], k);
-            // Perfect plasticity, radial return (METHOD.md §6).
-            let y0 = model.material(i).y0;
-            if y0.is_finite() {
-                let j = ns.von_mises();
-                if j > y0 {
-                    ns = ns.scale(y0 / j);
-                }
-            }
-            *s = ns;
+            *s = plastic_return(model, i, base.s[i].add_scaled(&r.ds[i], k));
         });
     out.heat = base.heat + r.heat_rate * k;
     out.spring_work = base.spring_work + r.spring_rate * k;
+}
+
+/// Perfect plasticity, radial return (METHOD.md §6): particle i's trial
+/// deviatoric stress `s` scaled back onto the yield surface.
+#[inline]
+fn plastic_return(model: &Model, i: usize, s: Sym) -> Sym {
+    let y0 = model.material(i).y0;
+    if y0.is_finite() {
+        let j = s.von_mises();
+        if j > y0 {
+            return s.scale(y0 / j);
+        }
+    }
+    s
 }
 
 /// The CPU solver: the state and the evaluation made at it.
@@ -249,6 +257,9 @@ pub struct CpuSolver {
     nb: neighbours::Neighbours,
     /// List builds so far (a diagnostic of the skin's economy).
     pub list_builds: u64,
+    /// The leapfrog's pair vectors of the step's momentum pass
+    /// ([`forces::PairVectors`]), kept between steps for their memory only.
+    kept: Vec<forces::PairVectors>,
 }
 
 /// The skin of the CPU neighbour lists as a fraction of the support `2 h`.
@@ -273,18 +284,21 @@ impl CpuSolver {
             energy_limit: None,
             nb: neighbours::Neighbours::default(),
             list_builds: 0,
+            kept: Vec::new(),
         }
     }
 
     /// A solver continuing from a checkpoint: its state, its first step
-    /// (the time-step collapse test's reference) and the candidate lists
-    /// it had, so that every sum keeps its order.
+    /// (the time-step collapse test's reference), the candidate lists it
+    /// had, so that every sum keeps its order, and the leapfrog's carried
+    /// rates ([`CpuSolver::carried`]).
     pub fn restored(
         model: Model,
         state: State,
         initial_dt: Option<f64>,
         energy_limit: Option<f64>,
         lists: neighbours::Neighbours,
+        carried: Option<(Rates, Diagnostics)>,
     ) -> Self {
         let mut s = Self::new(model, state);
         s.initial_dt = initial_dt;
@@ -293,6 +307,7 @@ impl CpuSolver {
         // The rows come back in the order they were indexed in, so this
         // only restores the segment ends (the partition is stable).
         s.nb.index_rows();
+        s.current = carried;
         s
     }
 
@@ -300,6 +315,17 @@ impl CpuSolver {
     /// energy guard's limit and the candidate lists.
     pub fn resume_parts(&self) -> (Option<f64>, Option<f64>, &neighbours::Neighbours) {
         (self.initial_dt, self.energy_limit, &self.nb)
+    }
+
+    /// The rates a checkpoint must carry: the leapfrog's, which its step
+    /// made at the predicted velocity and energy and which an evaluation
+    /// of the stored state would not give again. The midpoint rule's are
+    /// an evaluation of the state, redone on resume.
+    pub fn carried(&self) -> Option<&(Rates, Diagnostics)> {
+        match self.model.integrator {
+            Integrator::Leapfrog => self.current.as_ref(),
+            Integrator::Midpoint => None,
+        }
     }
 
     /// The energy guard's limit, once the first state has been evaluated
@@ -355,7 +381,7 @@ impl CpuSolver {
         }
     }
 
-    /// Advance one midpoint step of at most `max_dt`.
+    /// Advance one step of at most `max_dt` with the scene's integrator.
     pub fn step(&mut self, max_dt: f64) -> Result<f64, Instability> {
         let dt = self.next_dt().min(max_dt);
         let initial = *self.initial_dt.get_or_insert(dt);
@@ -374,6 +400,11 @@ impl CpuSolver {
             }
         }
         let (k1, _) = self.current.take().expect("evaluated above");
+        if self.model.integrator == Integrator::Leapfrog {
+            self.leapfrog(k1, dt);
+            self.check()?;
+            return Ok(dt);
+        }
         let mut half = std::mem::take(&mut self.scratch);
         advance(
             &self.model,
@@ -395,9 +426,160 @@ impl CpuSolver {
         Ok(dt)
     }
 
+    /// One kick–drift–kick step (METHOD.md §9), one evaluation, with the
+    /// rates `kn` at the current state (`a_n`, `ė_n`):
+    ///
+    /// 1. `v_{n+½} = v_n + ½Δt a_n`, `e_{n+½}` likewise, `x_{n+1} = x_n +
+    ///    Δt v_{n+½}`;
+    /// 2. the kinematic pass at `(x_{n+1}, v_{n+½})` takes `ρ` and `s` from
+    ///    `n` to `n+1` (time-centred rates; with the radial return);
+    /// 3. EOS and the momentum pass at `n+1`; the viscosity and the
+    ///    dashpot see the predicted `v_{n+½} + ½Δt a_n`, the EOS the
+    ///    predicted `e_{n+½} + ½Δt ė_n`;
+    /// 4. `v_{n+1} = v_{n+½} + ½Δt a_{n+1}`; then the energy sums with the
+    ///    pair terms of 3 but the work done on `v_{n+1}`
+    ///    ([`forces::energy_replay`]), and `e_{n+1} = e_{n+½} + ½Δt ė_{n+1}`.
+    ///
+    /// The work of the force at `n+1` over the two half steps around it is
+    /// exactly `Δt F·v_{n+1}`; energy booked at any other velocity drifts
+    /// one way (docs/performance.md has the measurements). The rates of 3
+    /// and 4 are the next step's `a_n`, `ė_n`.
+    fn leapfrog(&mut self, kn: Rates, dt: f64) {
+        let model = &self.model;
+        let st = &self.state;
+        let h = 0.5 * dt;
+        // 1: the half kick and the drift; ρ and s still at n.
+        let mut half = std::mem::take(&mut self.scratch);
+        half.x
+            .par_iter_mut()
+            .zip(half.v.par_iter_mut())
+            .zip(half.e.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, ((x, v), e))| {
+                if model.rigid(i) {
+                    *v = st.v[i];
+                    *e = st.e[i];
+                } else {
+                    *v = st.v[i] + kn.dv[i] * h;
+                    *e = st.e[i] + kn.de[i] * h;
+                }
+                *x = st.x[i] + *v * dt;
+            });
+        half.rho.copy_from_slice(&st.rho);
+        half.s.copy_from_slice(&st.s);
+        half.heat = st.heat + kn.heat_rate * h;
+        half.spring_work = st.spring_work + kn.spring_rate * h;
+        Self::refresh_lists(model, &mut self.nb, &mut self.list_builds, &half.x);
+        let nb = &self.nb;
+        // 2: ρ and s to n+1.
+        let k = kinematics::kinematics(model, &half, nb);
+        let mut next = std::mem::take(&mut self.spare);
+        next.x.copy_from_slice(&half.x);
+        next.v
+            .par_iter_mut()
+            .zip(next.e.par_iter_mut())
+            .zip(next.rho.par_iter_mut())
+            .zip(next.s.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (((v, e), rho), s))| {
+                if model.rigid(i) {
+                    (*v, *e, *rho, *s) = (half.v[i], half.e[i], half.rho[i], half.s[i]);
+                    return;
+                }
+                // The predicted velocity and energy of 3.
+                *v = half.v[i] + kn.dv[i] * h;
+                *e = half.e[i] + kn.de[i] * h;
+                *rho = half.rho[i] + k.drho[i] * dt;
+                *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
+            });
+        // 3: the forces at n+1.
+        let pts = eos_and_stress(model, &next);
+        let mut dv = forces::momentum_keeping(
+            model,
+            &next,
+            nb,
+            &k.l,
+            &k.gv,
+            &k.surface,
+            &pts,
+            &mut self.kept,
+        );
+        let mut diag = Diagnostics {
+            correction_fallback: k.fallback.len(),
+            ..Default::default()
+        };
+        let bd = model.contact.then(|| {
+            let kinematics::Kinematics {
+                grad_psi, surface, ..
+            } = k;
+            let bd = kinematics::boundary(model, &next.x, nb, &grad_psi, surface);
+            diag.boundary_count = bd.list.len();
+            let c = contact::penalty(model, &next, nb, &bd);
+            for (k, &i) in bd.list.iter().enumerate() {
+                let i = i as usize;
+                if !model.rigid(i) {
+                    dv[i] += c.force[k] / model.mass[i];
+                }
+            }
+            bd
+        });
+        // 4: the second half kick, then the work on v_{n+1}.
+        let v_next: Vec<DVec2> = (0..model.len())
+            .into_par_iter()
+            .map(|i| {
+                if model.rigid(i) {
+                    half.v[i]
+                } else {
+                    half.v[i] + dv[i] * h
+                }
+            })
+            .collect();
+        let mut de = forces::energy_replay(model, nb, &self.kept, &v_next);
+        let (mut heat_rate, mut spring_rate) = (0.0, 0.0);
+        if let Some(bd) = bd {
+            // The contact's forces again (the same bits), their heat and
+            // spring power booked at v_{n+1}.
+            let c = contact::penalty_booked(model, &next, nb, &bd, &v_next);
+            for (k, &i) in bd.list.iter().enumerate() {
+                let i = i as usize;
+                if !model.rigid(i) {
+                    de[i] += c.heat[k] / model.mass[i];
+                }
+            }
+            (heat_rate, spring_rate) = (c.stats.heat_rate, c.stats.spring_rate);
+            diag.contact = c.stats;
+        }
+        next.v = v_next;
+        next.e.par_iter_mut().enumerate().for_each(|(i, e)| {
+            if !model.rigid(i) {
+                *e = half.e[i] + de[i] * h;
+            }
+        });
+        next.heat = half.heat + heat_rate * h;
+        next.spring_work = half.spring_work + spring_rate * h;
+        next.t = st.t + dt;
+        next.step = st.step + 1;
+        // The next step's size, at the state it starts from.
+        diag.cfl_dt = cfl_step(model, &next, &pts);
+        self.scratch = half;
+        self.spare = std::mem::replace(&mut self.state, next);
+        self.current = Some((
+            Rates {
+                dv,
+                drho: Vec::new(),
+                de,
+                ds: Vec::new(),
+                heat_rate,
+                spring_rate,
+            },
+            diag,
+        ));
+    }
+
     /// Bytes of host memory the solver holds for its particles: the model's
     /// per-particle constants, the three states (current, midpoint, next),
-    /// the rates of the current evaluation and the neighbour lists. The
+    /// the rates of the current evaluation, the neighbour lists and the
+    /// leapfrog's pair vectors (32 B a visited candidate). The
     /// transient arrays of an evaluation are not counted.
     pub fn memory_bytes(&self) -> u64 {
         use std::mem::size_of_val;
@@ -420,7 +602,7 @@ impl CpuSolver {
                 + size_of_val(&r.de[..])
                 + size_of_val(&r.ds[..])
         });
-        (model + states + rates + self.nb.bytes()) as u64
+        (model + states + rates + self.nb.bytes() + size_of_val(&self.kept[..])) as u64
     }
 
     fn instability(&self, i: usize, quantity: &str, value: f64) -> Instability {

@@ -164,6 +164,8 @@ pub struct Summary {
     pub dimension: usize,
     pub backend: String,
     pub adapter: Option<String>,
+    /// `midpoint` or `leapfrog` (METHOD.md §9).
+    pub integrator: String,
     pub particles: usize,
     pub steps: u64,
     pub end_time: f64,

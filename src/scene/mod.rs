@@ -58,6 +58,9 @@ pub struct Simulation {
     pub correction: Correction,
     #[serde(default)]
     pub backend: Backend,
+    /// Time integration (METHOD.md §9; an addition to the contract).
+    #[serde(default)]
+    pub integrator: Integrator,
 }
 
 pub fn default_cfl() -> f64 {
@@ -76,6 +79,26 @@ pub enum Interaction {
     Penalty,
     /// Plain SPH across bodies (the paper's "kerneling" baseline).
     Kernel,
+}
+
+/// Time integration (METHOD.md §9), both second order.
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// The explicit midpoint rule: two evaluations a step.
+    #[default]
+    Midpoint,
+    /// Kick–drift–kick leapfrog: one evaluation a step (CPU path only).
+    Leapfrog,
+}
+
+impl std::fmt::Display for Integrator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Integrator::Midpoint => "midpoint",
+            Integrator::Leapfrog => "leapfrog",
+        })
+    }
 }
 
 /// Kernel gradient correction (METHOD.md §5).

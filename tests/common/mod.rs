@@ -9,7 +9,7 @@ use std::path::Path;
 use sphcontact::physics::exact::HertzImpact;
 use sphcontact::physics::material::MaterialModel;
 use sphcontact::run::{run_scene, RunOptions, RunOutput};
-use sphcontact::scene::Backend;
+use sphcontact::scene::{Backend, Integrator};
 use sphcontact::Scene;
 
 pub fn load(path: &str) -> Scene {
@@ -24,6 +24,15 @@ pub fn parse(text: &str) -> Scene {
 thread_local! {
     /// The backend `run` uses on this test's thread.
     static BACKEND: std::cell::Cell<Backend> = const { std::cell::Cell::new(Backend::Cpu) };
+    /// The integrator `run` imposes on this test's thread (`None`: the scene's).
+    static INTEGRATOR: std::cell::Cell<Option<Integrator>> = const { std::cell::Cell::new(None) };
+}
+
+/// Run a test body with every `run` stepped by the leapfrog (CPU path).
+pub fn on_leapfrog(test: impl FnOnce()) {
+    INTEGRATOR.with(|i| i.set(Some(Integrator::Leapfrog)));
+    test();
+    INTEGRATOR.with(|i| i.set(None));
 }
 
 /// The backend of this test thread's runs.
@@ -55,6 +64,7 @@ pub fn run_on(scene: &Scene, backend: Backend, out_dir: Option<&Path>) -> RunOut
         &RunOptions {
             silent: true,
             backend: Some(backend),
+            integrator: INTEGRATOR.with(|i| i.get()),
             write: out_dir.is_some(),
             out_dir: out_dir.map(Path::to_path_buf),
             ..Default::default()
