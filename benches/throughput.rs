@@ -1,8 +1,10 @@
 //! Particle throughput of both backends on the two-disk impact (square
 //! lattice), timed while the disks are in contact (see `sphcontact::bench`
-//! for the protocol): whole steps (`cpu_step`, `gpu_step`), one full CPU rate
-//! evaluation and each of its stages (`cpu_stage/<name>`: neighbour list
-//! build, EOS, kinematics, forces, contact, evaluate) and each GPU stage alone
+//! for the protocol): whole steps (`cpu_step`, `gpu_step` with the midpoint
+//! rule, `cpu_step_leapfrog` with the one-evaluation leapfrog), one full CPU
+//! rate evaluation and each of its stages (`cpu_stage/<name>`: neighbour list
+//! build, EOS, kinematics, forces, the leapfrog's forces_keeping and
+//! energy_replay, contact, evaluate) and each GPU stage alone
 //! (`gpu_stage/<name>`), at 1e3, 1e4 and 1e5 particles, and 1e6 where
 //! `SPHCONTACT_BENCH_MAX_PARTICLES` allows it and the adapter holds it.
 //!
@@ -12,6 +14,7 @@
 //! print one SKIP line; with `SPHCONTACT_REQUIRE_GPU` set that is a failure,
 //! as in the tests.
 
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::hint::black_box;
 use std::sync::Arc;
@@ -21,11 +24,12 @@ use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, BenchmarkId, Criterion, SamplingMode, Throughput};
 
 use sphcontact::bench::{cpu_name, CpuBench, DiskCase, GpuBench};
-use sphcontact::cpu::forces::{self, StressPoint};
+use sphcontact::cpu::forces::{self, PairVectors, StressPoint};
 use sphcontact::cpu::neighbours::{self, Neighbours};
 use sphcontact::cpu::{self, contact, kinematics};
 use sphcontact::gpu::{GpuContext, STAGES};
 use sphcontact::model::{Model, State};
+use sphcontact::scene::Integrator;
 
 const SIZES: [usize; 4] = [1_000, 10_000, 100_000, 1_000_000];
 const DEFAULT_MAX: usize = 100_000;
@@ -128,12 +132,26 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
     }
     group.finish();
 
+    // The whole step with the one-evaluation leapfrog (its own solvers,
+    // stepped into contact by the leapfrog).
+    let mut group = c.benchmark_group("cpu_step_leapfrog");
+    configure(&mut group);
+    for &n in sizes {
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(BenchmarkId::from_parameter(n), |b| {
+            let mut bench = CpuBench::new(&case(n).with_integrator(Integrator::Leapfrog))
+                .unwrap_or_else(|e| panic!("{e}"));
+            b.iter_custom(|iters| bench.time_steps(iters).unwrap_or_else(|e| panic!("{e}")));
+        });
+    }
+    group.finish();
+
     // The CPU stages one evaluation runs, each alone on the contact-phase
     // state with its inputs made beforehand; `evaluate` is all of them on
     // lists that are still valid, as in a step that does not rebuild them,
     // and `neighbours` is one rebuild.
     type Stage = fn(&Model, &State, &Inputs);
-    let stages: [(&str, Stage); 6] = [
+    let stages: [(&str, Stage); 8] = [
         ("neighbours", |m, s, _| {
             black_box(neighbours::find_with_skin(m, &s.x, skin(m)));
         }),
@@ -148,6 +166,18 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
             black_box(forces::momentum_energy(
                 m, s, &i.nb, &k.l, &k.gv, &k.surface, &i.pts,
             ));
+        }),
+        // The leapfrog's momentum pass (pair vectors kept, no energy
+        // sums) and its energy replay from them.
+        ("forces_keeping", |m, s, i| {
+            let k = &i.k;
+            let mut kept = i.scratch.borrow_mut();
+            black_box(forces::momentum_keeping(
+                m, s, &i.nb, &k.l, &k.gv, &k.surface, &i.pts, &mut kept,
+            ));
+        }),
+        ("energy_replay", |m, s, i| {
+            black_box(forces::energy_replay(m, &i.nb, &i.kept, &s.v));
         }),
         ("contact", |m, s, i| {
             let k = &i.k;
@@ -185,16 +215,26 @@ struct Inputs {
     nb: Neighbours,
     pts: Vec<StressPoint>,
     k: kinematics::Kinematics,
+    /// The pair vectors the leapfrog's momentum pass keeps at this state.
+    kept: Vec<PairVectors>,
+    /// The buffer a timed keeping pass writes into (kept between runs,
+    /// as the solver keeps its own).
+    scratch: RefCell<Vec<PairVectors>>,
 }
 
 impl Inputs {
     fn new(model: &Model, state: &State) -> Self {
         let nb = neighbours::find_with_skin(model, &state.x, skin(model));
         let k = kinematics::kinematics(model, state, &nb);
+        let pts = cpu::eos_and_stress(model, state);
+        let mut kept = Vec::new();
+        forces::momentum_keeping(model, state, &nb, &k.l, &k.gv, &k.surface, &pts, &mut kept);
         Inputs {
-            pts: cpu::eos_and_stress(model, state),
+            pts,
             k,
             nb,
+            scratch: RefCell::new(kept.clone()),
+            kept,
         }
     }
 }
