@@ -84,23 +84,28 @@ pub struct Diagnostics {
 pub fn eos_and_stress(model: &Model, st: &State) -> Vec<StressPoint> {
     (0..model.len())
         .into_par_iter()
-        .map(|i| {
-            let mat = model.material(i);
-            let p = mat.pressure(st.rho[i], st.e[i]);
-            let c = mat.sound_speed(st.rho[i], st.e[i]);
-            let sigma = forces::cauchy(p, &st.s[i]);
-            let r2 = st.rho[i] * st.rho[i];
-            let r = match model.artificial_stress {
-                Some((eps, _)) => forces::artificial_stress(eps, &sigma, st.rho[i]),
-                None => Sym::default(),
-            };
-            StressPoint {
-                sr2: sigma.scale(1.0 / r2),
-                r,
-                c,
-            }
-        })
+        .map(|i| stress_point(model, i, st.rho[i], st.e[i], &st.s[i]))
         .collect()
+}
+
+/// Particle i's [`StressPoint`] at density `rho`, energy `e` and
+/// deviatoric stress `s`.
+#[inline]
+fn stress_point(model: &Model, i: usize, rho: f64, e: f64, s: &Sym) -> StressPoint {
+    let mat = model.material(i);
+    let p = mat.pressure(rho, e);
+    let c = mat.sound_speed(rho, e);
+    let sigma = forces::cauchy(p, s);
+    let r2 = rho * rho;
+    let r = match model.artificial_stress {
+        Some((eps, _)) => forces::artificial_stress(eps, &sigma, rho),
+        None => Sym::default(),
+    };
+    StressPoint {
+        sr2: sigma.scale(1.0 / r2),
+        r,
+        c,
+    }
 }
 
 /// One full evaluation of the rates at `st`, neighbour lists built for it.
@@ -223,6 +228,20 @@ fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &
         });
     out.heat = base.heat + r.heat_rate * k;
     out.spring_work = base.spring_work + r.spring_rate * k;
+}
+
+/// Whether particle i's density is inside `[0.1, 10] ρ0`.
+#[inline]
+fn dense(model: &Model, i: usize, rho: f64) -> bool {
+    let rho0 = model.material(i).rho0;
+    rho > 0.1 * rho0 && rho < 10.0 * rho0
+}
+
+/// Whether particle i at `x`, `v`, `e`, `rho` passes the state check
+/// ([`CpuSolver::check`]).
+#[inline]
+fn sane(model: &Model, i: usize, x: DVec2, v: DVec2, e: f64, rho: f64) -> bool {
+    x.is_finite() && v.is_finite() && e.is_finite() && dense(model, i, rho) && model.in_domain(x)
 }
 
 /// Perfect plasticity, radial return (METHOD.md §6): particle i's trial
@@ -401,8 +420,10 @@ impl CpuSolver {
         }
         let (k1, _) = self.current.take().expect("evaluated above");
         if self.model.integrator == Integrator::Leapfrog {
-            self.leapfrog(k1, dt);
-            self.check()?;
+            if !self.leapfrog(k1, dt) {
+                // The walk that found it does not say which particle.
+                self.check()?;
+            }
             return Ok(dt);
         }
         let mut half = std::mem::take(&mut self.scratch);
@@ -444,7 +465,10 @@ impl CpuSolver {
     /// exactly `Δt F·v_{n+1}`; energy booked at any other velocity drifts
     /// one way (docs/performance.md has the measurements). The rates of 3
     /// and 4 are the next step's `a_n`, `ė_n`.
-    fn leapfrog(&mut self, kn: Rates, dt: f64) {
+    ///
+    /// Returns whether every particle of the new state passes the state
+    /// check.
+    fn leapfrog(&mut self, kn: Rates, dt: f64) -> bool {
         let model = &self.model;
         let st = &self.state;
         let h = 0.5 * dt;
@@ -475,25 +499,28 @@ impl CpuSolver {
         let k = kinematics::kinematics(model, &half, nb);
         let mut next = std::mem::take(&mut self.spare);
         next.x.copy_from_slice(&half.x);
-        next.v
+        // ρ and s at n+1, the predicted velocity and energy of 3, and the
+        // EOS at them (eos_and_stress, in the same walk).
+        let pts: Vec<StressPoint> = next
+            .v
             .par_iter_mut()
             .zip(next.e.par_iter_mut())
             .zip(next.rho.par_iter_mut())
             .zip(next.s.par_iter_mut())
             .enumerate()
-            .for_each(|(i, (((v, e), rho), s))| {
+            .map(|(i, (((v, e), rho), s))| {
                 if model.rigid(i) {
                     (*v, *e, *rho, *s) = (half.v[i], half.e[i], half.rho[i], half.s[i]);
-                    return;
+                } else {
+                    *v = half.v[i] + kn.dv[i] * h;
+                    *e = half.e[i] + kn.de[i] * h;
+                    *rho = half.rho[i] + k.drho[i] * dt;
+                    *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
                 }
-                // The predicted velocity and energy of 3.
-                *v = half.v[i] + kn.dv[i] * h;
-                *e = half.e[i] + kn.de[i] * h;
-                *rho = half.rho[i] + k.drho[i] * dt;
-                *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
-            });
+                stress_point(model, i, *rho, *e, s)
+            })
+            .collect();
         // 3: the forces at n+1.
-        let pts = eos_and_stress(model, &next);
         let mut dv = forces::momentum_keeping(
             model,
             &next,
@@ -550,17 +577,30 @@ impl CpuSolver {
             diag.contact = c.stats;
         }
         next.v = v_next;
-        next.e.par_iter_mut().enumerate().for_each(|(i, e)| {
-            if !model.rigid(i) {
+        // e at n+1, the CFL step at the new state (cfl_step) and whether
+        // it passes the state check ([`CpuSolver::check`], which names
+        // the particle when it does not), in one walk.
+        let (cfl_dt, sane) = next
+            .e
+            .par_iter_mut()
+            .enumerate()
+            .map(|(i, e)| {
+                let (x, v, rho) = (next.x[i], next.v[i], next.rho[i]);
+                if model.rigid(i) {
+                    // Checked too: a rigid body may leave the domain.
+                    return (f64::INFINITY, sane(model, i, x, v, *e, rho));
+                }
                 *e = half.e[i] + de[i] * h;
-            }
-        });
+                let dt = material::cfl_step(model.cfl, model.h[i], pts[i].c, v.length());
+                (dt, sane(model, i, x, v, *e, rho))
+            })
+            .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 && b.1));
         next.heat = half.heat + heat_rate * h;
         next.spring_work = half.spring_work + spring_rate * h;
         next.t = st.t + dt;
         next.step = st.step + 1;
         // The next step's size, at the state it starts from.
-        diag.cfl_dt = cfl_step(model, &next, &pts);
+        diag.cfl_dt = cfl_dt;
         self.scratch = half;
         self.spare = std::mem::replace(&mut self.state, next);
         self.current = Some((
@@ -574,6 +614,7 @@ impl CpuSolver {
             },
             diag,
         ));
+        sane
     }
 
     /// Bytes of host memory the solver holds for its particles: the model's
@@ -623,18 +664,10 @@ impl CpuSolver {
     fn check(&self) -> Result<(), Instability> {
         let st = &self.state;
         let m = &self.model;
-        let dense = |i: usize| {
-            let rho0 = m.material(i).rho0;
-            st.rho[i] > 0.1 * rho0 && st.rho[i] < 10.0 * rho0
-        };
-        let bad = (0..m.len()).into_par_iter().find_first(|&i| {
-            let sane = st.x[i].is_finite()
-                && st.v[i].is_finite()
-                && st.e[i].is_finite()
-                && dense(i)
-                && m.in_domain(st.x[i]);
-            !sane
-        });
+        let dense = |i: usize| dense(m, i, st.rho[i]);
+        let bad = (0..m.len())
+            .into_par_iter()
+            .find_first(|&i| !sane(m, i, st.x[i], st.v[i], st.e[i], st.rho[i]));
         match bad {
             None => Ok(()),
             Some(i) => {
