@@ -11,6 +11,7 @@ use std::process::Command;
 use glam::DVec2;
 use sphcontact::cpu::CpuSolver;
 use sphcontact::model::Model;
+use sphcontact::scene::Integrator;
 
 const BIN: &str = env!("CARGO_BIN_EXE_sphcontact");
 
@@ -31,11 +32,17 @@ fn unstable_bars(dir: &Path) -> std::path::PathBuf {
 }
 
 fn stops_and_keeps_outputs(backend: &str) {
+    stops_and_keeps_outputs_with(&["--backend", backend]);
+}
+
+fn stops_and_keeps_outputs_with(args: &[&str]) {
     let tmp = tempfile::tempdir().unwrap();
     let scene = unstable_bars(tmp.path());
     let out_dir = tmp.path().join("out");
     let out = Command::new(BIN)
-        .args(["run", "--backend", backend, "--out"])
+        .arg("run")
+        .args(args)
+        .arg("--out")
         .arg(&out_dir)
         .arg(&scene)
         .output()
@@ -54,6 +61,13 @@ fn stops_and_keeps_outputs(backend: &str) {
 #[test]
 fn unstable_run_stops_with_a_message_and_keeps_its_outputs() {
     stops_and_keeps_outputs("cpu");
+}
+
+/// The leapfrog finds the bad state in its last walk and names the
+/// particle as the midpoint rule's check does.
+#[test]
+fn unstable_leapfrog_run_stops_with_a_message_and_keeps_its_outputs() {
+    stops_and_keeps_outputs_with(&["--backend", "cpu", "--integrator", "leapfrog"]);
 }
 
 #[test]
@@ -112,7 +126,12 @@ fn domain_is_the_box_grown_by_the_fastest_wave_over_the_run() {
 }
 
 fn cpu_leaves_domain() -> sphcontact::error::Instability {
-    let (model, state) = flung();
+    cpu_leaves_domain_with(Integrator::Midpoint)
+}
+
+fn cpu_leaves_domain_with(integrator: Integrator) -> sphcontact::error::Instability {
+    let (mut model, state) = flung();
+    model.integrator = integrator;
     let upper = model.domain[1].x;
     let mut solver = CpuSolver::new(model, state);
     loop {
@@ -128,7 +147,16 @@ fn cpu_leaves_domain() -> sphcontact::error::Instability {
 
 #[test]
 fn a_particle_leaving_the_domain_stops_the_run() {
-    let e = cpu_leaves_domain();
+    a_particle_leaving_the_domain_stops(Integrator::Midpoint);
+}
+
+#[test]
+fn a_particle_leaving_the_domain_stops_the_leapfrog_run() {
+    a_particle_leaving_the_domain_stops(Integrator::Leapfrog);
+}
+
+fn a_particle_leaving_the_domain_stops(integrator: Integrator) {
+    let e = cpu_leaves_domain_with(integrator);
     assert_eq!(e.body, "block");
     assert!(
         e.quantity.starts_with("position x (outside the domain ["),
