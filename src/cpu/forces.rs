@@ -260,7 +260,8 @@ fn lanes_serve(model: &Model) -> bool {
 }
 
 /// [`momentum_energy`] by the lane code (`lanes`, [`lanes_serve`]) or by
-/// the one-pair code.
+/// the one-pair code; with `keep`, the energy terms' vectors go there
+/// instead of into the sums ([`momentum_keeping`]).
 #[allow(clippy::too_many_arguments)]
 fn sums(
     model: &Model,
@@ -273,96 +274,150 @@ fn sums(
     lanes: bool,
     keep: Option<&mut Vec<PairVectors>>,
 ) -> (Vec<DVec2>, Vec<f64>) {
-    let mut acc = vec![(DVec2::ZERO, 0.0); model.len()];
-    if let Some(keep) = keep {
-        // The momentum sums as below, the energy terms' vectors kept.
-        if lanes {
-            let rec = partners(model, st, l, gv, surface, pts);
-            nb.sweep_chunks_store(
-                model,
-                &st.x,
-                &mut acc,
-                keep,
-                |i, c, ai, piece, base, slots| {
-                    let t = lane_terms(&rec, model, i, c);
-                    for (k, slot) in slots.iter_mut().enumerate() {
-                        if c.inside & (1 << k) == 0 {
-                            *slot = [DVec2::ZERO; 2];
-                            continue;
-                        }
-                        ai.0 += DVec2::new(t.tg_mj[0][k], t.tg_mj[1][k]);
-                        if c.near {
-                            piece[c.j[k] as usize - base].0 -=
-                                DVec2::new(t.tg_mi[0][k], t.tg_mi[1][k]);
-                        }
-                        *slot = [
-                            DVec2::new(t.x_i[0][k], t.x_i[1][k]),
-                            DVec2::new(t.x_j[0][k], t.x_j[1][k]),
-                        ];
-                    }
-                },
-            );
-        } else {
-            let terms = |i, b: &Nbr| pair_terms(model, st, l, gv, surface, pts, i, b);
-            nb.sweep_store(model, &st.x, &mut acc, keep, |i, b, ai, aj, slot| {
-                let j = b.j as usize;
-                let aj = aj.filter(|_| !model.rigid(j));
-                let ri = model.rigid(i);
-                if ri && aj.is_none() {
-                    *slot = [DVec2::ZERO; 2];
-                    return;
-                }
-                let p = terms(i, b);
-                if !ri {
-                    ai.0 += p.tg * model.mass[j];
-                }
-                if let Some(aj) = aj {
-                    aj.0 -= p.tg * model.mass[i];
-                }
-                *slot = pair_vectors(p.tg, pts[i].sr2.mul_vec(p.g), pts[j].sr2.mul_vec(p.g));
-            });
-        }
-        return acc.into_iter().unzip();
+    let args = (model, st, nb, l, gv, surface, pts);
+    match keep {
+        Some(keep) => sums_into(args, lanes, keep),
+        // Zero-sized slots: the energy terms go into the sums.
+        None => sums_into(args, lanes, &mut vec![(); nb.store_len()]),
     }
+}
+
+/// Where a pass's energy terms go: into the particles' sums (`()`, no
+/// memory) or into the pair's slot ([`PairVectors`]).
+trait EnergyTerms: Send + Default {
+    /// Lane k of the pair terms `t`: i's and, for a near pair, j's.
+    fn lane(self_: &mut Self, t: &LaneTerms, k: usize, ei: &mut f64, ej: Option<&mut f64>);
+    /// The one-pair terms `p` of pair `ij = (i, j)` with the masses
+    /// `m = (m_i, m_j)`: i's side unless i is rigid, j's for a near pair.
+    fn pair(
+        self_: &mut Self,
+        p: &PairTerms,
+        pts: &[StressPoint],
+        ij: (usize, usize),
+        m: (f64, f64),
+        ei: Option<&mut f64>,
+        ej: Option<&mut f64>,
+    );
+}
+
+impl EnergyTerms for () {
+    #[inline(always)]
+    fn lane(_: &mut (), t: &LaneTerms, k: usize, ei: &mut f64, ej: Option<&mut f64>) {
+        *ei -= t.e_i[k];
+        if let Some(ej) = ej {
+            *ej -= t.e_j[k];
+        }
+    }
+
+    #[inline(always)]
+    fn pair(
+        _: &mut (),
+        p: &PairTerms,
+        pts: &[StressPoint],
+        (i, j): (usize, usize),
+        (mi, mj): (f64, f64),
+        ei: Option<&mut f64>,
+        ej: Option<&mut f64>,
+    ) {
+        if let Some(ei) = ei {
+            *ei -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g)) - p.shared);
+        }
+        if let Some(ej) = ej {
+            *ej -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g)) - p.shared);
+        }
+    }
+}
+
+impl EnergyTerms for PairVectors {
+    #[inline(always)]
+    fn lane(slot: &mut Self, t: &LaneTerms, k: usize, _: &mut f64, _: Option<&mut f64>) {
+        *slot = [
+            DVec2::new(t.x_i[0][k], t.x_i[1][k]),
+            DVec2::new(t.x_j[0][k], t.x_j[1][k]),
+        ];
+    }
+
+    #[inline(always)]
+    fn pair(
+        slot: &mut Self,
+        p: &PairTerms,
+        pts: &[StressPoint],
+        (i, j): (usize, usize),
+        _: (f64, f64),
+        _: Option<&mut f64>,
+        _: Option<&mut f64>,
+    ) {
+        *slot = pair_vectors(p.tg, pts[i].sr2.mul_vec(p.g), pts[j].sr2.mul_vec(p.g));
+    }
+}
+
+/// The inputs of the momentum pass.
+type Inputs<'a> = (
+    &'a Model,
+    &'a State,
+    &'a Neighbours,
+    &'a [Mat2],
+    &'a [Mat2],
+    &'a [bool],
+    &'a [StressPoint],
+);
+
+/// [`sums`] with the energy terms going to `E` (one slot per visited
+/// candidate).
+fn sums_into<E: EnergyTerms>(
+    (model, st, nb, l, gv, surface, pts): Inputs<'_>,
+    lanes: bool,
+    slots: &mut [E],
+) -> (Vec<DVec2>, Vec<f64>) {
+    let mut acc = vec![(DVec2::ZERO, 0.0); model.len()];
     if lanes {
         assert!(lanes_serve(model), "the lane code serves this scene");
         let rec = partners(model, st, l, gv, surface, pts);
-        nb.sweep_chunks(model, &st.x, &mut acc, |i, c, ai, piece, base| {
-            let t = lane_terms(&rec, model, i, c);
-            for k in 0..LANES {
-                if c.inside & (1 << k) != 0 {
-                    ai.0 += DVec2::new(t.tg_mj[0][k], t.tg_mj[1][k]);
-                    ai.1 -= t.e_i[k];
-                    if c.near {
-                        let aj = &mut piece[c.j[k] as usize - base];
-                        aj.0 -= DVec2::new(t.tg_mi[0][k], t.tg_mi[1][k]);
-                        aj.1 -= t.e_j[k];
+        nb.sweep_chunks_store(
+            model,
+            &st.x,
+            &mut acc,
+            slots,
+            |i, c, ai, piece, base, slots| {
+                let t = lane_terms(&rec, model, i, c);
+                for (k, slot) in slots.iter_mut().enumerate() {
+                    if c.inside & (1 << k) == 0 {
+                        *slot = E::default();
+                        continue;
                     }
+                    ai.0 += DVec2::new(t.tg_mj[0][k], t.tg_mj[1][k]);
+                    let aj = c.near.then(|| &mut piece[c.j[k] as usize - base]);
+                    let ej = aj.map(|aj| {
+                        aj.0 -= DVec2::new(t.tg_mi[0][k], t.tg_mi[1][k]);
+                        &mut aj.1
+                    });
+                    E::lane(slot, &t, k, &mut ai.1, ej);
                 }
-            }
-        });
+            },
+        );
         return acc.into_iter().unzip();
     }
     let terms = |i, b: &Nbr| pair_terms(model, st, l, gv, surface, pts, i, b);
-    nb.sweep(model, &st.x, &mut acc, |i, b, ai, aj| {
+    nb.sweep_store(model, &st.x, &mut acc, slots, |i, b, ai, aj, slot| {
         let j = b.j as usize;
         // Rigid particles keep zero rates; a far pair has no j side here.
         let aj = aj.filter(|_| !model.rigid(j));
         let ri = model.rigid(i);
         if ri && aj.is_none() {
+            *slot = E::default();
             return;
         }
         let p = terms(i, b);
-        if !ri {
-            let mj = model.mass[j];
+        let (mi, mj) = (model.mass[i], model.mass[j]);
+        let ei = (!ri).then(|| {
             ai.0 += p.tg * mj;
-            ai.1 -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g)) - p.shared);
-        }
-        if let Some(aj) = aj {
-            let mi = model.mass[i];
+            &mut ai.1
+        });
+        let ej = aj.map(|aj| {
             aj.0 -= p.tg * mi;
-            aj.1 -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g)) - p.shared);
-        }
+            &mut aj.1
+        });
+        E::pair(slot, &p, pts, (i, j), (mi, mj), ei, ej);
     });
     acc.into_iter().unzip()
 }
