@@ -428,7 +428,7 @@ fn check(path: &Path, scene: &Scene) {
     let dt = cfl_step_at_start(scene, &placed);
     let used = sim.dt.unwrap_or(dt);
     println!(
-        "time        end {:.4e} s, step {:.4e} s ({}), about {} steps",
+        "time        end {:.4e} s, step {:.4e} s ({}), about {} steps, {}",
         sim.end_time,
         used,
         if sim.dt.is_some() {
@@ -436,7 +436,11 @@ fn check(path: &Path, scene: &Scene) {
         } else {
             "CFL at t = 0"
         },
-        (sim.end_time / used).ceil()
+        (sim.end_time / used).ceil(),
+        match sim.integrator {
+            Integrator::Midpoint => "midpoint rule (two evaluations a step)",
+            Integrator::Leapfrog => "leapfrog (one evaluation a step, CPU path only)",
+        }
     );
     println!(
         "output      {} ({} history rows, {} probes{})",

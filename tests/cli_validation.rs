@@ -1065,6 +1065,7 @@ fn check_prints_the_derived_set_up() {
     );
     // c_L = sqrt((K + 4G/3) / ρ0) with K = ρ0 c0²: 5835.66 m/s for this steel.
     assert!(stdout.contains("c_L 5835."), "{stdout}");
+    assert!(stdout.contains("midpoint rule"), "{stdout}");
     // check runs nothing and writes nothing.
     assert!(std::fs::read_dir(tmp.path()).unwrap().next().is_none());
 }
