@@ -53,12 +53,16 @@ pub fn keep_freed_memory() {
     }
 }
 
-/// Rates of one evaluation.
+/// Rates of one evaluation. The leapfrog's rates at the end of its step
+/// ([`CpuSolver::step`]) carry `dv` and `de` only: it has applied `dρ/dt`
+/// and `ds/dt` already, and the next step makes its own.
 #[derive(Debug, Clone, Default)]
 pub struct Rates {
     pub dv: Vec<DVec2>,
+    /// Empty in the leapfrog's carried rates.
     pub drho: Vec<f64>,
     pub de: Vec<f64>,
+    /// Empty in the leapfrog's carried rates.
     pub ds: Vec<Sym>,
     /// Total dashpot heat rate (for the cumulative heat diagnostic).
     pub heat_rate: f64,
