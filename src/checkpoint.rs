@@ -34,7 +34,7 @@ use crate::cpu::neighbours::Neighbours;
 use crate::cpu::{Diagnostics, Rates};
 use crate::error::RunError;
 use crate::gpu::RawDevice;
-use crate::math::Sym;
+use crate::math::{Mat2, Sym};
 use crate::model::State;
 use crate::scene::{Backend, Scene};
 
@@ -208,6 +208,13 @@ impl Checkpoint {
                     w.f64s(&r.de);
                     w.f64(r.heat_rate);
                     w.f64(r.spring_rate);
+                    let gv: Vec<f64> = r
+                        .gv_half
+                        .iter()
+                        .flat_map(|g| [g.xx, g.xy, g.yx, g.yy])
+                        .collect();
+                    w.f64s(&gv);
+                    w.f64(r.dt_half);
                     w.f64(d.cfl_dt);
                     w.u64(d.correction_fallback as u64);
                     w.u64(d.boundary_count as u64);
@@ -337,6 +344,17 @@ impl Checkpoint {
                         let dv = r.vec2s()?;
                         let de = r.f64s()?;
                         let (heat_rate, spring_rate) = (r.f64()?, r.f64()?);
+                        let gv_half: Vec<Mat2> = r
+                            .f64s()?
+                            .chunks_exact(4)
+                            .map(|c| Mat2 {
+                                xx: c[0],
+                                xy: c[1],
+                                yx: c[2],
+                                yy: c[3],
+                            })
+                            .collect();
+                        let dt_half = r.f64()?;
                         let cfl_dt = r.f64()?;
                         let correction_fallback = r.u64()? as usize;
                         let boundary_count = r.u64()? as usize;
@@ -362,6 +380,8 @@ impl Checkpoint {
                                 de,
                                 heat_rate,
                                 spring_rate,
+                                gv_half,
+                                dt_half,
                                 ..Default::default()
                             },
                             Diagnostics {
@@ -481,9 +501,11 @@ impl Checkpoint {
                     .iter()
                     .chain(&lists.cross)
                     .all(|&j| (j as usize) < n)
-                && c.carried
-                    .as_ref()
-                    .map_or(true, |(r, _)| r.dv.len() == n && r.de.len() == n);
+                && c.carried.as_ref().map_or(true, |(r, _)| {
+                    r.dv.len() == n
+                        && r.de.len() == n
+                        && (r.gv_half.is_empty() || r.gv_half.len() == n)
+                });
             if !ok {
                 return Err(format!(
                     "its particle arrays do not match the scene's {n} particles"
@@ -703,6 +725,16 @@ mod tests {
                         de: vec![0.5; state.x.len()],
                         heat_rate: 0.25,
                         spring_rate: -0.125,
+                        gv_half: vec![
+                            Mat2 {
+                                xx: 1.5,
+                                xy: -0.0,
+                                yx: 3e-300,
+                                yy: -2.0,
+                            };
+                            state.x.len()
+                        ],
+                        dt_half: 2.5e-9,
                         ..Default::default()
                     },
                     Diagnostics {

@@ -26,7 +26,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::error::Instability;
-use crate::math::Sym;
+use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
 use crate::physics::material;
 use crate::scene::Integrator;
@@ -64,6 +64,12 @@ pub struct Rates {
     pub de: Vec<f64>,
     /// Empty in the leapfrog's carried rates.
     pub ds: Vec<Sym>,
+    /// The leapfrog's, with the reconstructed viscosity: the velocity
+    /// gradients of the step that made these rates (at its half step) and
+    /// that step's length, which the next step extrapolates from
+    /// ([`CpuSolver::step`]). Empty otherwise.
+    pub gv_half: Vec<Mat2>,
+    pub dt_half: f64,
     /// Total dashpot heat rate (for the cumulative heat diagnostic).
     pub heat_rate: f64,
     /// Total spring power (for the spring-work ledger).
@@ -166,6 +172,7 @@ pub fn evaluate_with(
             ds,
             heat_rate,
             spring_rate,
+            ..Default::default()
         },
         diag,
     )
@@ -246,6 +253,24 @@ fn dense(model: &Model, i: usize, rho: f64) -> bool {
 #[inline]
 fn sane(model: &Model, i: usize, x: DVec2, v: DVec2, e: f64, rho: f64) -> bool {
     x.is_finite() && v.is_finite() && e.is_finite() && dense(model, i, rho) && model.in_domain(x)
+}
+
+/// The velocity gradients `gv` of a leapfrog step's half step `n+½`
+/// extrapolated to its end `n+1`, from those of the step before
+/// (`prev.gv_half`, over `prev.dt_half`): `gv + (gv − gv_prev) · ½Δt /
+/// (½(Δt + Δt_prev))`. `None` when there is nothing to extrapolate from
+/// (no reconstructed viscosity, or the first step).
+fn extrapolated_gradients(gv: &[Mat2], prev: &Rates, dt: f64) -> Option<Vec<Mat2>> {
+    if gv.is_empty() || prev.gv_half.len() != gv.len() {
+        return None;
+    }
+    let f = dt / (dt + prev.dt_half);
+    Some(
+        gv.par_iter()
+            .zip(&prev.gv_half)
+            .map(|(g, p)| *g + (*g + p.scale(-1.0)).scale(f))
+            .collect(),
+    )
 }
 
 /// Perfect plasticity, radial return (METHOD.md §6): particle i's trial
@@ -500,7 +525,7 @@ impl CpuSolver {
         Self::refresh_lists(model, &mut self.nb, &mut self.list_builds, &half.x);
         let nb = &self.nb;
         // 2: ρ and s to n+1.
-        let k = kinematics::kinematics(model, &half, nb);
+        let mut k = kinematics::kinematics(model, &half, nb);
         let mut next = std::mem::take(&mut self.spare);
         next.x.copy_from_slice(&half.x);
         // ρ and s at n+1, the predicted velocity and energy of 3, and the
@@ -524,17 +549,24 @@ impl CpuSolver {
                 stress_point(model, i, *rho, *e, s)
             })
             .collect();
-        // 3: the forces at n+1.
+        // 3: the forces at n+1. The viscosity's reconstruction extrapolates
+        // each side's velocity to the pair midpoint with ∇v: the pass's is
+        // at n+½, the velocities at n+1, and a jump mixing the two levels
+        // is O(Δt) where it should be O(Δx²), which made the step first
+        // order. ∇v goes to n+1 linearly from the last two half steps.
+        let gv_end = extrapolated_gradients(&k.gv, &kn, dt);
         let mut dv = forces::momentum_keeping(
             model,
             &next,
             nb,
             &k.l,
-            &k.gv,
+            gv_end.as_deref().unwrap_or(&k.gv),
             &k.surface,
             &pts,
             &mut self.kept,
         );
+        drop(gv_end);
+        let gv_half = std::mem::take(&mut k.gv);
         let mut diag = Diagnostics {
             correction_fallback: k.fallback.len(),
             ..Default::default()
@@ -615,6 +647,8 @@ impl CpuSolver {
                 ds: Vec::new(),
                 heat_rate,
                 spring_rate,
+                gv_half,
+                dt_half: dt,
             },
             diag,
         ));
@@ -646,6 +680,7 @@ impl CpuSolver {
                 + size_of_val(&r.drho[..])
                 + size_of_val(&r.de[..])
                 + size_of_val(&r.ds[..])
+                + size_of_val(&r.gv_half[..])
         });
         (model + states + rates + self.nb.bytes() + size_of_val(&self.kept[..])) as u64
     }
