@@ -485,7 +485,8 @@ impl CpuSolver {
     ///    `n` to `n+1` (time-centred rates; with the radial return);
     /// 3. EOS and the momentum pass at `n+1`; the viscosity and the
     ///    dashpot see the predicted `v_{n+½} + ½Δt a_n`, the EOS the
-    ///    predicted `e_{n+½} + ½Δt ė_n`;
+    ///    predicted `e_{n+½} + ½Δt ė_n`, the viscosity's reconstruction
+    ///    `∇v` extrapolated to `n+1` ([`extrapolated_gradients`]);
     /// 4. `v_{n+1} = v_{n+½} + ½Δt a_{n+1}`; then the energy sums with the
     ///    pair terms of 3 but the work done on `v_{n+1}`
     ///    ([`forces::energy_replay`]), and `e_{n+1} = e_{n+½} + ½Δt ė_{n+1}`.
