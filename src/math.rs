@@ -111,6 +111,19 @@ impl std::ops::Add for Mat2 {
     }
 }
 
+impl std::ops::Sub for Mat2 {
+    type Output = Mat2;
+    #[inline]
+    fn sub(self, o: Mat2) -> Mat2 {
+        Mat2 {
+            xx: self.xx - o.xx,
+            xy: self.xy - o.xy,
+            yx: self.yx - o.yx,
+            yy: self.yy - o.yy,
+        }
+    }
+}
+
 impl std::ops::AddAssign for Mat2 {
     #[inline]
     fn add_assign(&mut self, o: Mat2) {

@@ -256,21 +256,20 @@ fn sane(model: &Model, i: usize, x: DVec2, v: DVec2, e: f64, rho: f64) -> bool {
 }
 
 /// The velocity gradients `gv` of a leapfrog step's half step `n+½`
-/// extrapolated to its end `n+1`, from those of the step before
-/// (`prev.gv_half`, over `prev.dt_half`): `gv + (gv − gv_prev) · ½Δt /
-/// (½(Δt + Δt_prev))`. `None` when there is nothing to extrapolate from
-/// (no reconstructed viscosity, or the first step).
-fn extrapolated_gradients(gv: &[Mat2], prev: &Rates, dt: f64) -> Option<Vec<Mat2>> {
-    if gv.is_empty() || prev.gv_half.len() != gv.len() {
-        return None;
+/// extrapolated to its end `n+1` from those of the step before, `prev`
+/// (over the step `dt_prev`): `gv + (gv − gv_prev) · ½Δt / (½(Δt +
+/// Δt_prev))`, written over `prev`, which is dead after. `false` (and
+/// `prev` untouched) when there is nothing to extrapolate from (no
+/// reconstructed viscosity, or the first step).
+fn extrapolate_gradients(gv: &[Mat2], prev: &mut [Mat2], dt_prev: f64, dt: f64) -> bool {
+    if gv.is_empty() || prev.len() != gv.len() {
+        return false;
     }
-    let f = dt / (dt + prev.dt_half);
-    Some(
-        gv.par_iter()
-            .zip(&prev.gv_half)
-            .map(|(g, p)| *g + (*g + p.scale(-1.0)).scale(f))
-            .collect(),
-    )
+    let f = dt / (dt + dt_prev);
+    prev.par_iter_mut()
+        .zip(gv)
+        .for_each(|(p, g)| *p = *g + (*g - *p).scale(f));
+    true
 }
 
 /// Perfect plasticity, radial return (METHOD.md §6): particle i's trial
@@ -486,7 +485,7 @@ impl CpuSolver {
     /// 3. EOS and the momentum pass at `n+1`; the viscosity and the
     ///    dashpot see the predicted `v_{n+½} + ½Δt a_n`, the EOS the
     ///    predicted `e_{n+½} + ½Δt ė_n`, the viscosity's reconstruction
-    ///    `∇v` extrapolated to `n+1` ([`extrapolated_gradients`]);
+    ///    `∇v` extrapolated to `n+1` ([`extrapolate_gradients`]);
     /// 4. `v_{n+1} = v_{n+½} + ½Δt a_{n+1}`; then the energy sums with the
     ///    pair terms of 3 but the work done on `v_{n+1}`
     ///    ([`forces::energy_replay`]), and `e_{n+1} = e_{n+½} + ½Δt ė_{n+1}`.
@@ -498,7 +497,7 @@ impl CpuSolver {
     ///
     /// Returns whether every particle of the new state passes the state
     /// check.
-    fn leapfrog(&mut self, kn: Rates, dt: f64) -> bool {
+    fn leapfrog(&mut self, mut kn: Rates, dt: f64) -> bool {
         let model = &self.model;
         let st = &self.state;
         let h = 0.5 * dt;
@@ -555,18 +554,21 @@ impl CpuSolver {
         // at n+½, the velocities at n+1, and a jump mixing the two levels
         // is O(Δt) where it should be O(Δx²), which made the step first
         // order. ∇v goes to n+1 linearly from the last two half steps.
-        let gv_end = extrapolated_gradients(&k.gv, &kn, dt);
+        let gv_end = if extrapolate_gradients(&k.gv, &mut kn.gv_half, kn.dt_half, dt) {
+            &kn.gv_half
+        } else {
+            &k.gv
+        };
         let mut dv = forces::momentum_keeping(
             model,
             &next,
             nb,
             &k.l,
-            gv_end.as_deref().unwrap_or(&k.gv),
+            gv_end,
             &k.surface,
             &pts,
             &mut self.kept,
         );
-        drop(gv_end);
         let gv_half = std::mem::take(&mut k.gv);
         let mut diag = Diagnostics {
             correction_fallback: k.fallback.len(),
@@ -587,23 +589,21 @@ impl CpuSolver {
             }
             bd
         });
-        // 4: the second half kick, then the work on v_{n+1}.
-        let v_next: Vec<DVec2> = (0..model.len())
-            .into_par_iter()
-            .map(|i| {
-                if model.rigid(i) {
-                    half.v[i]
-                } else {
-                    half.v[i] + dv[i] * h
-                }
-            })
-            .collect();
-        let mut de = forces::energy_replay(model, nb, &self.kept, &v_next);
+        // 4: the second half kick, in place (v_{n+½} is dead after it;
+        // next.v keeps the predicted velocity the contact's forces were
+        // made at until the booking below), then the work on v_{n+1}.
+        half.v.par_iter_mut().enumerate().for_each(|(i, v)| {
+            if !model.rigid(i) {
+                *v += dv[i] * h;
+            }
+        });
+        let v_next = &half.v;
+        let mut de = forces::energy_replay(model, nb, &self.kept, v_next);
         let (mut heat_rate, mut spring_rate) = (0.0, 0.0);
         if let Some(bd) = bd {
             // The contact's forces again (the same bits), their heat and
             // spring power booked at v_{n+1}.
-            let c = contact::penalty_booked(model, &next, nb, &bd, &v_next);
+            let c = contact::penalty_booked(model, &next, nb, &bd, v_next);
             for (k, &i) in bd.list.iter().enumerate() {
                 let i = i as usize;
                 if !model.rigid(i) {
@@ -613,7 +613,7 @@ impl CpuSolver {
             (heat_rate, spring_rate) = (c.stats.heat_rate, c.stats.spring_rate);
             diag.contact = c.stats;
         }
-        next.v = v_next;
+        std::mem::swap(&mut next.v, &mut half.v);
         // e at n+1, the CFL step at the new state (cfl_step) and whether
         // it passes the state check ([`CpuSolver::check`], which names
         // the particle when it does not), in one walk.
