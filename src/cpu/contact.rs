@@ -279,11 +279,11 @@ fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) 
 
 /// Both passes: returns contact forces, booked heat and the statistics.
 pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> ContactForces {
-    penalty_booked(model, st, nb, bd, &st.v)
+    penalty_booked(model, st, nb, bd, None)
 }
 
 /// [`penalty`] with the forces of the velocities `st.v` but the heat and
-/// the spring power booked at the velocities `book`: the rate of work of
+/// the spring power booked at the velocities `book` (`None`: `st.v`): the rate of work of
 /// a pass's force `½ p A` on the bodies is `½ p A w` with the approach
 /// rate `w` the bodies actually move at, and the ledger closes only when
 /// the heat and the spring power split that `w`. The leapfrog
@@ -294,10 +294,8 @@ pub fn penalty_booked(
     st: &State,
     nb: &Neighbours,
     bd: &Boundary,
-    book: &[DVec2],
+    book: Option<&[DVec2]>,
 ) -> ContactForces {
-    // The same velocities: the booked rates are the pressure's own.
-    let same = std::ptr::eq(book, &st.v[..]);
     // Pass 1: every boundary particle against each partner body around it
     // (entry k for particle `bd.list[k]`; only boundary particles have
     // contact terms, so the passes go over the boundary list alone).
@@ -336,7 +334,7 @@ pub fn penalty_booked(
                 s.sws += (sq - sp) * w;
                 s.swn += bd.normal[q] * w;
                 s.swv += st.v[q] * w;
-                if !same {
+                if let Some(book) = book {
                     s.swb += book[q] * w;
                 }
                 s.swt += bd.normal[q].dot(sp - sq) * w;
@@ -348,11 +346,9 @@ pub fn penalty_booked(
                 };
                 let (bq, sw) = (s.body, s.sw);
                 let a = bd.area[p];
-                let w_book = if same {
-                    ps.w_rate
-                } else {
-                    (book[p] - s.swb / sw).dot(ps.n)
-                };
+                // Without booking velocities the booked rates are the
+                // pressure's own.
+                let w_book = book.map_or(ps.w_rate, |b| (b[p] - s.swb / sw).dot(ps.n));
                 // Dashpot heat of this half pass: ½ (p − kδ) A w ≥ 0 (the
                 // spring's share of the work is stored, the rest dissipated).
                 let heat = 0.5 * (ps.p - ps.stiffness * ps.delta) * a * w_book;

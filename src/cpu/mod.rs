@@ -603,7 +603,7 @@ impl CpuSolver {
         if let Some(bd) = bd {
             // The contact's forces again (the same bits), their heat and
             // spring power booked at v_{n+1}.
-            let c = contact::penalty_booked(model, &next, nb, &bd, v_next);
+            let c = contact::penalty_booked(model, &next, nb, &bd, Some(v_next));
             for (k, &i) in bd.list.iter().enumerate() {
                 let i = i as usize;
                 if !model.rigid(i) {

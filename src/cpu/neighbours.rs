@@ -357,7 +357,7 @@ impl Neighbours {
 
     /// A store of zero-sized slots for sweeps that keep nothing.
     fn no_store(&self) -> Vec<()> {
-        vec![(); self.visited.last().map_or(0, |&t| t as usize)]
+        vec![(); self.store_len()]
     }
 
     /// Slots a store for [`Neighbours::sweep_store`] needs.
