@@ -572,15 +572,14 @@ fn backends(
     integrator: Integrator,
     verbose: bool,
 ) -> Result<(bool, Option<Arc<GpuContext>>), BenchError> {
-    if integrator == Integrator::Leapfrog {
-        // The GPU path steps with the midpoint rule only.
+    if !integrator.on_gpu() {
         if which == BenchBackend::Gpu {
-            return Err(BenchError::Input(
-                "bench --backend gpu: the leapfrog integrator runs on the CPU path only".into(),
-            ));
+            return Err(BenchError::Input(format!(
+                "bench --backend gpu: the {integrator} integrator runs on the CPU path only"
+            )));
         }
         if verbose && which != BenchBackend::Cpu {
-            eprintln!("bench: the leapfrog integrator runs on the CPU path only; CPU only");
+            eprintln!("bench: the {integrator} integrator runs on the CPU path only; CPU only");
         }
         return Ok((true, None));
     }

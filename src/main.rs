@@ -211,7 +211,7 @@ fn validate_cmd(args: ValidateArgs) -> ExitCode {
         let backends = match backend.map(backend_of) {
             // The leapfrog runs on the CPU path only (--backend gpu says so).
             Some(Backend::Auto) | None
-                if integrator.is_some_and(|i| matches!(i, IntegratorArg::Leapfrog)) =>
+                if integrator.is_some_and(|i| !integrator_of(i).on_gpu()) =>
             {
                 vec![Backend::Cpu]
             }

@@ -90,16 +90,16 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    if scene.simulation.integrator == Integrator::Leapfrog {
-        // The GPU path steps with the midpoint rule only.
+    let integrator = scene.simulation.integrator;
+    if !integrator.on_gpu() {
         return match backend {
-            Backend::Gpu => Err(RunError::Backend(
-                "backend gpu: the leapfrog integrator (simulation.integrator) runs on the CPU path only; use --backend cpu, or integrator = \"midpoint\" on the GPU".into(),
-            )),
-            Backend::Cpu => Ok(cpu(None)),
-            Backend::Auto => Ok(cpu(Some(
-                "backend auto: the leapfrog integrator runs on the CPU path only; running the CPU path".into(),
+            Backend::Gpu => Err(RunError::Backend(format!(
+                "backend gpu: the {integrator} integrator (simulation.integrator) runs on the CPU path only; use --backend cpu, or integrator = \"midpoint\" on the GPU"
             ))),
+            Backend::Cpu => Ok(cpu(None)),
+            Backend::Auto => Ok(cpu(Some(format!(
+                "backend auto: the {integrator} integrator runs on the CPU path only; running the CPU path"
+            )))),
         };
     }
     match backend {

@@ -92,6 +92,13 @@ pub enum Integrator {
     Leapfrog,
 }
 
+impl Integrator {
+    /// Whether the GPU path has it (the leapfrog runs on the CPU path only).
+    pub fn on_gpu(self) -> bool {
+        self == Integrator::Midpoint
+    }
+}
+
 impl std::fmt::Display for Integrator {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
