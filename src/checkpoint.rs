@@ -187,12 +187,7 @@ impl Checkpoint {
                 w.vec2s(&state.v);
                 w.f64s(&state.rho);
                 w.f64s(&state.e);
-                let s: Vec<f64> = state
-                    .s
-                    .iter()
-                    .flat_map(|s| [s.xx, s.yy, s.xy, s.zz])
-                    .collect();
-                w.f64s(&s);
+                w.quads(state.s.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]));
                 w.f64(state.heat);
                 w.f64(state.spring_work);
                 w.f64(initial_dt.unwrap_or(f64::NAN));
@@ -208,12 +203,7 @@ impl Checkpoint {
                     w.f64s(&r.de);
                     w.f64(r.heat_rate);
                     w.f64(r.spring_rate);
-                    let gv: Vec<f64> = r
-                        .gv_half
-                        .iter()
-                        .flat_map(|g| [g.xx, g.xy, g.yx, g.yy])
-                        .collect();
-                    w.f64s(&gv);
+                    w.quads(r.gv_half.iter().map(|g| [g.xx, g.xy, g.yx, g.yy]));
                     w.f64(r.dt_half);
                     w.f64(d.cfl_dt);
                     w.u64(d.correction_fallback as u64);
@@ -316,14 +306,9 @@ impl Checkpoint {
                     let rho = r.f64s()?;
                     let e = r.f64s()?;
                     let s: Vec<Sym> = r
-                        .f64s()?
-                        .chunks_exact(4)
-                        .map(|c| Sym {
-                            xx: c[0],
-                            yy: c[1],
-                            xy: c[2],
-                            zz: c[3],
-                        })
+                        .quads()?
+                        .into_iter()
+                        .map(|[xx, yy, xy, zz]| Sym { xx, yy, xy, zz })
                         .collect();
                     let heat = r.f64()?;
                     let spring_work = r.f64()?;
@@ -345,14 +330,9 @@ impl Checkpoint {
                         let de = r.f64s()?;
                         let (heat_rate, spring_rate) = (r.f64()?, r.f64()?);
                         let gv_half: Vec<Mat2> = r
-                            .f64s()?
-                            .chunks_exact(4)
-                            .map(|c| Mat2 {
-                                xx: c[0],
-                                xy: c[1],
-                                yx: c[2],
-                                yy: c[3],
-                            })
+                            .quads()?
+                            .into_iter()
+                            .map(|[xx, xy, yx, yy]| Mat2 { xx, xy, yx, yy })
                             .collect();
                         let dt_half = r.f64()?;
                         let cfl_dt = r.f64()?;
@@ -567,6 +547,14 @@ impl Writer {
             self.f64(*x);
         }
     }
+    /// Records of four values (a tensor's components), as one list of
+    /// their values.
+    fn quads(&mut self, v: impl ExactSizeIterator<Item = [f64; 4]>) {
+        self.u64(4 * v.len() as u64);
+        for q in v {
+            q.iter().for_each(|x| self.f64(*x));
+        }
+    }
     fn vec2s(&mut self, v: &[DVec2]) {
         self.u64(v.len() as u64);
         for p in v {
@@ -622,6 +610,18 @@ impl Reader<'_> {
     fn f64s(&mut self) -> Result<Vec<f64>, String> {
         let k = self.count(8)?;
         (0..k).map(|_| self.f64()).collect()
+    }
+    fn quads(&mut self) -> Result<Vec<[f64; 4]>, String> {
+        let v = self.f64s()?;
+        if v.len() % 4 != 0 {
+            return Err(format!(
+                "a list of {} values is not of four-value records",
+                v.len()
+            ));
+        }
+        Ok(v.chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect())
     }
     fn vec2s(&mut self) -> Result<Vec<DVec2>, String> {
         let k = self.count(16)?;
