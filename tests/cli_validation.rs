@@ -902,6 +902,28 @@ fn bad_command_line_arguments() {
     assert!(!Path::new(out_dir).join("history.csv").exists());
 }
 
+/// A refusal: exit status 2, no panic, and each of `needles` in the message.
+fn refused(out: &Output, needles: &[&str]) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
+    for n in needles {
+        assert!(stderr.contains(n), "no {n:?} in stderr: {stderr}");
+    }
+    assert!(!stderr.to_lowercase().contains("panicked"), "{stderr}");
+}
+
+/// A run that succeeded with exactly one `warning:` line on stderr: that line.
+fn the_warning(out: &Output) -> String {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "stderr: {stderr}");
+    warnings[0].to_string()
+}
+
 /// `run` of the tiny base scene on `backend`, writing into `<tmp>/out`.
 fn run_base(tmp: &Path, name: &str, backend: &str) -> (Output, PathBuf) {
     let scene = write_scene(tmp, name, BASE_1D);
@@ -943,21 +965,11 @@ fn no_adapter_gpu_refuses_and_auto_falls_back() {
         (out, out_dir)
     };
     let (out, _) = run("gpu");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert!(stderr.contains("no GPU adapter"), "stderr: {stderr}");
-    assert!(stderr.contains("--backend cpu"), "stderr: {stderr}");
-    assert!(!stderr.to_lowercase().contains("panicked"), "{stderr}");
+    refused(&out, &["no GPU adapter", "--backend cpu"]);
 
     let (out, dir) = run("auto");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
-    let warnings: Vec<&str> = stderr
-        .lines()
-        .filter(|l| l.starts_with("warning:"))
-        .collect();
-    assert_eq!(warnings.len(), 1, "stderr: {stderr}");
-    assert!(warnings[0].contains("CPU path"), "{}", warnings[0]);
+    let warning = the_warning(&out);
+    assert!(warning.contains("CPU path"), "{warning}");
     let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
 }
@@ -1010,22 +1022,12 @@ fn leapfrog_runs_on_the_cpu_path_only() {
     assert_eq!(summary(&dir)["integrator"], "midpoint");
 
     let (out, dir) = run(&scene, &["--backend", "gpu"], "gpu");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert!(stderr.contains("leapfrog"), "stderr: {stderr}");
-    assert!(stderr.contains("--backend cpu"), "stderr: {stderr}");
-    assert!(!stderr.to_lowercase().contains("panicked"), "{stderr}");
+    refused(&out, &["leapfrog", "--backend cpu"]);
     assert!(!dir.join("history.csv").exists());
 
     let (out, _) = run(&scene, &["--backend", "auto"], "auto");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
-    let warnings: Vec<&str> = stderr
-        .lines()
-        .filter(|l| l.starts_with("warning:"))
-        .collect();
-    assert_eq!(warnings.len(), 1, "stderr: {stderr}");
-    assert!(warnings[0].contains("leapfrog"), "{}", warnings[0]);
+    let warning = the_warning(&out);
+    assert!(warning.contains("leapfrog"), "{warning}");
 }
 
 #[test]
