@@ -294,6 +294,11 @@ fn main() {
     // The same allocator set-up as the command line, so the figures match
     // `sphcontact bench` (docs/performance.md).
     sphcontact::cpu::keep_freed_memory();
+    sphcontact::cpu::on_worker(benches);
+}
+
+/// Every bench, on a pool worker as the command line runs its solver.
+fn benches() {
     let sizes = sizes();
     let ctx = adapter();
     let mut c = Criterion::default().configure_from_args();

@@ -464,6 +464,12 @@ fn check(path: &Path, scene: &Scene) {
 fn main() -> ExitCode {
     sphcontact::cpu::keep_freed_memory();
     let cli = Cli::parse();
+    // The whole command on a pool worker: the solver's parallel loops then
+    // start without waking the main thread each time (cpu::on_worker).
+    sphcontact::cpu::on_worker(move || command(cli))
+}
+
+fn command(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Validate(args) => validate_cmd(args),
         Command::Bench(args) => bench_cmd(args),
