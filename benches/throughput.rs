@@ -290,6 +290,10 @@ fn gpu_benches(c: &mut Criterion, sizes: &[usize], ctx: Arc<GpuContext>) {
     }
 }
 
+/// The command line's allocator, so that the figures match `sphcontact bench`.
+#[global_allocator]
+static ALLOC: sphcontact::cpu::HugePages = sphcontact::cpu::HugePages;
+
 fn main() {
     // The same allocator set-up as the command line, so the figures match
     // `sphcontact bench` (docs/performance.md).

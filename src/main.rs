@@ -461,6 +461,10 @@ fn check(path: &Path, scene: &Scene) {
     );
 }
 
+/// Large blocks on huge pages (`cpu::HugePages`).
+#[global_allocator]
+static ALLOC: sphcontact::cpu::HugePages = sphcontact::cpu::HugePages;
+
 fn main() -> ExitCode {
     sphcontact::cpu::keep_freed_memory();
     let cli = Cli::parse();
