@@ -109,6 +109,9 @@ pub struct BenchOptions {
     /// Timed steps per measurement; `None`: at least [`DEFAULT_STEPS`],
     /// more until the measurement lasts [`TARGET_SECONDS`].
     pub steps: Option<u64>,
+    /// Measurements per backend and size (at least 1): the first sets the
+    /// steps, the rest repeat them ([`Record::rates`]).
+    pub repeat: u32,
     /// Also time each GPU stage alone.
     pub stages: bool,
     /// Time integration of the timed steps (the leapfrog: CPU only).
@@ -144,9 +147,18 @@ pub struct Record {
     pub particles: usize,
     /// Disk radius over particle spacing that gives `particles`.
     pub r_over_dx: f64,
+    /// Timed steps of one measurement.
     pub steps: u64,
+    /// Wall time of the median measurement.
     pub wall_seconds: f64,
+    /// `particles × steps / wall_seconds`: the median measurement's rate
+    /// (of an even count, the slower of the middle two).
     pub particle_steps_per_second: f64,
+    /// Measurements taken (`--repeat`).
+    pub repeats: u32,
+    /// Every measurement's particle-steps per second, in the order taken:
+    /// the spread of this machine's speed.
+    pub rates: Vec<f64>,
     /// CPU: divided by the worker threads; `None` on the GPU.
     pub particle_steps_per_second_per_core: Option<f64>,
     /// Neighbours within `2 h` per particle at t = 0 (SPH partners and
@@ -546,9 +558,24 @@ pub fn cpu_name() -> String {
         .unwrap_or_else(|| std::env::consts::ARCH.to_string())
 }
 
-/// Steps, then wall time, of one measurement: exactly `fixed` steps, or
-/// [`DEFAULT_STEPS`] and then more until it lasts [`TARGET_SECONDS`].
+/// Steps, then the wall time of each of `repeat` measurements: the first
+/// of exactly `fixed` steps, or of [`DEFAULT_STEPS`] and then more until
+/// it lasts [`TARGET_SECONDS`]; the others of the first's steps.
 fn measure(
+    fixed: Option<u64>,
+    repeat: u32,
+    mut time: impl FnMut(u64) -> Result<Duration, BenchError>,
+) -> Result<(u64, Vec<f64>), BenchError> {
+    let (steps, first) = measure_once(fixed, &mut time)?;
+    let mut walls = vec![first];
+    for _ in 1..repeat {
+        walls.push(time(steps)?.as_secs_f64());
+    }
+    Ok((steps, walls))
+}
+
+/// The first measurement of [`measure`].
+fn measure_once(
     fixed: Option<u64>,
     mut time: impl FnMut(u64) -> Result<Duration, BenchError>,
 ) -> Result<(u64, f64), BenchError> {
@@ -634,6 +661,11 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             "--steps must be at least 1 (got 0)".into(),
         ));
     }
+    if opts.repeat == 0 {
+        return Err(BenchError::Input(
+            "--repeat must be at least 1 (got 0)".into(),
+        ));
+    }
     let (cpu, gpu) = backends(opts.backend, opts.integrator, opts.verbose)?;
     let threads = rayon::current_num_threads();
     let cpu_adapter = format!("cpu: {} ({threads} threads)", cpu_name());
@@ -641,23 +673,31 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
     for &n in &opts.particles {
         let case = DiskCase::new(n)?.with_integrator(opts.integrator);
         let particles = case.particles();
-        let record = |backend: &str, adapter: &str, steps: u64, wall: f64| Record {
-            backend: backend.into(),
-            adapter: adapter.into(),
-            threads: None,
-            integrator: opts.integrator.to_string(),
-            requested_particles: n,
-            particles,
-            r_over_dx: case.r_over_dx,
-            steps,
-            wall_seconds: wall,
-            particle_steps_per_second: (steps * particles as u64) as f64 / wall.max(1e-12),
-            particle_steps_per_second_per_core: None,
-            mean_neighbours: 0.0,
-            bytes_per_particle: 0.0,
-            memory_kind: String::new(),
-            in_contact: false,
-            stages: None,
+        let record = |backend: &str, adapter: &str, steps: u64, walls: Vec<f64>| {
+            let rate = |wall: f64| (steps * particles as u64) as f64 / wall.max(1e-12);
+            let mut sorted = walls.clone();
+            sorted.sort_by(f64::total_cmp);
+            let wall = sorted[sorted.len() / 2];
+            Record {
+                backend: backend.into(),
+                adapter: adapter.into(),
+                threads: None,
+                integrator: opts.integrator.to_string(),
+                requested_particles: n,
+                particles,
+                r_over_dx: case.r_over_dx,
+                steps,
+                wall_seconds: wall,
+                particle_steps_per_second: rate(wall),
+                repeats: walls.len() as u32,
+                rates: walls.iter().map(|&w| rate(w)).collect(),
+                particle_steps_per_second_per_core: None,
+                mean_neighbours: 0.0,
+                bytes_per_particle: 0.0,
+                memory_kind: String::new(),
+                in_contact: false,
+                stages: None,
+            }
         };
         // The GPU solver is built first: a size the adapter cannot hold
         // fails in a moment, before minutes of CPU work.
@@ -696,8 +736,8 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             if opts.verbose {
                 eprintln!("bench: cpu, in contact by step {}", b.onset);
             }
-            let (steps, wall) = measure(opts.steps, |k| b.time_steps(k))?;
-            let mut r = record("cpu", &cpu_adapter, steps, wall);
+            let (steps, walls) = measure(opts.steps, opts.repeat, |k| b.time_steps(k))?;
+            let mut r = record("cpu", &cpu_adapter, steps, walls);
             r.threads = Some(threads);
             r.particle_steps_per_second_per_core =
                 Some(r.particle_steps_per_second / threads as f64);
@@ -707,8 +747,8 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             here.push(r);
         }
         if let (Some(ctx), Some(mut b)) = (&gpu, gpu_bench) {
-            let (steps, wall) = measure(opts.steps, |k| b.time_steps(k))?;
-            let mut r = record("gpu", &ctx.adapter_name(), steps, wall);
+            let (steps, walls) = measure(opts.steps, opts.repeat, |k| b.time_steps(k))?;
+            let mut r = record("gpu", &ctx.adapter_name(), steps, walls);
             r.bytes_per_particle = b.solver.device_bytes() as f64 / particles as f64;
             r.memory_kind = "device".into();
             r.in_contact = b.in_contact();
@@ -731,6 +771,26 @@ fn sci(x: f64) -> String {
     format!("{x:.3e}")
 }
 
+/// The rate, and with repeated measurements their range: `median (min–max)`.
+fn rate_cell(r: &Record) -> String {
+    let (lo, hi) = r
+        .rates
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+    if r.rates.len() > 1 {
+        format!(
+            "{} ({}–{})",
+            sci(r.particle_steps_per_second),
+            sci(lo),
+            sci(hi)
+        )
+    } else {
+        sci(r.particle_steps_per_second)
+    }
+}
+
 /// The records as a Markdown table, the GPU/CPU ratios and, where timed,
 /// the GPU stages.
 pub fn table(records: &[Record]) -> String {
@@ -748,7 +808,7 @@ pub fn table(records: &[Record]) -> String {
             r.mean_neighbours,
             r.steps,
             r.wall_seconds,
-            sci(r.particle_steps_per_second),
+            rate_cell(r),
             r.particle_steps_per_second_per_core.map_or("–".into(), sci),
             r.bytes_per_particle,
             r.memory_kind,

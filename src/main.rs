@@ -111,6 +111,10 @@ struct BenchArgs {
     /// lasts about 1 s).
     #[arg(long)]
     steps: Option<u64>,
+    /// Measurements per backend and size, each of the same steps (the
+    /// first sets them); the record gives the median and every rate.
+    #[arg(long, default_value_t = 1)]
+    repeat: u32,
     /// Also time each GPU stage alone.
     #[arg(long)]
     stages: bool,
@@ -301,6 +305,7 @@ fn bench_cmd(args: BenchArgs) -> ExitCode {
         },
         particles: args.particles,
         steps: args.steps,
+        repeat: args.repeat,
         stages: args.stages,
         integrator: integrator_of(args.integrator),
         verbose: true,

@@ -55,6 +55,18 @@ fn check_record(r: &serde_json::Value, backend: &str, steps: f64) {
     assert!((10.0..=40.0).contains(&nb), "mean neighbours {nb}");
     assert!(num(r, "bytes_per_particle") > 0.0, "{r}");
     assert_eq!(r["in_contact"], true, "the timed steps end in contact: {r}");
+    // The rate is the median measurement's (of an even count, the slower
+    // of the middle two), and every measurement's rate is listed.
+    let k = num(r, "repeats") as usize;
+    let mut rates: Vec<f64> = r["rates"]
+        .as_array()
+        .unwrap_or_else(|| panic!("'rates' is not a list in {r}"))
+        .iter()
+        .map(|x| x.as_f64().expect("a rate"))
+        .collect();
+    assert_eq!(rates.len(), k, "{r}");
+    rates.sort_by(f64::total_cmp);
+    assert_eq!(rate, rates[k - 1 - k / 2], "the median rate: {r}");
 }
 
 #[test]
@@ -81,6 +93,39 @@ fn cpu_records_as_json() {
     assert!(r["adapter"].as_str().unwrap().starts_with("cpu: "), "{r}");
     let per_core = num(r, "particle_steps_per_second_per_core");
     assert!((per_core * threads / num(r, "particle_steps_per_second") - 1.0).abs() < 1e-9);
+}
+
+/// `--repeat`: that many measurements of the same steps, each listed,
+/// the median reported; the table gives their range.
+#[test]
+fn repeated_measurements() {
+    let args = ["--backend", "cpu", "--particles", "1000", "--steps", "2"];
+    for k in [1usize, 2, 3] {
+        let n = k.to_string();
+        let out = bench(&[&args[..], &["--repeat", &n, "--json"]].concat(), &[]);
+        let recs = records(&out);
+        assert_eq!(recs.len(), 1, "{recs:?}");
+        check_record(&recs[0], "cpu", 2.0);
+        assert_eq!(num(&recs[0], "repeats"), k as f64);
+    }
+    let out = bench(&[&args[..], &["--repeat", "3"]].concat(), &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    let row = stdout
+        .lines()
+        .find(|l| l.starts_with("| cpu |"))
+        .unwrap_or_else(|| panic!("no CPU row: {stdout}"));
+    // The particle-steps/s cell: `median (min–max)`.
+    let cell = row.split('|').nth(9).unwrap_or_default().trim();
+    let (median, range) = cell
+        .split_once(" (")
+        .unwrap_or_else(|| panic!("no range in '{cell}': {row}"));
+    let (lo, hi) = range
+        .trim_end_matches(')')
+        .split_once('–')
+        .unwrap_or_else(|| panic!("no min–max in '{cell}'"));
+    let [median, lo, hi] = [median, lo, hi].map(|x| x.parse::<f64>().expect("a rate"));
+    assert!(lo <= median && median <= hi, "{cell}");
 }
 
 /// The leapfrog's records say so; the GPU cannot time it (exit 2).
@@ -141,6 +186,7 @@ fn bad_arguments_exit_2() {
         (vec!["--particles", "0"], "--particles"),
         (vec!["--particles", "99"], "--particles"),
         (vec!["--particles", "1000", "--steps", "0"], "--steps"),
+        (vec!["--particles", "1000", "--repeat", "0"], "--repeat"),
         (vec!["--particles", "many"], "--particles"),
         (vec!["--backend", "tpu"], "--backend"),
     ] {
