@@ -154,10 +154,8 @@ pub struct Record {
     /// `particles × steps / wall_seconds`: the median measurement's rate
     /// (of an even count, the slower of the middle two).
     pub particle_steps_per_second: f64,
-    /// Measurements taken (`--repeat`).
-    pub repeats: u32,
-    /// Every measurement's particle-steps per second, in the order taken:
-    /// the spread of this machine's speed.
+    /// Every measurement's particle-steps per second, in the order taken
+    /// (as many as `--repeat` asked): the spread of this machine's speed.
     pub rates: Vec<f64>,
     /// CPU: divided by the worker threads; `None` on the GPU.
     pub particle_steps_per_second_per_core: Option<f64>,
@@ -689,7 +687,6 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
                 steps,
                 wall_seconds: wall,
                 particle_steps_per_second: rate(wall),
-                repeats: walls.len() as u32,
                 rates: walls.iter().map(|&w| rate(w)).collect(),
                 particle_steps_per_second_per_core: None,
                 mean_neighbours: 0.0,

@@ -57,14 +57,14 @@ fn check_record(r: &serde_json::Value, backend: &str, steps: f64) {
     assert_eq!(r["in_contact"], true, "the timed steps end in contact: {r}");
     // The rate is the median measurement's (of an even count, the slower
     // of the middle two), and every measurement's rate is listed.
-    let k = num(r, "repeats") as usize;
     let mut rates: Vec<f64> = r["rates"]
         .as_array()
         .unwrap_or_else(|| panic!("'rates' is not a list in {r}"))
         .iter()
         .map(|x| x.as_f64().expect("a rate"))
         .collect();
-    assert_eq!(rates.len(), k, "{r}");
+    let k = rates.len();
+    assert!(k >= 1, "{r}");
     rates.sort_by(f64::total_cmp);
     assert_eq!(rate, rates[k - 1 - k / 2], "the median rate: {r}");
 }
@@ -106,7 +106,7 @@ fn repeated_measurements() {
         let recs = records(&out);
         assert_eq!(recs.len(), 1, "{recs:?}");
         check_record(&recs[0], "cpu", 2.0);
-        assert_eq!(num(&recs[0], "repeats"), k as f64);
+        assert_eq!(recs[0]["rates"].as_array().map(Vec::len), Some(k));
     }
     let out = bench(&[&args[..], &["--repeat", "3"]].concat(), &[]);
     let stdout = String::from_utf8_lossy(&out.stdout);
