@@ -31,6 +31,18 @@ fn records(out: &Output) -> Vec<serde_json::Value> {
     })
 }
 
+/// The CPU rows of a successful run's table, and the whole of stdout.
+fn cpu_rows(out: &Output) -> (Vec<String>, String) {
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    let rows = stdout
+        .lines()
+        .filter(|l| l.starts_with("| cpu |"))
+        .map(str::to_string)
+        .collect();
+    (rows, stdout)
+}
+
 fn num(r: &serde_json::Value, key: &str) -> f64 {
     r[key]
         .as_f64()
@@ -109,12 +121,9 @@ fn repeated_measurements() {
         assert_eq!(recs[0]["rates"].as_array().map(Vec::len), Some(k));
     }
     let out = bench(&[&args[..], &["--repeat", "3"]].concat(), &[]);
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(0), "{stdout}");
-    let row = stdout
-        .lines()
-        .find(|l| l.starts_with("| cpu |"))
-        .unwrap_or_else(|| panic!("no CPU row: {stdout}"));
+    let (rows, _) = cpu_rows(&out);
+    assert_eq!(rows.len(), 1, "{rows:?}");
+    let row = &rows[0];
     // The particle-steps/s cell: `median (min–max)`.
     let cell = row.split('|').nth(9).unwrap_or_default().trim();
     let (median, range) = cell
@@ -170,12 +179,7 @@ fn table_lists_every_size() {
         ],
         &[],
     );
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(0), "{stdout}");
-    let rows: Vec<&str> = stdout
-        .lines()
-        .filter(|l| l.starts_with("| cpu |"))
-        .collect();
+    let (rows, stdout) = cpu_rows(&out);
     assert_eq!(rows.len(), 2, "{stdout}");
     assert!(stdout.contains("(host)"), "{stdout}");
 }
