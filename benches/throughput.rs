@@ -295,13 +295,11 @@ fn gpu_benches(c: &mut Criterion, sizes: &[usize], ctx: Arc<GpuContext>) {
 static ALLOC: sphcontact::cpu::HugePages = sphcontact::cpu::HugePages;
 
 fn main() {
-    // The same allocator set-up as the command line, so the figures match
-    // `sphcontact bench` (docs/performance.md).
-    sphcontact::cpu::keep_freed_memory();
-    sphcontact::cpu::on_worker(benches);
+    // The command line's set-up, so the figures match `sphcontact bench`
+    // (docs/performance.md).
+    sphcontact::cpu::solver_process(benches);
 }
 
-/// Every bench, on a pool worker as the command line runs its solver.
 fn benches() {
     let sizes = sizes();
     let ctx = adapter();

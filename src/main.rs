@@ -471,11 +471,10 @@ fn check(path: &Path, scene: &Scene) {
 static ALLOC: sphcontact::cpu::HugePages = sphcontact::cpu::HugePages;
 
 fn main() -> ExitCode {
-    sphcontact::cpu::keep_freed_memory();
     let cli = Cli::parse();
-    // The whole command on a pool worker: the solver's parallel loops then
-    // start without waking the main thread each time (cpu::on_worker).
-    sphcontact::cpu::on_worker(move || command(cli))
+    // The whole command on a pool worker, freed memory kept: the solver's
+    // parallel loops then start without waking the main thread each time.
+    sphcontact::cpu::solver_process(move || command(cli))
 }
 
 fn command(cli: Cli) -> ExitCode {

@@ -45,7 +45,7 @@ use forces::StressPoint;
 /// reused; the price is that the process keeps its peak heap until it ends,
 /// which a solver run does anyway. A no-op on other C libraries. Call it once
 /// at start-up, before other threads exist.
-pub fn keep_freed_memory() {
+fn keep_freed_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: mallopt only sets allocator parameters; called before any
     // other thread runs.
@@ -160,6 +160,16 @@ unsafe impl GlobalAlloc for HugePages {
     }
 }
 
+/// A solver program's set-up around its whole work `f`: freed memory kept
+/// ([`keep_freed_memory`], before any other thread exists), then `f` on a
+/// pool worker ([`on_worker`]). The command line and the benches both start
+/// here, so their figures are taken the same way; pair it with
+/// [`HugePages`] as the program's global allocator.
+pub fn solver_process<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    keep_freed_memory();
+    on_worker(f)
+}
+
 /// Run `f` on a worker thread of a rayon pool (the thread count from
 /// `RAYON_NUM_THREADS`, else one per core), or in place when the caller is
 /// one already.
@@ -173,7 +183,7 @@ unsafe impl GlobalAlloc for HugePages {
 /// it itself, waking only idle siblings. Results do not depend on it: every
 /// sum's order is fixed by the lists (`neighbours`), not by the threads.
 /// Call it once around a whole run: each call outside a pool builds one.
-pub fn on_worker<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+fn on_worker<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     if rayon::current_thread_index().is_some() {
         return f();
     }
