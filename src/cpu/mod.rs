@@ -64,9 +64,10 @@ fn keep_freed_memory() {
 /// gigabytes of per-particle and per-pair arrays at 10⁷ particles, and with
 /// 4 KiB pages nearly every row of the walk misses the address-translation
 /// caches. Measured on this project's two-core machine, leapfrog, two
-/// threads (docs/performance.md): 1.50e6 particle-steps/s at 10⁷ particles
-/// with the system's setting, 2.06e6 with huge pages everywhere, against
-/// 1.94e6 at 10⁶. Small blocks, and other systems, are left as they are.
+/// threads, alternated with the build before (docs/performance.md): 1.89e6
+/// particle-steps/s at 10⁷ particles against 1.42e6, and 1.42–1.99e6
+/// against 1.10–1.40e6 at 10⁶. Small blocks, and other systems, are left
+/// as they are.
 /// Results are the same bits: only where the memory lies changes.
 pub struct HugePages;
 
