@@ -1,9 +1,11 @@
-// Pass A (METHOD.md §5, §6, §8.1): per particle, the correction matrix L_i
-// and colour gradient from one neighbour loop, then the equation of state,
-// sigma/rho^2 and the sound speed, then the velocity gradient with L_i from a
-// second loop, giving the continuity rate and the Jaumann stress rate.
-// CPU twins: cpu::kinematics::{correction_and_colour,
-// density_and_stress_rates}, cpu::eos_and_stress.
+// Pass A (METHOD.md §5, §6, §8.1): per particle, one neighbour loop gathers
+// the correction matrix M_i, the colour gradient and the uncorrected velocity
+// gradient sum; then L_i = M_i^-1, the equation of state, sigma/rho^2 and the
+// sound speed, and the corrected velocity gradient
+// grad v_i = [sum_j V_j (v_j - v_i) (x) grad_i W_ij] L_i^T (L_i is particle
+// i's own, so it factors out of the sum), giving the continuity rate and the
+// Jaumann stress rate. CPU twins: cpu::kinematics::kinematics,
+// cpu::eos_and_stress.
 //
 // dr and ds are where the rates go (common.wgsl, MID): at the base state
 // the midpoint buffers (rm, sm), which receive the rates themselves; at the
@@ -59,8 +61,13 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let hi = body.h;
     let ci = current_cell(i);
 
+    // Rigid particles have no velocity gradient: their loop skips the
+    // velocity reads (a branch uniform over the particle's whole loop).
+    let rigid = body.rigid != 0u;
+    let vi = v[i];
     var m = vec4<f32>(0.0);
     var gpsi = vec2<f32>(0.0);
+    var gsum = vec4<f32>(0.0);
     for (var c = 0u; c < scan_cells(); c++) {
         let span = cell_span(ci, c);
         for (var k = span.start; k < span.end; k++) {
@@ -69,9 +76,12 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }
-            let vj = volume(j, pinfo[j]);
-            m += outer(pr.gw * vj, -pr.d);
-            gpsi -= pr.gw * vj;
+            let gj = pr.gw * volume(j, pinfo[j]);
+            m += outer(gj, -pr.d);
+            gpsi -= gj;
+            if (!rigid) {
+                gsum += outer(v[j] - vi, gj);
+            }
         }
     }
 
@@ -114,7 +124,7 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         art[i] = artificial_stress(sig, rho);
     }
 
-    if (body.rigid != 0u) {
+    if (rigid) {
         if (!MID) {
             dr[i] = vec2<f32>(0.0);
             ds[i] = vec4<f32>(0.0);
@@ -125,21 +135,14 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         return;
     }
 
-    // Velocity gradient with the corrected kernel gradient (METHOD.md §6).
-    var gv = vec4<f32>(0.0);
-    let vi = v[i];
-    for (var c = 0u; c < scan_cells(); c++) {
-        let span = cell_span(ci, c);
-        for (var k = span.start; k < span.end; k++) {
-            let j = blist[k];
-            let pr = body_pair(i, j, span.cell, hi, bi);
-            if (!pr.inside || pr.dist <= 0.0) {
-                continue;
-            }
-            let vj = volume(j, pinfo[j]);
-            gv += outer((v[j] - vi) * vj, mat_mul(l, pr.gw));
-        }
-    }
+    // Velocity gradient with the corrected kernel gradient (METHOD.md §6):
+    // gsum L^T, in the order of math::Mat2::mul_transpose.
+    let gv = vec4<f32>(
+        gsum.x * l.x + gsum.y * l.y,
+        gsum.x * l.z + gsum.y * l.w,
+        gsum.z * l.x + gsum.w * l.y,
+        gsum.z * l.z + gsum.w * l.w,
+    );
     if (RECON) {
         gradv[i] = gv;
     }
