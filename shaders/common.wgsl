@@ -57,7 +57,9 @@ struct Params {
     cell: f32,
     red_groups: u32,
     min_det: f32,
-    pad0: u32,
+    // A particle's support radius in cells, with a margin for f32 rounding
+    // (`row_span`).
+    reach: f32,
     // The domain relative to the grid origin: lower x, lower y, upper x, upper y.
     domain: vec4<f32>,
     // The energy guard (Model::guards_energy): the ring-row slots of the
@@ -231,32 +233,96 @@ fn bucket_of(c: vec2<i32>) -> u32 {
     return (bitcast<u32>(c.x) + bitcast<u32>(c.y) * params.row_stride) & (params.buckets - 1u);
 }
 
-// Cells scanned around a particle's cell: 3 in 1-D, 3x3 in 2-D, rows
-// outermost, always in this order (the neighbour order is fixed).
-fn scan_cells() -> u32 {
-    if (DIM == 1u) {
-        return 3u;
-    }
-    return 9u;
+// Cells are a hair larger than the largest h, so a pair within 2 h_ij is at
+// most REACH = 2 cells apart along each axis: a particle's candidates lie in
+// the 5 x 5 cells around its own (5 cells in 1-D).
+const REACH: i32 = 2;
+
+// Where a particle is in the grid: its cell, and its place inside the cell
+// in units of the cell, in [0, 1) along each axis. The cell list and every
+// neighbour loop call this one function on the same state, so they agree
+// on every particle's cell bit for bit (an add, a multiply and a floor:
+// nothing a compiler may contract).
+struct Home {
+    cell: vec2<i32>,
+    frac: vec2<f32>,
 }
 
-struct CellSpan {
-    cell: vec2<i32>,
+fn home(i: u32) -> Home {
+    let a = x0[i];
+    let p = (a.zw + u[i]) * params.inv_cell;
+    let f = floor(p);
+    return Home(vec2<i32>(a.xy) + vec2<i32>(f), p - f);
+}
+
+// The cell a particle is in now: its reference cell plus whole cells moved.
+fn current_cell(i: u32) -> vec2<i32> {
+    return home(i).cell;
+}
+
+// Rows of the stencil, bottom to top, always in this order (the order of
+// every neighbour sum is fixed).
+fn scan_rows() -> u32 {
+    if (DIM == 1u) {
+        return 1u;
+    }
+    return 5u;
+}
+
+// One row of a particle's stencil: the row `cy`, its columns `lo..=hi` (the
+// cells its support reaches), and the range of the sorted particle list
+// that holds their buckets. Row-major keys make a row's cells consecutive
+// buckets, so the row is one contiguous range: a warp's lanes run five
+// loops a walk, not nine or twenty-five. When the buckets wrap past the
+// last, the range runs on past `n` into the list's start (`row_particle`).
+// A bucket may also hold cells of other rows: callers keep only particles
+// whose cell is in the span (`in_row`).
+struct RowSpan {
+    cy: i32,
+    lo: i32,
+    hi: i32,
     start: u32,
     end: u32,
 }
 
-// Scanned cell `c` around cell `ci`, and the range of the sorted particle
-// list that holds its bucket (a bucket may also hold other cells: callers
-// keep only particles whose `current_cell` is `span.cell`).
-fn cell_span(ci: vec2<i32>, c: u32) -> CellSpan {
-    var off = vec2<i32>(i32(c % 3u) - 1, i32(c / 3u) - 1);
+fn row_span(hm: Home, row: u32) -> RowSpan {
+    var dy = i32(row) - REACH;
+    // The distance in cells from the particle to the row's band.
+    var gap = 0.0;
     if (DIM == 1u) {
-        off.y = 0;
+        dy = 0;
+    } else if (dy > 0) {
+        gap = f32(dy) - hm.frac.y;
+    } else if (dy < 0) {
+        gap = hm.frac.y - f32(dy + 1);
     }
-    let cell = ci + off;
-    let b = bucket_of(cell);
-    return CellSpan(cell, bstart[b], bstart[b + 1u]);
+    let cy = hm.cell.y + dy;
+    if (gap >= params.reach) {
+        return RowSpan(cy, 1, 0, 0u, 0u);
+    }
+    // The columns a disk of radius `reach` reaches in this row.
+    let w = sqrt(params.reach * params.reach - gap * gap);
+    let lo = max(-REACH, i32(floor(hm.frac.x - w)));
+    let hi = min(REACH, i32(floor(hm.frac.x + w)));
+    let b = bucket_of(vec2<i32>(hm.cell.x + lo, cy));
+    let e = b + u32(hi - lo + 1);
+    var end = 0u;
+    if (e <= params.buckets) {
+        end = bstart[e];
+    } else {
+        end = bstart[e - params.buckets] + params.n;
+    }
+    return RowSpan(cy, hm.cell.x + lo, hm.cell.x + hi, bstart[b], end);
+}
+
+// The particle at place k of a row's range.
+fn row_particle(k: u32) -> u32 {
+    return blist[select(k, k - params.n, k >= params.n)];
+}
+
+// Whether cell `c` is one of the span's.
+fn in_row(c: vec2<i32>, span: RowSpan) -> bool {
+    return c.y == span.cy && c.x >= span.lo && c.x <= span.hi;
 }
 
 // x0 holds each particle's reference cell (integral, exact in f32) and its
@@ -292,25 +358,17 @@ fn sph_pair(i: u32, j: u32, hi: f32, body_j: u32) -> Pair {
     return Pair(d, dist, hij, gw, inside);
 }
 
-// The SPH pair (i, j) for j = blist[k] of scanned cell `cell`; `inside` is
-// false when j is i, lies in another cell of the same bucket, or (with
-// contact on) belongs to another body: bodies then meet only through the
-// contact force. Every SPH sum scans its neighbours through this filter.
-fn body_pair(i: u32, j: u32, cell: vec2<i32>, hi: f32, bi: u32) -> Pair {
+// The SPH pair (i, j) for j = row_particle(k) of row `span`; `inside` is
+// false when j is i, lies in a cell outside the span that shares a bucket,
+// or (with contact on) belongs to another body: bodies then meet only
+// through the contact force. Every SPH sum scans its neighbours through
+// this filter.
+fn body_pair(i: u32, j: u32, span: RowSpan, hi: f32, bi: u32) -> Pair {
     let bj = pinfo[j].z;
-    if (j == i || any(current_cell(j) != cell) || (CONTACT && bj != bi)) {
+    if (j == i || !in_row(current_cell(j), span) || (CONTACT && bj != bi)) {
         return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false);
     }
     return sph_pair(i, j, hi, bj);
-}
-
-// The cell a particle is in now: its reference cell plus whole cells moved.
-// The cell list and every neighbour loop call this one function on the same
-// state, so they agree on every particle's cell bit for bit (an add, a
-// multiply and a floor: nothing a compiler may contract).
-fn current_cell(i: u32) -> vec2<i32> {
-    let a = x0[i];
-    return vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + u[i]) * params.inv_cell));
 }
 
 // Position relative to the grid origin (output only). The host adds the

@@ -88,7 +88,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let bodyp = bodies[bp];
     let op = bitcast<f32>(mp.y);
     let np = np4.xy;
-    let ci = current_cell(p);
+    let hm = home(p);
 
     var partner = NONE;
     var multi = false;
@@ -98,11 +98,11 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     var swv = vec2<f32>(0.0);
     var swt = 0.0;
     var swo = 0.0;
-    for (var c = 0u; c < scan_cells(); c++) {
-        let span = cell_span(ci, c);
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(hm, row);
         for (var k = span.start; k < span.end; k++) {
-            let q = blist[k];
-            if (any(current_cell(q) != span.cell)) {
+            let q = row_particle(k);
+            if (!in_row(current_cell(q), span)) {
                 continue;
             }
             let mq = pinfo[q];
@@ -210,14 +210,14 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let bq = mq.z;
     let bodyq = bodies[bq];
     let oq = bitcast<f32>(mq.y);
-    let ci = current_cell(q);
+    let hm = home(q);
     var f = vec2<f32>(0.0);
     var heat = 0.0;
-    for (var c = 0u; c < scan_cells(); c++) {
-        let span = cell_span(ci, c);
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(hm, row);
         for (var k = span.start; k < span.end; k++) {
-            let p = blist[k];
-            if (any(current_cell(p) != span.cell)) {
+            let p = row_particle(k);
+            if (!in_row(current_cell(p), span)) {
                 continue;
             }
             let mp = pinfo[p];

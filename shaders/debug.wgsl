@@ -1,10 +1,13 @@
 // Test support: every particle's neighbours within 2 h_ij (all bodies), as
 // original particle ids, so the device's cell list can be compared with the
-// CPU's pair by pair.
+// CPU's pair by pair; and the candidates its walk visits (the last entry of
+// its record), to check the host's count of the walks' work (gpu::work).
 
 @group(0) @binding(50) var<storage, read_write> dump: array<u32>;
 
-const MAX_DUMP: u32 = 127u;
+// A particle's record: the count, up to MAX_DUMP ids, the visits.
+const STRIDE: u32 = 128u;
+const MAX_DUMP: u32 = 126u;
 
 @compute @workgroup_size(WG)
 fn dump_neighbours(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
@@ -13,14 +16,16 @@ fn dump_neighbours(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         return;
     }
     let hi = bodies[pinfo[i].z].h;
-    let ci = current_cell(i);
-    let base = pinfo[i].w * (MAX_DUMP + 1u);
+    let hm = home(i);
+    let base = pinfo[i].w * STRIDE;
     var count = 0u;
-    for (var c = 0u; c < scan_cells(); c++) {
-        let span = cell_span(ci, c);
+    var visits = 0u;
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(hm, row);
         for (var k = span.start; k < span.end; k++) {
-            let j = blist[k];
-            if (j == i || any(current_cell(j) != span.cell)) {
+            visits += 1u;
+            let j = row_particle(k);
+            if (j == i || !in_row(current_cell(j), span)) {
                 continue;
             }
             let hij = 0.5 * (hi + bodies[pinfo[j].z].h);
@@ -32,4 +37,5 @@ fn dump_neighbours(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         }
     }
     dump[base] = count;
+    dump[base + STRIDE - 1u] = visits;
 }

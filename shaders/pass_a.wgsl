@@ -59,7 +59,7 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let bi = mi.z;
     let body = bodies[bi];
     let hi = body.h;
-    let ci = current_cell(i);
+    let hm = home(i);
 
     // Rigid particles have no velocity gradient: their loop skips the
     // velocity reads (a branch uniform over the particle's whole loop).
@@ -68,11 +68,11 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     var m = vec4<f32>(0.0);
     var gpsi = vec2<f32>(0.0);
     var gsum = vec4<f32>(0.0);
-    for (var c = 0u; c < scan_cells(); c++) {
-        let span = cell_span(ci, c);
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(hm, row);
         for (var k = span.start; k < span.end; k++) {
-            let j = blist[k];
-            let pr = body_pair(i, j, span.cell, hi, bi);
+            let j = row_particle(k);
+            let pr = body_pair(i, j, span, hi, bi);
             if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }

@@ -57,7 +57,7 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         }
         return;
     }
-    let ci = current_cell(i);
+    let hm = home(i);
     let li = lmat[i];
     let ti = sr2c[i];
     let vi = v[i];
@@ -74,11 +74,11 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     var acc = vec2<f32>(0.0);
     var de = 0.0;
     var sw = kernel_w(0.0, hi);
-    for (var c = 0u; c < scan_cells(); c++) {
-        let span = cell_span(ci, c);
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(hm, row);
         for (var k = span.start; k < span.end; k++) {
-            let j = blist[k];
-            let pr = body_pair(i, j, span.cell, hi, bi);
+            let j = row_particle(k);
+            let pr = body_pair(i, j, span, hi, bi);
             if (!pr.inside) {
                 continue;
             }

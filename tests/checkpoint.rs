@@ -158,6 +158,49 @@ fn gpu_resume_gives_the_same_bytes() {
     on_gpu(|| resume_matches(Backend::Gpu));
 }
 
+/// A GPU checkpoint names the cell grid its reference positions count in;
+/// one without it (an older build's, whose cells were twice as large) or
+/// with another is refused with a message, not resumed on the wrong grid.
+#[test]
+fn gpu_resume_on_another_grid_is_refused() {
+    on_gpu(|| {
+        let tmp = tempfile::tempdir().unwrap();
+        let ck = tmp.path().join("ck");
+        run_scene(&disks(), None, &write_opts(&ck, Backend::Gpu, Some(2.0e-6))).expect("runs");
+        let opts = RunOptions {
+            backend: Some(Backend::Gpu),
+            silent: true,
+            ..Default::default()
+        };
+        let saved = sphcontact::checkpoint::Checkpoint::read(&ck).expect("a checkpoint");
+        for change in [0, 1] {
+            let mut c = saved.clone();
+            let sphcontact::checkpoint::SolverState::Gpu(g) = &mut c.solver else {
+                panic!("a GPU checkpoint")
+            };
+            let k = g
+                .device
+                .buffers
+                .iter()
+                .position(|b| b.0 == "frame")
+                .expect("a frame");
+            if change == 0 {
+                g.device.buffers.remove(k);
+            } else {
+                // The cell size, twice as large.
+                let cell = f64::from_le_bytes(g.device.buffers[k].1[16..24].try_into().unwrap());
+                g.device.buffers[k].1[16..24].copy_from_slice(&(2.0 * cell).to_le_bytes());
+            }
+            c.write(&ck).unwrap();
+            let Err(err) = resume_run(&ck, &opts) else {
+                panic!("resumed on another grid")
+            };
+            assert_eq!(err.exit_code(), 2);
+            assert!(err.to_string().contains("another cell grid"), "{err}");
+        }
+    });
+}
+
 /// The case above is a real test of the CPU path's saved neighbour lists:
 /// the run rebuilds them after the checkpoint, so a resume that rebuilt
 /// them at its own first step would sum in another order.

@@ -32,7 +32,9 @@ pub struct Params {
     pub cell: f32,
     pub red_groups: u32,
     pub min_det: f32,
-    pub pad0: u32,
+    /// A particle's support radius in cells, with a margin for f32
+    /// rounding (`row_span` in common.wgsl).
+    pub reach: f32,
     /// The domain ([`crate::model::Model::domain_of`]) relative to the grid
     /// origin: lower x, lower y, upper x, upper y.
     pub domain: [f32; 4],
@@ -129,7 +131,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 cell,
                 red_groups,
                 min_det,
-                pad0,
+                reach,
                 domain,
                 energy_kin,
                 energy_int,

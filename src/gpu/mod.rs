@@ -74,11 +74,12 @@ pub use probes::ProbePlan;
 ///
 /// A cell's key is row-major over the initial bounding box (`bucket_of`,
 /// common.wgsl), so distinct cells share a bucket only once the keys span
-/// more than the bucket count. Five to six particles share a cell in 2-D,
-/// so bodies that fill their box (the disks: 0.22 cells a particle) stay
-/// collision-free until they have spread over four times their starting
-/// box. Twice as many buckets would halve the collisions of scattered
-/// bodies (a wasted candidate read each) for 4 bytes a particle more.
+/// more than the bucket count. Cells are a little larger than `h`, so
+/// bodies that fill their box (the disks: 0.9 cells a particle) stay
+/// collision-free until they have spread over their starting box times the
+/// buckets a particle (1 to 2) over 0.9. Twice as many buckets would halve
+/// the collisions of scattered bodies (a wasted candidate read each) for 4
+/// bytes a particle more.
 fn bucket_count(n: usize) -> u32 {
     n.next_power_of_two().max(256) as u32
 }
@@ -156,6 +157,13 @@ const NONE: u32 = u32::MAX;
 /// The cell-list build writes, under these names, the buffers every other
 /// stage reads under the second names.
 const WRITER_ALIASES: &[(&str, &str)] = &[("bstart_w", "bstart"), ("blist_w", "blist")];
+/// Cell size over the largest smoothing length (see `GpuSolver::with_options`).
+const CELL_OVER_H: f64 = 1.002;
+/// Margin, in cells, of a particle's support radius in the row stencil.
+const REACH_MARGIN: f64 = 1e-3;
+/// The entry of a saved device state that names its grid
+/// ([`GpuSolver::save_raw`]).
+const FRAME: &str = "frame";
 /// Particles per workgroup of the reductions (256 threads × 4).
 const RED_CHUNK: u32 = 1024;
 
@@ -393,9 +401,16 @@ impl GpuSolver {
         let buckets = bucket_count(n);
         let red_groups = (n as u32).div_ceil(RED_CHUNK).max(1);
         let h_max = model.h.iter().cloned().fold(0.0, f64::max);
-        // Cells of 2 h_max, a hair larger so that f32 rounding of the cell
-        // coordinate can never put a pair within 2 h two cells apart.
-        let cell = 2.0 * h_max * (1.0 + 1e-5);
+        // Cells of h_max and a hair more: a pair within 2 h_ij is then at
+        // most two cells apart along each axis, and a particle's candidates
+        // lie in five rows of at most five cells (`row_span`, common.wgsl).
+        // Each row's columns are clipped to the disk of radius `reach`
+        // cells; the support's 2 h_max / cell is 1.996 cells, and the
+        // margin of 1e-3 cells up to 2 covers the f32 rounding of a
+        // particle's place in its cell (1e-5 cells at 100 cells from its
+        // reference cell).
+        let cell = h_max * CELL_OVER_H;
+        let reach = (2.0 / CELL_OVER_H + REACH_MARGIN) as f32;
         let (lo, hi) = crate::math::bounds(&state.x);
         let origin = lo - DVec2::splat(1.5 * cell);
         // Positions are observed relative to the grid origin; the plan adds
@@ -427,7 +442,7 @@ impl GpuSolver {
             cell: cell as f32,
             red_groups,
             min_det: CORRECTION_MIN_DET as f32,
-            pad0: 0,
+            reach,
             domain: {
                 let [lo, hi] = model.domain;
                 let (lo, hi) = (lo - origin, hi - origin);
@@ -1187,12 +1202,14 @@ impl GpuSolver {
     pub fn save_raw(&self) -> RawDevice {
         let names = self.persistent_buffers();
         let data = self.read_buffers(None, &names);
+        let mut buffers: Vec<(String, Vec<u8>)> = names
+            .iter()
+            .zip(data)
+            .map(|((name, _), d)| (name.to_string(), d))
+            .collect();
+        buffers.push((FRAME.to_string(), self.frame_bytes()));
         RawDevice {
-            buffers: names
-                .iter()
-                .zip(data)
-                .map(|((name, _), d)| (name.to_string(), d))
-                .collect(),
+            buffers,
             encoded: self.encoded,
             delivered: self.delivered,
             zero_seen: self.zero_seen,
@@ -1200,15 +1217,37 @@ impl GpuSolver {
         }
     }
 
+    /// The grid the reference positions are given in: origin and cell
+    /// size, as f64 bytes.
+    fn frame_bytes(&self) -> Vec<u8> {
+        [self.origin.x, self.origin.y, self.cell]
+            .iter()
+            .flat_map(|x| x.to_le_bytes())
+            .collect()
+    }
+
     /// Put a saved device state back (a solver made for the same scene):
     /// the buffers byte for byte, then the counters. `Err` when the saved
     /// buffers are not this solver's.
     pub fn restore_raw(&mut self, raw: &RawDevice) -> Result<(), String> {
         let names = self.persistent_buffers();
+        // The reference cells in `x0` count cells of this solver's grid.
+        let frame = raw.buffers.iter().find(|(m, _)| m == FRAME);
+        if frame.map(|f| &f.1) != Some(&self.frame_bytes()) {
+            return Err(
+                "the saved device state is laid out on another cell grid than this \
+                        build's (a checkpoint of an older build, or of another scene); resume \
+                        it with the build that wrote it"
+                    .into(),
+            );
+        }
         // Checkpoints from before the probes kept their own slots also hold
         // a map of every particle's slot: not needed, rebuilt below.
-        let saved: Vec<&(String, Vec<u8>)> =
-            raw.buffers.iter().filter(|(m, _)| m != "slot_of").collect();
+        let saved: Vec<&(String, Vec<u8>)> = raw
+            .buffers
+            .iter()
+            .filter(|(m, _)| m != "slot_of" && m != FRAME)
+            .collect();
         let same = names.len() == saved.len()
             && names
                 .iter()
