@@ -33,6 +33,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::cpu::{neighbours, CpuSolver};
+use crate::gpu::work::StepWork;
 use crate::gpu::{GpuContext, GpuSolver, RING_LEN, STAGES};
 use crate::model::{Model, State};
 use crate::probe::{self, Resolved};
@@ -171,6 +172,10 @@ pub struct Record {
     /// GPU stages timed alone (with `--stages`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stages: Option<Vec<StageTime>>,
+    /// GPU work per step (with `--stages`): dispatches, walks, and each
+    /// walk's candidates and group trips counted from the cell list.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub work: Option<StepWork>,
 }
 
 /// R/Δx whose square-lattice disks (two of them) hold the total particle
@@ -694,6 +699,7 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
                 memory_kind: String::new(),
                 in_contact: false,
                 stages: None,
+                work: None,
             }
         };
         // The GPU solver is built first: a size the adapter cannot hold
@@ -751,6 +757,7 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             r.in_contact = b.in_contact();
             if opts.stages {
                 r.stages = Some(b.time_stages(0.25)?);
+                r.work = Some(b.solver().step_work());
             }
             here.push(r);
         }
@@ -761,6 +768,37 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
         records.extend(here);
     }
     Ok(records)
+}
+
+/// The work of a GPU step as a table: one row a neighbour walk.
+fn work_table(w: &StepWork) -> String {
+    let mut s = format!(
+        "A step: {} dispatches (the reorder every {} steps aside), {} neighbour walks over every \
+         particle and {} over the boundary particles, {:.1} device bytes a particle.\n\n",
+        w.dispatches,
+        crate::gpu::REORDER_EVERY,
+        w.walks,
+        w.contact_walks,
+        w.device_bytes_per_particle
+    );
+    s.push_str(&format!(
+        "| walk | per step | walking particles | candidates a particle | trips of a {}-thread group | lanes used |\n",
+        crate::gpu::work::WARP
+    ));
+    s.push_str("|---|---|---|---|---|---|\n");
+    for k in &w.per_walk {
+        s.push_str(&format!(
+            "| {} | {} | {} | {:.1} | {:.1} | {:.0} % |\n",
+            k.name,
+            k.per_step,
+            k.walkers,
+            k.candidates,
+            k.group_trips,
+            100.0 * k.lane_use
+        ));
+    }
+    s.push('\n');
+    s
 }
 
 /// `1.23e6`-style number for the table.
@@ -840,6 +878,9 @@ pub fn table(records: &[Record]) -> String {
             1e3 * step,
             1e3 * sum
         ));
+        if let Some(w) = &g.work {
+            s.push_str(&work_table(w));
+        }
         s.push_str(
             "| stage | per call (ms) | calls per step | per step (ms) | share of the sum |\n",
         );

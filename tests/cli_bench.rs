@@ -282,6 +282,23 @@ fn gpu_records_and_stages() {
             "{s}"
         );
     }
+    // The work of a step, counted from the cell list.
+    let w = &r["work"];
+    assert!(
+        num(w, "dispatches") >= 10.0 && num(w, "walks") >= 1.0,
+        "{w}"
+    );
+    let walks = w["per_walk"].as_array().expect("the walks");
+    assert!(walks.iter().any(|k| k["name"] == "pass_a"), "{w}");
+    for k in walks {
+        assert!(num(k, "candidates") > 0.0, "{k}");
+        assert!((0.0..=1.0).contains(&num(k, "lane_use")), "{k}");
+        // Every particle walks pass A: a group's trips are at least its
+        // lanes' mean.
+        if k["name"] == "pass_a" {
+            assert!(num(k, "group_trips") >= num(k, "candidates"), "{k}");
+        }
+    }
 
     let out = bench(
         &["--backend", "all", "--particles", "1000", "--steps", "2"],

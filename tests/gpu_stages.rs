@@ -338,3 +338,72 @@ fn device_memory_per_particle_at_four_million() {
     println!("{n} particles: {per:.2} device bytes a particle");
     assert!(per <= 200.0, "{per:.2} device bytes a particle");
 }
+
+/// The work of a GPU step on the benchmark's disks (the square lattice,
+/// about 2e4 particles), counted on the host from the device's cell list
+/// (`GpuSolver::step_work`): the count is checked against the device's own
+/// walk (the candidates the test kernel visits, summed), and held to the
+/// budget of the row stencil: at most 40 candidates a particle for the
+/// ~20 neighbours each has, every neighbour among them, and the step's
+/// neighbour walks and dispatches at what the midpoint rule's schedule has
+/// (two pass-A and two pass-C walks, the contact's gathers besides).
+#[test]
+fn step_work_on_the_bench_lattice() {
+    let Some(ctx) = gpu() else { return };
+    let case = sphcontact::bench::DiskCase::new(20_000).expect("the benchmark case");
+    let n = case.particles();
+    let mut g = GpuSolver::new(ctx, case.model.clone(), &case.state, &case.probes, 1.0)
+        .expect("fits the adapter");
+    let out = g.stage_outputs();
+    let work = g.step_work();
+    println!("{work:#?}");
+
+    let visits: u64 = out.visits.iter().map(|&v| v as u64).sum();
+    let walk = |name: &str| {
+        work.per_walk
+            .iter()
+            .find(|w| w.name == name)
+            .unwrap_or_else(|| panic!("a {name} walk"))
+    };
+    let a = walk("pass_a");
+    assert_eq!(a.walkers, n);
+    assert_eq!(
+        (a.candidates * n as f64).round() as u64,
+        visits,
+        "the host's count of the walk against the device's own"
+    );
+    let neighbours: usize = out.neighbours.iter().map(Vec::len).sum();
+    let mean_nb = neighbours as f64 / n as f64;
+    assert!(
+        (18.0..22.0).contains(&mean_nb),
+        "the lattice's {mean_nb:.2} neighbours a particle"
+    );
+    assert!(
+        a.candidates >= mean_nb + 1.0 && a.candidates <= 40.0,
+        "{:.2} candidates a particle for {mean_nb:.2} neighbours",
+        a.candidates
+    );
+    // A group runs its rows as long as its longest lane: more trips than
+    // the mean candidates, but within 1.5 of them on a reordered lattice.
+    assert!(
+        a.group_trips >= a.candidates && a.group_trips <= 1.5 * a.candidates,
+        "{:.2} trips of a group for {:.2} candidates",
+        a.group_trips,
+        a.candidates
+    );
+    assert_eq!((a.per_step, walk("pass_c").per_step), (2, 2));
+    assert_eq!(work.walks, 4, "neighbour walks a step");
+    assert_eq!(work.contact_walks, 4, "contact gathers a step");
+    let c = walk("contact_pass1");
+    assert!(
+        c.walkers > 0 && c.walkers < n / 10,
+        "{} boundary walkers",
+        c.walkers
+    );
+    assert!(
+        work.dispatches <= 31,
+        "{} dispatches a step",
+        work.dispatches
+    );
+    assert!(work.device_bytes_per_particle <= 205.0);
+}

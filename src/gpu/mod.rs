@@ -53,6 +53,7 @@ pub mod context;
 pub mod layout;
 pub mod probes;
 pub mod shaders;
+pub mod work;
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -152,7 +153,7 @@ const WG: u32 = 64;
 /// Ring rows: a batch is at most `RING_LEN − 2` steps.
 pub const RING_LEN: u32 = 256;
 /// Steps between reorderings of the particles by cell.
-const REORDER_EVERY: u64 = 16;
+pub const REORDER_EVERY: u64 = 16;
 const NONE: u32 = u32::MAX;
 /// The cell-list build writes, under these names, the buffers every other
 /// stage reads under the second names.
@@ -238,10 +239,23 @@ enum Var {
     Mid,
 }
 
+/// Whether a kernel walks the neighbours, and whose.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Walk {
+    None,
+    /// Every particle's thread walks.
+    All,
+    /// Only the boundary particles' threads walk (the contact).
+    Boundary,
+}
+
 struct Kernel {
+    /// The entry point.
+    name: String,
     pipeline: Arc<Pipeline>,
     bind: wgpu::BindGroup,
     groups: (u32, u32),
+    walk: Walk,
 }
 
 impl Kernel {
@@ -249,6 +263,40 @@ impl Kernel {
         pass.set_pipeline(&self.pipeline.pipeline);
         pass.set_bind_group(0, &self.bind, &[]);
         pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+    }
+
+    fn walking(mut self, walk: Walk) -> Self {
+        self.walk = walk;
+        self
+    }
+}
+
+/// Where a step's dispatches go: into a compute pass, or into a tally of
+/// the work ([`GpuSolver::step_work`]). The step is encoded by one code for
+/// both, so the tally counts what runs.
+trait Dispatches {
+    fn run(&mut self, k: &Kernel);
+}
+
+impl Dispatches for wgpu::ComputePass<'_> {
+    fn run(&mut self, k: &Kernel) {
+        k.dispatch(self);
+    }
+}
+
+/// Dispatches and neighbour walks, by kernel entry point in the order run.
+#[derive(Default)]
+struct Tally {
+    dispatches: u32,
+    walks: Vec<(String, Walk)>,
+}
+
+impl Dispatches for Tally {
+    fn run(&mut self, k: &Kernel) {
+        self.dispatches += 1;
+        if k.walk != Walk::None {
+            self.walks.push((k.name.clone(), k.walk));
+        }
     }
 }
 
@@ -301,6 +349,8 @@ pub struct Batch {
 pub struct StageOutputs {
     /// Neighbours within `2 h_ij` of every particle (all bodies), sorted.
     pub neighbours: Vec<Vec<u32>>,
+    /// Candidates each particle's neighbour walk visits.
+    pub visits: Vec<u32>,
     /// `L_i` as (xx, xy, yx, yy).
     pub l: Vec<[f64; 4]>,
     pub normal: Vec<DVec2>,
@@ -363,6 +413,8 @@ pub struct GpuSolver {
     zero_seen: u32,
     last_dt: f64,
     device_bytes: u64,
+    /// The run-wide constants, as uploaded.
+    params: Params,
     /// Grid origin and cell size: the frame of the reference positions.
     origin: DVec2,
     cell: f64,
@@ -768,9 +820,11 @@ impl GpuSolver {
                 entries: &entries,
             });
             Ok(Kernel {
+                name: entry.to_string(),
                 pipeline,
                 bind,
                 groups: groups_of(size),
+                walk: Walk::None,
             })
         };
         let kernel = |stage: &str, entry: &str, size: Size, aliases: &[(&str, &str)]| {
@@ -788,12 +842,12 @@ impl GpuSolver {
             evals.push(Eval {
                 cells: eval_kernel("grid", "grid_cells")?,
                 scatter: eval_kernel("grid", "grid_scatter")?,
-                pass_a: eval_kernel("pass_a", "pass_a")?,
-                pass_c: eval_kernel("pass_c", "pass_c")?,
+                pass_a: eval_kernel("pass_a", "pass_a")?.walking(Walk::All),
+                pass_c: eval_kernel("pass_c", "pass_c")?.walking(Walk::All),
                 contact: if contact {
                     Some((
-                        eval_kernel("contact", "contact_pass1")?,
-                        eval_kernel("contact", "contact_pass2")?,
+                        eval_kernel("contact", "contact_pass1")?.walking(Walk::Boundary),
+                        eval_kernel("contact", "contact_pass2")?.walking(Walk::Boundary),
                     ))
                 } else {
                     None
@@ -870,6 +924,7 @@ impl GpuSolver {
             zero_seen: 0,
             last_dt: 0.0,
             device_bytes,
+            params,
             origin,
             cell,
         };
@@ -909,25 +964,25 @@ impl GpuSolver {
         &self.buffers[name]
     }
 
-    fn encode_grid(&self, pass: &mut wgpu::ComputePass<'_>, var: Var) {
+    fn encode_grid(&self, pass: &mut impl Dispatches, var: Var) {
         let k = &self.k;
-        k.clear.dispatch(pass);
-        k.eval[var as usize].cells.dispatch(pass);
-        k.scan_local.dispatch(pass);
-        k.scan_blocks.dispatch(pass);
-        k.scan_add.dispatch(pass);
-        k.eval[var as usize].scatter.dispatch(pass);
-        k.sort.dispatch(pass);
+        pass.run(&k.clear);
+        pass.run(&k.eval[var as usize].cells);
+        pass.run(&k.scan_local);
+        pass.run(&k.scan_blocks);
+        pass.run(&k.scan_add);
+        pass.run(&k.eval[var as usize].scatter);
+        pass.run(&k.sort);
     }
 
-    fn encode_eval(&self, pass: &mut wgpu::ComputePass<'_>, var: Var) {
+    fn encode_eval(&self, pass: &mut impl Dispatches, var: Var) {
         self.encode_grid(pass, var);
         let e = &self.k.eval[var as usize];
-        e.pass_a.dispatch(pass);
-        e.pass_c.dispatch(pass);
+        pass.run(&e.pass_a);
+        pass.run(&e.pass_c);
         if let Some((c1, c2)) = &e.contact {
-            c1.dispatch(pass);
-            c2.dispatch(pass);
+            pass.run(c1);
+            pass.run(c2);
         }
     }
 
@@ -957,19 +1012,19 @@ impl GpuSolver {
     /// The reductions after the first evaluation of a step: the CFL step,
     /// then the per-step observations and probes when the run records any.
     /// One sequence for the step and for timing the stage alone.
-    fn encode_reduce(&self, pass: &mut wgpu::ComputePass<'_>) {
+    fn encode_reduce(&self, pass: &mut impl Dispatches) {
         let k = &self.k;
-        k.cfl_partial.dispatch(pass);
-        k.cfl_final.dispatch(pass);
+        pass.run(&k.cfl_partial);
+        pass.run(&k.cfl_final);
         if let Some((a, b)) = &k.obs {
-            a.dispatch(pass);
-            b.dispatch(pass);
+            pass.run(a);
+            pass.run(b);
         }
         if let Some(g) = &k.energy_guard {
-            g.dispatch(pass);
+            pass.run(g);
         }
         if let Some(p) = &k.probes {
-            p.dispatch(pass);
+            pass.run(p);
         }
     }
 
@@ -978,13 +1033,79 @@ impl GpuSolver {
             self.encode_reorder(enc);
         }
         let mut pass = enc.begin_compute_pass(&Default::default());
+        self.encode_step_pass(&mut pass);
+    }
+
+    /// A step's dispatches after the periodic reorder, in one compute pass.
+    fn encode_step_pass(&self, pass: &mut impl Dispatches) {
         let k = &self.k;
-        self.encode_eval(&mut pass, Var::Base);
-        self.encode_reduce(&mut pass);
-        k.advance_half.dispatch(&mut pass);
-        self.encode_eval(&mut pass, Var::Mid);
-        k.advance_full.dispatch(&mut pass);
-        k.end_step.dispatch(&mut pass);
+        self.encode_eval(pass, Var::Base);
+        self.encode_reduce(pass);
+        pass.run(&k.advance_half);
+        self.encode_eval(pass, Var::Mid);
+        pass.run(&k.advance_full);
+        pass.run(&k.end_step);
+    }
+
+    /// The work of a step: its dispatches and neighbour walks (tallied from
+    /// the code that encodes a step), the device bytes, and each walk's
+    /// candidates and group trips counted on the host from the cell list
+    /// the device builds at the current state ([`work`]).
+    pub fn step_work(&mut self) -> work::StepWork {
+        let mut tally = Tally::default();
+        self.encode_step_pass(&mut tally);
+        let nn = self.n as u64;
+        let buckets = self.params.buckets as u64;
+        let mut enc = self.ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            self.encode_grid(&mut pass, Var::Base);
+            pass.run(&self.k.eval[Var::Base as usize].pass_a);
+        }
+        let d = self.read_buffers(
+            Some(enc),
+            &[
+                ("x0", 16 * nn),
+                ("u", 8 * nn),
+                ("bstart", 4 * (buckets + 1)),
+                ("nbo", 16 * nn),
+            ],
+        );
+        let x0: &[[f32; 4]] = bytemuck::cast_slice(&d[0]);
+        let u: &[[f32; 2]] = bytemuck::cast_slice(&d[1]);
+        let bstart: &[u32] = bytemuck::cast_slice(&d[2]);
+        let nbo: &[[f32; 4]] = bytemuck::cast_slice(&d[3]);
+        let view = work::GridView {
+            params: &self.params,
+            dim: self.model.dim,
+            x0,
+            u,
+            bstart,
+        };
+        // Each distinct walk once, with how often a step runs it.
+        let mut per_walk: Vec<work::WalkWork> = Vec::new();
+        for (name, walk) in &tally.walks {
+            if let Some(w) = per_walk.iter_mut().find(|w| &w.name == name) {
+                w.per_step += 1;
+                continue;
+            }
+            let boundary = |i: usize| nbo[i][2] > 0.0;
+            let all = |_: usize| true;
+            let walks: &dyn Fn(usize) -> bool = if *walk == Walk::Boundary {
+                &boundary
+            } else {
+                &all
+            };
+            per_walk.push(view.count_walk(name, 1, walks));
+        }
+        let count = |w: Walk| tally.walks.iter().filter(|x| x.1 == w).count() as u32;
+        work::StepWork {
+            dispatches: tally.dispatches,
+            walks: count(Walk::All),
+            contact_walks: count(Walk::Boundary),
+            device_bytes_per_particle: self.device_bytes as f64 / self.n as f64,
+            per_walk,
+        }
     }
 
     /// Copy `bytes` from the start of each named buffer back to the host.
@@ -1579,6 +1700,7 @@ impl GpuSolver {
         let area: Option<&[f32]> = second.get(3).map(|a| bytemuck::cast_slice(a));
         let mut out = StageOutputs {
             neighbours: vec![Vec::new(); n],
+            visits: vec![0; n],
             l: vec![[0.0; 4]; n],
             normal: vec![DVec2::ZERO; n],
             boundary: vec![false; n],
@@ -1602,6 +1724,7 @@ impl GpuSolver {
             let mut nb = dump_u[base + 1..base + 1 + cnt].to_vec();
             nb.sort_unstable();
             out.neighbours[i] = nb;
+            out.visits[i] = dump_u[base + 127];
             out.l[i] = l[k].map(|x| x as f64);
             out.normal[i] = DVec2::new(nbo[k][0] as f64, nbo[k][1] as f64);
             out.boundary[i] = nbo[k][2] > 0.0;
