@@ -73,8 +73,15 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (b.rigid != 0u) {
         return;
     }
-    let vn = v[i];
-    let rn = r[i];
+    check(i, un, v[i], r[i]);
+}
+
+// The checks of a new state (position `un`, velocity `vn`, density and
+// energy `rn`); the first failure is recorded (`fail`).
+fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
+    if (bodies[pinfo[i].z].rigid != 0u) {
+        return;
+    }
     let xn = x0[i].zw + un;
     if (!(finite(xn.x) && finite(xn.y))) {
         fail(i, 0u);
@@ -93,4 +100,77 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
             fail(i, 5u);
         }
     }
+}
+
+// The leapfrog (common.wgsl, LEAP; CPU twin: cpu::CpuSolver::leapfrog). A
+// step: kick_drift; the cell list; pass_a_leap (density and stress to n+1,
+// the EOS, the predicted velocity); commit; the momentum and the contact
+// forces at n+1 (LEAP = 2); kick; the contact's booking and the energy
+// sums at v_{n+1} (LEAP = 3); finish. The rates a_n (acc) and de_n (rdt.y)
+// and the contact's heat and spring rates (qrate) are carried from the
+// step before. Here u_w, v_w and r_w are the state's own buffers. A
+// zero-length step (past the stop, or after a failure) changes nothing.
+@group(0) @binding(13) var<storage, read> nbo: array<vec4<f32>>;
+@group(0) @binding(34) var<storage, read_write> qheat_w: array<vec2<f32>>;
+@group(0) @binding(51) var<storage, read> acc: array<vec2<f32>>;
+@group(0) @binding(52) var<storage, read> rdt: array<vec2<f32>>;
+@group(0) @binding(55) var<storage, read> qrate: array<vec2<f32>>;
+
+// v_{n+1/2} = v_n + dt/2 a_n, e likewise, x_{n+1} = x_n + dt v_{n+1/2}; the
+// contact ledger's first half step.
+@compute @workgroup_size(WG)
+fn kick_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n || ctl.dt == 0.0) {
+        return;
+    }
+    let dt = ctl.dt;
+    let h = 0.5 * dt;
+    if (CONTACT) {
+        qheat_w[i] = qheat_w[i] + qrate[i] * h;
+    }
+    var vh = v_w[i];
+    if (bodies[pinfo[i].z].rigid == 0u) {
+        vh = vh + acc[i] * h;
+        v_w[i] = vh;
+        r_w[i].y = r_w[i].y + rdt[i].y * h;
+    }
+    u_w[i] = u_w[i] + vh * dt;
+}
+
+// The density at n+1, which pass_a_leap left in nbo.w.
+@compute @workgroup_size(WG)
+fn commit(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n || ctl.dt == 0.0) {
+        return;
+    }
+    r_w[i].x = nbo[i].w;
+}
+
+// v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}.
+@compute @workgroup_size(WG)
+fn kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n || ctl.dt == 0.0) {
+        return;
+    }
+    if (bodies[pinfo[i].z].rigid == 0u) {
+        v_w[i] = v_w[i] + acc[i] * (0.5 * ctl.dt);
+    }
+}
+
+// e_{n+1} = e_{n+1/2} + dt/2 de_{n+1}, and the checks of the new state.
+@compute @workgroup_size(WG)
+fn finish(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n || ctl.dt == 0.0) {
+        return;
+    }
+    var e = r_w[i].y;
+    if (bodies[pinfo[i].z].rigid == 0u) {
+        e = e + rdt[i].y * (0.5 * ctl.dt);
+        r_w[i].y = e;
+    }
+    check(i, u_w[i], v_w[i], vec2<f32>(r_w[i].x, e));
 }

@@ -26,6 +26,13 @@ override WG: u32 = 64u;
 // own base state during that evaluation (the neighbours' are read from the
 // midpoint buffers), so no rate buffer is needed.
 override MID: bool = false;
+// The leapfrog (kick-drift-kick, one evaluation a step; gpu::Integrator):
+// 0 not the leapfrog; 1 its first evaluation, at the initial state, whose
+// rates it carries into the first step; 2 the step's evaluation at n+1
+// (kinematics, momentum and contact forces at the predicted velocity
+// vstar); 3 the step's booking at v_{n+1} (the energy sums and the
+// contact's heat). CPU twin: cpu::CpuSolver::leapfrog.
+override LEAP: u32 = 0u;
 
 const NONE: u32 = 0xffffffffu;
 const BIG: f32 = 3.0e38;
@@ -107,6 +114,9 @@ struct Control {
     multi_partner: atomic<u32>,
     // The energy guard's limit: negative until the first state sets it.
     energy_limit: f32,
+    // The last real step's length (the leapfrog extrapolates the velocity
+    // gradient over it; 0 before the first).
+    dt_prev: f32,
 }
 
 // Global invocation index of a 2-D dispatch of `WG`-wide workgroups

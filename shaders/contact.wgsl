@@ -10,9 +10,17 @@
 // CPU twin: cpu::contact::penalty (which also allows several partner bodies
 // at one particle; here each particle pairs with the first partner body its
 // neighbour scan meets, and such particles are counted).
+//
+// The leapfrog (common.wgsl, LEAP) runs both passes twice a step: for the
+// forces at the predicted velocity (LEAP = 2: `v` is vstar, `dv` the carried
+// a_{n+1}), then after the kick for the booking (LEAP = 3): the same forces,
+// their dashpot heat and spring power at v_{n+1} (`vbook`), the heat into
+// dr.y and the ledger advanced by half a step (CPU twin:
+// cpu::contact::penalty_booked). The stored spring energy goes to nbo.w
+// there, since the energy walk after the contact still reads sr2c.
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
-@group(0) @binding(13) var<storage, read> nbo: array<vec4<f32>>;
+@group(0) @binding(13) var<storage, read_write> nbo: array<vec4<f32>>;
 @group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
 @group(0) @binding(18) var<storage, read_write> dv: array<vec2<f32>>;
 @group(0) @binding(19) var<storage, read> area: array<f32>;
@@ -26,6 +34,20 @@
 // Per particle: (dashpot heat booked, spring work of its own passes), the
 // contact's energy ledger, booked at the midpoint (MID) with the step.
 @group(0) @binding(34) var<storage, read_write> qheat_w: array<vec2<f32>>;
+// The leapfrog's: the contact's (heat, spring power) rates per particle at
+// the state (the ledger's other half step), and the velocities the booking
+// books at.
+@group(0) @binding(55) var<storage, read_write> qrate: array<vec2<f32>>;
+@group(0) @binding(56) var<storage, read> vbook: array<vec2<f32>>;
+
+// The spring energy a particle's pass stores, for the observations.
+fn store_energy(p: u32, e: f32) {
+    if (LEAP == 0u) {
+        sr2c[p].x = e;
+    } else {
+        nbo[p].w = e;
+    }
+}
 
 // Kernel weight of the candidate pair (p, q), d = x_q - x_p = pair_d(q, p),
 // or a negative value when q is not a contact candidate of p (METHOD.md
@@ -72,13 +94,14 @@ fn series(a: f32, ra: bool, b: f32, rb: bool) -> f32 {
 @compute @workgroup_size(WG)
 fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let p = flat_index(gid, nwg);
-    if (p >= params.n) {
+    // A leapfrog step of zero length leaves everything as it is.
+    if (p >= params.n || (LEAP >= 2u && ctl.dt == 0.0)) {
         return;
     }
     // w: the partner body as a float (exact for any realistic count), -1: none.
     cown[p] = vec4<f32>(0.0, 0.0, 0.0, -1.0);
     cshare[p] = vec4<f32>(0.0);
-    sr2c[p].x = 0.0;
+    store_energy(p, 0.0);
     let np4 = nbo[p];
     if (np4.z <= 0.0) {
         return;
@@ -98,6 +121,7 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     var swv = vec2<f32>(0.0);
     var swt = 0.0;
     var swo = 0.0;
+    var swb = vec2<f32>(0.0);
     for (var row = 0u; row < scan_rows(); row++) {
         let span = row_span(hm, row);
         for (var k = span.start; k < span.end; k++) {
@@ -128,6 +152,9 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
             sws += rel * w;
             swn += nq * w;
             swv += v[q] * w;
+            if (LEAP == 3u) {
+                swb += vbook[q] * w;
+            }
             swt += dot(nq, -rel) * w;
             swo += oq * w;
         }
@@ -183,7 +210,13 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let stiffness = 1.0 / (layer(op, bodyp) + layer(swo / sw, bodyq));
     let pres = max(z * w_rate + stiffness * delta, 0.0);
     let a = area[p];
-    let heat = 0.5 * (pres - stiffness * delta) * a * w_rate;
+    // The rate the heat and the spring power are booked at: the forces'
+    // own, or the leapfrog's v_{n+1}.
+    var w_book = w_rate;
+    if (LEAP == 3u) {
+        w_book = dot(vbook[p] - swb / sw, n);
+    }
+    let heat = 0.5 * (pres - stiffness * delta) * a * w_book;
     let stored = 0.25 * stiffness * delta * delta * a;
     var own_heat = heat;
     var eta = 0.0;
@@ -193,17 +226,22 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     }
     cown[p] = vec4<f32>(-n * (0.5 * pres * a), own_heat, f32(partner));
     // w: the spring power 1/2 k delta A w of this pass (the spring-work ledger).
-    cshare[p] = vec4<f32>(n * (0.5 * pres * a / sw), eta, 0.5 * stiffness * delta * a * w_rate);
-    sr2c[p].x = stored;
+    cshare[p] = vec4<f32>(n * (0.5 * pres * a / sw), eta, 0.5 * stiffness * delta * a * w_book);
+    store_energy(p, stored);
 }
 
 @compute @workgroup_size(WG)
 fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let q = flat_index(gid, nwg);
-    if (q >= params.n) {
+    if (q >= params.n || (LEAP >= 2u && ctl.dt == 0.0)) {
         return;
     }
     if (nbo[q].z <= 0.0) {
+        if (LEAP == 3u) {
+            // No contact heat, and no rates for the ledger's next half step.
+            dr[q].y = 0.0;
+            qrate[q] = vec2<f32>(0.0);
+        }
         return;
     }
     let mq = pinfo[q];
@@ -236,12 +274,28 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let own = cown[q];
     let total = own.xy + f;
     var booked = own.z + heat;
+    let m = bitcast<f32>(mq.x);
+    if (LEAP >= 2u) {
+        let rates = vec2<f32>(select(booked, 0.0, bodyq.rigid != 0u), cshare[q].w);
+        if (LEAP == 2u) {
+            if (bodyq.rigid == 0u) {
+                dv[q] += total / m;
+            }
+        } else {
+            dr[q].y = rates.x / m;
+            qheat_w[q] = qheat_w[q] + rates * (0.5 * ctl.dt);
+            qrate[q] = rates;
+        }
+        return;
+    }
+    if (LEAP == 1u) {
+        qrate[q] = vec2<f32>(select(booked, 0.0, bodyq.rigid != 0u), cshare[q].w);
+    }
     if (bodyq.rigid != 0u) {
         booked = 0.0;
     } else {
         // Rates at the base state, dt x rate at the midpoint (MID; a
         // zero-length step leaves the state as it is).
-        let m = bitcast<f32>(mq.x);
         if (!MID) {
             dv[q] += total / m;
             dr[q].y += booked / m;

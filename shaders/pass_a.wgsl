@@ -7,9 +7,21 @@
 // Jaumann stress rate. CPU twins: cpu::kinematics::kinematics,
 // cpu::eos_and_stress.
 //
-// dr and ds are where the rates go (common.wgsl, MID): at the base state
-// the midpoint buffers (rm, sm), which receive the rates themselves; at the
-// midpoint the base state (r, s), which receives dt x rate in place.
+// Two entry points share the walk and the per-particle algebra:
+// * `pass_a`, an evaluation of the rates at a state: of the midpoint rule
+//   (dr and ds are where the rates go, common.wgsl MID: at the base state
+//   the midpoint buffers, which receive the rates themselves; at the
+//   midpoint the base state, which receives dt x rate in place), or the
+//   leapfrog's first evaluation (LEAP = 1: no density or stress rates, the
+//   state's own EOS for the momentum pass).
+// * `pass_a_leap`, the leapfrog step's kinematic pass (LEAP = 2) at
+//   (x_{n+1}, v_{n+1/2}): it takes the particle's own density and stress to
+//   n+1 (the density into nbo.w, committed after the pass: the neighbours
+//   read density n for their volumes), the EOS at n+1 with the predicted
+//   energy e_{n+1/2} + dt/2 de_n, the predicted velocity v_{n+1/2} + dt/2 a_n
+//   (vstar) the viscosity and the contact see, and with the reconstructed
+//   viscosity the velocity gradient extrapolated to n+1 from the last two
+//   half steps. CPU twin: cpu::CpuSolver::leapfrog, steps 2 and 3.
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
@@ -21,6 +33,12 @@
 @group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
 @group(0) @binding(17) var<storage, read_write> ds: array<vec4<f32>>;
 @group(0) @binding(36) var<storage, read_write> gradv: array<vec4<f32>>;
+// The leapfrog's carried rates a_n and (_, de_n/dt), the predicted velocity,
+// and the velocity gradient of the last half step (reconstructed viscosity).
+@group(0) @binding(51) var<storage, read> acc: array<vec2<f32>>;
+@group(0) @binding(52) var<storage, read> rdt: array<vec2<f32>>;
+@group(0) @binding(53) var<storage, read_write> vstar: array<vec2<f32>>;
+@group(0) @binding(54) var<storage, read_write> gvprev: array<vec4<f32>>;
 
 // Artificial stress (METHOD.md §4): -eps sigma/rho^2 of each tensile
 // principal value, rotated back.
@@ -49,21 +67,15 @@ fn volume(j: u32, mj: vec4<u32>) -> f32 {
     return bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
 }
 
-@compute @workgroup_size(WG)
-fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = flat_index(gid, nwg);
-    if (i >= params.n) {
-        return;
-    }
-    let mi = pinfo[i];
-    let bi = mi.z;
-    let body = bodies[bi];
-    let hi = body.h;
-    let hm = home(i);
+// The sums of particle i's neighbour walk at velocities `v`.
+struct KinSums {
+    m: vec4<f32>,
+    gpsi: vec2<f32>,
+    gsum: vec4<f32>,
+}
 
-    // Rigid particles have no velocity gradient: their loop skips the
-    // velocity reads (a branch uniform over the particle's whole loop).
-    let rigid = body.rigid != 0u;
+fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool) -> KinSums {
+    let hm = home(i);
     let vi = v[i];
     var m = vec4<f32>(0.0);
     var gpsi = vec2<f32>(0.0);
@@ -79,12 +91,19 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             let gj = pr.gw * volume(j, pinfo[j]);
             m += outer(gj, -pr.d);
             gpsi -= gj;
+            // Rigid particles have no velocity gradient: their loop skips
+            // the velocity reads (a branch uniform over the whole loop).
             if (!rigid) {
                 gsum += outer(v[j] - vi, gj);
             }
         }
     }
+    return KinSums(m, gpsi, gsum);
+}
 
+// L_i from M_i, or the identity (counted) when M_i cannot be inverted.
+fn correction(m_in: vec4<f32>) -> vec4<f32> {
+    var m = m_in;
     var l = vec4<f32>(1.0, 0.0, 0.0, 1.0);
     if (CORRECTED) {
         if (DIM == 1u) {
@@ -98,8 +117,11 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             atomicAdd(&ctl.fallback_now, 1u);
         }
     }
-    lmat[i] = l;
+    return l;
+}
 
+// Outward normal and boundary flag from the colour gradient.
+fn surface_of(gpsi: vec2<f32>, hi: f32) -> vec3<f32> {
     var normal = vec2<f32>(0.0);
     let glen = length(gpsi);
     if (glen > 0.0) {
@@ -109,23 +131,67 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if (hi * glen > params.boundary_threshold) {
         boundary = 1.0;
     }
-    nbo[i] = vec4<f32>(normal, boundary, 0.0);
+    return vec3<f32>(normal, boundary);
+}
 
-    // Equation of state and sigma/rho^2 (tension positive), sound speed in w.
-    let mu = r[i].x;
-    let e = r[i].y;
+// Equation of state at (mu, e, s): sigma/rho^2 (tension positive) and the
+// sound speed into sr2c, the artificial stress into art.
+fn stress_point(i: u32, body: Body, mu: f32, e: f32, si: vec4<f32>) {
     let p = eos_pressure(body, mu, e);
     let c = eos_sound_speed(body, mu, e);
-    let si = s[i];
     let sig = vec4<f32>(si.x - p, si.y - p, si.z, si.w - p);
     let rho = body.rho0 * (1.0 + mu);
     sr2c[i] = vec4<f32>(sig.xyz / (rho * rho), c);
     if (ART_STRESS) {
         art[i] = artificial_stress(sig, rho);
     }
+}
+
+// Velocity gradient with the corrected kernel gradient (METHOD.md §6):
+// gsum L^T, in the order of math::Mat2::mul_transpose.
+fn velocity_gradient(gsum: vec4<f32>, l: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(
+        gsum.x * l.x + gsum.y * l.y,
+        gsum.x * l.z + gsum.y * l.w,
+        gsum.z * l.x + gsum.w * l.y,
+        gsum.z * l.z + gsum.w * l.w,
+    );
+}
+
+// Jaumann-rate hypoelastic deviatoric stress rate, plane strain.
+fn stress_rate(g: f32, si: vec4<f32>, gv: vec4<f32>) -> vec4<f32> {
+    let tr = gv.x + gv.w;
+    let exy = 0.5 * (gv.y + gv.z);
+    let w = 0.5 * (gv.y - gv.z);
+    let tr3 = tr / 3.0;
+    return vec4<f32>(
+        2.0 * g * (gv.x - tr3) + 2.0 * w * si.z,
+        2.0 * g * (gv.w - tr3) - 2.0 * w * si.z,
+        2.0 * g * exy + w * (si.y - si.x),
+        -2.0 * g * tr3,
+    );
+}
+
+@compute @workgroup_size(WG)
+fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n) {
+        return;
+    }
+    let bi = pinfo[i].z;
+    let body = bodies[bi];
+    let hi = body.h;
+    let rigid = body.rigid != 0u;
+    let ks = kinematic_walk(i, hi, bi, rigid);
+    let l = correction(ks.m);
+    lmat[i] = l;
+    nbo[i] = vec4<f32>(surface_of(ks.gpsi, hi), 0.0);
+    let mu = r[i].x;
+    let si = s[i];
+    stress_point(i, body, mu, r[i].y, si);
 
     if (rigid) {
-        if (!MID) {
+        if (!MID && LEAP == 0u) {
             dr[i] = vec2<f32>(0.0);
             ds[i] = vec4<f32>(0.0);
         }
@@ -134,32 +200,15 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         }
         return;
     }
-
-    // Velocity gradient with the corrected kernel gradient (METHOD.md §6):
-    // gsum L^T, in the order of math::Mat2::mul_transpose.
-    let gv = vec4<f32>(
-        gsum.x * l.x + gsum.y * l.y,
-        gsum.x * l.z + gsum.y * l.w,
-        gsum.z * l.x + gsum.w * l.y,
-        gsum.z * l.z + gsum.w * l.w,
-    );
+    let gv = velocity_gradient(ks.gsum, l);
     if (RECON) {
         gradv[i] = gv;
     }
-    let tr = gv.x + gv.w;
-    let dmu = -(1.0 + mu) * tr;
-
-    // Jaumann-rate hypoelastic deviatoric stress rate, plane strain.
-    let g = body.g;
-    let exy = 0.5 * (gv.y + gv.z);
-    let w = 0.5 * (gv.y - gv.z);
-    let tr3 = tr / 3.0;
-    let rate = vec4<f32>(
-        2.0 * g * (gv.x - tr3) + 2.0 * w * si.z,
-        2.0 * g * (gv.w - tr3) - 2.0 * w * si.z,
-        2.0 * g * exy + w * (si.y - si.x),
-        -2.0 * g * tr3,
-    );
+    if (LEAP != 0u) {
+        return;
+    }
+    let dmu = -(1.0 + mu) * (gv.x + gv.w);
+    let rate = stress_rate(body.g, si, gv);
     if (!MID) {
         dr[i].x = dmu;
         ds[i] = rate;
@@ -168,5 +217,55 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         let dt = ctl.dt;
         dr[i].x = dr[i].x + dmu * dt;
         ds[i] = plastic_return(ds[i] + rate * dt, body);
+    }
+}
+
+// The leapfrog step's kinematic pass (LEAP = 2; header). `ds` is the state's
+// own deviatoric stress, updated in place (only particle i reads it here).
+@compute @workgroup_size(WG)
+fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    // A zero-length step (past the stop, or after a failure) leaves the
+    // state and the carried rates as they are.
+    if (i >= params.n || ctl.dt == 0.0) {
+        return;
+    }
+    let dt = ctl.dt;
+    let h = 0.5 * dt;
+    let bi = pinfo[i].z;
+    let body = bodies[bi];
+    let hi = body.h;
+    let rigid = body.rigid != 0u;
+    let ks = kinematic_walk(i, hi, bi, rigid);
+    let l = correction(ks.m);
+    lmat[i] = l;
+    let mu = r[i].x;
+    let si = ds[i];
+    if (rigid) {
+        // A rigid body keeps its velocity and reference state.
+        nbo[i] = vec4<f32>(surface_of(ks.gpsi, hi), mu);
+        stress_point(i, body, mu, r[i].y, si);
+        vstar[i] = v[i];
+        if (RECON) {
+            gradv[i] = vec4<f32>(0.0);
+            gvprev[i] = vec4<f32>(0.0);
+        }
+        return;
+    }
+    let gv = velocity_gradient(ks.gsum, l);
+    let mu1 = mu + (-(1.0 + mu) * (gv.x + gv.w)) * dt;
+    let s1 = plastic_return(si + stress_rate(body.g, si, gv) * dt, body);
+    nbo[i] = vec4<f32>(surface_of(ks.gpsi, hi), mu1);
+    ds[i] = s1;
+    stress_point(i, body, mu1, r[i].y + rdt[i].y * h, s1);
+    vstar[i] = v[i] + acc[i] * h;
+    if (RECON) {
+        // gv + (gv - gv_prev) dt / (dt + dt_prev); none on the first step.
+        var g1 = gv;
+        if (ctl.dt_prev > 0.0) {
+            g1 = gv + (gv - gvprev[i]) * (dt / (dt + ctl.dt_prev));
+        }
+        gradv[i] = g1;
+        gvprev[i] = gv;
     }
 }

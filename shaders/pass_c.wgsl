@@ -6,7 +6,13 @@
 //
 // dv and dr.y take the rates at the base state (into the midpoint buffers)
 // and dt x rate added in place to the base state at the midpoint
-// (common.wgsl, MID).
+// (common.wgsl, MID). The leapfrog (common.wgsl, LEAP) runs it twice a
+// step: at n+1 for the momentum alone (LEAP = 2; `v` is then the predicted
+// velocity, `dv` the carried a_{n+1}), then, after the kick, for the energy
+// alone (LEAP = 3): the same pair terms, the viscosity at the predicted
+// velocity `vstar`, their work on v_{n+1} (`v`), added to the contact heat
+// the booking left in dr.y (CPU twins: cpu::forces::momentum_keeping and
+// energy_replay, which keeps the pair terms instead of walking again).
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
@@ -18,6 +24,7 @@
 @group(0) @binding(18) var<storage, read_write> dv: array<vec2<f32>>;
 @group(0) @binding(19) var<storage, read_write> area: array<f32>;
 @group(0) @binding(36) var<storage, read> gradv: array<vec4<f32>>;
+@group(0) @binding(53) var<storage, read> vstar: array<vec2<f32>>;
 
 // The velocity jump the viscosity sees: v_ij less each side's linear
 // reconstruction to the pair midpoint, van Leer limited (xij = x_i - x_j).
@@ -38,7 +45,8 @@ fn reconstructed_jump(vij: vec2<f32>, xij: vec2<f32>, gi: vec4<f32>, gj: vec4<f3
 @compute @workgroup_size(WG)
 fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
-    if (i >= params.n) {
+    // A leapfrog step of zero length leaves the carried rates as they are.
+    if (i >= params.n || (LEAP >= 2u && ctl.dt == 0.0)) {
         return;
     }
     let mi = pinfo[i];
@@ -48,6 +56,9 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let rigid = body.rigid != 0u;
     let boundary = CONTACT && nbo[i].z > 0.0;
     if (rigid && !boundary) {
+        if (LEAP == 3u) {
+            return;
+        }
         if (!MID) {
             dv[i] = vec2<f32>(0.0);
             dr[i].y = 0.0;
@@ -85,7 +96,7 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             let mj = pinfo[j];
             let hij = pr.hij;
             let dist = pr.dist;
-            if (boundary && nbo[j].z > 0.0) {
+            if (boundary && nbo[j].z > 0.0 && LEAP != 3u) {
                 sw += kernel_w(dist, hij);
             }
             if (rigid || dist <= 0.0) {
@@ -100,10 +111,13 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             // Monaghan viscosity, zero for receding pairs; it sees the
             // reconstructed jump, the energy sum keeps the true v_ij.
             var vis = vij;
+            if (LEAP == 3u) {
+                vis = vstar[i] - vstar[j];
+            }
             // Not at a surface (h |grad psi| above the threshold): there
             // grad v is one-sided and a contact loads the face impulsively.
             if (RECON && nbo[i].z <= 0.0 && nbo[j].z <= 0.0) {
-                vis = reconstructed_jump(vij, d, gi, gradv[j]);
+                vis = reconstructed_jump(vis, d, gi, gradv[j]);
             }
             var pi = 0.0;
             let vx = dot(vis, d);
@@ -127,9 +141,19 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
                 art_work = 0.5 * dot(vij, sym_mul(rf, g));
             }
             let mass_j = bitcast<f32>(mj.x);
-            acc += sym_mul(t, g) * mass_j;
-            de -= mass_j * (dot(vij, sym_mul(ti, g)) - 0.5 * pi * dot(vij, g) + art_work);
+            if (LEAP != 3u) {
+                acc += sym_mul(t, g) * mass_j;
+            }
+            if (LEAP != 2u) {
+                de -= mass_j * (dot(vij, sym_mul(ti, g)) - 0.5 * pi * dot(vij, g) + art_work);
+            }
         }
+    }
+    if (LEAP == 3u) {
+        if (!rigid) {
+            dr[i].y = de + dr[i].y;
+        }
+        return;
     }
     if (!MID) {
         if (rigid) {

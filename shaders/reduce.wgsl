@@ -7,6 +7,7 @@
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
 @group(0) @binding(7) var<storage, read> s: array<vec4<f32>>;
+@group(0) @binding(13) var<storage, read> nbo: array<vec4<f32>>;
 @group(0) @binding(14) var<storage, read> sr2c: array<vec4<f32>>;
 @group(0) @binding(19) var<storage, read> area: array<f32>;
 @group(0) @binding(20) var<storage, read> cown: array<vec4<f32>>;
@@ -166,8 +167,14 @@ fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
             }
             return 0.0;
         }
-        // The stored spring energy, left by the contact in sr2c.x.
-        case 8u: { return sr2c[i].x; }
+        // The stored spring energy, left by the contact in sr2c.x (in
+        // nbo.w by the leapfrog's, contact.wgsl).
+        case 8u: {
+            if (LEAP != 0u) {
+                return nbo[i].w;
+            }
+            return sr2c[i].x;
+        }
         default: { return qheat[i].x; }
     }
 }
@@ -294,6 +301,7 @@ fn end_step() {
         ctl.t_lo = lo - (hi - sum);
         ctl.t_hi = hi;
         ctl.step = ctl.step + 1u;
+        ctl.dt_prev = dt;
     } else {
         ctl.zero_steps = ctl.zero_steps + 1u;
     }

@@ -115,7 +115,7 @@ pub struct BenchOptions {
     pub repeat: u32,
     /// Also time each GPU stage alone.
     pub stages: bool,
-    /// Time integration of the timed steps (the leapfrog: CPU only).
+    /// Time integration of the timed steps.
     pub integrator: Integrator,
     /// Progress lines on stderr.
     pub verbose: bool,
@@ -599,20 +599,8 @@ fn measure_once(
 /// The backends to run: the CPU flag and the GPU context.
 fn backends(
     which: BenchBackend,
-    integrator: Integrator,
     verbose: bool,
 ) -> Result<(bool, Option<Arc<GpuContext>>), BenchError> {
-    if !integrator.on_gpu() {
-        if which == BenchBackend::Gpu {
-            return Err(BenchError::Input(format!(
-                "bench --backend gpu: the {integrator} integrator runs on the CPU path only"
-            )));
-        }
-        if verbose && which != BenchBackend::Cpu {
-            eprintln!("bench: the {integrator} integrator runs on the CPU path only; CPU only");
-        }
-        return Ok((true, None));
-    }
     match which {
         BenchBackend::Cpu => Ok((true, None)),
         BenchBackend::Gpu => match crate::gpu::shared_context() {
@@ -669,7 +657,7 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             "--repeat must be at least 1 (got 0)".into(),
         ));
     }
-    let (cpu, gpu) = backends(opts.backend, opts.integrator, opts.verbose)?;
+    let (cpu, gpu) = backends(opts.backend, opts.verbose)?;
     let threads = rayon::current_num_threads();
     let cpu_adapter = format!("cpu: {} ({threads} threads)", cpu_name());
     let mut records = Vec::new();

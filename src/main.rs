@@ -58,7 +58,7 @@ enum Command {
         #[arg(long, allow_negative_numbers = true)]
         end_time: Option<f64>,
         /// Time integration (overrides simulation.integrator): midpoint
-        /// (two evaluations a step) or leapfrog (one; CPU path only).
+        /// (two evaluations a step) or leapfrog (one).
         #[arg(long, value_enum)]
         integrator: Option<IntegratorArg>,
         /// Occasional plain progress lines instead of a progress bar.
@@ -119,7 +119,7 @@ struct BenchArgs {
     #[arg(long)]
     stages: bool,
     /// Time integration of the timed steps: midpoint (two evaluations a
-    /// step) or leapfrog (one; CPU path only).
+    /// step) or leapfrog (one).
     #[arg(long, value_enum, default_value = "midpoint")]
     integrator: IntegratorArg,
     /// A JSON list of the records on stdout instead of the table.
@@ -134,8 +134,7 @@ struct ValidateArgs {
     /// Which backend runs the cases (default: the scenes' auto).
     #[arg(long, value_enum)]
     backend: Option<BackendArg>,
-    /// Time integration of the cases (default: the scenes' midpoint);
-    /// leapfrog runs on the CPU path only.
+    /// Time integration of the cases (default: the scenes' midpoint).
     #[arg(long, value_enum)]
     integrator: Option<IntegratorArg>,
     /// Output directory.
@@ -213,12 +212,6 @@ fn validate_cmd(args: ValidateArgs) -> ExitCode {
     }
     if sweep {
         let backends = match backend.map(backend_of) {
-            // The leapfrog runs on the CPU path only (--backend gpu says so).
-            Some(Backend::Auto) | None
-                if integrator.is_some_and(|i| !integrator_of(i).on_gpu()) =>
-            {
-                vec![Backend::Cpu]
-            }
             Some(Backend::Auto) | None => {
                 let mut b = vec![Backend::Cpu];
                 match sphcontact::gpu::shared_context() {
@@ -444,7 +437,7 @@ fn check(path: &Path, scene: &Scene) {
         (sim.end_time / used).ceil(),
         match sim.integrator {
             Integrator::Midpoint => "midpoint rule (two evaluations a step)",
-            Integrator::Leapfrog => "leapfrog (one evaluation a step, CPU path only)",
+            Integrator::Leapfrog => "leapfrog (one evaluation a step)",
         }
     );
     println!(

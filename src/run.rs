@@ -90,18 +90,6 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    let integrator = scene.simulation.integrator;
-    if !integrator.on_gpu() {
-        return match backend {
-            Backend::Gpu => Err(RunError::Backend(format!(
-                "backend gpu: the {integrator} integrator (simulation.integrator) runs on the CPU path only; use --backend cpu, or integrator = \"midpoint\" on the GPU"
-            ))),
-            Backend::Cpu => Ok(cpu(None)),
-            Backend::Auto => Ok(cpu(Some(format!(
-                "backend auto: the {integrator} integrator runs on the CPU path only; running the CPU path"
-            )))),
-        };
-    }
     match backend {
         Backend::Cpu => Ok(cpu(None)),
         Backend::Gpu => match crate::gpu::shared_context() {

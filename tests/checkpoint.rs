@@ -158,6 +158,17 @@ fn gpu_resume_gives_the_same_bytes() {
     on_gpu(|| resume_matches(Backend::Gpu));
 }
 
+/// The GPU leapfrog's checkpoint carries its rates and what its next
+/// step's reductions read, so the resumed run is the uninterrupted one.
+#[test]
+fn gpu_leapfrog_resume_gives_the_same_bytes() {
+    on_gpu(|| {
+        let mut scene = disks();
+        scene.simulation.integrator = Integrator::Leapfrog;
+        resume_matches_of(scene, Backend::Gpu);
+    });
+}
+
 /// A GPU checkpoint names the cell grid its reference positions count in;
 /// one without it (an older build's, whose cells were twice as large) or
 /// with another is refused with a message, not resumed on the wrong grid.

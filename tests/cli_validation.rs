@@ -7,6 +7,8 @@
 //! nothing); the few `run` cases use tiny scenes and `--out` into the same
 //! directory.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -974,11 +976,10 @@ fn no_adapter_gpu_refuses_and_auto_falls_back() {
     assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
 }
 
-/// The leapfrog (scene key or `--integrator`) runs on the CPU path: the
-/// summary names it; `--backend gpu` refuses it with a message that says
-/// what to do, and `auto` runs the CPU path with one warning line.
+/// The leapfrog (scene key or `--integrator`) runs on both paths, and the
+/// summary names it.
 #[test]
-fn leapfrog_runs_on_the_cpu_path_only() {
+fn leapfrog_by_key_or_flag() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_1D.replacen(
         "dimension = 1",
@@ -1021,13 +1022,16 @@ fn leapfrog_runs_on_the_cpu_path_only() {
     assert_eq!(out.status.code(), Some(0));
     assert_eq!(summary(&dir)["integrator"], "midpoint");
 
+    if common::gpu().is_none() {
+        return;
+    }
     let (out, dir) = run(&scene, &["--backend", "gpu"], "gpu");
-    refused(&out, &["leapfrog", "--backend cpu"]);
-    assert!(!dir.join("history.csv").exists());
-
-    let (out, _) = run(&scene, &["--backend", "auto"], "auto");
-    let warning = the_warning(&out);
-    assert!(warning.contains("leapfrog"), "{warning}");
+    assert_eq!(out.status.code(), Some(0));
+    let s = summary(&dir);
+    assert_eq!(
+        (&s["integrator"], &s["backend"]),
+        (&"leapfrog".into(), &"gpu".into())
+    );
 }
 
 #[test]

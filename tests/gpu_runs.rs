@@ -1,11 +1,12 @@
-//! Whole runs of the paper's scenes, GPU against the CPU oracle: the
-//! observables the paper reports agree within 0.5 %, and two GPU runs of one
-//! scene write byte-identical histories.
+//! Whole runs of the paper's scenes, GPU against the CPU oracle, under both
+//! integrators: the observables the paper reports agree within 0.5 % with
+//! the same step counts, and two GPU runs of one scene write byte-identical
+//! histories.
 
 mod common;
 use common::*;
 use sphcontact::run::{run_scene, RunOptions, RunOutput};
-use sphcontact::scene::Backend;
+use sphcontact::scene::{Backend, Integrator};
 
 fn close(what: &str, gpu: f64, cpu: f64, tol: f64) {
     let e = (gpu / cpu - 1.0).abs();
@@ -19,16 +20,19 @@ fn close(what: &str, gpu: f64, cpu: f64, tol: f64) {
     );
 }
 
-/// The scene run on the CPU and on the GPU (`None`: no adapter, skipped).
-fn both(path: &str) -> Option<(RunOutput, RunOutput)> {
+/// The scene run on the CPU and on the GPU with one integrator (`None`: no
+/// adapter, skipped); both take the same steps.
+fn both(path: &str, integrator: Integrator) -> Option<(RunOutput, RunOutput)> {
     gpu()?;
-    let scene = load(path);
+    let mut scene = load(path);
+    scene.simulation.integrator = integrator;
     let cpu = run_on(&scene, Backend::Cpu, None);
     let gpu_out = run_on(&scene, Backend::Gpu, None);
     println!(
-        "{path}: cpu {:.2} s, gpu {:.2} s",
+        "{path} ({integrator}): cpu {:.2} s, gpu {:.2} s",
         cpu.summary.wall_seconds, gpu_out.summary.wall_seconds
     );
+    assert_eq!(gpu_out.summary.steps, cpu.summary.steps, "step counts");
     Some((cpu, gpu_out))
 }
 
@@ -52,7 +56,13 @@ fn mean_over(out: &RunOutput, name: &str, t0: f64, t1: f64) -> f64 {
 /// device books both in the contact's second pass at the midpoint, the
 /// host in its step).
 fn compare_bars(path: &str, plateau: (f64, f64), bodies: [&str; 2]) {
-    let Some((cpu, gpu_out)) = both(path) else {
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        compare_bars_with(path, plateau, bodies, integrator);
+    }
+}
+
+fn compare_bars_with(path: &str, plateau: (f64, f64), bodies: [&str; 2], integrator: Integrator) {
+    let Some((cpu, gpu_out)) = both(path, integrator) else {
         return;
     };
     close(
@@ -66,12 +76,24 @@ fn compare_bars(path: &str, plateau: (f64, f64), bodies: [&str; 2]) {
     for name in bodies.into_iter().chain(["energy_heat"]) {
         close(name, last(&gpu_out, name), last(&cpu, name), 5e-3);
     }
-    close(
-        "spring loss",
+    let (g, c) = (
         gpu_out.summary.energy_spring_loss,
         cpu.summary.energy_spring_loss,
-        5e-3,
     );
+    if integrator == Integrator::Midpoint {
+        close("spring loss", g, c, 5e-3);
+    } else {
+        // The leapfrog books the spring's work at v_{n+1}, where it is the
+        // stored energy's change: what is left (7e-3 J/m² of 16.6 J/m² of
+        // heat on the steel/aluminium bars) is round-off of the ledger, and
+        // is compared on the scale of the ledger's other entry.
+        let heat = last(&cpu, "energy_heat");
+        println!("spring loss: gpu {g:.3e} cpu {c:.3e} (heat {heat:.3e})");
+        assert!(
+            (g - c).abs() < 5e-3 * heat,
+            "spring loss: gpu {g:e} vs cpu {c:e}"
+        );
+    }
 }
 
 #[test]
@@ -94,7 +116,13 @@ fn bars_steel_aluminium_gpu_matches_cpu() {
 
 /// Disks: peak contact force, contact time, final velocities.
 fn compare_disks(path: &str) {
-    let Some((cpu, gpu_out)) = both(path) else {
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        compare_disks_with(path, integrator);
+    }
+}
+
+fn compare_disks_with(path: &str, integrator: Integrator) {
+    let Some((cpu, gpu_out)) = both(path, integrator) else {
         return;
     };
     let peak = |o: &RunOutput| {
@@ -132,11 +160,30 @@ fn gpu_histories_are_bitwise_repeatable() {
         return;
     }
     let dir = tempfile::tempdir().expect("a temp dir");
-    for (path, end) in [
-        ("scenes/paper/bars_steel_aluminium.toml", None),
-        ("scenes/paper/disks_polar.toml", Some(1.5e-6)),
+    for (path, end, integrator) in [
+        (
+            "scenes/paper/bars_steel_aluminium.toml",
+            None,
+            Integrator::Midpoint,
+        ),
+        (
+            "scenes/paper/disks_polar.toml",
+            Some(1.5e-6),
+            Integrator::Midpoint,
+        ),
+        (
+            "scenes/paper/bars_steel_aluminium.toml",
+            None,
+            Integrator::Leapfrog,
+        ),
+        (
+            "scenes/paper/disks_polar.toml",
+            Some(1.5e-6),
+            Integrator::Leapfrog,
+        ),
     ] {
         let mut scene = load(path);
+        scene.simulation.integrator = integrator;
         if let Some(t) = end {
             scene.simulation.end_time = t;
         }
@@ -148,7 +195,10 @@ fn gpu_histories_are_bitwise_repeatable() {
             files.push(std::fs::read(d.join("history.csv")).expect("history written"));
         }
         assert!(files[0].len() > 1000);
-        assert!(files[0] == files[1], "{path}: the two GPU histories differ");
+        assert!(
+            files[0] == files[1],
+            "{path} ({integrator}): the two GPU histories differ"
+        );
     }
 }
 

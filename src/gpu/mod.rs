@@ -65,7 +65,7 @@ use crate::error::Instability;
 use crate::math::Sym;
 use crate::model::{Model, State};
 use crate::probe::Resolved;
-use crate::scene::Correction;
+use crate::scene::{Correction, Integrator};
 pub use context::GpuContext;
 use context::Pipeline;
 use layout::{BodyGpu, Control, Params};
@@ -102,6 +102,10 @@ fn bucket_count(n: usize) -> u32 {
 /// sound speed `w`), written by the particle's own thread in contact pass 1,
 /// which reads no other part of `sr2c`.
 fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
+    // The leapfrog's energy walk reads the pass scratch after the contact.
+    if model.integrator == Integrator::Leapfrog {
+        return [("cshare", None), ("cown", None)];
+    }
     let own_home = if model.av_reconstruct {
         Some("gradv")
     } else if model.artificial_stress.is_some() {
@@ -162,9 +166,14 @@ const WRITER_ALIASES: &[(&str, &str)] = &[("bstart_w", "bstart"), ("blist_w", "b
 const CELL_OVER_H: f64 = 1.002;
 /// Margin, in cells, of a particle's support radius in the row stencil.
 const REACH_MARGIN: f64 = 1e-3;
+/// Bytes of the control block.
+const CTL_BYTES: u64 = std::mem::size_of::<Control>() as u64;
 /// The entry of a saved device state that names its grid
 /// ([`GpuSolver::save_raw`]).
 const FRAME: &str = "frame";
+/// A binding name no buffer has: bound to a placeholder the kernel's
+/// variant never writes (`kernel_in`).
+const UNUSED: &str = "unused";
 /// Particles per workgroup of the reductions (256 threads × 4).
 const RED_CHUNK: u32 = 1024;
 
@@ -311,22 +320,41 @@ struct Eval {
     contact: Option<(Kernel, Kernel)>,
 }
 
+/// The leapfrog step's kernels besides the cell list and the reductions
+/// (advance.wgsl has the order).
+struct LeapKernels {
+    kick_drift: Kernel,
+    pass_a: Kernel,
+    commit: Kernel,
+    pass_c: Kernel,
+    contact: Option<(Kernel, Kernel)>,
+    kick: Kernel,
+    book: Option<(Kernel, Kernel)>,
+    energy: Kernel,
+    finish: Kernel,
+}
+
 struct Kernels {
     clear: Kernel,
     scan_local: Kernel,
     scan_blocks: Kernel,
     scan_add: Kernel,
     sort: Kernel,
-    eval: [Eval; 2],
+    /// The evaluation at the base state and, for the midpoint rule, at the
+    /// midpoint; for the leapfrog its first evaluation (LEAP = 1) alone.
+    eval: Vec<Eval>,
+    leap: Option<LeapKernels>,
     cfl_partial: Kernel,
     cfl_final: Kernel,
     obs: Option<(Kernel, Kernel)>,
     energy_guard: Option<Kernel>,
     probes: Option<Kernel>,
-    advance_half: Kernel,
-    advance_full: Kernel,
+    advance_half: Option<Kernel>,
+    advance_full: Option<Kernel>,
     end_step: Kernel,
-    permute: Kernel,
+    /// The reorder (the midpoint rule's; the leapfrog's carried arrays are
+    /// not permuted yet, so it keeps the particles' order).
+    permute: Option<Kernel>,
     /// Refreshes the probed particles' slots after a reorder (none without
     /// particle probes).
     map_slots: Option<Kernel>,
@@ -415,6 +443,9 @@ pub struct GpuSolver {
     device_bytes: u64,
     /// The run-wide constants, as uploaded.
     params: Params,
+    /// The leapfrog's first evaluation is still to be made (its rates are
+    /// carried, so a restored state has them).
+    first_pending: bool,
     /// Grid origin and cell size: the frame of the reference positions.
     origin: DVec2,
     cell: f64,
@@ -622,12 +653,28 @@ impl GpuSolver {
         make("r", 8 * nn, Some(bytemuck::cast_slice(&r)))?;
         make("s", 16 * nn, Some(bytemuck::cast_slice(&s)))?;
         make("pinfo", 16 * nn, Some(bytemuck::cast_slice(&meta)))?;
-        // The midpoint state; the evaluation at the base state leaves its
-        // rates there (common.wgsl, MID), so there are no rate buffers.
-        for name in ["um", "vm", "rm"] {
-            make(name, 8 * nn, None)?;
+        let leapfrog = model.integrator == Integrator::Leapfrog;
+        if leapfrog {
+            // The carried rates a_n and (_, de_n/dt), and the predicted
+            // velocity (common.wgsl, LEAP); buffers wgpu zeroes.
+            for name in ["acc", "rdt", "vstar"] {
+                make(name, 8 * nn, None)?;
+            }
+            if model.av_reconstruct {
+                make("gvprev", 16 * nn, None)?;
+            }
+            if contact {
+                make("qrate", 8 * nn, None)?;
+            }
+        } else {
+            // The midpoint state; the evaluation at the base state leaves
+            // its rates there (common.wgsl, MID), so there are no rate
+            // buffers.
+            for name in ["um", "vm", "rm", "sm"] {
+                make(name, if name == "sm" { 16 } else { 8 } * nn, None)?;
+            }
         }
-        for name in ["sm", "lmat", "nbo", "sr2c"] {
+        for name in ["lmat", "nbo", "sr2c"] {
             make(name, 16 * nn, None)?;
         }
         if model.artificial_stress.is_some() {
@@ -683,7 +730,7 @@ impl GpuSolver {
             64 * bodies.len() as u64,
             Some(bytemuck::cast_slice(&bodies)),
         )?;
-        make("ctl", 48, Some(bytemuck::bytes_of(&control)))?;
+        make("ctl", CTL_BYTES, Some(bytemuck::bytes_of(&control)))?;
         if contact {
             for (name, home) in contact_homes(&model) {
                 if let Some(home) = home {
@@ -703,7 +750,7 @@ impl GpuSolver {
         buffers.insert("params", params_buf);
         let staging = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("staging"),
-            size: 48 + ring_bytes,
+            size: CTL_BYTES + ring_bytes,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -719,6 +766,12 @@ impl GpuSolver {
             ("ART_STRESS", model.artificial_stress.is_some() as u8 as f64),
             ("RECON", model.av_reconstruct as u8 as f64),
             ("WG", WG as f64),
+            // The leapfrog's kernels outside its step: its first
+            // evaluation and the reductions (common.wgsl, LEAP).
+            (
+                "LEAP",
+                (model.integrator == Integrator::Leapfrog) as u8 as f64,
+            ),
         ];
         let maxd = opts
             .max_workgroups_per_dimension
@@ -831,12 +884,21 @@ impl GpuSolver {
             kernel_in(&constants, stage, entry, size, aliases)
         };
 
+        let leapfrog = model.integrator == Integrator::Leapfrog;
+        // The leapfrog's first evaluation leaves a_0 and de_0 in the carried
+        // rates and makes no density or stress rates.
+        let first_aliases: &[(&str, &str)] = &[("dv", "acc"), ("dr", "rdt"), ("ds", UNUSED)];
+        let variants: &[Var] = if leapfrog {
+            &[Var::Base]
+        } else {
+            &[Var::Base, Var::Mid]
+        };
         let mut evals = Vec::new();
-        for var in [Var::Base, Var::Mid] {
-            let (consts, al) = if var == Var::Base {
-                (constants.as_slice(), base_aliases)
-            } else {
-                (mid_constants.as_slice(), mid_aliases)
+        for &var in variants {
+            let (consts, al) = match (var, leapfrog) {
+                (Var::Base, false) => (constants.as_slice(), base_aliases),
+                (Var::Base, true) => (constants.as_slice(), first_aliases),
+                (Var::Mid, _) => (mid_constants.as_slice(), mid_aliases),
             };
             let eval_kernel = |stage, entry| kernel_in(consts, stage, entry, Size::Particles, al);
             evals.push(Eval {
@@ -854,15 +916,68 @@ impl GpuSolver {
                 },
             });
         }
-        let mid = evals.pop().expect("two variants");
-        let base = evals.pop().expect("two variants");
+        let leap = if leapfrog {
+            let mut step_constants = constants.clone();
+            step_constants.retain(|c| c.0 != "LEAP");
+            let mut book_constants = step_constants.clone();
+            step_constants.push(("LEAP", 2.0));
+            book_constants.push(("LEAP", 3.0));
+            let state_w: &[(&str, &str)] = &[
+                ("u_w", "u"),
+                ("v_w", "v"),
+                ("r_w", "r"),
+                ("qheat_w", "qheat"),
+            ];
+            let at_n1: &[(&str, &str)] = &[("v", "vstar"), ("dv", "acc"), ("dr", UNUSED)];
+            let booking: &[(&str, &str)] = &[
+                ("v", "vstar"),
+                ("vbook", "v"),
+                ("dr", "rdt"),
+                ("dv", UNUSED),
+                ("qheat_w", "qheat"),
+            ];
+            let energy: &[(&str, &str)] = &[("dr", "rdt"), ("dv", UNUSED)];
+            let step =
+                |stage, entry, al| kernel_in(&step_constants, stage, entry, Size::Particles, al);
+            let book =
+                |stage, entry| kernel_in(&book_constants, stage, entry, Size::Particles, booking);
+            Some(LeapKernels {
+                kick_drift: kernel("advance", "kick_drift", Size::Particles, state_w)?,
+                pass_a: step("pass_a", "pass_a_leap", &[("ds", "s")])?.walking(Walk::All),
+                commit: kernel("advance", "commit", Size::Particles, state_w)?,
+                pass_c: step("pass_c", "pass_c", at_n1)?.walking(Walk::All),
+                contact: if contact {
+                    Some((
+                        step("contact", "contact_pass1", at_n1)?.walking(Walk::Boundary),
+                        step("contact", "contact_pass2", at_n1)?.walking(Walk::Boundary),
+                    ))
+                } else {
+                    None
+                },
+                kick: kernel("advance", "kick", Size::Particles, state_w)?,
+                book: if contact {
+                    Some((
+                        book("contact", "contact_pass1")?.walking(Walk::Boundary),
+                        book("contact", "contact_pass2")?.walking(Walk::Boundary),
+                    ))
+                } else {
+                    None
+                },
+                energy: kernel_in(&book_constants, "pass_c", "pass_c", Size::Particles, energy)?
+                    .walking(Walk::All),
+                finish: kernel("advance", "finish", Size::Particles, state_w)?,
+            })
+        } else {
+            None
+        };
         let k = Kernels {
             clear: kernel("grid", "grid_clear", Size::Buckets, &[])?,
             scan_local: kernel("grid", "scan_local", Size::ScanBlocks, &[])?,
             scan_blocks: kernel("grid", "scan_blocks", Size::One, &[])?,
             scan_add: kernel("grid", "scan_add", Size::ScanBlocks, &[])?,
             sort: kernel("grid", "grid_sort", Size::Buckets, &[])?,
-            eval: [base, mid],
+            eval: evals,
+            leap,
             cfl_partial: kernel("reduce", "cfl_partial", Size::RedGroups, &[])?,
             cfl_final: kernel("reduce", "cfl_final", Size::One, &[])?,
             obs: if plan.slots.is_empty() {
@@ -883,28 +998,45 @@ impl GpuSolver {
             } else {
                 Some(kernel("reduce", "probe_values", Size::Probes, &[])?)
             },
-            advance_half: kernel(
-                "advance",
-                "advance_half",
-                Size::Particles,
-                &[("u_w", "um"), ("v_w", "vm"), ("r_w", "rm"), ("s_w", "sm")],
-            )?,
-            advance_full: kernel("advance", "advance_full", Size::Particles, &[("u_w", "u")])?,
+            advance_half: if leapfrog {
+                None
+            } else {
+                Some(kernel(
+                    "advance",
+                    "advance_half",
+                    Size::Particles,
+                    &[("u_w", "um"), ("v_w", "vm"), ("r_w", "rm"), ("s_w", "sm")],
+                )?)
+            },
+            advance_full: if leapfrog {
+                None
+            } else {
+                Some(kernel(
+                    "advance",
+                    "advance_full",
+                    Size::Particles,
+                    &[("u_w", "u")],
+                )?)
+            },
             end_step: kernel("reduce", "end_step", Size::One, &[])?,
-            permute: kernel(
-                "reorder",
-                "permute",
-                Size::Particles,
-                &[
-                    ("t_x0", "lmat"),
-                    ("t_u", "um"),
-                    ("t_v", "vm"),
-                    ("t_r", "rm"),
-                    ("t_s", "sm"),
-                    ("t_pinfo", "sr2c"),
-                    ("t_qheat", "cown"),
-                ],
-            )?,
+            permute: if leapfrog {
+                None
+            } else {
+                Some(kernel(
+                    "reorder",
+                    "permute",
+                    Size::Particles,
+                    &[
+                        ("t_x0", "lmat"),
+                        ("t_u", "um"),
+                        ("t_v", "vm"),
+                        ("t_r", "rm"),
+                        ("t_s", "sm"),
+                        ("t_pinfo", "sr2c"),
+                        ("t_qheat", "cown"),
+                    ],
+                )?)
+            },
             map_slots: if plan.particles.is_empty() {
                 None
             } else {
@@ -925,6 +1057,7 @@ impl GpuSolver {
             last_dt: 0.0,
             device_bytes,
             params,
+            first_pending: leapfrog,
             origin,
             cell,
         };
@@ -988,10 +1121,13 @@ impl GpuSolver {
 
     /// Reorder the particles by cell: gather into scratch, copy back.
     fn encode_reorder(&self, enc: &mut wgpu::CommandEncoder) {
+        let Some(permute) = &self.k.permute else {
+            return;
+        };
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
-            self.k.permute.dispatch(&mut pass);
+            permute.dispatch(&mut pass);
         }
         let n = self.n as u64;
         let mut copy = |from: &str, to: &str, bytes: u64| {
@@ -1039,12 +1175,46 @@ impl GpuSolver {
     /// A step's dispatches after the periodic reorder, in one compute pass.
     fn encode_step_pass(&self, pass: &mut impl Dispatches) {
         let k = &self.k;
+        if let Some(l) = &k.leap {
+            // The state the step starts from: its time step and
+            // observations, from what the step before left.
+            self.encode_reduce(pass);
+            pass.run(&l.kick_drift);
+            self.encode_grid(pass, Var::Base);
+            pass.run(&l.pass_a);
+            pass.run(&l.commit);
+            pass.run(&l.pass_c);
+            if let Some((c1, c2)) = &l.contact {
+                pass.run(c1);
+                pass.run(c2);
+            }
+            pass.run(&l.kick);
+            if let Some((b1, b2)) = &l.book {
+                pass.run(b1);
+                pass.run(b2);
+            }
+            pass.run(&l.energy);
+            pass.run(&l.finish);
+            pass.run(&k.end_step);
+            return;
+        }
         self.encode_eval(pass, Var::Base);
         self.encode_reduce(pass);
-        pass.run(&k.advance_half);
+        pass.run(k.advance_half.as_ref().expect("the midpoint rule's"));
         self.encode_eval(pass, Var::Mid);
-        pass.run(&k.advance_full);
+        pass.run(k.advance_full.as_ref().expect("the midpoint rule's"));
         pass.run(&k.end_step);
+    }
+
+    /// The leapfrog's first evaluation, if the run has not made it yet: the
+    /// rates at the initial state that its first step starts from.
+    fn encode_first(&mut self, enc: &mut wgpu::CommandEncoder) {
+        if !self.first_pending {
+            return;
+        }
+        self.first_pending = false;
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        self.encode_eval(&mut pass, Var::Base);
     }
 
     /// The work of a step: its dispatches and neighbour walks (tallied from
@@ -1057,10 +1227,15 @@ impl GpuSolver {
         let nn = self.n as u64;
         let buckets = self.params.buckets as u64;
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
+        self.encode_first(&mut enc);
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
-            pass.run(&self.k.eval[Var::Base as usize].pass_a);
+            // The leapfrog's boundary flags are those of its last step, at
+            // these positions; an evaluation would overwrite what it carries.
+            if self.k.leap.is_none() {
+                pass.run(&self.k.eval[Var::Base as usize].pass_a);
+            }
         }
         let d = self.read_buffers(
             Some(enc),
@@ -1143,18 +1318,19 @@ impl GpuSolver {
     /// they observed.
     pub fn run_batch(&mut self, steps: u32) -> Batch {
         let steps = steps.clamp(1, RING_LEN - 2);
+        let mut enc = self.ctx.device.create_command_encoder(&Default::default());
+        self.encode_first(&mut enc);
         let dev = &self.ctx.device;
-        let mut enc = dev.create_command_encoder(&Default::default());
         for s in 0..steps as u64 {
             self.encode_step(&mut enc, self.encoded + s);
         }
-        let ring_bytes = self.staging.size() - 48;
-        enc.copy_buffer_to_buffer(self.buf("ctl"), 0, &self.staging, 0, 48);
-        enc.copy_buffer_to_buffer(self.buf("ring"), 0, &self.staging, 48, ring_bytes);
+        let ring_bytes = self.staging.size() - CTL_BYTES;
+        enc.copy_buffer_to_buffer(self.buf("ctl"), 0, &self.staging, 0, CTL_BYTES);
+        enc.copy_buffer_to_buffer(self.buf("ring"), 0, &self.staging, CTL_BYTES, ring_bytes);
         self.ctx.queue.submit([enc.finish()]);
         let data = map_read(dev, &self.staging, self.staging.size());
-        let ctl: Control = bytemuck::pod_read_unaligned(&data[..48]);
-        let ring: &[f32] = bytemuck::cast_slice(&data[48..]);
+        let ctl: Control = bytemuck::pod_read_unaligned(&data[..CTL_BYTES as usize]);
+        let ring: &[f32] = bytemuck::cast_slice(&data[CTL_BYTES as usize..]);
         let width = self.plan.row_width();
         let row = |s: u64| {
             let r = (s % RING_LEN as u64) as usize * width;
@@ -1283,7 +1459,12 @@ impl GpuSolver {
     /// Normals are zero off the boundary, as on the CPU path.
     pub fn snapshot(&mut self) -> (State, Vec<DVec2>, Vec<bool>) {
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
-        {
+        if self.k.leap.is_some() {
+            // The normals of the last step's kinematic pass, at these
+            // positions: an evaluation now would overwrite what the next
+            // step's reductions read.
+            self.encode_first(&mut enc);
+        } else {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
             self.k.eval[Var::Base as usize].pass_a.dispatch(&mut pass);
@@ -1315,7 +1496,27 @@ impl GpuSolver {
     /// rewritten by every step before it is read, or (the probed
     /// particles' slots) follows from the state.
     fn persistent_buffers(&self) -> Vec<(&'static str, u64)> {
-        self.state_buffers()
+        let mut names = self.state_buffers();
+        if self.k.leap.is_some() {
+            // The leapfrog's carried rates, and what the next step's
+            // reductions read of the last step's passes: the sound speeds
+            // (at n+1 with the predicted energy), the stored spring energy
+            // (nbo.w), the contact forces and areas.
+            let n = self.n as u64;
+            names.extend([
+                ("acc", 8 * n),
+                ("rdt", 8 * n),
+                ("sr2c", 16 * n),
+                ("nbo", 16 * n),
+            ]);
+            if self.model.av_reconstruct {
+                names.push(("gvprev", 16 * n));
+            }
+            if self.model.contact {
+                names.extend([("qrate", 8 * n), ("cown", 16 * n), ("area", 4 * n)]);
+            }
+        }
+        names
     }
 
     /// The device's state as stored, with the host's step counters (a
@@ -1381,6 +1582,7 @@ impl GpuSolver {
             self.ctx.queue.write_buffer(self.buf(name), 0, d);
         }
         self.refresh_probe_slots();
+        self.first_pending = false;
         self.encoded = raw.encoded;
         self.delivered = raw.delivered;
         self.zero_seen = raw.zero_seen;
@@ -1399,7 +1601,7 @@ impl GpuSolver {
             ("r", 8 * n),
             ("s", 16 * n),
             ("pinfo", 16 * n),
-            ("ctl", 48),
+            ("ctl", CTL_BYTES),
         ];
         if self.model.contact {
             names.push(("qheat", 8 * n));
@@ -1461,6 +1663,7 @@ impl GpuSolver {
         STAGES
             .iter()
             .filter(|s| s.name != "contact" || self.model.contact)
+            .filter(|s| s.name != "reorder" || self.k.permute.is_some())
             .map(|s| s.name)
             .collect()
     }
@@ -1476,6 +1679,24 @@ impl GpuSolver {
         let k = &self.k;
         let e = &k.eval[Var::Base as usize];
         let mut pass = enc.begin_compute_pass(&Default::default());
+        if let Some(l) = &k.leap {
+            // The leapfrog's step, grouped as the midpoint rule's is.
+            let mut run = |ks: &[&Kernel]| ks.iter().for_each(|k| k.dispatch(&mut pass));
+            match name {
+                "grid" => self.encode_grid(&mut pass, Var::Base),
+                "pass_a" => run(&[&l.pass_a, &l.commit]),
+                "pass_c" => run(&[&l.pass_c, &l.energy]),
+                "contact" => {
+                    for (c1, c2) in l.contact.iter().chain(&l.book) {
+                        run(&[c1, c2]);
+                    }
+                }
+                "reduce" => self.encode_reduce(&mut pass),
+                "advance" => run(&[&l.kick_drift, &l.kick, &l.finish, &k.end_step]),
+                _ => unreachable!("stage names are checked by time_stage"),
+            }
+            return;
+        }
         match name {
             "grid" => self.encode_grid(&mut pass, Var::Base),
             "pass_a" => e.pass_a.dispatch(&mut pass),
@@ -1488,8 +1709,9 @@ impl GpuSolver {
             }
             "reduce" => self.encode_reduce(&mut pass),
             "advance" => {
-                k.advance_half.dispatch(&mut pass);
-                k.advance_full.dispatch(&mut pass);
+                for a in [&k.advance_half, &k.advance_full].into_iter().flatten() {
+                    a.dispatch(&mut pass);
+                }
                 k.end_step.dispatch(&mut pass);
             }
             _ => unreachable!("stage names are checked by time_stage"),
@@ -1527,10 +1749,15 @@ impl GpuSolver {
         if reps == 0 {
             return Err("a stage is timed over at least one repetition".into());
         }
-        let dev = &self.ctx.device;
+        let ctx = self.ctx.clone();
+        let dev = &ctx.device;
         let nn = self.n as u64;
-        let mut saved = vec![("ctl", 48)];
-        if name == "advance" {
+        let mut saved = vec![("ctl", CTL_BYTES)];
+        if self.k.leap.is_some() {
+            // Every stage of a leapfrog step changes the state or what it
+            // carries: all of it is put back afterwards.
+            saved = self.persistent_buffers();
+        } else if name == "advance" {
             // Of the state it moves the positions only: the rest of the full
             // step is added in place by the passes at the midpoint.
             saved.push(("u", 8 * nn));
@@ -1553,14 +1780,20 @@ impl GpuSolver {
         };
 
         let mut enc = dev.create_command_encoder(&Default::default());
+        self.encode_first(&mut enc);
         for ((from, bytes), to) in saved.iter().zip(&backups) {
             enc.copy_buffer_to_buffer(self.buf(from), 0, to, 0, *bytes);
         }
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
-            self.encode_eval(&mut pass, Var::Base);
-            self.k.cfl_partial.dispatch(&mut pass);
-            self.k.cfl_final.dispatch(&mut pass);
+            if self.k.leap.is_some() {
+                // A whole step: every stage's inputs are then valid.
+                self.encode_step_pass(&mut pass);
+            } else {
+                self.encode_eval(&mut pass, Var::Base);
+                self.k.cfl_partial.dispatch(&mut pass);
+                self.k.cfl_final.dispatch(&mut pass);
+            }
         }
         self.ctx.queue.submit([enc.finish()]);
         wait()?;
@@ -1588,13 +1821,17 @@ impl GpuSolver {
     /// whose correction fell back to `L = I` (most at one state) and of
     /// contact evaluations that met two partner bodies.
     pub fn control(&self) -> Control {
-        let d = self.read_buffers(None, &[("ctl", 48)]);
+        let d = self.read_buffers(None, &[("ctl", CTL_BYTES)]);
         bytemuck::pod_read_unaligned(&d[0])
     }
 
     /// One evaluation at the current state, with every stage's output read
     /// back (tests: the device against its CPU twins). Does not step.
     pub fn stage_outputs(&mut self) -> StageOutputs {
+        assert!(
+            self.k.leap.is_none(),
+            "stage_outputs reads the midpoint rule's evaluation"
+        );
         let n = self.n;
         let nn = n as u64;
         let dev = &self.ctx.device;
@@ -1631,7 +1868,7 @@ impl GpuSolver {
             self.k.cfl_partial.dispatch(&mut pass);
             self.k.cfl_final.dispatch(&mut pass);
         }
-        let mut names = vec![("vm", 8 * nn), ("rm", 8 * nn), ("ctl", 48)];
+        let mut names = vec![("vm", 8 * nn), ("rm", 8 * nn), ("ctl", CTL_BYTES)];
         if self.model.contact {
             names.push(("area", 4 * nn));
         }

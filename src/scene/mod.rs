@@ -88,15 +88,8 @@ pub enum Integrator {
     /// The explicit midpoint rule: two evaluations a step.
     #[default]
     Midpoint,
-    /// Kick–drift–kick leapfrog: one evaluation a step (CPU path only).
+    /// Kick–drift–kick leapfrog: one evaluation a step.
     Leapfrog,
-}
-
-impl Integrator {
-    /// Whether the GPU path has it (the leapfrog runs on the CPU path only).
-    pub fn on_gpu(self) -> bool {
-        self == Integrator::Midpoint
-    }
 }
 
 impl std::fmt::Display for Integrator {
