@@ -34,7 +34,7 @@ use std::time::{Duration, Instant};
 
 use crate::cpu::{neighbours, CpuSolver};
 use crate::gpu::work::StepWork;
-use crate::gpu::{GpuContext, GpuSolver, RING_LEN, STAGES};
+use crate::gpu::{GpuContext, GpuSolver, RING_LEN};
 use crate::model::{Model, State};
 use crate::probe::{self, Resolved};
 use crate::run::{choose_backend, RunOptions};
@@ -532,10 +532,7 @@ impl GpuBench {
                 .clamp(1.0, 256.0) as u32;
             let t = self.solver.time_stage(name, reps).map_err(fail)?;
             let per_call = t.as_secs_f64() / reps as f64;
-            let calls = STAGES
-                .iter()
-                .find(|s| s.name == name)
-                .map_or(1.0, |s| s.per_step);
+            let calls = self.solver.stage_per_step(name);
             out.push(StageTime {
                 name: name.to_string(),
                 calls_per_step: calls,

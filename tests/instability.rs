@@ -74,6 +74,7 @@ fn unstable_leapfrog_run_stops_with_a_message_and_keeps_its_outputs() {
 fn unstable_run_stops_with_a_message_and_keeps_its_outputs_gpu() {
     if common::gpu().is_some() {
         stops_and_keeps_outputs("gpu");
+        stops_and_keeps_outputs_with(&["--backend", "gpu", "--integrator", "leapfrog"]);
     }
 }
 
@@ -125,10 +126,6 @@ fn domain_is_the_box_grown_by_the_fastest_wave_over_the_run() {
     assert!(model.in_domain(hi) && !model.in_domain(hi + DVec2::new(1e-9, 0.0)));
 }
 
-fn cpu_leaves_domain() -> sphcontact::error::Instability {
-    cpu_leaves_domain_with(Integrator::Midpoint)
-}
-
 fn cpu_leaves_domain_with(integrator: Integrator) -> sphcontact::error::Instability {
     let (mut model, state) = flung();
     model.integrator = integrator;
@@ -176,9 +173,16 @@ fn a_particle_leaving_the_domain_stops(integrator: Integrator) {
 
 #[test]
 fn a_particle_leaving_the_domain_stops_the_run_gpu() {
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        leaves_domain_on_the_gpu(integrator);
+    }
+}
+
+fn leaves_domain_on_the_gpu(integrator: Integrator) {
     let Some(ctx) = common::gpu() else { return };
-    let cpu = cpu_leaves_domain();
-    let (model, state) = flung();
+    let cpu = cpu_leaves_domain_with(integrator);
+    let (mut model, state) = flung();
+    model.integrator = integrator;
     let mut solver = sphcontact::gpu::GpuSolver::new(ctx, model, &state, &[], 2.0e-6)
         .expect("the device takes the block");
     let failure = loop {

@@ -1668,6 +1668,19 @@ impl GpuSolver {
             .collect()
     }
 
+    /// How many times a step runs a stage of [`GpuSolver::stage_names`]:
+    /// [`STAGES`]' count for the midpoint rule; once for the leapfrog,
+    /// whose stages group one step's kernels (`encode_stage`).
+    pub fn stage_per_step(&self, name: &str) -> f64 {
+        if self.k.leap.is_some() {
+            return 1.0;
+        }
+        STAGES
+            .iter()
+            .find(|s| s.name == name)
+            .map_or(1.0, |s| s.per_step)
+    }
+
     /// Encode one run of a stage (at the base state).
     fn encode_stage(&self, enc: &mut wgpu::CommandEncoder, name: &str) {
         // The reordering copies buffers between its dispatches, so it
