@@ -357,7 +357,12 @@ struct Pair {
 }
 
 fn sph_pair(i: u32, j: u32, hi: f32, body_j: u32) -> Pair {
-    let hij = 0.5 * (hi + bodies[body_j].h);
+    // With contact on, SPH pairs are of one body (`body_pair`): h_ij is h_i,
+    // the same bits as the mean, without the partner's body read.
+    var hij = hi;
+    if (!CONTACT) {
+        hij = 0.5 * (hi + bodies[body_j].h);
+    }
     let d = pair_d(i, j);
     let dist = length(d);
     let inside = dist < 2.0 * hij;

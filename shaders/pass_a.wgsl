@@ -62,9 +62,14 @@ fn artificial_stress(sig: vec4<f32>, rho: f32) -> vec4<f32> {
     return vec4<f32>(ra * cs * cs + rb * sn * sn, ra * sn * sn + rb * cs * cs, (ra - rb) * sn * cs, 0.0);
 }
 
-// V_j = m_j / rho_j.
-fn volume(j: u32, mj: vec4<u32>) -> f32 {
-    return bitcast<f32>(mj.x) / (bodies[mj.z].rho0 * (1.0 + r[j].x));
+// V_j = m_j / rho_j; `rho0_i` is particle i's body's, j's too when contact
+// is on (pairs are then of one body: no body read a pair).
+fn volume(j: u32, mj: vec4<u32>, rho0_i: f32) -> f32 {
+    var rho0 = rho0_i;
+    if (!CONTACT) {
+        rho0 = bodies[mj.z].rho0;
+    }
+    return bitcast<f32>(mj.x) / (rho0 * (1.0 + r[j].x));
 }
 
 // The sums of particle i's neighbour walk at velocities `v`.
@@ -74,7 +79,7 @@ struct KinSums {
     gsum: vec4<f32>,
 }
 
-fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool) -> KinSums {
+fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     let hm = home(i);
     let vi = v[i];
     var m = vec4<f32>(0.0);
@@ -88,7 +93,7 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool) -> KinSums {
             if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }
-            let gj = pr.gw * volume(j, pinfo[j]);
+            let gj = pr.gw * volume(j, pinfo[j], rho0);
             m += outer(gj, -pr.d);
             gpsi -= gj;
             // Rigid particles have no velocity gradient: their loop skips
@@ -182,7 +187,7 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let body = bodies[bi];
     let hi = body.h;
     let rigid = body.rigid != 0u;
-    let ks = kinematic_walk(i, hi, bi, rigid);
+    let ks = kinematic_walk(i, hi, bi, rigid, body.rho0);
     let l = correction(ks.m);
     lmat[i] = l;
     nbo[i] = vec4<f32>(surface_of(ks.gpsi, hi), 0.0);
@@ -236,7 +241,7 @@ fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     let body = bodies[bi];
     let hi = body.h;
     let rigid = body.rigid != 0u;
-    let ks = kinematic_walk(i, hi, bi, rigid);
+    let ks = kinematic_walk(i, hi, bi, rigid, body.rho0);
     let l = correction(ks.m);
     lmat[i] = l;
     let mu = r[i].x;

@@ -102,7 +102,11 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             if (rigid || dist <= 0.0) {
                 continue;
             }
-            let bj = bodies[mj.z];
+            // With contact on, j is of i's body (`body_pair`).
+            var bj = body;
+            if (!CONTACT) {
+                bj = bodies[mj.z];
+            }
             let d = pr.d;
             let gw = pr.gw;
             let g = mat_mul(0.5 * (li + lmat[j]), gw);
