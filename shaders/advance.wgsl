@@ -103,8 +103,9 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 }
 
 // The leapfrog (common.wgsl, LEAP; CPU twin: cpu::CpuSolver::leapfrog). A
-// step: kick_drift; the cell list; pass_a_leap (density and stress to n+1,
-// the EOS, the predicted velocity); commit; the momentum and the contact
+// step: kick_drift_cells (with the cell list's counts); the rest of the
+// cell list; pass_a_leap (density and stress to n+1,
+// the EOS, the predicted velocity); the momentum and the contact
 // forces at n+1 (LEAP = 2); kick; the contact's booking and the energy
 // sums at v_{n+1} (LEAP = 3); finish. The rates a_n (acc) and de_n (rdt.y)
 // and the contact's heat and spring rates (qrate) are carried from the
@@ -116,36 +117,37 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 @group(0) @binding(52) var<storage, read> rdt: array<vec2<f32>>;
 @group(0) @binding(55) var<storage, read> qrate: array<vec2<f32>>;
 
-// v_{n+1/2} = v_n + dt/2 a_n, e likewise, x_{n+1} = x_n + dt v_{n+1/2}; the
-// contact ledger's first half step.
-@compute @workgroup_size(WG)
-fn kick_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = flat_index(gid, nwg);
-    if (i >= params.n || ctl.dt == 0.0) {
-        return;
-    }
-    let dt = ctl.dt;
-    let h = 0.5 * dt;
-    if (CONTACT) {
-        qheat_w[i] = qheat_w[i] + qrate[i] * h;
-    }
-    var vh = v_w[i];
-    if (bodies[pinfo[i].z].rigid == 0u) {
-        vh = vh + acc[i] * h;
-        v_w[i] = vh;
-        r_w[i].y = r_w[i].y + rdt[i].y * h;
-    }
-    u_w[i] = u_w[i] + vh * dt;
-}
+// The cell list's counts (grid.wgsl), filled here for the new positions.
+@group(0) @binding(16) var<storage, read_write> bstart_w: array<atomic<u32>>;
 
-// The density at n+1, which pass_a_leap left in nbo.w.
+// v_{n+1/2} = v_n + dt/2 a_n, e likewise, x_{n+1} = x_n + dt v_{n+1/2}, the
+// contact ledger's first half step, and the first pass of the cell list at
+// x_{n+1} (grid.wgsl, grid_cells: the cell as `home` computes it).
 @compute @workgroup_size(WG)
-fn commit(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
-    if (i >= params.n || ctl.dt == 0.0) {
+    if (i >= params.n) {
         return;
     }
-    r_w[i].x = nbo[i].w;
+    var un = u_w[i];
+    let dt = ctl.dt;
+    if (dt != 0.0) {
+        let h = 0.5 * dt;
+        if (CONTACT) {
+            qheat_w[i] = qheat_w[i] + qrate[i] * h;
+        }
+        var vh = v_w[i];
+        if (bodies[pinfo[i].z].rigid == 0u) {
+            vh = vh + acc[i] * h;
+            v_w[i] = vh;
+            r_w[i].y = r_w[i].y + rdt[i].y * h;
+        }
+        un = un + vh * dt;
+        u_w[i] = un;
+    }
+    let a = x0[i];
+    let cell = vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + un) * params.inv_cell));
+    atomicAdd(&bstart_w[bucket_of(cell)], 1u);
 }
 
 // v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}.
@@ -160,17 +162,19 @@ fn kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
     }
 }
 
-// e_{n+1} = e_{n+1/2} + dt/2 de_{n+1}, and the checks of the new state.
+// The density at n+1 (pass_a_leap left it in rdt.x), e_{n+1} = e_{n+1/2} +
+// dt/2 de_{n+1}, and the checks of the new state.
 @compute @workgroup_size(WG)
 fn finish(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
     if (i >= params.n || ctl.dt == 0.0) {
         return;
     }
+    let q = rdt[i];
     var e = r_w[i].y;
     if (bodies[pinfo[i].z].rigid == 0u) {
-        e = e + rdt[i].y * (0.5 * ctl.dt);
-        r_w[i].y = e;
+        e = e + q.y * (0.5 * ctl.dt);
     }
-    check(i, u_w[i], v_w[i], vec2<f32>(r_w[i].x, e));
+    r_w[i] = vec2<f32>(q.x, e);
+    check(i, u_w[i], v_w[i], vec2<f32>(q.x, e));
 }

@@ -16,8 +16,9 @@
 //   state's own EOS for the momentum pass).
 // * `pass_a_leap`, the leapfrog step's kinematic pass (LEAP = 2) at
 //   (x_{n+1}, v_{n+1/2}): it takes the particle's own density and stress to
-//   n+1 (the density into nbo.w, committed after the pass: the neighbours
-//   read density n for their volumes), the EOS at n+1 with the predicted
+//   n+1 (the density into rdt.x, whose de_n it has used: the neighbours
+//   read density n for their volumes, and the passes after it read n+1
+//   there until the step's end commits it), the EOS at n+1 with the predicted
 //   energy e_{n+1/2} + dt/2 de_n, the predicted velocity v_{n+1/2} + dt/2 a_n
 //   (vstar) the viscosity and the contact see, and with the reconstructed
 //   viscosity the velocity gradient extrapolated to n+1 from the last two
@@ -36,7 +37,7 @@
 // The leapfrog's carried rates a_n and (_, de_n/dt), the predicted velocity,
 // and the velocity gradient of the last half step (reconstructed viscosity).
 @group(0) @binding(51) var<storage, read> acc: array<vec2<f32>>;
-@group(0) @binding(52) var<storage, read> rdt: array<vec2<f32>>;
+@group(0) @binding(52) var<storage, read_write> rdt: array<vec2<f32>>;
 @group(0) @binding(53) var<storage, read_write> vstar: array<vec2<f32>>;
 @group(0) @binding(54) var<storage, read_write> gvprev: array<vec4<f32>>;
 
@@ -248,7 +249,8 @@ fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     let si = ds[i];
     if (rigid) {
         // A rigid body keeps its velocity and reference state.
-        nbo[i] = vec4<f32>(surface_of(ks.gpsi, hi), mu);
+        nbo[i] = vec4<f32>(surface_of(ks.gpsi, hi), 0.0);
+        rdt[i].x = mu;
         stress_point(i, body, mu, r[i].y, si);
         vstar[i] = v[i];
         if (RECON) {
@@ -260,7 +262,8 @@ fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     let gv = velocity_gradient(ks.gsum, l);
     let mu1 = mu + (-(1.0 + mu) * (gv.x + gv.w)) * dt;
     let s1 = plastic_return(si + stress_rate(body.g, si, gv) * dt, body);
-    nbo[i] = vec4<f32>(surface_of(ks.gpsi, hi), mu1);
+    nbo[i] = vec4<f32>(surface_of(ks.gpsi, hi), 0.0);
+    rdt[i].x = mu1;
     ds[i] = s1;
     stress_point(i, body, mu1, r[i].y + rdt[i].y * h, s1);
     vstar[i] = v[i] + acc[i] * h;

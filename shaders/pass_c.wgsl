@@ -26,6 +26,15 @@
 @group(0) @binding(36) var<storage, read> gradv: array<vec4<f32>>;
 @group(0) @binding(53) var<storage, read> vstar: array<vec2<f32>>;
 
+// mu = rho/rho0 - 1 of particle j: in a leapfrog step the n+1 value its
+// kinematic pass left in the carried rates' free slot (dr.x).
+fn mu_of(j: u32) -> f32 {
+    if (LEAP >= 2u) {
+        return dr[j].x;
+    }
+    return r[j].x;
+}
+
 // The velocity jump the viscosity sees: v_ij less each side's linear
 // reconstruction to the pair midpoint, van Leer limited (xij = x_i - x_j).
 // CPU twin: cpu::forces::reconstructed_jump.
@@ -76,7 +85,7 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if (RECON) {
         gi = gradv[i];
     }
-    let rhoi = body.rho0 * (1.0 + r[i].x);
+    let rhoi = body.rho0 * (1.0 + mu_of(i));
     var ri = vec4<f32>(0.0);
     if (ART_STRESS) {
         ri = art[i];
@@ -128,7 +137,7 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             if (vx < 0.0) {
                 let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
                 let cm = 0.5 * (ti.w + tj.w);
-                let rhom = 0.5 * (rhoi + bj.rho0 * (1.0 + r[j].x));
+                let rhom = 0.5 * (rhoi + bj.rho0 * (1.0 + mu_of(j)));
                 pi = (-params.alpha * cm * muv + params.beta * muv * muv) / rhom;
             }
             var t = vec4<f32>(ti.xyz + tj.xyz, 0.0);

@@ -21,6 +21,19 @@
 //! books the contact energy ledger. The kernels tell the two apart by the
 //! pipeline constant `MID` (`common.wgsl`).
 //!
+//! The leapfrog (`integrator = "leapfrog"`, pipeline constant `LEAP`) makes
+//! one evaluation a step, its twin `cpu::CpuSolver::leapfrog`: the
+//! reductions of the state the step starts from, kick and drift
+//! (`advance.wgsl`), one cell list, the kinematic pass at `n+1`
+//! (`pass_a_leap`: density and stress to `n+1`, the EOS, the predicted
+//! velocity), the momentum and the contact forces at the predicted
+//! velocity, the kick to `v_{n+1}`, then the contact's booking and the
+//! energy sums at `v_{n+1}` (pass C again: the device keeps no pair data),
+//! and the energy update with the checks. Its rates `a_n`, `de_n` (and the
+//! contact's heat and spring rates, and the last half step's velocity
+//! gradient) are carried in buffers of their own, and checkpoints hold
+//! them with what the next step's reductions read.
+//!
 //! The host encodes a batch of steps into one submission and reads back
 //! only a small control block and the ring of per-step observations the
 //! history is interpolated from (and the whole state at the end).
@@ -325,7 +338,6 @@ struct Eval {
 struct LeapKernels {
     kick_drift: Kernel,
     pass_a: Kernel,
-    commit: Kernel,
     pass_c: Kernel,
     contact: Option<(Kernel, Kernel)>,
     kick: Kernel,
@@ -928,7 +940,7 @@ impl GpuSolver {
                 ("r_w", "r"),
                 ("qheat_w", "qheat"),
             ];
-            let at_n1: &[(&str, &str)] = &[("v", "vstar"), ("dv", "acc"), ("dr", UNUSED)];
+            let at_n1: &[(&str, &str)] = &[("v", "vstar"), ("dv", "acc"), ("dr", "rdt")];
             let booking: &[(&str, &str)] = &[
                 ("v", "vstar"),
                 ("vbook", "v"),
@@ -942,9 +954,8 @@ impl GpuSolver {
             let book =
                 |stage, entry| kernel_in(&book_constants, stage, entry, Size::Particles, booking);
             Some(LeapKernels {
-                kick_drift: kernel("advance", "kick_drift", Size::Particles, state_w)?,
+                kick_drift: kernel("advance", "kick_drift_cells", Size::Particles, state_w)?,
                 pass_a: step("pass_a", "pass_a_leap", &[("ds", "s")])?.walking(Walk::All),
-                commit: kernel("advance", "commit", Size::Particles, state_w)?,
                 pass_c: step("pass_c", "pass_c", at_n1)?.walking(Walk::All),
                 contact: if contact {
                     Some((
@@ -1101,6 +1112,12 @@ impl GpuSolver {
         let k = &self.k;
         pass.run(&k.clear);
         pass.run(&k.eval[var as usize].cells);
+        self.encode_grid_after_counts(pass, var);
+    }
+
+    /// The cell list from its counts on: the scan, the scatter, the sort.
+    fn encode_grid_after_counts(&self, pass: &mut impl Dispatches, var: Var) {
+        let k = &self.k;
         pass.run(&k.scan_local);
         pass.run(&k.scan_blocks);
         pass.run(&k.scan_add);
@@ -1179,10 +1196,11 @@ impl GpuSolver {
             // The state the step starts from: its time step and
             // observations, from what the step before left.
             self.encode_reduce(pass);
+            // The cell list at x_{n+1}, its counts taken by the drift.
+            pass.run(&k.clear);
             pass.run(&l.kick_drift);
-            self.encode_grid(pass, Var::Base);
+            self.encode_grid_after_counts(pass, Var::Base);
             pass.run(&l.pass_a);
-            pass.run(&l.commit);
             pass.run(&l.pass_c);
             if let Some((c1, c2)) = &l.contact {
                 pass.run(c1);
@@ -1697,7 +1715,7 @@ impl GpuSolver {
             let mut run = |ks: &[&Kernel]| ks.iter().for_each(|k| k.dispatch(&mut pass));
             match name {
                 "grid" => self.encode_grid(&mut pass, Var::Base),
-                "pass_a" => run(&[&l.pass_a, &l.commit]),
+                "pass_a" => run(&[&l.pass_a]),
                 "pass_c" => run(&[&l.pass_c, &l.energy]),
                 "contact" => {
                     for (c1, c2) in l.contact.iter().chain(&l.book) {
