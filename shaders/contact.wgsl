@@ -13,7 +13,8 @@
 //
 // The leapfrog (common.wgsl, LEAP) runs both passes twice a step: for the
 // forces at the predicted velocity (LEAP = 2: `v` is vstar, `dv` the carried
-// a_{n+1}), then after the kick for the booking (LEAP = 3): the same forces,
+// a_{n+1}; pass 2 then kicks every particle to v_{n+1}), then for the
+// booking (LEAP = 3): the same forces,
 // their dashpot heat and spring power at v_{n+1} (`vbook`), the heat into
 // dr.y and the ledger advanced by half a step (CPU twin:
 // cpu::contact::penalty_booked). The stored spring energy goes to nbo.w
@@ -39,6 +40,15 @@
 // books at.
 @group(0) @binding(55) var<storage, read_write> qrate: array<vec2<f32>>;
 @group(0) @binding(56) var<storage, read> vbook: array<vec2<f32>>;
+// The state's velocity, which the leapfrog's force pass 2 (LEAP = 2) kicks
+// to v_{n+1} once a particle's acceleration is whole (advance.wgsl, kick).
+@group(0) @binding(57) var<storage, read_write> vkick: array<vec2<f32>>;
+
+fn kick(q: u32, rigid: bool) {
+    if (!rigid) {
+        vkick[q] = vkick[q] + dv[q] * (0.5 * ctl.dt);
+    }
+}
 
 // The spring energy a particle's pass stores, for the observations.
 fn store_energy(p: u32, e: f32) {
@@ -237,6 +247,9 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         return;
     }
     if (nbo[q].z <= 0.0) {
+        if (LEAP == 2u) {
+            kick(q, bodies[pinfo[q].z].rigid != 0u);
+        }
         if (LEAP == 3u) {
             // No contact heat, and no rates for the ledger's next half step.
             dr[q].y = 0.0;
@@ -281,6 +294,7 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
             if (bodyq.rigid == 0u) {
                 dv[q] += total / m;
             }
+            kick(q, bodyq.rigid != 0u);
         } else {
             dr[q].y = rates.x / m;
             qheat_w[q] = qheat_w[q] + rates * (0.5 * ctl.dt);

@@ -10,6 +10,7 @@ use glam::DVec2;
 use sphcontact::cpu::{self, contact, forces, kinematics, neighbours, CpuSolver};
 use sphcontact::gpu::{layout, shaders, GpuSolver};
 use sphcontact::model::{Model, State};
+use sphcontact::scene::Integrator;
 
 /// Every shader parses and validates with naga, and every struct shared
 /// with the host has the host's layout.
@@ -257,21 +258,27 @@ fn stages_match_cpu_kernel_mode() {
 #[test]
 fn wrapped_dispatches_give_the_same_step() {
     let Some(ctx) = gpu() else { return };
-    let (model, st) = state_during_contact("scenes/paper/disks_polar.toml", 1e-6);
-    let run = |opts: sphcontact::gpu::GpuOptions| {
-        let mut g = GpuSolver::with_options(ctx.clone(), model.clone(), &st, &[], 1.0, opts)
-            .expect("fits the adapter");
-        let b = g.run_batch(20);
-        assert!(b.failure.is_none());
-        g.download()
-    };
-    let plain = run(Default::default());
-    let wrapped = run(sphcontact::gpu::GpuOptions {
-        max_workgroups_per_dimension: Some(3),
-        ..Default::default()
-    });
-    assert_eq!(plain.step, 20);
-    assert!(plain == wrapped, "wrapped dispatches changed the state");
+    let (mut model, st) = state_during_contact("scenes/paper/disks_polar.toml", 1e-6);
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        model.integrator = integrator;
+        let run = |opts: sphcontact::gpu::GpuOptions| {
+            let mut g = GpuSolver::with_options(ctx.clone(), model.clone(), &st, &[], 1.0, opts)
+                .expect("fits the adapter");
+            let b = g.run_batch(20);
+            assert!(b.failure.is_none());
+            g.download()
+        };
+        let plain = run(Default::default());
+        let wrapped = run(sphcontact::gpu::GpuOptions {
+            max_workgroups_per_dimension: Some(3),
+            ..Default::default()
+        });
+        assert_eq!(plain.step, 20);
+        assert!(
+            plain == wrapped,
+            "{integrator}: wrapped dispatches changed the state"
+        );
+    }
 }
 
 /// A scene larger than the adapter's binding size is refused with a clear
