@@ -18,6 +18,8 @@ override ART_STRESS: bool = false;
 // the velocity gradient pass A stores).
 override RECON: bool = false;
 override WG: u32 = 64u;
+// The energy guard (Model::guards_energy) runs in the reductions.
+override GUARD: bool = false;
 // Which evaluation of the midpoint step a pass belongs to (METHOD.md §9).
 // At the base state (false) passes A and C and the contact store their
 // particle's rates in the midpoint buffers, which advance_half then turns

@@ -1,5 +1,5 @@
 // Cell-list neighbour search, rebuilt at every evaluation: each particle's
-// cell and bucket, a count per bucket, an inclusive prefix sum (three
+// cell and bucket, a count per bucket, an inclusive prefix sum (two
 // passes), a scatter, and a sort of each bucket by slot so that the order
 // within a cell is fixed whatever order the scatter's atomics took.
 // Integer atomics only; the result is deterministic.
@@ -54,60 +54,64 @@ fn scan_shared(lid: u32) {
     workgroupBarrier();
 }
 
-// Inclusive scan within blocks of 256 buckets; block totals to `bsum`.
+// The scan of the bucket counts in two dispatches over the whole device:
+// each workgroup scans a block of BLOCK buckets (four a thread) and leaves
+// the block's total in `bsum`; then each workgroup adds the totals of the
+// blocks before its own (a sum of at most buckets / BLOCK values, spread
+// over its threads) to its block. Integer sums: any order gives the same.
+const BLOCK: u32 = 1024u;
+
 @compute @workgroup_size(256)
 fn scan_local(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let lid = lid3.x;
     let block = wid.x + wid.y * nwg.x;
     // A wrapped 2-D dispatch has a few whole workgroups past the end.
-    if (block * SCAN >= params.buckets) {
+    if (block * BLOCK >= params.buckets) {
         return;
     }
-    let b = block * SCAN + lid;
-    var v = 0u;
-    if (b < params.buckets) {
-        v = atomicLoad(&bstart_w[b]);
+    let base = block * BLOCK + 4u * lid;
+    var part = array<u32, 4>(0u, 0u, 0u, 0u);
+    var run = 0u;
+    for (var k = 0u; k < 4u; k++) {
+        if (base + k < params.buckets) {
+            run += atomicLoad(&bstart_w[base + k]);
+        }
+        part[k] = run;
     }
-    sh[lid] = v;
+    sh[lid] = run;
     scan_shared(lid);
-    if (b < params.buckets) {
-        atomicStore(&bstart_w[b], sh[lid]);
+    let before = sh[lid] - run;
+    for (var k = 0u; k < 4u; k++) {
+        if (base + k < params.buckets) {
+            atomicStore(&bstart_w[base + k], before + part[k]);
+        }
     }
     if (lid == SCAN - 1u) {
         bsum[block] = sh[lid];
     }
 }
 
-// Exclusive scan of the block totals by one workgroup, in order.
-@compute @workgroup_size(256)
-fn scan_blocks(@builtin(local_invocation_id) lid3: vec3<u32>) {
-    let lid = lid3.x;
-    let nb = (params.buckets + SCAN - 1u) / SCAN;
-    var carry = 0u;
-    for (var base = 0u; base < nb; base = base + SCAN) {
-        let k = base + lid;
-        var v = 0u;
-        if (k < nb) {
-            v = bsum[k];
-        }
-        workgroupBarrier();
-        sh[lid] = v;
-        scan_shared(lid);
-        if (k < nb) {
-            bsum[k] = carry + sh[lid] - v;
-        }
-        carry = carry + sh[SCAN - 1u];
-    }
-}
-
 @compute @workgroup_size(256)
 fn scan_add(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let lid = lid3.x;
     let block = wid.x + wid.y * nwg.x;
-    let b = block * SCAN + lid3.x;
-    if (b < params.buckets && block * SCAN < params.buckets) {
-        atomicAdd(&bstart_w[b], bsum[block]);
+    if (block * BLOCK >= params.buckets) {
+        return;
     }
-    if (b == 0u) {
+    var acc = 0u;
+    for (var k = lid; k < block; k += SCAN) {
+        acc += bsum[k];
+    }
+    sh[lid] = acc;
+    scan_shared(lid);
+    let offset = sh[SCAN - 1u];
+    for (var k = 0u; k < 4u; k++) {
+        let b = block * BLOCK + 4u * lid + k;
+        if (b < params.buckets) {
+            atomicAdd(&bstart_w[b], offset);
+        }
+    }
+    if (block == 0u && lid == 0u) {
         atomicStore(&bstart_w[params.buckets], params.n);
     }
 }

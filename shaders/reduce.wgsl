@@ -45,80 +45,6 @@ fn row_base() -> u32 {
     return (ctl.step % params.ring_len) * params.ring_width;
 }
 
-// Level 1 of the CFL minimum: one value per 1,024 particles.
-@compute @workgroup_size(256)
-fn cfl_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let lid = lid3.x;
-    let g = wid.x + wid.y * nwg.x;
-    // A wrapped 2-D dispatch has a few whole workgroups past the end.
-    if (g >= params.red_groups) {
-        return;
-    }
-    var m = BIG;
-    for (var k = 0u; k < PER_THREAD; k++) {
-        let i = g * RED * PER_THREAD + k * RED + lid;
-        if (i < params.n) {
-            let b = bodies[pinfo[i].z];
-            if (b.rigid == 0u) {
-                m = min(m, params.cfl * b.h / (sr2c[i].w + length(v[i])));
-            }
-        }
-    }
-    shf[lid] = m;
-    reduce_shared(lid, 2u);
-    if (lid == 0u) {
-        red[g] = shf[0];
-    }
-}
-
-// Level 2 and the step: dt = min(CFL step, time left), the time record of
-// this state's ring row, and the dt-collapse check.
-@compute @workgroup_size(256)
-fn cfl_final(@builtin(local_invocation_id) lid3: vec3<u32>) {
-    let lid = lid3.x;
-    var m = BIG;
-    for (var k = lid; k < params.red_groups; k += RED) {
-        m = min(m, red[k]);
-    }
-    shf[lid] = m;
-    reduce_shared(lid, 2u);
-    if (lid != 0u) {
-        return;
-    }
-    var cfl_dt = shf[0];
-    if (params.fixed_dt > 0.0) {
-        cfl_dt = params.fixed_dt;
-    }
-    let rem = (params.end_hi - ctl.t_hi) + (params.end_lo - ctl.t_lo);
-    var dt = min(cfl_dt, rem);
-    // The end is reached when what is left is round-off of the time sum.
-    if (rem <= 1e-4 * cfl_dt) {
-        dt = 0.0;
-    }
-    // After a failure the rest of the batch takes zero-length steps, so the
-    // state read back is the one that failed, with its time and step (as on
-    // the CPU path), not what the bad values made of it since.
-    if (atomicLoad(&ctl.fail_step) != NONE) {
-        dt = 0.0;
-    }
-    if (ctl.dt0 == 0.0 && dt > 0.0) {
-        ctl.dt0 = dt;
-    }
-    if (dt > 0.0 && !(cfl_dt > 1e-6 * ctl.dt0 && cfl_dt < BIG)) {
-        let fs = atomicLoad(&ctl.fail_step);
-        if (fs == NONE) {
-            atomicMin(&ctl.fail_step, ctl.step);
-            atomicMin(&ctl.fail_code, 4u);
-        }
-    }
-    ctl.dt = dt;
-    ctl.fallback_max = max(ctl.fallback_max, atomicLoad(&ctl.fallback_now));
-    let row = row_base();
-    ring[row] = ctl.t_hi;
-    ring[row + 1u] = ctl.t_lo;
-    ring[row + 2u] = dt;
-}
-
 // The value particle i adds to observation slot `sl` (codes: gpu::probes).
 fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
     let mi = pinfo[i];
@@ -179,13 +105,30 @@ fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
     }
 }
 
-// Level 1 of the observation sums: one partial per slot per 1,024 particles.
+// Level 1 of the reductions, one workgroup per 1,024 particles: the CFL
+// minimum, then each observation slot's partial.
 @compute @workgroup_size(256)
-fn obs_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+fn reduce_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let lid = lid3.x;
     let g = wid.x + wid.y * nwg.x;
+    // A wrapped 2-D dispatch has a few whole workgroups past the end.
     if (g >= params.red_groups) {
         return;
+    }
+    var m = BIG;
+    for (var k = 0u; k < PER_THREAD; k++) {
+        let i = g * RED * PER_THREAD + k * RED + lid;
+        if (i < params.n) {
+            let b = bodies[pinfo[i].z];
+            if (b.rigid == 0u) {
+                m = min(m, params.cfl * b.h / (sr2c[i].w + length(v[i])));
+            }
+        }
+    }
+    shf[lid] = m;
+    reduce_shared(lid, 2u);
+    if (lid == 0u) {
+        red[g] = shf[0];
     }
     for (var sl = 0u; sl < params.nslots; sl++) {
         let slot = slots[sl];
@@ -210,11 +153,9 @@ fn obs_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup
     }
 }
 
-// Level 2: one workgroup per slot, into this state's ring row.
-@compute @workgroup_size(256)
-fn obs_final(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
-    let lid = lid3.x;
-    let sl = wid.x;
+// Observation slot `sl` summed (or its maximum) over the level-1 partials,
+// in shf[0]; every thread of the workgroup takes part.
+fn slot_total(lid: u32, sl: u32) -> f32 {
     let op = slots[sl].w;
     var acc = 0.0;
     for (var k = lid; k < params.red_groups; k += RED) {
@@ -225,26 +166,99 @@ fn obs_final(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_i
             acc += x;
         }
     }
+    workgroupBarrier();
     shf[lid] = acc;
     reduce_shared(lid, op);
+    return shf[0];
+}
+
+// Level 2, one dispatch: workgroup 0 the CFL step (dt = min(CFL step, time
+// left), the time record of this state's ring row, the dt-collapse check),
+// the energy guard and the particle probes; workgroup 1 + k observation
+// slot k into this state's ring row.
+@compute @workgroup_size(256)
+fn reduce_final(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let lid = lid3.x;
+    let w = wid.x + wid.y * nwg.x;
+    if (w > params.nslots) {
+        return;
+    }
+    if (w > 0u) {
+        let total = slot_total(lid, w - 1u);
+        if (lid == 0u) {
+            ring[row_base() + 3u + w - 1u] = total;
+        }
+        return;
+    }
+    var m = BIG;
+    for (var k = lid; k < params.red_groups; k += RED) {
+        m = min(m, red[k]);
+    }
+    shf[lid] = m;
+    reduce_shared(lid, 2u);
+    let cfl_min = shf[0];
+    // The energy guard's total: the same sums, in the same order, as the
+    // slots' own workgroups write to the ring.
+    var e = 0.0;
+    if (GUARD) {
+        e = slot_total(lid, params.energy_kin) + slot_total(lid, params.energy_int);
+        if (params.energy_stored != NONE) {
+            e += slot_total(lid, params.energy_stored);
+        }
+    }
+    for (var k = lid; k < params.nprobes; k += RED) {
+        probe_value(k);
+    }
     if (lid == 0u) {
-        ring[row_base() + 3u + sl] = shf[0];
+        cfl_step(cfl_min);
+        if (GUARD) {
+            energy_guard(e);
+        }
     }
 }
 
-// The energy guard (Model::guards_energy), after obs_final: the total
-// energy (kinetic + internal + stored penalty) of the state this step
-// starts from, from its ring row. The first state sets the limit; past
-// it, the step gets zero length (the advances leave the state as it is)
-// and the failure is recorded against this state: code 6, the host names
-// the particle.
-@compute @workgroup_size(1)
-fn energy_guard() {
-    let row = row_base() + 3u;
-    var e = ring[row + params.energy_kin] + ring[row + params.energy_int];
-    if (params.energy_stored != NONE) {
-        e += ring[row + params.energy_stored];
+// dt from the CFL minimum over the particles (thread 0 of reduce_final).
+fn cfl_step(cfl_min: f32) {
+    var cfl_dt = cfl_min;
+    if (params.fixed_dt > 0.0) {
+        cfl_dt = params.fixed_dt;
     }
+    let rem = (params.end_hi - ctl.t_hi) + (params.end_lo - ctl.t_lo);
+    var dt = min(cfl_dt, rem);
+    // The end is reached when what is left is round-off of the time sum.
+    if (rem <= 1e-4 * cfl_dt) {
+        dt = 0.0;
+    }
+    // After a failure the rest of the batch takes zero-length steps, so the
+    // state read back is the one that failed, with its time and step (as on
+    // the CPU path), not what the bad values made of it since.
+    if (atomicLoad(&ctl.fail_step) != NONE) {
+        dt = 0.0;
+    }
+    if (ctl.dt0 == 0.0 && dt > 0.0) {
+        ctl.dt0 = dt;
+    }
+    if (dt > 0.0 && !(cfl_dt > 1e-6 * ctl.dt0 && cfl_dt < BIG)) {
+        let fs = atomicLoad(&ctl.fail_step);
+        if (fs == NONE) {
+            atomicMin(&ctl.fail_step, ctl.step);
+            atomicMin(&ctl.fail_code, 4u);
+        }
+    }
+    ctl.dt = dt;
+    ctl.fallback_max = max(ctl.fallback_max, atomicLoad(&ctl.fallback_now));
+    let row = row_base();
+    ring[row] = ctl.t_hi;
+    ring[row + 1u] = ctl.t_lo;
+    ring[row + 2u] = dt;
+}
+
+// The energy guard (Model::guards_energy): `e`, the total energy (kinetic
+// + internal + stored penalty) of the state this step starts from. The
+// first state sets the limit; past it, the step gets zero length (the
+// advances leave the state as it is) and the failure is recorded against
+// this state: code 6, the host names the particle.
+fn energy_guard(e: f32) {
     if (ctl.energy_limit < 0.0) {
         // As Model::energy_limit.
         ctl.energy_limit = params.energy_growth * e + params.energy_floor;
@@ -257,13 +271,8 @@ fn energy_guard() {
     }
 }
 
-// Particle probes (codes: gpu::probes), one thread each.
-@compute @workgroup_size(64)
-fn probe_values(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let k = gid.x;
-    if (k >= params.nprobes) {
-        return;
-    }
+// Particle probe k (codes: gpu::probes) into this state's ring row.
+fn probe_value(k: u32) {
     let pr = probes[k];
     let i = probe_slot[pr.x];
     let b = bodies[pinfo[i].z];

@@ -5,7 +5,7 @@
 //!
 //! | dispatches | shader | CPU twin |
 //! |---|---|---|
-//! | cell list: cells, count, 3-pass prefix sum, scatter, per-bucket sort | `grid.wgsl` | [`crate::cpu::neighbours`] |
+//! | cell list: cells, count, two-pass prefix sum, scatter, per-bucket sort | `grid.wgsl` | [`crate::cpu::neighbours`] |
 //! | correction, colour gradient, EOS, velocity gradient, rates | `pass_a.wgsl` | [`crate::cpu::kinematics`], [`crate::cpu::eos_and_stress`] |
 //! | momentum, energy, contact area | `pass_c.wgsl` | [`crate::cpu::forces`] |
 //! | contact pass 1 and 2 (only with contact) | `contact.wgsl` | [`crate::cpu::contact`] |
@@ -187,6 +187,8 @@ const FRAME: &str = "frame";
 /// A binding name no buffer has: bound to a placeholder the kernel's
 /// variant never writes (`kernel_in`).
 const UNUSED: &str = "unused";
+/// Buckets a workgroup of the cell list's scan takes (grid.wgsl, BLOCK).
+const SCAN_BLOCK: u32 = 1024;
 /// Particles per workgroup of the reductions (256 threads × 4).
 const RED_CHUNK: u32 = 1024;
 
@@ -213,7 +215,7 @@ pub const STAGES: &[StageSpec] = &[
     StageSpec {
         name: "grid",
         per_step: 2.0,
-        what: "cell list: clear, cells, 3-pass prefix sum, scatter, per-cell sort (CPU: neighbours)",
+        what: "cell list: clear, cells, two-pass prefix sum, scatter, per-cell sort (CPU: neighbours)",
     },
     StageSpec {
         name: "pass_a",
@@ -249,9 +251,9 @@ enum Size {
     Buckets,
     ScanBlocks,
     RedGroups,
+    /// One workgroup for the step and one for each observation slot.
+    FinalGroups,
     One,
-    Slots,
-    Probes,
 }
 
 /// Which state the evaluation reads: the step's base state or the midpoint.
@@ -351,18 +353,17 @@ struct LeapKernels {
 struct Kernels {
     clear: Kernel,
     scan_local: Kernel,
-    scan_blocks: Kernel,
     scan_add: Kernel,
     sort: Kernel,
     /// The evaluation at the base state and, for the midpoint rule, at the
     /// midpoint; for the leapfrog its first evaluation (LEAP = 1) alone.
     eval: Vec<Eval>,
     leap: Option<LeapKernels>,
-    cfl_partial: Kernel,
-    cfl_final: Kernel,
-    obs: Option<(Kernel, Kernel)>,
-    energy_guard: Option<Kernel>,
-    probes: Option<Kernel>,
+    /// The reductions (reduce.wgsl): the CFL minimum and the observation
+    /// sums over the particles, then the step, the observations, the
+    /// energy guard and the probes.
+    reduce_partial: Kernel,
+    reduce_final: Kernel,
     advance_half: Option<Kernel>,
     advance_full: Option<Kernel>,
     end_step: Kernel,
@@ -716,7 +717,7 @@ impl GpuSolver {
         make("blist", 4 * nn, None)?;
         // Counts, then ends, then starts (grid.wgsl): one array.
         make("bstart", 4 * (buckets as u64 + 1), None)?;
-        make("bsum", 4 * buckets.div_ceil(256) as u64, None)?;
+        make("bsum", 4 * buckets.div_ceil(SCAN_BLOCK) as u64, None)?;
         let red_len = red_groups as u64 * (1 + plan.slots.len() as u64);
         make("red", 4 * red_len, None)?;
         let ring_bytes = 4 * RING_LEN as u64 * plan.row_width() as u64;
@@ -780,6 +781,7 @@ impl GpuSolver {
             ("ART_STRESS", model.artificial_stress.is_some() as u8 as f64),
             ("RECON", model.av_reconstruct as u8 as f64),
             ("WG", WG as f64),
+            ("GUARD", plan.energy.is_some() as u8 as f64),
             // The leapfrog's kernels outside its step: its first
             // evaluation and the reductions (common.wgsl, LEAP).
             (
@@ -797,11 +799,10 @@ impl GpuSolver {
             let g = match size {
                 Size::Particles => (n as u32).div_ceil(WG),
                 Size::Buckets => buckets.div_ceil(WG),
-                Size::ScanBlocks => buckets.div_ceil(256),
+                Size::ScanBlocks => buckets.div_ceil(SCAN_BLOCK),
                 Size::RedGroups => red_groups,
+                Size::FinalGroups => 1 + plan.slots.len() as u32,
                 Size::One => 1,
-                Size::Slots => plan.slots.len() as u32,
-                Size::Probes => (plan.particles.len() as u32).div_ceil(64),
             }
             .max(1);
             if g <= maxd {
@@ -991,31 +992,12 @@ impl GpuSolver {
         let k = Kernels {
             clear: kernel("grid", "grid_clear", Size::Buckets, &[])?,
             scan_local: kernel("grid", "scan_local", Size::ScanBlocks, &[])?,
-            scan_blocks: kernel("grid", "scan_blocks", Size::One, &[])?,
             scan_add: kernel("grid", "scan_add", Size::ScanBlocks, &[])?,
             sort: kernel("grid", "grid_sort", Size::Buckets, &[])?,
             eval: evals,
             leap,
-            cfl_partial: kernel("reduce", "cfl_partial", Size::RedGroups, &[])?,
-            cfl_final: kernel("reduce", "cfl_final", Size::One, &[])?,
-            obs: if plan.slots.is_empty() {
-                None
-            } else {
-                Some((
-                    kernel("reduce", "obs_partial", Size::RedGroups, &[])?,
-                    kernel("reduce", "obs_final", Size::Slots, &[])?,
-                ))
-            },
-            energy_guard: if plan.energy.is_some() {
-                Some(kernel("reduce", "energy_guard", Size::One, &[])?)
-            } else {
-                None
-            },
-            probes: if plan.particles.is_empty() {
-                None
-            } else {
-                Some(kernel("reduce", "probe_values", Size::Probes, &[])?)
-            },
+            reduce_partial: kernel("reduce", "reduce_partial", Size::RedGroups, &[])?,
+            reduce_final: kernel("reduce", "reduce_final", Size::FinalGroups, &[])?,
             advance_half: if leapfrog {
                 None
             } else {
@@ -1126,7 +1108,6 @@ impl GpuSolver {
     fn encode_grid_after_counts(&self, pass: &mut impl Dispatches, var: Var) {
         let k = &self.k;
         pass.run(&k.scan_local);
-        pass.run(&k.scan_blocks);
         pass.run(&k.scan_add);
         pass.run(&k.eval[var as usize].scatter);
         pass.run(&k.sort);
@@ -1173,19 +1154,8 @@ impl GpuSolver {
     /// then the per-step observations and probes when the run records any.
     /// One sequence for the step and for timing the stage alone.
     fn encode_reduce(&self, pass: &mut impl Dispatches) {
-        let k = &self.k;
-        pass.run(&k.cfl_partial);
-        pass.run(&k.cfl_final);
-        if let Some((a, b)) = &k.obs {
-            pass.run(a);
-            pass.run(b);
-        }
-        if let Some(g) = &k.energy_guard {
-            pass.run(g);
-        }
-        if let Some(p) = &k.probes {
-            pass.run(p);
-        }
+        pass.run(&self.k.reduce_partial);
+        pass.run(&self.k.reduce_final);
     }
 
     fn encode_step(&self, enc: &mut wgpu::CommandEncoder, step_index: u64) {
@@ -1835,8 +1805,7 @@ impl GpuSolver {
                 self.encode_step_pass(&mut pass);
             } else {
                 self.encode_eval(&mut pass, Var::Base);
-                self.k.cfl_partial.dispatch(&mut pass);
-                self.k.cfl_final.dispatch(&mut pass);
+                self.encode_reduce(&mut pass);
             }
         }
         self.ctx.queue.submit([enc.finish()]);
@@ -1909,8 +1878,7 @@ impl GpuSolver {
                 c1.dispatch(&mut pass);
                 c2.dispatch(&mut pass);
             }
-            self.k.cfl_partial.dispatch(&mut pass);
-            self.k.cfl_final.dispatch(&mut pass);
+            self.encode_reduce(&mut pass);
         }
         let mut names = vec![("vm", 8 * nn), ("rm", 8 * nn), ("ctl", CTL_BYTES)];
         if self.model.contact {
