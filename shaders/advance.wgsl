@@ -163,11 +163,20 @@ fn kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
 }
 
 // The density at n+1 (pass_a_leap left it in rdt.x), e_{n+1} = e_{n+1/2} +
-// dt/2 de_{n+1}, and the checks of the new state.
+// dt/2 de_{n+1}, and the checks of the new state. The step's last walk is
+// done, so it also zeroes the cell list's counts for the next step's
+// (kick_drift_cells counts into them): between leapfrog steps the counts
+// are zero (gpu::GpuSolver keeps that after the builds outside a step).
 @compute @workgroup_size(WG)
 fn finish(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
-    if (i >= params.n || ctl.dt == 0.0) {
+    if (i >= params.n) {
+        return;
+    }
+    for (var b = i; b < params.buckets; b += params.n) {
+        atomicStore(&bstart_w[b], 0u);
+    }
+    if (ctl.dt == 0.0) {
         return;
     }
     let q = rdt[i];

@@ -361,9 +361,10 @@ fn device_memory_per_particle_at_four_million() {
 /// (`GpuSolver::step_work`): the count is checked against the device's own
 /// walk (the candidates the test kernel visits, summed), and held to the
 /// budget of the row stencil: at most 40 candidates a particle for the
-/// ~20 neighbours each has, every neighbour among them, and the step's
-/// neighbour walks and dispatches at what the midpoint rule's schedule has
-/// (two pass-A and two pass-C walks, the contact's gathers besides).
+/// ~20 neighbours each has, every neighbour among them. The leapfrog's
+/// step: at most 3 neighbour walks besides the contact's gathers and 16
+/// dispatches (the periodic reorder aside); the midpoint rule's: two
+/// pass-A and two pass-C walks, 25 dispatches.
 #[test]
 fn step_work_on_the_bench_lattice() {
     let Some(ctx) = gpu() else { return };
@@ -418,9 +419,32 @@ fn step_work_on_the_bench_lattice() {
         c.walkers
     );
     assert!(
-        work.dispatches <= 31,
+        work.dispatches <= 25,
         "{} dispatches a step",
         work.dispatches
     );
     assert!(work.device_bytes_per_particle <= 205.0);
+
+    let mut model = case.model.clone();
+    model.integrator = Integrator::Leapfrog;
+    let ctx = gpu().expect("an adapter, as above");
+    let mut g = GpuSolver::new(ctx, model, &case.state, &case.probes, 1.0).expect("fits");
+    let leap = g.step_work();
+    println!("{leap:#?}");
+    assert!(leap.walks <= 3, "{} neighbour walks a step", leap.walks);
+    assert!(
+        leap.dispatches <= 16,
+        "{} dispatches a step",
+        leap.dispatches
+    );
+    assert_eq!(leap.contact_walks, 4, "contact gathers a step");
+    for w in leap.per_walk.iter().filter(|w| w.walkers == n) {
+        assert!(
+            w.candidates <= 40.0,
+            "{}: {:.2} candidates",
+            w.name,
+            w.candidates
+        );
+        assert_eq!(w.candidates, a.candidates, "{}: the same cell list", w.name);
+    }
 }

@@ -1173,8 +1173,8 @@ impl GpuSolver {
             // The state the step starts from: its time step and
             // observations, from what the step before left.
             self.encode_reduce(pass);
-            // The cell list at x_{n+1}, its counts taken by the drift.
-            pass.run(&k.clear);
+            // The cell list at x_{n+1}, its counts taken by the drift
+            // (the last step's `finish` zeroed them).
             pass.run(&l.kick_drift);
             self.encode_grid_after_counts(pass, Var::Base);
             pass.run(&l.pass_a);
@@ -1212,6 +1212,20 @@ impl GpuSolver {
         self.first_pending = false;
         let mut pass = enc.begin_compute_pass(&Default::default());
         self.encode_eval(&mut pass, Var::Base);
+        self.k.clear.dispatch(&mut pass);
+    }
+
+    /// After a cell list built outside a leapfrog step: zero the counts
+    /// again, which the next step's drift counts into (advance.wgsl,
+    /// finish).
+    fn leap_clear(&self) {
+        if self.k.leap.is_some() {
+            let mut enc = self.ctx.device.create_command_encoder(&Default::default());
+            self.k
+                .clear
+                .dispatch(&mut enc.begin_compute_pass(&Default::default()));
+            self.ctx.queue.submit([enc.finish()]);
+        }
     }
 
     /// The work of a step: its dispatches and neighbour walks (tallied from
@@ -1243,6 +1257,7 @@ impl GpuSolver {
                 ("nbo", 16 * nn),
             ],
         );
+        self.leap_clear();
         let x0: &[[f32; 4]] = bytemuck::cast_slice(&d[0]);
         let u: &[[f32; 2]] = bytemuck::cast_slice(&d[1]);
         let bstart: &[u32] = bytemuck::cast_slice(&d[2]);
@@ -1801,8 +1816,10 @@ impl GpuSolver {
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             if self.k.leap.is_some() {
-                // A whole step: every stage's inputs are then valid.
+                // A whole step, then the cell list it ends by zeroing:
+                // every stage's inputs are then valid.
                 self.encode_step_pass(&mut pass);
+                self.encode_grid(&mut pass, Var::Base);
             } else {
                 self.encode_eval(&mut pass, Var::Base);
                 self.encode_reduce(&mut pass);
@@ -1826,6 +1843,7 @@ impl GpuSolver {
             enc.copy_buffer_to_buffer(from, 0, self.buf(to), 0, *bytes);
         }
         self.ctx.queue.submit([enc.finish()]);
+        self.leap_clear();
         wait()?;
         Ok(elapsed)
     }
