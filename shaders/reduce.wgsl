@@ -247,6 +247,11 @@ fn cfl_step(cfl_min: f32) {
     }
     ctl.dt = dt;
     ctl.fallback_max = max(ctl.fallback_max, atomicLoad(&ctl.fallback_now));
+    if (LEAP != 0u) {
+        // The leapfrog's kinematic pass ran in the step before this one
+        // (or its first evaluation): its count is read here, then cleared.
+        atomicStore(&ctl.fallback_now, 0u);
+    }
     let row = row_base();
     ring[row] = ctl.t_hi;
     ring[row + 1u] = ctl.t_lo;
@@ -314,5 +319,7 @@ fn end_step() {
     } else {
         ctl.zero_steps = ctl.zero_steps + 1u;
     }
-    atomicStore(&ctl.fallback_now, 0u);
+    if (LEAP == 0u) {
+        atomicStore(&ctl.fallback_now, 0u);
+    }
 }

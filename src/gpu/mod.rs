@@ -1484,10 +1484,12 @@ impl GpuSolver {
         let mut names = self.state_buffers();
         names.push(("nbo", 16 * self.n as u64));
         let d = self.read_buffers(Some(enc), &names);
-        let at = std::mem::offset_of!(Control, fallback_now) as u64;
-        self.ctx
-            .queue
-            .write_buffer(self.buf("ctl"), at, bytemuck::bytes_of(&0u32));
+        if self.k.leap.is_none() {
+            let at = std::mem::offset_of!(Control, fallback_now) as u64;
+            self.ctx
+                .queue
+                .write_buffer(self.buf("ctl"), at, bytemuck::bytes_of(&0u32));
+        }
         let (st, _) = self.unpack_state(&d);
         let meta: &[[u32; 4]] = bytemuck::cast_slice(&d[5]);
         let nbo: &[[f32; 4]] = bytemuck::cast_slice(d.last().expect("nbo was read"));
