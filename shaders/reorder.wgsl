@@ -70,3 +70,47 @@ fn map_slots(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         probe_slot[lo] = k;
     }
 }
+
+// The leapfrog's reorder: one array at a time gathered into scratch (the
+// host copies it back), through views of 16, 8 or 4 bytes an element so
+// that every bit is kept. Its arrays are more than the midpoint rule's
+// (its carried rates, and what the next step's reductions read), and one
+// kernel a width serves them all.
+@group(0) @binding(58) var<storage, read> p_src4: array<vec4<u32>>;
+@group(0) @binding(59) var<storage, read_write> p_dst4: array<vec4<u32>>;
+@group(0) @binding(60) var<storage, read> p_src2: array<vec2<u32>>;
+@group(0) @binding(61) var<storage, read_write> p_dst2: array<vec2<u32>>;
+@group(0) @binding(62) var<storage, read> p_src1: array<u32>;
+@group(0) @binding(63) var<storage, read_write> p_dst1: array<u32>;
+
+// The slot whose particle goes to slot k (as `permute`).
+fn source_of(k: u32) -> u32 {
+    if (ctl.dt == 0.0 && ctl.step > 0u) {
+        return k;
+    }
+    return blist[k];
+}
+
+@compute @workgroup_size(WG)
+fn permute4(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let k = flat_index(gid, nwg);
+    if (k < params.n) {
+        p_dst4[k] = p_src4[source_of(k)];
+    }
+}
+
+@compute @workgroup_size(WG)
+fn permute2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let k = flat_index(gid, nwg);
+    if (k < params.n) {
+        p_dst2[k] = p_src2[source_of(k)];
+    }
+}
+
+@compute @workgroup_size(WG)
+fn permute1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let k = flat_index(gid, nwg);
+    if (k < params.n) {
+        p_dst1[k] = p_src1[source_of(k)];
+    }
+}

@@ -129,6 +129,33 @@ fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
     [("cshare", Some("lmat")), ("cown", own_home)]
 }
 
+/// The leapfrog's per-particle arrays that carry a run from one step to the
+/// next, with their bytes a particle: the state, the carried rates, and
+/// what the next step's reductions read of the last step's passes (the
+/// sound speeds, the stored spring energy, the contact forces and areas).
+/// Checkpoints hold them; the reorder permutes them.
+fn leap_arrays(model: &Model) -> Vec<(&'static str, u64)> {
+    let mut a = vec![
+        ("x0", 16),
+        ("u", 8),
+        ("v", 8),
+        ("r", 8),
+        ("s", 16),
+        ("pinfo", 16),
+        ("acc", 8),
+        ("rdt", 8),
+        ("sr2c", 16),
+        ("nbo", 16),
+    ];
+    if model.av_reconstruct {
+        a.push(("gvprev", 16));
+    }
+    if model.contact {
+        a.extend([("qheat", 8), ("qrate", 8), ("cown", 16), ("area", 4)]);
+    }
+    a
+}
+
 /// The GPU's particle-probe tables from the plan's `(particle, code)` list:
 /// the probed particle ids sorted and deduplicated, padded with `u32::MAX`
 /// to one entry a probe, and each probe as `(entry, code)`.
@@ -367,9 +394,12 @@ struct Kernels {
     advance_half: Option<Kernel>,
     advance_full: Option<Kernel>,
     end_step: Kernel,
-    /// The reorder (the midpoint rule's; the leapfrog's carried arrays are
-    /// not permuted yet, so it keeps the particles' order).
+    /// The midpoint rule's reorder: every array at once into the midpoint
+    /// state's buffers and pass scratch.
     permute: Option<Kernel>,
+    /// The leapfrog's: each array of [`leap_arrays`] in turn through one
+    /// scratch buffer (`lmat`), with its name and bytes a particle.
+    permute_each: Vec<(Kernel, &'static str, u64)>,
     /// Refreshes the probed particles' slots after a reorder (none without
     /// particle probes).
     map_slots: Option<Kernel>,
@@ -1019,6 +1049,22 @@ impl GpuSolver {
                 )?)
             },
             end_step: kernel("reduce", "end_step", Size::One, &[])?,
+            permute_each: if leapfrog {
+                leap_arrays(&model)
+                    .into_iter()
+                    .map(|(name, bytes)| {
+                        let (entry, src, dst) = match bytes {
+                            16 => ("permute4", "p_src4", "p_dst4"),
+                            8 => ("permute2", "p_src2", "p_dst2"),
+                            _ => ("permute1", "p_src1", "p_dst1"),
+                        };
+                        let al = [(src, name), (dst, "lmat")];
+                        Ok((kernel("reorder", entry, Size::Particles, &al)?, name, bytes))
+                    })
+                    .collect::<Result<_, String>>()?
+            } else {
+                Vec::new()
+            },
             permute: if leapfrog {
                 None
             } else {
@@ -1126,6 +1172,20 @@ impl GpuSolver {
 
     /// Reorder the particles by cell: gather into scratch, copy back.
     fn encode_reorder(&self, enc: &mut wgpu::CommandEncoder) {
+        let n = self.n as u64;
+        if !self.k.permute_each.is_empty() {
+            self.encode_grid(&mut enc.begin_compute_pass(&Default::default()), Var::Base);
+            for (k, name, bytes) in &self.k.permute_each {
+                k.dispatch(&mut enc.begin_compute_pass(&Default::default()));
+                enc.copy_buffer_to_buffer(self.buf("lmat"), 0, self.buf(name), 0, bytes * n);
+            }
+            self.encode_map_slots(enc);
+            // Between leapfrog steps the cell list's counts are zero.
+            self.k
+                .clear
+                .dispatch(&mut enc.begin_compute_pass(&Default::default()));
+            return;
+        }
         let Some(permute) = &self.k.permute else {
             return;
         };
@@ -1134,7 +1194,6 @@ impl GpuSolver {
             self.encode_grid(&mut pass, Var::Base);
             permute.dispatch(&mut pass);
         }
-        let n = self.n as u64;
         let mut copy = |from: &str, to: &str, bytes: u64| {
             enc.copy_buffer_to_buffer(self.buf(from), 0, self.buf(to), 0, bytes * n);
         };
@@ -1512,23 +1571,14 @@ impl GpuSolver {
     fn persistent_buffers(&self) -> Vec<(&'static str, u64)> {
         let mut names = self.state_buffers();
         if self.k.leap.is_some() {
-            // The leapfrog's carried rates, and what the next step's
-            // reductions read of the last step's passes: the sound speeds
-            // (at n+1 with the predicted energy), the stored spring energy
-            // (nbo.w), the contact forces and areas.
             let n = self.n as u64;
-            names.extend([
-                ("acc", 8 * n),
-                ("rdt", 8 * n),
-                ("sr2c", 16 * n),
-                ("nbo", 16 * n),
-            ]);
-            if self.model.av_reconstruct {
-                names.push(("gvprev", 16 * n));
-            }
-            if self.model.contact {
-                names.extend([("qrate", 8 * n), ("cown", 16 * n), ("area", 4 * n)]);
-            }
+            let state: Vec<&str> = names.iter().map(|b| b.0).collect();
+            names.extend(
+                leap_arrays(&self.model)
+                    .into_iter()
+                    .filter(|a| !state.contains(&a.0))
+                    .map(|(name, bytes)| (name, bytes * n)),
+            );
         }
         names
     }
@@ -1677,16 +1727,16 @@ impl GpuSolver {
         STAGES
             .iter()
             .filter(|s| s.name != "contact" || self.model.contact)
-            .filter(|s| s.name != "reorder" || self.k.permute.is_some())
             .map(|s| s.name)
             .collect()
     }
 
     /// How many times a step runs a stage of [`GpuSolver::stage_names`]:
     /// [`STAGES`]' count for the midpoint rule; once for the leapfrog,
-    /// whose stages group one step's kernels (`encode_stage`).
+    /// whose stages group one step's kernels (`encode_stage`), but for the
+    /// reorder.
     pub fn stage_per_step(&self, name: &str) -> f64 {
-        if self.k.leap.is_some() {
+        if self.k.leap.is_some() && name != "reorder" {
             return 1.0;
         }
         STAGES
@@ -1846,6 +1896,10 @@ impl GpuSolver {
         }
         self.ctx.queue.submit([enc.finish()]);
         self.leap_clear();
+        if self.k.leap.is_some() {
+            // The particles are back in their order; the probes' slots too.
+            self.refresh_probe_slots();
+        }
         wait()?;
         Ok(elapsed)
     }
