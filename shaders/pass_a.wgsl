@@ -178,20 +178,37 @@ fn stress_rate(g: f32, si: vec4<f32>, gv: vec4<f32>) -> vec4<f32> {
     );
 }
 
+// The start of both entries: particle i's body, its walk, and its
+// correction matrix (stored).
+struct Walked {
+    body: Body,
+    rigid: bool,
+    ks: KinSums,
+    l: vec4<f32>,
+}
+
+fn walk_and_correct(i: u32) -> Walked {
+    let bi = pinfo[i].z;
+    let body = bodies[bi];
+    let rigid = body.rigid != 0u;
+    let ks = kinematic_walk(i, body.h, bi, rigid, body.rho0);
+    let l = correction(ks.m);
+    lmat[i] = l;
+    return Walked(body, rigid, ks, l);
+}
+
 @compute @workgroup_size(WG)
 fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
     if (i >= params.n) {
         return;
     }
-    let bi = pinfo[i].z;
-    let body = bodies[bi];
-    let hi = body.h;
-    let rigid = body.rigid != 0u;
-    let ks = kinematic_walk(i, hi, bi, rigid, body.rho0);
-    let l = correction(ks.m);
-    lmat[i] = l;
-    nbo[i] = vec4<f32>(surface_of(ks.gpsi, hi), 0.0);
+    let wk = walk_and_correct(i);
+    let body = wk.body;
+    let rigid = wk.rigid;
+    let ks = wk.ks;
+    let l = wk.l;
+    nbo[i] = vec4<f32>(surface_of(ks.gpsi, body.h), 0.0);
     let mu = r[i].x;
     let si = s[i];
     stress_point(i, body, mu, r[i].y, si);
@@ -238,13 +255,12 @@ fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     }
     let dt = ctl.dt;
     let h = 0.5 * dt;
-    let bi = pinfo[i].z;
-    let body = bodies[bi];
+    let wk = walk_and_correct(i);
+    let body = wk.body;
     let hi = body.h;
-    let rigid = body.rigid != 0u;
-    let ks = kinematic_walk(i, hi, bi, rigid, body.rho0);
-    let l = correction(ks.m);
-    lmat[i] = l;
+    let rigid = wk.rigid;
+    let ks = wk.ks;
+    let l = wk.l;
     let mu = r[i].x;
     let si = ds[i];
     if (rigid) {
