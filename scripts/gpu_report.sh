@@ -9,7 +9,6 @@
 #
 #   OUT/adapter.txt      the adapters the solver sees, the GPU's own report
 #   OUT/bench.json       bench --backend gpu --repeat 3 --stages --json
-#   OUT/bench.txt        the same as a table
 #   OUT/disks_4m/        history.csv and summary.json of the 4e6 run
 #   OUT/disks_4m.log     its progress, with the wall time at the end
 #
@@ -38,9 +37,6 @@ fi
 PARTICLES=${SPHCONTACT_REPORT_PARTICLES:-100000 1000000 4000000}
 # shellcheck disable=SC2086
 "$BIN" bench --backend gpu --particles $PARTICLES --repeat 3 --stages --json >"$OUT/bench.json"
-# The same as a table (one measurement a size), for reading.
-# shellcheck disable=SC2086
-"$BIN" bench --backend gpu --particles $PARTICLES --stages | tee "$OUT/bench.txt"
 
 if [ "${SPHCONTACT_REPORT_SCENE:-1}" != 0 ]; then
     start=$(date +%s)

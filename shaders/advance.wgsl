@@ -122,7 +122,7 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 
 // v_{n+1/2} = v_n + dt/2 a_n, e likewise, x_{n+1} = x_n + dt v_{n+1/2}, the
 // contact ledger's first half step, and the first pass of the cell list at
-// x_{n+1} (grid.wgsl, grid_cells: the cell as `home` computes it).
+// x_{n+1} (grid.wgsl, grid_cells).
 @compute @workgroup_size(WG)
 fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
@@ -145,9 +145,7 @@ fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
         un = un + vh * dt;
         u_w[i] = un;
     }
-    let a = x0[i];
-    let cell = vec2<i32>(a.xy) + vec2<i32>(floor((a.zw + un) * params.inv_cell));
-    atomicAdd(&bstart_w[bucket_of(cell)], 1u);
+    atomicAdd(&bstart_w[bucket_of(home_at(x0[i], un).cell)], 1u);
 }
 
 // v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}.

@@ -261,8 +261,13 @@ struct Home {
 }
 
 fn home(i: u32) -> Home {
-    let a = x0[i];
-    let p = (a.zw + u[i]) * params.inv_cell;
+    return home_at(x0[i], u[i]);
+}
+
+// `home` of a particle with reference `a` (its x0) and displacement `un`:
+// for a kernel that has just moved the particle (advance.wgsl).
+fn home_at(a: vec4<f32>, un: vec2<f32>) -> Home {
+    let p = (a.zw + un) * params.inv_cell;
     let f = floor(p);
     return Home(vec2<i32>(a.xy) + vec2<i32>(f), p - f);
 }

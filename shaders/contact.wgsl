@@ -286,10 +286,12 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     }
     let own = cown[q];
     let total = own.xy + f;
-    var booked = own.z + heat;
+    let booked = own.z + heat;
     let m = bitcast<f32>(mq.x);
+    // (dashpot heat, spring power) of the particle's passes; a rigid
+    // particle books no heat.
+    let rates = vec2<f32>(select(booked, 0.0, bodyq.rigid != 0u), cshare[q].w);
     if (LEAP >= 2u) {
-        let rates = vec2<f32>(select(booked, 0.0, bodyq.rigid != 0u), cshare[q].w);
         if (LEAP == 2u) {
             if (bodyq.rigid == 0u) {
                 dv[q] += total / m;
@@ -303,11 +305,9 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         return;
     }
     if (LEAP == 1u) {
-        qrate[q] = vec2<f32>(select(booked, 0.0, bodyq.rigid != 0u), cshare[q].w);
+        qrate[q] = rates;
     }
-    if (bodyq.rigid != 0u) {
-        booked = 0.0;
-    } else {
+    if (bodyq.rigid == 0u) {
         // Rates at the base state, dt x rate at the midpoint (MID; a
         // zero-length step leaves the state as it is).
         if (!MID) {
@@ -319,8 +319,8 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         }
     }
     if (MID && ctl.dt != 0.0) {
-        // A rigid particle books no heat (booked is 0) but its passes'
+        // A rigid particle books no heat (rates.x is 0) but its passes'
         // springs still do work.
-        qheat_w[q] = qheat_w[q] + vec2<f32>(booked, cshare[q].w) * ctl.dt;
+        qheat_w[q] = qheat_w[q] + rates * ctl.dt;
     }
 }

@@ -929,7 +929,6 @@ impl GpuSolver {
             kernel_in(&constants, stage, entry, size, aliases)
         };
 
-        let leapfrog = model.integrator == Integrator::Leapfrog;
         // The leapfrog's first evaluation leaves a_0 and de_0 in the carried
         // rates and makes no density or stress rates.
         let first_aliases: &[(&str, &str)] = &[("dv", "acc"), ("dr", "rdt"), ("ds", UNUSED)];
