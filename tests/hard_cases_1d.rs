@@ -83,7 +83,7 @@ fn plateau_error(
 /// at 1.889 µs, final mean velocities 8.455 and 26.62 m/s.
 ///
 /// Tolerances, from what the method reaches on the paper's bars (METHOD.md
-/// §11, README: plateau +0.2 %, separation +0.4 %, rebound −3 % at 100 per
+/// §11, docs/usage.md: plateau +0.2 %, separation +0.4 %, rebound −3 % at 100 per
 /// bar): the contact pressure over the middle half of each contact step
 /// within 1 %, 1 % and 7 % (the striker is 80 particles long, so each
 /// step's front is smeared over a few of them, and the third step is too
