@@ -133,7 +133,7 @@ fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> bodies: array<Body>;
 @group(0) @binding(2) var<storage, read_write> ctl: Control;
-// Particle reference position (see `pair_d`), displacement, and
+// Particle reference position (see `cand`), displacement, and
 // (mass bits, surface offset bits, body, original index).
 @group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
@@ -260,21 +260,20 @@ struct Home {
     frac: vec2<f32>,
 }
 
-fn home(i: u32) -> Home {
-    return home_at(x0[i], u[i]);
+// `home` of a particle with reference `a` (its x0) and displacement `un`.
+fn home_at(a: vec4<f32>, un: vec2<f32>) -> Home {
+    return home_in(a, un, params.inv_cell);
 }
 
-// `home` of a particle with reference `a` (its x0) and displacement `un`:
-// for a kernel that has just moved the particle (advance.wgsl).
-fn home_at(a: vec4<f32>, un: vec2<f32>) -> Home {
-    let p = (a.zw + un) * params.inv_cell;
+fn home_in(a: vec4<f32>, un: vec2<f32>, inv_cell: f32) -> Home {
+    let p = (a.zw + un) * inv_cell;
     let f = floor(p);
     return Home(vec2<i32>(a.xy) + vec2<i32>(f), p - f);
 }
 
 // The cell a particle is in now: its reference cell plus whole cells moved.
 fn current_cell(i: u32) -> vec2<i32> {
-    return home(i).cell;
+    return home_at(x0[i], u[i]).cell;
 }
 
 // Rows of the stencil, bottom to top, always in this order (the order of
@@ -291,7 +290,7 @@ fn scan_rows() -> u32 {
 // that holds their buckets. Row-major keys make a row's cells consecutive
 // buckets, so the row is one contiguous range: a warp's lanes run five
 // loops a walk, not nine or twenty-five. When the buckets wrap past the
-// last, the range runs on past `n` into the list's start (`row_particle`).
+// last, the range runs on past `n` into the list's start (`cand`).
 // A bucket may also hold cells of other rows: callers keep only particles
 // whose cell is in the span (`in_row`).
 struct RowSpan {
@@ -332,24 +331,60 @@ fn row_span(hm: Home, row: u32) -> RowSpan {
     return RowSpan(cy, hm.cell.x + lo, hm.cell.x + hi, bstart[b], end);
 }
 
-// The particle at place k of a row's range.
-fn row_particle(k: u32) -> u32 {
-    return blist[select(k, k - params.n, k >= params.n)];
-}
-
 // Whether cell `c` is one of the span's.
 fn in_row(c: vec2<i32>, span: RowSpan) -> bool {
     return c.y == span.cy && c.x >= span.lo && c.x <= span.hi;
 }
 
-// x0 holds each particle's reference cell (integral, exact in f32) and its
-// offset in that cell at the start; u the displacement since. A pair's
-// difference is formed from the three parts, so its round-off scales with
-// the pair distance, not with the distance from the origin.
-fn pair_d(i: u32, j: u32) -> vec2<f32> {
+// A neighbour walk reads everything it can before its loop: on a software
+// adapter (lavapipe) every read inside the loop, a uniform's too, is a
+// scalar load for each lane, and these reads were most of a walk's cost.
+//
+// The run constants a walk's loop uses.
+struct Consts {
+    n: u32,
+    cell: f32,
+    inv_cell: f32,
+}
+
+fn consts() -> Consts {
+    return Consts(params.n, params.cell, params.inv_cell);
+}
+
+// The walking particle: its index, reference, displacement and grid home.
+struct Walker {
+    i: u32,
+    a: vec4<f32>,
+    un: vec2<f32>,
+    hm: Home,
+}
+
+fn walker(i: u32) -> Walker {
     let a = x0[i];
+    let un = u[i];
+    return Walker(i, a, un, home_at(a, un));
+}
+
+// Candidate j at place k of a row's range (a range that wraps past the
+// last bucket runs on past `n`): its cell, and the pair difference
+// d = x_i - x_j from one read of its position. x0 holds each particle's
+// reference cell (integral, exact in f32) and its offset in that cell at
+// the start, u the displacement since; the difference is formed part by
+// part, so its round-off scales with the pair distance, not with the
+// distance from the origin. (x_j - x_i is exactly -d: each part negates.)
+struct Cand {
+    j: u32,
+    cell: vec2<i32>,
+    d: vec2<f32>,
+}
+
+fn cand(w: Walker, k: u32, c: Consts) -> Cand {
+    let j = blist[select(k, k - c.n, k >= c.n)];
     let b = x0[j];
-    return (a.xy - b.xy) * params.cell + (a.zw - b.zw) + (u[i] - u[j]);
+    let uj = u[j];
+    let cell = home_in(b, uj, c.inv_cell).cell;
+    let d = (w.a.xy - b.xy) * c.cell + (w.a.zw - b.zw) + (w.un - uj);
+    return Cand(j, cell, d);
 }
 
 // An SPH pair (i, j), h_ij the mean of the bodies' h: separation x_i - x_j,
@@ -363,14 +398,22 @@ struct Pair {
     inside: bool,
 }
 
-fn sph_pair(i: u32, j: u32, hi: f32, body_j: u32) -> Pair {
-    // With contact on, SPH pairs are of one body (`body_pair`): h_ij is h_i,
-    // the same bits as the mean, without the partner's body read.
+// The SPH pair of walker `w` (particle i, body bi, smoothing length hi) and
+// candidate `cd` of row `span` (body bj). `inside` is false when j is i,
+// lies in a cell outside the span that shares a bucket, or (with contact
+// on) belongs to another body: bodies then meet only through the contact
+// force. Every SPH sum scans its neighbours through this filter.
+fn body_pair(w: Walker, cd: Cand, bj: u32, span: RowSpan, hi: f32, bi: u32) -> Pair {
+    if (cd.j == w.i || !in_row(cd.cell, span) || (CONTACT && bj != bi)) {
+        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false);
+    }
+    // With contact on, SPH pairs are of one body: h_ij is h_i, the same
+    // bits as the mean, without the partner's body read.
     var hij = hi;
     if (!CONTACT) {
-        hij = 0.5 * (hi + bodies[body_j].h);
+        hij = 0.5 * (hi + bodies[bj].h);
     }
-    let d = pair_d(i, j);
+    let d = cd.d;
     let dist = length(d);
     let inside = dist < 2.0 * hij;
     var gw = vec2<f32>(0.0);
@@ -378,19 +421,6 @@ fn sph_pair(i: u32, j: u32, hi: f32, body_j: u32) -> Pair {
         gw = d * (kernel_dw(dist, hij) / dist);
     }
     return Pair(d, dist, hij, gw, inside);
-}
-
-// The SPH pair (i, j) for j = row_particle(k) of row `span`; `inside` is
-// false when j is i, lies in a cell outside the span that shares a bucket,
-// or (with contact on) belongs to another body: bodies then meet only
-// through the contact force. Every SPH sum scans its neighbours through
-// this filter.
-fn body_pair(i: u32, j: u32, span: RowSpan, hi: f32, bi: u32) -> Pair {
-    let bj = pinfo[j].z;
-    if (j == i || !in_row(current_cell(j), span) || (CONTACT && bj != bi)) {
-        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false);
-    }
-    return sph_pair(i, j, hi, bj);
 }
 
 // Position relative to the grid origin (output only). The host adds the

@@ -59,18 +59,16 @@ fn store_energy(p: u32, e: f32) {
     }
 }
 
-// Kernel weight of the candidate pair (p, q), d = x_q - x_p = pair_d(q, p),
-// or a negative value when q is not a contact candidate of p (METHOD.md
-// §8.2). Both passes call it with the same arguments in the same order, so
+// Kernel weight of the candidate pair (p, q) with normals np, nq and
+// d = x_q - x_p, or a negative value when q is not a contact candidate of
+// p (METHOD.md §8.2). Both passes call it with the same arguments in the same order, so
 // both see the same weight.
-fn candidate(p: u32, q: u32, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32) -> f32 {
+fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32) -> f32 {
     let hpq = 0.5 * (hp + hq);
     let dist = length(d);
     if (dist >= 2.0 * hpq) {
         return -1.0;
     }
-    let np = nbo[p].xy;
-    let nq = nbo[q].xy;
     if (dot(np, nq) >= 0.0) {
         return -1.0;
     }
@@ -121,7 +119,6 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let bodyp = bodies[bp];
     let op = bitcast<f32>(mp.y);
     let np = np4.xy;
-    let hm = home(p);
 
     var partner = NONE;
     var multi = false;
@@ -132,20 +129,27 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     var swt = 0.0;
     var swo = 0.0;
     var swb = vec2<f32>(0.0);
+    let cs = consts();
+    let wk = walker(p);
+    let hp = bodyp.h;
     for (var row = 0u; row < scan_rows(); row++) {
-        let span = row_span(hm, row);
+        let span = row_span(wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
-            let q = row_particle(k);
-            if (!in_row(current_cell(q), span)) {
+            let cd = cand(wk, k, cs);
+            let q = cd.j;
+            if (!in_row(cd.cell, span)) {
                 continue;
             }
             let mq = pinfo[q];
-            if (mq.z == bp || nbo[q].z <= 0.0) {
+            let nq4 = nbo[q];
+            if (mq.z == bp || nq4.z <= 0.0) {
                 continue;
             }
             let oq = bitcast<f32>(mq.y);
-            let d = pair_d(q, p);
-            let w = candidate(p, q, d, op, oq, bodyp.h, bodies[mq.z].h);
+            // x_q - x_p.
+            let d = -cd.d;
+            let nq = nq4.xy;
+            let w = candidate(np, nq, d, op, oq, hp, bodies[mq.z].h);
             if (w < 0.0) {
                 continue;
             }
@@ -155,7 +159,6 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
                 multi = true;
                 continue;
             }
-            let nq = nbo[q].xy;
             // s_q - S_P, formed from the precise centre difference.
             let rel = d + nq * oq - np * op;
             sw += w;
@@ -261,21 +264,27 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     let bq = mq.z;
     let bodyq = bodies[bq];
     let oq = bitcast<f32>(mq.y);
-    let hm = home(q);
     var f = vec2<f32>(0.0);
     var heat = 0.0;
+    let cs = consts();
+    let wk = walker(q);
+    let nq = nbo[q].xy;
+    let hq = bodyq.h;
+    let fbq = f32(bq);
     for (var row = 0u; row < scan_rows(); row++) {
-        let span = row_span(hm, row);
+        let span = row_span(wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
-            let p = row_particle(k);
-            if (!in_row(current_cell(p), span)) {
+            let cd = cand(wk, k, cs);
+            let p = cd.j;
+            if (!in_row(cd.cell, span)) {
                 continue;
             }
             let mp = pinfo[p];
-            if (mp.z == bq || nbo[p].z <= 0.0 || cown[p].w != f32(bq)) {
+            let np4 = nbo[p];
+            if (mp.z == bq || np4.z <= 0.0 || cown[p].w != fbq) {
                 continue;
             }
-            let w = candidate(p, q, pair_d(q, p), bitcast<f32>(mp.y), oq, bodies[mp.z].h, bodyq.h);
+            let w = candidate(np4.xy, nq, cd.d, bitcast<f32>(mp.y), oq, bodies[mp.z].h, hq);
             if (w < 0.0) {
                 continue;
             }

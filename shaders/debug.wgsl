@@ -16,21 +16,22 @@ fn dump_neighbours(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         return;
     }
     let hi = bodies[pinfo[i].z].h;
-    let hm = home(i);
+    let cs = consts();
+    let wk = walker(i);
     let base = pinfo[i].w * STRIDE;
     var count = 0u;
     var visits = 0u;
     for (var row = 0u; row < scan_rows(); row++) {
-        let span = row_span(hm, row);
+        let span = row_span(wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
             visits += 1u;
-            let j = row_particle(k);
-            if (j == i || !in_row(current_cell(j), span)) {
+            let cd = cand(wk, k, cs);
+            let j = cd.j;
+            if (j == i || !in_row(cd.cell, span)) {
                 continue;
             }
             let hij = 0.5 * (hi + bodies[pinfo[j].z].h);
-            let d = pair_d(i, j);
-            if (length(d) < 2.0 * hij && count < MAX_DUMP) {
+            if (length(cd.d) < 2.0 * hij && count < MAX_DUMP) {
                 count += 1u;
                 dump[base + count] = pinfo[j].w;
             }

@@ -81,20 +81,23 @@ struct KinSums {
 }
 
 fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
-    let hm = home(i);
+    let cs = consts();
+    let wk = walker(i);
     let vi = v[i];
     var m = vec4<f32>(0.0);
     var gpsi = vec2<f32>(0.0);
     var gsum = vec4<f32>(0.0);
     for (var row = 0u; row < scan_rows(); row++) {
-        let span = row_span(hm, row);
+        let span = row_span(wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
-            let j = row_particle(k);
-            let pr = body_pair(i, j, span, hi, bi);
+            let cd = cand(wk, k, cs);
+            let j = cd.j;
+            let mj = pinfo[j];
+            let pr = body_pair(wk, cd, mj.z, span, hi, bi);
             if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }
-            let gj = pr.gw * volume(j, pinfo[j], rho0);
+            let gj = pr.gw * volume(j, mj, rho0);
             m += outer(gj, -pr.d);
             gpsi -= gj;
             // Rigid particles have no velocity gradient: their loop skips

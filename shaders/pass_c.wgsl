@@ -77,7 +77,8 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         }
         return;
     }
-    let hm = home(i);
+    let cs = consts();
+    let wk = walker(i);
     let li = lmat[i];
     let ti = sr2c[i];
     let vi = v[i];
@@ -91,18 +92,27 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         ri = art[i];
     }
 
+    var vsi = vec2<f32>(0.0);
+    if (LEAP == 3u) {
+        vsi = vstar[i];
+    }
+    let surface_i = nbo[i].z > 0.0;
+    let alpha = params.alpha;
+    let beta = params.beta;
+
     var acc = vec2<f32>(0.0);
     var de = 0.0;
     var sw = kernel_w(0.0, hi);
     for (var row = 0u; row < scan_rows(); row++) {
-        let span = row_span(hm, row);
+        let span = row_span(wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
-            let j = row_particle(k);
-            let pr = body_pair(i, j, span, hi, bi);
+            let cd = cand(wk, k, cs);
+            let j = cd.j;
+            let mj = pinfo[j];
+            let pr = body_pair(wk, cd, mj.z, span, hi, bi);
             if (!pr.inside) {
                 continue;
             }
-            let mj = pinfo[j];
             let hij = pr.hij;
             let dist = pr.dist;
             if (boundary && nbo[j].z > 0.0 && LEAP != 3u) {
@@ -125,11 +135,11 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             // reconstructed jump, the energy sum keeps the true v_ij.
             var vis = vij;
             if (LEAP == 3u) {
-                vis = vstar[i] - vstar[j];
+                vis = vsi - vstar[j];
             }
             // Not at a surface (h |grad psi| above the threshold): there
             // grad v is one-sided and a contact loads the face impulsively.
-            if (RECON && nbo[i].z <= 0.0 && nbo[j].z <= 0.0) {
+            if (RECON && !surface_i && nbo[j].z <= 0.0) {
                 vis = reconstructed_jump(vis, d, gi, gradv[j]);
             }
             var pi = 0.0;
@@ -138,7 +148,7 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
                 let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
                 let cm = 0.5 * (ti.w + tj.w);
                 let rhom = 0.5 * (rhoi + bj.rho0 * (1.0 + mu_of(j)));
-                pi = (-params.alpha * cm * muv + params.beta * muv * muv) / rhom;
+                pi = (-alpha * cm * muv + beta * muv * muv) / rhom;
             }
             var t = vec4<f32>(ti.xyz + tj.xyz, 0.0);
             t.x -= pi;
