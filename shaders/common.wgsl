@@ -61,7 +61,7 @@ struct Params {
     end_lo: f32,
     ring_len: u32,
     ring_width: u32,
-    nslots: u32,
+    pad0: u32,
     nprobes: u32,
     cell: f32,
     red_groups: u32,

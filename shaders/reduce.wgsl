@@ -14,14 +14,17 @@
 @group(0) @binding(24) var<storage, read> qheat: array<vec2<f32>>;
 @group(0) @binding(25) var<storage, read_write> red: array<f32>;
 @group(0) @binding(26) var<storage, read_write> ring: array<f32>;
-@group(0) @binding(27) var<storage, read> slots: array<vec4<u32>>;
 // Particle probes: (entry of `probe_slot`, quantity code).
 @group(0) @binding(28) var<storage, read> probes: array<vec2<u32>>;
 // Each probed particle's slot (reorder.wgsl, map_slots).
 @group(0) @binding(48) var<storage, read> probe_slot: array<u32>;
 
+// The scene's observation slots are constants the host puts before this
+// file (gpu::probes::ProbePlan::wgsl): NSLOTS, and for each slot its code
+// (SLOT_CODE), body or body pair (SLOT_A, SLOT_B; NONE: every body) and
+// whether it sums (0) or takes the maximum (1) (SLOT_OP).
+
 const RED: u32 = 256u;
-const PER_THREAD: u32 = 4u;
 var<workgroup> shf: array<f32, 256>;
 
 // Tree reduction of `shf` (sum, or max when `op` is 1), result in shf[0].
@@ -45,27 +48,51 @@ fn row_base() -> u32 {
     return (ctl.step % params.ring_len) * params.ring_width;
 }
 
-// The value particle i adds to observation slot `sl` (codes: gpu::probes).
-fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
+// What the observations read of a particle, read once for all its slots
+// (a software adapter reads each value lane by lane; reading them per slot
+// was most of the reductions' time).
+struct Obs {
+    m: f32,
+    body: u32,
+    rigid: bool,
+    v: vec2<f32>,
+    e: f32,
+    // Its CFL step (BIG for a rigid particle).
+    cfl: f32,
+}
+
+fn observe(i: u32) -> Obs {
     let mi = pinfo[i];
-    let bi = mi.z;
-    let code = sl.x;
+    let b = bodies[mi.z];
+    let vi = v[i];
+    let rigid = b.rigid != 0u;
+    var cfl = BIG;
+    if (!rigid) {
+        cfl = params.cfl * b.h / (sr2c[i].w + length(vi));
+    }
+    return Obs(bitcast<f32>(mi.x), mi.z, rigid, vi, r[i].y, cfl);
+}
+
+// The value particle i (observed as `o`) adds to observation slot `sl`
+// (codes: gpu::probes).
+fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
+    let code = SLOT_CODE[sl];
+    let a = SLOT_A[sl];
     if (code <= 5u) {
-        if (sl.y != NONE && bi != sl.y) {
+        if (a != NONE && o.body != a) {
             return 0.0;
         }
-        let m = bitcast<f32>(mi.x);
         switch code {
-            case 0u: { return m * v[i].x; }
-            case 1u: { return m * v[i].y; }
-            case 2u: { return m * position_rel(i).x; }
-            case 3u: { return m * position_rel(i).y; }
-            case 4u: { return 0.5 * m * dot(v[i], v[i]); }
+            case 0u: { return o.m * o.v.x; }
+            case 1u: { return o.m * o.v.y; }
+            case 2u: { return o.m * position_rel(i).x; }
+            case 3u: { return o.m * position_rel(i).y; }
+            case 4u: { return 0.5 * o.m * dot(o.v, o.v); }
             default: {
-                if (bodies[bi].rigid != 0u) {
+                if (o.rigid) {
                     return 0.0;
                 }
-                return m * r[i].y;
+                return o.m * o.e;
             }
         }
     }
@@ -74,20 +101,20 @@ fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
     }
     switch code {
         case 6u, 7u: {
-            let partner = cown[i].w;
-            let a = f32(sl.y);
-            let b = f32(sl.z);
-            let fb = f32(bi);
-            if ((fb == a && partner == b) || (fb == b && partner == a)) {
+            let own = cown[i];
+            let fa = f32(a);
+            let fb = f32(SLOT_B[sl]);
+            let body = f32(o.body);
+            if ((body == fa && own.w == fb) || (body == fb && own.w == fa)) {
                 // The particle's own contact force, p A / 2 (contact.wgsl).
-                let f = length(cown[i].xy);
+                let f = length(own.xy);
                 if (code == 6u) {
                     return f;
                 }
                 // Its pressure p.
-                let a = area[i];
-                if (a > 0.0) {
-                    return 2.0 * f / a;
+                let ar = area[i];
+                if (ar > 0.0) {
+                    return 2.0 * f / ar;
                 }
                 return 0.0;
             }
@@ -105,9 +132,31 @@ fn slot_value(sl: vec4<u32>, i: u32) -> f32 {
     }
 }
 
-// Level 1 of the reductions, one workgroup per 1,024 particles: the CFL
-// minimum, then each observation slot's partial.
-@compute @workgroup_size(256)
+// Level 1 of the reductions, one workgroup per RED_CHUNK particles: each
+// thread folds its particles (RED_THREADS apart, so that neighbouring threads
+// read neighbouring particles) into the CFL minimum and every slot's sum or
+// maximum, then the workgroup combines its threads' values, all slots at
+// once, in a tree. Every sum has one fixed order (deterministic).
+const RED_THREADS: u32 = 64u;
+const RED_CHUNK: u32 = 1024u;
+// Values a thread carries: the CFL minimum, then the slots.
+const NVALS: u32 = NSLOTS + 1u;
+// Values combined at once in the tree (workgroup memory: 64 x 16 floats).
+const GROUPV: u32 = 16u;
+var<workgroup> shv: array<f32, 1024>;
+
+// How value `k` (0: the CFL minimum, 1 + s: slot s) combines.
+fn combine(k: u32, a: f32, b: f32) -> f32 {
+    if (k == 0u) {
+        return min(a, b);
+    }
+    if (SLOT_OP[k - 1u] == 1u) {
+        return max(a, b);
+    }
+    return a + b;
+}
+
+@compute @workgroup_size(64)
 fn reduce_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let lid = lid3.x;
     let g = wid.x + wid.y * nwg.x;
@@ -115,40 +164,43 @@ fn reduce_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgr
     if (g >= params.red_groups) {
         return;
     }
-    var m = BIG;
-    for (var k = 0u; k < PER_THREAD; k++) {
-        let i = g * RED * PER_THREAD + k * RED + lid;
-        if (i < params.n) {
-            let b = bodies[pinfo[i].z];
-            if (b.rigid == 0u) {
-                m = min(m, params.cfl * b.h / (sr2c[i].w + length(v[i])));
+    let n = params.n;
+    var acc: array<f32, NVALS>;
+    acc[0] = BIG;
+    for (var k = 0u; k < RED_CHUNK / RED_THREADS; k++) {
+        let i = g * RED_CHUNK + k * RED_THREADS + lid;
+        if (i < n) {
+            let o = observe(i);
+            acc[0] = min(acc[0], o.cfl);
+            for (var sl = 0u; sl < NSLOTS; sl++) {
+                acc[sl + 1u] = combine(sl + 1u, acc[sl + 1u], slot_value(sl, i, o));
             }
         }
     }
-    shf[lid] = m;
-    reduce_shared(lid, 2u);
-    if (lid == 0u) {
-        red[g] = shf[0];
-    }
-    for (var sl = 0u; sl < params.nslots; sl++) {
-        let slot = slots[sl];
-        var acc = 0.0;
-        for (var k = 0u; k < PER_THREAD; k++) {
-            let i = g * RED * PER_THREAD + k * RED + lid;
-            if (i < params.n) {
-                let x = slot_value(slot, i);
-                if (slot.w == 1u) {
-                    acc = max(acc, x);
-                } else {
-                    acc += x;
+    for (var g0 = 0u; g0 < NVALS; g0 += GROUPV) {
+        let nv = min(GROUPV, NVALS - g0);
+        workgroupBarrier();
+        for (var v = 0u; v < nv; v++) {
+            shv[v * RED_THREADS + lid] = acc[g0 + v];
+        }
+        for (var off = RED_THREADS / 2u; off > 0u; off = off / 2u) {
+            workgroupBarrier();
+            if (lid < off) {
+                for (var v = 0u; v < nv; v++) {
+                    let at = v * RED_THREADS + lid;
+                    shv[at] = combine(g0 + v, shv[at], shv[at + off]);
                 }
             }
         }
         workgroupBarrier();
-        shf[lid] = acc;
-        reduce_shared(lid, slot.w);
-        if (lid == 0u) {
-            red[params.red_groups + sl * params.red_groups + g] = shf[0];
+        if (lid < nv) {
+            let k = g0 + lid;
+            let x = shv[lid * RED_THREADS];
+            if (k == 0u) {
+                red[g] = x;
+            } else {
+                red[params.red_groups + (k - 1u) * params.red_groups + g] = x;
+            }
         }
     }
 }
@@ -156,7 +208,7 @@ fn reduce_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgr
 // Observation slot `sl` summed (or its maximum) over the level-1 partials,
 // in shf[0]; every thread of the workgroup takes part.
 fn slot_total(lid: u32, sl: u32) -> f32 {
-    let op = slots[sl].w;
+    let op = SLOT_OP[sl];
     var acc = 0.0;
     for (var k = lid; k < params.red_groups; k += RED) {
         let x = red[params.red_groups + sl * params.red_groups + k];
@@ -180,7 +232,7 @@ fn slot_total(lid: u32, sl: u32) -> f32 {
 fn reduce_final(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let lid = lid3.x;
     let w = wid.x + wid.y * nwg.x;
-    if (w > params.nslots) {
+    if (w > NSLOTS) {
         return;
     }
     if (w > 0u) {
@@ -298,7 +350,7 @@ fn probe_value(k: u32) {
         case 9u: { val = von_mises(si); }
         default: { val = r[i].y; }
     }
-    ring[row_base() + 3u + params.nslots + k] = val;
+    ring[row_base() + 3u + NSLOTS + k] = val;
 }
 
 // End of a step: t += dt as a compensated sum, the step counter.

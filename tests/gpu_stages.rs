@@ -17,7 +17,8 @@ use sphcontact::scene::Integrator;
 #[test]
 fn shaders_validate_and_layouts_match() {
     for (stage, _) in shaders::STAGES {
-        let r = shaders::reflect(stage).unwrap_or_else(|e| panic!("{e}"));
+        let r = shaders::reflect(stage, &shaders::sample_prelude(stage))
+            .unwrap_or_else(|e| panic!("{e}"));
         assert!(!r.entry_points().is_empty(), "{stage} has entry points");
         layout::check_layouts(&r.module).unwrap_or_else(|e| panic!("{stage}: {e}"));
     }

@@ -77,28 +77,34 @@ impl GpuContext {
         )
     }
 
-    fn module(&self, stage: &str) -> Arc<(wgpu::ShaderModule, shaders::Reflected)> {
+    fn module(&self, stage: &str, prelude: &str) -> Arc<(wgpu::ShaderModule, shaders::Reflected)> {
         let mut m = self.modules.lock().expect("module cache");
-        m.entry(stage.to_string())
+        m.entry(format!("{stage}\n{prelude}"))
             .or_insert_with(|| {
-                let refl = shaders::reflect(stage).unwrap_or_else(|e| panic!("{e}"));
-                let src = shaders::source(stage);
-                let module = self
-                    .device
-                    .create_shader_module(wgpu::ShaderModuleDescriptor {
-                        label: Some(stage),
-                        source: wgpu::ShaderSource::Wgsl(src.into()),
-                    });
+                let refl = shaders::reflect(stage, prelude).unwrap_or_else(|e| panic!("{e}"));
+                let src = shaders::source(stage, prelude);
+                let desc = wgpu::ShaderModuleDescriptor {
+                    label: Some(stage),
+                    source: wgpu::ShaderSource::Wgsl(src.into()),
+                };
+                let module = self.device.create_shader_module(desc);
                 Arc::new((module, refl))
             })
             .clone()
     }
 
-    /// The pipeline of `stage::entry` with these override constants,
+    /// The pipeline of `stage::entry` with the generated constants
+    /// `prelude` ([`shaders::source`]) and these override constants,
     /// compiled once per context.
-    pub fn pipeline(&self, stage: &str, entry: &str, constants: &[(&str, f64)]) -> Arc<Pipeline> {
+    pub fn pipeline(
+        &self,
+        stage: &str,
+        prelude: &str,
+        entry: &str,
+        constants: &[(&str, f64)],
+    ) -> Arc<Pipeline> {
         let key: PipelineKey = (
-            stage.to_string(),
+            format!("{stage}\n{prelude}"),
             entry.to_string(),
             constants
                 .iter()
@@ -108,7 +114,7 @@ impl GpuContext {
         if let Some(p) = self.pipelines.lock().expect("pipeline cache").get(&key) {
             return p.clone();
         }
-        let module = self.module(stage);
+        let module = self.module(stage, prelude);
         let bindings = module.1.bindings(entry);
         let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
             .iter()

@@ -27,7 +27,8 @@ pub struct Params {
     pub end_lo: f32,
     pub ring_len: u32,
     pub ring_width: u32,
-    pub nslots: u32,
+    /// Keeps `domain` on a 16-byte boundary.
+    pub pad0: u32,
     pub nprobes: u32,
     pub cell: f32,
     pub red_groups: u32,
@@ -128,7 +129,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 end_lo,
                 ring_len,
                 ring_width,
-                nslots,
+                pad0,
                 nprobes,
                 cell,
                 red_groups,

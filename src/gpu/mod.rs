@@ -565,7 +565,7 @@ impl GpuSolver {
             end_lo,
             ring_len: RING_LEN,
             ring_width: plan.row_width() as u32,
-            nslots: plan.slots.len() as u32,
+            pad0: 0,
             nprobes: plan.particles.len() as u32,
             cell: cell as f32,
             red_groups,
@@ -753,11 +753,6 @@ impl GpuSolver {
         let ring_bytes = 4 * RING_LEN as u64 * plan.row_width() as u64;
         make("ring", ring_bytes, None)?;
         make(
-            "slots",
-            16 * plan.slots.len() as u64,
-            Some(bytemuck::cast_slice(&plan.slots)),
-        )?;
-        make(
             "probes",
             8 * plan.particles.len() as u64,
             Some(bytemuck::cast_slice(&probe_refs)),
@@ -855,6 +850,8 @@ impl GpuSolver {
             ("ds", "s"),
             ("qheat_w", "qheat"),
         ];
+        // The reductions are compiled for this scene's observation slots.
+        let slot_wgsl = plan.wgsl();
         let mut mid_constants = constants.clone();
         mid_constants.push(("MID", 1.0));
         let kernel_in = |consts: &[(&str, f64)],
@@ -863,7 +860,12 @@ impl GpuSolver {
                          size: Size,
                          aliases: &[(&str, &str)]|
          -> Result<Kernel, String> {
-            let pipeline = ctx.pipeline(stage, entry, consts);
+            let prelude = if stage == "reduce" {
+                slot_wgsl.as_str()
+            } else {
+                ""
+            };
+            let pipeline = ctx.pipeline(stage, prelude, entry, consts);
             let storage_used = pipeline.bindings.iter().filter(|b| !b.uniform).count() as u32;
             if storage_used > limits.max_storage_buffers_per_shader_stage {
                 return Err(format!(
@@ -1961,7 +1963,7 @@ impl GpuSolver {
 
         // Neighbour dump (test-only kernel), indexed by original id.
         let consts = [("DIM", self.model.dim as f64), ("WG", WG as f64)];
-        let p = self.ctx.pipeline("debug", "dump_neighbours", &consts);
+        let p = self.ctx.pipeline("debug", "", "dump_neighbours", &consts);
         let dump = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("dump"),
             size: 4 * 128 * nn,

@@ -143,6 +143,48 @@ impl ProbePlan {
         plan
     }
 
+    /// The slot table as the WGSL constants reduce.wgsl is compiled with
+    /// (`NSLOTS`, and each slot's code, bodies and operation): the
+    /// reductions evaluate this scene's observations and no other.
+    pub fn wgsl(&self) -> String {
+        let n = self.slots.len();
+        let column = |k: usize| -> String {
+            if n == 0 {
+                // WGSL has no empty arrays; NSLOTS = 0 never reads it.
+                return "array<u32, 1>(0u)".to_string();
+            }
+            let items: Vec<String> = self.slots.iter().map(|s| format!("{}u", s[k])).collect();
+            format!("array<u32, {n}>({})", items.join(", "))
+        };
+        format!(
+            "// The scene's observation slots (gpu::probes::ProbePlan::wgsl).\n\
+             const NSLOTS: u32 = {n}u;\n\
+             const SLOT_CODE = {};\n\
+             const SLOT_A = {};\n\
+             const SLOT_B = {};\n\
+             const SLOT_OP = {};\n",
+            column(0),
+            column(1),
+            column(2),
+            column(3)
+        )
+    }
+
+    /// A plan with one slot of every code, to check reduce.wgsl alone.
+    pub fn sample() -> Self {
+        let mut plan = ProbePlan::default();
+        for c in code::MVX..=code::HEAT {
+            let op = (c == code::PAIR_PMAX) as u32;
+            let (a, b) = if c == code::PAIR_FORCE || c == code::PAIR_PMAX {
+                (0, 1)
+            } else {
+                (NONE, NONE)
+            };
+            plan.slot([c, a, b, op]);
+        }
+        plan
+    }
+
     fn slot(&mut self, s: [u32; 4]) -> usize {
         match self.slots.iter().position(|x| *x == s) {
             Some(k) => k,

@@ -17,14 +17,27 @@ pub const STAGES: &[(&str, &str)] = &[
     ("debug", include_str!("../../shaders/debug.wgsl")),
 ];
 
-/// The full source of a stage: the shared declarations, then the stage.
-pub fn source(stage: &str) -> String {
+/// The full source of a stage: the shared declarations, the constants the
+/// host generates for this scene (`prelude`: the observation slots of
+/// `reduce`, [`super::ProbePlan::wgsl`]; empty for the other stages), then
+/// the stage.
+pub fn source(stage: &str, prelude: &str) -> String {
     let body = STAGES
         .iter()
         .find(|s| s.0 == stage)
         .unwrap_or_else(|| panic!("no shader stage '{stage}'"))
         .1;
-    format!("{COMMON}\n// ---- {stage}.wgsl ----\n{body}")
+    format!("{COMMON}\n{prelude}\n// ---- {stage}.wgsl ----\n{body}")
+}
+
+/// A prelude to check a stage alone with (tests): for `reduce`, one
+/// observation slot of every code.
+pub fn sample_prelude(stage: &str) -> String {
+    if stage == "reduce" {
+        super::ProbePlan::sample().wgsl()
+    } else {
+        String::new()
+    }
 }
 
 /// How an entry point uses one binding.
@@ -45,8 +58,8 @@ pub struct Reflected {
 
 /// Parse and validate a stage with naga; the error names the stage and
 /// carries naga's full report.
-pub fn reflect(stage: &str) -> Result<Reflected, String> {
-    let src = source(stage);
+pub fn reflect(stage: &str, prelude: &str) -> Result<Reflected, String> {
+    let src = source(stage, prelude);
     let module = naga::front::wgsl::parse_str(&src)
         .map_err(|e| format!("{stage}.wgsl: {}", e.emit_to_string(&src)))?;
     let info = naga::valid::Validator::new(
