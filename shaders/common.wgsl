@@ -407,13 +407,21 @@ fn body_pair(w: Walker, cd: Cand, bj: u32, span: RowSpan, hi: f32, bi: u32) -> P
     if (cd.j == w.i || !in_row(cd.cell, span) || (CONTACT && bj != bi)) {
         return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false);
     }
-    // With contact on, SPH pairs are of one body: h_ij is h_i, the same
-    // bits as the mean, without the partner's body read.
-    var hij = hi;
+    return pair_at(cd.d, pair_h(hi, bj));
+}
+
+// h_ij of a pair with i's h `hi` and j of body `bj`. With contact on, SPH
+// pairs are of one body: h_ij is h_i, the same bits as the mean, without
+// the partner's body read.
+fn pair_h(hi: f32, bj: u32) -> f32 {
     if (!CONTACT) {
-        hij = 0.5 * (hi + bodies[bj].h);
+        return 0.5 * (hi + bodies[bj].h);
     }
-    let d = cd.d;
+    return hi;
+}
+
+// The SPH pair of separation `d` and smoothing length `hij`.
+fn pair_at(d: vec2<f32>, hij: f32) -> Pair {
     let dist = length(d);
     let inside = dist < 2.0 * hij;
     var gw = vec2<f32>(0.0);
@@ -421,6 +429,93 @@ fn body_pair(w: Walker, cd: Cand, bj: u32, span: RowSpan, hi: f32, bi: u32) -> P
         gw = d * (kernel_dw(dist, hij) / dist);
     }
     return Pair(d, dist, hij, gw, inside);
+}
+
+// The neighbour mask (leapfrog only, LEAP != 0): the kinematic walk
+// (pass_a.wgsl) numbers a particle's candidates in walk order, rows bottom
+// to top and each row's range in order, and sets bit o of the mask when
+// candidate o is an SPH pair (`body_pair` inside); the walks after it at
+// the same positions and cell list (pass_c.wgsl) visit only those, in the
+// same order, so every sum keeps its order and its bits. Ordinals 0..62
+// fit; a particle with more candidates sets MASK_FULL and is walked in
+// full.
+const MASK_FULL: u32 = 0x80000000u;
+const MASK_BITS: u32 = 63u;
+
+fn mask_set(m: vec2<u32>, o: u32) -> vec2<u32> {
+    if (o < 32u) {
+        return vec2<u32>(m.x | (1u << o), m.y);
+    }
+    return vec2<u32>(m.x, m.y | (1u << (o - 32u)));
+}
+
+// Where ordinal o of a walk lies in the sorted list: o plus the offset of
+// its row (`start` of the row less the ordinals before it); rows past the
+// last reached have no ordinals.
+struct RowMap {
+    // The first ordinal of rows 1..4.
+    first: vec4<u32>,
+    // Each row's offset (wrapping u32 arithmetic).
+    off0: u32,
+    off: vec4<u32>,
+}
+
+fn row_map(hm: Home) -> RowMap {
+    var first = vec4<u32>(0u);
+    var off = vec4<u32>(0u);
+    let s0 = row_span(hm, 0u);
+    var o = s0.end - s0.start;
+    for (var row = 1u; row < scan_rows(); row++) {
+        let sp = row_span(hm, row);
+        first[row - 1u] = o;
+        off[row - 1u] = sp.start - o;
+        o += sp.end - sp.start;
+    }
+    if (scan_rows() == 1u) {
+        // 1-D: one row, every later row starts past the mask.
+        first = vec4<u32>(64u);
+    }
+    return RowMap(first, s0.start, off);
+}
+
+// The place in the sorted list (run on past `n` where a range wraps, as
+// `cand`) of ordinal o.
+fn row_place(rm: RowMap, o: u32) -> u32 {
+    var off = rm.off0;
+    if (o >= rm.first.x) {
+        off = rm.off.x;
+    }
+    if (o >= rm.first.y) {
+        off = rm.off.y;
+    }
+    if (o >= rm.first.z) {
+        off = rm.off.z;
+    }
+    if (o >= rm.first.w) {
+        off = rm.off.w;
+    }
+    return o + off;
+}
+
+// Take the lowest set bit of the mask: its ordinal (64 when none is left).
+fn mask_next(m: ptr<function, vec2<u32>>) -> u32 {
+    let x = (*m).x;
+    if (x != 0u) {
+        (*m).x = x & (x - 1u);
+        return countTrailingZeros(x);
+    }
+    let y = (*m).y;
+    if (y != 0u) {
+        (*m).y = y & (y - 1u);
+        return 32u + countTrailingZeros(y);
+    }
+    return 64u;
+}
+
+// The pair difference d = x_i - x_j of the walker and particle j (as `cand`).
+fn pair_d(w: Walker, j: u32, c: Consts) -> vec2<f32> {
+    let b = x0[j];
+    return (w.a.xy - b.xy) * c.cell + (w.a.zw - b.zw) + (w.un - u[j]);
 }
 
 // Position relative to the grid origin (output only). The host adds the

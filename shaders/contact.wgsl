@@ -14,9 +14,9 @@
 // The leapfrog (common.wgsl, LEAP) runs both passes twice a step: for the
 // forces at the predicted velocity (LEAP = 2: `v` is vstar, `dv` the carried
 // a_{n+1}; pass 2 then kicks every particle to v_{n+1}), then for the
-// booking (LEAP = 3): the same forces,
-// their dashpot heat and spring power at v_{n+1} (`vbook`), the heat into
-// dr.y and the ledger advanced by half a step (CPU twin:
+// booking (LEAP = 3), after the energy walk: the same forces,
+// their dashpot heat and spring power at v_{n+1} (`vbook`), the heat added
+// to dr.y and the ledger advanced by half a step (CPU twin:
 // cpu::contact::penalty_booked). The stored spring energy goes to nbo.w
 // there, since the energy walk after the contact still reads sr2c.
 
@@ -253,9 +253,9 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         if (LEAP == 2u) {
             kick(q, bodies[pinfo[q].z].rigid != 0u);
         }
-        if (LEAP == 3u) {
-            // No contact heat, and no rates for the ledger's next half step.
-            dr[q].y = 0.0;
+        if (LEAP == 1u || LEAP == 3u) {
+            // No rates for the ledger's next half step (the buffer held
+            // the neighbour masks; gpu::mask_home).
             qrate[q] = vec2<f32>(0.0);
         }
         return;
@@ -307,7 +307,8 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
             }
             kick(q, bodyq.rigid != 0u);
         } else {
-            dr[q].y = rates.x / m;
+            // The heat after the energy walk's pair work (pass_c.wgsl).
+            dr[q].y = dr[q].y + rates.x / m;
             qheat_w[q] = qheat_w[q] + rates * (0.5 * ctl.dt);
             qrate[q] = rates;
         }

@@ -40,6 +40,8 @@
 @group(0) @binding(52) var<storage, read_write> rdt: array<vec2<f32>>;
 @group(0) @binding(53) var<storage, read_write> vstar: array<vec2<f32>>;
 @group(0) @binding(54) var<storage, read_write> gvprev: array<vec4<f32>>;
+// The neighbour mask (common.wgsl), for pass C.
+@group(0) @binding(9) var<storage, read_write> nmask: array<vec2<u32>>;
 
 // Artificial stress (METHOD.md §4): -eps sigma/rho^2 of each tensile
 // principal value, rotated back.
@@ -73,11 +75,13 @@ fn volume(j: u32, mj: vec4<u32>, rho0_i: f32) -> f32 {
     return bitcast<f32>(mj.x) / (rho0 * (1.0 + r[j].x));
 }
 
-// The sums of particle i's neighbour walk at velocities `v`.
+// The sums of particle i's neighbour walk at velocities `v`, and its
+// neighbour mask (common.wgsl; leapfrog only).
 struct KinSums {
     m: vec4<f32>,
     gpsi: vec2<f32>,
     gsum: vec4<f32>,
+    mask: vec2<u32>,
 }
 
 fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
@@ -87,13 +91,21 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     var m = vec4<f32>(0.0);
     var gpsi = vec2<f32>(0.0);
     var gsum = vec4<f32>(0.0);
+    var mask = vec2<u32>(0u);
+    // The ordinal of the row's first candidate.
+    var first = 0u;
     for (var row = 0u; row < scan_rows(); row++) {
         let span = row_span(wk.hm, row);
+        let off = first - span.start;
+        first += span.end - span.start;
         for (var k = span.start; k < span.end; k++) {
             let cd = cand(wk, k, cs);
             let j = cd.j;
             let mj = pinfo[j];
             let pr = body_pair(wk, cd, mj.z, span, hi, bi);
+            if (LEAP != 0u && pr.inside && k + off < MASK_BITS) {
+                mask = mask_set(mask, k + off);
+            }
             if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }
@@ -107,7 +119,10 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
             }
         }
     }
-    return KinSums(m, gpsi, gsum);
+    if (first > MASK_BITS) {
+        mask.y |= MASK_FULL;
+    }
+    return KinSums(m, gpsi, gsum, mask);
 }
 
 // L_i from M_i, or the identity (counted) when M_i cannot be inverted.
@@ -197,6 +212,9 @@ fn walk_and_correct(i: u32) -> Walked {
     let ks = kinematic_walk(i, body.h, bi, rigid, body.rho0);
     let l = correction(ks.m);
     lmat[i] = l;
+    if (LEAP != 0u) {
+        nmask[i] = ks.mask;
+    }
     return Walked(body, rigid, ks, l);
 }
 

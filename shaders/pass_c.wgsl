@@ -10,9 +10,10 @@
 // step: at n+1 for the momentum alone (LEAP = 2; `v` is then the predicted
 // velocity, `dv` the carried a_{n+1}), then, after the kick, for the energy
 // alone (LEAP = 3): the same pair terms, the viscosity at the predicted
-// velocity `vstar`, their work on v_{n+1} (`v`), added to the contact heat
-// the booking left in dr.y (CPU twins: cpu::forces::momentum_keeping and
-// energy_replay, which keeps the pair terms instead of walking again).
+// velocity `vstar`, their work on v_{n+1} (`v`), into dr.y, to which the
+// contact's booking then adds its heat (CPU twins:
+// cpu::forces::momentum_keeping and energy_replay, which keeps the pair
+// terms instead of walking again).
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
@@ -25,6 +26,8 @@
 @group(0) @binding(19) var<storage, read_write> area: array<f32>;
 @group(0) @binding(36) var<storage, read> gradv: array<vec4<f32>>;
 @group(0) @binding(53) var<storage, read> vstar: array<vec2<f32>>;
+// The neighbour mask pass A left (common.wgsl; the leapfrog's).
+@group(0) @binding(9) var<storage, read> nmask: array<vec2<u32>>;
 
 // mu = rho/rho0 - 1 of particle j: in a leapfrog step the n+1 value its
 // kinematic pass left in the carried rates' free slot (dr.x).
@@ -49,6 +52,92 @@ fn reconstructed_jump(vij: vec2<f32>, xij: vec2<f32>, gi: vec4<f32>, gj: vec4<f3
     let q = si / sj;
     let phi = min(4.0 * q / ((1.0 + q) * (1.0 + q)), 1.0);
     return vij - (di + dj) * (0.5 * phi);
+}
+
+// What particle i's pair terms read of it, read once before its walk.
+struct Own {
+    body: Body,
+    hi: f32,
+    rigid: bool,
+    boundary: bool,
+    surface: bool,
+    l: vec4<f32>,
+    t: vec4<f32>,
+    v: vec2<f32>,
+    vs: vec2<f32>,
+    g: vec4<f32>,
+    rho: f32,
+    art: vec4<f32>,
+    alpha: f32,
+    beta: f32,
+}
+
+// The sums of the walk.
+struct Sums {
+    acc: vec2<f32>,
+    de: f32,
+    // The boundary's kernel sum over boundary neighbours (contact area).
+    sw: f32,
+}
+
+// Add the SPH pair (i, j) (inside the support) to the sums.
+fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) {
+    let hij = pr.hij;
+    let dist = pr.dist;
+    if (o.boundary && nbo[j].z > 0.0 && LEAP != 3u) {
+        (*sums).sw += kernel_w(dist, hij);
+    }
+    if (o.rigid || dist <= 0.0) {
+        return;
+    }
+    // With contact on, j is of i's body (`body_pair`).
+    var bj = o.body;
+    if (!CONTACT) {
+        bj = bodies[mj.z];
+    }
+    let d = pr.d;
+    let g = mat_mul(0.5 * (o.l + lmat[j]), pr.gw);
+    let tj = sr2c[j];
+    let vij = o.v - v[j];
+    // Monaghan viscosity, zero for receding pairs; it sees the
+    // reconstructed jump, the energy sum keeps the true v_ij.
+    var vis = vij;
+    if (LEAP == 3u) {
+        vis = o.vs - vstar[j];
+    }
+    // Not at a surface (h |grad psi| above the threshold): there grad v is
+    // one-sided and a contact loads the face impulsively.
+    if (RECON && !o.surface && nbo[j].z <= 0.0) {
+        vis = reconstructed_jump(vis, d, o.g, gradv[j]);
+    }
+    var pi = 0.0;
+    let vx = dot(vis, d);
+    if (vx < 0.0) {
+        let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
+        let cm = 0.5 * (o.t.w + tj.w);
+        let rhom = 0.5 * (o.rho + bj.rho0 * (1.0 + mu_of(j)));
+        pi = (-o.alpha * cm * muv + o.beta * muv * muv) / rhom;
+    }
+    var t = vec4<f32>(o.t.xyz + tj.xyz, 0.0);
+    t.x -= pi;
+    t.y -= pi;
+    // The artificial stress's work, half to each particle of the pair, is
+    // booked as heat so total energy stays conserved.
+    var art_work = 0.0;
+    if (ART_STRESS) {
+        let dp = 0.5 * (o.body.spacing + bj.spacing);
+        let f = kernel_w(dist, hij) / kernel_w(dp, hij);
+        let rf = (o.art + art[j]) * pow(f, params.as_n);
+        t += rf;
+        art_work = 0.5 * dot(vij, sym_mul(rf, g));
+    }
+    let mass_j = bitcast<f32>(mj.x);
+    if (LEAP != 3u) {
+        (*sums).acc += sym_mul(t, g) * mass_j;
+    }
+    if (LEAP != 2u) {
+        (*sums).de -= mass_j * (dot(vij, sym_mul(o.t, g)) - 0.5 * pi * dot(vij, g) + art_work);
+    }
 }
 
 @compute @workgroup_size(WG)
@@ -79,99 +168,68 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     }
     let cs = consts();
     let wk = walker(i);
-    let li = lmat[i];
-    let ti = sr2c[i];
-    let vi = v[i];
     var gi = vec4<f32>(0.0);
     if (RECON) {
         gi = gradv[i];
     }
-    let rhoi = body.rho0 * (1.0 + mu_of(i));
     var ri = vec4<f32>(0.0);
     if (ART_STRESS) {
         ri = art[i];
     }
-
     var vsi = vec2<f32>(0.0);
     if (LEAP == 3u) {
         vsi = vstar[i];
     }
-    let surface_i = nbo[i].z > 0.0;
-    let alpha = params.alpha;
-    let beta = params.beta;
+    let own = Own(
+        body,
+        hi,
+        rigid,
+        boundary,
+        nbo[i].z > 0.0,
+        lmat[i],
+        sr2c[i],
+        v[i],
+        vsi,
+        gi,
+        body.rho0 * (1.0 + mu_of(i)),
+        ri,
+        params.alpha,
+        params.beta,
+    );
 
-    var acc = vec2<f32>(0.0);
-    var de = 0.0;
-    var sw = kernel_w(0.0, hi);
-    for (var row = 0u; row < scan_rows(); row++) {
-        let span = row_span(wk.hm, row);
-        for (var k = span.start; k < span.end; k++) {
-            let cd = cand(wk, k, cs);
-            let j = cd.j;
+    var sums = Sums(vec2<f32>(0.0), 0.0, kernel_w(0.0, hi));
+    var mask = vec2<u32>(0u, MASK_FULL);
+    if (LEAP != 0u) {
+        mask = nmask[i];
+    }
+    if ((mask.y & MASK_FULL) == 0u) {
+        // The pairs pass A found, in walk order (common.wgsl).
+        let rm = row_map(wk.hm);
+        loop {
+            let o = mask_next(&mask);
+            if (o >= 64u) {
+                break;
+            }
+            let k = row_place(rm, o);
+            let j = blist[select(k, k - cs.n, k >= cs.n)];
             let mj = pinfo[j];
-            let pr = body_pair(wk, cd, mj.z, span, hi, bi);
-            if (!pr.inside) {
-                continue;
-            }
-            let hij = pr.hij;
-            let dist = pr.dist;
-            if (boundary && nbo[j].z > 0.0 && LEAP != 3u) {
-                sw += kernel_w(dist, hij);
-            }
-            if (rigid || dist <= 0.0) {
-                continue;
-            }
-            // With contact on, j is of i's body (`body_pair`).
-            var bj = body;
-            if (!CONTACT) {
-                bj = bodies[mj.z];
-            }
-            let d = pr.d;
-            let gw = pr.gw;
-            let g = mat_mul(0.5 * (li + lmat[j]), gw);
-            let tj = sr2c[j];
-            let vij = vi - v[j];
-            // Monaghan viscosity, zero for receding pairs; it sees the
-            // reconstructed jump, the energy sum keeps the true v_ij.
-            var vis = vij;
-            if (LEAP == 3u) {
-                vis = vsi - vstar[j];
-            }
-            // Not at a surface (h |grad psi| above the threshold): there
-            // grad v is one-sided and a contact loads the face impulsively.
-            if (RECON && !surface_i && nbo[j].z <= 0.0) {
-                vis = reconstructed_jump(vis, d, gi, gradv[j]);
-            }
-            var pi = 0.0;
-            let vx = dot(vis, d);
-            if (vx < 0.0) {
-                let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
-                let cm = 0.5 * (ti.w + tj.w);
-                let rhom = 0.5 * (rhoi + bj.rho0 * (1.0 + mu_of(j)));
-                pi = (-alpha * cm * muv + beta * muv * muv) / rhom;
-            }
-            var t = vec4<f32>(ti.xyz + tj.xyz, 0.0);
-            t.x -= pi;
-            t.y -= pi;
-            // The artificial stress's work, half to each particle of the
-            // pair, is booked as heat so total energy stays conserved.
-            var art_work = 0.0;
-            if (ART_STRESS) {
-                let dp = 0.5 * (body.spacing + bj.spacing);
-                let f = kernel_w(dist, hij) / kernel_w(dp, hij);
-                let rf = (ri + art[j]) * pow(f, params.as_n);
-                t += rf;
-                art_work = 0.5 * dot(vij, sym_mul(rf, g));
-            }
-            let mass_j = bitcast<f32>(mj.x);
-            if (LEAP != 3u) {
-                acc += sym_mul(t, g) * mass_j;
-            }
-            if (LEAP != 2u) {
-                de -= mass_j * (dot(vij, sym_mul(ti, g)) - 0.5 * pi * dot(vij, g) + art_work);
+            add_pair(own, j, mj, pair_at(pair_d(wk, j, cs), pair_h(hi, mj.z)), &sums);
+        }
+    } else {
+        for (var row = 0u; row < scan_rows(); row++) {
+            let span = row_span(wk.hm, row);
+            for (var k = span.start; k < span.end; k++) {
+                let cd = cand(wk, k, cs);
+                let mj = pinfo[cd.j];
+                let pr = body_pair(wk, cd, mj.z, span, hi, bi);
+                if (pr.inside) {
+                    add_pair(own, cd.j, mj, pr, &sums);
+                }
             }
         }
     }
+    let acc = sums.acc;
+    let de = sums.de;
     if (LEAP == 3u) {
         if (!rigid) {
             dr[i].y = de + dr[i].y;
@@ -196,7 +254,7 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             if (DIM == 1u) {
                 a = 1.0;
             } else {
-                a = 15.0 / (7.0 * PI * hi) / sw;
+                a = 15.0 / (7.0 * PI * hi) / sums.sw;
             }
         }
         area[i] = a;

@@ -27,9 +27,12 @@
 //! (`advance.wgsl`), one cell list, the kinematic pass at `n+1`
 //! (`pass_a_leap`: density and stress to `n+1`, the EOS, the predicted
 //! velocity), the momentum and the contact forces at the predicted
-//! velocity, the kick to `v_{n+1}`, then the contact's booking and the
-//! energy sums at `v_{n+1}` (pass C again: the device keeps no pair data),
-//! and the energy update with the checks. Its rates `a_n`, `de_n` (and the
+//! velocity, the kick to `v_{n+1}`, then the energy sums at `v_{n+1}` and
+//! the contact's booking, and the energy update with the checks. Its one
+//! full neighbour walk is the kinematic pass's: it leaves each particle a
+//! 64-bit mask of which of its candidates are SPH pairs, and the momentum
+//! and energy walks (pass C, twice) visit only those, in the same order
+//! (`common.wgsl`, [`work::GridView::count_masked`]). Its rates `a_n`, `de_n` (and the
 //! contact's heat and spring rates, and the last half step's velocity
 //! gradient) are carried in buffers of their own, and checkpoints hold
 //! them with what the next step's reductions read.
@@ -127,6 +130,16 @@ fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
         None
     };
     [("cshare", Some("lmat")), ("cown", own_home)]
+}
+
+/// Where the leapfrog's neighbour masks (common.wgsl) live: with contact in
+/// `qrate`, the contact's rates for the ledger's next half step, which the
+/// booking writes after the energy walk (the masks' last reader) and the
+/// next step's drift reads before pass A writes the masks again; the first
+/// evaluation's contact writes it after its pass C too. Without contact
+/// (`None`), in a buffer of their own.
+fn mask_home(model: &Model) -> Option<&'static str> {
+    (model.integrator == Integrator::Leapfrog && model.contact).then_some("qrate")
 }
 
 /// The leapfrog's per-particle arrays that carry a run from one step to the
@@ -298,6 +311,9 @@ enum Walk {
     All,
     /// Only the boundary particles' threads walk (the contact).
     Boundary,
+    /// Every particle's thread visits the pairs of its neighbour mask
+    /// (common.wgsl), or walks in full where the mask overflowed.
+    Masked,
 }
 
 struct Kernel {
@@ -711,6 +727,9 @@ impl GpuSolver {
             if contact {
                 make("qrate", 8 * nn, None)?;
             }
+            if mask_home(&model).is_none() {
+                make("nmask", 8 * nn, None)?;
+            }
         } else {
             // The midpoint state; the evaluation at the base state leaves
             // its rates there (common.wgsl, MID), so there are no rate
@@ -771,6 +790,9 @@ impl GpuSolver {
             Some(bytemuck::cast_slice(&bodies)),
         )?;
         make("ctl", CTL_BYTES, Some(bytemuck::bytes_of(&control)))?;
+        if let Some(home) = mask_home(&model) {
+            buffers.insert("nmask", buffers[home].clone());
+        }
         if contact {
             for (name, home) in contact_homes(&model) {
                 if let Some(home) = home {
@@ -991,7 +1013,7 @@ impl GpuSolver {
             Some(LeapKernels {
                 kick_drift: kernel("advance", "kick_drift_cells", Size::Particles, state_w)?,
                 pass_a: step("pass_a", "pass_a_leap", &[("ds", "s")])?.walking(Walk::All),
-                pass_c: step("pass_c", "pass_c", at_n1)?.walking(Walk::All),
+                pass_c: step("pass_c", "pass_c", at_n1)?.walking(Walk::Masked),
                 contact: if contact {
                     Some((
                         step("contact", "contact_pass1", at_n1)?.walking(Walk::Boundary),
@@ -1014,7 +1036,7 @@ impl GpuSolver {
                     None
                 },
                 energy: kernel_in(&book_constants, "pass_c", "pass_c", Size::Particles, energy)?
-                    .walking(Walk::All),
+                    .walking(Walk::Masked),
                 finish: kernel("advance", "finish", Size::Particles, state_w)?,
             })
         } else {
@@ -1246,11 +1268,13 @@ impl GpuSolver {
             if let Some(kick) = &l.kick {
                 pass.run(kick);
             }
+            // The energy walk reads the neighbour masks the booking's
+            // rates then overwrite (mask_home).
+            pass.run(&l.energy);
             if let Some((b1, b2)) = &l.book {
                 pass.run(b1);
                 pass.run(b2);
             }
-            pass.run(&l.energy);
             pass.run(&l.finish);
             pass.run(&k.end_step);
             return;
@@ -1299,29 +1323,36 @@ impl GpuSolver {
         let buckets = self.params.buckets as u64;
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
         self.encode_first(&mut enc);
+        self.ctx.queue.submit([enc.finish()]);
+        // Pass A gives the boundary flags and the leapfrog's neighbour masks
+        // at these positions; it overwrites what the leapfrog carries from
+        // step to step, which is kept here and put back.
+        let kept = self.k.leap.is_some().then(|| self.save_raw());
+        let mut enc = self.ctx.device.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
-            // The leapfrog's boundary flags are those of its last step, at
-            // these positions; an evaluation would overwrite what it carries.
-            if self.k.leap.is_none() {
-                pass.run(&self.k.eval[Var::Base as usize].pass_a);
-            }
+            pass.run(&self.k.eval[Var::Base as usize].pass_a);
         }
-        let d = self.read_buffers(
-            Some(enc),
-            &[
-                ("x0", 16 * nn),
-                ("u", 8 * nn),
-                ("bstart", 4 * (buckets + 1)),
-                ("nbo", 16 * nn),
-            ],
-        );
+        let mut read = vec![
+            ("x0", 16 * nn),
+            ("u", 8 * nn),
+            ("bstart", 4 * (buckets + 1)),
+            ("nbo", 16 * nn),
+        ];
+        if self.k.leap.is_some() {
+            read.push(("nmask", 8 * nn));
+        }
+        let d = self.read_buffers(Some(enc), &read);
+        if let Some(raw) = kept {
+            self.restore_raw(&raw).expect("the state just saved");
+        }
         self.leap_clear();
         let x0: &[[f32; 4]] = bytemuck::cast_slice(&d[0]);
         let u: &[[f32; 2]] = bytemuck::cast_slice(&d[1]);
         let bstart: &[u32] = bytemuck::cast_slice(&d[2]);
         let nbo: &[[f32; 4]] = bytemuck::cast_slice(&d[3]);
+        let masks: &[[u32; 2]] = d.get(4).map_or(&[], |m| bytemuck::cast_slice(m));
         let view = work::GridView {
             params: &self.params,
             dim: self.model.dim,
@@ -1343,12 +1374,16 @@ impl GpuSolver {
             } else {
                 &all
             };
-            per_walk.push(view.count_walk(name, 1, walks));
+            per_walk.push(if *walk == Walk::Masked {
+                view.count_masked(name, 1, masks)
+            } else {
+                view.count_walk(name, 1, walks)
+            });
         }
         let count = |w: Walk| tally.walks.iter().filter(|x| x.1 == w).count() as u32;
         work::StepWork {
             dispatches: tally.dispatches,
-            walks: count(Walk::All),
+            walks: count(Walk::All) + count(Walk::Masked),
             contact_walks: count(Walk::Boundary),
             device_bytes_per_particle: self.device_bytes as f64 / self.n as f64,
             per_walk,
@@ -1868,11 +1903,13 @@ impl GpuSolver {
         }
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
-            if self.k.leap.is_some() {
-                // A whole step, then the cell list it ends by zeroing:
-                // every stage's inputs are then valid.
+            if let Some(l) = &self.k.leap {
+                // A whole step, then the cell list it ends by zeroing and
+                // the neighbour masks its booking overwrites: every stage's
+                // inputs are then valid.
                 self.encode_step_pass(&mut pass);
                 self.encode_grid(&mut pass, Var::Base);
+                pass.run(&l.pass_a);
             } else {
                 self.encode_eval(&mut pass, Var::Base);
                 self.encode_reduce(&mut pass);

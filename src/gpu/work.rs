@@ -7,7 +7,10 @@
 //! long as its longest lane's. [`count_walk`] repeats the stencil of
 //! `row_span` (common.wgsl) in the same f32 arithmetic over the cell list
 //! read back from the device, and counts both: what a walk costs on a
-//! device follows from these counts without one.
+//! device follows from these counts without one. The leapfrog's momentum
+//! and energy walks visit only the pairs of the neighbour masks its
+//! kinematic walk leaves (common.wgsl); [`GridView::count_masked`] counts
+//! them from the masks read back.
 
 use serde::Serialize;
 
@@ -30,7 +33,8 @@ pub struct WalkWork {
     /// Particles whose threads walk (every particle, or the boundary set).
     pub walkers: usize,
     /// Mean candidates a walking particle visits (every place of its row
-    /// ranges, the ones the filters reject included).
+    /// ranges, the ones the filters reject included; in a masked walk, the
+    /// pairs of its mask).
     pub candidates: f64,
     /// Mean loop trips of a group of [`WARP`] threads that holds a walking
     /// particle: the sum over the rows of the longest lane's range.
@@ -136,14 +140,55 @@ impl GridView<'_> {
                 trips += longest.iter().map(|&l| l as u64).sum::<u64>();
             }
         }
-        let per = |x: u64, of: u64| if of == 0 { 0.0 } else { x as f64 / of as f64 };
-        WalkWork {
-            name: name.to_string(),
-            per_step,
-            walkers,
-            candidates: per(candidates, walkers as u64),
-            group_trips: per(trips, groups as u64),
-            lane_use: per(candidates, WARP as u64 * trips),
+        walk_work(name, per_step, walkers, candidates, groups, trips)
+    }
+
+    /// Count one masked walk (every particle walks; pass_c.wgsl) from the
+    /// device's neighbour masks (common.wgsl): a particle visits the pairs
+    /// its mask holds in one loop, a group as long as its fullest lane; a
+    /// particle whose mask overflowed walks its row ranges in full, and its
+    /// group runs those rows too.
+    pub fn count_masked(&self, name: &str, per_step: u32, masks: &[[u32; 2]]) -> WalkWork {
+        const FULL: u32 = 1 << 31;
+        let n = self.x0.len();
+        let (mut candidates, mut groups, mut trips) = (0u64, 0usize, 0u64);
+        for g in (0..n).step_by(WARP) {
+            let mut fullest = 0u32;
+            let mut longest = [0u32; 5];
+            for (i, m) in masks.iter().enumerate().take((g + WARP).min(n)).skip(g) {
+                if m[1] & FULL != 0 {
+                    for (l, r) in longest.iter_mut().zip(self.row_lengths(i)) {
+                        candidates += r as u64;
+                        *l = (*l).max(r);
+                    }
+                } else {
+                    let pairs = m[0].count_ones() + m[1].count_ones();
+                    candidates += pairs as u64;
+                    fullest = fullest.max(pairs);
+                }
+            }
+            groups += 1;
+            trips += fullest as u64 + longest.iter().map(|&l| l as u64).sum::<u64>();
         }
+        walk_work(name, per_step, n, candidates, groups, trips)
+    }
+}
+
+fn walk_work(
+    name: &str,
+    per_step: u32,
+    walkers: usize,
+    candidates: u64,
+    groups: usize,
+    trips: u64,
+) -> WalkWork {
+    let per = |x: u64, of: u64| if of == 0 { 0.0 } else { x as f64 / of as f64 };
+    WalkWork {
+        name: name.to_string(),
+        per_step,
+        walkers,
+        candidates: per(candidates, walkers as u64),
+        group_trips: per(trips, groups as u64),
+        lane_use: per(candidates, WARP as u64 * trips),
     }
 }
