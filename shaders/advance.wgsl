@@ -105,9 +105,10 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 // The leapfrog (common.wgsl, LEAP; CPU twin: cpu::CpuSolver::leapfrog). A
 // step: kick_drift_cells (with the cell list's counts); the rest of the
 // cell list; pass_a_leap (density and stress to n+1,
-// the EOS, the predicted velocity); the momentum and the contact
-// forces at n+1 (LEAP = 2); kick; the contact's booking and the energy
-// sums at v_{n+1} (LEAP = 3); finish. The rates a_n (acc) and de_n (rdt.y)
+// the EOS, the predicted velocity, the contact's list of boundary
+// particles); the momentum and the contact forces at n+1 (LEAP = 2), which
+// kick each particle to v_{n+1} once its a_{n+1} is whole; the energy sums
+// and the contact's booking at v_{n+1} (LEAP = 3); finish. The rates a_n (acc) and de_n (rdt.y)
 // and the contact's heat and spring rates (qrate) are carried from the
 // step before. Here u_w, v_w and r_w are the state's own buffers. A
 // zero-length step (past the stop, or after a failure) changes nothing.
@@ -119,6 +120,9 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 
 // The cell list's counts (grid.wgsl), filled here for the new positions.
 @group(0) @binding(16) var<storage, read_write> bstart_w: array<atomic<u32>>;
+// The count of the contact's list of boundary particles, which the step's
+// pass A fills (pass_a.wgsl, enlist).
+@group(0) @binding(65) var<storage, read_write> surf_args: array<u32>;
 
 // v_{n+1/2} = v_n + dt/2 a_n, e likewise, x_{n+1} = x_n + dt v_{n+1/2}, the
 // contact ledger's first half step, and the first pass of the cell list at
@@ -126,6 +130,9 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 @compute @workgroup_size(WG)
 fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
+    if (CONTACT && i == 0u) {
+        surf_args[0] = 0u;
+    }
     if (i >= params.n) {
         return;
     }
@@ -133,7 +140,9 @@ fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     let dt = ctl.dt;
     if (dt != 0.0) {
         let h = 0.5 * dt;
-        if (CONTACT) {
+        // The contact's rates are those of the last step's boundary
+        // particles: others hold what the buffer held in between.
+        if (CONTACT && nbo[i].z > 0.0) {
             qheat_w[i] = qheat_w[i] + qrate[i] * h;
         }
         var vh = v_w[i];
@@ -146,18 +155,6 @@ fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
         u_w[i] = un;
     }
     atomicAdd(&bstart_w[bucket_of(home_at(x0[i], un).cell)], 1u);
-}
-
-// v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}.
-@compute @workgroup_size(WG)
-fn kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = flat_index(gid, nwg);
-    if (i >= params.n || ctl.dt == 0.0) {
-        return;
-    }
-    if (bodies[pinfo[i].z].rigid == 0u) {
-        v_w[i] = v_w[i] + acc[i] * (0.5 * ctl.dt);
-    }
 }
 
 // The density at n+1 (pass_a_leap left it in rdt.x), e_{n+1} = e_{n+1/2} +

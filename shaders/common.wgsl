@@ -61,7 +61,9 @@ struct Params {
     end_lo: f32,
     ring_len: u32,
     ring_width: u32,
-    pad0: u32,
+    // The leapfrog contact's list of boundary particles (contact.wgsl):
+    // its length and the most workgroups an indirect dispatch may have.
+    surf_cap: u32,
     nprobes: u32,
     cell: f32,
     red_groups: u32,
@@ -77,7 +79,7 @@ struct Params {
     energy_kin: u32,
     energy_int: u32,
     energy_stored: u32,
-    pad1: u32,
+    surf_groups: u32,
 }
 
 // Per-body constants (mirrored by `gpu::layout::BodyGpu`).

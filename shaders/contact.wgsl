@@ -13,7 +13,7 @@
 //
 // The leapfrog (common.wgsl, LEAP) runs both passes twice a step: for the
 // forces at the predicted velocity (LEAP = 2: `v` is vstar, `dv` the carried
-// a_{n+1}; pass 2 then kicks every particle to v_{n+1}), then for the
+// a_{n+1}; pass 2 then kicks its particles to v_{n+1}), then for the
 // booking (LEAP = 3), after the energy walk: the same forces,
 // their dashpot heat and spring power at v_{n+1} (`vbook`), the heat added
 // to dr.y and the ledger advanced by half a step (CPU twin:
@@ -41,8 +41,13 @@
 @group(0) @binding(55) var<storage, read_write> qrate: array<vec2<f32>>;
 @group(0) @binding(56) var<storage, read> vbook: array<vec2<f32>>;
 // The state's velocity, which the leapfrog's force pass 2 (LEAP = 2) kicks
-// to v_{n+1} once a particle's acceleration is whole (advance.wgsl, kick).
+// to v_{n+1} once a boundary particle's acceleration is whole (pass C kicks
+// the others).
 @group(0) @binding(57) var<storage, read_write> vkick: array<vec2<f32>>;
+// The leapfrog step's boundary particles (pass_a.wgsl, enlist) and
+// (count, the indirect dispatch's workgroups x, y, z).
+@group(0) @binding(64) var<storage, read> surf: array<u32>;
+@group(0) @binding(65) var<storage, read> surf_args: array<u32>;
 
 fn kick(q: u32, rigid: bool) {
     if (!rigid) {
@@ -99,13 +104,61 @@ fn series(a: f32, ra: bool, b: f32, rb: bool) -> f32 {
     return a * b / (a + b);
 }
 
-@compute @workgroup_size(WG)
-fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let p = flat_index(gid, nwg);
-    // A leapfrog step of zero length leaves everything as it is.
-    if (p >= params.n || (LEAP >= 2u && ctl.dt == 0.0)) {
+// The particles a thread of a contact pass handles: in a leapfrog step
+// (LEAP >= 2) the boundary particles pass A listed (`surf`), one a thread
+// and a workgroup a `WG` of them (pass C sized the indirect dispatch), or,
+// where the list overflowed, every particle; otherwise one particle a
+// thread, every particle. A thread strides past the most workgroups a
+// dispatch may have. Only boundary particles (nbo.z > 0) take part: the
+// others' entries are left as they are, and their readers look at the
+// boundary flag first (reduce.wgsl; advance.wgsl for qrate).
+fn contact_walkers(gid: vec3<u32>, nwg: vec3<u32>, pass2: bool) {
+    if (LEAP >= 2u) {
+        // A leapfrog step of zero length leaves everything as it is.
+        if (ctl.dt == 0.0) {
+            return;
+        }
+        let count = surf_args[0];
+        let listed = count <= params.surf_cap;
+        let end = select(params.n, count, listed);
+        for (var k = gid.x; k < end; k += nwg.x * WG) {
+            var p = k;
+            if (listed) {
+                p = surf[k];
+            } else if (nbo[p].z <= 0.0) {
+                continue;
+            }
+            if (pass2) {
+                pass2_at(p);
+            } else {
+                pass1_at(p);
+            }
+        }
         return;
     }
+    let p = flat_index(gid, nwg);
+    if (p >= params.n) {
+        return;
+    }
+    if (pass2) {
+        pass2_at(p);
+    } else {
+        pass1_at(p);
+    }
+}
+
+@compute @workgroup_size(WG)
+fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    contact_walkers(gid, nwg, false);
+}
+
+@compute @workgroup_size(WG)
+fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    contact_walkers(gid, nwg, true);
+}
+
+// Pass 1 at boundary particle p (any other particle: its entries cleared).
+fn pass1_at(p: u32) {
     // w: the partner body as a float (exact for any realistic count), -1: none.
     cown[p] = vec4<f32>(0.0, 0.0, 0.0, -1.0);
     cshare[p] = vec4<f32>(0.0);
@@ -243,17 +296,10 @@ fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     store_energy(p, stored);
 }
 
-@compute @workgroup_size(WG)
-fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let q = flat_index(gid, nwg);
-    if (q >= params.n || (LEAP >= 2u && ctl.dt == 0.0)) {
-        return;
-    }
+// Pass 2 at particle q.
+fn pass2_at(q: u32) {
     if (nbo[q].z <= 0.0) {
-        if (LEAP == 2u) {
-            kick(q, bodies[pinfo[q].z].rigid != 0u);
-        }
-        if (LEAP == 1u || LEAP == 3u) {
+        if (LEAP == 1u) {
             // No rates for the ledger's next half step (the buffer held
             // the neighbour masks; gpu::mask_home).
             qrate[q] = vec2<f32>(0.0);

@@ -28,6 +28,23 @@
 @group(0) @binding(53) var<storage, read> vstar: array<vec2<f32>>;
 // The neighbour mask pass A left (common.wgsl; the leapfrog's).
 @group(0) @binding(9) var<storage, read> nmask: array<vec2<u32>>;
+// The momentum walk of a leapfrog step (LEAP = 2) kicks the state's
+// velocity to v_{n+1} where a_{n+1} is whole, every particle the contact
+// adds nothing to (contact.wgsl kicks the rest), and sizes the contact's
+// dispatch over the list of boundary particles pass A made.
+@group(0) @binding(57) var<storage, read_write> vkick: array<vec2<f32>>;
+@group(0) @binding(65) var<storage, read_write> surf_args: array<u32>;
+
+// Workgroups of the contact's indirect dispatch (surf_args[1..4]): one a
+// `WG` listed particles, or one a `WG` particles where the list overflowed.
+fn size_contact() {
+    let count = surf_args[0];
+    var walkers = count;
+    if (count > params.surf_cap) {
+        walkers = params.n;
+    }
+    surf_args[1] = min((walkers + WG - 1u) / WG, params.surf_groups);
+}
 
 // mu = rho/rho0 - 1 of particle j: in a leapfrog step the n+1 value its
 // kinematic pass left in the carried rates' free slot (dr.x).
@@ -143,6 +160,9 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) 
 @compute @workgroup_size(WG)
 fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
+    if (LEAP == 2u && CONTACT && i == 0u) {
+        size_contact();
+    }
     // A leapfrog step of zero length leaves the carried rates as they are.
     if (i >= params.n || (LEAP >= 2u && ctl.dt == 0.0)) {
         return;
@@ -243,6 +263,9 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         } else {
             dv[i] = acc;
             dr[i].y = de;
+            if (LEAP == 2u && !boundary) {
+                vkick[i] = vkick[i] + acc * (0.5 * ctl.dt);
+            }
         }
     } else if (!rigid && ctl.dt != 0.0) {
         dv[i] = dv[i] + acc * ctl.dt;

@@ -101,6 +101,11 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
     }
     switch code {
         case 6u, 7u: {
+            // The leapfrog's contact writes only its boundary particles'
+            // entries (contact.wgsl).
+            if (LEAP != 0u && nbo[i].z <= 0.0) {
+                return 0.0;
+            }
             let own = cown[i];
             let fa = f32(a);
             let fb = f32(SLOT_B[sl]);

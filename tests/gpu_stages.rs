@@ -282,6 +282,37 @@ fn wrapped_dispatches_give_the_same_step() {
     }
 }
 
+/// The leapfrog's contact walks the boundary particles pass A lists; a
+/// step with more of them than the list holds walks every particle
+/// instead, bitwise the same.
+#[test]
+fn an_overflowing_contact_list_gives_the_same_step() {
+    let Some(ctx) = gpu() else { return };
+    let (mut model, st) = state_during_contact("scenes/paper/disks_polar.toml", 1e-6);
+    model.integrator = Integrator::Leapfrog;
+    let run = |opts: sphcontact::gpu::GpuOptions| {
+        let mut g = GpuSolver::with_options(ctx.clone(), model.clone(), &st, &[], 1.0, opts)
+            .expect("fits the adapter");
+        let b = g.run_batch(20);
+        assert!(b.failure.is_none());
+        (g.download(), g.step_work())
+    };
+    let (listed, work) = run(Default::default());
+    let walkers = work
+        .per_walk
+        .iter()
+        .find(|w| w.name == "contact_pass1")
+        .expect("a contact walk")
+        .walkers;
+    assert!(walkers > 16, "{walkers} boundary particles");
+    let (full, _) = run(sphcontact::gpu::GpuOptions {
+        surf_capacity: Some(16),
+        ..Default::default()
+    });
+    assert_eq!(listed.step, 20);
+    assert!(listed == full, "the overflowed list changed the state");
+}
+
 /// A scene larger than the adapter's binding size is refused with a clear
 /// error, before anything runs.
 #[test]
@@ -445,6 +476,17 @@ fn step_work_on_the_bench_lattice() {
             .find(|w| w.name == name)
             .unwrap_or_else(|| panic!("a leapfrog {name} walk"))
     };
+    // The leapfrog's contact walks its list of the boundary particles: a
+    // group is 32 of them, where the midpoint rule's groups are the 32
+    // slots around each.
+    let (mc, lc) = (walk("contact_pass1"), lw("contact_pass1"));
+    assert_eq!(lc.walkers, mc.walkers, "the same boundary particles");
+    assert!(
+        lc.lane_use >= 0.4 && lc.lane_use >= 3.0 * mc.lane_use,
+        "lanes used: {:.2} listed, {:.2} in place",
+        lc.lane_use,
+        mc.lane_use
+    );
     let ka = lw("pass_a_leap");
     assert_eq!(ka.candidates, a.candidates, "the same cell list");
     // The momentum and energy walks visit the pairs of the kinematic

@@ -27,8 +27,9 @@ pub struct Params {
     pub end_lo: f32,
     pub ring_len: u32,
     pub ring_width: u32,
-    /// Keeps `domain` on a 16-byte boundary.
-    pub pad0: u32,
+    /// Entries of the leapfrog contact's list of boundary particles
+    /// (contact.wgsl; 0 without one).
+    pub surf_cap: u32,
     pub nprobes: u32,
     pub cell: f32,
     pub red_groups: u32,
@@ -46,7 +47,9 @@ pub struct Params {
     pub energy_kin: u32,
     pub energy_int: u32,
     pub energy_stored: u32,
-    pub pad1: u32,
+    /// The most workgroups of a dispatch along x (the contact's indirect
+    /// dispatch is sized to at most this many).
+    pub surf_groups: u32,
 }
 
 /// `Body` in common.wgsl: per-body constants.
@@ -129,7 +132,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 end_lo,
                 ring_len,
                 ring_width,
-                pad0,
+                surf_cap,
                 nprobes,
                 cell,
                 red_groups,
@@ -139,7 +142,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 energy_kin,
                 energy_int,
                 energy_stored,
-                pad1
+                surf_groups
             ),
         ),
         (

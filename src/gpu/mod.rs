@@ -132,6 +132,15 @@ fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
     [("cshare", Some("lmat")), ("cown", own_home)]
 }
 
+/// Entries of the leapfrog contact's list of boundary particles
+/// (contact.wgsl) for `n` particles: the boundary of a body large enough to
+/// matter for speed is a small share of it (1.4 % of the benchmark's disks
+/// at 1e5, less at larger sizes), so a sixteenth and a margin, 0.25 bytes
+/// a particle; a step with more boundary particles walks every particle.
+fn surf_capacity(n: usize) -> u32 {
+    (n / 16 + 4096).min(n).max(1) as u32
+}
+
 /// Where the leapfrog's neighbour masks (common.wgsl) live: with contact in
 /// `qrate`, the contact's rates for the ledger's next half step, which the
 /// booking writes after the energy walk (the masks' last reader) and the
@@ -311,6 +320,9 @@ enum Walk {
     All,
     /// Only the boundary particles' threads walk (the contact).
     Boundary,
+    /// The threads of a list of the boundary particles walk, one a
+    /// particle (the leapfrog's contact, dispatched over the list).
+    Listed,
     /// Every particle's thread visits the pairs of its neighbour mask
     /// (common.wgsl), or walks in full where the mask overflowed.
     Masked,
@@ -323,13 +335,26 @@ struct Kernel {
     bind: wgpu::BindGroup,
     groups: (u32, u32),
     walk: Walk,
+    /// A dispatch sized on the device: its workgroups are the three words
+    /// at byte 4 of this buffer (`surf_args`, contact.wgsl).
+    indirect: Option<wgpu::Buffer>,
 }
 
 impl Kernel {
     fn dispatch(&self, pass: &mut wgpu::ComputePass<'_>) {
         pass.set_pipeline(&self.pipeline.pipeline);
         pass.set_bind_group(0, &self.bind, &[]);
-        pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+        match &self.indirect {
+            Some(args) => pass.dispatch_workgroups_indirect(args, 4),
+            None => pass.dispatch_workgroups(self.groups.0, self.groups.1, 1),
+        }
+    }
+
+    /// The kernel dispatched over the contact's list of boundary particles.
+    fn listed(mut self, args: &wgpu::Buffer) -> Self {
+        self.walk = Walk::Listed;
+        self.indirect = Some(args.clone());
+        self
     }
 
     fn walking(mut self, walk: Walk) -> Self {
@@ -385,9 +410,6 @@ struct LeapKernels {
     pass_a: Kernel,
     pass_c: Kernel,
     contact: Option<(Kernel, Kernel)>,
-    /// The kick to v_{n+1}, where the contact's second pass does not make
-    /// it (a scene without contact).
-    kick: Option<Kernel>,
     book: Option<(Kernel, Kernel)>,
     energy: Kernel,
     finish: Kernel,
@@ -469,6 +491,9 @@ pub struct StageOutputs {
 pub struct GpuOptions {
     pub max_workgroups_per_dimension: Option<u32>,
     pub max_binding_size: Option<u64>,
+    /// Entries of the leapfrog contact's list of boundary particles, in
+    /// place of [`surf_capacity`]'s (tests: a list that overflows).
+    pub surf_capacity: Option<u32>,
 }
 
 /// A device state as stored: the buffers that carry a run from step to
@@ -562,6 +587,21 @@ impl GpuSolver {
         let plan = ProbePlan::new(probes, &model, origin);
         let row_stride = ((hi.x - origin.x) / cell).floor() as u32 + 3;
         let (end_hi, end_lo) = split(end_time);
+        let maxd = opts
+            .max_workgroups_per_dimension
+            .map_or(ctx.limits.max_compute_workgroups_per_dimension, |m| {
+                m.min(ctx.limits.max_compute_workgroups_per_dimension)
+            })
+            .max(1);
+        let leapfrog = model.integrator == Integrator::Leapfrog;
+        let contact = model.contact;
+        let surf_cap = if leapfrog && contact {
+            opts.surf_capacity
+                .unwrap_or_else(|| surf_capacity(n))
+                .max(1)
+        } else {
+            0
+        };
         let params = Params {
             n: n as u32,
             nbodies: model.bodies.len() as u32,
@@ -581,7 +621,7 @@ impl GpuSolver {
             end_lo,
             ring_len: RING_LEN,
             ring_width: plan.row_width() as u32,
-            pad0: 0,
+            surf_cap,
             nprobes: plan.particles.len() as u32,
             cell: cell as f32,
             red_groups,
@@ -595,7 +635,7 @@ impl GpuSolver {
             energy_kin: plan.energy.map_or(0, |e| e.0 as u32),
             energy_int: plan.energy.map_or(0, |e| e.1 as u32),
             energy_stored: plan.stored.map_or(NONE, |k| k as u32),
-            pad1: 0,
+            surf_groups: maxd,
         };
         let bodies: Vec<BodyGpu> = model
             .bodies
@@ -669,7 +709,6 @@ impl GpuSolver {
         // entry, and the entry's slot, found by a binary search from every
         // particle (reorder.wgsl, map_slots) now and after each reorder.
         let (probe_ids, probe_refs) = probe_tables(&plan.particles);
-        let contact = model.contact;
 
         let dev = &ctx.device;
         let limits = &ctx.limits;
@@ -714,7 +753,6 @@ impl GpuSolver {
         make("r", 8 * nn, Some(bytemuck::cast_slice(&r)))?;
         make("s", 16 * nn, Some(bytemuck::cast_slice(&s)))?;
         make("pinfo", 16 * nn, Some(bytemuck::cast_slice(&meta)))?;
-        let leapfrog = model.integrator == Integrator::Leapfrog;
         if leapfrog {
             // The carried rates a_n and (_, de_n/dt), and the predicted
             // velocity (common.wgsl, LEAP); buffers wgpu zeroes.
@@ -729,6 +767,9 @@ impl GpuSolver {
             }
             if mask_home(&model).is_none() {
                 make("nmask", 8 * nn, None)?;
+            }
+            if contact {
+                make("surf", 4 * surf_cap as u64, None)?;
             }
         } else {
             // The midpoint state; the evaluation at the base state leaves
@@ -801,6 +842,23 @@ impl GpuSolver {
                 }
             }
         }
+        // The contact list's (count, workgroups x, y, z), an indirect
+        // dispatch's arguments from byte 4 (contact.wgsl).
+        let surf_args = (leapfrog && contact).then(|| {
+            let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("surf_args"),
+                size: 16,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::INDIRECT
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            ctx.queue
+                .write_buffer(&buf, 0, bytemuck::cast_slice(&[0u32, 0, 1, 1]));
+            device_bytes += 16;
+            buffers.insert("surf_args", buf.clone());
+            buf
+        });
         let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("params"),
             size: std::mem::size_of::<Params>() as u64,
@@ -836,12 +894,6 @@ impl GpuSolver {
                 (model.integrator == Integrator::Leapfrog) as u8 as f64,
             ),
         ];
-        let maxd = opts
-            .max_workgroups_per_dimension
-            .map_or(limits.max_compute_workgroups_per_dimension, |m| {
-                m.min(limits.max_compute_workgroups_per_dimension)
-            })
-            .max(1);
         let groups_of = |size: Size| -> (u32, u32) {
             let g = match size {
                 Size::Particles => (n as u32).div_ceil(WG),
@@ -947,6 +999,7 @@ impl GpuSolver {
                 bind,
                 groups: groups_of(size),
                 walk: Walk::None,
+                indirect: None,
             })
         };
         let kernel = |stage: &str, entry: &str, size: Size, aliases: &[(&str, &str)]| {
@@ -1014,26 +1067,19 @@ impl GpuSolver {
                 kick_drift: kernel("advance", "kick_drift_cells", Size::Particles, state_w)?,
                 pass_a: step("pass_a", "pass_a_leap", &[("ds", "s")])?.walking(Walk::All),
                 pass_c: step("pass_c", "pass_c", at_n1)?.walking(Walk::Masked),
-                contact: if contact {
-                    Some((
-                        step("contact", "contact_pass1", at_n1)?.walking(Walk::Boundary),
-                        step("contact", "contact_pass2", at_n1)?.walking(Walk::Boundary),
-                    ))
-                } else {
-                    None
+                contact: match &surf_args {
+                    Some(a) => Some((
+                        step("contact", "contact_pass1", at_n1)?.listed(a),
+                        step("contact", "contact_pass2", at_n1)?.listed(a),
+                    )),
+                    None => None,
                 },
-                kick: if contact {
-                    None
-                } else {
-                    Some(kernel("advance", "kick", Size::Particles, state_w)?)
-                },
-                book: if contact {
-                    Some((
-                        book("contact", "contact_pass1")?.walking(Walk::Boundary),
-                        book("contact", "contact_pass2")?.walking(Walk::Boundary),
-                    ))
-                } else {
-                    None
+                book: match &surf_args {
+                    Some(a) => Some((
+                        book("contact", "contact_pass1")?.listed(a),
+                        book("contact", "contact_pass2")?.listed(a),
+                    )),
+                    None => None,
                 },
                 energy: kernel_in(&book_constants, "pass_c", "pass_c", Size::Particles, energy)?
                     .walking(Walk::Masked),
@@ -1265,9 +1311,6 @@ impl GpuSolver {
                 pass.run(c1);
                 pass.run(c2);
             }
-            if let Some(kick) = &l.kick {
-                pass.run(kick);
-            }
             // The energy walk reads the neighbour masks the booking's
             // rates then overwrite (mask_home).
             pass.run(&l.energy);
@@ -1368,23 +1411,18 @@ impl GpuSolver {
                 continue;
             }
             let boundary = |i: usize| nbo[i][2] > 0.0;
-            let all = |_: usize| true;
-            let walks: &dyn Fn(usize) -> bool = if *walk == Walk::Boundary {
-                &boundary
-            } else {
-                &all
-            };
-            per_walk.push(if *walk == Walk::Masked {
-                view.count_masked(name, 1, masks)
-            } else {
-                view.count_walk(name, 1, walks)
+            per_walk.push(match walk {
+                Walk::Masked => view.count_masked(name, 1, masks),
+                Walk::Boundary => view.count_walk(name, 1, &boundary, false),
+                Walk::Listed => view.count_walk(name, 1, &boundary, true),
+                _ => view.count_walk(name, 1, &|_| true, false),
             });
         }
         let count = |w: Walk| tally.walks.iter().filter(|x| x.1 == w).count() as u32;
         work::StepWork {
             dispatches: tally.dispatches,
             walks: count(Walk::All) + count(Walk::Masked),
-            contact_walks: count(Walk::Boundary),
+            contact_walks: count(Walk::Boundary) + count(Walk::Listed),
             device_bytes_per_particle: self.device_bytes as f64 / self.n as f64,
             per_walk,
         }
@@ -1806,9 +1844,7 @@ impl GpuSolver {
                 }
                 "reduce" => self.encode_reduce(&mut pass),
                 "advance" => {
-                    run(&[&l.kick_drift]);
-                    run(&l.kick.iter().collect::<Vec<_>>());
-                    run(&[&l.finish, &k.end_step]);
+                    run(&[&l.kick_drift, &l.finish, &k.end_step]);
                 }
                 _ => unreachable!("stage names are checked by time_stage"),
             }
@@ -1901,19 +1937,22 @@ impl GpuSolver {
         for ((from, bytes), to) in saved.iter().zip(&backups) {
             enc.copy_buffer_to_buffer(self.buf(from), 0, to, 0, *bytes);
         }
-        {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            if let Some(l) = &self.k.leap {
-                // A whole step, then the cell list it ends by zeroing and
-                // the neighbour masks its booking overwrites: every stage's
-                // inputs are then valid.
-                self.encode_step_pass(&mut pass);
-                self.encode_grid(&mut pass, Var::Base);
-                pass.run(&l.pass_a);
-            } else {
-                self.encode_eval(&mut pass, Var::Base);
-                self.encode_reduce(&mut pass);
+        if let Some(l) = &self.k.leap {
+            // A whole step, then the cell list it ends by zeroing and the
+            // neighbour masks its booking overwrites: every stage's inputs
+            // are then valid. Pass A lists the boundary particles again,
+            // from an empty list.
+            self.encode_step_pass(&mut enc.begin_compute_pass(&Default::default()));
+            if let Some(args) = self.buffers.get("surf_args") {
+                enc.clear_buffer(args, 0, Some(4));
             }
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            self.encode_grid(&mut pass, Var::Base);
+            pass.run(&l.pass_a);
+        } else {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            self.encode_eval(&mut pass, Var::Base);
+            self.encode_reduce(&mut pass);
         }
         self.ctx.queue.submit([enc.finish()]);
         wait()?;

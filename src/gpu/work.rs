@@ -120,27 +120,44 @@ impl GridView<'_> {
     }
 
     /// Count one walk, run `per_step` times a step: `walks(i)` says whether
-    /// particle slot `i`'s thread walks (the others return at once).
-    pub fn count_walk(&self, name: &str, per_step: u32, walks: &dyn Fn(usize) -> bool) -> WalkWork {
+    /// particle slot `i`'s thread walks. The threads of the others return at
+    /// once, but share their groups with the walkers'; where the walkers are
+    /// `listed` (the leapfrog's contact, dispatched over a list of them), a
+    /// group is 32 walkers, taken here in slot order (the device's list is
+    /// in the order its atomic counter gave, which changes the grouping but
+    /// not the candidates).
+    pub fn count_walk(
+        &self,
+        name: &str,
+        per_step: u32,
+        walks: &dyn Fn(usize) -> bool,
+        listed: bool,
+    ) -> WalkWork {
         let n = self.x0.len();
-        let (mut walkers, mut candidates, mut groups, mut trips) = (0usize, 0u64, 0usize, 0u64);
-        for g in (0..n).step_by(WARP) {
+        let walkers: Vec<usize> = (0..n).filter(|&i| walks(i)).collect();
+        let (mut candidates, mut groups, mut trips) = (0u64, 0usize, 0u64);
+        let mut rest = walkers.as_slice();
+        while let Some(&first) = rest.first() {
+            // The walkers of one group: the next 32 of the list, or those
+            // in the 32 slots from the first one's group start.
+            let len = if listed {
+                rest.len().min(WARP)
+            } else {
+                let end = (first / WARP + 1) * WARP;
+                rest.iter().take_while(|&&i| i < end).count()
+            };
             let mut longest = [0u32; 5];
-            let mut any = false;
-            for i in (g..(g + WARP).min(n)).filter(|&i| walks(i)) {
-                any = true;
-                walkers += 1;
+            for &i in &rest[..len] {
                 for (l, r) in longest.iter_mut().zip(self.row_lengths(i)) {
                     candidates += r as u64;
                     *l = (*l).max(r);
                 }
             }
-            if any {
-                groups += 1;
-                trips += longest.iter().map(|&l| l as u64).sum::<u64>();
-            }
+            groups += 1;
+            trips += longest.iter().map(|&l| l as u64).sum::<u64>();
+            rest = &rest[len..];
         }
-        walk_work(name, per_step, walkers, candidates, groups, trips)
+        walk_work(name, per_step, walkers.len(), candidates, groups, trips)
     }
 
     /// Count one masked walk (every particle walks; pass_c.wgsl) from the
