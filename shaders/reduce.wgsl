@@ -177,9 +177,7 @@ fn reduce_partial(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgr
         if (i < n) {
             let o = observe(i);
             acc[0] = min(acc[0], o.cfl);
-            for (var sl = 0u; sl < NSLOTS; sl++) {
-                acc[sl + 1u] = combine(sl + 1u, acc[sl + 1u], slot_value(sl, i, o));
-            }
+            fold_slots(&acc, i, o);
         }
     }
     for (var g0 = 0u; g0 < NVALS; g0 += GROUPV) {

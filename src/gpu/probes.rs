@@ -156,13 +156,24 @@ impl ProbePlan {
             let items: Vec<String> = self.slots.iter().map(|s| format!("{}u", s[k])).collect();
             format!("array<u32, {n}>({})", items.join(", "))
         };
+        // One line a slot rather than a loop over them: each line's slot
+        // is a constant, so the compiler folds its code's branches and
+        // keeps the values in registers.
+        let fold: String = (0..n)
+            .map(|k| {
+                let v = k + 1;
+                format!("    (*acc)[{v}] = combine({v}u, (*acc)[{v}], slot_value({k}u, i, o));\n")
+            })
+            .collect();
         format!(
             "// The scene's observation slots (gpu::probes::ProbePlan::wgsl).\n\
              const NSLOTS: u32 = {n}u;\n\
              const SLOT_CODE = {};\n\
              const SLOT_A = {};\n\
              const SLOT_B = {};\n\
-             const SLOT_OP = {};\n",
+             const SLOT_OP = {};\n\
+             // Particle i's value of every slot folded into `acc`.\n\
+             fn fold_slots(acc: ptr<function, array<f32, NVALS>>, i: u32, o: Obs) {{\n{fold}}}\n",
             column(0),
             column(1),
             column(2),
