@@ -108,9 +108,9 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 // the EOS, the predicted velocity, the contact's list of boundary
 // particles); the momentum and the contact forces at n+1 (LEAP = 2), which
 // kick each particle to v_{n+1} once its a_{n+1} is whole; the energy sums
-// and the contact's booking at v_{n+1} (LEAP = 3); finish. The rates a_n (acc) and de_n (rdt.y)
-// and the contact's heat and spring rates (qrate) are carried from the
-// step before. Here u_w, v_w and r_w are the state's own buffers. A
+// and the contact's booking at v_{n+1} (LEAP = 3); finish. The rates a_n
+// (acc) and de_n (rdt.y) and the contact's heat and spring rates (qrate)
+// are carried from the step before. Here u_w, v_w and r_w are the state's own buffers. A
 // zero-length step (past the stop, or after a failure) changes nothing.
 @group(0) @binding(13) var<storage, read> nbo: array<vec4<f32>>;
 @group(0) @binding(34) var<storage, read_write> qheat_w: array<vec2<f32>>;
@@ -121,7 +121,7 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 // The cell list's counts (grid.wgsl), filled here for the new positions.
 @group(0) @binding(16) var<storage, read_write> bstart_w: array<atomic<u32>>;
 // The count of the contact's list of boundary particles, which the step's
-// pass A fills (pass_a.wgsl, enlist).
+// pass A fills (pass_a.wgsl, leap_surface).
 @group(0) @binding(65) var<storage, read_write> surf_args: array<u32>;
 
 // v_{n+1/2} = v_n + dt/2 a_n, e likewise, x_{n+1} = x_n + dt v_{n+1/2}, the

@@ -61,8 +61,8 @@ struct Params {
     end_lo: f32,
     ring_len: u32,
     ring_width: u32,
-    // The leapfrog contact's list of boundary particles (contact.wgsl):
-    // its length and the most workgroups an indirect dispatch may have.
+    // Entries of the leapfrog contact's list of boundary particles
+    // (contact.wgsl; 0 without one).
     surf_cap: u32,
     nprobes: u32,
     cell: f32,
@@ -79,6 +79,8 @@ struct Params {
     energy_kin: u32,
     energy_int: u32,
     energy_stored: u32,
+    // The most workgroups of a dispatch along x (the contact's indirect
+    // dispatch has at most this many).
     surf_groups: u32,
 }
 
@@ -381,12 +383,23 @@ struct Cand {
 }
 
 fn cand(w: Walker, k: u32, c: Consts) -> Cand {
-    let j = blist[select(k, k - c.n, k >= c.n)];
+    let j = sorted_at(k, c);
     let b = x0[j];
     let uj = u[j];
     let cell = home_in(b, uj, c.inv_cell).cell;
-    let d = (w.a.xy - b.xy) * c.cell + (w.a.zw - b.zw) + (w.un - uj);
-    return Cand(j, cell, d);
+    return Cand(j, cell, pair_diff(w, b, uj, c));
+}
+
+// The particle at place k of the sorted list, run on past `n` where a row
+// range wraps round the bucket table.
+fn sorted_at(k: u32, c: Consts) -> u32 {
+    return blist[select(k, k - c.n, k >= c.n)];
+}
+
+// x_i - x_j of the walker and a particle at reference cell and offset `b`
+// and displacement `uj` (the precision plan: cells and offsets apart).
+fn pair_diff(w: Walker, b: vec4<f32>, uj: vec2<f32>, c: Consts) -> vec2<f32> {
+    return (w.a.xy - b.xy) * c.cell + (w.a.zw - b.zw) + (w.un - uj);
 }
 
 // An SPH pair (i, j), h_ij the mean of the bodies' h: separation x_i - x_j,
@@ -516,8 +529,7 @@ fn mask_next(m: ptr<function, vec2<u32>>) -> u32 {
 
 // The pair difference d = x_i - x_j of the walker and particle j (as `cand`).
 fn pair_d(w: Walker, j: u32, c: Consts) -> vec2<f32> {
-    let b = x0[j];
-    return (w.a.xy - b.xy) * c.cell + (w.a.zw - b.zw) + (w.un - u[j]);
+    return pair_diff(w, x0[j], u[j], c);
 }
 
 // Position relative to the grid origin (output only). The host adds the

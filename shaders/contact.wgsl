@@ -44,7 +44,7 @@
 // to v_{n+1} once a boundary particle's acceleration is whole (pass C kicks
 // the others).
 @group(0) @binding(57) var<storage, read_write> vkick: array<vec2<f32>>;
-// The leapfrog step's boundary particles (pass_a.wgsl, enlist) and
+// The leapfrog step's boundary particles (pass_a.wgsl, leap_surface) and
 // (count, the indirect dispatch's workgroups x, y, z).
 @group(0) @binding(64) var<storage, read> surf: array<u32>;
 @group(0) @binding(65) var<storage, read> surf_args: array<u32>;
@@ -298,12 +298,10 @@ fn pass1_at(p: u32) {
 
 // Pass 2 at particle q.
 fn pass2_at(q: u32) {
+    // A particle off the boundary has no contact rates: the ledger reads
+    // qrate (which holds the neighbour masks for part of a step;
+    // gpu::mask_home) only behind the boundary flag (advance.wgsl).
     if (nbo[q].z <= 0.0) {
-        if (LEAP == 1u) {
-            // No rates for the ledger's next half step (the buffer held
-            // the neighbour masks; gpu::mask_home).
-            qrate[q] = vec2<f32>(0.0);
-        }
         return;
     }
     let mq = pinfo[q];

@@ -47,13 +47,17 @@
 @group(0) @binding(64) var<storage, read_write> surf: array<u32>;
 @group(0) @binding(65) var<storage, read_write> surf_args: array<atomic<u32>>;
 
-// Put a boundary particle of the leapfrog step on the contact's list. The
-// slots follow the atomic counter, so their order varies from run to run;
-// no result depends on it (each slot's thread writes only its own
-// particle's entries). A particle past the list's end is only counted: the
-// contact then walks every particle.
-fn enlist(i: u32, z: f32) {
-    if (!CONTACT || z <= 0.0) {
+// The leapfrog step's surface of particle i (normal, boundary flag; the
+// stored spring energy zero until the contact sets it), and a boundary
+// particle put on the contact's list. The list's slots follow the atomic
+// counter, so their order varies from run to run; no result depends on it
+// (each slot's thread writes only its own particle's entries). A particle
+// past the list's end is only counted: the contact then walks every
+// particle.
+fn leap_surface(i: u32, gpsi: vec2<f32>, hi: f32) {
+    let sf = surface_of(gpsi, hi);
+    nbo[i] = vec4<f32>(sf, 0.0);
+    if (!CONTACT || sf.z <= 0.0) {
         return;
     }
     let k = atomicAdd(&surf_args[0], 1u);
@@ -305,9 +309,7 @@ fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     let si = ds[i];
     if (rigid) {
         // A rigid body keeps its velocity and reference state.
-        let sf = surface_of(ks.gpsi, hi);
-        nbo[i] = vec4<f32>(sf, 0.0);
-        enlist(i, sf.z);
+        leap_surface(i, ks.gpsi, hi);
         rdt[i].x = mu;
         stress_point(i, body, mu, r[i].y, si);
         vstar[i] = v[i];
@@ -320,9 +322,7 @@ fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     let gv = velocity_gradient(ks.gsum, l);
     let mu1 = mu + (-(1.0 + mu) * (gv.x + gv.w)) * dt;
     let s1 = plastic_return(si + stress_rate(body.g, si, gv) * dt, body);
-    let sf = surface_of(ks.gpsi, hi);
-    nbo[i] = vec4<f32>(sf, 0.0);
-    enlist(i, sf.z);
+    leap_surface(i, ks.gpsi, hi);
     rdt[i].x = mu1;
     ds[i] = s1;
     stress_point(i, body, mu1, r[i].y + rdt[i].y * h, s1);

@@ -172,7 +172,8 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let body = bodies[bi];
     let hi = body.h;
     let rigid = body.rigid != 0u;
-    let boundary = CONTACT && nbo[i].z > 0.0;
+    let surface = nbo[i].z > 0.0;
+    let boundary = CONTACT && surface;
     if (rigid && !boundary) {
         if (LEAP == 3u) {
             return;
@@ -205,7 +206,7 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         hi,
         rigid,
         boundary,
-        nbo[i].z > 0.0,
+        surface,
         lmat[i],
         sr2c[i],
         v[i],
@@ -231,7 +232,7 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
                 break;
             }
             let k = row_place(rm, o);
-            let j = blist[select(k, k - cs.n, k >= cs.n)];
+            let j = sorted_at(k, cs);
             let mj = pinfo[j];
             add_pair(own, j, mj, pair_at(pair_d(wk, j, cs), pair_h(hi, mj.z)), &sums);
         }

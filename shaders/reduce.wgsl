@@ -27,18 +27,24 @@
 const RED: u32 = 256u;
 var<workgroup> shf: array<f32, 256>;
 
-// Tree reduction of `shf` (sum, or max when `op` is 1), result in shf[0].
+// Two values combined by operation `op`: 0 the sum, 1 the maximum, 2 the
+// minimum.
+fn apply_op(op: u32, a: f32, b: f32) -> f32 {
+    if (op == 1u) {
+        return max(a, b);
+    }
+    if (op == 2u) {
+        return min(a, b);
+    }
+    return a + b;
+}
+
+// Tree reduction of `shf` by operation `op` (apply_op), result in shf[0].
 fn reduce_shared(lid: u32, op: u32) {
     for (var off = RED / 2u; off > 0u; off = off / 2u) {
         workgroupBarrier();
         if (lid < off) {
-            if (op == 1u) {
-                shf[lid] = max(shf[lid], shf[lid + off]);
-            } else if (op == 2u) {
-                shf[lid] = min(shf[lid], shf[lid + off]);
-            } else {
-                shf[lid] = shf[lid] + shf[lid + off];
-            }
+            shf[lid] = apply_op(op, shf[lid], shf[lid + off]);
         }
     }
     workgroupBarrier();
@@ -155,10 +161,7 @@ fn combine(k: u32, a: f32, b: f32) -> f32 {
     if (k == 0u) {
         return min(a, b);
     }
-    if (SLOT_OP[k - 1u] == 1u) {
-        return max(a, b);
-    }
-    return a + b;
+    return apply_op(SLOT_OP[k - 1u], a, b);
 }
 
 @compute @workgroup_size(64)
@@ -214,12 +217,7 @@ fn slot_total(lid: u32, sl: u32) -> f32 {
     let op = SLOT_OP[sl];
     var acc = 0.0;
     for (var k = lid; k < params.red_groups; k += RED) {
-        let x = red[params.red_groups + sl * params.red_groups + k];
-        if (op == 1u) {
-            acc = max(acc, x);
-        } else {
-            acc += x;
-        }
+        acc = apply_op(op, acc, red[params.red_groups + sl * params.red_groups + k]);
     }
     workgroupBarrier();
     shf[lid] = acc;

@@ -79,7 +79,7 @@ impl GpuContext {
 
     fn module(&self, stage: &str, prelude: &str) -> Arc<(wgpu::ShaderModule, shaders::Reflected)> {
         let mut m = self.modules.lock().expect("module cache");
-        m.entry(format!("{stage}\n{prelude}"))
+        m.entry(source_key(stage, prelude))
             .or_insert_with(|| {
                 let refl = shaders::reflect(stage, prelude).unwrap_or_else(|e| panic!("{e}"));
                 let src = shaders::source(stage, prelude);
@@ -104,7 +104,7 @@ impl GpuContext {
         constants: &[(&str, f64)],
     ) -> Arc<Pipeline> {
         let key: PipelineKey = (
-            format!("{stage}\n{prelude}"),
+            source_key(stage, prelude),
             entry.to_string(),
             constants
                 .iter()
@@ -173,4 +173,10 @@ impl GpuContext {
             .insert(key, p.clone());
         p
     }
+}
+
+/// What a stage's compiled module is cached under: the stage and the
+/// scene's generated prelude ([`shaders::source`]).
+fn source_key(stage: &str, prelude: &str) -> String {
+    format!("{stage}\n{prelude}")
 }

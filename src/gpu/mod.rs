@@ -32,10 +32,12 @@
 //! full neighbour walk is the kinematic pass's: it leaves each particle a
 //! 64-bit mask of which of its candidates are SPH pairs, and the momentum
 //! and energy walks (pass C, twice) visit only those, in the same order
-//! (`common.wgsl`, [`work::GridView::count_masked`]). Its rates `a_n`, `de_n` (and the
-//! contact's heat and spring rates, and the last half step's velocity
-//! gradient) are carried in buffers of their own, and checkpoints hold
-//! them with what the next step's reductions read.
+//! (`common.wgsl`, [`work::GridView::count_masked`]); it also lists the
+//! boundary particles, and the contact's gathers run over that list
+//! (`contact.wgsl`). Its rates `a_n`, `de_n` (and the contact's heat and
+//! spring rates, and the last half step's velocity gradient) are carried
+//! in buffers of their own, and checkpoints hold them with what the next
+//! step's reductions read.
 //!
 //! The host encodes a batch of steps into one submission and reads back
 //! only a small control block and the ring of per-step observations the
@@ -138,15 +140,16 @@ fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
 /// at 1e5, less at larger sizes), so a sixteenth and a margin, 0.25 bytes
 /// a particle; a step with more boundary particles walks every particle.
 fn surf_capacity(n: usize) -> u32 {
-    (n / 16 + 4096).min(n).max(1) as u32
+    (n / 16 + 4096).min(n) as u32
 }
 
 /// Where the leapfrog's neighbour masks (common.wgsl) live: with contact in
 /// `qrate`, the contact's rates for the ledger's next half step, which the
 /// booking writes after the energy walk (the masks' last reader) and the
 /// next step's drift reads before pass A writes the masks again; the first
-/// evaluation's contact writes it after its pass C too. Without contact
-/// (`None`), in a buffer of their own.
+/// evaluation's contact writes it after its pass C too. Only the boundary
+/// particles' entries are rates (the drift reads no others). Without
+/// contact (`None`), in a buffer of their own.
 fn mask_home(model: &Model) -> Option<&'static str> {
     (model.integrator == Integrator::Leapfrog && model.contact).then_some("qrate")
 }
@@ -720,7 +723,12 @@ impl GpuSolver {
         let max_buffer = limits.max_buffer_size;
         let mut buffers = HashMap::new();
         let mut device_bytes = 0u64;
-        let mut make = |name: &'static str, size: u64, data: Option<&[u8]>| -> Result<(), String> {
+        // A device buffer for storage and copies, and any `extra` use.
+        let mut make_as = |name: &'static str,
+                           size: u64,
+                           data: Option<&[u8]>,
+                           extra: wgpu::BufferUsages|
+         -> Result<(), String> {
             let size = size.max(16).next_multiple_of(4);
             if size > max_binding || size > max_buffer {
                 return Err(format!(
@@ -732,7 +740,8 @@ impl GpuSolver {
             }
             let usage = wgpu::BufferUsages::STORAGE
                 | wgpu::BufferUsages::COPY_SRC
-                | wgpu::BufferUsages::COPY_DST;
+                | wgpu::BufferUsages::COPY_DST
+                | extra;
             let buf = dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(name),
                 size,
@@ -745,6 +754,9 @@ impl GpuSolver {
             device_bytes += size;
             buffers.insert(name, buf);
             Ok(())
+        };
+        let mut make = |name: &'static str, size: u64, data: Option<&[u8]>| {
+            make_as(name, size, data, wgpu::BufferUsages::empty())
         };
         let nn = n as u64;
         make("x0", 16 * nn, Some(bytemuck::cast_slice(&x0)))?;
@@ -831,6 +843,16 @@ impl GpuSolver {
             Some(bytemuck::cast_slice(&bodies)),
         )?;
         make("ctl", CTL_BYTES, Some(bytemuck::bytes_of(&control)))?;
+        if leapfrog && contact {
+            // The contact list's (count, workgroups x, y, z): an indirect
+            // dispatch's arguments from byte 4 (contact.wgsl).
+            make_as(
+                "surf_args",
+                16,
+                Some(bytemuck::cast_slice(&[0u32, 0, 1, 1])),
+                wgpu::BufferUsages::INDIRECT,
+            )?;
+        }
         if let Some(home) = mask_home(&model) {
             buffers.insert("nmask", buffers[home].clone());
         }
@@ -842,23 +864,7 @@ impl GpuSolver {
                 }
             }
         }
-        // The contact list's (count, workgroups x, y, z), an indirect
-        // dispatch's arguments from byte 4 (contact.wgsl).
-        let surf_args = (leapfrog && contact).then(|| {
-            let buf = dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("surf_args"),
-                size: 16,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::INDIRECT
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            ctx.queue
-                .write_buffer(&buf, 0, bytemuck::cast_slice(&[0u32, 0, 1, 1]));
-            device_bytes += 16;
-            buffers.insert("surf_args", buf.clone());
-            buf
-        });
+        let surf_args = buffers.get("surf_args").cloned();
         let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("params"),
             size: std::mem::size_of::<Params>() as u64,
