@@ -19,6 +19,16 @@
 // to dr.y and the ledger advanced by half a step (CPU twin:
 // cpu::contact::penalty_booked). The stored spring energy goes to nbo.w
 // there, since the energy walk after the contact still reads sr2c.
+//
+// Where pass 1 leaves a particle's entries (`cown`, `cshare`): in the
+// midpoint rule and the leapfrog's first evaluation and booking, at the
+// particle, in pass scratch no later pass of the evaluation reads
+// (gpu::contact_homes); in the leapfrog's force passes (LEAP = 2), before the
+// energy walk has read that scratch, at the particle's place on the list of
+// boundary particles, which pass A wrote to nbo.w (`slot`). Where that list
+// overflowed, pass 1 stores nothing and pass 2 makes each entry it needs
+// again (`entries`: the same arithmetic, so the same bits, at a walk per
+// partner).
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(13) var<storage, read_write> nbo: array<vec4<f32>>;
@@ -55,13 +65,27 @@ fn kick(q: u32, rigid: bool) {
     }
 }
 
-// The spring energy a particle's pass stores, for the observations.
+// The spring energy a particle's pass stores, for the observations (the
+// leapfrog's booking stores the same energy its force passes would).
 fn store_energy(p: u32, e: f32) {
     if (LEAP == 0u) {
         sr2c[p].x = e;
-    } else {
+    } else if (LEAP != 2u) {
         nbo[p].w = e;
     }
+}
+
+// Where boundary particle p's entries are (see the header).
+fn slot(p: u32) -> u32 {
+    if (LEAP == 2u) {
+        return u32(nbo[p].w);
+    }
+    return p;
+}
+
+// Whether this leapfrog step's list of boundary particles overflowed.
+fn overflowed() -> bool {
+    return LEAP == 2u && surf_args[0] > params.surf_cap;
 }
 
 // Kernel weight of the candidate pair (p, q) with normals np, nq and
@@ -157,15 +181,24 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     contact_walkers(gid, nwg, true);
 }
 
-// Pass 1 at boundary particle p (any other particle: its entries cleared).
-fn pass1_at(p: u32) {
+// Pass 1's entries of a particle: its own force and booked heat and its
+// partner body (`own`), the share per unit weight it leaves its partners and
+// its spring power (`share`), and the spring energy it stores.
+struct Entries {
+    own: vec4<f32>,
+    share: vec4<f32>,
+    stored: f32,
+}
+
+// Pass 1 at particle p: its entries (a particle off the boundary: no
+// partner, nothing else). `count`: whether a particle that meets two partner
+// bodies is counted (once an evaluation).
+fn entries(p: u32, count: bool) -> Entries {
     // w: the partner body as a float (exact for any realistic count), -1: none.
-    cown[p] = vec4<f32>(0.0, 0.0, 0.0, -1.0);
-    cshare[p] = vec4<f32>(0.0);
-    store_energy(p, 0.0);
+    var e = Entries(vec4<f32>(0.0, 0.0, 0.0, -1.0), vec4<f32>(0.0), 0.0);
     let np4 = nbo[p];
     if (np4.z <= 0.0) {
-        return;
+        return e;
     }
     let mp = pinfo[p];
     let bp = mp.z;
@@ -225,15 +258,15 @@ fn pass1_at(p: u32) {
             swo += oq * w;
         }
     }
-    if (multi) {
+    if (multi && count) {
         atomicAdd(&ctl.multi_partner, 1u);
     }
     if (partner == NONE || sw <= 0.0) {
-        return;
+        return e;
     }
     let nlen = length(swn);
     if (nlen <= 0.0) {
-        return;
+        return e;
     }
     let nbar = swn / nlen;
     let rr = sws / sw;
@@ -259,8 +292,8 @@ fn pass1_at(p: u32) {
     let gap = 0.5 * (chord + swt / sw);
     // Round-off counts as touching (CPU twin: cpu::contact::touching).
     if (gap > 1e-5 * bodyp.spacing) {
-        cown[p] = vec4<f32>(0.0, 0.0, 0.0, f32(partner));
-        return;
+        e.own.w = f32(partner);
+        return e;
     }
     let delta = max(-gap, 0.0);
     let w_rate = dot(vrel, n);
@@ -269,8 +302,8 @@ fn pass1_at(p: u32) {
     let qr = bodyq.rigid != 0u;
     if (pr && qr) {
         // Two rigid bodies move as prescribed: nothing to push.
-        cown[p] = vec4<f32>(0.0, 0.0, 0.0, f32(partner));
-        return;
+        e.own.w = f32(partner);
+        return e;
     }
     let z = series(bodyp.z, pr, bodyq.z, qr);
     let stiffness = 1.0 / (layer(op, bodyp) + layer(swo / sw, bodyq));
@@ -290,10 +323,34 @@ fn pass1_at(p: u32) {
         own_heat = 0.0;
         eta = heat / sw;
     }
-    cown[p] = vec4<f32>(-n * (0.5 * pres * a), own_heat, f32(partner));
+    e.own = vec4<f32>(-n * (0.5 * pres * a), own_heat, f32(partner));
     // w: the spring power 1/2 k delta A w of this pass (the spring-work ledger).
-    cshare[p] = vec4<f32>(n * (0.5 * pres * a / sw), eta, 0.5 * stiffness * delta * a * w_book);
-    store_energy(p, stored);
+    e.share = vec4<f32>(n * (0.5 * pres * a / sw), eta, 0.5 * stiffness * delta * a * w_book);
+    e.stored = stored;
+    return e;
+}
+
+// Pass 1 at particle p: its entries stored (none where the leapfrog's list
+// overflowed: pass 2 makes them again). A leapfrog step counts particles
+// with two partners at its booking alone.
+fn pass1_at(p: u32) {
+    if (overflowed()) {
+        return;
+    }
+    let e = entries(p, LEAP != 2u);
+    let k = slot(p);
+    cown[k] = e.own;
+    cshare[k] = e.share;
+    store_energy(p, e.stored);
+}
+
+// Boundary particle p's entries for pass 2: stored by pass 1, or made again.
+fn entries_of(p: u32) -> Entries {
+    if (overflowed()) {
+        return entries(p, false);
+    }
+    let k = slot(p);
+    return Entries(cown[k], cshare[k], 0.0);
 }
 
 // Pass 2 at particle q.
@@ -325,25 +382,30 @@ fn pass2_at(q: u32) {
             }
             let mp = pinfo[p];
             let np4 = nbo[p];
-            if (mp.z == bq || np4.z <= 0.0 || cown[p].w != fbq) {
+            if (mp.z == bq || np4.z <= 0.0) {
                 continue;
             }
             let w = candidate(np4.xy, nq, cd.d, bitcast<f32>(mp.y), oq, bodies[mp.z].h, hq);
             if (w < 0.0) {
                 continue;
             }
-            let sh = cshare[p];
+            let ep = entries_of(p);
+            if (ep.own.w != fbq) {
+                continue;
+            }
+            let sh = ep.share;
             f += sh.xy * w;
             heat += sh.z * w;
         }
     }
-    let own = cown[q];
+    let eq = entries_of(q);
+    let own = eq.own;
     let total = own.xy + f;
     let booked = own.z + heat;
     let m = bitcast<f32>(mq.x);
     // (dashpot heat, spring power) of the particle's passes; a rigid
     // particle books no heat.
-    let rates = vec2<f32>(select(booked, 0.0, bodyq.rigid != 0u), cshare[q].w);
+    let rates = vec2<f32>(select(booked, 0.0, bodyq.rigid != 0u), eq.share.w);
     if (LEAP >= 2u) {
         if (LEAP == 2u) {
             if (bodyq.rigid == 0u) {

@@ -47,23 +47,25 @@
 @group(0) @binding(64) var<storage, read_write> surf: array<u32>;
 @group(0) @binding(65) var<storage, read_write> surf_args: array<atomic<u32>>;
 
-// The leapfrog step's surface of particle i (normal, boundary flag; the
-// stored spring energy zero until the contact sets it), and a boundary
-// particle put on the contact's list. The list's slots follow the atomic
-// counter, so their order varies from run to run; no result depends on it
-// (each slot's thread writes only its own particle's entries). A particle
-// past the list's end is only counted: the contact then walks every
-// particle.
+// The leapfrog step's surface of particle i (normal, boundary flag), and a
+// boundary particle put on the contact's list, its place there in nbo.w
+// (as a float, exact below 2^24; where the contact's force passes keep its
+// entries, contact.wgsl) until the booking stores its spring energy there
+// (zero off the boundary). The list's slots follow the atomic counter, so
+// their order varies from run to run; no result depends on it (each slot's
+// thread writes only its own particle's entries). A particle past the
+// list's end is only counted: the contact then walks every particle.
 fn leap_surface(i: u32, gpsi: vec2<f32>, hi: f32) {
     let sf = surface_of(gpsi, hi);
-    nbo[i] = vec4<f32>(sf, 0.0);
-    if (!CONTACT || sf.z <= 0.0) {
-        return;
+    var place = 0.0;
+    if (CONTACT && sf.z > 0.0) {
+        let k = atomicAdd(&surf_args[0], 1u);
+        if (k < params.surf_cap) {
+            surf[k] = i;
+            place = f32(k);
+        }
     }
-    let k = atomicAdd(&surf_args[0], 1u);
-    if (k < params.surf_cap) {
-        surf[k] = i;
-    }
+    nbo[i] = vec4<f32>(sf, place);
 }
 
 // Artificial stress (METHOD.md §4): -eps sigma/rho^2 of each tensile

@@ -378,14 +378,14 @@ fn device_memory_per_particle_at_four_million() {
     println!("{n} particles: {per:.2} device bytes a particle");
     assert!(per <= 200.0, "{per:.2} device bytes a particle");
     drop(solver);
-    // The leapfrog is over the budget: its contact gather buffers cannot
-    // share the pass scratch (docs/performance.md). Held where it is.
+    // The leapfrog is over the budget by its velocity gradient of the last
+    // half step (docs/performance.md). Held where it is.
     model.integrator = sphcontact::scene::Integrator::Leapfrog;
     let solver = GpuSolver::new(ctx, model, &case.state, &case.probes, 1e-5)
         .expect("four million particles fit the adapter");
     let per = solver.device_bytes() as f64 / n as f64;
     println!("{n} particles, leapfrog: {per:.2} device bytes a particle");
-    assert!(per <= 237.0, "{per:.2} device bytes a particle");
+    assert!(per <= 206.6, "{per:.2} device bytes a particle");
 }
 
 /// The work of a GPU step on the benchmark's disks (the square lattice,

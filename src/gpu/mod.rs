@@ -119,11 +119,14 @@ fn bucket_count(n: usize) -> u32 {
 /// `sr2c.x` (`σ_xx/ρ²`, dead after pass C; the reductions read only its
 /// sound speed `w`), written by the particle's own thread in contact pass 1,
 /// which reads no other part of `sr2c`.
+///
+/// The leapfrog's first evaluation and its booking (after the energy walk,
+/// the scratch's last reader) use the same homes; `cown` then carries the
+/// forces to the next step's reductions, through the reorder (whose
+/// scratch is `lmat`). Its force passes, before the energy walk, keep the
+/// entries on the list of boundary particles instead (`cown_e`, `cshare_e`;
+/// contact.wgsl).
 fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
-    // The leapfrog's energy walk reads the pass scratch after the contact.
-    if model.integrator == Integrator::Leapfrog {
-        return [("cshare", None), ("cown", None)];
-    }
     let own_home = if model.av_reconstruct {
         Some("gradv")
     } else if model.artificial_stress.is_some() {
@@ -140,8 +143,12 @@ fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
 /// at 1e5, less at larger sizes), so a sixteenth and a margin, 0.25 bytes
 /// a particle; a step with more boundary particles walks every particle.
 fn surf_capacity(n: usize) -> u32 {
-    (n / 16 + 4096).min(n) as u32
+    (n / 16 + 4096).min(n).min(MAX_SURF_CAP) as u32
 }
+
+/// The most entries the list of boundary particles may have: pass A writes
+/// a particle's place there as a float (pass_a.wgsl, leap_surface).
+const MAX_SURF_CAP: usize = 1 << 24;
 
 /// Where the leapfrog's neighbour masks (common.wgsl) live: with contact in
 /// `qrate`, the contact's rates for the ledger's next half step, which the
@@ -601,7 +608,7 @@ impl GpuSolver {
         let surf_cap = if leapfrog && contact {
             opts.surf_capacity
                 .unwrap_or_else(|| surf_capacity(n))
-                .max(1)
+                .clamp(1, MAX_SURF_CAP as u32)
         } else {
             0
         };
@@ -782,6 +789,10 @@ impl GpuSolver {
             }
             if contact {
                 make("surf", 4 * surf_cap as u64, None)?;
+                // The force passes' entries, one a listed particle.
+                for name in ["cown_e", "cshare_e"] {
+                    make(name, 16 * surf_cap as u64, None)?;
+                }
             }
         } else {
             // The midpoint state; the evaluation at the base state leaves
@@ -1057,6 +1068,11 @@ impl GpuSolver {
             ];
             let at_n1: &[(&str, &str)] =
                 &[("v", "vstar"), ("dv", "acc"), ("dr", "rdt"), ("vkick", "v")];
+            let listed_at_n1: Vec<(&str, &str)> = at_n1
+                .iter()
+                .copied()
+                .chain([("cown", "cown_e"), ("cshare", "cshare_e")])
+                .collect();
             let booking: &[(&str, &str)] = &[
                 ("v", "vstar"),
                 ("vbook", "v"),
@@ -1075,8 +1091,8 @@ impl GpuSolver {
                 pass_c: step("pass_c", "pass_c", at_n1)?.walking(Walk::Masked),
                 contact: match &surf_args {
                     Some(a) => Some((
-                        step("contact", "contact_pass1", at_n1)?.listed(a),
-                        step("contact", "contact_pass2", at_n1)?.listed(a),
+                        step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
+                        step("contact", "contact_pass2", &listed_at_n1)?.listed(a),
                     )),
                     None => None,
                 },
