@@ -120,9 +120,6 @@ struct Control {
     multi_partner: atomic<u32>,
     // The energy guard's limit: negative until the first state sets it.
     energy_limit: f32,
-    // The last real step's length (the leapfrog extrapolates the velocity
-    // gradient over it; 0 before the first).
-    dt_prev: f32,
 }
 
 // Global invocation index of a 2-D dispatch of `WG`-wide workgroups

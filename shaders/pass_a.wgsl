@@ -21,8 +21,8 @@
 //   there until the step's end commits it), the EOS at n+1 with the predicted
 //   energy e_{n+1/2} + dt/2 de_n, the predicted velocity v_{n+1/2} + dt/2 a_n
 //   (vstar) the viscosity and the contact see, and with the reconstructed
-//   viscosity the velocity gradient extrapolated to n+1 from the last two
-//   half steps. CPU twin: cpu::CpuSolver::leapfrog, steps 2 and 3.
+//   viscosity the velocity gradient of vstar, summed in the same walk. CPU
+//   twin: cpu::CpuSolver::leapfrog, steps 2 and 3.
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
@@ -34,12 +34,11 @@
 @group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
 @group(0) @binding(17) var<storage, read_write> ds: array<vec4<f32>>;
 @group(0) @binding(36) var<storage, read_write> gradv: array<vec4<f32>>;
-// The leapfrog's carried rates a_n and (_, de_n/dt), the predicted velocity,
-// and the velocity gradient of the last half step (reconstructed viscosity).
+// The leapfrog's carried rates a_n and (_, de_n/dt) and the predicted
+// velocity.
 @group(0) @binding(51) var<storage, read> acc: array<vec2<f32>>;
 @group(0) @binding(52) var<storage, read_write> rdt: array<vec2<f32>>;
 @group(0) @binding(53) var<storage, read_write> vstar: array<vec2<f32>>;
-@group(0) @binding(54) var<storage, read_write> gvprev: array<vec4<f32>>;
 // The neighbour mask (common.wgsl), for pass C.
 @group(0) @binding(9) var<storage, read_write> nmask: array<vec2<u32>>;
 // The leapfrog contact's list of boundary particles and its length
@@ -100,22 +99,37 @@ fn volume(j: u32, mj: vec4<u32>, rho0_i: f32) -> f32 {
     return bitcast<f32>(mj.x) / (rho0 * (1.0 + r[j].x));
 }
 
-// The sums of particle i's neighbour walk at velocities `v`, and its
-// neighbour mask (common.wgsl; leapfrog only).
+// The sums of particle i's neighbour walk at velocities `v`, its neighbour
+// mask (common.wgsl; leapfrog only), and in a leapfrog step with the
+// reconstructed viscosity the velocity gradient sum of the predicted
+// velocities v + dt/2 a_n (`gseen`; vstar is written in this pass, so each
+// side's is formed here).
 struct KinSums {
     m: vec4<f32>,
     gpsi: vec2<f32>,
     gsum: vec4<f32>,
     mask: vec2<u32>,
+    gseen: vec4<f32>,
+}
+
+// The predicted velocity of particle j (a rigid one's a_n is zero).
+fn predicted(j: u32) -> vec2<f32> {
+    return v[j] + acc[j] * (0.5 * ctl.dt);
 }
 
 fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     let cs = consts();
     let wk = walker(i);
     let vi = v[i];
+    let seen = LEAP == 2u && RECON;
+    var vsi = vec2<f32>(0.0);
+    if (seen) {
+        vsi = predicted(i);
+    }
     var m = vec4<f32>(0.0);
     var gpsi = vec2<f32>(0.0);
     var gsum = vec4<f32>(0.0);
+    var gseen = vec4<f32>(0.0);
     var mask = vec2<u32>(0u);
     // The ordinal of the row's first candidate.
     var first = 0u;
@@ -141,13 +155,16 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
             // the velocity reads (a branch uniform over the whole loop).
             if (!rigid) {
                 gsum += outer(v[j] - vi, gj);
+                if (seen) {
+                    gseen += outer(predicted(j) - vsi, gj);
+                }
             }
         }
     }
     if (first > MASK_BITS) {
         mask.y |= MASK_FULL;
     }
-    return KinSums(m, gpsi, gsum, mask);
+    return KinSums(m, gpsi, gsum, mask, gseen);
 }
 
 // L_i from M_i, or the identity (counted) when M_i cannot be inverted.
@@ -317,7 +334,6 @@ fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
         vstar[i] = v[i];
         if (RECON) {
             gradv[i] = vec4<f32>(0.0);
-            gvprev[i] = vec4<f32>(0.0);
         }
         return;
     }
@@ -330,12 +346,6 @@ fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     stress_point(i, body, mu1, r[i].y + rdt[i].y * h, s1);
     vstar[i] = v[i] + acc[i] * h;
     if (RECON) {
-        // gv + (gv - gv_prev) dt / (dt + dt_prev); none on the first step.
-        var g1 = gv;
-        if (ctl.dt_prev > 0.0) {
-            g1 = gv + (gv - gvprev[i]) * (dt / (dt + ctl.dt_prev));
-        }
-        gradv[i] = g1;
-        gvprev[i] = gv;
+        gradv[i] = velocity_gradient(ks.gseen, l);
     }
 }

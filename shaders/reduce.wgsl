@@ -368,7 +368,6 @@ fn end_step() {
         ctl.t_lo = lo - (hi - sum);
         ctl.t_hi = hi;
         ctl.step = ctl.step + 1u;
-        ctl.dt_prev = dt;
     } else {
         ctl.zero_steps = ctl.zero_steps + 1u;
     }

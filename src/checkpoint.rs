@@ -34,7 +34,7 @@ use crate::cpu::neighbours::Neighbours;
 use crate::cpu::{Diagnostics, Rates};
 use crate::error::RunError;
 use crate::gpu::RawDevice;
-use crate::math::{Mat2, Sym};
+use crate::math::Sym;
 use crate::model::State;
 use crate::scene::{Backend, Scene};
 
@@ -42,7 +42,7 @@ use crate::scene::{Backend, Scene};
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\n";
-const VERSION: u64 = 1;
+const VERSION: u64 = 2;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]
@@ -203,8 +203,6 @@ impl Checkpoint {
                     w.f64s(&r.de);
                     w.f64(r.heat_rate);
                     w.f64(r.spring_rate);
-                    w.quads(r.gv_half.iter().map(|g| [g.xx, g.xy, g.yx, g.yy]));
-                    w.f64(r.dt_half);
                     w.f64(d.cfl_dt);
                     w.u64(d.correction_fallback as u64);
                     w.u64(d.boundary_count as u64);
@@ -329,12 +327,6 @@ impl Checkpoint {
                         let dv = r.vec2s()?;
                         let de = r.f64s()?;
                         let (heat_rate, spring_rate) = (r.f64()?, r.f64()?);
-                        let gv_half: Vec<Mat2> = r
-                            .quads()?
-                            .into_iter()
-                            .map(|[xx, xy, yx, yy]| Mat2 { xx, xy, yx, yy })
-                            .collect();
-                        let dt_half = r.f64()?;
                         let cfl_dt = r.f64()?;
                         let correction_fallback = r.u64()? as usize;
                         let boundary_count = r.u64()? as usize;
@@ -360,8 +352,6 @@ impl Checkpoint {
                                 de,
                                 heat_rate,
                                 spring_rate,
-                                gv_half,
-                                dt_half,
                                 ..Default::default()
                             },
                             Diagnostics {
@@ -481,11 +471,9 @@ impl Checkpoint {
                     .iter()
                     .chain(&lists.cross)
                     .all(|&j| (j as usize) < n)
-                && c.carried.as_ref().map_or(true, |(r, _)| {
-                    r.dv.len() == n
-                        && r.de.len() == n
-                        && (r.gv_half.is_empty() || r.gv_half.len() == n)
-                });
+                && c.carried
+                    .as_ref()
+                    .map_or(true, |(r, _)| r.dv.len() == n && r.de.len() == n);
             if !ok {
                 return Err(format!(
                     "its particle arrays do not match the scene's {n} particles"
@@ -725,16 +713,6 @@ mod tests {
                         de: vec![0.5; state.x.len()],
                         heat_rate: 0.25,
                         spring_rate: -0.125,
-                        gv_half: vec![
-                            Mat2 {
-                                xx: 1.5,
-                                xy: -0.0,
-                                yx: 3e-300,
-                                yy: -2.0,
-                            };
-                            state.x.len()
-                        ],
-                        dt_half: 2.5e-9,
                         ..Default::default()
                     },
                     Diagnostics {

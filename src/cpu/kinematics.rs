@@ -4,6 +4,7 @@
 
 use glam::DVec2;
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 use super::neighbours::Neighbours;
 use crate::math::{Mat2, Sym};
@@ -28,9 +29,11 @@ pub struct Kinematics {
     /// §8.1): the contact's boundary set, and where the viscosity keeps the
     /// plain velocity jump.
     pub surface: Vec<bool>,
-    /// Corrected velocity gradient `∇v_i` (zero on rigid particles), kept
-    /// only when the viscosity reconstructs velocities with it
-    /// (`Model::av_reconstruct`); empty otherwise.
+    /// Corrected velocity gradient `∇v_i` (zero on rigid particles) of the
+    /// velocities the viscosity sees (the state's, or the leapfrog's
+    /// predicted ones, [`kinematics_seen`]), kept only when the viscosity
+    /// reconstructs velocities with it (`Model::av_reconstruct`); empty
+    /// otherwise.
     pub gv: Vec<Mat2>,
     /// Continuity `dρ/dt = −ρ tr(∇v)` (the difference form of METHOD.md §4
     /// with the corrected gradient).
@@ -39,15 +42,66 @@ pub struct Kinematics {
     pub ds: Vec<Sym>,
 }
 
-/// One particle's sums of the kinematic walk.
+/// One particle's sums of the kinematic walk; `S` the sum of the velocity
+/// gradient the viscosity sees, when it sees other velocities than the
+/// state's ([`Seen`]).
 #[derive(Debug, Clone, Copy, Default)]
-struct Sums {
+struct Sums<S> {
     /// `M_i = Σ_j V_j ∇_i W_ij ⊗ (x_j − x_i)`.
     m: Mat2,
     /// `Σ_j V_j (v_j − v_i) ⊗ ∇_i W_ij`.
     gsum: Mat2,
     /// `(∇ψ)_i`.
     gpsi: DVec2,
+    seen: S,
+}
+
+/// The kinematic walk's velocities and sum for the velocity gradient of the
+/// velocities the viscosity sees: none (`()`, they are the state's; the
+/// walk reads the state's velocities `v`), or (`Mat2`) `Σ_j V_j (v*_j −
+/// v*_i) ⊗ ∇_i W_ij`, the walk reading `[v, v*]` of a particle together.
+trait Seen: Copy + Default + Send + Sync {
+    type Vel: Copy + Send + Sync;
+    /// Each particle's velocities for the walk, from the state's `v` and
+    /// the `seen` ones.
+    fn vel<'a>(v: &'a [DVec2], seen: &[DVec2]) -> Cow<'a, [Self::Vel]>;
+    fn v(vel: Self::Vel) -> DVec2;
+    fn add(&mut self, vj: Self::Vel, vi: Self::Vel, g: DVec2);
+    fn sum(self) -> Option<Mat2>;
+}
+
+impl Seen for () {
+    type Vel = DVec2;
+    fn vel<'a>(v: &'a [DVec2], _: &[DVec2]) -> Cow<'a, [DVec2]> {
+        Cow::Borrowed(v)
+    }
+    #[inline]
+    fn v(vel: DVec2) -> DVec2 {
+        vel
+    }
+    #[inline]
+    fn add(&mut self, _: DVec2, _: DVec2, _: DVec2) {}
+    fn sum(self) -> Option<Mat2> {
+        None
+    }
+}
+
+impl Seen for Mat2 {
+    type Vel = [DVec2; 2];
+    fn vel<'a>(v: &'a [DVec2], seen: &[DVec2]) -> Cow<'a, [[DVec2; 2]]> {
+        Cow::Owned(v.par_iter().zip(seen).map(|(&v, &s)| [v, s]).collect())
+    }
+    #[inline]
+    fn v(vel: [DVec2; 2]) -> DVec2 {
+        vel[0]
+    }
+    #[inline]
+    fn add(&mut self, vj: [DVec2; 2], vi: [DVec2; 2], g: DVec2) {
+        *self += Mat2::outer(vj[1] - vi[1], g);
+    }
+    fn sum(self) -> Option<Mat2> {
+        Some(self)
+    }
 }
 
 /// One particle's result of the kinematic pass.
@@ -56,6 +110,8 @@ struct Point {
     ok: bool,
     gpsi: DVec2,
     gv: Mat2,
+    /// `∇v` of the velocities the viscosity sees, when not the state's.
+    gv_seen: Option<Mat2>,
 }
 
 /// The kinematic pass at `st`.
@@ -72,49 +128,94 @@ struct Point {
 /// `∇_i W_ij ⊗ (x_j − x_i)` and `(v_j − v_i) ⊗ ∇_i W_ij` weighted by `V_i`
 /// instead of `V_j`, and its colour-gradient term changes sign.
 pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
+    kinematics_in::<()>(model, st, nb, &[])
+}
+
+/// [`kinematics`], with the velocity gradient the viscosity's
+/// reconstruction uses ([`Kinematics::gv`]) taken at the velocities `seen`
+/// (the leapfrog's predicted `v_{n+½} + ½Δt a_n` at `x_{n+1}`) instead of the
+/// state's, in the same walk: the reconstruction then removes exactly the
+/// linear part of the jump the viscosity sees.
+pub fn kinematics_seen(model: &Model, st: &State, nb: &Neighbours, seen: &[DVec2]) -> Kinematics {
+    if model.av_reconstruct {
+        kinematics_in::<Mat2>(model, st, nb, seen)
+    } else {
+        kinematics(model, st, nb)
+    }
+}
+
+fn kinematics_in<S: Seen>(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    seen: &[DVec2],
+) -> Kinematics {
     let corrected = model.correction == Correction::Gradient;
     let vol: Vec<f64> = (0..model.len())
         .into_par_iter()
         .map(|j| model.mass[j] / st.rho[j])
         .collect();
-    let mut sums = vec![Sums::default(); model.len()];
+    let vel = S::vel(&st.v, seen);
+    let mut sums = vec![Sums::<S>::default(); model.len()];
     nb.sweep(model, &st.x, &mut sums, |i, b, si, sj| {
         let j = b.j as usize;
-        let (dx, dv) = (st.x[j] - st.x[i], st.v[j] - st.v[i]);
+        let (vi, vj) = (vel[i], vel[j]);
+        let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
         let gi = b.gw * vol[j];
         si.m += Mat2::outer(gi, dx);
         si.gsum += Mat2::outer(dv, gi);
         si.gpsi -= gi;
+        si.seen.add(vj, vi, gi);
         if let Some(sj) = sj {
             let gj = b.gw * vol[i];
             sj.m += Mat2::outer(gj, dx);
             sj.gsum += Mat2::outer(dv, gj);
             sj.gpsi += gj;
+            sj.seen.add(vj, vi, gj);
         }
     });
     let per: Vec<Point> = sums
         .into_par_iter()
         .enumerate()
-        .map(|(i, Sums { mut m, gsum, gpsi })| {
-            let (l, ok) = if !corrected {
-                (Mat2::IDENTITY, true)
-            } else {
-                if model.dim == 1 {
-                    // 1-D: L is the scalar 1/M_xx; keep the unused yy entry neutral.
-                    m.yy = 1.0;
+        .map(
+            |(
+                i,
+                Sums {
+                    mut m,
+                    gsum,
+                    gpsi,
+                    seen,
+                },
+            )| {
+                let (l, ok) = if !corrected {
+                    (Mat2::IDENTITY, true)
+                } else {
+                    if model.dim == 1 {
+                        // 1-D: L is the scalar 1/M_xx; keep the unused yy entry neutral.
+                        m.yy = 1.0;
+                    }
+                    match m.inverse(CORRECTION_MIN_DET) {
+                        Some(l) => (l, true),
+                        None => (Mat2::IDENTITY, false),
+                    }
+                };
+                let (gv, gv_seen) = if model.rigid(i) {
+                    (Mat2::ZERO, seen.sum().map(|_| Mat2::ZERO))
+                } else {
+                    (
+                        gsum.mul_transpose(&l),
+                        seen.sum().map(|g| g.mul_transpose(&l)),
+                    )
+                };
+                Point {
+                    l,
+                    ok,
+                    gpsi,
+                    gv,
+                    gv_seen,
                 }
-                match m.inverse(CORRECTION_MIN_DET) {
-                    Some(l) => (l, true),
-                    None => (Mat2::IDENTITY, false),
-                }
-            };
-            let gv = if model.rigid(i) {
-                Mat2::ZERO
-            } else {
-                gsum.mul_transpose(&l)
-            };
-            Point { l, ok, gpsi, gv }
-        })
+            },
+        )
         .collect();
     let n = per.len();
     let mut out = Kinematics {
@@ -143,7 +244,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
                 .push(stress_rate(model.material(i).g, &st.s[i], &p.gv));
         }
         if model.av_reconstruct {
-            out.gv.push(p.gv);
+            out.gv.push(p.gv_seen.unwrap_or(p.gv));
         }
     }
     out

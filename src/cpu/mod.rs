@@ -28,7 +28,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::error::Instability;
-use crate::math::{Mat2, Sym};
+use crate::math::Sym;
 use crate::model::{Model, State};
 use crate::physics::material;
 use crate::scene::Integrator;
@@ -208,12 +208,6 @@ pub struct Rates {
     pub de: Vec<f64>,
     /// Empty in the leapfrog's carried rates.
     pub ds: Vec<Sym>,
-    /// The leapfrog's, with the reconstructed viscosity: the velocity
-    /// gradients of the step that made these rates (at its half step) and
-    /// that step's length, which the next step extrapolates from
-    /// ([`CpuSolver::step`]). Empty otherwise.
-    pub gv_half: Vec<Mat2>,
-    pub dt_half: f64,
     /// Total dashpot heat rate (for the cumulative heat diagnostic).
     pub heat_rate: f64,
     /// Total spring power (for the spring-work ledger).
@@ -397,23 +391,6 @@ fn dense(model: &Model, i: usize, rho: f64) -> bool {
 #[inline]
 fn sane(model: &Model, i: usize, x: DVec2, v: DVec2, e: f64, rho: f64) -> bool {
     x.is_finite() && v.is_finite() && e.is_finite() && dense(model, i, rho) && model.in_domain(x)
-}
-
-/// The velocity gradients `gv` of a leapfrog step's half step `n+½`
-/// extrapolated to its end `n+1` from those of the step before, `prev`
-/// (over the step `dt_prev`): `gv + (gv − gv_prev) · ½Δt / (½(Δt +
-/// Δt_prev))`, written over `prev`, which is dead after. `false` (and
-/// `prev` untouched) when there is nothing to extrapolate from (no
-/// reconstructed viscosity, or the first step).
-fn extrapolate_gradients(gv: &[Mat2], prev: &mut [Mat2], dt_prev: f64, dt: f64) -> bool {
-    if gv.is_empty() || prev.len() != gv.len() {
-        return false;
-    }
-    let f = dt / (dt + dt_prev);
-    prev.par_iter_mut()
-        .zip(gv)
-        .for_each(|(p, g)| *p = *g + (*g - *p).scale(f));
-    true
 }
 
 /// Perfect plasticity, radial return (METHOD.md §6): particle i's trial
@@ -628,8 +605,9 @@ impl CpuSolver {
     ///    `n` to `n+1` (time-centred rates; with the radial return);
     /// 3. EOS and the momentum pass at `n+1`; the viscosity and the
     ///    dashpot see the predicted `v_{n+½} + ½Δt a_n`, the EOS the
-    ///    predicted `e_{n+½} + ½Δt ė_n`, the viscosity's reconstruction
-    ///    `∇v` extrapolated to `n+1` ([`extrapolate_gradients`]);
+    ///    predicted `e_{n+½} + ½Δt ė_n`, the viscosity's reconstruction the
+    ///    gradient of the predicted velocities (taken in the walk of 2,
+    ///    [`kinematics::kinematics_seen`]);
     /// 4. `v_{n+1} = v_{n+½} + ½Δt a_{n+1}`; then the energy sums with the
     ///    pair terms of 3 but the work done on `v_{n+1}`
     ///    ([`forces::energy_replay`]), and `e_{n+1} = e_{n+½} + ½Δt ė_{n+1}`.
@@ -641,24 +619,29 @@ impl CpuSolver {
     ///
     /// Returns whether every particle of the new state passes the state
     /// check.
-    fn leapfrog(&mut self, mut kn: Rates, dt: f64) -> bool {
+    fn leapfrog(&mut self, kn: Rates, dt: f64) -> bool {
         let model = &self.model;
         let st = &self.state;
         let h = 0.5 * dt;
-        // 1: the half kick and the drift; ρ and s still at n.
+        // 1: the half kick and the drift; ρ and s still at n. The
+        // predicted velocity of 3 goes to next.v.
         let mut half = std::mem::take(&mut self.scratch);
+        let mut next = std::mem::take(&mut self.spare);
         half.x
             .par_iter_mut()
             .zip(half.v.par_iter_mut())
             .zip(half.e.par_iter_mut())
+            .zip(next.v.par_iter_mut())
             .enumerate()
-            .for_each(|(i, ((x, v), e))| {
+            .for_each(|(i, (((x, v), e), vp))| {
                 if model.rigid(i) {
                     *v = st.v[i];
                     *e = st.e[i];
+                    *vp = *v;
                 } else {
                     *v = st.v[i] + kn.dv[i] * h;
                     *e = st.e[i] + kn.de[i] * h;
+                    *vp = *v + kn.dv[i] * h;
                 }
                 *x = st.x[i] + *v * dt;
             });
@@ -668,24 +651,24 @@ impl CpuSolver {
         half.spring_work = st.spring_work + kn.spring_rate * h;
         Self::refresh_lists(model, &mut self.nb, &mut self.list_builds, &half.x);
         let nb = &self.nb;
-        // 2: ρ and s to n+1.
-        let mut k = kinematics::kinematics(model, &half, nb);
-        let mut next = std::mem::take(&mut self.spare);
+        // 2: ρ and s to n+1; the reconstruction's ∇v at the predicted
+        // velocities, in the same walk. (A ∇v at n+½ with velocities at n+1
+        // mixes two levels: a jump O(Δt) where it should be O(Δx²), which
+        // makes the step first order.)
+        let k = kinematics::kinematics_seen(model, &half, nb, &next.v);
         next.x.copy_from_slice(&half.x);
-        // ρ and s at n+1, the predicted velocity and energy of 3, and the
-        // EOS at them (eos_and_stress, in the same walk).
+        // ρ and s at n+1, the predicted energy of 3, and the EOS at them
+        // (eos_and_stress, in the same walk).
         let pts: Vec<StressPoint> = next
-            .v
+            .e
             .par_iter_mut()
-            .zip(next.e.par_iter_mut())
             .zip(next.rho.par_iter_mut())
             .zip(next.s.par_iter_mut())
             .enumerate()
-            .map(|(i, (((v, e), rho), s))| {
+            .map(|(i, ((e, rho), s))| {
                 if model.rigid(i) {
-                    (*v, *e, *rho, *s) = (half.v[i], half.e[i], half.rho[i], half.s[i]);
+                    (*e, *rho, *s) = (half.e[i], half.rho[i], half.s[i]);
                 } else {
-                    *v = half.v[i] + kn.dv[i] * h;
                     *e = half.e[i] + kn.de[i] * h;
                     *rho = half.rho[i] + k.drho[i] * dt;
                     *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
@@ -693,27 +676,17 @@ impl CpuSolver {
                 stress_point(model, i, *rho, *e, s)
             })
             .collect();
-        // 3: the forces at n+1. The viscosity's reconstruction extrapolates
-        // each side's velocity to the pair midpoint with ∇v: the pass's is
-        // at n+½, the velocities at n+1, and a jump mixing the two levels
-        // is O(Δt) where it should be O(Δx²), which made the step first
-        // order. ∇v goes to n+1 linearly from the last two half steps.
-        let gv_end = if extrapolate_gradients(&k.gv, &mut kn.gv_half, kn.dt_half, dt) {
-            &kn.gv_half
-        } else {
-            &k.gv
-        };
+        // 3: the forces at n+1.
         let mut dv = forces::momentum_keeping(
             model,
             &next,
             nb,
             &k.l,
-            gv_end,
+            &k.gv,
             &k.surface,
             &pts,
             &mut self.kept,
         );
-        let gv_half = std::mem::take(&mut k.gv);
         let mut diag = Diagnostics {
             correction_fallback: k.fallback.len(),
             ..Default::default()
@@ -792,8 +765,6 @@ impl CpuSolver {
                 ds: Vec::new(),
                 heat_rate,
                 spring_rate,
-                gv_half,
-                dt_half: dt,
             },
             diag,
         ));
@@ -825,7 +796,6 @@ impl CpuSolver {
                 + size_of_val(&r.drho[..])
                 + size_of_val(&r.de[..])
                 + size_of_val(&r.ds[..])
-                + size_of_val(&r.gv_half[..])
         });
         (model + states + rates + self.nb.bytes() + size_of_val(&self.kept[..])) as u64
     }

@@ -92,8 +92,6 @@ pub struct Control {
     /// The energy guard's limit ([`crate::model::Model::guards_energy`]):
     /// negative until the first state sets it.
     pub energy_limit: f32,
-    /// The last real step's length (the leapfrog's gradient extrapolation).
-    pub dt_prev: f32,
 }
 
 /// Field offsets of a host struct, for the layout check.
@@ -169,8 +167,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 fallback_now,
                 fallback_max,
                 multi_partner,
-                energy_limit,
-                dt_prev
+                energy_limit
             ),
         ),
     ]

@@ -35,9 +35,8 @@
 //! (`common.wgsl`, [`work::GridView::count_masked`]); it also lists the
 //! boundary particles, and the contact's gathers run over that list
 //! (`contact.wgsl`). Its rates `a_n`, `de_n` (and the contact's heat and
-//! spring rates, and the last half step's velocity gradient) are carried
-//! in buffers of their own, and checkpoints hold them with what the next
-//! step's reductions read.
+//! spring rates) are carried in buffers of their own, and checkpoints hold
+//! them with what the next step's reductions read.
 //!
 //! The host encodes a batch of steps into one submission and reads back
 //! only a small control block and the ring of per-step observations the
@@ -179,9 +178,6 @@ fn leap_arrays(model: &Model) -> Vec<(&'static str, u64)> {
         ("sr2c", 16),
         ("nbo", 16),
     ];
-    if model.av_reconstruct {
-        a.push(("gvprev", 16));
-    }
     if model.contact {
         a.extend([("qheat", 8), ("qrate", 8), ("cown", 16), ("area", 4)]);
     }
@@ -777,9 +773,6 @@ impl GpuSolver {
             // velocity (common.wgsl, LEAP); buffers wgpu zeroes.
             for name in ["acc", "rdt", "vstar"] {
                 make(name, 8 * nn, None)?;
-            }
-            if model.av_reconstruct {
-                make("gvprev", 16 * nn, None)?;
             }
             if contact {
                 make("qrate", 8 * nn, None)?;
