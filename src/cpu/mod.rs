@@ -310,7 +310,6 @@ pub fn evaluate_with(
             ds,
             heat_rate,
             spring_rate,
-            ..Default::default()
         },
         diag,
     )
