@@ -144,6 +144,11 @@ fn contact_walkers(gid: vec3<u32>, nwg: vec3<u32>, pass2: bool) {
         }
         let count = surf_args[0];
         let listed = count <= params.surf_cap;
+        // The force passes' pass 1 stores nothing where the list
+        // overflowed (pass 2 makes the entries again).
+        if (LEAP == 2u && !listed && !pass2) {
+            return;
+        }
         let end = select(params.n, count, listed);
         for (var k = gid.x; k < end; k += nwg.x * WG) {
             var p = k;
@@ -330,13 +335,9 @@ fn entries(p: u32, count: bool) -> Entries {
     return e;
 }
 
-// Pass 1 at particle p: its entries stored (none where the leapfrog's list
-// overflowed: pass 2 makes them again). A leapfrog step counts particles
-// with two partners at its booking alone.
+// Pass 1 at particle p: its entries stored. A leapfrog step counts
+// particles with two partners at its booking alone.
 fn pass1_at(p: u32) {
-    if (overflowed()) {
-        return;
-    }
     let e = entries(p, LEAP != 2u);
     let k = slot(p);
     cown[k] = e.own;

@@ -344,7 +344,7 @@ fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     rdt[i].x = mu1;
     ds[i] = s1;
     stress_point(i, body, mu1, r[i].y + rdt[i].y * h, s1);
-    vstar[i] = v[i] + acc[i] * h;
+    vstar[i] = predicted(i);
     if (RECON) {
         gradv[i] = velocity_gradient(ks.gseen, l);
     }

@@ -774,13 +774,11 @@ impl GpuSolver {
             for name in ["acc", "rdt", "vstar"] {
                 make(name, 8 * nn, None)?;
             }
-            if contact {
-                make("qrate", 8 * nn, None)?;
-            }
             if mask_home(&model).is_none() {
                 make("nmask", 8 * nn, None)?;
             }
             if contact {
+                make("qrate", 8 * nn, None)?;
                 make("surf", 4 * surf_cap as u64, None)?;
                 // The force passes' entries, one a listed particle.
                 for name in ["cown_e", "cshare_e"] {
