@@ -33,6 +33,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::cpu::{neighbours, CpuSolver};
+use crate::gpu::profile::StepProfile;
 use crate::gpu::work::StepWork;
 use crate::gpu::{GpuContext, GpuSolver, RING_LEN};
 use crate::model::{Model, State};
@@ -56,6 +57,10 @@ pub const SETTLE_STEPS: u64 = 10;
 /// More steps than any approach to contact takes (the lattice gap is at
 /// most about Δx/2, closed at 10 m/s in a few hundred CFL steps).
 const MAX_APPROACH_STEPS: u64 = 20_000;
+
+/// Real steps profiled with timestamp queries (`--stages`): two periodic
+/// reorders' worth.
+pub const PROFILE_STEPS: u64 = 2 * crate::gpu::REORDER_EVERY;
 /// Timed steps stay within this fraction of the impact's duration, counted
 /// from the end of the approach.
 const CONTACT_WINDOW: f64 = 0.6;
@@ -176,6 +181,10 @@ pub struct Record {
     /// walk's candidates and group trips counted from the cell list.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub work: Option<StepWork>,
+    /// Each GPU dispatch's time inside real steps (with `--stages`, where
+    /// the adapter has timestamp queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_profile: Option<StepProfile>,
 }
 
 /// R/Δx whose square-lattice disks (two of them) hold the total particle
@@ -465,6 +474,11 @@ impl GpuBench {
 
     fn batch(&mut self, steps: u64) -> Result<(), BenchError> {
         let batch = self.solver.run_batch(steps as u32);
+        self.observe(batch, steps)
+    }
+
+    /// The contact force of a batch's states, which should be `steps`.
+    fn observe(&mut self, batch: crate::gpu::Batch, steps: u64) -> Result<(), BenchError> {
         if let Some(f) = batch.failure {
             return Err(BenchError::Failed(format!(
                 "the GPU benchmark run failed: {f}"
@@ -506,6 +520,25 @@ impl GpuBench {
             left -= chunk;
         }
         Ok(wall)
+    }
+
+    /// Each dispatch's time inside [`PROFILE_STEPS`] real steps of the
+    /// contact, from timestamp queries; `None` where the adapter has none.
+    pub fn profile_steps(&mut self) -> Result<Option<StepProfile>, BenchError> {
+        if !self.ctx.timestamps {
+            return Ok(None);
+        }
+        if self.steps + PROFILE_STEPS > self.cap {
+            self.solver = Self::upload(&self.ctx, &self.case)?;
+            self.steps = 0;
+            self.approach()?;
+        }
+        let (batch, profile) = self
+            .solver
+            .run_batch_profiled(PROFILE_STEPS as u32)
+            .map_err(BenchError::Failed)?;
+        self.observe(batch, profile.steps as u64)?;
+        Ok(Some(profile))
     }
 
     /// The solver (for timing its stages alone).
@@ -685,6 +718,7 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
                 in_contact: false,
                 stages: None,
                 work: None,
+                step_profile: None,
             }
         };
         // The GPU solver is built first: a size the adapter cannot hold
@@ -743,6 +777,7 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             if opts.stages {
                 r.stages = Some(b.time_stages(0.25)?);
                 r.work = Some(b.solver().step_work());
+                r.step_profile = b.profile_steps()?;
             }
             here.push(r);
         }
@@ -880,6 +915,33 @@ pub fn table(records: &[Record]) -> String {
                 100.0 * t.seconds_per_step / sum.max(1e-300)
             ));
         }
+        if let Some(p) = &g.step_profile {
+            s.push_str(&profile_table(p, step));
+        }
+    }
+    s
+}
+
+/// Each dispatch's time inside real steps, as a table.
+fn profile_table(p: &StepProfile, wall_step: f64) -> String {
+    let mut s = format!(
+        "\nInside {} real steps (timestamp queries): {:.3} ms of device time a step \
+         ({:.3} ms wall a step in the timed batches)\n\n",
+        p.steps,
+        1e3 * p.seconds_per_step,
+        1e3 * wall_step
+    );
+    s.push_str("| stage | dispatch | calls per step | per step (ms) | share of the step |\n");
+    s.push_str("|---|---|---|---|---|\n");
+    for d in &p.dispatches {
+        s.push_str(&format!(
+            "| {} | {} | {:.4} | {:.4} | {:.1} % |\n",
+            d.stage,
+            d.kernel,
+            d.calls_per_step,
+            1e3 * d.seconds_per_step,
+            100.0 * d.seconds_per_step / p.seconds_per_step.max(1e-300)
+        ));
     }
     s
 }

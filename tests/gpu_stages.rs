@@ -282,6 +282,51 @@ fn wrapped_dispatches_give_the_same_step() {
     }
 }
 
+/// Profiling real steps with timestamp queries changes nothing in them
+/// (bitwise the same state and observations), and its profile accounts for
+/// every dispatch of the step once a step and for the periodic reorder.
+/// Adapters without timestamp queries inside passes say so instead.
+#[test]
+fn a_profiled_batch_is_the_same_run() {
+    let Some(ctx) = gpu() else { return };
+    let (mut model, st) = state_during_contact("scenes/paper/disks_polar.toml", 1e-6);
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        model.integrator = integrator;
+        let new = || GpuSolver::new(ctx.clone(), model.clone(), &st, &[], 1.0).expect("fits");
+        let mut plain = new();
+        let b = plain.run_batch(32);
+        assert!(b.failure.is_none() && b.states.len() == 32);
+        let mut timed = new();
+        let (tb, profile) = match timed.run_batch_profiled(32) {
+            Ok(x) => x,
+            Err(e) => {
+                assert!(!ctx.timestamps, "{e}");
+                println!("no profile on this adapter: {e}");
+                return;
+            }
+        };
+        assert_eq!(profile.steps, 32, "{integrator:?}");
+        assert_eq!(tb.states, b.states, "{integrator:?}: observations");
+        assert!(
+            timed.download() == plain.download(),
+            "{integrator:?}: state"
+        );
+        let work = timed.step_work();
+        let per_step: f64 = profile
+            .dispatches
+            .iter()
+            .filter(|d| d.stage != "reorder")
+            .map(|d| d.calls_per_step)
+            .sum();
+        assert_eq!(per_step, work.dispatches as f64, "{integrator:?}");
+        let reorder = profile.dispatches.iter().find(|d| d.stage == "reorder");
+        assert_eq!(reorder.map(|d| d.calls_per_step), Some(2.0 / 32.0));
+        let sum: f64 = profile.dispatches.iter().map(|d| d.seconds_per_step).sum();
+        assert!(profile.seconds_per_step > 0.0);
+        assert!((sum / profile.seconds_per_step - 1.0).abs() < 1e-9);
+    }
+}
+
 /// The leapfrog's contact walks the boundary particles pass A lists; a
 /// step with more of them than the list holds walks every particle
 /// instead, bitwise the same.

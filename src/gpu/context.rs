@@ -21,6 +21,10 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
     pub limits: wgpu::Limits,
+    /// Timestamp queries between dispatches inside a compute pass (for
+    /// profiling real steps): requested where the adapter has them, which
+    /// costs nothing until a query is written.
+    pub timestamps: bool,
     modules: Mutex<HashMap<String, Arc<(wgpu::ShaderModule, shaders::Reflected)>>>,
     pipelines: Mutex<HashMap<PipelineKey, Arc<Pipeline>>>,
 }
@@ -45,9 +49,17 @@ impl GpuContext {
         .map_err(|e| format!("no GPU adapter: {e}"))?;
         let info = adapter.get_info();
         let limits = adapter.limits();
+        let stamps = wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
+        let timestamps = adapter.features().contains(stamps);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sphcontact"),
-            required_features: wgpu::Features::empty(),
+            required_features: if timestamps {
+                stamps
+            } else {
+                wgpu::Features::empty()
+            },
             required_limits: limits.clone(),
             experimental_features: Default::default(),
             memory_hints: wgpu::MemoryHints::Performance,
@@ -59,6 +71,7 @@ impl GpuContext {
             queue,
             info,
             limits,
+            timestamps,
             modules: Mutex::new(HashMap::new()),
             pipelines: Mutex::new(HashMap::new()),
         })

@@ -69,6 +69,7 @@
 pub mod context;
 pub mod layout;
 pub mod probes;
+pub mod profile;
 pub mod shaders;
 pub mod work;
 
@@ -337,6 +338,11 @@ enum Walk {
 struct Kernel {
     /// The entry point.
     name: String,
+    /// Its shader (a stage of [`STAGES`]).
+    stage: String,
+    /// What a step profile calls it: the entry point, or its role where a
+    /// step runs one entry point in two roles.
+    label: String,
     pipeline: Arc<Pipeline>,
     bind: wgpu::BindGroup,
     groups: (u32, u32),
@@ -367,6 +373,11 @@ impl Kernel {
         self.walk = walk;
         self
     }
+
+    fn labelled(mut self, label: &str) -> Self {
+        self.label = label.to_string();
+        self
+    }
 }
 
 /// Where a step's dispatches go: into a compute pass, or into a tally of
@@ -387,6 +398,21 @@ impl Dispatches for wgpu::ComputePass<'_> {
 struct Tally {
     dispatches: u32,
     walks: Vec<(String, Walk)>,
+}
+
+/// A compute pass with a timestamp after every dispatch
+/// ([`GpuSolver::run_batch_profiled`]).
+struct Timed<'a, 'p> {
+    pass: &'a mut wgpu::ComputePass<'p>,
+    timer: &'a mut profile::StepTimer,
+}
+
+impl Dispatches for Timed<'_, '_> {
+    fn run(&mut self, k: &Kernel) {
+        k.dispatch(self.pass);
+        self.timer
+            .after_pass_dispatch(self.pass, &k.stage, &k.label);
+    }
 }
 
 impl Dispatches for Tally {
@@ -1003,6 +1029,8 @@ impl GpuSolver {
             });
             Ok(Kernel {
                 name: entry.to_string(),
+                stage: stage.to_string(),
+                label: entry.to_string(),
                 pipeline,
                 bind,
                 groups: groups_of(size),
@@ -1089,13 +1117,18 @@ impl GpuSolver {
                 },
                 book: match &surf_args {
                     Some(a) => Some((
-                        book("contact", "contact_pass1")?.listed(a),
-                        book("contact", "contact_pass2")?.listed(a),
+                        book("contact", "contact_pass1")?
+                            .listed(a)
+                            .labelled("book_pass1"),
+                        book("contact", "contact_pass2")?
+                            .listed(a)
+                            .labelled("book_pass2"),
                     )),
                     None => None,
                 },
                 energy: kernel_in(&book_constants, "pass_c", "pass_c", Size::Particles, energy)?
-                    .walking(Walk::Masked),
+                    .walking(Walk::Masked)
+                    .labelled("energy"),
                 finish: kernel("advance", "finish", Size::Particles, state_w)?,
             })
         } else {
@@ -1299,12 +1332,26 @@ impl GpuSolver {
         pass.run(&self.k.reduce_final);
     }
 
-    fn encode_step(&self, enc: &mut wgpu::CommandEncoder, step_index: u64) {
+    fn encode_step(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        step_index: u64,
+        mut timer: Option<&mut profile::StepTimer>,
+    ) {
         if step_index % REORDER_EVERY == 0 {
             self.encode_reorder(enc);
+            if let Some(t) = timer.as_deref_mut() {
+                t.after_encoder_work(enc, "reorder", "reorder");
+            }
         }
         let mut pass = enc.begin_compute_pass(&Default::default());
-        self.encode_step_pass(&mut pass);
+        match timer {
+            Some(timer) => self.encode_step_pass(&mut Timed {
+                pass: &mut pass,
+                timer,
+            }),
+            None => self.encode_step_pass(&mut pass),
+        }
     }
 
     /// A step's dispatches after the periodic reorder, in one compute pass.
@@ -1475,17 +1522,86 @@ impl GpuSolver {
     /// Run up to `steps` steps in one submission and deliver the states
     /// they observed.
     pub fn run_batch(&mut self, steps: u32) -> Batch {
+        self.batch_with(steps, None).0
+    }
+
+    /// [`Self::run_batch`] with a timestamp after every dispatch: the same
+    /// steps, and where their device time went. `Err` where the adapter
+    /// has no timestamp queries inside passes.
+    pub fn run_batch_profiled(
+        &mut self,
+        steps: u32,
+    ) -> Result<(Batch, profile::StepProfile), String> {
+        if !self.ctx.timestamps {
+            return Err(format!(
+                "the adapter {} has no timestamp queries inside compute passes",
+                self.ctx.adapter_name()
+            ));
+        }
+        let steps = steps.clamp(1, RING_LEN - 2);
+        let mut tally = Tally::default();
+        self.encode_step_pass(&mut tally);
+        // A timestamp after each dispatch and after each reorder, and the
+        // first; within the query set's limit (fewer steps where it binds).
+        let per_step = tally.dispatches + 1;
+        let steps = steps.min((wgpu::QUERY_SET_MAX_QUERIES - 1) / per_step);
+        let mut timer = profile::StepTimer::new(&self.ctx.device, per_step * steps + 1);
+        let (batch, ticks) = self.batch_with(steps, Some(&mut timer));
+        let ticks = ticks.expect("timestamps resolved with a timer");
+        let period = self.ctx.queue.get_timestamp_period();
+        Ok((batch, timer.profile(&ticks, period, steps)))
+    }
+
+    /// A batch of steps, timed where `timer` is given (then also the
+    /// resolved timestamps).
+    fn batch_with(
+        &mut self,
+        steps: u32,
+        mut timer: Option<&mut profile::StepTimer>,
+    ) -> (Batch, Option<Vec<u64>>) {
         let steps = steps.clamp(1, RING_LEN - 2);
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
         self.encode_first(&mut enc);
+        if let Some(t) = timer.as_deref_mut() {
+            t.start(&mut enc);
+        }
         let dev = &self.ctx.device;
         for s in 0..steps as u64 {
-            self.encode_step(&mut enc, self.encoded + s);
+            self.encode_step(&mut enc, self.encoded + s, timer.as_deref_mut());
         }
         let ring_bytes = self.staging.size() - CTL_BYTES;
         enc.copy_buffer_to_buffer(self.buf("ctl"), 0, &self.staging, 0, CTL_BYTES);
         enc.copy_buffer_to_buffer(self.buf("ring"), 0, &self.staging, CTL_BYTES, ring_bytes);
+        let stamps = timer.map(|t| {
+            let n = t.written();
+            let bytes = 8 * n as u64;
+            let resolved = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps"),
+                size: bytes,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let read = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps read"),
+                size: bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            enc.resolve_query_set(&t.set, 0..n, &resolved, 0);
+            enc.copy_buffer_to_buffer(&resolved, 0, &read, 0, bytes);
+            (read, bytes)
+        });
         self.ctx.queue.submit([enc.finish()]);
+        let ticks = stamps.map(|(read, bytes)| {
+            bytemuck::cast_slice::<u8, u64>(&map_read(dev, &read, bytes)).to_vec()
+        });
+        (self.finish_batch(), ticks)
+    }
+
+    /// The batch's states from the control block and the ring, once the
+    /// submission that copied them to the staging buffer is done.
+    fn finish_batch(&mut self) -> Batch {
+        let dev = &self.ctx.device;
         let data = map_read(dev, &self.staging, self.staging.size());
         let ctl: Control = bytemuck::pod_read_unaligned(&data[..CTL_BYTES as usize]);
         let ring: &[f32] = bytemuck::cast_slice(&data[CTL_BYTES as usize..]);
