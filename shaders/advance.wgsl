@@ -104,7 +104,7 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 
 // The leapfrog (common.wgsl, LEAP; CPU twin: cpu::CpuSolver::leapfrog). A
 // step: kick_drift_cells (with the cell list's counts); the rest of the
-// cell list; pass_a_leap (density and stress to n+1,
+// cell list; kinematics_leap (density and stress to n+1,
 // the EOS, the predicted velocity, the contact's list of boundary
 // particles); the momentum and the contact forces at n+1 (LEAP = 2), which
 // kick each particle to v_{n+1} once its a_{n+1} is whole; the energy sums
@@ -121,7 +121,7 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 // The cell list's counts (grid.wgsl), filled here for the new positions.
 @group(0) @binding(16) var<storage, read_write> bstart_w: array<atomic<u32>>;
 // The count of the contact's list of boundary particles, which the step's
-// pass A fills (pass_a.wgsl, leap_surface).
+// the kinematics pass fills (kinematics.wgsl, leap_surface).
 @group(0) @binding(65) var<storage, read_write> surf_args: array<u32>;
 
 // v_{n+1/2} = v_n + dt/2 a_n, e likewise, x_{n+1} = x_n + dt v_{n+1/2}, the
@@ -157,7 +157,7 @@ fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     atomicAdd(&bstart_w[bucket_of(home_at(x0[i], un).cell)], 1u);
 }
 
-// The density at n+1 (pass_a_leap left it in rdt.x), e_{n+1} = e_{n+1/2} +
+// The density at n+1 (kinematics_leap left it in rdt.x), e_{n+1} = e_{n+1/2} +
 // dt/2 de_{n+1}, and the checks of the new state. The step's last walk is
 // done, so it also zeroes the cell list's counts for the next step's
 // (kick_drift_cells counts into them): between leapfrog steps the counts

@@ -14,14 +14,14 @@ override CONTACT: bool = false;
 override CORRECTED: bool = true;
 override PLASTIC: bool = false;
 override ART_STRESS: bool = false;
-// Limited reconstruction of the velocity jump in the viscosity (pass C reads
-// the velocity gradient pass A stores).
+// Limited reconstruction of the velocity jump in the viscosity (the forces pass reads
+// the velocity gradient the kinematics pass stores).
 override RECON: bool = false;
 override WG: u32 = 64u;
 // The energy guard (Model::guards_energy) runs in the reductions.
 override GUARD: bool = false;
 // Which evaluation of the midpoint step a pass belongs to (METHOD.md §9).
-// At the base state (false) passes A and C and the contact store their
+// At the base state (false) the kinematics and forces passes and the contact store their
 // particle's rates in the midpoint buffers, which advance_half then turns
 // into the midpoint state in place. At the midpoint (true) they add
 // dt x rate to the base state in place: only particle i reads or writes its
@@ -444,10 +444,10 @@ fn pair_at(d: vec2<f32>, hij: f32) -> Pair {
 }
 
 // The neighbour mask (leapfrog only, LEAP != 0): the kinematic walk
-// (pass_a.wgsl) numbers a particle's candidates in walk order, rows bottom
+// (kinematics.wgsl) numbers a particle's candidates in walk order, rows bottom
 // to top and each row's range in order, and sets bit o of the mask when
 // candidate o is an SPH pair (`body_pair` inside); the walks after it at
-// the same positions and cell list (pass_c.wgsl) visit only those, in the
+// the same positions and cell list (forces.wgsl) visit only those, in the
 // same order, so every sum keeps its order and its bits. Ordinals 0..62
 // fit; a particle with more candidates sets MASK_FULL and is walked in
 // full.

@@ -25,7 +25,7 @@
 // particle, in pass scratch no later pass of the evaluation reads
 // (gpu::contact_homes); in the leapfrog's force passes (LEAP = 2), before the
 // energy walk has read that scratch, at the particle's place on the list of
-// boundary particles, which pass A wrote to nbo.w (`slot`). Where that list
+// boundary particles, which the kinematics pass wrote to nbo.w (`slot`). Where that list
 // overflowed, pass 1 stores nothing and pass 2 makes each entry it needs
 // again (`entries`: the same arithmetic, so the same bits, at a walk per
 // partner).
@@ -37,8 +37,8 @@
 @group(0) @binding(19) var<storage, read> area: array<f32>;
 @group(0) @binding(20) var<storage, read_write> cown: array<vec4<f32>>;
 @group(0) @binding(21) var<storage, read_write> cshare: array<vec4<f32>>;
-// `x`: the spring energy each particle's pass stores (observations). Pass
-// A writes sr2c and pass C reads it, last; the reductions after this
+// `x`: the spring energy each particle's pass stores (observations). The
+// kinematics pass writes sr2c and the forces pass reads it, last; the reductions after this
 // evaluation read only its `w` (sound speed) and this `x`; no other thread
 // touches a particle's entry in these passes (gpu::contact_homes).
 @group(0) @binding(14) var<storage, read_write> sr2c: array<vec4<f32>>;
@@ -51,10 +51,10 @@
 @group(0) @binding(55) var<storage, read_write> qrate: array<vec2<f32>>;
 @group(0) @binding(56) var<storage, read> vbook: array<vec2<f32>>;
 // The state's velocity, which the leapfrog's force pass 2 (LEAP = 2) kicks
-// to v_{n+1} once a boundary particle's acceleration is whole (pass C kicks
+// to v_{n+1} once a boundary particle's acceleration is whole (the forces pass kicks
 // the others).
 @group(0) @binding(57) var<storage, read_write> vkick: array<vec2<f32>>;
-// The leapfrog step's boundary particles (pass_a.wgsl, leap_surface) and
+// The leapfrog step's boundary particles (kinematics.wgsl, leap_surface) and
 // (count, the indirect dispatch's workgroups x, y, z).
 @group(0) @binding(64) var<storage, read> surf: array<u32>;
 @group(0) @binding(65) var<storage, read> surf_args: array<u32>;
@@ -129,8 +129,8 @@ fn series(a: f32, ra: bool, b: f32, rb: bool) -> f32 {
 }
 
 // The particles a thread of a contact pass handles: in a leapfrog step
-// (LEAP >= 2) the boundary particles pass A listed (`surf`), one a thread
-// and a workgroup a `WG` of them (pass C sized the indirect dispatch), or,
+// (LEAP >= 2) the boundary particles the kinematics pass listed (`surf`), one a thread
+// and a workgroup a `WG` of them (the forces pass sized the indirect dispatch), or,
 // where the list overflowed, every particle; otherwise one particle a
 // thread, every particle. A thread strides past the most workgroups a
 // dispatch may have. Only boundary particles (nbo.z > 0) take part: the
@@ -414,7 +414,7 @@ fn pass2_at(q: u32) {
             }
             kick(q, bodyq.rigid != 0u);
         } else {
-            // The heat after the energy walk's pair work (pass_c.wgsl).
+            // The heat after the energy walk's pair work (forces.wgsl).
             dr[q].y = dr[q].y + rates.x / m;
             qheat_w[q] = qheat_w[q] + rates * (0.5 * ctl.dt);
             qrate[q] = rates;

@@ -85,7 +85,7 @@ fn time_stage_leaves_the_state_as_it_was() {
     let names = timed.stage_names();
     assert!(names.contains(&"contact") && names.contains(&"advance"));
     assert!(timed.time_stage("no_such_stage", 1).is_err());
-    assert!(timed.time_stage("pass_a", 0).is_err());
+    assert!(timed.time_stage("kinematics", 0).is_err());
     // Steps 0..40, then the stages other than the reordering at step 40
     // (not a reordering step: a multiple of 16 is).
     assert_eq!(timed.run_batch(40).states, plain.run_batch(40).states);

@@ -298,13 +298,13 @@ fn gpu_records_and_stages() {
         "{w}"
     );
     let walks = w["per_walk"].as_array().expect("the walks");
-    assert!(walks.iter().any(|k| k["name"] == "pass_a"), "{w}");
+    assert!(walks.iter().any(|k| k["name"] == "kinematics"), "{w}");
     for k in walks {
         assert!(num(k, "candidates") > 0.0, "{k}");
         assert!((0.0..=1.0).contains(&num(k, "lane_use")), "{k}");
-        // Every particle walks pass A: a group's trips are at least its
+        // Every particle walks the kinematics pass: a group's trips are at least its
         // lanes' mean.
-        if k["name"] == "pass_a" {
+        if k["name"] == "kinematics" {
             assert!(num(k, "group_trips") >= num(k, "candidates"), "{k}");
         }
     }

@@ -120,7 +120,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     let per = if model.dim == 1 { 3 } else { 10 };
     assert!(pairs > per * n, "a real neighbourhood: {pairs} pairs");
 
-    // Pass A against its twins.
+    // The kinematics pass against its twins.
     let a = kinematics::kinematics(&model, &st, &nb);
     let none = |_: usize| false;
     for (k, name) in ["L.xx", "L.xy", "L.yx", "L.yy"].iter().enumerate() {
@@ -171,7 +171,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
         assert_field(name, &gg, &c, 1e-4, &none);
     }
 
-    // Pass C: momentum and energy before contact.
+    // The forces pass: momentum and energy before contact.
     let (dv, de) = forces::momentum_energy(&model, &st, &nb, &a.l, &a.gv, &a.surface, &pts);
     let xs = |v: &[DVec2]| v.iter().map(|p| p.x).collect::<Vec<_>>();
     let ys = |v: &[DVec2]| v.iter().map(|p| p.y).collect::<Vec<_>>();
@@ -327,7 +327,7 @@ fn a_profiled_batch_is_the_same_run() {
     }
 }
 
-/// The leapfrog's contact walks the boundary particles pass A lists; a
+/// The leapfrog's contact walks the boundary particles the kinematics pass lists; a
 /// step with more of them than the list holds walks every particle
 /// instead, bitwise the same.
 #[test]
@@ -458,7 +458,7 @@ fn step_work_on_the_bench_lattice() {
             .find(|w| w.name == name)
             .unwrap_or_else(|| panic!("a {name} walk"))
     };
-    let a = walk("pass_a");
+    let a = walk("kinematics");
     assert_eq!(a.walkers, n);
     assert_eq!(
         (a.candidates * n as f64).round() as u64,
@@ -484,7 +484,7 @@ fn step_work_on_the_bench_lattice() {
         a.group_trips,
         a.candidates
     );
-    assert_eq!((a.per_step, walk("pass_c").per_step), (2, 2));
+    assert_eq!((a.per_step, walk("forces").per_step), (2, 2));
     assert_eq!(work.walks, 4, "neighbour walks a step");
     assert_eq!(work.contact_walks, 4, "contact gathers a step");
     let c = walk("contact_pass1");
@@ -530,7 +530,7 @@ fn step_work_on_the_bench_lattice() {
         lc.lane_use,
         mc.lane_use
     );
-    let ka = lw("pass_a_leap");
+    let ka = lw("kinematics_leap");
     assert_eq!(ka.candidates, a.candidates, "the same cell list");
     // The momentum and energy walks visit the pairs of the kinematic
     // walk's masks: every neighbour of the particle's own body (contact
@@ -542,7 +542,7 @@ fn step_work_on_the_bench_lattice() {
         .enumerate()
         .map(|(i, nb)| nb.iter().filter(|&&j| body[j as usize] == body[i]).count())
         .sum();
-    let c = lw("pass_c");
+    let c = lw("forces");
     assert_eq!(c.per_step, 2);
     assert_eq!(
         (c.candidates * n as f64).round() as usize,

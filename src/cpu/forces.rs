@@ -1,4 +1,4 @@
-//! Pass C: momentum and energy sums (METHOD.md §4) with Monaghan artificial
+//! The forces pass: momentum and energy sums (METHOD.md §4) with Monaghan artificial
 //! viscosity and, when the scene asks for it, Gray–Monaghan–Swift artificial
 //! stress. The pair-antisymmetric `G_ij = ½ (L_i + L_j) ∇_i W_ij` conserves
 //! momentum and energy exactly in semi-discrete form.
@@ -174,7 +174,7 @@ fn pair_terms(
     }
 }
 
-/// Pass C: `dv_i/dt` and `de_i/dt` from the SPH sums, each pair evaluated
+/// The forces pass: `dv_i/dt` and `de_i/dt` from the SPH sums, each pair evaluated
 /// once ([`Neighbours::sweep`]); rigid particles get zero rates.
 ///
 /// `dv_i/dt = Σ_j m_j t G_ij` and `de_i/dt = −Σ_j m_j (σ_i/ρ_i² − ½Π I +
@@ -203,7 +203,7 @@ pub fn momentum_energy(
 /// and `de_j/dt = −Σ_i m_i w_ij·X_j` ([`energy_replay`]).
 pub type PairVectors = [DVec2; 2];
 
-/// Pass C's momentum sums (`dv/dt`, as [`momentum_energy`], the same bits)
+/// The forces pass's momentum sums (`dv/dt`, as [`momentum_energy`], the same bits)
 /// with the energy sums left for later: each pair's [`PairVectors`] go to
 /// `keep` instead. The leapfrog (`CpuSolver::step`) books the work of the
 /// forces on the velocity at the end of the step, which the momentum sums

@@ -264,7 +264,7 @@ pub struct Boundary {
     pub list: Vec<u32>,
 }
 
-/// `n_i = ∇ψ/|∇ψ|` for the boundary set of pass A ([`PassA::surface`]), and
+/// `n_i = ∇ψ/|∇ψ|` for the boundary set of the kinematics pass ([`Kinematics::surface`]), and
 /// `A_i = (15/(7π h)) / Σ_j W_ij` over the body's boundary particles, self
 /// included (METHOD.md §8.4, "Contact area"), at positions `x`.
 pub fn boundary(

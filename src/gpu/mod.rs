@@ -6,8 +6,8 @@
 //! | dispatches | shader | CPU twin |
 //! |---|---|---|
 //! | cell list: cells, count, two-pass prefix sum, scatter, per-bucket sort | `grid.wgsl` | [`crate::cpu::neighbours`] |
-//! | correction, colour gradient, EOS, velocity gradient, rates | `pass_a.wgsl` | [`crate::cpu::kinematics`], [`crate::cpu::eos_and_stress`] |
-//! | momentum, energy, contact area | `pass_c.wgsl` | [`crate::cpu::forces`] |
+//! | correction, colour gradient, EOS, velocity gradient, rates | `kinematics.wgsl` | [`crate::cpu::kinematics`], [`crate::cpu::eos_and_stress`] |
+//! | momentum, energy, contact area | `forces.wgsl` | [`crate::cpu::forces`] |
 //! | contact pass 1 and 2 (only with contact) | `contact.wgsl` | [`crate::cpu::contact`] |
 //! | CFL minimum, time, observations | `reduce.wgsl` | [`crate::cpu::cfl_step`], [`crate::probe`] |
 //! | midpoint half step; then the evaluation again, adding `Δt k2` in place; positions and checks | `advance.wgsl`, the passes at the midpoint | `cpu::advance` |
@@ -25,13 +25,13 @@
 //! one evaluation a step, its twin `cpu::CpuSolver::leapfrog`: the
 //! reductions of the state the step starts from, kick and drift
 //! (`advance.wgsl`), one cell list, the kinematic pass at `n+1`
-//! (`pass_a_leap`: density and stress to `n+1`, the EOS, the predicted
+//! (`kinematics_leap`: density and stress to `n+1`, the EOS, the predicted
 //! velocity), the momentum and the contact forces at the predicted
 //! velocity, the kick to `v_{n+1}`, then the energy sums at `v_{n+1}` and
 //! the contact's booking, and the energy update with the checks. Its one
 //! full neighbour walk is the kinematic pass's: it leaves each particle a
 //! 64-bit mask of which of its candidates are SPH pairs, and the momentum
-//! and energy walks (pass C, twice) visit only those, in the same order
+//! and energy walks (the forces pass, twice) visit only those, in the same order
 //! (`common.wgsl`, [`work::GridView::count_masked`]); it also lists the
 //! boundary particles, and the contact's gathers run over that list
 //! (`contact.wgsl`). Its rates `a_n`, `de_n` (and the contact's heat and
@@ -107,16 +107,16 @@ fn bucket_count(n: usize) -> u32 {
 /// in, if the scene has one (else it gets its own).
 ///
 /// The contact's `cshare` (pass 1 → pass 2) and `cown` (pass 1 → pass 2
-/// and the reductions after the first evaluation) are written after pass C
-/// and dead before the next pass A. The correction matrices (`lmat`), the
+/// and the reductions after the first evaluation) are written after the forces pass
+/// and dead before the next kinematics pass. The correction matrices (`lmat`), the
 /// velocity gradients (`gradv`, reconstructed viscosity) and the artificial
-/// stresses (`art`) are written by pass A and last read by pass C, and no
+/// stresses (`art`) are written by the kinematics pass and last read by the forces pass, and no
 /// kernel binds one of them together with the contact buffer it hosts (the
 /// reorder uses `lmat` and `cown` as scratch, at the start of a step, as
 /// two different buffers). So `cshare` lives in `lmat`, and `cown` in
 /// `gradv` or `art` when the scene has one: 16 or 32 bytes a particle less.
 /// In the same way the stored spring energy (an observation) goes to
-/// `sr2c.x` (`σ_xx/ρ²`, dead after pass C; the reductions read only its
+/// `sr2c.x` (`σ_xx/ρ²`, dead after the forces pass; the reductions read only its
 /// sound speed `w`), written by the particle's own thread in contact pass 1,
 /// which reads no other part of `sr2c`.
 ///
@@ -146,15 +146,15 @@ fn surf_capacity(n: usize) -> u32 {
     (n / 16 + 4096).min(n).min(MAX_SURF_CAP) as u32
 }
 
-/// The most entries the list of boundary particles may have: pass A writes
-/// a particle's place there as a float (pass_a.wgsl, leap_surface).
+/// The most entries the list of boundary particles may have: the kinematics pass writes
+/// a particle's place there as a float (kinematics.wgsl, leap_surface).
 const MAX_SURF_CAP: usize = 1 << 24;
 
 /// Where the leapfrog's neighbour masks (common.wgsl) live: with contact in
 /// `qrate`, the contact's rates for the ledger's next half step, which the
 /// booking writes after the energy walk (the masks' last reader) and the
-/// next step's drift reads before pass A writes the masks again; the first
-/// evaluation's contact writes it after its pass C too. Only the boundary
+/// next step's drift reads before the kinematics pass writes the masks again; the first
+/// evaluation's contact writes it after its forces pass too. Only the boundary
 /// particles' entries are rates (the drift reads no others). Without
 /// contact (`None`), in a buffer of their own.
 fn mask_home(model: &Model) -> Option<&'static str> {
@@ -274,12 +274,12 @@ pub const STAGES: &[StageSpec] = &[
         what: "cell list: clear, cells, two-pass prefix sum, scatter, per-cell sort (CPU: neighbours)",
     },
     StageSpec {
-        name: "pass_a",
+        name: "kinematics",
         per_step: 2.0,
         what: "correction, colour gradient, normals and boundary, EOS, velocity gradient, density and stress rates (CPU: eos, kinematics, boundary)",
     },
     StageSpec {
-        name: "pass_c",
+        name: "forces",
         per_step: 2.0,
         what: "momentum, energy, contact area (CPU: forces)",
     },
@@ -430,8 +430,8 @@ struct Eval {
     // (a particle's cell is recomputed, not stored; grid.wgsl).
     cells: Kernel,
     scatter: Kernel,
-    pass_a: Kernel,
-    pass_c: Kernel,
+    kinematics: Kernel,
+    forces: Kernel,
     contact: Option<(Kernel, Kernel)>,
 }
 
@@ -439,8 +439,8 @@ struct Eval {
 /// (advance.wgsl has the order).
 struct LeapKernels {
     kick_drift: Kernel,
-    pass_a: Kernel,
-    pass_c: Kernel,
+    kinematics: Kernel,
+    forces: Kernel,
     contact: Option<(Kernel, Kernel)>,
     book: Option<(Kernel, Kernel)>,
     energy: Kernel,
@@ -503,7 +503,7 @@ pub struct StageOutputs {
     pub c: Vec<f64>,
     pub drho: Vec<f64>,
     pub ds: Vec<Sym>,
-    /// SPH part of `dv/dt` and `de/dt` (pass C), before contact.
+    /// SPH part of `dv/dt` and `de/dt` (the forces pass), before contact.
     pub dv_sph: Vec<DVec2>,
     pub de_sph: Vec<f64>,
     /// Contact area (0 off the boundary or without contact).
@@ -1061,8 +1061,8 @@ impl GpuSolver {
             evals.push(Eval {
                 cells: eval_kernel("grid", "grid_cells")?,
                 scatter: eval_kernel("grid", "grid_scatter")?,
-                pass_a: eval_kernel("pass_a", "pass_a")?.walking(Walk::All),
-                pass_c: eval_kernel("pass_c", "pass_c")?.walking(Walk::All),
+                kinematics: eval_kernel("kinematics", "kinematics")?.walking(Walk::All),
+                forces: eval_kernel("forces", "forces")?.walking(Walk::All),
                 contact: if contact {
                     Some((
                         eval_kernel("contact", "contact_pass1")?.walking(Walk::Boundary),
@@ -1106,8 +1106,9 @@ impl GpuSolver {
                 |stage, entry| kernel_in(&book_constants, stage, entry, Size::Particles, booking);
             Some(LeapKernels {
                 kick_drift: kernel("advance", "kick_drift_cells", Size::Particles, state_w)?,
-                pass_a: step("pass_a", "pass_a_leap", &[("ds", "s")])?.walking(Walk::All),
-                pass_c: step("pass_c", "pass_c", at_n1)?.walking(Walk::Masked),
+                kinematics: step("kinematics", "kinematics_leap", &[("ds", "s")])?
+                    .walking(Walk::All),
+                forces: step("forces", "forces", at_n1)?.walking(Walk::Masked),
                 contact: match &surf_args {
                     Some(a) => Some((
                         step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
@@ -1126,7 +1127,7 @@ impl GpuSolver {
                     )),
                     None => None,
                 },
-                energy: kernel_in(&book_constants, "pass_c", "pass_c", Size::Particles, energy)?
+                energy: kernel_in(&book_constants, "forces", "forces", Size::Particles, energy)?
                     .walking(Walk::Masked)
                     .labelled("energy"),
                 finish: kernel("advance", "finish", Size::Particles, state_w)?,
@@ -1277,8 +1278,8 @@ impl GpuSolver {
     fn encode_eval(&self, pass: &mut impl Dispatches, var: Var) {
         self.encode_grid(pass, var);
         let e = &self.k.eval[var as usize];
-        pass.run(&e.pass_a);
-        pass.run(&e.pass_c);
+        pass.run(&e.kinematics);
+        pass.run(&e.forces);
         if let Some((c1, c2)) = &e.contact {
             pass.run(c1);
             pass.run(c2);
@@ -1365,8 +1366,8 @@ impl GpuSolver {
             // (the last step's `finish` zeroed them).
             pass.run(&l.kick_drift);
             self.encode_grid_after_counts(pass, Var::Base);
-            pass.run(&l.pass_a);
-            pass.run(&l.pass_c);
+            pass.run(&l.kinematics);
+            pass.run(&l.forces);
             if let Some((c1, c2)) = &l.contact {
                 pass.run(c1);
                 pass.run(c2);
@@ -1427,7 +1428,7 @@ impl GpuSolver {
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
         self.encode_first(&mut enc);
         self.ctx.queue.submit([enc.finish()]);
-        // Pass A gives the boundary flags and the leapfrog's neighbour masks
+        // The kinematics pass gives the boundary flags and the leapfrog's neighbour masks
         // at these positions; it overwrites what the leapfrog carries from
         // step to step, which is kept here and put back.
         let kept = self.k.leap.is_some().then(|| self.save_raw());
@@ -1435,7 +1436,7 @@ impl GpuSolver {
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
-            pass.run(&self.k.eval[Var::Base as usize].pass_a);
+            pass.run(&self.k.eval[Var::Base as usize].kinematics);
         }
         let mut read = vec![
             ("x0", 16 * nn),
@@ -1726,7 +1727,7 @@ impl GpuSolver {
 
     /// The state with its outward unit normals and boundary set, in the
     /// model's particle order (snapshots). The normals in "nbo" after a step
-    /// belong to its midpoint, so the cell list and pass A run once more at
+    /// belong to its midpoint, so the cell list and the kinematics pass run once more at
     /// the state itself first. They only rewrite per-evaluation scratch
     /// that every step recomputes before reading, except the correction
     /// fallback counter, which is put back to the zero `end_step` leaves.
@@ -1741,7 +1742,9 @@ impl GpuSolver {
         } else {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
-            self.k.eval[Var::Base as usize].pass_a.dispatch(&mut pass);
+            self.k.eval[Var::Base as usize]
+                .kinematics
+                .dispatch(&mut pass);
         }
         let mut names = self.state_buffers();
         names.push(("nbo", 16 * self.n as u64));
@@ -1964,8 +1967,8 @@ impl GpuSolver {
             let mut run = |ks: &[&Kernel]| ks.iter().for_each(|k| k.dispatch(&mut pass));
             match name {
                 "grid" => self.encode_grid(&mut pass, Var::Base),
-                "pass_a" => run(&[&l.pass_a]),
-                "pass_c" => run(&[&l.pass_c, &l.energy]),
+                "kinematics" => run(&[&l.kinematics]),
+                "forces" => run(&[&l.forces, &l.energy]),
                 "contact" => {
                     for (c1, c2) in l.contact.iter().chain(&l.book) {
                         run(&[c1, c2]);
@@ -1981,8 +1984,8 @@ impl GpuSolver {
         }
         match name {
             "grid" => self.encode_grid(&mut pass, Var::Base),
-            "pass_a" => e.pass_a.dispatch(&mut pass),
-            "pass_c" => e.pass_c.dispatch(&mut pass),
+            "kinematics" => e.kinematics.dispatch(&mut pass),
+            "forces" => e.forces.dispatch(&mut pass),
             "contact" => {
                 if let Some((c1, c2)) = &e.contact {
                     c1.dispatch(&mut pass);
@@ -2069,7 +2072,7 @@ impl GpuSolver {
         if let Some(l) = &self.k.leap {
             // A whole step, then the cell list it ends by zeroing and the
             // neighbour masks its booking overwrites: every stage's inputs
-            // are then valid. Pass A lists the boundary particles again,
+            // are then valid. The kinematics pass lists the boundary particles again,
             // from an empty list.
             self.encode_step_pass(&mut enc.begin_compute_pass(&Default::default()));
             if let Some(args) = self.buffers.get("surf_args") {
@@ -2077,7 +2080,7 @@ impl GpuSolver {
             }
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
-            pass.run(&l.pass_a);
+            pass.run(&l.kinematics);
         } else {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_eval(&mut pass, Var::Base);
@@ -2135,8 +2138,8 @@ impl GpuSolver {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
             let e = &self.k.eval[0];
-            e.pass_a.dispatch(&mut pass);
-            e.pass_c.dispatch(&mut pass);
+            e.kinematics.dispatch(&mut pass);
+            e.forces.dispatch(&mut pass);
         }
         let first = self.read_buffers(
             Some(enc),

@@ -15,7 +15,7 @@ use serde::Serialize;
 /// One dispatch's (or the reorder's) time inside the profiled steps.
 #[derive(Debug, Clone, Serialize)]
 pub struct DispatchTime {
-    /// The shader it comes from (`grid`, `pass_a`, ...; `reorder`).
+    /// The shader it comes from (`grid`, `kinematics`, ...; `reorder`).
     pub stage: String,
     /// Its entry point, or its role where one entry point runs twice a
     /// step with other constants (the leapfrog's `energy` walk and
@@ -152,9 +152,9 @@ mod tests {
     fn intervals_go_to_the_dispatch_that_ends_them() {
         let marks = [
             ("grid", "a"),
-            ("pass_c", "b"),
+            ("forces", "b"),
             ("grid", "a"),
-            ("pass_c", "b"),
+            ("forces", "b"),
         ];
         let marks: Vec<(String, String)> = marks
             .iter()

@@ -8,8 +8,8 @@ const COMMON: &str = include_str!("../../shaders/common.wgsl");
 /// Every stage file: `(name, source)`.
 pub const STAGES: &[(&str, &str)] = &[
     ("grid", include_str!("../../shaders/grid.wgsl")),
-    ("pass_a", include_str!("../../shaders/pass_a.wgsl")),
-    ("pass_c", include_str!("../../shaders/pass_c.wgsl")),
+    ("kinematics", include_str!("../../shaders/kinematics.wgsl")),
+    ("forces", include_str!("../../shaders/forces.wgsl")),
     ("contact", include_str!("../../shaders/contact.wgsl")),
     ("reduce", include_str!("../../shaders/reduce.wgsl")),
     ("advance", include_str!("../../shaders/advance.wgsl")),

@@ -26,7 +26,7 @@ const REACH: i32 = 2;
 /// The work of one neighbour walk.
 #[derive(Debug, Clone, Serialize)]
 pub struct WalkWork {
-    /// The kernel that walks (`pass_a`, `pass_c`, `contact_pass1`, ...).
+    /// The kernel that walks (`kinematics`, `forces`, `contact_pass1`, ...).
     pub name: String,
     /// How many times a step runs it.
     pub per_step: u32,
@@ -160,7 +160,7 @@ impl GridView<'_> {
         walk_work(name, per_step, walkers.len(), candidates, groups, trips)
     }
 
-    /// Count one masked walk (every particle walks; pass_c.wgsl) from the
+    /// Count one masked walk (every particle walks; forces.wgsl) from the
     /// device's neighbour masks (common.wgsl): a particle visits the pairs
     /// its mask holds in one loop, a group as long as its fullest lane; a
     /// particle whose mask overflowed walks its row ranges in full, and its

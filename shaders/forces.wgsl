@@ -1,4 +1,4 @@
-// Pass C (METHOD.md §4): momentum and energy sums with the pair-symmetric
+// The forces pass (METHOD.md §4): momentum and energy sums with the pair-symmetric
 // corrected gradient G_ij = (L_i + L_j)/2 grad_i W_ij, Monaghan viscosity
 // and, when the scene switches it on, artificial stress. With contact on it
 // also measures each boundary particle's contact area (METHOD.md §8.4).
@@ -26,12 +26,12 @@
 @group(0) @binding(19) var<storage, read_write> area: array<f32>;
 @group(0) @binding(36) var<storage, read> gradv: array<vec4<f32>>;
 @group(0) @binding(53) var<storage, read> vstar: array<vec2<f32>>;
-// The neighbour mask pass A left (common.wgsl; the leapfrog's).
+// The neighbour mask the kinematics pass left (common.wgsl; the leapfrog's).
 @group(0) @binding(9) var<storage, read> nmask: array<vec2<u32>>;
 // The momentum walk of a leapfrog step (LEAP = 2) kicks the state's
 // velocity to v_{n+1} where a_{n+1} is whole, every particle the contact
 // adds nothing to (contact.wgsl kicks the rest), and sizes the contact's
-// dispatch over the list of boundary particles pass A made.
+// dispatch over the list of boundary particles the kinematics pass made.
 @group(0) @binding(57) var<storage, read_write> vkick: array<vec2<f32>>;
 @group(0) @binding(65) var<storage, read_write> surf_args: array<u32>;
 
@@ -158,7 +158,7 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) 
 }
 
 @compute @workgroup_size(WG)
-fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
     if (LEAP == 2u && CONTACT && i == 0u) {
         size_contact();
@@ -224,7 +224,7 @@ fn pass_c(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         mask = nmask[i];
     }
     if ((mask.y & MASK_FULL) == 0u) {
-        // The pairs pass A found, in walk order (common.wgsl).
+        // The pairs the kinematics pass found, in walk order (common.wgsl).
         let rm = row_map(wk.hm);
         loop {
             let o = mask_next(&mask);

@@ -1,4 +1,4 @@
-// Pass A (METHOD.md §5, §6, §8.1): per particle, one neighbour loop gathers
+// The kinematics pass (METHOD.md §5, §6, §8.1): per particle, one neighbour loop gathers
 // the correction matrix M_i, the colour gradient and the uncorrected velocity
 // gradient sum; then L_i = M_i^-1, the equation of state, sigma/rho^2 and the
 // sound speed, and the corrected velocity gradient
@@ -8,13 +8,13 @@
 // cpu::eos_and_stress.
 //
 // Two entry points share the walk and the per-particle algebra:
-// * `pass_a`, an evaluation of the rates at a state: of the midpoint rule
+// * `kinematics`, an evaluation of the rates at a state: of the midpoint rule
 //   (dr and ds are where the rates go, common.wgsl MID: at the base state
 //   the midpoint buffers, which receive the rates themselves; at the
 //   midpoint the base state, which receives dt x rate in place), or the
 //   leapfrog's first evaluation (LEAP = 1: no density or stress rates, the
 //   state's own EOS for the momentum pass).
-// * `pass_a_leap`, the leapfrog step's kinematic pass (LEAP = 2) at
+// * `kinematics_leap`, the leapfrog step's kinematic pass (LEAP = 2) at
 //   (x_{n+1}, v_{n+1/2}): it takes the particle's own density and stress to
 //   n+1 (the density into rdt.x, whose de_n it has used: the neighbours
 //   read density n for their volumes, and the passes after it read n+1
@@ -39,7 +39,7 @@
 @group(0) @binding(51) var<storage, read> acc: array<vec2<f32>>;
 @group(0) @binding(52) var<storage, read_write> rdt: array<vec2<f32>>;
 @group(0) @binding(53) var<storage, read_write> vstar: array<vec2<f32>>;
-// The neighbour mask (common.wgsl), for pass C.
+// The neighbour mask (common.wgsl), for the forces pass.
 @group(0) @binding(9) var<storage, read_write> nmask: array<vec2<u32>>;
 // The leapfrog contact's list of boundary particles and its length
 // (contact.wgsl, which says how they are used).
@@ -261,7 +261,7 @@ fn walk_and_correct(i: u32) -> Walked {
 }
 
 @compute @workgroup_size(WG)
-fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
     if (i >= params.n) {
         return;
@@ -309,7 +309,7 @@ fn pass_a(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
 // The leapfrog step's kinematic pass (LEAP = 2; header). `ds` is the state's
 // own deviatoric stress, updated in place (only particle i reads it here).
 @compute @workgroup_size(WG)
-fn pass_a_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
     // A zero-length step (past the stop, or after a failure) leaves the
     // state and the carried rates as they are.
