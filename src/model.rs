@@ -83,7 +83,7 @@ pub struct State {
     /// Cumulative work the contact forces' spring part absorbed,
     /// `∫ Σ ½ k δ A w dt` (METHOD.md §8.3). On a conservative spring it
     /// equals the stored energy `Σ ¼ k δ² A`; the difference is the energy
-    /// the discrete spring lost ([`crate::probe::Energies::spring_loss`]).
+    /// the discrete spring lost (`energy_spring_loss` in the summary).
     pub spring_work: f64,
 }
 

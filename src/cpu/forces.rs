@@ -182,8 +182,8 @@ fn pair_terms(
 ///
 /// Scenes with no rigid body and no artificial stress (the common case:
 /// elastic and elasto-plastic impacts) take the lane code, four pairs of a
-/// row at a time ([`lane_terms`]); the others take the one-pair code
-/// ([`pair_terms`]). Both give the same bits.
+/// row at a time (`lane_terms`); the others take the one-pair code
+/// (`pair_terms`). Both give the same bits.
 pub fn momentum_energy(
     model: &Model,
     st: &State,

@@ -162,8 +162,8 @@ unsafe impl GlobalAlloc for HugePages {
 }
 
 /// A solver program's set-up around its whole work `f`: freed memory kept
-/// ([`keep_freed_memory`], before any other thread exists), then `f` on a
-/// pool worker ([`on_worker`]). The command line and the benches both start
+/// (`keep_freed_memory`, before any other thread exists), then `f` on a
+/// pool worker (`on_worker`). The command line and the benches both start
 /// here, so their figures are taken the same way; pair it with
 /// [`HugePages`] as the program's global allocator.
 pub fn solver_process<R: Send>(f: impl FnOnce() -> R + Send) -> R {

@@ -583,7 +583,7 @@ fn pair(model: &Model, x: &[DVec2], i: usize, inv_hi: f64, j: u32) -> Option<Nbr
 }
 
 /// The candidates `cands` of row i that lie within `2 h_ij`, appended to
-/// `out` in order with their kernel values: [`pair`] four candidates at a
+/// `out` in order with their kernel values: `pair` four candidates at a
 /// time, one to a SIMD lane, with the same operations (bit-identical).
 /// Mean number of neighbours per particle within `2 h_ij` at positions `x`
 /// (SPH partners and other-body contact candidates together): the work

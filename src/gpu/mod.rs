@@ -524,7 +524,7 @@ pub struct GpuOptions {
     pub max_workgroups_per_dimension: Option<u32>,
     pub max_binding_size: Option<u64>,
     /// Entries of the leapfrog contact's list of boundary particles, in
-    /// place of [`surf_capacity`]'s (tests: a list that overflows).
+    /// place of `surf_capacity`'s (tests: a list that overflows).
     pub surf_capacity: Option<u32>,
 }
 

@@ -4,7 +4,7 @@
 //! A GPU runs the threads of a group (a warp: 32 on NVIDIA hardware) in
 //! lock step, so a walk's cost is not the candidates each particle visits
 //! but the loop trips of each group: every row range of the stencil runs as
-//! long as its longest lane's. [`count_walk`] repeats the stencil of
+//! long as its longest lane's. [`GridView::count_walk`] repeats the stencil of
 //! `row_span` (common.wgsl) in the same f32 arithmetic over the cell list
 //! read back from the device, and counts both: what a walk costs on a
 //! device follows from these counts without one. The leapfrog's momentum

@@ -1064,7 +1064,7 @@ fn jump_state(
 ///   deviator stays at yield, `σ = −p(ρ, e) − 2Y0/3` (the radial return
 ///   holds `s_xx = −2Y0/3` while compression grows). From the HEL state the
 ///   jump conditions give `(σ_H − σ_F)(ε_H − ε_F) = ρ0 v_H²`, with `σ_F`
-///   from the EOS and the energy jump ([`jump_state`]); this one equation in
+///   from the EOS and the energy jump (`jump_state`); this one equation in
 ///   `ε_F` is solved by bisection, then `W_p = v_H/(ε_H − ε_F)`. For a weak
 ///   plastic wave `W_p` tends to the bulk speed `sqrt(K/ρ0)` (divided by
 ///   `1 + ε_H`); the Mie–Grüneisen EOS stiffens with compression, so it is a

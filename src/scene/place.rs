@@ -30,7 +30,7 @@ fn cells(len: f64, spacing: f64) -> usize {
 }
 
 /// Place every body of a validated scene, with its optional jitter
-/// ([`jitter`]). Both backends build their particles from this, so they get
+/// (`jitter`). Both backends build their particles from this, so they get
 /// the same positions.
 pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
     scene
