@@ -502,17 +502,24 @@ impl GpuBench {
         Ok(())
     }
 
+    /// The impact restarted (and stepped into contact again) where fewer
+    /// than `steps` steps of its contact window are left.
+    fn room_for(&mut self, steps: u64) -> Result<(), BenchError> {
+        if self.steps + steps > self.cap {
+            self.solver = Self::upload(&self.ctx, &self.case)?;
+            self.steps = 0;
+            self.approach()?;
+        }
+        Ok(())
+    }
+
     /// Wall time of `steps` steps, batch by batch, each ending with the
     /// device idle.
     pub fn time_steps(&mut self, steps: u64) -> Result<Duration, BenchError> {
         let mut wall = Duration::ZERO;
         let mut left = steps;
         while left > 0 {
-            if self.steps >= self.cap {
-                self.solver = Self::upload(&self.ctx, &self.case)?;
-                self.steps = 0;
-                self.approach()?;
-            }
+            self.room_for(1)?;
             let chunk = left.min(self.cap - self.steps).min(RING_LEN as u64 - 2);
             let start = Instant::now();
             self.batch(chunk)?;
@@ -528,11 +535,7 @@ impl GpuBench {
         if !self.ctx.timestamps {
             return Ok(None);
         }
-        if self.steps + PROFILE_STEPS > self.cap {
-            self.solver = Self::upload(&self.ctx, &self.case)?;
-            self.steps = 0;
-            self.approach()?;
-        }
+        self.room_for(PROFILE_STEPS)?;
         let (batch, profile) = self
             .solver
             .run_batch_profiled(PROFILE_STEPS as u32)
@@ -801,11 +804,14 @@ fn work_table(w: &StepWork) -> String {
         w.contact_walks,
         w.device_bytes_per_particle
     );
-    s.push_str(&format!(
-        "| walk | per step | walking particles | candidates a particle | trips of a {}-thread group | lanes used |\n",
-        crate::gpu::work::WARP
-    ));
-    s.push_str("|---|---|---|---|---|---|\n");
+    s.push_str(&table_head(&[
+        "walk",
+        "per step",
+        "walking particles",
+        "candidates a particle",
+        &format!("trips of a {}-thread group", crate::gpu::work::WARP),
+        "lanes used",
+    ]));
     for k in &w.per_walk {
         s.push_str(&format!(
             "| {} | {} | {} | {:.1} | {:.1} | {:.0} % |\n",
@@ -819,6 +825,15 @@ fn work_table(w: &StepWork) -> String {
     }
     s.push('\n');
     s
+}
+
+/// A Markdown table's header row and the rule under it.
+fn table_head(columns: &[&str]) -> String {
+    format!(
+        "| {} |\n{}|\n",
+        columns.join(" | "),
+        "|---".repeat(columns.len())
+    )
 }
 
 /// `1.23e6`-style number for the table.
@@ -850,8 +865,20 @@ fn rate_cell(r: &Record) -> String {
 /// the GPU stages.
 pub fn table(records: &[Record]) -> String {
     let mut s = String::new();
-    s.push_str("| backend | adapter | integrator | particles | R/Δx | mean neighbours | steps | wall (s) | particle-steps/s | per core | memory/particle | in contact |\n");
-    s.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    s.push_str(&table_head(&[
+        "backend",
+        "adapter",
+        "integrator",
+        "particles",
+        "R/Δx",
+        "mean neighbours",
+        "steps",
+        "wall (s)",
+        "particle-steps/s",
+        "per core",
+        "memory/particle",
+        "in contact",
+    ]));
     for r in records {
         s.push_str(&format!(
             "| {} | {} | {} | {} | {:.2} | {:.1} | {} | {:.3} | {} | {} | {:.0} B ({}) | {} |\n",
@@ -901,10 +928,13 @@ pub fn table(records: &[Record]) -> String {
         if let Some(w) = &g.work {
             s.push_str(&work_table(w));
         }
-        s.push_str(
-            "| stage | per call (ms) | calls per step | per step (ms) | share of the sum |\n",
-        );
-        s.push_str("|---|---|---|---|---|\n");
+        s.push_str(&table_head(&[
+            "stage",
+            "per call (ms)",
+            "calls per step",
+            "per step (ms)",
+            "share of the sum",
+        ]));
         for t in stages {
             s.push_str(&format!(
                 "| {} | {:.4} | {} | {:.4} | {:.1} % |\n",
@@ -931,8 +961,13 @@ fn profile_table(p: &StepProfile, wall_step: f64) -> String {
         1e3 * p.seconds_per_step,
         1e3 * wall_step
     );
-    s.push_str("| stage | dispatch | calls per step | per step (ms) | share of the step |\n");
-    s.push_str("|---|---|---|---|---|\n");
+    s.push_str(&table_head(&[
+        "stage",
+        "dispatch",
+        "calls per step",
+        "per step (ms)",
+        "share of the step",
+    ]));
     for d in &p.dispatches {
         s.push_str(&format!(
             "| {} | {} | {:.4} | {:.4} | {:.1} % |\n",

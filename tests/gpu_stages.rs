@@ -321,9 +321,7 @@ fn a_profiled_batch_is_the_same_run() {
         assert_eq!(per_step, work.dispatches as f64, "{integrator:?}");
         let reorder = profile.dispatches.iter().find(|d| d.stage == "reorder");
         assert_eq!(reorder.map(|d| d.calls_per_step), Some(2.0 / 32.0));
-        let sum: f64 = profile.dispatches.iter().map(|d| d.seconds_per_step).sum();
         assert!(profile.seconds_per_step > 0.0);
-        assert!((sum / profile.seconds_per_step - 1.0).abs() < 1e-9);
     }
 }
 

@@ -340,9 +340,9 @@ struct Kernel {
     name: String,
     /// Its shader (a stage of [`STAGES`]).
     stage: String,
-    /// What a step profile calls it: the entry point, or its role where a
-    /// step runs one entry point in two roles.
-    label: String,
+    /// Its role where a step runs one entry point in two roles (what a
+    /// step profile calls it then, [`Kernel::label`]).
+    role: Option<&'static str>,
     pipeline: Arc<Pipeline>,
     bind: wgpu::BindGroup,
     groups: (u32, u32),
@@ -374,9 +374,14 @@ impl Kernel {
         self
     }
 
-    fn labelled(mut self, label: &str) -> Self {
-        self.label = label.to_string();
+    fn labelled(mut self, role: &'static str) -> Self {
+        self.role = Some(role);
         self
+    }
+
+    /// What a step profile calls it: its role, else its entry point.
+    fn label(&self) -> &str {
+        self.role.unwrap_or(&self.name)
     }
 }
 
@@ -411,7 +416,7 @@ impl Dispatches for Timed<'_, '_> {
     fn run(&mut self, k: &Kernel) {
         k.dispatch(self.pass);
         self.timer
-            .after_pass_dispatch(self.pass, &k.stage, &k.label);
+            .after_pass_dispatch(self.pass, &k.stage, k.label());
     }
 }
 
@@ -1030,7 +1035,7 @@ impl GpuSolver {
             Ok(Kernel {
                 name: entry.to_string(),
                 stage: stage.to_string(),
-                label: entry.to_string(),
+                role: None,
                 pipeline,
                 bind,
                 groups: groups_of(size),
