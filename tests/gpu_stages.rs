@@ -128,7 +128,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
         let gpu_l: Vec<f64> = out.l.iter().map(|m| m[k]).collect();
         assert_field(name, &gpu_l, &cpu_l, 1e-4, &none);
     }
-    let bd = kinematics::boundary(&model, &st.x, &nb, &a.grad_psi, a.surface.clone());
+    let bd = kinematics::boundary(&model, &st.x, &nb, a.surface.clone());
     for i in 0..n {
         if bd.is_boundary[i] != out.boundary[i] {
             let x = model.h[i] * a.grad_psi[i].length();
@@ -584,7 +584,7 @@ fn leapfrog_steps_match_cpu() {
     let mut g = GpuSolver::new(ctx, model.clone(), &st, &[], 1.0).expect("fits the adapter");
     let nb = neighbours::find(&model, &st.x);
     let k = kinematics::kinematics(&model, &st, &nb);
-    let bd = kinematics::boundary(&model, &st.x, &nb, &k.grad_psi, k.surface.clone());
+    let bd = kinematics::boundary(&model, &st.x, &nb, k.surface.clone());
     let cf = contact::penalty(&model, &st, &nb, &bd);
     let a_contact = bd
         .list

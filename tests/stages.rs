@@ -142,7 +142,7 @@ fn normal_errors_deg(
 ) -> (usize, f64, f64) {
     let nb = neighbours::find(model, &st.x);
     let pa = kinematics::kinematics(model, st, &nb);
-    let bd = kinematics::boundary(model, &st.x, &nb, &pa.grad_psi, pa.surface.clone());
+    let bd = kinematics::boundary(model, &st.x, &nb, pa.surface.clone());
     let mut worst: f64 = 0.0;
     let mut sum = 0.0;
     let mut n = 0;

@@ -12,11 +12,12 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
-use super::kinematics::Boundary;
+use super::kinematics::{reference_volume, Boundary};
 use super::neighbours::Neighbours;
 use crate::model::{Model, State};
 use crate::physics::kernel;
 use crate::physics::material::series;
+use crate::physics::penalty::{self, Sums, SumsBar};
 
 /// Whether boundary particle `q` (another body) is a contact candidate of
 /// boundary particle `p` (METHOD.md §8.2): within `2 h_pq`, normals facing
@@ -26,32 +27,38 @@ use crate::physics::material::series;
 /// by large surface offsets are never rejected; pressure only arises where
 /// the gap is ≤ 0, so the looser gate changes nothing for pairs apart.
 #[inline]
-pub fn is_candidate(model: &Model, st: &State, bd: &Boundary, p: usize, q: usize) -> Option<f64> {
-    let r = st.x[q] - st.x[p];
+pub fn is_candidate(
+    model: &Model,
+    st: &State,
+    bd: &Boundary,
+    p: usize,
+    q: usize,
+) -> Option<(f64, DVec2)> {
+    // d = x_P − x_q from either side of the pair: the same bits in both passes.
+    let d = st.x[p] - st.x[q];
     let hpq = 0.5 * (model.h[p] + model.h[q]);
-    let dist = r.length();
-    if dist >= 2.0 * hpq {
-        return None;
-    }
     let (np, nq) = (bd.normal[p], bd.normal[q]);
     if np.dot(nq) >= 0.0 {
         return None;
     }
     let reach = model.offset[p] + model.offset[q] + hpq;
-    if np.dot(r).max(-nq.dot(r)) > reach {
+    if (-np.dot(d)).max(nq.dot(d)) > reach {
         return None;
     }
-    Some(kernel::w(model.dim, dist, hpq))
+    kernel::w_grad(model.dim, d, d.length_squared(), 1.0 / hpq)
 }
 
 /// What P's pass hands to the partner body `body`.
 #[derive(Debug, Clone, Copy)]
 struct Share {
     body: u32,
-    /// `½ p_P A_P n_c / ΣW`: force per unit kernel weight on partner particles.
+    /// `½ z w A n_c / ΣW`: dashpot force per unit kernel weight on partner
+    /// particles.
     q: DVec2,
     /// Dashpot heat per unit weight, for a rigid P that cannot keep its heat.
     eta: f64,
+    /// The spring's derivative and P's surface point, where the spring acts.
+    spring: Option<(SumsBar, DVec2)>,
 }
 
 /// Contact result of one evaluation.
@@ -60,6 +67,10 @@ pub struct ContactForces {
     /// Contact force on each boundary particle, entry k for particle
     /// `Boundary::list[k]` (no other particle has contact terms).
     pub force: Vec<DVec2>,
+    /// Forces on other particles `(i, f)`, in a fixed order: the spring's
+    /// pull through the normals reaches the neighbours of the boundary
+    /// particles whose normals it turns.
+    pub spread: Vec<(u32, DVec2)>,
     /// Dashpot heat rate booked into each boundary particle, W (entries as
     /// `force`).
     pub heat: Vec<f64>,
@@ -75,8 +86,29 @@ pub struct ContactStats {
     pub stored: f64,
     /// Total dashpot heat rate.
     pub heat_rate: f64,
-    /// Rate of work absorbed by the springs, `Σ ½ k δ A w` over the passes.
+    /// Rate of change of the stored energy, `Σ dΦ/dt` over the passes at
+    /// the booking velocities: the springs' absorbed power.
     pub spring_rate: f64,
+}
+
+impl ContactForces {
+    /// Adds the contact's accelerations to `dv` (rigid particles left as
+    /// they are): the boundary particles' forces, then the spread ones, in
+    /// their fixed order.
+    pub fn add_forces(&self, model: &Model, bd: &Boundary, dv: &mut [DVec2]) {
+        for (k, &i) in bd.list.iter().enumerate() {
+            let i = i as usize;
+            if !model.rigid(i) {
+                dv[i] += self.force[k] / model.mass[i];
+            }
+        }
+        for &(i, f) in &self.spread {
+            let i = i as usize;
+            if !model.rigid(i) {
+                dv[i] += f / model.mass[i];
+            }
+        }
+    }
 }
 
 impl ContactStats {
@@ -153,39 +185,35 @@ pub fn touching(spacing: f64) -> f64 {
     1e-5 * spacing
 }
 
+/// The stiffness's slope `∂k/∂o_b` with the far layer's thickness (`k`
+/// from [`spring_stiffness`]): zero where the layer sits at its floor or
+/// the far side is rigid.
+pub fn stiffness_slope(k: f64, o_b: f64, dx_b: f64, m_b: f64) -> f64 {
+    if m_b.is_infinite() || o_b <= 0.25 * dx_b {
+        0.0
+    } else {
+        -k * k / m_b
+    }
+}
+
 /// P's kernel-weighted sums over the candidates of one partner body.
 #[derive(Debug, Clone, Copy)]
 struct PartnerSums {
     body: u32,
-    /// `ΣW`
-    sw: f64,
-    /// `ΣW (s_q − S_P)`: partner surface points relative to P's.
-    sws: DVec2,
-    /// `ΣW n_q`
-    swn: DVec2,
+    s: Sums,
     /// `ΣW v_q`
     swv: DVec2,
     /// `ΣW v_q` at the booking velocities ([`penalty_booked`]).
     swb: DVec2,
-    /// `ΣW n_q·(S_P − s_q)`: distances to the partners' tangent lines.
-    swt: f64,
-    /// `ΣW o_q`: the partners' surface offsets (the spring's far layer).
-    swo: f64,
 }
 
-impl PartnerSums {
-    fn new(body: u32) -> Self {
-        Self {
-            body,
-            sw: 0.0,
-            sws: DVec2::ZERO,
-            swn: DVec2::ZERO,
-            swv: DVec2::ZERO,
-            swb: DVec2::ZERO,
-            swt: 0.0,
-            swo: 0.0,
-        }
-    }
+/// One contact candidate of P: particle, body, `W` and `∇_P W`.
+#[derive(Debug, Clone, Copy)]
+struct Cand {
+    q: usize,
+    body: u32,
+    w: f64,
+    gw: DVec2,
 }
 
 /// What one pass of P adds to the statistics.
@@ -197,61 +225,35 @@ struct PassStat {
     pressure: f64,
     /// `¼ k δ² A`
     stored: f64,
-    /// Dashpot heat rate `½ (p − kδ) A w`.
+    /// Dashpot heat rate.
     heat: f64,
-    /// Spring power `½ k δ A w`.
+    /// `dΦ/dt` of the pass.
     spring_rate: f64,
 }
 
-/// One pass of P against partner body `body` from the weighted sums.
+/// The pressure law of one pass: `p = max(z w + k δ, 0)`.
 struct Pass {
+    gap: penalty::Gap,
     p: f64,
-    n: DVec2,
+    z: f64,
     w_rate: f64,
     stiffness: f64,
+    /// `∂k/∂ō`
+    slope: f64,
     delta: f64,
 }
 
-/// The gap and pressure of P against the interpolated partner surface.
-///
-/// Surfaces, not particle centres, are interpolated: P's surface point is
-/// `S_P = x_P + o_P n_P` and each partner's `s_q = x_q + o_q n_q`, so the gap
-/// is `g_N = d_N − d_c` of METHOD.md §8.3 on a flat face. On a curved face the
-/// weighted mean of the partners' surface points lies on chords, behind the
-/// surface by ≈ Rφ²/2 (φ the angle the partners span); the weighted distance
-/// to the partners' tangent lines errs by the same amount the other way.
-/// Their mean is exact to second order in φ.
+/// The gap and pressure of P against the interpolated partner surface
+/// ([`penalty::gap`]); `None` where the surfaces are apart.
 fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) -> Option<Pass> {
-    if s.sw <= 0.0 {
-        return None;
-    }
-    let nbar = s.swn.normalize_or_zero();
-    if nbar == DVec2::ZERO {
-        return None;
-    }
+    let gap = penalty::gap(np, &s.s)?;
     let partner = s.body;
-    let r = s.sws / s.sw;
-    let tangent_gap = s.swt / s.sw;
-    let vrel = vp - s.swv / s.sw;
-    // Contact normal: of n_P, −n̄ and their bisector, the one with the largest
-    // projected distance (least penetration; METHOD.md §8.2).
-    let mut best = (np, np.dot(r));
-    for cand in [-nbar, (np - nbar).normalize_or_zero()] {
-        if cand != DVec2::ZERO {
-            let d = cand.dot(r);
-            if d > best.1 {
-                best = (cand, d);
-            }
-        }
-    }
-    let (n, chord_gap) = best;
-    let gap = 0.5 * (chord_gap + tangent_gap);
     let bp = model.body[p_idx];
-    if gap > touching(model.bodies[bp as usize].spacing) {
+    if gap.gap > touching(model.bodies[bp as usize].spacing) {
         return None;
     }
-    let delta = (-gap).max(0.0);
-    let w_rate = vrel.dot(n);
+    let delta = (-gap.gap).max(0.0);
+    let w_rate = (vp - s.swv / s.s.sw).dot(gap.n);
     let (za, ma) = body_constants(model, bp);
     let (zb, mb) = body_constants(model, partner);
     if za.is_infinite() && zb.is_infinite() {
@@ -259,20 +261,23 @@ fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) 
         return None;
     }
     let z = series(za, zb);
+    let (o_b, dx_b) = (s.s.swo / s.s.sw, model.bodies[partner as usize].spacing);
     let stiffness = spring_stiffness(
         model.offset[p_idx],
         model.bodies[bp as usize].spacing,
         ma,
-        s.swo / s.sw,
-        model.bodies[partner as usize].spacing,
+        o_b,
+        dx_b,
         mb,
     );
     let p = (z * w_rate + stiffness * delta).max(0.0);
     Some(Pass {
+        gap,
         p,
-        n,
+        z,
         w_rate,
         stiffness,
+        slope: stiffness_slope(stiffness, o_b, dx_b, mb),
         delta,
     })
 }
@@ -282,13 +287,62 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
     penalty_booked(model, st, nb, bd, None)
 }
 
+/// `∇∇W` of the pair `d = x_i − x_j` of particles i and j of one body, applied to `b`.
+#[inline]
+fn hessian_times(model: &Model, i: usize, j: usize, d: DVec2, b: DVec2) -> DVec2 {
+    let (hi, hj) = (model.h[i], model.h[j]);
+    let inv_h = if hi == hj { 1.0 / hi } else { 2.0 / (hi + hj) };
+    match kernel::hessian(model.dim, d.length_squared(), inv_h) {
+        Some((s, t)) => b * s + d * (t * d.dot(b)),
+        None => DVec2::ZERO,
+    }
+}
+
+/// How fast each boundary particle's normal turns at velocities `v` (entry
+/// k for `bd.list[k]`): `ṅ = (I − n nᵀ) ġ / |g|` with `g = ∇ψ = −Σ_j V_j
+/// ∇W(x_P − x_j)` and `ġ = −Σ_j V_j ∇∇W (v_P − v_j)`, `V_j` the reference
+/// volumes ([`kinematics::boundary`]).
+fn normal_rates(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    bd: &Boundary,
+    v: &[DVec2],
+) -> Vec<DVec2> {
+    if model.dim == 1 {
+        return vec![DVec2::ZERO; bd.list.len()];
+    }
+    bd.list
+        .par_iter()
+        .map(|&p| {
+            let p = p as usize;
+            let mut gdot = DVec2::ZERO;
+            for b in nb.of(model, &st.x, p) {
+                let j = b.j as usize;
+                let vol = reference_volume(model, j);
+                gdot -= hessian_times(model, p, j, st.x[p] - st.x[j], v[p] - v[j]) * vol;
+            }
+            let n = bd.normal[p];
+            (gdot - n * n.dot(gdot)) / bd.grad_norm[p]
+        })
+        .collect()
+}
+
 /// [`penalty`] with the forces of the velocities `st.v` but the heat and
-/// the spring power booked at the velocities `book` (`None`: `st.v`): the rate of work of
-/// a pass's force `½ p A` on the bodies is `½ p A w` with the approach
-/// rate `w` the bodies actually move at, and the ledger closes only when
-/// the heat and the spring power split that `w`. The leapfrog
-/// (`CpuSolver::step`) computes its forces at predicted velocities and
-/// books their work at the step's end.
+/// the spring power booked at the velocities `book` (`None`: `st.v`): the
+/// leapfrog (`CpuSolver::step`) computes its forces at predicted velocities
+/// and books their work at the step's end, and the ledger closes only when
+/// the heat and the spring power are the work the forces do at the
+/// velocities the bodies actually move at.
+///
+/// Each pass's force is a dashpot `½ z w A` along the contact normal, shared
+/// by weight like the pressure it is part of, plus the spring: the exact
+/// gradient of the pass's stored energy `Φ = ¼ k δ² A`, through P's and
+/// its candidates' positions, their weights and their normals (the area is
+/// held over the evaluation). Where the dashpot would pull harder than the
+/// spring pushes (`z w + k δ < 0`, the surfaces parting faster than the
+/// spring relaxes) the pass applies nothing, and the spring's energy
+/// released is booked as heat: the contact never pulls.
 pub fn penalty_booked(
     model: &Model,
     st: &State,
@@ -296,97 +350,151 @@ pub fn penalty_booked(
     bd: &Boundary,
     book: Option<&[DVec2]>,
 ) -> ContactForces {
+    let vb = book.unwrap_or(&st.v);
+    let ndot = normal_rates(model, st, nb, bd, vb);
+    let slot = |q: usize| {
+        bd.list
+            .binary_search(&(q as u32))
+            .expect("a boundary particle is listed")
+    };
     // Pass 1: every boundary particle against each partner body around it
     // (entry k for particle `bd.list[k]`; only boundary particles have
     // contact terms, so the passes go over the boundary list alone).
-    type P1 = (DVec2, f64, Vec<Share>, Vec<PassStat>);
+    struct P1 {
+        force: DVec2,
+        heat: f64,
+        /// `∂Φ/∂n_P` from P's own passes.
+        n_bar: DVec2,
+        shares: Vec<Share>,
+        stats: Vec<PassStat>,
+    }
     let pass1: Vec<P1> = bd
         .list
         .par_iter()
-        .map(|&p| {
+        .enumerate()
+        .map(|(kp, &p)| {
             let p = p as usize;
-            let mut own_force = DVec2::ZERO;
-            let mut own_heat = 0.0;
-            let mut shares = Vec::new();
-            let mut stats = Vec::new();
+            let mut out = P1 {
+                force: DVec2::ZERO,
+                heat: 0.0,
+                n_bar: DVec2::ZERO,
+                shares: Vec::new(),
+                stats: Vec::new(),
+            };
+            let (np, op) = (bd.normal[p], model.offset[p]);
+            let sp = st.x[p] + np * op;
+            let mut cands: Vec<Cand> = Vec::new();
             // One set of sums per partner body (almost always one).
             let mut sums: Vec<PartnerSums> = Vec::new();
-            let sp = st.x[p] + bd.normal[p] * model.offset[p];
             for &q in nb.cross_of(p) {
                 let q = q as usize;
                 if !bd.is_boundary[q] {
                     continue;
                 }
-                let Some(w) = is_candidate(model, st, bd, p, q) else {
+                let Some((w, gw)) = is_candidate(model, st, bd, p, q) else {
                     continue;
                 };
                 let bq = model.body[q];
+                cands.push(Cand { q, body: bq, w, gw });
                 let k = match sums.iter().position(|s| s.body == bq) {
                     Some(k) => k,
                     None => {
-                        sums.push(PartnerSums::new(bq));
+                        sums.push(PartnerSums {
+                            body: bq,
+                            s: Sums::default(),
+                            swv: DVec2::ZERO,
+                            swb: DVec2::ZERO,
+                        });
                         sums.len() - 1
                     }
                 };
                 let s = &mut sums[k];
-                let sq = st.x[q] + bd.normal[q] * model.offset[q];
-                s.sw += w;
-                s.sws += (sq - sp) * w;
-                s.swn += bd.normal[q] * w;
+                let nq = bd.normal[q];
+                s.s.add(w, sp, st.x[q] + nq * model.offset[q], nq, model.offset[q]);
                 s.swv += st.v[q] * w;
                 if let Some(book) = book {
                     s.swb += book[q] * w;
                 }
-                s.swt += bd.normal[q].dot(sp - sq) * w;
-                s.swo += model.offset[q] * w;
             }
+            let a = bd.area[p];
+            let rigid = model.rigid(p);
             for s in &sums {
-                let Some(ps) = pressure(model, p, bd.normal[p], st.v[p], s) else {
+                let Some(ps) = pressure(model, p, np, st.v[p], s) else {
                     continue;
                 };
-                let (bq, sw) = (s.body, s.sw);
-                let a = bd.area[p];
-                // Without booking velocities the booked rates are the
-                // pressure's own.
-                let w_book = book.map_or(ps.w_rate, |b| (b[p] - s.swb / sw).dot(ps.n));
-                // Dashpot heat of this half pass: ½ (p − kδ) A w ≥ 0 (the
-                // spring's share of the work is stored, the rest dissipated).
-                let heat = 0.5 * (ps.p - ps.stiffness * ps.delta) * a * w_book;
-                // Finite: a pair with two rigid sides has no pressure.
-                let stored = 0.25 * ps.stiffness * ps.delta * ps.delta * a;
-                own_force -= ps.n * (0.5 * ps.p * a);
-                let rigid = model.rigid(p);
-                if !rigid {
-                    own_heat += heat;
+                let (bq, sw) = (s.body, s.s.sw);
+                let n = ps.gap.n;
+                let clipped = ps.z * ps.w_rate + ps.stiffness * ps.delta < 0.0;
+                // The spring's derivative, and dΦ/dt at the booking
+                // velocities (forward, through the same derivative).
+                let mut spring = None;
+                let mut phi_dot = 0.0;
+                if ps.delta > 0.0 {
+                    let gbar = -0.5 * ps.stiffness * ps.delta * a;
+                    let obar = 0.25 * ps.delta * ps.delta * a * ps.slope;
+                    let bar = penalty::gap_bar(np, &s.s, &ps.gap, gbar, obar);
+                    let mut xp_bar = bar.sp;
+                    let np_bar = bar.np + bar.sp * op;
+                    for c in cands.iter().filter(|c| c.body == bq) {
+                        let (nq, oq) = (bd.normal[c.q], model.offset[c.q]);
+                        let d = penalty::candidate(&bar, sp, c.w, st.x[c.q] + nq * oq, nq, oq);
+                        xp_bar += c.gw * d.w;
+                        phi_dot += (d.x - c.gw * d.w).dot(vb[c.q]) + d.n.dot(ndot[slot(c.q)]);
+                    }
+                    phi_dot += xp_bar.dot(vb[p]) + np_bar.dot(ndot[kp]);
+                    if !clipped {
+                        out.force -= xp_bar;
+                        out.n_bar += np_bar;
+                        spring = Some((bar, sp));
+                    }
                 }
-                shares.push(Share {
+                let w_book = book.map_or(ps.w_rate, |b| (b[p] - s.swb / sw).dot(n));
+                // Dashpot heat ½ z w A w ≥ 0; where the pass lets go, the
+                // spring's energy released.
+                let (heat, dash) = if clipped {
+                    (-phi_dot, 0.0)
+                } else {
+                    (0.5 * ps.z * ps.w_rate * a * w_book, 0.5 * ps.z * ps.w_rate * a)
+                };
+                out.force -= n * dash;
+                if !rigid {
+                    out.heat += heat;
+                }
+                out.shares.push(Share {
                     body: bq,
-                    q: ps.n * (0.5 * ps.p * a / sw),
+                    q: n * (dash / sw),
                     eta: if rigid { heat / sw } else { 0.0 },
+                    spring,
                 });
-                stats.push(PassStat {
+                out.stats.push(PassStat {
                     partner: bq,
                     force: 0.5 * ps.p * a,
                     pressure: ps.p,
-                    stored,
+                    // Finite: a pair with two rigid sides has no pressure.
+                    stored: 0.25 * ps.stiffness * ps.delta * ps.delta * a,
                     heat,
-                    spring_rate: 0.5 * ps.stiffness * ps.delta * a * w_book,
+                    spring_rate: phi_dot,
                 });
             }
-            (own_force, own_heat, shares, stats)
+            out
         })
         .collect();
 
     // Pass 2: every boundary particle Q gathers what its partners handed it,
-    // over exactly the candidate set each of them used.
-    let gathered: Vec<(DVec2, f64)> = bd
+    // over exactly the candidate set each of them used; then its normal's
+    // derivative, complete, turns into forces on Q and its neighbours.
+    let gathered: Vec<(DVec2, f64, Vec<(u32, DVec2)>)> = bd
         .list
         .par_iter()
-        .map(|&q| {
+        .enumerate()
+        .map(|(kq, &q)| {
             let q = q as usize;
             let mut f = DVec2::ZERO;
             let mut heat = 0.0;
+            let mut n_bar = pass1[kq].n_bar;
             let bq = model.body[q];
+            let (nq, oq) = (bd.normal[q], model.offset[q]);
+            let sq = st.x[q] + nq * oq;
             for &p in nb.cross_of(q) {
                 if !bd.is_boundary[p as usize] {
                     continue;
@@ -396,30 +504,50 @@ pub fn penalty_booked(
                     .binary_search(&p)
                     .expect("a boundary particle is listed");
                 let p = p as usize;
-                let Some(share) = pass1[k].2.iter().find(|s| s.body == bq) else {
+                let Some(share) = pass1[k].shares.iter().find(|s| s.body == bq) else {
                     continue;
                 };
-                let Some(w) = is_candidate(model, st, bd, p, q) else {
+                let Some((w, gw)) = is_candidate(model, st, bd, p, q) else {
                     continue;
                 };
                 f += share.q * w;
                 heat += share.eta * w;
+                if let Some((bar, sp)) = &share.spring {
+                    let d = penalty::candidate(bar, *sp, w, sq, nq, oq);
+                    f += gw * d.w - d.x;
+                    n_bar += d.n;
+                }
             }
-            (f, heat)
+            let mut spread = Vec::new();
+            if model.dim == 2 && n_bar != DVec2::ZERO && !model.rigid(q) {
+                // ∂Φ/∂g for g = ∇ψ: g moves with Q against each neighbour
+                // j by V_j ∇∇W, and with j the other way.
+                let b = (n_bar - nq * nq.dot(n_bar)) / bd.grad_norm[q];
+                for nbr in nb.of(model, &st.x, q) {
+                    let j = nbr.j as usize;
+                    let vol = reference_volume(model, j);
+                    let hb = hessian_times(model, q, j, st.x[q] - st.x[j], b) * vol;
+                    f += hb;
+                    spread.push((nbr.j, -hb));
+                }
+            }
+            (f, heat, spread)
         })
         .collect();
 
     let mut out = ContactForces {
         force: Vec::with_capacity(bd.list.len()),
+        spread: Vec::new(),
         heat: Vec::with_capacity(bd.list.len()),
         stats: ContactStats::default(),
     };
-    for ((&p, own), g) in bd.list.iter().zip(&pass1).zip(&gathered) {
+    for ((&p, own), g) in bd.list.iter().zip(&pass1).zip(gathered) {
         let p = p as usize;
-        out.force.push(own.0 + g.0);
+        out.force.push(own.force + g.0);
         out.heat
-            .push(if model.rigid(p) { 0.0 } else { own.1 + g.1 });
-        for s in &own.3 {
+            .push(if model.rigid(p) { 0.0 } else { own.heat + g.1 });
+        out.spread.extend(g.2);
+        for s in &own.stats {
             out.stats.add(model.body[p], s.partner, s.force, s.pressure);
             out.stats.stored += s.stored;
             out.stats.heat_rate += s.heat;
@@ -427,4 +555,95 @@ pub fn penalty_booked(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cpu::{kinematics, neighbours};
+    use crate::validation::disk_scene;
+
+    /// Two disks of the paper pressed `overlap` spacings into each other, at
+    /// rest.
+    fn pressed(lattice: &str, overlap: f64) -> (Model, State) {
+        let scene = disk_scene(lattice, 8.0);
+        let (model, mut st) = Model::new(&scene);
+        let centre = |b: u32| {
+            let (mut c, mut n) = (DVec2::ZERO, 0.0);
+            for i in (0..model.len()).filter(|&i| model.body[i] == b) {
+                c += st.x[i];
+                n += 1.0;
+            }
+            c / n
+        };
+        let axis = (centre(1) - centre(0)).normalize();
+        let shift = -axis * overlap * model.bodies[1].spacing;
+        for i in 0..model.len() {
+            if model.body[i] == 1 {
+                st.x[i] += shift;
+            }
+            st.v[i] = DVec2::ZERO;
+        }
+        (model, st)
+    }
+
+    /// The stored energy at `x`, with the boundary set and areas held.
+    fn stored(model: &Model, st: &State, surface: &[bool], area: &[f64]) -> f64 {
+        let nb = neighbours::find(model, &st.x);
+        let k = kinematics::kinematics(model, st, &nb);
+        let mut bd = kinematics::boundary(model, &st.x, &nb, surface.to_vec());
+        bd.area = area.to_vec();
+        penalty(model, st, &nb, &bd).stats.stored
+    }
+
+    /// At rest (no dashpot) the contact force on every particle it touches
+    /// is minus the derivative of the stored energy, by central
+    /// differences: through the gap, the weights, the stiffness and the
+    /// normals. Momentum and angular momentum are exact.
+    #[test]
+    fn spring_force_is_the_stored_energys_gradient() {
+        for lattice in ["polar", "square"] {
+            let (model, st) = pressed(lattice, 0.35);
+            let nb = neighbours::find(&model, &st.x);
+            let k = kinematics::kinematics(&model, &st, &nb);
+            let surface = k.surface.clone();
+            let bd = kinematics::boundary(&model, &st.x, &nb, surface.clone());
+            let c = penalty(&model, &st, &nb, &bd);
+            assert!(c.stats.stored > 0.0, "{lattice}: the disks overlap");
+            let mut f = vec![DVec2::ZERO; model.len()];
+            for (k, &i) in bd.list.iter().enumerate() {
+                f[i as usize] += c.force[k];
+            }
+            for &(i, g) in &c.spread {
+                f[i as usize] += g;
+            }
+            let total: DVec2 = f.iter().copied().sum();
+            let torque: f64 = f.iter().zip(&st.x).map(|(f, x)| x.perp_dot(*f)).sum();
+            let scale = f.iter().map(|f| f.length()).fold(0.0, f64::max);
+            assert!(total.length() < 1e-12 * scale * model.len() as f64, "{lattice}: Σf = {total}");
+            assert!(torque.abs() < 1e-12 * scale * model.len() as f64, "{lattice}: torque {torque}");
+            // The particles with the largest forces, boundary and interior.
+            let mut order: Vec<usize> = (0..model.len()).filter(|&i| f[i] != DVec2::ZERO).collect();
+            order.sort_by(|&a, &b| f[b].length().total_cmp(&f[a].length()));
+            let interior = order.iter().copied().filter(|&i| !bd.is_boundary[i]).take(4);
+            let picked: Vec<usize> = order.iter().copied().take(6).chain(interior).collect();
+            assert!(picked.iter().any(|&i| !bd.is_boundary[i]), "{lattice}: no interior force");
+            let eps = 1e-6 * model.bodies[0].spacing;
+            for &i in &picked {
+                for e in [DVec2::X, DVec2::Y] {
+                    let at = |s: f64| {
+                        let mut moved = st.clone();
+                        moved.x[i] += e * (s * eps);
+                        stored(&model, &moved, &surface, &bd.area)
+                    };
+                    let fd = (at(1.0) - at(-1.0)) / (2.0 * eps);
+                    let exact = -f[i].dot(e);
+                    assert!(
+                        (fd - exact).abs() < 1e-5 * scale,
+                        "{lattice}: particle {i} along {e}: dΦ/dx {fd:e} vs −f {exact:e} (scale {scale:e})"
+                    );
+                }
+            }
+        }
+    }
 }

@@ -278,23 +278,20 @@ pub fn evaluate_with(
         ..Default::default()
     };
     let kinematics::Kinematics {
-        drho,
-        ds,
-        grad_psi,
-        surface,
-        ..
+        drho, ds, surface, ..
     } = k;
     let mut heat_rate = 0.0;
     let mut spring_rate = 0.0;
     if model.contact {
-        let bd = kinematics::boundary(model, &st.x, nb, &grad_psi, surface);
+        let bd = kinematics::boundary(model, &st.x, nb, surface);
         diag.boundary_count = bd.list.len();
         let c = contact::penalty(model, st, nb, &bd);
-        // Contact terms exist on boundary particles only.
+        // Contact terms exist on boundary particles and, through the
+        // normals, on their neighbours.
+        c.add_forces(model, &bd, &mut dv);
         for (k, &i) in bd.list.iter().enumerate() {
             let i = i as usize;
             if !model.rigid(i) {
-                dv[i] += c.force[k] / model.mass[i];
                 de[i] += c.heat[k] / model.mass[i];
             }
         }
@@ -316,27 +313,16 @@ pub fn evaluate_with(
 }
 
 /// Outward unit normals and the boundary set at `st`, for output
-/// (snapshots): the kinematic pass's colour gradient, normalised on the surface
-/// particles and zero elsewhere. The step never calls this: it costs one
+/// (snapshots): the contact's normals ([`kinematics::boundary`]) on the
+/// surface particles, zero elsewhere. The step never calls this: it costs one
 /// neighbour search and one kinematic pass, paid only when a snapshot is written.
 /// In kernel mode the SPH sums run across bodies, so faces in contact with
 /// another body are not surface there.
 pub fn surface(model: &Model, st: &State) -> (Vec<DVec2>, Vec<bool>) {
     let nb = neighbours::find(model, &st.x);
     let a = kinematics::kinematics(model, st, &nb);
-    let normal = a
-        .grad_psi
-        .iter()
-        .zip(&a.surface)
-        .map(|(g, &on)| {
-            if on {
-                g.normalize_or_zero()
-            } else {
-                DVec2::ZERO
-            }
-        })
-        .collect();
-    (normal, a.surface)
+    let bd = kinematics::boundary(model, &st.x, &nb, a.surface);
+    (bd.normal, bd.is_boundary)
 }
 
 /// The CFL step (METHOD.md §9): `C min_i h_i / (c_i + |v_i|)` over deformable
@@ -692,17 +678,12 @@ impl CpuSolver {
         };
         let bd = model.contact.then(|| {
             let kinematics::Kinematics {
-                grad_psi, surface, ..
+                surface, ..
             } = k;
-            let bd = kinematics::boundary(model, &next.x, nb, &grad_psi, surface);
+            let bd = kinematics::boundary(model, &next.x, nb, surface);
             diag.boundary_count = bd.list.len();
             let c = contact::penalty(model, &next, nb, &bd);
-            for (k, &i) in bd.list.iter().enumerate() {
-                let i = i as usize;
-                if !model.rigid(i) {
-                    dv[i] += c.force[k] / model.mass[i];
-                }
-            }
+            c.add_forces(model, &bd, &mut dv);
             bd
         });
         // 4: the second half kick, in place (v_{n+½} is dead after it;

@@ -94,6 +94,30 @@ pub fn w_grad(dim: usize, d: glam::DVec2, r2: f64, inv_h: f64) -> Option<(f64, g
     Some((a * f, d * (a * inv_h * inv_h * g_q)))
 }
 
+/// The Hessian of `W` for the separation `d` (`r2 = |d|²`) at smoothing
+/// length `1/inv_h`, as `(s, t)` with `∇∇W = s I + t d dᵀ`, or `None` beyond
+/// the support. `s` is `(∂W/∂r)/r` (the factor of [`w_grad`]) and `t` is
+/// `(∂s/∂r)/r`; both are continuous at `q = 1`, where the cubic spline's
+/// second derivative is. The spring's normals move with this
+/// (`docs/method.md`, "Energy-consistent spring").
+#[inline]
+pub fn hessian(dim: usize, r2: f64, inv_h: f64) -> Option<(f64, f64)> {
+    let q2 = r2 * inv_h * inv_h;
+    if q2 >= 4.0 || q2 == 0.0 {
+        return None;
+    }
+    let q = q2.sqrt();
+    let a = alpha_inv(dim, inv_h);
+    let ih2 = inv_h * inv_h;
+    let (g_q, dg_q) = if q < 1.0 {
+        (-3.0 + 2.25 * q, 2.25 / q)
+    } else {
+        let t = 2.0 - q;
+        (-0.75 * t * t / q, 0.75 * t * (2.0 + q) / (q2 * q))
+    };
+    Some((a * ih2 * g_q, a * ih2 * ih2 * dg_q))
+}
+
 /// The gradient of [`w_grad`] for four pairs from `q2 = r²/h²`, one to a
 /// lane: `s` with `∇W = d s`. The same operations in the same order as
 /// [`w_grad`] (bit-identical), its branch on `q < 1` a select; lanes with
@@ -120,6 +144,34 @@ pub fn line_integral_2d(h: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The Hessian is the derivative of `w_grad`'s gradient, checked by
+    /// central differences inside and outside `q = 1` in 1-D and 2-D.
+    #[test]
+    fn hessian_is_the_gradients_derivative() {
+        let inv_h = 1.0 / 0.7;
+        for dim in [1, 2] {
+            for d in [
+                glam::DVec2::new(0.31, 0.17),
+                glam::DVec2::new(-0.52, 0.61),
+                glam::DVec2::new(0.9, -0.65),
+                glam::DVec2::new(0.05, 0.0),
+            ] {
+                let (s, t) = hessian(dim, d.length_squared(), inv_h).unwrap();
+                let eps = 1e-6;
+                for e in [glam::DVec2::X, glam::DVec2::Y] {
+                    let g = |x: glam::DVec2| w_grad(dim, x, x.length_squared(), inv_h).unwrap().1;
+                    let fd = (g(d + e * eps) - g(d - e * eps)) / (2.0 * eps);
+                    let exact = e * s + d * (t * d.dot(e));
+                    assert!(
+                        (fd - exact).length() < 1e-6 * (1.0 + exact.length()),
+                        "dim {dim} d {d} e {e}: {fd} vs {exact}"
+                    );
+                }
+            }
+            assert!(hessian(dim, 4.0 / (inv_h * inv_h), inv_h).is_none());
+        }
+    }
 
     /// The lanes' gradient is `w_grad`'s bit for bit in 1-, 2- and 3-D,
     /// inside and outside `q = 1`, at the support's edge, and with

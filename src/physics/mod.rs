@@ -5,3 +5,4 @@
 pub mod exact;
 pub mod kernel;
 pub mod material;
+pub mod penalty;

@@ -1,0 +1,290 @@
+//! The penalty spring's gap and the exact gradient of its stored energy
+//! (`docs/method.md`, "Gap" and "Energy-consistent spring").
+//!
+//! One pass of boundary particle P against one partner body sees that body
+//! through kernel-weighted sums over its candidates q ([`Sums`]). The gap is
+//! a function of those sums and of P's normal; the stored energy of the pass
+//! is `Φ = ¼ k δ² A` with `δ = max(−g, 0)`. This module gives the gap and,
+//! by reverse differentiation, `∂Φ/∂` every sum and `∂Φ/∂n_P`
+//! ([`SumsBar`]), and from those each candidate's share ([`candidate`]):
+//! the derivatives with respect to its position, its normal and its weight.
+//! The solvers turn the normals' derivatives into forces through the
+//! colour gradient the normals are made from.
+
+use glam::DVec2;
+
+/// Kernel-weighted sums of P over its candidates q in one partner body,
+/// with `S_P = x_P + o_P n_P` and `s_q = x_q + o_q n_q` the surface points.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Sums {
+    /// `ΣW`
+    pub sw: f64,
+    /// `ΣW (s_q − S_P)`
+    pub sws: DVec2,
+    /// `ΣW n_q`
+    pub swn: DVec2,
+    /// `ΣW n_q·(S_P − s_q)`
+    pub swt: f64,
+    /// `ΣW o_q`
+    pub swo: f64,
+}
+
+impl Sums {
+    /// Adds candidate q of weight `w` (P's surface point `sp`).
+    #[inline]
+    pub fn add(&mut self, w: f64, sp: DVec2, sq: DVec2, nq: DVec2, oq: f64) {
+        self.sw += w;
+        self.sws += (sq - sp) * w;
+        self.swn += nq * w;
+        self.swt += nq.dot(sp - sq) * w;
+        self.swo += oq * w;
+    }
+}
+
+/// Which direction serves as the contact normal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Normal {
+    /// P's own normal `n_P`.
+    Own,
+    /// The partners' mean normal reversed, `−n̄`.
+    Partner,
+    /// The bisector `(n_P − n̄)/|n_P − n̄|`.
+    Bisector,
+}
+
+/// The gap of one pass and what its derivative needs.
+#[derive(Debug, Clone, Copy)]
+pub struct Gap {
+    /// `g = ½ (n·r + t)`, negative in overlap.
+    pub gap: f64,
+    /// The contact normal (unit, P's outward sense).
+    pub n: DVec2,
+    pub choice: Normal,
+    /// `n̄ = ΣW n_q / |ΣW n_q|`.
+    nbar: DVec2,
+    /// `r = ΣW (s_q − S_P) / ΣW`.
+    r: DVec2,
+    /// `t = ΣW n_q·(S_P − s_q) / ΣW`.
+    t: f64,
+}
+
+/// The gap of P (normal `np`) against the interpolated partner surface.
+///
+/// The weighted mean of the partners' surface points lies on chords, behind
+/// a curved surface by ≈ Rφ²/2 (φ the angle the partners span); the weighted
+/// distance to the partners' tangent lines errs by the same amount the other
+/// way; their mean is exact to second order in φ. The contact normal is, of
+/// `n_P`, `−n̄` and their bisector, the one with the largest projected
+/// distance (least penetration). `None` without weight or partner normal.
+pub fn gap(np: DVec2, s: &Sums) -> Option<Gap> {
+    if s.sw <= 0.0 {
+        return None;
+    }
+    let nbar = s.swn.normalize_or_zero();
+    if nbar == DVec2::ZERO {
+        return None;
+    }
+    let r = s.sws / s.sw;
+    let t = s.swt / s.sw;
+    let mut best = (np, np.dot(r), Normal::Own);
+    for (cand, choice) in [
+        (-nbar, Normal::Partner),
+        ((np - nbar).normalize_or_zero(), Normal::Bisector),
+    ] {
+        if cand != DVec2::ZERO {
+            let d = cand.dot(r);
+            if d > best.1 {
+                best = (cand, d, choice);
+            }
+        }
+    }
+    let (n, chord, choice) = best;
+    Some(Gap {
+        gap: 0.5 * (chord + t),
+        n,
+        choice,
+        nbar,
+        r,
+        t,
+    })
+}
+
+/// `∂Φ/∂` the sums of a pass, P's surface point and P's normal.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SumsBar {
+    pub sw: f64,
+    pub sws: DVec2,
+    pub swn: DVec2,
+    pub swt: f64,
+    pub swo: f64,
+    /// `∂Φ/∂S_P` through the sums (the weights aside).
+    pub sp: DVec2,
+    /// `∂Φ/∂n_P` through the choice of the contact normal (the surface point
+    /// aside: that is `o_P` times [`SumsBar::sp`]).
+    pub np: DVec2,
+}
+
+/// Reverse derivative of the gap: `gbar = ∂Φ/∂g` and `obar = ∂Φ/∂ō`, with
+/// `ō = ΣW o_q / ΣW` the partners' mean offset (the stiffness's far layer).
+pub fn gap_bar(np: DVec2, s: &Sums, g: &Gap, gbar: f64, obar: f64) -> SumsBar {
+    let chord_bar = 0.5 * gbar;
+    let t_bar = 0.5 * gbar;
+    // chord = n·r
+    let n_bar = g.r * chord_bar;
+    let r_bar = g.n * chord_bar;
+    let sws = r_bar / s.sw;
+    let swt = t_bar / s.sw;
+    let swo = obar / s.sw;
+    let sw = -(r_bar.dot(g.r) + t_bar * g.t + obar * s.swo / s.sw) / s.sw;
+    let (np_bar, nbar_bar) = match g.choice {
+        Normal::Own => (n_bar, DVec2::ZERO),
+        Normal::Partner => (DVec2::ZERO, -n_bar),
+        Normal::Bisector => {
+            let u = np - g.nbar;
+            let u_bar = (n_bar - g.n * g.n.dot(n_bar)) / u.length();
+            (u_bar, -u_bar)
+        }
+    };
+    let swn = (nbar_bar - g.nbar * g.nbar.dot(nbar_bar)) / s.swn.length();
+    SumsBar {
+        sw,
+        sws,
+        swn,
+        swt,
+        swo,
+        sp: -sws * s.sw + s.swn * swt,
+        np: np_bar,
+    }
+}
+
+/// One candidate's share of a pass's derivative.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Candidate {
+    /// `∂Φ/∂x_q` through its surface point (the weight aside).
+    pub x: DVec2,
+    /// `∂Φ/∂n_q` (not yet projected on the tangent).
+    pub n: DVec2,
+    /// `∂Φ/∂W_q`: the weight's derivative, applied along `∇W`.
+    pub w: f64,
+}
+
+/// Candidate q (weight `w`, surface point `sq`, normal `nq`, offset `oq`) of
+/// a pass with derivative `bar` and P's surface point `sp`.
+#[inline]
+pub fn candidate(bar: &SumsBar, sp: DVec2, w: f64, sq: DVec2, nq: DVec2, oq: f64) -> Candidate {
+    let x = (bar.sws - nq * bar.swt) * w;
+    Candidate {
+        x,
+        n: (bar.swn + (sp - sq) * bar.swt) * w + x * oq,
+        w: bar.sw
+            + bar.sws.dot(sq - sp)
+            + bar.swn.dot(nq)
+            + bar.swt * nq.dot(sp - sq)
+            + bar.swo * oq,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pass as a function of every input: `(np, sp, [(w, sq, nq, oq)])`.
+    fn energy(np: DVec2, sp: DVec2, cands: &[(f64, DVec2, DVec2, f64)]) -> f64 {
+        let mut s = Sums::default();
+        for &(w, sq, nq, oq) in cands {
+            s.add(w, sp, sq, nq, oq);
+        }
+        let g = gap(np, &s).unwrap();
+        // A stiffness that depends on the mean offset, as the real one does.
+        let k = 1.0 / (0.3 + s.swo / s.sw);
+        let d = (-g.gap).max(0.0);
+        0.25 * k * d * d
+    }
+
+    fn bar_of(np: DVec2, sp: DVec2, cands: &[(f64, DVec2, DVec2, f64)]) -> (SumsBar, Sums) {
+        let mut s = Sums::default();
+        for &(w, sq, nq, oq) in cands {
+            s.add(w, sp, sq, nq, oq);
+        }
+        let g = gap(np, &s).unwrap();
+        let ob = s.swo / s.sw;
+        let k = 1.0 / (0.3 + ob);
+        let d = (-g.gap).max(0.0);
+        let gbar = -0.5 * k * d;
+        let obar = -0.25 * d * d * k * k;
+        (gap_bar(np, &s, &g, gbar, obar), s)
+    }
+
+    /// Every derivative of the pass agrees with central differences, for
+    /// each choice of the contact normal.
+    #[test]
+    fn derivatives_match_differences() {
+        let cands = [
+            (0.8, DVec2::new(-0.2, -0.05), DVec2::new(0.1, 1.0).normalize(), 0.4),
+            (0.5, DVec2::new(0.3, -0.12), DVec2::new(-0.2, 1.0).normalize(), 0.5),
+            (0.3, DVec2::new(0.7, -0.02), DVec2::new(-0.3, 1.0).normalize(), 0.45),
+        ];
+        let sp = DVec2::new(0.1, 0.02);
+        let mut seen = Vec::new();
+        for np in [
+            DVec2::new(0.0, -1.0),
+            DVec2::new(0.6, -0.8),
+            DVec2::new(-0.3, -1.0).normalize(),
+            DVec2::new(0.25, -1.0).normalize(),
+        ] {
+            let mut s = Sums::default();
+            for &(w, sq, nq, oq) in &cands {
+                s.add(w, sp, sq, nq, oq);
+            }
+            seen.push(gap(np, &s).unwrap().choice);
+            let (bar, _) = bar_of(np, sp, &cands);
+            let eps = 1e-7;
+            let tol = |a: f64| 1e-6 * (1.0 + a.abs());
+            for e in [DVec2::X, DVec2::Y] {
+                // P's normal (free vector) and surface point.
+                let fd = (energy(np + e * eps, sp, &cands) - energy(np - e * eps, sp, &cands))
+                    / (2.0 * eps);
+                assert!((fd - bar.np.dot(e)).abs() < tol(fd), "np {np}: {fd} vs {}", bar.np.dot(e));
+                let fd = (energy(np, sp + e * eps, &cands) - energy(np, sp - e * eps, &cands))
+                    / (2.0 * eps);
+                assert!((fd - bar.sp.dot(e)).abs() < tol(fd), "sp: {fd} vs {}", bar.sp.dot(e));
+                for k in 0..cands.len() {
+                    let (w, sq, nq, oq) = cands[k];
+                    let c = candidate(&bar, sp, w, sq, nq, oq);
+                    let moved = |f: &dyn Fn(&mut (f64, DVec2, DVec2, f64))| {
+                        let mut cs = cands;
+                        f(&mut cs[k]);
+                        energy(np, sp, &cs)
+                    };
+                    // Surface point s_q with n_q fixed: x_q's direct share.
+                    let fd = (moved(&|c| c.1 += e * eps) - moved(&|c| c.1 -= e * eps)) / (2.0 * eps);
+                    assert!((fd - c.x.dot(e)).abs() < tol(fd), "x_q: {fd} vs {}", c.x.dot(e));
+                    // n_q with x_q fixed (s_q moves by o_q δn).
+                    let fd = (moved(&|c| {
+                        c.2 += e * eps;
+                        c.1 += e * (eps * c.3);
+                    }) - moved(&|c| {
+                        c.2 -= e * eps;
+                        c.1 -= e * (eps * c.3);
+                    })) / (2.0 * eps);
+                    assert!((fd - c.n.dot(e)).abs() < tol(fd), "n_q: {fd} vs {}", c.n.dot(e));
+                }
+            }
+            for k in 0..cands.len() {
+                let (w, sq, nq, oq) = cands[k];
+                let c = candidate(&bar, sp, w, sq, nq, oq);
+                let moved = |dw: f64| {
+                    let mut cs = cands;
+                    cs[k].0 += dw;
+                    energy(np, sp, &cs)
+                };
+                let fd = (moved(1e-7) - moved(-1e-7)) / 2e-7;
+                assert!((fd - c.w).abs() < 1e-6 * (1.0 + fd.abs()), "w: {fd} vs {}", c.w);
+            }
+        }
+        // The cases above exercise all three contact normals.
+        for choice in [Normal::Own, Normal::Partner, Normal::Bisector] {
+            assert!(seen.contains(&choice), "{choice:?} not exercised: {seen:?}");
+        }
+    }
+}
