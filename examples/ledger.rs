@@ -76,10 +76,18 @@ fn main() {
             let bd0 = kinematics::boundary(model, &st.x, &nb, k.surface.clone());
             let eps = 1e-3 * diag.cfl_dt;
             let (sp, sm) = (moved(st, eps), moved(st, -eps));
-            let live = Frozen { normal: None, area: None };
-            let held = Frozen { normal: None, area: Some(&bd0.area) };
-            let d_live = (phi(model, &sp, &k.surface, &live) - phi(model, &sm, &k.surface, &live)) / (2.0 * eps);
-            let d_held = (phi(model, &sp, &k.surface, &held) - phi(model, &sm, &k.surface, &held)) / (2.0 * eps);
+            let live = Frozen {
+                normal: None,
+                area: None,
+            };
+            let held = Frozen {
+                normal: None,
+                area: Some(&bd0.area),
+            };
+            let d_live = (phi(model, &sp, &k.surface, &live) - phi(model, &sm, &k.surface, &live))
+                / (2.0 * eps);
+            let d_held = (phi(model, &sp, &k.surface, &held) - phi(model, &sm, &k.surface, &held))
+                / (2.0 * eps);
             let drho = cpu::evaluate(model, st).0.drho;
             let with_rho = |s: f64| {
                 let mut m = st.clone();

@@ -178,6 +178,33 @@ fn kernel_dw(r: f32, h: f32) -> f32 {
     return kernel_alpha(h) * f / h;
 }
 
+// The Hessian of W at distance r as (s, t), grad grad W = s I + t d d^T for
+// the separation d: s = (dW/dr)/r, t = (ds/dr)/r (zero at r = 0 and beyond
+// the support). CPU twin: physics::kernel::hessian.
+fn kernel_hess(r: f32, h: f32) -> vec2<f32> {
+    let q = r / h;
+    if (q <= 0.0 || q >= 2.0) {
+        return vec2<f32>(0.0);
+    }
+    let a = kernel_alpha(h) / (h * h);
+    if (q < 1.0) {
+        return vec2<f32>(a * (-3.0 + 2.25 * q), a * 2.25 / (q * h * h));
+    }
+    let t = 2.0 - q;
+    return vec2<f32>(a * (-0.75 * t * t / q), a * 0.75 * t * (2.0 + q) / (q * q * q * h * h));
+}
+
+// grad grad W of separation d, distance r, applied to b.
+fn hess_times(d: vec2<f32>, r: f32, h: f32, b: vec2<f32>) -> vec2<f32> {
+    let st = kernel_hess(r, h);
+    return b * st.x + d * (st.y * dot(d, b));
+}
+
+// The left-hand perpendicular: a boundary normal's tangent.
+fn perp(n: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(-n.y, n.x);
+}
+
 // Mie-Grüneisen or linear pressure (METHOD.md §6), from mu = rho/rho0 - 1.
 fn eos_pressure(b: Body, mu: f32, e: f32) -> f32 {
     if (b.linear != 0u) {

@@ -58,6 +58,20 @@
 // (count, the indirect dispatch's workgroups x, y, z).
 @group(0) @binding(64) var<storage, read> surf: array<u32>;
 @group(0) @binding(65) var<storage, read> surf_args: array<u32>;
+// The contact normals and their turning rates (forces.wgsl).
+@group(0) @binding(66) var<storage, read> cn: array<vec4<f32>>;
+// Pass 1 -> pass 2, beside cown and cshare (Entries).
+@group(0) @binding(67) var<storage, read_write> cbar0: array<vec4<f32>>;
+@group(0) @binding(68) var<storage, read_write> cbar1: array<vec4<f32>>;
+@group(0) @binding(69) var<storage, read_write> ckeep: array<vec4<f32>>;
+// Pass 2 -> the spread pass: each boundary particle's dPhi/dg, the
+// derivative through its colour gradient, as beta perp(n) (pass2_at); the list of particles the
+// spread reaches (`band`, its count in spread_args[0], zeroed by the forces
+// pass) and each particle's claim on a place there (zero between passes).
+@group(0) @binding(70) var<storage, read_write> bt: array<f32>;
+@group(0) @binding(71) var<storage, read_write> band: array<u32>;
+@group(0) @binding(72) var<storage, read_write> claim: array<atomic<u32>>;
+@group(0) @binding(73) var<storage, read_write> spread_args: array<atomic<u32>>;
 
 fn kick(q: u32, rigid: bool) {
     if (!rigid) {
@@ -186,13 +200,46 @@ fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     contact_walkers(gid, nwg, true);
 }
 
-// Pass 1's entries of a particle: its own force and booked heat and its
-// partner body (`own`), the share per unit weight it leaves its partners and
-// its spring power (`share`), and the spring energy it stores.
+// Pass 1's entries of a particle: the pass's nominal force -p A n / 2 (the
+// observations' contact force), its booked heat and its partner body
+// (`own`); the dashpot force per unit weight it leaves its partners, the
+// dashpot heat per unit weight of a rigid particle and dPhi/dt of its pass
+// (`share`); the spring's derivative with respect to the sums, for the
+// partners (`bar0`: sws, swn; `bar1`: sw, swt, swo, whether the spring
+// acts); the force the particle keeps and dPhi/dn_P (`keep`); and the
+// spring energy it stores. CPU twins: cpu::contact::penalty_booked pass 1,
+// physics::penalty::{gap, gap_bar, candidate}.
 struct Entries {
     own: vec4<f32>,
     share: vec4<f32>,
+    bar0: vec4<f32>,
+    bar1: vec4<f32>,
+    keep: vec4<f32>,
     stored: f32,
+}
+
+// One candidate's share of the spring's derivative (physics::penalty::
+// candidate): d Phi / d x_q through s_q (`x`), d Phi / d n_q (`n`) and
+// d Phi / d W_q (`w`). `rel` = s_q - S_P.
+struct CandBar {
+    x: vec2<f32>,
+    n: vec2<f32>,
+    w: f32,
+}
+
+fn cand_bar(bar0: vec4<f32>, bar1: vec4<f32>, w: f32, rel: vec2<f32>, nq: vec2<f32>, oq: f32) -> CandBar {
+    let x = (bar0.xy - nq * bar1.y) * w;
+    let n = (bar0.zw - rel * bar1.y) * w + x * oq;
+    let wb = bar1.x + dot(bar0.xy, rel) + dot(bar0.zw, nq) - bar1.y * dot(nq, rel) + bar1.z * oq;
+    return CandBar(x, n, wb);
+}
+
+// The velocity the ledger books at.
+fn v_book(q: u32) -> vec2<f32> {
+    if (LEAP == 3u) {
+        return vbook[q];
+    }
+    return v[q];
 }
 
 // Pass 1 at particle p: its entries (a particle off the boundary: no
@@ -200,7 +247,7 @@ struct Entries {
 // bodies is counted (once an evaluation).
 fn entries(p: u32, count: bool) -> Entries {
     // w: the partner body as a float (exact for any realistic count), -1: none.
-    var e = Entries(vec4<f32>(0.0, 0.0, 0.0, -1.0), vec4<f32>(0.0), 0.0);
+    var e = Entries(vec4<f32>(0.0, 0.0, 0.0, -1.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), 0.0);
     let np4 = nbo[p];
     if (np4.z <= 0.0) {
         return e;
@@ -209,7 +256,8 @@ fn entries(p: u32, count: bool) -> Entries {
     let bp = mp.z;
     let bodyp = bodies[bp];
     let op = bitcast<f32>(mp.y);
-    let np = np4.xy;
+    let cnp = cn[p];
+    let np = cnp.xy;
 
     var partner = NONE;
     var multi = false;
@@ -239,7 +287,7 @@ fn entries(p: u32, count: bool) -> Entries {
             let oq = bitcast<f32>(mq.y);
             // x_q - x_p.
             let d = -cd.d;
-            let nq = nq4.xy;
+            let nq = cn[q].xy;
             let w = candidate(np, nq, d, op, oq, hp, bodies[mq.z].h);
             if (w < 0.0) {
                 continue;
@@ -275,15 +323,18 @@ fn entries(p: u32, count: bool) -> Entries {
     }
     let nbar = swn / nlen;
     let rr = sws / sw;
+    let tg = swt / sw;
     let vrel = v[p] - swv / sw;
     // Contact normal: of n_P, -nbar and their bisector, the one with the
     // largest projected distance (least penetration; METHOD.md §8.2).
     var n = np;
     var chord = dot(np, rr);
+    var choice = 0u;
     let c1 = -nbar;
     if (dot(c1, rr) > chord) {
         n = c1;
         chord = dot(c1, rr);
+        choice = 1u;
     }
     let bis = np - nbar;
     let bl = length(bis);
@@ -292,9 +343,10 @@ fn entries(p: u32, count: bool) -> Entries {
         if (dot(c2, rr) > chord) {
             n = c2;
             chord = dot(c2, rr);
+            choice = 2u;
         }
     }
-    let gap = 0.5 * (chord + swt / sw);
+    let gap = 0.5 * (chord + tg);
     // Round-off counts as touching (CPU twin: cpu::contact::touching).
     if (gap > 1e-5 * bodyp.spacing) {
         e.own.w = f32(partner);
@@ -311,17 +363,103 @@ fn entries(p: u32, count: bool) -> Entries {
         return e;
     }
     let z = series(bodyp.z, pr, bodyq.z, qr);
-    let stiffness = 1.0 / (layer(op, bodyp) + layer(swo / sw, bodyq));
+    let ob = swo / sw;
+    let stiffness = 1.0 / (layer(op, bodyp) + layer(ob, bodyq));
     let pres = max(z * w_rate + stiffness * delta, 0.0);
+    let clipped = z * w_rate + stiffness * delta < 0.0;
     let a = area[p];
-    // The rate the heat and the spring power are booked at: the forces'
-    // own, or the leapfrog's v_{n+1}.
+    // The spring's derivative (physics::penalty::gap_bar) and, through the
+    // same derivative, dPhi/dt at the booking velocities.
+    var keep = vec2<f32>(0.0);
+    var np_bar = vec2<f32>(0.0);
+    var phi_dot = 0.0;
+    var bar0 = vec4<f32>(0.0);
+    var bar1 = vec4<f32>(0.0);
+    if (delta > 0.0) {
+        var slope = 0.0;
+        if (!qr && ob > 0.25 * bodyq.spacing) {
+            slope = -stiffness * stiffness / bodyq.modulus;
+        }
+        let gbar = -0.5 * stiffness * delta * a;
+        let obar = 0.25 * delta * delta * a * slope;
+        let half = 0.5 * gbar;
+        let n_bar = rr * half;
+        let r_bar = n * half;
+        let b_sws = r_bar / sw;
+        let b_swt = half / sw;
+        let b_swo = obar / sw;
+        let b_sw = -(dot(r_bar, rr) + half * tg + obar * ob) / sw;
+        var nbar_bar = vec2<f32>(0.0);
+        if (choice == 0u) {
+            np_bar = n_bar;
+        } else if (choice == 1u) {
+            nbar_bar = -n_bar;
+        } else {
+            let u_bar = (n_bar - n * dot(n, n_bar)) / bl;
+            np_bar = u_bar;
+            nbar_bar = -u_bar;
+        }
+        let b_swn = (nbar_bar - nbar * dot(nbar, nbar_bar)) / nlen;
+        let b_sp = -b_sws * sw + swn * b_swt;
+        bar0 = vec4<f32>(b_sws, b_swn);
+        bar1 = vec4<f32>(b_sw, b_swt, b_swo, 0.0);
+        var xp_bar = b_sp;
+        // The candidates again: each one's share, as its pass 2 makes it.
+        for (var row = 0u; row < scan_rows(); row++) {
+            let span = row_span(wk.hm, row);
+            for (var k = span.start; k < span.end; k++) {
+                let cd = cand(wk, k, cs);
+                let q = cd.j;
+                if (!in_row(cd.cell, span)) {
+                    continue;
+                }
+                let mq = pinfo[q];
+                if (mq.z != partner || nbo[q].z <= 0.0) {
+                    continue;
+                }
+                let oq = bitcast<f32>(mq.y);
+                let d = -cd.d;
+                let cnq = cn[q];
+                let nq = cnq.xy;
+                let hq = bodies[mq.z].h;
+                let w = candidate(np, nq, d, op, oq, hp, hq);
+                if (w < 0.0) {
+                    continue;
+                }
+                let rel = d + nq * oq - np * op;
+                let cb = cand_bar(bar0, bar1, w, rel, nq, oq);
+                // grad_P W of the pair: along x_P - x_q = cd.d.
+                let hpq = 0.5 * (hp + hq);
+                let dist = length(d);
+                let gw = cd.d * (kernel_dw(dist, hpq) / dist);
+                xp_bar += gw * cb.w;
+                phi_dot += dot(cb.x - gw * cb.w, v_book(q)) + dot(cb.n, perp(nq) * cnq.w);
+            }
+        }
+        np_bar += b_sp * op;
+        phi_dot += dot(xp_bar, v_book(p)) + dot(np_bar, perp(np) * cnp.w);
+        if (!clipped) {
+            keep = -xp_bar;
+            bar1.w = 1.0;
+        } else {
+            np_bar = vec2<f32>(0.0);
+        }
+    }
+    // The rate the heat is booked at: the forces' own, or the leapfrog's
+    // v_{n+1}.
     var w_book = w_rate;
     if (LEAP == 3u) {
         w_book = dot(vbook[p] - swb / sw, n);
     }
-    let heat = 0.5 * (pres - stiffness * delta) * a * w_book;
-    let stored = 0.25 * stiffness * delta * delta * a;
+    // Dashpot heat 1/2 z w A w; where the pass lets go, the spring's energy
+    // released.
+    var heat = -phi_dot;
+    var dash = 0.0;
+    if (!clipped) {
+        dash = 0.5 * z * w_rate * a;
+        heat = dash * w_book;
+    }
+    keep -= n * dash;
     var own_heat = heat;
     var eta = 0.0;
     if (pr) {
@@ -329,9 +467,11 @@ fn entries(p: u32, count: bool) -> Entries {
         eta = heat / sw;
     }
     e.own = vec4<f32>(-n * (0.5 * pres * a), own_heat, f32(partner));
-    // w: the spring power 1/2 k delta A w of this pass (the spring-work ledger).
-    e.share = vec4<f32>(n * (0.5 * pres * a / sw), eta, 0.5 * stiffness * delta * a * w_book);
-    e.stored = stored;
+    e.share = vec4<f32>(n * (dash / sw), eta, phi_dot);
+    e.bar0 = bar0;
+    e.bar1 = bar1;
+    e.keep = vec4<f32>(keep, np_bar);
+    e.stored = 0.25 * stiffness * delta * delta * a;
     return e;
 }
 
@@ -342,6 +482,9 @@ fn pass1_at(p: u32) {
     let k = slot(p);
     cown[k] = e.own;
     cshare[k] = e.share;
+    cbar0[k] = e.bar0;
+    cbar1[k] = e.bar1;
+    ckeep[k] = e.keep;
     store_energy(p, e.stored);
 }
 
@@ -351,10 +494,14 @@ fn entries_of(p: u32) -> Entries {
         return entries(p, false);
     }
     let k = slot(p);
-    return Entries(cown[k], cshare[k], 0.0);
+    return Entries(cown[k], cshare[k], cbar0[k], cbar1[k], ckeep[k], 0.0);
 }
 
-// Pass 2 at particle q.
+// Pass 2 at particle q: the dashpot shares and the spring's derivative its
+// partners left, over the candidate pairs they used; then dPhi/dn_q whole,
+// which turns into forces through the colour gradient the normal is made
+// from: on q here, on its neighbours in the spread pass (bt: dPhi/dn_q as
+// beta perp(n_q) / |g_q|; q's neighbours go on the spread list).
 fn pass2_at(q: u32) {
     // A particle off the boundary has no contact rates: the ledger reads
     // qrate (which holds the neighbour masks for part of a step;
@@ -368,9 +515,11 @@ fn pass2_at(q: u32) {
     let oq = bitcast<f32>(mq.y);
     var f = vec2<f32>(0.0);
     var heat = 0.0;
+    var n_bar = vec2<f32>(0.0);
     let cs = consts();
     let wk = walker(q);
-    let nq = nbo[q].xy;
+    let cnq = cn[q];
+    let nq = cnq.xy;
     let hq = bodyq.h;
     let fbq = f32(bq);
     for (var row = 0u; row < scan_rows(); row++) {
@@ -382,11 +531,13 @@ fn pass2_at(q: u32) {
                 continue;
             }
             let mp = pinfo[p];
-            let np4 = nbo[p];
-            if (mp.z == bq || np4.z <= 0.0) {
+            if (mp.z == bq || nbo[p].z <= 0.0) {
                 continue;
             }
-            let w = candidate(np4.xy, nq, cd.d, bitcast<f32>(mp.y), oq, bodies[mp.z].h, hq);
+            let np = cn[p].xy;
+            let op = bitcast<f32>(mp.y);
+            let hp = bodies[mp.z].h;
+            let w = candidate(np, nq, cd.d, op, oq, hp, hq);
             if (w < 0.0) {
                 continue;
             }
@@ -397,11 +548,48 @@ fn pass2_at(q: u32) {
             let sh = ep.share;
             f += sh.xy * w;
             heat += sh.z * w;
+            if (ep.bar1.w > 0.0) {
+                // s_q - S_P; grad_P W along x_P - x_q = -cd.d.
+                let rel = cd.d + nq * oq - np * op;
+                let cb = cand_bar(ep.bar0, ep.bar1, w, rel, nq, oq);
+                let dist = length(cd.d);
+                let gw = -cd.d * (kernel_dw(dist, 0.5 * (hp + hq)) / dist);
+                f += gw * cb.w - cb.x;
+                n_bar += cb.n;
+            }
         }
     }
     let eq = entries_of(q);
     let own = eq.own;
-    let total = own.xy + f;
+    n_bar += eq.keep.zw;
+    var beta = 0.0;
+    if (DIM == 2u && LEAP != 3u && bodyq.rigid == 0u && cnq.z > 0.0) {
+        beta = dot(perp(nq), n_bar) / cnq.z;
+    }
+    if (LEAP != 3u) {
+        bt[q] = beta;
+    }
+    if (beta != 0.0) {
+        // g_q moves with q against each neighbour j by V0_j grad grad W.
+        let b = perp(nq) * beta;
+        let rho0 = bodyq.rho0;
+        for (var row = 0u; row < scan_rows(); row++) {
+            let span = row_span(wk.hm, row);
+            for (var k = span.start; k < span.end; k++) {
+                let cd = cand(wk, k, cs);
+                let mj = pinfo[cd.j];
+                let pr = body_pair(wk, cd, mj.z, span, hq, bq);
+                if (!pr.inside || pr.dist <= 0.0) {
+                    continue;
+                }
+                f += hess_times(pr.d, pr.dist, pr.hij, b) * (bitcast<f32>(mj.x) / rho0);
+                if (atomicExchange(&claim[cd.j], 1u) == 0u) {
+                    band[atomicAdd(&spread_args[0], 1u)] = cd.j;
+                }
+            }
+        }
+    }
+    let total = eq.keep.xy + f;
     let booked = own.z + heat;
     let m = bitcast<f32>(mq.x);
     // (dashpot heat, spring power) of the particle's passes; a rigid
@@ -439,5 +627,57 @@ fn pass2_at(q: u32) {
         // A rigid particle books no heat (rates.x is 0) but its passes'
         // springs still do work.
         qheat_w[q] = qheat_w[q] + rates * ctl.dt;
+    }
+}
+
+// The spread pass: each particle on the list pass 2 made gathers the
+// spring's pull through the normals of its boundary neighbours,
+// -V0_j grad grad W (x_P - x_j) dPhi/dg_P, and clears its claim. CPU twin:
+// the spread forces of cpu::contact::penalty_booked.
+@compute @workgroup_size(WG)
+fn contact_spread(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let k = flat_index(gid, nwg);
+    if (k >= atomicLoad(&spread_args[0])) {
+        return;
+    }
+    let j = band[k];
+    atomicStore(&claim[j], 0u);
+    if (LEAP >= 2u && ctl.dt == 0.0) {
+        return;
+    }
+    let mj = pinfo[j];
+    let bj = mj.z;
+    let body = bodies[bj];
+    if (body.rigid != 0u) {
+        return;
+    }
+    let cs = consts();
+    let wk = walker(j);
+    var f = vec2<f32>(0.0);
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(wk.hm, row);
+        for (var kk = span.start; kk < span.end; kk++) {
+            let cd = cand(wk, kk, cs);
+            let p = cd.j;
+            let mp = pinfo[p];
+            let pr = body_pair(wk, cd, mp.z, span, body.h, bj);
+            if (!pr.inside || pr.dist <= 0.0 || nbo[p].z <= 0.0) {
+                continue;
+            }
+            let beta = bt[p];
+            if (beta != 0.0) {
+                f -= hess_times(pr.d, pr.dist, pr.hij, perp(cn[p].xy) * beta);
+            }
+        }
+    }
+    let m = bitcast<f32>(mj.x);
+    f *= m / body.rho0;
+    if (LEAP == 2u) {
+        dv[j] += f / m;
+        vkick[j] = vkick[j] + f * (0.5 * ctl.dt / m);
+    } else if (!MID) {
+        dv[j] += f / m;
+    } else if (ctl.dt != 0.0) {
+        dv[j] += f * (ctl.dt / m);
     }
 }

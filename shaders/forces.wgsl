@@ -1,8 +1,12 @@
 // The forces pass (METHOD.md §4): momentum and energy sums with the pair-symmetric
 // corrected gradient G_ij = (L_i + L_j)/2 grad_i W_ij, Monaghan viscosity
 // and, when the scene switches it on, artificial stress. With contact on it
-// also measures each boundary particle's contact area (METHOD.md §8.4).
-// CPU twins: cpu::forces::momentum_energy, cpu::kinematics::boundary.
+// also measures each boundary particle's contact area (METHOD.md §8.4), and
+// its contact normal from the colour gradient with reference volumes,
+// g = -sum_j V0_j grad W, with how fast that normal turns at the walk's
+// velocities (`cn`, for contact.wgsl).
+// CPU twins: cpu::forces::momentum_energy, cpu::kinematics::boundary,
+// cpu::contact::normal_rates.
 //
 // dv and dr.y take the rates at the base state (into the midpoint buffers)
 // and dt x rate added in place to the base state at the midpoint
@@ -34,6 +38,12 @@
 // dispatch over the list of boundary particles the kinematics pass made.
 @group(0) @binding(57) var<storage, read_write> vkick: array<vec2<f32>>;
 @group(0) @binding(65) var<storage, read_write> surf_args: array<u32>;
+// Per boundary particle (contact): (n, |g|, omega), the contact normal
+// n = g/|g| and its turning rate, dn/dt = omega perp(n).
+@group(0) @binding(66) var<storage, read_write> cn: array<vec4<f32>>;
+// The contact's spread list's count (contact.wgsl), zeroed here, before
+// the contact passes of the evaluation.
+@group(0) @binding(73) var<storage, read_write> spread_args: array<u32>;
 
 // Workgroups of the contact's indirect dispatch (surf_args[1..4]): one a
 // `WG` listed particles, or one a `WG` particles where the list overflowed.
@@ -95,6 +105,9 @@ struct Sums {
     de: f32,
     // The boundary's kernel sum over boundary neighbours (contact area).
     sw: f32,
+    // The colour gradient with reference volumes, and its rate.
+    g0: vec2<f32>,
+    gdot: vec2<f32>,
 }
 
 // Add the SPH pair (i, j) (inside the support) to the sums.
@@ -103,6 +116,12 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) 
     let dist = pr.dist;
     if (o.boundary && nbo[j].z > 0.0 && LEAP != 3u) {
         (*sums).sw += kernel_w(dist, hij);
+    }
+    if (o.boundary && dist > 0.0) {
+        // With contact on, j is of i's body: V0_j = m_j / rho0.
+        let v0 = bitcast<f32>(mj.x) / o.body.rho0;
+        (*sums).g0 -= pr.gw * v0;
+        (*sums).gdot -= hess_times(pr.d, dist, hij, o.v - v[j]) * v0;
     }
     if (o.rigid || dist <= 0.0) {
         return;
@@ -163,6 +182,9 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if (LEAP == 2u && CONTACT && i == 0u) {
         size_contact();
     }
+    if (CONTACT && i == 0u) {
+        spread_args[0] = 0u;
+    }
     // A leapfrog step of zero length leaves the carried rates as they are.
     if (i >= params.n || (LEAP >= 2u && ctl.dt == 0.0)) {
         return;
@@ -218,7 +240,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         params.beta,
     );
 
-    var sums = Sums(vec2<f32>(0.0), 0.0, kernel_w(0.0, hi));
+    var sums = Sums(vec2<f32>(0.0), 0.0, kernel_w(0.0, hi), vec2<f32>(0.0), vec2<f32>(0.0));
     var mask = vec2<u32>(0u, MASK_FULL);
     if (LEAP != 0u) {
         mask = nmask[i];
@@ -251,6 +273,16 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     }
     let acc = sums.acc;
     let de = sums.de;
+    if (boundary) {
+        let gl = length(sums.g0);
+        var nc = vec2<f32>(0.0);
+        var om = 0.0;
+        if (gl > 0.0) {
+            nc = sums.g0 / gl;
+            om = dot(perp(nc), sums.gdot) / gl;
+        }
+        cn[i] = vec4<f32>(nc, gl, om);
+    }
     if (LEAP == 3u) {
         if (!rigid) {
             dr[i].y = de + dr[i].y;

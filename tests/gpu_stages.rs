@@ -140,10 +140,17 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
             );
         }
     }
+    // With contact, the contact's normals (reference volumes); without,
+    // the kinematics pass's colour gradient.
     let mut worst_angle: f64 = 0.0;
     for i in 0..n {
         if bd.is_boundary[i] {
-            worst_angle = worst_angle.max(bd.normal[i].angle_to(out.normal[i]).abs());
+            let cpu_n = if model.contact {
+                bd.normal[i]
+            } else {
+                a.grad_psi[i].normalize()
+            };
+            worst_angle = worst_angle.max(cpu_n.angle_to(out.normal[i]).abs());
         }
     }
     println!("normals: worst angle {worst_angle:.2e} rad");
@@ -183,11 +190,14 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     if model.contact {
         assert_field("contact area", &out.area, &bd.area, 1e-4, &none);
         let cf = contact::penalty(&model, &st, &nb, &bd);
-        // The CPU gives the force on the boundary particles; every other
-        // particle's is zero.
+        // The CPU gives the force on the boundary particles and the spread
+        // onto their neighbours; every other particle's is zero.
         let mut force = vec![DVec2::ZERO; n];
         for (&i, f) in bd.list.iter().zip(&cf.force) {
             force[i as usize] = *f;
+        }
+        for &(i, f) in &cf.spread {
+            force[i as usize] += f;
         }
         let total: f64 = force.iter().map(|f| f.length()).sum();
         assert_eq!(total > 0.0, expect_contact, "contact force {total}");

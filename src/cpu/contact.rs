@@ -454,7 +454,10 @@ pub fn penalty_booked(
                 let (heat, dash) = if clipped {
                     (-phi_dot, 0.0)
                 } else {
-                    (0.5 * ps.z * ps.w_rate * a * w_book, 0.5 * ps.z * ps.w_rate * a)
+                    (
+                        0.5 * ps.z * ps.w_rate * a * w_book,
+                        0.5 * ps.z * ps.w_rate * a,
+                    )
                 };
                 out.force -= n * dash;
                 if !rigid {
@@ -620,14 +623,27 @@ mod tests {
             let total: DVec2 = f.iter().copied().sum();
             let torque: f64 = f.iter().zip(&st.x).map(|(f, x)| x.perp_dot(*f)).sum();
             let scale = f.iter().map(|f| f.length()).fold(0.0, f64::max);
-            assert!(total.length() < 1e-12 * scale * model.len() as f64, "{lattice}: Σf = {total}");
-            assert!(torque.abs() < 1e-12 * scale * model.len() as f64, "{lattice}: torque {torque}");
+            assert!(
+                total.length() < 1e-12 * scale * model.len() as f64,
+                "{lattice}: Σf = {total}"
+            );
+            assert!(
+                torque.abs() < 1e-12 * scale * model.len() as f64,
+                "{lattice}: torque {torque}"
+            );
             // The particles with the largest forces, boundary and interior.
             let mut order: Vec<usize> = (0..model.len()).filter(|&i| f[i] != DVec2::ZERO).collect();
             order.sort_by(|&a, &b| f[b].length().total_cmp(&f[a].length()));
-            let interior = order.iter().copied().filter(|&i| !bd.is_boundary[i]).take(4);
+            let interior = order
+                .iter()
+                .copied()
+                .filter(|&i| !bd.is_boundary[i])
+                .take(4);
             let picked: Vec<usize> = order.iter().copied().take(6).chain(interior).collect();
-            assert!(picked.iter().any(|&i| !bd.is_boundary[i]), "{lattice}: no interior force");
+            assert!(
+                picked.iter().any(|&i| !bd.is_boundary[i]),
+                "{lattice}: no interior force"
+            );
             let eps = 1e-6 * model.bodies[0].spacing;
             for &i in &picked {
                 for e in [DVec2::X, DVec2::Y] {

@@ -280,12 +280,7 @@ pub struct Boundary {
 /// current volumes the energy also moves with the densities, work that no
 /// force does: 0.7 % of the total at the height of two steel disks'
 /// contact at R/Δx 20.
-pub fn boundary(
-    model: &Model,
-    x: &[DVec2],
-    nb: &Neighbours,
-    is_boundary: Vec<bool>,
-) -> Boundary {
+pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bool>) -> Boundary {
     let n = model.len();
     let list: Vec<u32> = (0..n as u32)
         .into_par_iter()

@@ -677,9 +677,7 @@ impl CpuSolver {
             ..Default::default()
         };
         let bd = model.contact.then(|| {
-            let kinematics::Kinematics {
-                surface, ..
-            } = k;
+            let kinematics::Kinematics { surface, .. } = k;
             let bd = kinematics::boundary(model, &next.x, nb, surface);
             diag.boundary_count = bd.list.len();
             let c = contact::penalty(model, &next, nb, &bd);

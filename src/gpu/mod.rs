@@ -438,6 +438,8 @@ struct Eval {
     kinematics: Kernel,
     forces: Kernel,
     contact: Option<(Kernel, Kernel)>,
+    /// The contact's spread pass (after pass 2, forces alone).
+    spread: Option<Kernel>,
 }
 
 /// The leapfrog step's kernels besides the cell list and the reductions
@@ -447,6 +449,8 @@ struct LeapKernels {
     kinematics: Kernel,
     forces: Kernel,
     contact: Option<(Kernel, Kernel)>,
+    /// The contact's spread pass (after pass 2, forces alone).
+    spread: Option<Kernel>,
     book: Option<(Kernel, Kernel)>,
     energy: Kernel,
     finish: Kernel,
@@ -841,6 +845,14 @@ impl GpuSolver {
                 Some(bytemuck::cast_slice(&vec![0f32; 2 * n])),
             )?;
             make("area", 4 * nn, None)?;
+            // The contact normals and the spring's derivative (contact.wgsl).
+            for name in ["cn", "cbar0", "cbar1", "ckeep"] {
+                make(name, 16 * nn, None)?;
+            }
+            for name in ["bt", "band", "claim"] {
+                make(name, 4 * nn, None)?;
+            }
+            make("spread_args", 16, None)?;
             // The two gather buffers share memory with pass scratch where
             // the scene has it (below); the rest get their own.
             for (name, home) in contact_homes(&model) {
@@ -1076,6 +1088,11 @@ impl GpuSolver {
                 } else {
                     None
                 },
+                spread: if contact {
+                    Some(eval_kernel("contact", "contact_spread")?)
+                } else {
+                    None
+                },
             });
         }
         let leap = if leapfrog {
@@ -1119,6 +1136,10 @@ impl GpuSolver {
                         step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
                         step("contact", "contact_pass2", &listed_at_n1)?.listed(a),
                     )),
+                    None => None,
+                },
+                spread: match &surf_args {
+                    Some(_) => Some(step("contact", "contact_spread", at_n1)?),
                     None => None,
                 },
                 book: match &surf_args {
@@ -1289,6 +1310,9 @@ impl GpuSolver {
             pass.run(c1);
             pass.run(c2);
         }
+        if let Some(sp) = &e.spread {
+            pass.run(sp);
+        }
     }
 
     /// Reorder the particles by cell: gather into scratch, copy back.
@@ -1376,6 +1400,9 @@ impl GpuSolver {
             if let Some((c1, c2)) = &l.contact {
                 pass.run(c1);
                 pass.run(c2);
+            }
+            if let Some(sp) = &l.spread {
+                pass.run(sp);
             }
             // The energy walk reads the neighbour masks the booking's
             // rates then overwrite (mask_home).
@@ -1978,6 +2005,7 @@ impl GpuSolver {
                     for (c1, c2) in l.contact.iter().chain(&l.book) {
                         run(&[c1, c2]);
                     }
+                    run(&l.spread.iter().collect::<Vec<_>>());
                 }
                 "reduce" => self.encode_reduce(&mut pass),
                 "advance" => {
@@ -1995,6 +2023,9 @@ impl GpuSolver {
                 if let Some((c1, c2)) = &e.contact {
                     c1.dispatch(&mut pass);
                     c2.dispatch(&mut pass);
+                }
+                if let Some(sp) = &e.spread {
+                    sp.dispatch(&mut pass);
                 }
             }
             "reduce" => self.encode_reduce(&mut pass),
@@ -2166,11 +2197,15 @@ impl GpuSolver {
                 c1.dispatch(&mut pass);
                 c2.dispatch(&mut pass);
             }
+            if let Some(sp) = &self.k.eval[0].spread {
+                sp.dispatch(&mut pass);
+            }
             self.encode_reduce(&mut pass);
         }
         let mut names = vec![("vm", 8 * nn), ("rm", 8 * nn), ("ctl", CTL_BYTES)];
         if self.model.contact {
             names.push(("area", 4 * nn));
+            names.push(("cn", 16 * nn));
         }
         let second = self.read_buffers(Some(enc), &names);
 
@@ -2235,6 +2270,8 @@ impl GpuSolver {
         let dr2: &[[f32; 2]] = bytemuck::cast_slice(&second[1]);
         let ctl: Control = bytemuck::pod_read_unaligned(&second[2]);
         let area: Option<&[f32]> = second.get(3).map(|a| bytemuck::cast_slice(a));
+        // The contact's normals (forces.wgsl), else the colour gradient's.
+        let cn: Option<&[[f32; 4]]> = second.get(4).map(|a| bytemuck::cast_slice(a));
         let mut out = StageOutputs {
             neighbours: vec![Vec::new(); n],
             visits: vec![0; n],
@@ -2263,7 +2300,8 @@ impl GpuSolver {
             out.neighbours[i] = nb;
             out.visits[i] = dump_u[base + 127];
             out.l[i] = l[k].map(|x| x as f64);
-            out.normal[i] = DVec2::new(nbo[k][0] as f64, nbo[k][1] as f64);
+            let nk = cn.map_or(nbo[k], |c| c[k]);
+            out.normal[i] = DVec2::new(nk[0] as f64, nk[1] as f64);
             out.boundary[i] = nbo[k][2] > 0.0;
             out.sr2[i] = [sr2c[k][0] as f64, sr2c[k][1] as f64, sr2c[k][2] as f64];
             out.c[i] = sr2c[k][3] as f64;

@@ -220,9 +220,24 @@ mod tests {
     #[test]
     fn derivatives_match_differences() {
         let cands = [
-            (0.8, DVec2::new(-0.2, -0.05), DVec2::new(0.1, 1.0).normalize(), 0.4),
-            (0.5, DVec2::new(0.3, -0.12), DVec2::new(-0.2, 1.0).normalize(), 0.5),
-            (0.3, DVec2::new(0.7, -0.02), DVec2::new(-0.3, 1.0).normalize(), 0.45),
+            (
+                0.8,
+                DVec2::new(-0.2, -0.05),
+                DVec2::new(0.1, 1.0).normalize(),
+                0.4,
+            ),
+            (
+                0.5,
+                DVec2::new(0.3, -0.12),
+                DVec2::new(-0.2, 1.0).normalize(),
+                0.5,
+            ),
+            (
+                0.3,
+                DVec2::new(0.7, -0.02),
+                DVec2::new(-0.3, 1.0).normalize(),
+                0.45,
+            ),
         ];
         let sp = DVec2::new(0.1, 0.02);
         let mut seen = Vec::new();
@@ -244,10 +259,18 @@ mod tests {
                 // P's normal (free vector) and surface point.
                 let fd = (energy(np + e * eps, sp, &cands) - energy(np - e * eps, sp, &cands))
                     / (2.0 * eps);
-                assert!((fd - bar.np.dot(e)).abs() < tol(fd), "np {np}: {fd} vs {}", bar.np.dot(e));
+                assert!(
+                    (fd - bar.np.dot(e)).abs() < tol(fd),
+                    "np {np}: {fd} vs {}",
+                    bar.np.dot(e)
+                );
                 let fd = (energy(np, sp + e * eps, &cands) - energy(np, sp - e * eps, &cands))
                     / (2.0 * eps);
-                assert!((fd - bar.sp.dot(e)).abs() < tol(fd), "sp: {fd} vs {}", bar.sp.dot(e));
+                assert!(
+                    (fd - bar.sp.dot(e)).abs() < tol(fd),
+                    "sp: {fd} vs {}",
+                    bar.sp.dot(e)
+                );
                 for k in 0..cands.len() {
                     let (w, sq, nq, oq) = cands[k];
                     let c = candidate(&bar, sp, w, sq, nq, oq);
@@ -257,8 +280,13 @@ mod tests {
                         energy(np, sp, &cs)
                     };
                     // Surface point s_q with n_q fixed: x_q's direct share.
-                    let fd = (moved(&|c| c.1 += e * eps) - moved(&|c| c.1 -= e * eps)) / (2.0 * eps);
-                    assert!((fd - c.x.dot(e)).abs() < tol(fd), "x_q: {fd} vs {}", c.x.dot(e));
+                    let fd =
+                        (moved(&|c| c.1 += e * eps) - moved(&|c| c.1 -= e * eps)) / (2.0 * eps);
+                    assert!(
+                        (fd - c.x.dot(e)).abs() < tol(fd),
+                        "x_q: {fd} vs {}",
+                        c.x.dot(e)
+                    );
                     // n_q with x_q fixed (s_q moves by o_q δn).
                     let fd = (moved(&|c| {
                         c.2 += e * eps;
@@ -267,7 +295,11 @@ mod tests {
                         c.2 -= e * eps;
                         c.1 -= e * (eps * c.3);
                     })) / (2.0 * eps);
-                    assert!((fd - c.n.dot(e)).abs() < tol(fd), "n_q: {fd} vs {}", c.n.dot(e));
+                    assert!(
+                        (fd - c.n.dot(e)).abs() < tol(fd),
+                        "n_q: {fd} vs {}",
+                        c.n.dot(e)
+                    );
                 }
             }
             for k in 0..cands.len() {
@@ -279,7 +311,11 @@ mod tests {
                     energy(np, sp, &cs)
                 };
                 let fd = (moved(1e-7) - moved(-1e-7)) / 2e-7;
-                assert!((fd - c.w).abs() < 1e-6 * (1.0 + fd.abs()), "w: {fd} vs {}", c.w);
+                assert!(
+                    (fd - c.w).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "w: {fd} vs {}",
+                    c.w
+                );
             }
         }
         // The cases above exercise all three contact normals.
