@@ -181,7 +181,7 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
         }),
         ("contact", |m, s, i| {
             let k = &i.k;
-            let bd = kinematics::boundary(m, &s.x, &i.nb, &k.grad_psi, k.surface.clone());
+            let bd = kinematics::boundary(m, &s.x, &i.nb, k.surface.clone());
             black_box(contact::penalty(m, s, &i.nb, &bd));
         }),
         ("evaluate", |m, s, i| {

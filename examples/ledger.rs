@@ -1,43 +1,45 @@
-//! Scratch study: where the penalty spring's unbooked work comes from.
+//! Study of the penalty spring's energy ledger on the paper's two disks.
 //!
-//!     cargo run --release --example ledger -- square|polar R_OVER_DX
+//!     cargo run --release --example ledger -- square|polar R_OVER_DX [plain] [CFL]
 //!
-//! At every step of the disks' contact: the booked spring power Σ ½kδAw
-//! against dΦ/dt along the velocities (central differences of the stored
-//! energy), with everything live, and with the normals, the areas or both
-//! held at the state's values. Their time integrals split the spring loss.
+//! Prints the total energy (kinetic + internal + stored spring) against its
+//! initial value through the contact. Unless `plain`, also integrates, over
+//! the contact, the booked spring power less dΦ/dt by central differences
+//! of the stored energy along the velocities (with the contact areas held,
+//! and live), and −∂Φ/∂ρ·ρ̇ (what the densities' change would move Φ by):
+//! the parts of the ledger no force accounts for.
 
-use glam::DVec2;
 use sphcontact::cpu::{self, contact, kinematics, neighbours, CpuSolver};
 use sphcontact::model::{Model, State};
 use sphcontact::validation::disk_scene;
 
-struct Frozen<'a> {
-    normal: Option<&'a [DVec2]>,
-    area: Option<&'a [f64]>,
-}
-
-fn phi(model: &Model, st: &State, surface: &[bool], fz: &Frozen) -> f64 {
+/// The stored energy at `st` with the boundary set `surface`, and the
+/// contact areas `area` where given (else their own).
+fn phi(model: &Model, st: &State, surface: &[bool], area: Option<&[f64]>) -> f64 {
     let nb = neighbours::find(model, &st.x);
-    let k = kinematics::kinematics(model, st, &nb);
-    let _ = k;
     let mut bd = kinematics::boundary(model, &st.x, &nb, surface.to_vec());
-    if let Some(n) = fz.normal {
-        bd.normal = n.to_vec();
-    }
-    if let Some(a) = fz.area {
+    if let Some(a) = area {
         bd.area = a.to_vec();
     }
     contact::penalty(model, st, &nb, &bd).stats.stored
 }
 
-fn moved(st: &State, eps: f64) -> State {
-    let mut s = st.clone();
-    for (x, v) in s.x.iter_mut().zip(&st.v) {
-        *x += *v * eps;
+/// `st` with the positions moved by `s` times the velocities, or the
+/// densities by `s` times `drho`.
+fn moved(st: &State, s: f64, drho: Option<&[f64]>) -> State {
+    let mut m = st.clone();
+    match drho {
+        None => m.x.iter_mut().zip(&st.v).for_each(|(x, v)| *x += *v * s),
+        Some(d) => m.rho.iter_mut().zip(d).for_each(|(r, d)| *r += d * s),
     }
-    s
+    m
 }
+
+const COLUMNS: [&str; 3] = [
+    "booked − dΦ/dt (area held)",
+    "booked − dΦ/dt (area live)",
+    "−∂Φ/∂ρ·ρ̇",
+];
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -45,9 +47,6 @@ fn main() {
     let r: f64 = args.get(1).map_or(20.0, |a| a.parse().expect("R/dx"));
     let plain = args.get(2).is_some_and(|a| a == "plain");
     let mut scene = disk_scene(&lattice, r);
-    if std::env::var("NOCORR").is_ok() {
-        scene.simulation.correction = sphcontact::scene::Correction::None;
-    }
     if let Some(c) = args.get(3) {
         scene.simulation.cfl = c.parse().expect("cfl");
     }
@@ -58,71 +57,54 @@ fn main() {
         let (m, s, d) = solver.observe();
         sphcontact::probe::energies(m, s, d).total()
     };
-    // Integrals of (booked − dΦ/dt) for: live, normals frozen, area
-    // frozen, both frozen.
-    let mut acc = [0.0f64; 4];
-    let mut prev: Option<(f64, [f64; 4])> = None;
-    let mut worst = (0.0f64, 0.0f64);
-    let mut high = 0.0f64;
+    let mut acc = [0.0f64; 3];
+    let mut prev: Option<(f64, [f64; 3])> = None;
+    let (mut low, mut low_t, mut high) = (0.0f64, 0.0f64, 0.0f64);
     let mut line = 0;
     while solver.state.t < t_end {
         let (model, st, diag) = solver.observe();
         let booked = diag.contact.spring_rate;
         let t = st.t;
-        let mut rates = [0.0; 4];
+        let mut rates = [0.0; 3];
         if !plain && (diag.contact.stored > 0.0 || booked != 0.0) {
             let nb = neighbours::find(model, &st.x);
-            let k = kinematics::kinematics(model, st, &nb);
-            let bd0 = kinematics::boundary(model, &st.x, &nb, k.surface.clone());
+            let surface = kinematics::kinematics(model, st, &nb).surface;
+            let area = kinematics::boundary(model, &st.x, &nb, surface.clone()).area;
             let eps = 1e-3 * diag.cfl_dt;
-            let (sp, sm) = (moved(st, eps), moved(st, -eps));
-            let live = Frozen {
-                normal: None,
-                area: None,
+            let rate = |area: Option<&[f64]>, drho: Option<&[f64]>| {
+                let at = |s: f64| phi(model, &moved(st, s * eps, drho), &surface, area);
+                (at(1.0) - at(-1.0)) / (2.0 * eps)
             };
-            let held = Frozen {
-                normal: None,
-                area: Some(&bd0.area),
-            };
-            let d_live = (phi(model, &sp, &k.surface, &live) - phi(model, &sm, &k.surface, &live))
-                / (2.0 * eps);
-            let d_held = (phi(model, &sp, &k.surface, &held) - phi(model, &sm, &k.surface, &held))
-                / (2.0 * eps);
             let drho = cpu::evaluate(model, st).0.drho;
-            let with_rho = |s: f64| {
-                let mut m = st.clone();
-                for (r, d) in m.rho.iter_mut().zip(&drho) {
-                    *r += d * s * eps;
-                }
-                phi(model, &m, &k.surface, &held)
-            };
-            let d_rho = (with_rho(1.0) - with_rho(-1.0)) / (2.0 * eps);
-            rates = [booked - d_held, booked - d_live, -d_rho, 0.0];
+            rates = [
+                booked - rate(Some(&area), None),
+                booked - rate(None, None),
+                -rate(Some(&area), Some(&drho)),
+            ];
         }
         if let Some((tp, rp)) = prev {
-            for i in 0..4 {
+            for i in 0..3 {
                 acc[i] += 0.5 * (rates[i] + rp[i]) * (t - tp);
             }
         }
         prev = Some((t, rates));
-        let total = sphcontact::probe::energies(model, st, diag).total();
-        let dev = total / e0 - 1.0;
-        if dev < worst.0 {
-            worst = (dev, t);
+        let dev = sphcontact::probe::energies(model, st, diag).total() / e0 - 1.0;
+        if dev < low {
+            (low, low_t) = (dev, t);
         }
         high = high.max(dev);
         line += 1;
         if line % 40 == 0 && diag.contact.stored > 0.0 {
-            println!(
-                "t {:.3} µs total {:+.3} % stored {:.2} % | booked-dphi(area held) {:+.3} % booked-dphi(area live) {:+.3} % -dphi/drho {:+.3} % - {:+.3} %",
+            print!(
+                "t {:.3} µs total {:+.3} % stored {:.2} %",
                 t * 1e6,
                 100.0 * dev,
-                100.0 * diag.contact.stored / e0,
-                100.0 * acc[0] / e0,
-                100.0 * acc[1] / e0,
-                100.0 * acc[2] / e0,
-                100.0 * acc[3] / e0,
+                100.0 * diag.contact.stored / e0
             );
+            for (name, a) in COLUMNS.iter().zip(acc) {
+                print!(" | {name} {:+.3} %", 100.0 * a / e0);
+            }
+            println!();
         }
         solver.step(t_end - t).expect("stable");
     }
@@ -132,16 +114,13 @@ fn main() {
         "{lattice} R/dx {r}: final {:+.3} %, highest {:+.3} %, lowest {:+.3} % at {:.2} µs; spring loss {:+.3} %",
         100.0 * (total / e0 - 1.0),
         100.0 * high,
-        100.0 * worst.0,
-        1e6 * worst.1,
+        100.0 * low,
+        1e6 * low_t,
         100.0 * (st.spring_work - diag.contact.stored) / e0
     );
-    println!(
-        "integrated booked − dΦ/dt: live {:+.3} %, normals frozen {:+.3} %, area frozen {:+.3} %, both {:+.3} %",
-        100.0 * acc[0] / e0,
-        100.0 * acc[1] / e0,
-        100.0 * acc[2] / e0,
-        100.0 * acc[3] / e0
-    );
-    let _ = cpu::SKIN_FRACTION;
+    if !plain {
+        for (name, a) in COLUMNS.iter().zip(acc) {
+            println!("integrated {name}: {:+.3} %", 100.0 * a / e0);
+        }
+    }
 }

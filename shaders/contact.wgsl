@@ -102,23 +102,18 @@ fn overflowed() -> bool {
     return LEAP == 2u && surf_args[0] > params.surf_cap;
 }
 
-// Kernel weight of the candidate pair (p, q) with normals np, nq and
-// d = x_q - x_p, or a negative value when q is not a contact candidate of
-// p (METHOD.md §8.2). Both passes call it with the same arguments in the same order, so
-// both see the same weight.
-fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32) -> f32 {
+// Kernel weight W of the candidate pair (p, q) with normals np, nq and
+// d = x_q - x_p, with (dW/dr)/r (so grad_P W = -d times it), or a negative
+// weight when q is not a contact candidate of p (METHOD.md §8.2). Both
+// passes call it with the same arguments in the same order, so both see
+// the same weight.
+fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32) -> vec2<f32> {
     let hpq = 0.5 * (hp + hq);
     let dist = length(d);
-    if (dist >= 2.0 * hpq) {
-        return -1.0;
+    if (dist >= 2.0 * hpq || dot(np, nq) >= 0.0 || max(dot(np, d), -dot(nq, d)) > op + oq + hpq) {
+        return vec2<f32>(-1.0, 0.0);
     }
-    if (dot(np, nq) >= 0.0) {
-        return -1.0;
-    }
-    if (max(dot(np, d), -dot(nq, d)) > op + oq + hpq) {
-        return -1.0;
-    }
-    return kernel_w(dist, hpq);
+    return vec2<f32>(kernel_w(dist, hpq), kernel_dw(dist, hpq) / dist);
 }
 
 // Penalty spring stiffness: the two surface layers (thickness o, at least
@@ -288,7 +283,7 @@ fn entries(p: u32, count: bool) -> Entries {
             // x_q - x_p.
             let d = -cd.d;
             let nq = cn[q].xy;
-            let w = candidate(np, nq, d, op, oq, hp, bodies[mq.z].h);
+            let w = candidate(np, nq, d, op, oq, hp, bodies[mq.z].h).x;
             if (w < 0.0) {
                 continue;
             }
@@ -365,8 +360,10 @@ fn entries(p: u32, count: bool) -> Entries {
     let z = series(bodyp.z, pr, bodyq.z, qr);
     let ob = swo / sw;
     let stiffness = 1.0 / (layer(op, bodyp) + layer(ob, bodyq));
-    let pres = max(z * w_rate + stiffness * delta, 0.0);
-    let clipped = z * w_rate + stiffness * delta < 0.0;
+    let push = z * w_rate + stiffness * delta;
+    let pres = max(push, 0.0);
+    // The dashpot would pull harder than the spring pushes: the pass lets go.
+    let clipped = push < 0.0;
     let a = area[p];
     // The spring's derivative (physics::penalty::gap_bar) and, through the
     // same derivative, dPhi/dt at the booking velocities.
@@ -422,16 +419,13 @@ fn entries(p: u32, count: bool) -> Entries {
                 let cnq = cn[q];
                 let nq = cnq.xy;
                 let hq = bodies[mq.z].h;
-                let w = candidate(np, nq, d, op, oq, hp, hq);
-                if (w < 0.0) {
+                let wg = candidate(np, nq, d, op, oq, hp, hq);
+                if (wg.x < 0.0) {
                     continue;
                 }
                 let rel = d + nq * oq - np * op;
-                let cb = cand_bar(bar0, bar1, w, rel, nq, oq);
-                // grad_P W of the pair: along x_P - x_q = cd.d.
-                let hpq = 0.5 * (hp + hq);
-                let dist = length(d);
-                let gw = cd.d * (kernel_dw(dist, hpq) / dist);
+                let cb = cand_bar(bar0, bar1, wg.x, rel, nq, oq);
+                let gw = -d * wg.y;
                 xp_bar += gw * cb.w;
                 phi_dot += dot(cb.x - gw * cb.w, v_book(q)) + dot(cb.n, perp(nq) * cnq.w);
             }
@@ -537,7 +531,8 @@ fn pass2_at(q: u32) {
             let np = cn[p].xy;
             let op = bitcast<f32>(mp.y);
             let hp = bodies[mp.z].h;
-            let w = candidate(np, nq, cd.d, op, oq, hp, hq);
+            let wg = candidate(np, nq, cd.d, op, oq, hp, hq);
+            let w = wg.x;
             if (w < 0.0) {
                 continue;
             }
@@ -549,12 +544,10 @@ fn pass2_at(q: u32) {
             f += sh.xy * w;
             heat += sh.z * w;
             if (ep.bar1.w > 0.0) {
-                // s_q - S_P; grad_P W along x_P - x_q = -cd.d.
+                // s_q - S_P (cd.d = x_q - x_p).
                 let rel = cd.d + nq * oq - np * op;
                 let cb = cand_bar(ep.bar0, ep.bar1, w, rel, nq, oq);
-                let dist = length(cd.d);
-                let gw = -cd.d * (kernel_dw(dist, 0.5 * (hp + hq)) / dist);
-                f += gw * cb.w - cb.x;
+                f += -cd.d * (wg.y * cb.w) - cb.x;
                 n_bar += cb.n;
             }
         }

@@ -13,7 +13,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::kinematics::{reference_volume, Boundary};
-use super::neighbours::Neighbours;
+use super::neighbours::{pair_inv_h, Neighbours};
 use crate::model::{Model, State};
 use crate::physics::kernel;
 use crate::physics::material::series;
@@ -65,7 +65,7 @@ struct Share {
 #[derive(Debug, Clone, Default)]
 pub struct ContactForces {
     /// Contact force on each boundary particle, entry k for particle
-    /// `Boundary::list[k]` (no other particle has contact terms).
+    /// `Boundary::list[k]` (other particles have only [`Self::spread`]).
     pub force: Vec<DVec2>,
     /// Forces on other particles `(i, f)`, in a fixed order: the spring's
     /// pull through the normals reaches the neighbours of the boundary
@@ -235,6 +235,9 @@ struct PassStat {
 struct Pass {
     gap: penalty::Gap,
     p: f64,
+    /// `z w + k δ < 0`: the dashpot would pull harder than the spring
+    /// pushes, and the pass lets go.
+    clipped: bool,
     z: f64,
     w_rate: f64,
     stiffness: f64,
@@ -270,10 +273,11 @@ fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) 
         dx_b,
         mb,
     );
-    let p = (z * w_rate + stiffness * delta).max(0.0);
+    let push = z * w_rate + stiffness * delta;
     Some(Pass {
         gap,
-        p,
+        p: push.max(0.0),
+        clipped: push < 0.0,
         z,
         w_rate,
         stiffness,
@@ -290,8 +294,7 @@ pub fn penalty(model: &Model, st: &State, nb: &Neighbours, bd: &Boundary) -> Con
 /// `∇∇W` of the pair `d = x_i − x_j` of particles i and j of one body, applied to `b`.
 #[inline]
 fn hessian_times(model: &Model, i: usize, j: usize, d: DVec2, b: DVec2) -> DVec2 {
-    let (hi, hj) = (model.h[i], model.h[j]);
-    let inv_h = if hi == hj { 1.0 / hi } else { 2.0 / (hi + hj) };
+    let inv_h = pair_inv_h(model.h[i], model.h[j], 1.0 / model.h[i]);
     match kernel::hessian(model.dim, d.length_squared(), inv_h) {
         Some((s, t)) => b * s + d * (t * d.dot(b)),
         None => DVec2::ZERO,
@@ -424,7 +427,6 @@ pub fn penalty_booked(
                 };
                 let (bq, sw) = (s.body, s.s.sw);
                 let n = ps.gap.n;
-                let clipped = ps.z * ps.w_rate + ps.stiffness * ps.delta < 0.0;
                 // The spring's derivative, and dΦ/dt at the booking
                 // velocities (forward, through the same derivative).
                 let mut spring = None;
@@ -442,7 +444,7 @@ pub fn penalty_booked(
                         phi_dot += (d.x - c.gw * d.w).dot(vb[c.q]) + d.n.dot(ndot[slot(c.q)]);
                     }
                     phi_dot += xp_bar.dot(vb[p]) + np_bar.dot(ndot[kp]);
-                    if !clipped {
+                    if !ps.clipped {
                         out.force -= xp_bar;
                         out.n_bar += np_bar;
                         spring = Some((bar, sp));
@@ -451,7 +453,7 @@ pub fn penalty_booked(
                 let w_book = book.map_or(ps.w_rate, |b| (b[p] - s.swb / sw).dot(n));
                 // Dashpot heat ½ z w A w ≥ 0; where the pass lets go, the
                 // spring's energy released.
-                let (heat, dash) = if clipped {
+                let (heat, dash) = if ps.clipped {
                     (-phi_dot, 0.0)
                 } else {
                     (
@@ -486,7 +488,14 @@ pub fn penalty_booked(
     // Pass 2: every boundary particle Q gathers what its partners handed it,
     // over exactly the candidate set each of them used; then its normal's
     // derivative, complete, turns into forces on Q and its neighbours.
-    let gathered: Vec<(DVec2, f64, Vec<(u32, DVec2)>)> = bd
+    /// What Q gathers: its force and heat from its partners, and the
+    /// forces its normal's derivative puts on its neighbours.
+    struct Gathered {
+        force: DVec2,
+        heat: f64,
+        spread: Vec<(u32, DVec2)>,
+    }
+    let gathered: Vec<Gathered> = bd
         .list
         .par_iter()
         .enumerate()
@@ -534,7 +543,11 @@ pub fn penalty_booked(
                     spread.push((nbr.j, -hb));
                 }
             }
-            (f, heat, spread)
+            Gathered {
+                force: f,
+                heat,
+                spread,
+            }
         })
         .collect();
 
@@ -546,10 +559,13 @@ pub fn penalty_booked(
     };
     for ((&p, own), g) in bd.list.iter().zip(&pass1).zip(gathered) {
         let p = p as usize;
-        out.force.push(own.force + g.0);
-        out.heat
-            .push(if model.rigid(p) { 0.0 } else { own.heat + g.1 });
-        out.spread.extend(g.2);
+        out.force.push(own.force + g.force);
+        out.heat.push(if model.rigid(p) {
+            0.0
+        } else {
+            own.heat + g.heat
+        });
+        out.spread.extend(g.spread);
         for s in &own.stats {
             out.stats.add(model.body[p], s.partner, s.force, s.pressure);
             out.stats.stored += s.stored;
@@ -593,7 +609,6 @@ mod tests {
     /// The stored energy at `x`, with the boundary set and areas held.
     fn stored(model: &Model, st: &State, surface: &[bool], area: &[f64]) -> f64 {
         let nb = neighbours::find(model, &st.x);
-        let k = kinematics::kinematics(model, st, &nb);
         let mut bd = kinematics::boundary(model, &st.x, &nb, surface.to_vec());
         bd.area = area.to_vec();
         penalty(model, st, &nb, &bd).stats.stored

@@ -574,12 +574,21 @@ impl Neighbours {
 /// `x`, with `W_ij` and `∇_i W_ij`; `inv_hi = 1/h_i`.
 #[inline]
 fn pair(model: &Model, x: &[DVec2], i: usize, inv_hi: f64, j: u32) -> Option<Nbr> {
-    let (hi, hj) = (model.h[i], model.h[j as usize]);
-    // h_ij = (h_i + h_j)/2; one division only across bodies of different
-    // spacing (the same value from either side: the sum commutes).
-    let inv_h = if hj == hi { inv_hi } else { 2.0 / (hi + hj) };
+    let inv_h = pair_inv_h(model.h[i], model.h[j as usize], inv_hi);
     let d = x[i] - x[j as usize];
     kernel::w_grad(model.dim, d, d.length_squared(), inv_h).map(|(w, gw)| Nbr { j, w, gw })
+}
+
+/// `1/h_ij` of a pair, `h_ij = (h_i + h_j)/2`, with `inv_hi = 1/h_i`: one
+/// division only across bodies of different spacing (the same value from
+/// either side: the sum commutes).
+#[inline]
+pub fn pair_inv_h(hi: f64, hj: f64, inv_hi: f64) -> f64 {
+    if hj == hi {
+        inv_hi
+    } else {
+        2.0 / (hi + hj)
+    }
 }
 
 /// The candidates `cands` of row i that lie within `2 h_ij`, appended to

@@ -437,9 +437,21 @@ struct Eval {
     scatter: Kernel,
     kinematics: Kernel,
     forces: Kernel,
-    contact: Option<(Kernel, Kernel)>,
-    /// The contact's spread pass (after pass 2, forces alone).
-    spread: Option<Kernel>,
+    contact: Option<ContactKernels>,
+}
+
+/// The contact's force passes in their order: the two gathers, then the
+/// spread of the spring's pull through the normals (contact.wgsl).
+struct ContactKernels {
+    pass1: Kernel,
+    pass2: Kernel,
+    spread: Kernel,
+}
+
+impl ContactKernels {
+    fn all(&self) -> [&Kernel; 3] {
+        [&self.pass1, &self.pass2, &self.spread]
+    }
 }
 
 /// The leapfrog step's kernels besides the cell list and the reductions
@@ -448,9 +460,7 @@ struct LeapKernels {
     kick_drift: Kernel,
     kinematics: Kernel,
     forces: Kernel,
-    contact: Option<(Kernel, Kernel)>,
-    /// The contact's spread pass (after pass 2, forces alone).
-    spread: Option<Kernel>,
+    contact: Option<ContactKernels>,
     book: Option<(Kernel, Kernel)>,
     energy: Kernel,
     finish: Kernel,
@@ -1081,15 +1091,11 @@ impl GpuSolver {
                 kinematics: eval_kernel("kinematics", "kinematics")?.walking(Walk::All),
                 forces: eval_kernel("forces", "forces")?.walking(Walk::All),
                 contact: if contact {
-                    Some((
-                        eval_kernel("contact", "contact_pass1")?.walking(Walk::Boundary),
-                        eval_kernel("contact", "contact_pass2")?.walking(Walk::Boundary),
-                    ))
-                } else {
-                    None
-                },
-                spread: if contact {
-                    Some(eval_kernel("contact", "contact_spread")?)
+                    Some(ContactKernels {
+                        pass1: eval_kernel("contact", "contact_pass1")?.walking(Walk::Boundary),
+                        pass2: eval_kernel("contact", "contact_pass2")?.walking(Walk::Boundary),
+                        spread: eval_kernel("contact", "contact_spread")?,
+                    })
                 } else {
                     None
                 },
@@ -1132,14 +1138,11 @@ impl GpuSolver {
                     .walking(Walk::All),
                 forces: step("forces", "forces", at_n1)?.walking(Walk::Masked),
                 contact: match &surf_args {
-                    Some(a) => Some((
-                        step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
-                        step("contact", "contact_pass2", &listed_at_n1)?.listed(a),
-                    )),
-                    None => None,
-                },
-                spread: match &surf_args {
-                    Some(_) => Some(step("contact", "contact_spread", at_n1)?),
+                    Some(a) => Some(ContactKernels {
+                        pass1: step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
+                        pass2: step("contact", "contact_pass2", &listed_at_n1)?.listed(a),
+                        spread: step("contact", "contact_spread", at_n1)?,
+                    }),
                     None => None,
                 },
                 book: match &surf_args {
@@ -1306,12 +1309,8 @@ impl GpuSolver {
         let e = &self.k.eval[var as usize];
         pass.run(&e.kinematics);
         pass.run(&e.forces);
-        if let Some((c1, c2)) = &e.contact {
-            pass.run(c1);
-            pass.run(c2);
-        }
-        if let Some(sp) = &e.spread {
-            pass.run(sp);
+        for k in e.contact.iter().flat_map(ContactKernels::all) {
+            pass.run(k);
         }
     }
 
@@ -1397,12 +1396,8 @@ impl GpuSolver {
             self.encode_grid_after_counts(pass, Var::Base);
             pass.run(&l.kinematics);
             pass.run(&l.forces);
-            if let Some((c1, c2)) = &l.contact {
-                pass.run(c1);
-                pass.run(c2);
-            }
-            if let Some(sp) = &l.spread {
-                pass.run(sp);
+            for k in l.contact.iter().flat_map(ContactKernels::all) {
+                pass.run(k);
             }
             // The energy walk reads the neighbour masks the booking's
             // rates then overwrite (mask_home).
@@ -2002,10 +1997,12 @@ impl GpuSolver {
                 "kinematics" => run(&[&l.kinematics]),
                 "forces" => run(&[&l.forces, &l.energy]),
                 "contact" => {
-                    for (c1, c2) in l.contact.iter().chain(&l.book) {
-                        run(&[c1, c2]);
+                    if let Some(c) = &l.contact {
+                        run(&c.all());
                     }
-                    run(&l.spread.iter().collect::<Vec<_>>());
+                    if let Some((b1, b2)) = &l.book {
+                        run(&[b1, b2]);
+                    }
                 }
                 "reduce" => self.encode_reduce(&mut pass),
                 "advance" => {
@@ -2020,12 +2017,8 @@ impl GpuSolver {
             "kinematics" => e.kinematics.dispatch(&mut pass),
             "forces" => e.forces.dispatch(&mut pass),
             "contact" => {
-                if let Some((c1, c2)) = &e.contact {
-                    c1.dispatch(&mut pass);
-                    c2.dispatch(&mut pass);
-                }
-                if let Some(sp) = &e.spread {
-                    sp.dispatch(&mut pass);
+                for k in e.contact.iter().flat_map(ContactKernels::all) {
+                    k.dispatch(&mut pass);
                 }
             }
             "reduce" => self.encode_reduce(&mut pass),
@@ -2193,12 +2186,8 @@ impl GpuSolver {
         let mut enc = dev.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
-            if let Some((c1, c2)) = &self.k.eval[0].contact {
-                c1.dispatch(&mut pass);
-                c2.dispatch(&mut pass);
-            }
-            if let Some(sp) = &self.k.eval[0].spread {
-                sp.dispatch(&mut pass);
+            for k in self.k.eval[0].contact.iter().flat_map(ContactKernels::all) {
+                k.dispatch(&mut pass);
             }
             self.encode_reduce(&mut pass);
         }

@@ -188,31 +188,26 @@ pub fn candidate(bar: &SumsBar, sp: DVec2, w: f64, sq: DVec2, nq: DVec2, oq: f64
 mod tests {
     use super::*;
 
-    /// A pass as a function of every input: `(np, sp, [(w, sq, nq, oq)])`.
-    fn energy(np: DVec2, sp: DVec2, cands: &[(f64, DVec2, DVec2, f64)]) -> f64 {
+    /// A candidate `(w, s_q, n_q, o_q)`.
+    type Cand = (f64, DVec2, DVec2, f64);
+
+    /// A pass from every input `(np, sp, [(w, sq, nq, oq)])`, with a
+    /// stiffness that depends on the mean offset as the real one does:
+    /// its energy, its derivative and its contact normal's choice.
+    fn pass(np: DVec2, sp: DVec2, cands: &[Cand]) -> (f64, SumsBar, Normal) {
         let mut s = Sums::default();
         for &(w, sq, nq, oq) in cands {
             s.add(w, sp, sq, nq, oq);
         }
         let g = gap(np, &s).unwrap();
-        // A stiffness that depends on the mean offset, as the real one does.
         let k = 1.0 / (0.3 + s.swo / s.sw);
         let d = (-g.gap).max(0.0);
-        0.25 * k * d * d
+        let bar = gap_bar(np, &s, &g, -0.5 * k * d, -0.25 * d * d * k * k);
+        (0.25 * k * d * d, bar, g.choice)
     }
 
-    fn bar_of(np: DVec2, sp: DVec2, cands: &[(f64, DVec2, DVec2, f64)]) -> (SumsBar, Sums) {
-        let mut s = Sums::default();
-        for &(w, sq, nq, oq) in cands {
-            s.add(w, sp, sq, nq, oq);
-        }
-        let g = gap(np, &s).unwrap();
-        let ob = s.swo / s.sw;
-        let k = 1.0 / (0.3 + ob);
-        let d = (-g.gap).max(0.0);
-        let gbar = -0.5 * k * d;
-        let obar = -0.25 * d * d * k * k;
-        (gap_bar(np, &s, &g, gbar, obar), s)
+    fn energy(np: DVec2, sp: DVec2, cands: &[Cand]) -> f64 {
+        pass(np, sp, cands).0
     }
 
     /// Every derivative of the pass agrees with central differences, for
@@ -247,12 +242,8 @@ mod tests {
             DVec2::new(-0.3, -1.0).normalize(),
             DVec2::new(0.25, -1.0).normalize(),
         ] {
-            let mut s = Sums::default();
-            for &(w, sq, nq, oq) in &cands {
-                s.add(w, sp, sq, nq, oq);
-            }
-            seen.push(gap(np, &s).unwrap().choice);
-            let (bar, _) = bar_of(np, sp, &cands);
+            let (_, bar, choice) = pass(np, sp, &cands);
+            seen.push(choice);
             let eps = 1e-7;
             let tol = |a: f64| 1e-6 * (1.0 + a.abs());
             for e in [DVec2::X, DVec2::Y] {
@@ -274,7 +265,7 @@ mod tests {
                 for k in 0..cands.len() {
                     let (w, sq, nq, oq) = cands[k];
                     let c = candidate(&bar, sp, w, sq, nq, oq);
-                    let moved = |f: &dyn Fn(&mut (f64, DVec2, DVec2, f64))| {
+                    let moved = |f: &dyn Fn(&mut Cand)| {
                         let mut cs = cands;
                         f(&mut cs[k]);
                         energy(np, sp, &cs)
