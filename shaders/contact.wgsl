@@ -72,6 +72,12 @@
 @group(0) @binding(71) var<storage, read_write> band: array<u32>;
 @group(0) @binding(72) var<storage, read_write> claim: array<atomic<u32>>;
 @group(0) @binding(73) var<storage, read_write> spread_args: array<atomic<u32>>;
+// Each particle's entry overlap (State::entry; -1: off the boundary at the
+// last base state): the overlap it had when it joined the surface, which
+// its spring does not push against. Written at the base evaluations (the
+// midpoint rule's first, the leapfrog's force passes; the forces pass
+// marks the particles off the boundary).
+@group(0) @binding(74) var<storage, read_write> centry: array<f32>;
 
 fn kick(q: u32, rigid: bool) {
     if (!rigid) {
@@ -153,11 +159,6 @@ fn contact_walkers(gid: vec3<u32>, nwg: vec3<u32>, pass2: bool) {
         }
         let count = surf_args[0];
         let listed = count <= params.surf_cap;
-        // The force passes' pass 1 stores nothing where the list
-        // overflowed (pass 2 makes the entries again).
-        if (LEAP == 2u && !listed && !pass2) {
-            return;
-        }
         let end = select(params.n, count, listed);
         for (var k = gid.x; k < end; k += nwg.x * WG) {
             var p = k;
@@ -211,6 +212,8 @@ struct Entries {
     bar1: vec4<f32>,
     keep: vec4<f32>,
     stored: f32,
+    // The particle's entry overlap after this evaluation.
+    entry: f32,
 }
 
 // One candidate's share of the spring's derivative (physics::penalty::
@@ -242,7 +245,7 @@ fn v_book(q: u32) -> vec2<f32> {
 // bodies is counted (once an evaluation).
 fn entries(p: u32, count: bool) -> Entries {
     // w: the partner body as a float (exact for any realistic count), -1: none.
-    var e = Entries(vec4<f32>(0.0, 0.0, 0.0, -1.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), 0.0);
+    var e = Entries(vec4<f32>(0.0, 0.0, 0.0, -1.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), 0.0, 0.0);
     let np4 = nbo[p];
     if (np4.z <= 0.0) {
         return e;
@@ -347,7 +350,13 @@ fn entries(p: u32, count: bool) -> Entries {
         e.own.w = f32(partner);
         return e;
     }
-    let delta = max(-gap, 0.0);
+    // The spring measures the overlap beyond the one the particle joined
+    // the surface with; that one only shrinks (CPU twin: the entry rule of
+    // cpu::contact::penalty_booked).
+    let raw = max(-gap, 0.0);
+    let e_in = centry[p];
+    e.entry = select(min(e_in, raw), raw, e_in < 0.0);
+    let delta = max(raw - e.entry, 0.0);
     let w_rate = dot(vrel, n);
     let bodyq = bodies[partner];
     let pr = bodyp.rigid != 0u;
@@ -473,6 +482,13 @@ fn entries(p: u32, count: bool) -> Entries {
 // particles with two partners at its booking alone.
 fn pass1_at(p: u32) {
     let e = entries(p, LEAP != 2u);
+    if (!MID && LEAP != 3u && nbo[p].z > 0.0) {
+        centry[p] = e.entry;
+    }
+    // Where the leapfrog's list overflowed, pass 2 makes the entries again.
+    if (overflowed()) {
+        return;
+    }
     let k = slot(p);
     cown[k] = e.own;
     cshare[k] = e.share;
@@ -488,7 +504,7 @@ fn entries_of(p: u32) -> Entries {
         return entries(p, false);
     }
     let k = slot(p);
-    return Entries(cown[k], cshare[k], cbar0[k], cbar1[k], ckeep[k], 0.0);
+    return Entries(cown[k], cshare[k], cbar0[k], cbar1[k], ckeep[k], 0.0, 0.0);
 }
 
 // Pass 2 at particle q: the dashpot shares and the spring's derivative its

@@ -44,6 +44,9 @@
 // The contact's spread list's count (contact.wgsl), zeroed here, before
 // the contact passes of the evaluation.
 @group(0) @binding(73) var<storage, read_write> spread_args: array<u32>;
+// Entry overlaps (contact.wgsl): a particle off the boundary at a base
+// state has none.
+@group(0) @binding(74) var<storage, read_write> centry: array<f32>;
 
 // Workgroups of the contact's indirect dispatch (surf_args[1..4]): one a
 // `WG` listed particles, or one a `WG` particles where the list overflowed.
@@ -206,6 +209,9 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         }
         if (CONTACT) {
             area[i] = 0.0;
+            if (!MID) {
+                centry[i] = -1.0;
+            }
         }
         return;
     }
@@ -282,6 +288,8 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             om = dot(perp(nc), sums.gdot) / gl;
         }
         cn[i] = vec4<f32>(nc, gl, om);
+    } else if (CONTACT && !MID && LEAP != 3u) {
+        centry[i] = -1.0;
     }
     if (LEAP == 3u) {
         if (!rigid) {

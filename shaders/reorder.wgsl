@@ -25,6 +25,8 @@
 @group(0) @binding(44) var<storage, read_write> t_s: array<vec4<f32>>;
 @group(0) @binding(45) var<storage, read_write> t_pinfo: array<vec4<u32>>;
 @group(0) @binding(46) var<storage, read_write> t_qheat: array<vec2<f32>>;
+@group(0) @binding(74) var<storage, read> centry: array<f32>;
+@group(0) @binding(75) var<storage, read_write> t_centry: array<f32>;
 
 @compute @workgroup_size(WG)
 fn permute(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
@@ -44,6 +46,7 @@ fn permute(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
     t_pinfo[k] = pinfo[i];
     if (CONTACT) {
         t_qheat[k] = qheat[i];
+        t_centry[k] = centry[i];
     }
 }
 

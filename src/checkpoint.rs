@@ -42,7 +42,7 @@ use crate::scene::{Backend, Scene};
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\n";
-const VERSION: u64 = 2;
+const VERSION: u64 = 3;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]
@@ -190,6 +190,7 @@ impl Checkpoint {
                 w.quads(state.s.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]));
                 w.f64(state.heat);
                 w.f64(state.spring_work);
+                w.f64s(&state.entry);
                 w.f64(initial_dt.unwrap_or(f64::NAN));
                 w.f64(energy_limit.unwrap_or(f64::NAN));
                 w.u32s(&lists.start);
@@ -310,6 +311,7 @@ impl Checkpoint {
                         .collect();
                     let heat = r.f64()?;
                     let spring_work = r.f64()?;
+                    let entry = r.f64s()?;
                     let initial_dt = Some(r.f64()?).filter(|d| !d.is_nan());
                     let energy_limit = Some(r.f64()?).filter(|d| !d.is_nan());
                     let lists = Neighbours {
@@ -375,6 +377,7 @@ impl Checkpoint {
                             s,
                             heat,
                             spring_work,
+                            entry,
                         },
                         initial_dt,
                         energy_limit,
@@ -455,6 +458,7 @@ impl Checkpoint {
                 && state.rho.len() == n
                 && state.e.len() == n
                 && state.s.len() == n
+                && state.entry.len() == n
                 && lists.start.len() == n + 1
                 && lists.cross_start.len() == n + 1
                 && lists.x_ref.len() == n

@@ -85,6 +85,10 @@ pub struct State {
     /// equals the stored energy `Σ ¼ k δ² A`; the difference is the energy
     /// the discrete spring lost (`energy_spring_loss` in the summary).
     pub spring_work: f64,
+    /// Overlap each boundary particle had when it joined the surface (m),
+    /// which its spring does not push against; negative: not a boundary
+    /// particle at the last step's start.
+    pub entry: Vec<f64>,
 }
 
 impl Model {
@@ -129,6 +133,7 @@ impl Model {
             s: vec![Default::default(); n],
             heat: 0.0,
             spring_work: 0.0,
+            entry: vec![0.0; n],
         };
         for (bi, (b, p)) in scene.bodies.iter().zip(&placed).enumerate() {
             let material = MaterialModel::new(&scene.materials[&b.material]);

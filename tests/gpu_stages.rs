@@ -253,6 +253,23 @@ fn stages_match_cpu_disks_polar() {
     check_stages("scenes/paper/disks_polar.toml", 3e-6);
 }
 
+/// The entry overlaps (`State::entry`) on both sides of the rule: body
+/// 0's particles joined the surface with a small overlap (their springs
+/// push against less, or nothing), body 1's were off the surface at the
+/// last step (they join now: no spring of their own).
+#[test]
+fn stages_match_cpu_with_entry_overlaps() {
+    if gpu().is_none() {
+        return;
+    }
+    let (model, mut st) = state_during_contact("scenes/paper/disks_square.toml", 3e-6);
+    let dx = model.bodies[0].spacing;
+    for i in 0..model.len() {
+        st.entry[i] = if model.body[i] == 0 { 2e-3 * dx } else { -1.0 };
+    }
+    check_state(model, st, true);
+}
+
 #[test]
 fn stages_match_cpu_bars_steel_aluminium() {
     check_stages("scenes/paper/bars_steel_aluminium.toml", 0.5e-6);

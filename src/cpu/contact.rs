@@ -74,6 +74,9 @@ pub struct ContactForces {
     /// Dashpot heat rate booked into each boundary particle, W (entries as
     /// `force`).
     pub heat: Vec<f64>,
+    /// Each boundary particle's entry overlap after this evaluation
+    /// (entries as `force`, [`State::entry`]).
+    pub entry: Vec<f64>,
     pub stats: ContactStats,
 }
 
@@ -92,6 +95,16 @@ pub struct ContactStats {
 }
 
 impl ContactForces {
+    /// The entry overlaps of all `n` particles: the boundary particles'
+    /// from this evaluation, none elsewhere.
+    pub fn entries(&self, n: usize, bd: &Boundary) -> Vec<f64> {
+        let mut e = vec![-1.0; n];
+        for (&i, &x) in bd.list.iter().zip(&self.entry) {
+            e[i as usize] = x;
+        }
+        e
+    }
+
     /// Adds the contact's accelerations to `dv` (rigid particles left as
     /// they are): the boundary particles' forces, then the spread ones, in
     /// their fixed order.
@@ -246,6 +259,16 @@ struct Pass {
     delta: f64,
 }
 
+impl Pass {
+    /// The spring measured from the entry overlap `e`.
+    fn offset(&mut self, e: f64) {
+        self.delta = (self.delta - e).max(0.0);
+        let push = self.z * self.w_rate + self.stiffness * self.delta;
+        self.p = push.max(0.0);
+        self.clipped = push < 0.0;
+    }
+}
+
 /// The gap and pressure of P against the interpolated partner surface
 /// ([`penalty::gap`]); `None` where the surfaces are apart.
 fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) -> Option<Pass> {
@@ -364,6 +387,7 @@ pub fn penalty_booked(
     // (entry k for particle `bd.list[k]`; only boundary particles have
     // contact terms, so the passes go over the boundary list alone).
     struct P1 {
+        entry: f64,
         force: DVec2,
         heat: f64,
         /// `∂Φ/∂n_P` from P's own passes.
@@ -378,6 +402,7 @@ pub fn penalty_booked(
         .map(|(kp, &p)| {
             let p = p as usize;
             let mut out = P1 {
+                entry: -1.0,
                 force: DVec2::ZERO,
                 heat: 0.0,
                 n_bar: DVec2::ZERO,
@@ -421,10 +446,19 @@ pub fn penalty_booked(
             }
             let a = bd.area[p];
             let rigid = model.rigid(p);
-            for s in &sums {
-                let Some(ps) = pressure(model, p, np, st.v[p], s) else {
-                    continue;
-                };
+            let passes: Vec<(&PartnerSums, Pass)> = sums
+                .iter()
+                .filter_map(|s| Some((s, pressure(model, p, np, st.v[p], s)?)))
+                .collect();
+            let deepest = passes.iter().map(|(_, ps)| ps.delta).fold(0.0, f64::max);
+            let e_in = st.entry[p];
+            out.entry = if e_in < 0.0 {
+                deepest
+            } else {
+                e_in.min(deepest)
+            };
+            for (s, mut ps) in passes {
+                ps.offset(out.entry);
                 let (bq, sw) = (s.body, s.s.sw);
                 let n = ps.gap.n;
                 // The spring's derivative, and dΦ/dt at the booking
@@ -552,6 +586,7 @@ pub fn penalty_booked(
         .collect();
 
     let mut out = ContactForces {
+        entry: pass1.iter().map(|p| p.entry).collect(),
         force: Vec::with_capacity(bd.list.len()),
         spread: Vec::new(),
         heat: Vec::with_capacity(bd.list.len()),
@@ -614,18 +649,64 @@ mod tests {
         penalty(model, st, &nb, &bd).stats.stored
     }
 
+    /// The entry rule: a particle that joins the surface in overlap stores
+    /// nothing and takes its overlap as its entry; the entry only shrinks;
+    /// with the entries the evaluation returns the evaluation is the same
+    /// (the rule is idempotent); entries of zero push every overlap out.
+    #[test]
+    fn entry_overlaps_store_nothing_and_only_shrink() {
+        let (model, mut st) = pressed("square", 0.35);
+        let nb = neighbours::find(&model, &st.x);
+        let surface = kinematics::kinematics(&model, &st, &nb).surface;
+        let bd = kinematics::boundary(&model, &st.x, &nb, surface);
+        let full = penalty(&model, &st, &nb, &bd);
+        assert!(full.stats.stored > 0.0);
+        assert!(full.entry.iter().all(|&e| e == 0.0));
+        st.entry.iter_mut().for_each(|e| *e = -1.0);
+        let joined = penalty(&model, &st, &nb, &bd);
+        assert_eq!(joined.stats.stored, 0.0);
+        assert!(joined.force.iter().all(|f| *f == DVec2::ZERO));
+        assert!(joined.spread.iter().all(|f| f.1 == DVec2::ZERO));
+        let deepest = joined.entry.iter().copied().fold(0.0, f64::max);
+        assert!(deepest > 0.2 * model.bodies[0].spacing, "{deepest:e}");
+        // Entries half the overlaps: a quarter of each pass's energy.
+        st.entry = joined.entries(model.len(), &bd);
+        st.entry.iter_mut().for_each(|e| *e *= 0.5);
+        let half = penalty(&model, &st, &nb, &bd);
+        assert!(
+            (half.stats.stored / full.stats.stored - 0.25).abs() < 1e-12,
+            "{}",
+            half.stats.stored / full.stats.stored
+        );
+        for (k, &i) in bd.list.iter().enumerate() {
+            assert_eq!(half.entry[k], st.entry[i as usize]);
+        }
+        // A large entry shrinks to the overlap, and stores nothing.
+        st.entry.iter_mut().for_each(|e| *e = 1e3);
+        let big = penalty(&model, &st, &nb, &bd);
+        assert_eq!(big.stats.stored, 0.0);
+        assert_eq!(big.entry, joined.entry);
+    }
+
     /// At rest (no dashpot) the contact force on every particle it touches
     /// is minus the derivative of the stored energy, by central
     /// differences: through the gap, the weights, the stiffness and the
     /// normals. Momentum and angular momentum are exact.
     #[test]
     fn spring_force_is_the_stored_energys_gradient() {
-        for lattice in ["polar", "square"] {
-            let (model, st) = pressed(lattice, 0.35);
+        // The square lattice again with entry overlaps of half the
+        // overlaps: the spring measured from them is a gradient too.
+        for (lattice, entries) in [("polar", false), ("square", false), ("square", true)] {
+            let (model, mut st) = pressed(lattice, 0.35);
             let nb = neighbours::find(&model, &st.x);
             let k = kinematics::kinematics(&model, &st, &nb);
             let surface = k.surface.clone();
             let bd = kinematics::boundary(&model, &st.x, &nb, surface.clone());
+            if entries {
+                st.entry.iter_mut().for_each(|e| *e = -1.0);
+                st.entry = penalty(&model, &st, &nb, &bd).entries(model.len(), &bd);
+                st.entry.iter_mut().for_each(|e| *e *= 0.5);
+            }
             let c = penalty(&model, &st, &nb, &bd);
             assert!(c.stats.stored > 0.0, "{lattice}: the disks overlap");
             let mut f = vec![DVec2::ZERO; model.len()];

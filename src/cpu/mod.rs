@@ -212,6 +212,9 @@ pub struct Rates {
     pub heat_rate: f64,
     /// Total spring power (for the spring-work ledger).
     pub spring_rate: f64,
+    /// The entry overlaps at the evaluated state (`State::entry`); empty
+    /// without contact.
+    pub entry: Vec<f64>,
 }
 
 /// What an evaluation tells about the state it was made at, beyond the rates.
@@ -282,10 +285,12 @@ pub fn evaluate_with(
     } = k;
     let mut heat_rate = 0.0;
     let mut spring_rate = 0.0;
+    let mut entry = Vec::new();
     if model.contact {
         let bd = kinematics::boundary(model, &st.x, nb, surface);
         diag.boundary_count = bd.list.len();
         let c = contact::penalty(model, st, nb, &bd);
+        entry = c.entries(model.len(), &bd);
         // Contact terms exist on boundary particles and, through the
         // normals, on their neighbours.
         c.add_forces(model, &bd, &mut dv);
@@ -307,6 +312,7 @@ pub fn evaluate_with(
             ds,
             heat_rate,
             spring_rate,
+            entry,
         },
         diag,
     )
@@ -362,6 +368,7 @@ fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &
         });
     out.heat = base.heat + r.heat_rate * k;
     out.spring_work = base.spring_work + r.spring_rate * k;
+    out.entry.clone_from(&base.entry);
 }
 
 /// Whether particle i's density is inside `[0.1, 10] ρ0`.
@@ -510,7 +517,11 @@ impl CpuSolver {
                 &mut self.list_builds,
                 &self.state.x,
             );
-            self.current = Some(evaluate_with(&self.model, &self.state, &self.nb));
+            let (r, d) = evaluate_with(&self.model, &self.state, &self.nb);
+            if !r.entry.is_empty() {
+                self.state.entry.clone_from(&r.entry);
+            }
+            self.current = Some((r, d));
         }
         self.current.as_ref().expect("just set")
     }
@@ -680,8 +691,10 @@ impl CpuSolver {
             let kinematics::Kinematics { surface, .. } = k;
             let bd = kinematics::boundary(model, &next.x, nb, surface);
             diag.boundary_count = bd.list.len();
+            next.entry.clone_from(&st.entry);
             let c = contact::penalty(model, &next, nb, &bd);
             c.add_forces(model, &bd, &mut dv);
+            next.entry = c.entries(model.len(), &bd);
             bd
         });
         // 4: the second half kick, in place (v_{n+½} is dead after it;
@@ -743,6 +756,7 @@ impl CpuSolver {
                 ds: Vec::new(),
                 heat_rate,
                 spring_rate,
+                entry: Vec::new(),
             },
             diag,
         ));

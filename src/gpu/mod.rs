@@ -180,7 +180,13 @@ fn leap_arrays(model: &Model) -> Vec<(&'static str, u64)> {
         ("nbo", 16),
     ];
     if model.contact {
-        a.extend([("qheat", 8), ("qrate", 8), ("cown", 16), ("area", 4)]);
+        a.extend([
+            ("qheat", 8),
+            ("qrate", 8),
+            ("cown", 16),
+            ("area", 4),
+            ("centry", 4),
+        ]);
     }
     a
 }
@@ -862,6 +868,8 @@ impl GpuSolver {
             for name in ["bt", "band", "claim"] {
                 make(name, 4 * nn, None)?;
             }
+            let entry: Vec<f32> = state.entry.iter().map(|&e| e as f32).collect();
+            make("centry", 4 * nn, Some(bytemuck::cast_slice(&entry)))?;
             make("spread_args", 16, None)?;
             // The two gather buffers share memory with pass scratch where
             // the scene has it (below); the rest get their own.
@@ -1225,6 +1233,7 @@ impl GpuSolver {
                         ("t_s", "sm"),
                         ("t_pinfo", "sr2c"),
                         ("t_qheat", "cown"),
+                        ("t_centry", "bt"),
                     ],
                 )?)
             },
@@ -1349,6 +1358,7 @@ impl GpuSolver {
         copy("sr2c", "pinfo", 16);
         if self.model.contact {
             copy("cown", "qheat", 8);
+            copy("bt", "centry", 4);
         }
         self.encode_map_slots(enc);
     }
@@ -1902,6 +1912,7 @@ impl GpuSolver {
         ];
         if self.model.contact {
             names.push(("qheat", 8 * n));
+            names.push(("centry", 4 * n));
         }
         names
     }
@@ -1927,6 +1938,7 @@ impl GpuSolver {
             s: vec![Sym::default(); n],
             heat: 0.0,
             spring_work: 0.0,
+            entry: vec![0.0; n],
         };
         for k in 0..n {
             let i = meta[k][3] as usize;
@@ -1950,6 +1962,10 @@ impl GpuSolver {
             let q: &[[f32; 2]] = bytemuck::cast_slice(&d[7]);
             st.heat = q.iter().map(|x| x[0] as f64).sum();
             st.spring_work = q.iter().map(|x| x[1] as f64).sum();
+            let e: &[f32] = bytemuck::cast_slice(&d[8]);
+            for k in 0..n {
+                st.entry[meta[k][3] as usize] = e[k] as f64;
+            }
         }
         (st, ctl)
     }
