@@ -20,6 +20,10 @@ override RECON: bool = false;
 override WG: u32 = 64u;
 // The energy guard (Model::guards_energy) runs in the reductions.
 override GUARD: bool = false;
+// Whether the scene has a rigid body: only then does a contact pass hand
+// heat to its partners (a rigid particle cannot keep it), and the
+// leapfrog's booking needs its second pass (contact.wgsl, pass1_at).
+override RIGID: bool = false;
 // Which evaluation of the midpoint step a pass belongs to (METHOD.md §9).
 // At the base state (false) the kinematics and forces passes and the contact store their
 // particle's rates in the midpoint buffers, which advance_half then turns

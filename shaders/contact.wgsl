@@ -232,6 +232,15 @@ fn cand_bar(bar0: vec4<f32>, bar1: vec4<f32>, w: f32, rel: vec2<f32>, nq: vec2<f
     return CandBar(x, n, wb);
 }
 
+// The leapfrog's booking of particle q's (dashpot heat, spring power): the
+// heat after the energy walk's pair work (forces.wgsl), the ledger's second
+// half step, and the rates its next step's first half step takes.
+fn book(q: u32, rates: vec2<f32>) {
+    dr[q].y = dr[q].y + rates.x / bitcast<f32>(pinfo[q].x);
+    qheat_w[q] = qheat_w[q] + rates * (0.5 * ctl.dt);
+    qrate[q] = rates;
+}
+
 // The velocity the ledger books at.
 fn v_book(q: u32) -> vec2<f32> {
     if (LEAP == 3u) {
@@ -351,11 +360,21 @@ fn entries(p: u32, count: bool) -> Entries {
         return e;
     }
     // The spring measures the overlap beyond the one the particle joined
-    // the surface with; that one only shrinks (CPU twin: the entry rule of
-    // cpu::contact::penalty_booked).
+    // the surface with; that one only shrinks, but follows an overlap more
+    // than a quarter spacing beyond it, where the spring yields (CPU twin:
+    // the entry rule of cpu::contact::penalty_booked, yield_overlap).
     let raw = max(-gap, 0.0);
     let e_in = centry[p];
-    e.entry = select(min(e_in, raw), raw, e_in < 0.0);
+    var yielded = false;
+    e.entry = raw;
+    if (e_in >= 0.0) {
+        e.entry = min(e_in, raw);
+        let cap = 0.25 * bodyp.spacing;
+        if (raw - e.entry > cap) {
+            yielded = true;
+            e.entry = raw - cap;
+        }
+    }
     let delta = max(raw - e.entry, 0.0);
     let w_rate = dot(vrel, n);
     let bodyq = bodies[partner];
@@ -381,20 +400,35 @@ fn entries(p: u32, count: bool) -> Entries {
     var phi_dot = 0.0;
     var bar0 = vec4<f32>(0.0);
     var bar1 = vec4<f32>(0.0);
+    // The pass fades out as its candidates' weight falls below a quarter of
+    // a flat surface's (physics::penalty::fade, cpu::contact::
+    // weight_reference).
+    let phi0 = 0.25 * stiffness * delta * delta * a;
+    var fade = 1.0;
+    var fade_slope = 0.0;
+    var w_ref = 1.0;
+    if (DIM == 2u) {
+        w_ref = 0.25 * 15.0 / (7.0 * PI * hp) / bodyq.spacing;
+        let fs = sw / w_ref;
+        if (fs < 1.0) {
+            fade = fs * fs * (3.0 - 2.0 * fs);
+            fade_slope = 6.0 * fs * (1.0 - fs);
+        }
+    }
     if (delta > 0.0) {
         var slope = 0.0;
         if (!qr && ob > 0.25 * bodyq.spacing) {
             slope = -stiffness * stiffness / bodyq.modulus;
         }
-        let gbar = -0.5 * stiffness * delta * a;
-        let obar = 0.25 * delta * delta * a * slope;
+        let gbar = -0.5 * stiffness * delta * a * fade;
+        let obar = 0.25 * delta * delta * a * slope * fade;
         let half = 0.5 * gbar;
         let n_bar = rr * half;
         let r_bar = n * half;
         let b_sws = r_bar / sw;
         let b_swt = half / sw;
         let b_swo = obar / sw;
-        let b_sw = -(dot(r_bar, rr) + half * tg + obar * ob) / sw;
+        let b_sw = -(dot(r_bar, rr) + half * tg + obar * ob) / sw + phi0 * fade_slope / w_ref;
         var nbar_bar = vec2<f32>(0.0);
         if (choice == 0u) {
             np_bar = n_bar;
@@ -461,6 +495,12 @@ fn entries(p: u32, count: bool) -> Entries {
     if (!clipped) {
         dash = 0.5 * z * w_rate * a;
         heat = dash * w_book;
+        // A yielded spring pressed further stores nothing more: the work it
+        // takes is heat.
+        if (yielded && phi_dot > 0.0) {
+            heat += phi_dot;
+            phi_dot = 0.0;
+        }
     }
     keep -= n * dash;
     var own_heat = heat;
@@ -474,7 +514,7 @@ fn entries(p: u32, count: bool) -> Entries {
     e.bar0 = bar0;
     e.bar1 = bar1;
     e.keep = vec4<f32>(keep, np_bar);
-    e.stored = 0.25 * stiffness * delta * delta * a;
+    e.stored = phi0 * fade;
     return e;
 }
 
@@ -487,6 +527,15 @@ fn pass1_at(p: u32) {
     }
     // Where the leapfrog's list overflowed, pass 2 makes the entries again.
     if (overflowed()) {
+        return;
+    }
+    if (LEAP == 3u && !RIGID) {
+        // The booking without rigid bodies: no partner hands this particle
+        // heat, so its own pass books everything pass 2 would.
+        if (nbo[p].z > 0.0) {
+            book(p, vec2<f32>(e.own.z, e.share.w));
+        }
+        store_energy(p, e.stored);
         return;
     }
     let k = slot(p);
@@ -611,10 +660,7 @@ fn pass2_at(q: u32) {
             }
             kick(q, bodyq.rigid != 0u);
         } else {
-            // The heat after the energy walk's pair work (forces.wgsl).
-            dr[q].y = dr[q].y + rates.x / m;
-            qheat_w[q] = qheat_w[q] + rates * (0.5 * ctl.dt);
-            qrate[q] = rates;
+            book(q, rates);
         }
         return;
     }

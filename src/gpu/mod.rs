@@ -467,7 +467,9 @@ struct LeapKernels {
     kinematics: Kernel,
     forces: Kernel,
     contact: Option<ContactKernels>,
-    book: Option<(Kernel, Kernel)>,
+    /// The booking's two contact passes; without a rigid body the first
+    /// books alone (contact.wgsl, pass1_at).
+    book: Option<(Kernel, Option<Kernel>)>,
     energy: Kernel,
     finish: Kernel,
 }
@@ -956,6 +958,7 @@ impl GpuSolver {
             ("RECON", model.av_reconstruct as u8 as f64),
             ("WG", WG as f64),
             ("GUARD", plan.energy.is_some() as u8 as f64),
+            ("RIGID", model.any_rigid as u8 as f64),
             // The leapfrog's kernels outside its step: its first
             // evaluation and the reductions (common.wgsl, LEAP).
             (
@@ -1158,9 +1161,15 @@ impl GpuSolver {
                         book("contact", "contact_pass1")?
                             .listed(a)
                             .labelled("book_pass1"),
-                        book("contact", "contact_pass2")?
-                            .listed(a)
-                            .labelled("book_pass2"),
+                        if model.any_rigid {
+                            Some(
+                                book("contact", "contact_pass2")?
+                                    .listed(a)
+                                    .labelled("book_pass2"),
+                            )
+                        } else {
+                            None
+                        },
                     )),
                     None => None,
                 },
@@ -1414,7 +1423,9 @@ impl GpuSolver {
             pass.run(&l.energy);
             if let Some((b1, b2)) = &l.book {
                 pass.run(b1);
-                pass.run(b2);
+                if let Some(b2) = b2 {
+                    pass.run(b2);
+                }
             }
             pass.run(&l.finish);
             pass.run(&k.end_step);
@@ -2017,7 +2028,10 @@ impl GpuSolver {
                         run(&c.all());
                     }
                     if let Some((b1, b2)) = &l.book {
-                        run(&[b1, b2]);
+                        run(&[b1]);
+                        if let Some(b2) = b2 {
+                            run(&[b2]);
+                        }
                     }
                 }
                 "reduce" => self.encode_reduce(&mut pass),

@@ -157,6 +157,27 @@ pub fn gap_bar(np: DVec2, s: &Sums, g: &Gap, gbar: f64, obar: f64) -> SumsBar {
     }
 }
 
+/// The fade of a pass whose candidates' total weight is `s` times the
+/// reference (`smoothstep`, 1 from `s = 1`), and its slope.
+///
+/// The gap is a weighted mean, so it stays finite as the last candidate's
+/// weight goes to zero, then the pass vanishes: a jump of the stored
+/// energy; and the mean's derivative with respect to a weight carries
+/// `1/ΣW`, which with a few grazing candidates at a crater lip makes
+/// forces many times the spring's own. Scaling the pass's energy by the
+/// fade makes it vanish continuously, and the weights' derivative bounded
+/// (`∝ ΣW`) where it would blow up. Flat surfaces touching give `s ≈ 1.5`.
+#[inline]
+pub fn fade(s: f64) -> (f64, f64) {
+    if s >= 1.0 || s.is_nan() {
+        (1.0, 0.0)
+    } else if s <= 0.0 {
+        (0.0, 0.0)
+    } else {
+        (s * s * (3.0 - 2.0 * s), 6.0 * s * (1.0 - s))
+    }
+}
+
 /// One candidate's share of a pass's derivative.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Candidate {
@@ -208,6 +229,23 @@ mod tests {
 
     fn energy(np: DVec2, sp: DVec2, cands: &[Cand]) -> f64 {
         pass(np, sp, cands).0
+    }
+
+    /// The fade: 0 with no weight, 1 from the reference on, continuous with
+    /// its slope at both ends, and the slope its derivative.
+    #[test]
+    fn fade_is_smooth() {
+        assert_eq!(fade(0.0), (0.0, 0.0));
+        assert_eq!(fade(1.0), (1.0, 0.0));
+        assert_eq!(fade(2.5), (1.0, 0.0));
+        let (f, df) = fade(1.0 - 1e-9);
+        assert!((1.0 - f).abs() < 1e-12 && df.abs() < 1e-8);
+        let (f, df) = fade(1e-9);
+        assert!(f.abs() < 1e-12 && df.abs() < 1e-8);
+        for s in [0.1, 0.37, 0.5, 0.83, 0.99] {
+            let fd = (fade(s + 1e-7).0 - fade(s - 1e-7).0) / 2e-7;
+            assert!((fd - fade(s).1).abs() < 1e-7, "{s}: {fd} vs {}", fade(s).1);
+        }
     }
 
     /// Every derivative of the pass agrees with central differences, for
