@@ -535,6 +535,8 @@ fn pass1_at(p: u32) {
         if (nbo[p].z > 0.0) {
             book(p, vec2<f32>(e.own.z, e.share.w));
         }
+        // The observations read the pass's nominal force.
+        cown[slot(p)] = e.own;
         store_energy(p, e.stored);
         return;
     }
