@@ -173,3 +173,122 @@ pub fn evaluate(probes: &[Resolved], model: &Model, st: &State, diag: &Diagnosti
         })
         .collect()
 }
+
+/// Which bound of the solid range a particle's state has left
+/// ([`out_of_range`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutOfRange {
+    /// Specific internal energy below `−10⁻³ c_L²`: heat only adds to it
+    /// and the elastic energy it carries is positive.
+    NegativeEnergy,
+    /// Specific internal energy above `0.1 c_L²` (for metals above the
+    /// energy that melts them from room temperature): no solid law applies.
+    Energy,
+    /// Density outside `[½, 2] ρ₀`: compressed or torn beyond what a solid
+    /// at these pressures does.
+    Density,
+}
+
+impl OutOfRange {
+    pub fn name(self) -> &'static str {
+        match self {
+            OutOfRange::NegativeEnergy => "internal energy below -1e-3 c_L^2",
+            OutOfRange::Energy => "internal energy above 0.1 c_L^2",
+            OutOfRange::Density => "density outside [0.5, 2] rho0",
+        }
+    }
+}
+
+/// Particle i's state against the solid range, and how far outside it is
+/// (the value over its bound, ≥ 1): `None` inside. Rigid particles keep
+/// their reference state and are never outside.
+pub fn out_of_range(model: &Model, st: &State, i: usize) -> Option<(OutOfRange, f64)> {
+    if model.rigid(i) {
+        return None;
+    }
+    let mat = model.material(i);
+    let c2 = mat.c_l * mat.c_l;
+    let (e, rho) = (st.e[i], st.rho[i] / mat.rho0);
+    if e < -1e-3 * c2 {
+        Some((OutOfRange::NegativeEnergy, -e / (1e-3 * c2)))
+    } else if e > 0.1 * c2 {
+        Some((OutOfRange::Energy, e / (0.1 * c2)))
+    } else if !(0.5..=2.0).contains(&rho) {
+        Some((OutOfRange::Density, (rho / 2.0).max(0.5 / rho)))
+    } else {
+        None
+    }
+}
+
+/// The particles outside the solid range: how many in each body, and the
+/// one furthest outside `(particle, what, value)` (the value in SI units:
+/// J/kg or kg/m³).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct OutOfRangeCount {
+    pub per_body: Vec<usize>,
+    pub worst: Option<(usize, OutOfRange, f64)>,
+}
+
+impl OutOfRangeCount {
+    pub fn total(&self) -> usize {
+        self.per_body.iter().sum()
+    }
+}
+
+/// Counts the particles of `st` outside the solid range.
+pub fn count_out_of_range(model: &Model, st: &State) -> OutOfRangeCount {
+    let mut out = OutOfRangeCount {
+        per_body: vec![0; model.bodies.len()],
+        worst: None,
+    };
+    let mut worst = 0.0;
+    for i in 0..model.len() {
+        if let Some((what, by)) = out_of_range(model, st, i) {
+            out.per_body[model.body[i] as usize] += 1;
+            if by > worst {
+                worst = by;
+                let value = match what {
+                    OutOfRange::Density => st.rho[i],
+                    _ => st.e[i],
+                };
+                out.worst = Some((i, what, value));
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::validation::disk_scene;
+
+    /// A state inside the solid range counts nothing; each bound, crossed
+    /// by one particle, is counted in its body, and the furthest outside
+    /// is named with its value.
+    #[test]
+    fn states_outside_the_solid_range_are_counted() {
+        let (model, mut st) = Model::new(&disk_scene("square", 8.0));
+        assert_eq!(count_out_of_range(&model, &st).total(), 0);
+        let c2 = model.material(0).c_l.powi(2);
+        let last = model.len() - 1;
+        st.e[3] = -2e-3 * c2;
+        st.e[last] = 0.3 * c2;
+        st.rho[5] = 0.4 * model.material(5).rho0;
+        // Just inside each bound: not counted.
+        st.e[7] = -0.99e-3 * c2;
+        st.rho[9] = 1.99 * model.material(9).rho0;
+        let c = count_out_of_range(&model, &st);
+        assert_eq!(c.total(), 3);
+        assert_eq!(c.per_body, vec![2, 1]);
+        assert_eq!(c.worst, Some((last, OutOfRange::Energy, 0.3 * c2)));
+        assert_eq!(
+            out_of_range(&model, &st, 3).map(|o| o.0),
+            Some(OutOfRange::NegativeEnergy)
+        );
+        assert_eq!(
+            out_of_range(&model, &st, 5).map(|o| o.0),
+            Some(OutOfRange::Density)
+        );
+    }
+}

@@ -213,6 +213,8 @@ impl Recorder {
     /// began making `fields` (the boundary set, the device readback), so
     /// that the snapshot's whole cost is booked.
     fn snapshot(&mut self, t: f64, fields: &Fields, prepared: Instant) -> Result<(), RunError> {
+        self.progress.out_of_range =
+            Some(crate::probe::count_out_of_range(fields.model, fields.state).total());
         let Some(s) = &mut self.snaps else {
             return Ok(());
         };
@@ -341,6 +343,9 @@ struct Progress {
     last_line: Instant,
     /// Snapshots written so far, when the run writes snapshots.
     snapshots: Option<usize>,
+    /// Particles outside the solid range (`probe::out_of_range`) when last
+    /// counted: every few steps on the CPU, at each snapshot on the GPU.
+    out_of_range: Option<usize>,
     /// Simulated time this process started from (that of the checkpoint
     /// when resuming): the wall time so far covers only what came after.
     t0: f64,
@@ -368,6 +373,7 @@ impl Progress {
             next_percent: next_line_percent(100.0 * t0 / end),
             last_line: Instant::now(),
             snapshots: None,
+            out_of_range: None,
             t0,
         };
         if opts.silent {
@@ -395,9 +401,12 @@ impl Progress {
     /// `elapsed`: wall seconds since the run started.
     fn update(&mut self, t: f64, end: f64, steps: u64, rate: f64, elapsed: f64) {
         let frac = (t / end).clamp(0.0, 1.0);
-        let snaps = self
+        let mut snaps = self
             .snapshots
             .map_or(String::new(), |k| format!(", snapshots written: {k}"));
+        if let Some(k) = self.out_of_range.filter(|&k| k > 0) {
+            snaps += &format!(", {k} particle(s) outside the solid range");
+        }
         if let Some(bar) = &self.bar {
             bar.set_position((frac * 1000.0) as u64);
             bar.set_message(format!(
@@ -424,6 +433,10 @@ impl Progress {
         }
     }
 }
+
+/// How often the CPU loop counts the particles outside the solid range
+/// for the progress line (a pass over the state, cheap against a step).
+const OUT_OF_RANGE_STEPS: u64 = 64;
 
 /// A wall-clock duration for people: `42 s`, `3 min 07 s`, `2 h 05 min`.
 fn duration(secs: f64) -> String {
@@ -665,6 +678,11 @@ fn run_from(
         },
         ..Default::default()
     };
+    let out_of_range = crate::output::OutOfRangeSummary::of(model, st);
+    if let Some(line) = out_of_range.line() {
+        eprintln!("warning: {line}");
+        warnings.push(line);
+    }
     if max_fallback > 0 {
         warnings.push(format!(
             "up to {max_fallback} particle(s) at a time had too few neighbours for the corrected gradient and used L = I"
@@ -698,6 +716,7 @@ fn run_from(
                 }
             })
             .collect(),
+        out_of_range,
         snapshots,
         snapshot_bytes,
         snapshot_seconds,
@@ -793,6 +812,10 @@ fn run_cpu(
         if let Err(e) = solver.step(rec.next_stop() - t) {
             failure = Some(e);
             break;
+        }
+        if solver.state.step % OUT_OF_RANGE_STEPS == 0 {
+            rec.progress.out_of_range =
+                Some(crate::probe::count_out_of_range(&solver.model, &solver.state).total());
         }
         rec.report(solver.state.t, solver.state.step - first_step);
     }

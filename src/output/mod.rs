@@ -156,6 +156,75 @@ pub struct BodySummary {
     pub velocity_final: Vec<f64>,
 }
 
+/// The particles of the final state outside the solid range: how many,
+/// how many in each body, and the one furthest outside.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct OutOfRangeSummary {
+    pub count: usize,
+    pub bodies: Vec<BodyCount>,
+    pub worst: Option<WorstParticle>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct BodyCount {
+    pub name: String,
+    pub count: usize,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct WorstParticle {
+    /// The particle's index in the scene's order (bodies in turn).
+    pub particle: usize,
+    pub body: String,
+    pub quantity: String,
+    /// J/kg for an energy, kg/m³ for a density.
+    pub value: f64,
+}
+
+impl OutOfRangeSummary {
+    pub fn of(model: &crate::model::Model, st: &crate::model::State) -> Self {
+        let c = crate::probe::count_out_of_range(model, st);
+        OutOfRangeSummary {
+            count: c.total(),
+            bodies: model
+                .bodies
+                .iter()
+                .zip(&c.per_body)
+                .map(|(b, &count)| BodyCount {
+                    name: b.name.clone(),
+                    count,
+                })
+                .collect(),
+            worst: c.worst.map(|(i, what, value)| WorstParticle {
+                particle: i,
+                body: model.bodies[model.body[i] as usize].name.clone(),
+                quantity: what.name().to_string(),
+                value,
+            }),
+        }
+    }
+
+    /// One line for people, `None` when every particle is in range.
+    pub fn line(&self) -> Option<String> {
+        let w = self.worst.as_ref()?;
+        let bodies: Vec<String> = self
+            .bodies
+            .iter()
+            .filter(|b| b.count > 0)
+            .map(|b| format!("{} in {}", b.count, b.name))
+            .collect();
+        Some(format!(
+            "{} particle(s) end outside the solid range ({}); the furthest, particle {} of {}: {} ({:.3e})",
+            self.count,
+            bodies.join(", "),
+            w.particle,
+            w.body,
+            w.quantity,
+            w.value
+        ))
+    }
+}
+
 /// `summary.json` (SCENES.md): the contract's keys, plus `status`, `error`,
 /// `time_reached`, `energy_spring_loss` and the snapshot counts.
 #[derive(Debug, Clone, Serialize)]
@@ -181,6 +250,9 @@ pub struct Summary {
     /// lost, which `energy_final` does not count. 0 without contact.
     pub energy_spring_loss: f64,
     pub bodies: Vec<BodySummary>,
+    /// The particles whose final state is outside the solid range
+    /// (`probe::out_of_range`).
+    pub out_of_range: OutOfRangeSummary,
     /// Snapshots written (0 without `output.snapshot_interval`), their
     /// bytes on disk and the wall seconds they took (inside
     /// `wall_seconds`): the boundary set or the device readback, and the
