@@ -1,6 +1,9 @@
 //! Study of the penalty spring's energy ledger on the paper's two disks.
 //!
-//!     cargo run --release --example ledger -- square|polar R_OVER_DX [plain] [CFL]
+//!     cargo run --release --example ledger -- square|polar R_OVER_DX [plain|full] [CFL] [ANGLE]
+//!
+//! `ANGLE` (degrees) turns the line of centres from the velocities: an
+//! oblique, sliding (frictionless) impact, the disks still touching at t = 0.
 //!
 //! Prints the total energy (kinetic + internal + stored spring) against its
 //! initial value through the contact. Unless `plain`, also integrates, over
@@ -49,6 +52,18 @@ fn main() {
     let mut scene = disk_scene(&lattice, r);
     if let Some(c) = args.get(3) {
         scene.simulation.cfl = c.parse().expect("cfl");
+    }
+    if let Some(a) = args.get(4) {
+        let a: f64 = a.parse::<f64>().expect("angle") * std::f64::consts::PI / 180.0;
+        for b in &mut scene.bodies {
+            if let sphcontact::scene::Shape::Disk { center, radius, .. } = &mut b.shape {
+                let side = center[0].signum();
+                center[0] = side * *radius * a.cos();
+                center[1] = side * *radius * a.sin();
+            }
+        }
+        // The sliding contact lasts longer along the line of centres.
+        scene.simulation.end_time /= a.cos();
     }
     let (model, state) = Model::new(&scene);
     let mut solver = CpuSolver::new(model, state);
@@ -111,7 +126,7 @@ fn main() {
     let (model, st, diag) = solver.observe();
     let total = sphcontact::probe::energies(model, st, diag).total();
     println!(
-        "{lattice} R/dx {r}: final {:+.3} %, highest {:+.3} %, lowest {:+.3} % at {:.2} µs; spring loss {:+.3} %",
+        "{lattice} R/dx {r}: final {:+.3} %, highest {:+.3} %, lowest {:+.3} % at {:.2} µs; spring loss {:+.6} %",
         100.0 * (total / e0 - 1.0),
         100.0 * high,
         100.0 * low,

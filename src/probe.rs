@@ -226,6 +226,8 @@ pub fn out_of_range(model: &Model, st: &State, i: usize) -> Option<(OutOfRange, 
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct OutOfRangeCount {
     pub per_body: Vec<usize>,
+    /// Their internal energy, `Σ m e` (J, per unit thickness in 2-D).
+    pub internal_energy: f64,
     pub worst: Option<(usize, OutOfRange, f64)>,
 }
 
@@ -239,12 +241,14 @@ impl OutOfRangeCount {
 pub fn count_out_of_range(model: &Model, st: &State) -> OutOfRangeCount {
     let mut out = OutOfRangeCount {
         per_body: vec![0; model.bodies.len()],
+        internal_energy: 0.0,
         worst: None,
     };
     let mut worst = 0.0;
     for i in 0..model.len() {
         if let Some((what, by)) = out_of_range(model, st, i) {
             out.per_body[model.body[i] as usize] += 1;
+            out.internal_energy += model.mass[i] * st.e[i];
             if by > worst {
                 worst = by;
                 let value = match what {
@@ -281,6 +285,8 @@ mod tests {
         let c = count_out_of_range(&model, &st);
         assert_eq!(c.total(), 3);
         assert_eq!(c.per_body, vec![2, 1]);
+        let held = model.mass[3] * st.e[3] + model.mass[last] * st.e[last];
+        assert!((c.internal_energy - held).abs() < 1e-12 * held.abs());
         assert_eq!(c.worst, Some((last, OutOfRange::Energy, 0.3 * c2)));
         assert_eq!(
             out_of_range(&model, &st, 3).map(|o| o.0),

@@ -161,6 +161,9 @@ pub struct BodySummary {
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct OutOfRangeSummary {
     pub count: usize,
+    /// The internal energy they hold (J, per unit thickness in 2-D), part
+    /// of `energy_final`.
+    pub internal_energy: f64,
     pub bodies: Vec<BodyCount>,
     pub worst: Option<WorstParticle>,
 }
@@ -186,6 +189,7 @@ impl OutOfRangeSummary {
         let c = crate::probe::count_out_of_range(model, st);
         OutOfRangeSummary {
             count: c.total(),
+            internal_energy: c.internal_energy,
             bodies: model
                 .bodies
                 .iter()
@@ -214,9 +218,10 @@ impl OutOfRangeSummary {
             .map(|b| format!("{} in {}", b.count, b.name))
             .collect();
         Some(format!(
-            "{} particle(s) end outside the solid range ({}); the furthest, particle {} of {}: {} ({:.3e})",
+            "{} particle(s) end outside the solid range ({}), holding {:.4e} of internal energy; the furthest, particle {} of {}: {} ({:.3e})",
             self.count,
             bodies.join(", "),
+            self.internal_energy,
             w.particle,
             w.body,
             w.quantity,
