@@ -278,8 +278,11 @@ fn cfl_step(cfl_min: f32) {
     }
     let rem = (params.end_hi - ctl.t_hi) + (params.end_lo - ctl.t_lo);
     var dt = min(cfl_dt, rem);
-    // The end is reached when what is left is round-off of the time sum.
-    if (rem <= 1e-4 * cfl_dt) {
+    // The end is reached when what is left is round-off of the time sum:
+    // a ten-thousandth of a step, or below what f32 resolves at the stop
+    // (a step shorter than that could leave the time where it is, and the
+    // run would never reach its stop).
+    if (rem <= max(1e-4 * cfl_dt, 2.4e-7 * abs(params.end_hi))) {
         dt = 0.0;
     }
     // After a failure the rest of the batch takes zero-length steps, so the
