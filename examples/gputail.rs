@@ -10,8 +10,11 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let path = std::path::Path::new(&args[0]).join("checkpoint.bin");
     let steps: usize = args[1].parse().unwrap();
-    let ck = Checkpoint::from_bytes(&std::fs::read(&path).unwrap(), "ck").unwrap_or_else(|e| panic!("{e:?}"));
-    let SolverState::Gpu(g) = ck.solver else { panic!("gpu") };
+    let ck = Checkpoint::from_bytes(&std::fs::read(&path).unwrap(), "ck")
+        .unwrap_or_else(|e| panic!("{e:?}"));
+    let SolverState::Gpu(g) = ck.solver else {
+        panic!("gpu")
+    };
     let (model, state) = Model::new(&ck.scene);
     let ctx = shared_context().unwrap();
     let mut s = GpuSolver::new(ctx, model.clone(), &state, &[], 1.0).unwrap();
