@@ -158,6 +158,12 @@ fn kernel_alpha(h: f32) -> f32 {
     return 10.0 / (7.0 * PI * h * h);
 }
 
+// The 2-D kernel's integral along a line through its centre, 15/(7 pi h)
+// (CPU twin: physics::kernel::line_integral_2d).
+fn line_integral(h: f32) -> f32 {
+    return 15.0 / (7.0 * PI * h);
+}
+
 fn kernel_w(r: f32, h: f32) -> f32 {
     let q = r / h;
     var f = 0.0;

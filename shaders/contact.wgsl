@@ -408,7 +408,7 @@ fn entries(p: u32, count: bool) -> Entries {
     var fade_slope = 0.0;
     var w_ref = 1.0;
     if (DIM == 2u) {
-        w_ref = 0.25 * 15.0 / (7.0 * PI * hp) / bodyq.spacing;
+        w_ref = 0.25 * line_integral(hp) / bodyq.spacing;
         let fs = sw / w_ref;
         if (fs < 1.0) {
             fade = fs * fs * (3.0 - 2.0 * fs);

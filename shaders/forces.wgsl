@@ -199,6 +199,11 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let rigid = body.rigid != 0u;
     let surface = nbo[i].z > 0.0;
     let boundary = CONTACT && surface;
+    // A particle off the boundary at a base state has no entry overlap
+    // (contact.wgsl writes the boundary particles').
+    if (CONTACT && !boundary && !MID && LEAP != 3u) {
+        centry[i] = -1.0;
+    }
     if (rigid && !boundary) {
         if (LEAP == 3u) {
             return;
@@ -209,9 +214,6 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         }
         if (CONTACT) {
             area[i] = 0.0;
-            if (!MID) {
-                centry[i] = -1.0;
-            }
         }
         return;
     }
@@ -288,8 +290,6 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             om = dot(perp(nc), sums.gdot) / gl;
         }
         cn[i] = vec4<f32>(nc, gl, om);
-    } else if (CONTACT && !MID && LEAP != 3u) {
-        centry[i] = -1.0;
     }
     if (LEAP == 3u) {
         if (!rigid) {
@@ -318,7 +318,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             if (DIM == 1u) {
                 a = 1.0;
             } else {
-                a = 15.0 / (7.0 * PI * hi) / sums.sw;
+                a = line_integral(hi) / sums.sw;
             }
         }
         area[i] = a;

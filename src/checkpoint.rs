@@ -438,11 +438,11 @@ impl Checkpoint {
     /// that resumes) and the history's width, so a state is never
     /// half-filled. `origin` names the checkpoint in the error.
     pub fn check_sizes(&self, model: &crate::model::Model, origin: &str) -> Result<(), RunError> {
-        self.sizes_match(model.len())
+        self.sizes_match(model.len(), model.contact)
             .map_err(|what| RunError::Backend(format!("{origin}: {what}")))
     }
 
-    fn sizes_match(&self, n: usize) -> Result<(), String> {
+    fn sizes_match(&self, n: usize, contact: bool) -> Result<(), String> {
         let width = self.scene.probes.len();
         let r = &self.recorder;
         if r.rows.len() != r.times.len()
@@ -458,7 +458,7 @@ impl Checkpoint {
                 && state.rho.len() == n
                 && state.e.len() == n
                 && state.s.len() == n
-                && state.entry.len() == n
+                && state.entry.len() == if contact { n } else { 0 }
                 && lists.start.len() == n + 1
                 && lists.cross_start.len() == n + 1
                 && lists.x_ref.len() == n

@@ -87,7 +87,7 @@ pub struct State {
     pub spring_work: f64,
     /// Overlap each boundary particle had when it joined the surface (m),
     /// which its spring does not push against; negative: not a boundary
-    /// particle at the last step's start.
+    /// particle at the last step's start. Empty without contact.
     pub entry: Vec<f64>,
 }
 
@@ -133,7 +133,7 @@ impl Model {
             s: vec![Default::default(); n],
             heat: 0.0,
             spring_work: 0.0,
-            entry: vec![0.0; n],
+            entry: Vec::new(),
         };
         for (bi, (b, p)) in scene.bodies.iter().zip(&placed).enumerate() {
             let material = MaterialModel::new(&scene.materials[&b.material]);
@@ -173,6 +173,10 @@ impl Model {
                 .filter(|&i| !model.rigid(i))
                 .map(|i| model.mass[i] * model.material(i).c_l.powi(2))
                 .sum::<f64>();
+        if model.contact {
+            // Bodies that start overlapping are pushed apart (entry 0).
+            state.entry = vec![0.0; model.len()];
+        }
         (model, state)
     }
 

@@ -401,16 +401,16 @@ impl Progress {
     /// `elapsed`: wall seconds since the run started.
     fn update(&mut self, t: f64, end: f64, steps: u64, rate: f64, elapsed: f64) {
         let frac = (t / end).clamp(0.0, 1.0);
-        let mut snaps = self
+        let mut tail = self
             .snapshots
             .map_or(String::new(), |k| format!(", snapshots written: {k}"));
         if let Some(k) = self.out_of_range.filter(|&k| k > 0) {
-            snaps += &format!(", {k} particle(s) outside the solid range");
+            tail += &format!(", {k} particle(s) outside the solid range");
         }
         if let Some(bar) = &self.bar {
             bar.set_position((frac * 1000.0) as u64);
             bar.set_message(format!(
-                "{t:.3e} / {end:.3e} s, {steps} steps, {rate:.3e} particle-steps/s{snaps}"
+                "{t:.3e} / {end:.3e} s, {steps} steps, {rate:.3e} particle-steps/s{tail}"
             ));
         } else if self.plain {
             let percent = frac * 100.0;
@@ -422,7 +422,7 @@ impl Progress {
             self.last_line = Instant::now();
             let eta = eta_seconds(elapsed, self.t0, t, end).map_or("unknown".into(), duration);
             eprintln!(
-                "t = {t:.4e} s ({percent:.0} %), {steps} steps, {rate:.3e} particle-steps/s, ETA {eta}{snaps}"
+                "t = {t:.4e} s ({percent:.0} %), {steps} steps, {rate:.3e} particle-steps/s, ETA {eta}{tail}"
             );
         }
     }

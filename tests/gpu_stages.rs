@@ -289,7 +289,7 @@ fn stages_match_cpu_with_yielded_springs() {
     let surface = kinematics::kinematics(&model, &st, &nb).surface;
     let bd = kinematics::boundary(&model, &st.x, &nb, surface);
     let c = contact::penalty(&model, &st, &nb, &bd);
-    assert!(c.entry.iter().any(|&e| e > 0.0), "some spring yields");
+    assert!(c.entry.iter().any(|e| e.1 > 0.0), "some spring yields");
     check_state(model, st, true);
 }
 

@@ -75,8 +75,8 @@ pub struct ContactForces {
     /// `force`).
     pub heat: Vec<f64>,
     /// Each boundary particle's entry overlap after this evaluation
-    /// (entries as `force`, [`State::entry`]).
-    pub entry: Vec<f64>,
+    /// (`(particle, overlap)`, entries as `force`; [`State::entry`]).
+    pub entry: Vec<(u32, f64)>,
     pub stats: ContactStats,
 }
 
@@ -94,17 +94,17 @@ pub struct ContactStats {
     pub spring_rate: f64,
 }
 
-impl ContactForces {
-    /// The entry overlaps of all `n` particles: the boundary particles'
-    /// from this evaluation, none elsewhere.
-    pub fn entries(&self, n: usize, bd: &Boundary) -> Vec<f64> {
-        let mut e = vec![-1.0; n];
-        for (&i, &x) in bd.list.iter().zip(&self.entry) {
-            e[i as usize] = x;
-        }
-        e
+/// Writes the entry overlaps of every particle into `out` (a state's
+/// [`State::entry`]): the listed boundary particles' `(particle, overlap)`,
+/// none (−1) elsewhere.
+pub fn write_entries(entries: &[(u32, f64)], out: &mut [f64]) {
+    out.fill(-1.0);
+    for &(i, e) in entries {
+        out[i as usize] = e;
     }
+}
 
+impl ContactForces {
     /// Adds the contact's accelerations to `dv` (rigid particles left as
     /// they are): the boundary particles' forces, then the spread ones, in
     /// their fixed order.
@@ -214,16 +214,38 @@ pub fn yield_overlap(spacing: f64) -> f64 {
     0.25 * spacing
 }
 
-/// The candidates' total weight below which a pass's spring fades out
-/// ([`penalty::fade`]): a quarter of what a flat partner surface through P
-/// gives, `∫W dℓ / Δx` (∞ in 1-D, where a pass has one candidate and
-/// never fades).
+/// The fade of P's pass against `partner` with candidates' total weight
+/// `sw` ([`penalty::fade`]), and its derivative with respect to `sw`. The
+/// reference is a quarter of what a flat partner surface through P gives,
+/// `∫W dℓ / Δx`; in 1-D a pass has one candidate and never fades.
 #[inline]
-fn weight_reference(model: &Model, p: usize, partner: u32) -> f64 {
+fn pass_fade(model: &Model, p: usize, partner: u32, sw: f64) -> (f64, f64) {
     if model.dim == 1 {
-        return 0.0;
+        return (1.0, 0.0);
     }
-    0.25 * kernel::line_integral_2d(model.h[p]) / model.bodies[partner as usize].spacing
+    let w_ref =
+        0.25 * kernel::line_integral_2d(model.h[p]) / model.bodies[partner as usize].spacing;
+    let (f, slope) = penalty::fade(sw / w_ref);
+    (f, slope / w_ref)
+}
+
+/// The entry overlap after an evaluation whose deepest raw overlap over
+/// P's passes is `deepest`, from the stored one `e_in` (negative: P was
+/// off the boundary at the last base state), with the yield overlap `cap`
+/// ([`yield_overlap`]); and whether the spring has yielded. A particle
+/// joins storing nothing; the entry only shrinks, except to follow an
+/// overlap more than `cap` beyond it.
+#[inline]
+pub fn entry_rule(e_in: f64, deepest: f64, cap: f64) -> (f64, bool) {
+    if e_in < 0.0 {
+        return (deepest, false);
+    }
+    let e = e_in.min(deepest);
+    if deepest - e > cap {
+        (deepest - cap, true)
+    } else {
+        (e, false)
+    }
 }
 
 /// The stiffness's slope `∂k/∂o_b` with the far layer's thickness (`k`
@@ -288,7 +310,8 @@ struct Pass {
 }
 
 impl Pass {
-    /// The spring measured from the entry overlap `e`.
+    /// The spring measured from the entry overlap `e`, and the pressure
+    /// law at that overlap.
     fn offset(&mut self, e: f64) {
         self.delta = (self.delta - e).max(0.0);
         let push = self.z * self.w_rate + self.stiffness * self.delta;
@@ -298,7 +321,9 @@ impl Pass {
 }
 
 /// The gap and pressure of P against the interpolated partner surface
-/// ([`penalty::gap`]); `None` where the surfaces are apart.
+/// ([`penalty::gap`]), at the raw overlap (the entry rule then measures
+/// it from the entry, [`Pass::offset`]); `None` where the surfaces are
+/// apart.
 fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) -> Option<Pass> {
     let gap = penalty::gap(np, &s.s)?;
     let partner = s.body;
@@ -324,17 +349,18 @@ fn pressure(model: &Model, p_idx: usize, np: DVec2, vp: DVec2, s: &PartnerSums) 
         dx_b,
         mb,
     );
-    let push = z * w_rate + stiffness * delta;
-    Some(Pass {
+    let mut pass = Pass {
         gap,
-        p: push.max(0.0),
-        clipped: push < 0.0,
+        p: 0.0,
+        clipped: false,
         z,
         w_rate,
         stiffness,
         slope: stiffness_slope(stiffness, o_b, dx_b, mb),
         delta,
-    })
+    };
+    pass.offset(0.0);
+    Some(pass)
 }
 
 /// Both passes: returns contact forces, booked heat and the statistics.
@@ -479,22 +505,9 @@ pub fn penalty_booked(
                 .filter_map(|s| Some((s, pressure(model, p, np, st.v[p], s)?)))
                 .collect();
             let deepest = passes.iter().map(|(_, ps)| ps.delta).fold(0.0, f64::max);
-            let e_in = st.entry[p];
             let cap = yield_overlap(model.bodies[model.body[p] as usize].spacing);
-            // Whether the deepest pass's spring has yielded (its overlap
-            // beyond the entry reached the cap).
-            let mut yielded = false;
-            out.entry = if e_in < 0.0 {
-                deepest
-            } else {
-                let e = e_in.min(deepest);
-                yielded = deepest - e > cap;
-                if yielded {
-                    deepest - cap
-                } else {
-                    e
-                }
-            };
+            let (entry, yielded) = entry_rule(st.entry[p], deepest, cap);
+            out.entry = entry;
             for (s, mut ps) in passes {
                 let sat = yielded && ps.delta == deepest;
                 ps.offset(out.entry);
@@ -505,15 +518,12 @@ pub fn penalty_booked(
                 let mut spring = None;
                 let mut phi_dot = 0.0;
                 let phi0 = 0.25 * ps.stiffness * ps.delta * ps.delta * a;
-                let w_ref = weight_reference(model, p, bq);
-                let (fade, fade_slope) = penalty::fade(sw / w_ref);
+                let (fade, fade_slope) = pass_fade(model, p, bq, sw);
                 if ps.delta > 0.0 {
                     let gbar = -0.5 * ps.stiffness * ps.delta * a * fade;
                     let obar = 0.25 * ps.delta * ps.delta * a * ps.slope * fade;
                     let mut bar = penalty::gap_bar(np, &s.s, &ps.gap, gbar, obar);
-                    if fade_slope != 0.0 {
-                        bar.sw += phi0 * fade_slope / w_ref;
-                    }
+                    bar.sw += phi0 * fade_slope;
                     let mut xp_bar = bar.sp;
                     let np_bar = bar.np + bar.sp * op;
                     for c in cands.iter().filter(|c| c.body == bq) {
@@ -596,12 +606,8 @@ pub fn penalty_booked(
                 if !bd.is_boundary[p as usize] {
                     continue;
                 }
-                let k = bd
-                    .list
-                    .binary_search(&p)
-                    .expect("a boundary particle is listed");
                 let p = p as usize;
-                let Some(share) = pass1[k].shares.iter().find(|s| s.body == bq) else {
+                let Some(share) = pass1[slot(p)].shares.iter().find(|s| s.body == bq) else {
                     continue;
                 };
                 let Some((w, gw)) = is_candidate(model, st, bd, p, q) else {
@@ -637,7 +643,12 @@ pub fn penalty_booked(
         .collect();
 
     let mut out = ContactForces {
-        entry: pass1.iter().map(|p| p.entry).collect(),
+        entry: bd
+            .list
+            .iter()
+            .zip(&pass1)
+            .map(|(&i, p)| (i, p.entry))
+            .collect(),
         force: Vec::with_capacity(bd.list.len()),
         spread: Vec::new(),
         heat: Vec::with_capacity(bd.list.len()),
@@ -712,20 +723,20 @@ mod tests {
         let bd = kinematics::boundary(&model, &st.x, &nb, surface);
         let full = penalty(&model, &st, &nb, &bd);
         assert!(full.stats.stored > 0.0);
-        assert!(full.entry.iter().all(|&e| e == 0.0));
+        assert!(full.entry.iter().all(|&(_, e)| e == 0.0));
         st.entry.iter_mut().for_each(|e| *e = -1.0);
         let joined = penalty(&model, &st, &nb, &bd);
         assert_eq!(joined.stats.stored, 0.0);
         assert!(joined.force.iter().all(|f| *f == DVec2::ZERO));
         assert!(joined.spread.iter().all(|f| f.1 == DVec2::ZERO));
-        let deepest = joined.entry.iter().copied().fold(0.0, f64::max);
+        let deepest = joined.entry.iter().map(|e| e.1).fold(0.0, f64::max);
         let dx = model.bodies[0].spacing;
         assert!(
             deepest > 0.1 * dx && deepest < yield_overlap(dx),
             "{deepest:e}"
         );
         // Entries half the overlaps: a quarter of each pass's energy.
-        st.entry = joined.entries(model.len(), &bd);
+        write_entries(&joined.entry, &mut st.entry);
         st.entry.iter_mut().for_each(|e| *e *= 0.5);
         let half = penalty(&model, &st, &nb, &bd);
         assert!(
@@ -733,8 +744,8 @@ mod tests {
             "{}",
             half.stats.stored / full.stats.stored
         );
-        for (k, &i) in bd.list.iter().enumerate() {
-            assert_eq!(half.entry[k], st.entry[i as usize]);
+        for &(i, e) in &half.entry {
+            assert_eq!(e, st.entry[i as usize]);
         }
         // A large entry shrinks to the overlap, and stores nothing.
         st.entry.iter_mut().for_each(|e| *e = 1e3);
@@ -743,8 +754,21 @@ mod tests {
         assert_eq!(big.entry, joined.entry);
     }
 
+    /// The entry rule's cases, exactly.
+    #[test]
+    fn entry_rule_cases() {
+        // Joining: the overlap is the entry.
+        assert_eq!(entry_rule(-1.0, 0.3, 0.25), (0.3, false));
+        // Shrinks to a smaller overlap, stays against a larger one.
+        assert_eq!(entry_rule(0.2, 0.1, 0.25), (0.1, false));
+        assert_eq!(entry_rule(0.1, 0.3, 0.25), (0.1, false));
+        // Follows an overlap more than the cap beyond it.
+        assert_eq!(entry_rule(0.1, 0.5, 0.25), (0.25, true));
+        assert_eq!(entry_rule(0.0, 0.0, 0.25), (0.0, false));
+    }
+
     /// The yield: an overlap more than a quarter spacing beyond the entry
-    /// moves the entry along, so no pass stores more than its spring at
+    /// moves the entry along, so no pass pushes harder than its spring at
     /// the cap; the entries it returns give the same evaluation again.
     #[test]
     fn a_deep_overlap_yields() {
@@ -755,25 +779,21 @@ mod tests {
         let c = penalty(&model, &st, &nb, &bd);
         let dx = model.bodies[0].spacing;
         let cap = yield_overlap(dx);
-        let yielded = c.entry.iter().filter(|&&e| e > 0.0).count();
+        let yielded = c.entry.iter().filter(|e| e.1 > 0.0).count();
         assert!(yielded > 4, "{yielded} particles yielded");
         let mut again = st.clone();
-        again.entry = c.entries(model.len(), &bd);
+        write_entries(&c.entry, &mut again.entry);
         let d = penalty(&model, &again, &nb, &bd);
         assert_eq!(d.entry, c.entry);
         assert_eq!(d.stats.stored, c.stats.stored);
         assert_eq!(d.force, c.force);
-        // No spring holds more than at the cap: below every boundary
-        // particle's pass at the cap with the stiffest spring there is
-        // (both layers at their floor).
-        let k = spring_stiffness(0.0, dx, 1.0, 0.0, dx, 1.0);
-        let most: f64 = bd
-            .area
-            .iter()
-            .map(|a| 0.25 * k * cap * cap * a)
-            .sum::<f64>()
-            * model.bodies[0].material.m;
-        assert!(c.stats.stored < most, "{} vs {most}", c.stats.stored);
+        // At rest the pressure is the spring's, k δ: no higher than the
+        // stiffest spring there is (both layers at their floor, 2 M/Δx) at
+        // the cap, M/2. Without the yield the deepest pass (0.7 Δx, k at
+        // least M/Δx) would push at 0.7 M.
+        let most = spring_stiffness(0.0, dx, 1.0, 0.0, dx, 1.0) * cap * model.bodies[0].material.m;
+        let (_, largest) = c.stats.pair(0, 1);
+        assert!(largest > 0.0 && largest <= most, "{largest:e} vs {most:e}");
     }
 
     /// At rest (no dashpot) the contact force on every particle it touches
@@ -792,7 +812,8 @@ mod tests {
             let bd = kinematics::boundary(&model, &st.x, &nb, surface.clone());
             if entries {
                 st.entry.iter_mut().for_each(|e| *e = -1.0);
-                st.entry = penalty(&model, &st, &nb, &bd).entries(model.len(), &bd);
+                let joined = penalty(&model, &st, &nb, &bd);
+                write_entries(&joined.entry, &mut st.entry);
                 st.entry.iter_mut().for_each(|e| *e *= 0.5);
             }
             let c = penalty(&model, &st, &nb, &bd);

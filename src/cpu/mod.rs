@@ -212,9 +212,10 @@ pub struct Rates {
     pub heat_rate: f64,
     /// Total spring power (for the spring-work ledger).
     pub spring_rate: f64,
-    /// The entry overlaps at the evaluated state (`State::entry`); empty
-    /// without contact.
-    pub entry: Vec<f64>,
+    /// The boundary particles' entry overlaps at the evaluated state
+    /// (`(particle, overlap)`, [`contact::write_entries`]); empty without
+    /// contact and in the leapfrog's carried rates.
+    pub entry: Vec<(u32, f64)>,
 }
 
 /// What an evaluation tells about the state it was made at, beyond the rates.
@@ -290,7 +291,7 @@ pub fn evaluate_with(
         let bd = kinematics::boundary(model, &st.x, nb, surface);
         diag.boundary_count = bd.list.len();
         let c = contact::penalty(model, st, nb, &bd);
-        entry = c.entries(model.len(), &bd);
+        entry.clone_from(&c.entry);
         // Contact terms exist on boundary particles and, through the
         // normals, on their neighbours.
         c.add_forces(model, &bd, &mut dv);
@@ -518,8 +519,10 @@ impl CpuSolver {
                 &self.state.x,
             );
             let (r, d) = evaluate_with(&self.model, &self.state, &self.nb);
-            if !r.entry.is_empty() {
-                self.state.entry.clone_from(&r.entry);
+            if self.model.contact {
+                // The base state's entries (the rule is applied anew at
+                // the midpoint, and stored only here).
+                contact::write_entries(&r.entry, &mut self.state.entry);
             }
             self.current = Some((r, d));
         }
@@ -694,7 +697,7 @@ impl CpuSolver {
             next.entry.clone_from(&st.entry);
             let c = contact::penalty(model, &next, nb, &bd);
             c.add_forces(model, &bd, &mut dv);
-            next.entry = c.entries(model.len(), &bd);
+            contact::write_entries(&c.entry, &mut next.entry);
             bd
         });
         // 4: the second half kick, in place (v_{n+½} is dead after it;

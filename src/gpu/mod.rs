@@ -1949,7 +1949,7 @@ impl GpuSolver {
             s: vec![Sym::default(); n],
             heat: 0.0,
             spring_work: 0.0,
-            entry: vec![0.0; n],
+            entry: Vec::new(),
         };
         for k in 0..n {
             let i = meta[k][3] as usize;
@@ -1974,6 +1974,7 @@ impl GpuSolver {
             st.heat = q.iter().map(|x| x[0] as f64).sum();
             st.spring_work = q.iter().map(|x| x[1] as f64).sum();
             let e: &[f32] = bytemuck::cast_slice(&d[8]);
+            st.entry = vec![0.0; n];
             for k in 0..n {
                 st.entry[meta[k][3] as usize] = e[k] as f64;
             }
