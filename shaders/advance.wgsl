@@ -4,8 +4,10 @@
 // midpoint state in place, mid = base + dt/2 k1. The evaluation at the
 // midpoint adds dt k2 to the base state itself (common.wgsl, MID) and the
 // contact's second pass books its energy ledger, so advance_full only moves
-// the positions with the midpoint velocity and checks the new state. CPU
-// twin: cpu::advance.
+// the positions with the midpoint velocity and checks the new state. With
+// contact both also gather the spread of the evaluation before them
+// (spread.wgsl) into their particle's rates first: a pass the step does
+// not need. CPU twin: cpu::advance.
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(6) var<storage, read> r: array<vec2<f32>>;
@@ -15,6 +17,11 @@
 @group(0) @binding(32) var<storage, read_write> r_w: array<vec2<f32>>;
 @group(0) @binding(33) var<storage, read_write> s_w: array<vec4<f32>>;
 @group(0) @binding(35) var<storage, read> vm: array<vec2<f32>>;
+// The contact's spread (spread.wgsl): normals and dPhi/dg on the list of
+// boundary particles, and the particles pass 2 claimed.
+@group(0) @binding(66) var<storage, read> cn: array<vec4<f32>>;
+@group(0) @binding(70) var<storage, read> bt: array<f32>;
+@group(0) @binding(72) var<storage, read_write> claim: array<atomic<u32>>;
 
 fn finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
@@ -22,7 +29,8 @@ fn finite(x: f32) -> bool {
 
 // Record the first failing step and, within it, the lowest particle id.
 // Quantity codes (GpuSolver::instability): 0 position, 1 velocity,
-// 2 internal energy, 3 density band, 4 time step (reduce.wgsl), 5 domain.
+// 2 internal energy, 3 density band, 4 time step (reduce.wgsl), 5 domain;
+// 7 (no particle) the contact's list (kinematics.wgsl, list_surface).
 fn fail(i: u32, quantity: u32) {
     let fs = atomicLoad(&ctl.fail_step);
     if (fs == NONE || fs == ctl.step) {
@@ -36,13 +44,21 @@ fn fail(i: u32, quantity: u32) {
 @compute @workgroup_size(WG)
 fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
+    if (i >= params.n) {
+        return;
+    }
+    var spread = vec2<f32>(0.0);
+    if (CONTACT) {
+        spread = spread_force(i);
+    }
     // A zero-length step (past the stop, or after a failure) leaves the
     // state as it is: non-finite rates times zero would not.
-    if (i >= params.n || ctl.dt == 0.0) {
+    if (ctl.dt == 0.0) {
         return;
     }
     let k = 0.5 * ctl.dt;
-    let b = bodies[pinfo[i].z];
+    let mi = pinfo[i];
+    let b = bodies[mi.z];
     u_w[i] = u[i] + v[i] * k;
     if (b.rigid != 0u) {
         v_w[i] = v[i];
@@ -50,30 +66,44 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         s_w[i] = s[i];
         return;
     }
-    v_w[i] = v[i] + v_w[i] * k;
+    v_w[i] = v[i] + (v_w[i] + spread / bitcast<f32>(mi.x)) * k;
     r_w[i] = r[i] + r_w[i] * k;
     s_w[i] = plastic_return(s[i] + s_w[i] * k, b);
 }
 
 // Stage 2: the new positions, in place (u_w is the base buffer), and the
 // checks of the new state (velocity, density, energy and stress were
-// already advanced by the evaluation at the midpoint; v and r read them).
+// already advanced by the evaluation at the midpoint, but for the spread,
+// added here; v_w is the base velocity and r reads the rest).
 @compute @workgroup_size(WG)
 fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
+    if (i >= params.n) {
+        return;
+    }
+    var spread = vec2<f32>(0.0);
+    if (CONTACT) {
+        spread = spread_force(i);
+    }
     // A zero-length step (past the stop, or after a failure) leaves the
     // state as it is.
-    if (i >= params.n || ctl.dt == 0.0) {
+    if (ctl.dt == 0.0) {
         return;
     }
     let dt = ctl.dt;
-    let b = bodies[pinfo[i].z];
+    let mi = pinfo[i];
+    let b = bodies[mi.z];
     let un = u_w[i] + vm[i] * dt;
     u_w[i] = un;
     if (b.rigid != 0u) {
         return;
     }
-    check(i, un, v[i], r[i]);
+    var vn = v_w[i];
+    if (CONTACT && any(spread != vec2<f32>(0.0))) {
+        vn += spread * (dt / bitcast<f32>(mi.x));
+        v_w[i] = vn;
+    }
+    check(i, un, vn, r[i]);
 }
 
 // The checks of a new state (position `un`, velocity `vn`, density and
@@ -121,7 +151,7 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 // The cell list's counts (grid.wgsl), filled here for the new positions.
 @group(0) @binding(16) var<storage, read_write> bstart_w: array<atomic<u32>>;
 // The count of the contact's list of boundary particles, which the step's
-// the kinematics pass fills (kinematics.wgsl, leap_surface).
+// the kinematics pass fills (kinematics.wgsl, list_surface).
 @group(0) @binding(65) var<storage, read_write> surf_args: array<u32>;
 
 // v_{n+1/2} = v_n + dt/2 a_n, e likewise, x_{n+1} = x_n + dt v_{n+1/2}, the

@@ -124,6 +124,9 @@ struct Control {
     multi_partner: atomic<u32>,
     // The energy guard's limit: negative until the first state sets it.
     energy_limit: f32,
+    // The contact list's peak length past three quarters full
+    // (kinematics.wgsl, list_surface).
+    list_peak: atomic<u32>,
 }
 
 // Global invocation index of a 2-D dispatch of `WG`-wide workgroups

@@ -20,15 +20,15 @@
 // cpu::contact::penalty_booked). The stored spring energy goes to nbo.w
 // there, since the energy walk after the contact still reads sr2c.
 //
-// Where pass 1 leaves a particle's entries (`cown`, `cshare`): in the
-// midpoint rule and the leapfrog's first evaluation and booking, at the
-// particle, in pass scratch no later pass of the evaluation reads
-// (gpu::contact_homes); in the leapfrog's force passes (LEAP = 2), before the
-// energy walk has read that scratch, at the particle's place on the list of
-// boundary particles, which the kinematics pass wrote to nbo.w (`slot`). Where that list
-// overflowed, pass 1 stores nothing and pass 2 makes each entry it needs
-// again (`entries`: the same arithmetic, so the same bits, at a walk per
-// partner).
+// Where pass 1 leaves a particle's entries: what only boundary particles
+// carry (the normals, the spring's derivative, dPhi/dg for the spread) at
+// the particle's place on the list of boundary particles that the
+// kinematics pass made (kinematics.wgsl, list_surface; `place`); the
+// nominal force and the dashpot shares (`cown`, `cshare`) in the midpoint
+// rule and the leapfrog's first evaluation and booking at the particle, in
+// pass scratch no later pass of the evaluation reads (gpu::contact_homes),
+// and in the leapfrog's force passes (LEAP = 2), before the energy walk has
+// read that scratch, on the list too (`own_at`).
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(13) var<storage, read_write> nbo: array<vec4<f32>>;
@@ -37,10 +37,11 @@
 @group(0) @binding(19) var<storage, read> area: array<f32>;
 @group(0) @binding(20) var<storage, read_write> cown: array<vec4<f32>>;
 @group(0) @binding(21) var<storage, read_write> cshare: array<vec4<f32>>;
-// `x`: the spring energy each particle's pass stores (observations). The
-// kinematics pass writes sr2c and the forces pass reads it, last; the reductions after this
+// `x`: the spring energy each particle's pass stores (observations,
+// store_energy). The kinematics pass writes sr2c and the forces pass (the
+// leapfrog's energy walk) reads it, last; the reductions after this
 // evaluation read only its `w` (sound speed) and this `x`; no other thread
-// touches a particle's entry in these passes (gpu::contact_homes).
+// touches a particle's entry in these passes.
 @group(0) @binding(14) var<storage, read_write> sr2c: array<vec4<f32>>;
 // Per particle: (dashpot heat booked, spring work of its own passes), the
 // contact's energy ledger, booked at the midpoint (MID) with the step.
@@ -54,24 +55,22 @@
 // to v_{n+1} once a boundary particle's acceleration is whole (the forces pass kicks
 // the others).
 @group(0) @binding(57) var<storage, read_write> vkick: array<vec2<f32>>;
-// The leapfrog step's boundary particles (kinematics.wgsl, leap_surface) and
+// The list of boundary particles (kinematics.wgsl, list_surface) and its
 // (count, the indirect dispatch's workgroups x, y, z).
 @group(0) @binding(64) var<storage, read> surf: array<u32>;
 @group(0) @binding(65) var<storage, read> surf_args: array<u32>;
-// The contact normals and their turning rates (forces.wgsl).
+// The contact normals and their turning rates (forces.wgsl), on the list.
 @group(0) @binding(66) var<storage, read> cn: array<vec4<f32>>;
-// Pass 1 -> pass 2, beside cown and cshare (Entries).
+// Pass 1 -> pass 2, on the list (Entries).
 @group(0) @binding(67) var<storage, read_write> cbar0: array<vec4<f32>>;
 @group(0) @binding(68) var<storage, read_write> cbar1: array<vec4<f32>>;
 @group(0) @binding(69) var<storage, read_write> ckeep: array<vec4<f32>>;
-// Pass 2 -> the spread pass: each boundary particle's dPhi/dg, the
-// derivative through its colour gradient, as beta perp(n) (pass2_at); the list of particles the
-// spread reaches (`band`, its count in spread_args[0], zeroed by the forces
-// pass) and each particle's claim on a place there (zero between passes).
+// Pass 2 -> the spread (spread.wgsl): each boundary particle's dPhi/dg, the
+// derivative through its colour gradient, as beta perp(n) (pass2_at), on
+// the list; and a bit a particle, set where the spread has a force to
+// gather.
 @group(0) @binding(70) var<storage, read_write> bt: array<f32>;
-@group(0) @binding(71) var<storage, read_write> band: array<u32>;
 @group(0) @binding(72) var<storage, read_write> claim: array<atomic<u32>>;
-@group(0) @binding(73) var<storage, read_write> spread_args: array<atomic<u32>>;
 // Each particle's entry overlap (State::entry; -1: off the boundary at the
 // last base state): the overlap it had when it joined the surface, which
 // its spring does not push against. Written at the base evaluations (the
@@ -85,27 +84,35 @@ fn kick(q: u32, rigid: bool) {
     }
 }
 
-// The spring energy a particle's pass stores, for the observations (the
-// leapfrog's booking stores the same energy its force passes would).
+// The spring energy a particle's pass stores, for the observations, in
+// sr2c.x, which no later pass of the evaluation reads (the leapfrog's
+// force passes store none: the energy walk after them reads sr2c; its
+// booking stores the same energy they would).
 fn store_energy(p: u32, e: f32) {
-    if (LEAP == 0u) {
+    if (LEAP != 2u) {
         sr2c[p].x = e;
-    } else if (LEAP != 2u) {
-        nbo[p].w = e;
     }
 }
 
-// Where boundary particle p's entries are (see the header).
-fn slot(p: u32) -> u32 {
+// Boundary particle p's place on the list (kinematics.wgsl, list_surface).
+fn place(p: u32) -> u32 {
+    return u32(nbo[p].w);
+}
+
+// Where boundary particle p's `own` and `share` entries are (the header).
+fn own_at(p: u32) -> u32 {
     if (LEAP == 2u) {
-        return u32(nbo[p].w);
+        return place(p);
     }
     return p;
 }
 
-// Whether this leapfrog step's list of boundary particles overflowed.
-fn overflowed() -> bool {
-    return LEAP == 2u && surf_args[0] > params.surf_cap;
+// Where its contact area is (forces.wgsl, area_at).
+fn area_of(p: u32) -> f32 {
+    if (LEAP == 0u) {
+        return area[place(p)];
+    }
+    return area[p];
 }
 
 // Kernel weight W of the candidate pair (p, q) with normals np, nq and
@@ -144,29 +151,22 @@ fn series(a: f32, ra: bool, b: f32, rb: bool) -> f32 {
 }
 
 // The particles a thread of a contact pass handles: in a leapfrog step
-// (LEAP >= 2) the boundary particles the kinematics pass listed (`surf`), one a thread
-// and a workgroup a `WG` of them (the forces pass sized the indirect dispatch), or,
-// where the list overflowed, every particle; otherwise one particle a
-// thread, every particle. A thread strides past the most workgroups a
-// dispatch may have. Only boundary particles (nbo.z > 0) take part: the
-// others' entries are left as they are, and their readers look at the
-// boundary flag first (reduce.wgsl; advance.wgsl for qrate).
+// (LEAP >= 2) the boundary particles the kinematics pass listed (`surf`),
+// one a thread and a workgroup a `WG` of them (the forces pass sized the
+// indirect dispatch); otherwise one particle a thread, every particle. A
+// thread strides past the most workgroups a dispatch may have. Only
+// boundary particles (nbo.z > 0) take part: the others' entries are left
+// as they are, and their readers look at the boundary flag first
+// (reduce.wgsl; advance.wgsl for qrate).
 fn contact_walkers(gid: vec3<u32>, nwg: vec3<u32>, pass2: bool) {
     if (LEAP >= 2u) {
         // A leapfrog step of zero length leaves everything as it is.
         if (ctl.dt == 0.0) {
             return;
         }
-        let count = surf_args[0];
-        let listed = count <= params.surf_cap;
-        let end = select(params.n, count, listed);
+        let end = min(surf_args[0], params.surf_cap);
         for (var k = gid.x; k < end; k += nwg.x * WG) {
-            var p = k;
-            if (listed) {
-                p = surf[k];
-            } else if (nbo[p].z <= 0.0) {
-                continue;
-            }
+            let p = surf[k];
             if (pass2) {
                 pass2_at(p);
             } else {
@@ -263,7 +263,7 @@ fn entries(p: u32, count: bool) -> Entries {
     let bp = mp.z;
     let bodyp = bodies[bp];
     let op = bitcast<f32>(mp.y);
-    let cnp = cn[p];
+    let cnp = cn[place(p)];
     let np = cnp.xy;
 
     var partner = NONE;
@@ -294,7 +294,7 @@ fn entries(p: u32, count: bool) -> Entries {
             let oq = bitcast<f32>(mq.y);
             // x_q - x_p.
             let d = -cd.d;
-            let nq = cn[q].xy;
+            let nq = cn[place(q)].xy;
             let w = candidate(np, nq, d, op, oq, hp, bodies[mq.z].h).x;
             if (w < 0.0) {
                 continue;
@@ -392,7 +392,7 @@ fn entries(p: u32, count: bool) -> Entries {
     let pres = max(push, 0.0);
     // The dashpot would pull harder than the spring pushes: the pass lets go.
     let clipped = push < 0.0;
-    let a = area[p];
+    let a = area_of(p);
     // The spring's derivative (physics::penalty::gap_bar) and, through the
     // same derivative, dPhi/dt at the booking velocities.
     var keep = vec2<f32>(0.0);
@@ -459,7 +459,7 @@ fn entries(p: u32, count: bool) -> Entries {
                 }
                 let oq = bitcast<f32>(mq.y);
                 let d = -cd.d;
-                let cnq = cn[q];
+                let cnq = cn[place(q)];
                 let nq = cnq.xy;
                 let hq = bodies[mq.z].h;
                 let wg = candidate(np, nq, d, op, oq, hp, hq);
@@ -525,10 +525,6 @@ fn pass1_at(p: u32) {
     if (!MID && LEAP != 3u && nbo[p].z > 0.0) {
         centry[p] = e.entry;
     }
-    // Where the leapfrog's list overflowed, pass 2 makes the entries again.
-    if (overflowed()) {
-        return;
-    }
     if (LEAP == 3u && !RIGID) {
         // The booking without rigid bodies: no partner hands this particle
         // heat, so its own pass books everything pass 2 would.
@@ -536,26 +532,26 @@ fn pass1_at(p: u32) {
             book(p, vec2<f32>(e.own.z, e.share.w));
         }
         // The observations read the pass's nominal force.
-        cown[slot(p)] = e.own;
+        cown[p] = e.own;
         store_energy(p, e.stored);
         return;
     }
-    let k = slot(p);
-    cown[k] = e.own;
-    cshare[k] = e.share;
-    cbar0[k] = e.bar0;
-    cbar1[k] = e.bar1;
-    ckeep[k] = e.keep;
+    cown[own_at(p)] = e.own;
+    cshare[own_at(p)] = e.share;
+    if (nbo[p].z > 0.0) {
+        let k = place(p);
+        cbar0[k] = e.bar0;
+        cbar1[k] = e.bar1;
+        ckeep[k] = e.keep;
+    }
     store_energy(p, e.stored);
 }
 
-// Boundary particle p's entries for pass 2: stored by pass 1, or made again.
+// Boundary particle p's entries for pass 2, as pass 1 stored them.
 fn entries_of(p: u32) -> Entries {
-    if (overflowed()) {
-        return entries(p, false);
-    }
-    let k = slot(p);
-    return Entries(cown[k], cshare[k], cbar0[k], cbar1[k], ckeep[k], 0.0, 0.0);
+    let k = place(p);
+    let o = own_at(p);
+    return Entries(cown[o], cshare[o], cbar0[k], cbar1[k], ckeep[k], 0.0, 0.0);
 }
 
 // Pass 2 at particle q: the dashpot shares and the spring's derivative its
@@ -579,7 +575,7 @@ fn pass2_at(q: u32) {
     var n_bar = vec2<f32>(0.0);
     let cs = consts();
     let wk = walker(q);
-    let cnq = cn[q];
+    let cnq = cn[place(q)];
     let nq = cnq.xy;
     let hq = bodyq.h;
     let fbq = f32(bq);
@@ -595,7 +591,7 @@ fn pass2_at(q: u32) {
             if (mp.z == bq || nbo[p].z <= 0.0) {
                 continue;
             }
-            let np = cn[p].xy;
+            let np = cn[place(p)].xy;
             let op = bitcast<f32>(mp.y);
             let hp = bodies[mp.z].h;
             let wg = candidate(np, nq, cd.d, op, oq, hp, hq);
@@ -627,7 +623,7 @@ fn pass2_at(q: u32) {
         beta = dot(perp(nq), n_bar) / cnq.z;
     }
     if (LEAP != 3u) {
-        bt[q] = beta;
+        bt[place(q)] = beta;
     }
     if (beta != 0.0) {
         // g_q moves with q against each neighbour j by V0_j grad grad W.
@@ -643,9 +639,7 @@ fn pass2_at(q: u32) {
                     continue;
                 }
                 f += hess_times(pr.d, pr.dist, pr.hij, b) * (bitcast<f32>(mj.x) / rho0);
-                if (atomicExchange(&claim[cd.j], 1u) == 0u) {
-                    band[atomicAdd(&spread_args[0], 1u)] = cd.j;
-                }
+                claim_spread(cd.j);
             }
         }
     }
@@ -687,48 +681,21 @@ fn pass2_at(q: u32) {
     }
 }
 
-// The spread pass: each particle on the list pass 2 made gathers the
-// spring's pull through the normals of its boundary neighbours,
-// -V0_j grad grad W (x_P - x_j) dPhi/dg_P, and clears its claim. CPU twin:
-// the spread forces of cpu::contact::penalty_booked.
+// The spread pass, where it is a pass of its own (the leapfrog, and the
+// stage alone): each particle pass 2 claimed gathers the spring's pull
+// through its boundary neighbours' normals (spread.wgsl). The midpoint
+// rule's steps gather it in their advance passes instead (advance.wgsl).
 @compute @workgroup_size(WG)
 fn contact_spread(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let k = flat_index(gid, nwg);
-    if (k >= atomicLoad(&spread_args[0])) {
+    let j = flat_index(gid, nwg);
+    if (j >= params.n) {
         return;
     }
-    let j = band[k];
-    atomicStore(&claim[j], 0u);
-    if (LEAP >= 2u && ctl.dt == 0.0) {
+    let f = spread_force(j);
+    if (all(f == vec2<f32>(0.0)) || (LEAP >= 2u && ctl.dt == 0.0)) {
         return;
     }
-    let mj = pinfo[j];
-    let bj = mj.z;
-    let body = bodies[bj];
-    if (body.rigid != 0u) {
-        return;
-    }
-    let cs = consts();
-    let wk = walker(j);
-    var f = vec2<f32>(0.0);
-    for (var row = 0u; row < scan_rows(); row++) {
-        let span = row_span(wk.hm, row);
-        for (var kk = span.start; kk < span.end; kk++) {
-            let cd = cand(wk, kk, cs);
-            let p = cd.j;
-            let mp = pinfo[p];
-            let pr = body_pair(wk, cd, mp.z, span, body.h, bj);
-            if (!pr.inside || pr.dist <= 0.0 || nbo[p].z <= 0.0) {
-                continue;
-            }
-            let beta = bt[p];
-            if (beta != 0.0) {
-                f -= hess_times(pr.d, pr.dist, pr.hij, perp(cn[p].xy) * beta);
-            }
-        }
-    }
-    let m = bitcast<f32>(mj.x);
-    f *= m / body.rho0;
+    let m = bitcast<f32>(pinfo[j].x);
     if (LEAP == 2u) {
         dv[j] += f / m;
         vkick[j] = vkick[j] + f * (0.5 * ctl.dt / m);

@@ -38,25 +38,29 @@
 // dispatch over the list of boundary particles the kinematics pass made.
 @group(0) @binding(57) var<storage, read_write> vkick: array<vec2<f32>>;
 @group(0) @binding(65) var<storage, read_write> surf_args: array<u32>;
-// Per boundary particle (contact): (n, |g|, omega), the contact normal
+// Per boundary particle (contact), at its place on the list
+// (kinematics.wgsl, list_surface): (n, |g|, omega), the contact normal
 // n = g/|g| and its turning rate, dn/dt = omega perp(n).
 @group(0) @binding(66) var<storage, read_write> cn: array<vec4<f32>>;
-// The contact's spread list's count (contact.wgsl), zeroed here, before
-// the contact passes of the evaluation.
-@group(0) @binding(73) var<storage, read_write> spread_args: array<u32>;
 // Entry overlaps (contact.wgsl): a particle off the boundary at a base
 // state has none.
 @group(0) @binding(74) var<storage, read_write> centry: array<f32>;
 
 // Workgroups of the contact's indirect dispatch (surf_args[1..4]): one a
-// `WG` listed particles, or one a `WG` particles where the list overflowed.
+// `WG` listed particles.
 fn size_contact() {
-    let count = surf_args[0];
-    var walkers = count;
-    if (count > params.surf_cap) {
-        walkers = params.n;
-    }
+    let walkers = min(surf_args[0], params.surf_cap);
     surf_args[1] = min((walkers + WG - 1u) / WG, params.surf_groups);
+}
+
+// Where particle i's contact area is: the leapfrog carries it a particle
+// (its next step's reductions read it); the midpoint rule keeps it on the
+// list (a boundary particle's place, kinematics.wgsl).
+fn area_at(i: u32) -> u32 {
+    if (LEAP == 0u) {
+        return u32(nbo[i].w);
+    }
+    return i;
 }
 
 // mu = rho/rho0 - 1 of particle j: in a leapfrog step the n+1 value its
@@ -185,9 +189,6 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if (LEAP == 2u && CONTACT && i == 0u) {
         size_contact();
     }
-    if (CONTACT && i == 0u) {
-        spread_args[0] = 0u;
-    }
     // A leapfrog step of zero length leaves the carried rates as they are.
     if (i >= params.n || (LEAP >= 2u && ctl.dt == 0.0)) {
         return;
@@ -212,7 +213,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             dv[i] = vec2<f32>(0.0);
             dr[i].y = 0.0;
         }
-        if (CONTACT) {
+        if (CONTACT && LEAP != 0u) {
             area[i] = 0.0;
         }
         return;
@@ -289,7 +290,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             nc = sums.g0 / gl;
             om = dot(perp(nc), sums.gdot) / gl;
         }
-        cn[i] = vec4<f32>(nc, gl, om);
+        cn[u32(nbo[i].w)] = vec4<f32>(nc, gl, om);
     }
     if (LEAP == 3u) {
         if (!rigid) {
@@ -313,14 +314,14 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         dr[i].y = dr[i].y + de * ctl.dt;
     }
     if (CONTACT) {
-        var a = 0.0;
         if (boundary) {
-            if (DIM == 1u) {
-                a = 1.0;
-            } else {
+            var a = 1.0;
+            if (DIM != 1u) {
                 a = line_integral(hi) / sums.sw;
             }
+            area[area_at(i)] = a;
+        } else if (LEAP != 0u) {
+            area[i] = 0.0;
         }
-        area[i] = a;
     }
 }

@@ -18,6 +18,9 @@
 @group(0) @binding(16) var<storage, read_write> bstart_w: array<atomic<u32>>;
 @group(0) @binding(17) var<storage, read_write> bsum: array<u32>;
 @group(0) @binding(18) var<storage, read_write> blist_w: array<u32>;
+// The length of the contact's list of boundary particles, which the
+// evaluation's kinematics pass fills (kinematics.wgsl, list_surface).
+@group(0) @binding(65) var<storage, read_write> surf_args: array<u32>;
 
 const SCAN: u32 = 256u;
 var<workgroup> sh: array<u32, 256>;
@@ -25,6 +28,9 @@ var<workgroup> sh: array<u32, 256>;
 @compute @workgroup_size(WG)
 fn grid_clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let b = flat_index(gid, nwg);
+    if (CONTACT && b == 0u) {
+        surf_args[0] = 0u;
+    }
     if (b >= params.buckets) {
         return;
     }

@@ -41,27 +41,48 @@
 @group(0) @binding(53) var<storage, read_write> vstar: array<vec2<f32>>;
 // The neighbour mask (common.wgsl), for the forces pass.
 @group(0) @binding(9) var<storage, read_write> nmask: array<vec2<u32>>;
-// The leapfrog contact's list of boundary particles and its length
-// (contact.wgsl, which says how they are used).
+// The contact's list of boundary particles and its length (contact.wgsl,
+// which says how they are used).
 @group(0) @binding(64) var<storage, read_write> surf: array<u32>;
 @group(0) @binding(65) var<storage, read_write> surf_args: array<atomic<u32>>;
 
-// The leapfrog step's surface of particle i (normal, boundary flag), and a
-// boundary particle put on the contact's list, its place there in nbo.w
-// (as a float, exact below 2^24; where the contact's force passes keep its
-// entries, contact.wgsl) until the booking stores its spring energy there
-// (zero off the boundary). The list's slots follow the atomic counter, so
-// their order varies from run to run; no result depends on it (each slot's
-// thread writes only its own particle's entries). A particle past the
-// list's end is only counted: the contact then walks every particle.
-fn leap_surface(i: u32, gpsi: vec2<f32>, hi: f32) {
-    let sf = surface_of(gpsi, hi);
-    var place = 0.0;
+// The failure code (GpuSolver::instability) of a list of boundary
+// particles more than three quarters full: the host makes it longer and
+// the run goes on.
+const LIST_FULL: u32 = 7u;
+
+// Particle i's surface (normal, boundary flag) into nbo and, with contact,
+// a boundary particle's place on the list of boundary particles in nbo.w
+// (as a float, exact below 2^24): the contact keeps what a boundary
+// particle carries between its passes there, on as many places as the
+// boundary has, not one a particle. The places follow the atomic counter,
+// so their order varies from run to run; no result depends on it (each
+// place is written only by its own particle's threads). A list more than
+// three quarters full stops the run's steps after this one (a zero-length
+// step, as after a failure, with the peak length in the control block):
+// the host lengthens it and goes on (GpuSolver::run_batch). A particle
+// past the end gets no place and is not a boundary particle here; the
+// host reports that evaluation as a failure.
+fn list_surface(i: u32, gpsi: vec2<f32>, hi: f32) {
+    var sf = surface_of(gpsi, hi);
+    var place = -1.0;
     if (CONTACT && sf.z > 0.0) {
         let k = atomicAdd(&surf_args[0], 1u);
-        if (k < params.surf_cap) {
+        let cap = params.surf_cap;
+        // (The midpoint evaluation of a zero-length step reads buffers
+        // that advance_half left as they were, and is discarded.)
+        if (cap < params.n && k + 1u > cap - cap / 4u && !(MID && ctl.dt == 0.0)) {
+            atomicMax(&ctl.list_peak, k + 1u);
+            if (atomicLoad(&ctl.fail_step) == NONE) {
+                atomicMin(&ctl.fail_step, ctl.step);
+                atomicMin(&ctl.fail_code, LIST_FULL);
+            }
+        }
+        if (k < cap) {
             surf[k] = i;
             place = f32(k);
+        } else {
+            sf.z = 0.0;
         }
     }
     nbo[i] = vec4<f32>(sf, place);
@@ -271,7 +292,7 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     let rigid = wk.rigid;
     let ks = wk.ks;
     let l = wk.l;
-    nbo[i] = vec4<f32>(surface_of(ks.gpsi, body.h), 0.0);
+    list_surface(i, ks.gpsi, body.h);
     let mu = r[i].x;
     let si = s[i];
     stress_point(i, body, mu, r[i].y, si);
@@ -328,7 +349,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     let si = ds[i];
     if (rigid) {
         // A rigid body keeps its velocity and reference state.
-        leap_surface(i, ks.gpsi, hi);
+        list_surface(i, ks.gpsi, hi);
         rdt[i].x = mu;
         stress_point(i, body, mu, r[i].y, si);
         vstar[i] = v[i];
@@ -340,7 +361,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     let gv = velocity_gradient(ks.gsum, l);
     let mu1 = mu + (-(1.0 + mu) * (gv.x + gv.w)) * dt;
     let s1 = plastic_return(si + stress_rate(body.g, si, gv) * dt, body);
-    leap_surface(i, ks.gpsi, hi);
+    list_surface(i, ks.gpsi, hi);
     rdt[i].x = mu1;
     ds[i] = s1;
     stress_point(i, body, mu1, r[i].y + rdt[i].y * h, s1);

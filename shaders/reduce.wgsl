@@ -123,7 +123,12 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
                     return f;
                 }
                 // Its pressure p.
-                let ar = area[i];
+                // (The midpoint rule keeps the area on the list of
+                // boundary particles; forces.wgsl, area_at.)
+                var ar = area[i];
+                if (LEAP == 0u) {
+                    ar = area[u32(nbo[i].w)];
+                }
                 if (ar > 0.0) {
                     return 2.0 * f / ar;
                 }
@@ -131,11 +136,11 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
             }
             return 0.0;
         }
-        // The stored spring energy, left by the contact in sr2c.x (in
-        // nbo.w by the leapfrog's, contact.wgsl).
+        // The stored spring energy, left by the contact in sr2c.x
+        // (contact.wgsl, store_energy).
         case 8u: {
-            if (LEAP != 0u) {
-                return nbo[i].w;
+            if (LEAP != 0u && nbo[i].z <= 0.0) {
+                return 0.0;
             }
             return sr2c[i].x;
         }

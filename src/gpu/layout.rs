@@ -92,6 +92,10 @@ pub struct Control {
     /// The energy guard's limit ([`crate::model::Model::guards_energy`]):
     /// negative until the first state sets it.
     pub energy_limit: f32,
+    /// The longest the contact's list of boundary particles has been since
+    /// the host last looked, where more than three quarters full
+    /// (kinematics.wgsl, list_surface).
+    pub list_peak: u32,
 }
 
 /// Field offsets of a host struct, for the layout check.
@@ -167,7 +171,8 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 fallback_now,
                 fallback_max,
                 multi_partner,
-                energy_limit
+                energy_limit,
+                list_peak
             ),
         ),
     ]

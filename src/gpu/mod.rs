@@ -8,7 +8,7 @@
 //! | cell list: cells, count, two-pass prefix sum, scatter, per-bucket sort | `grid.wgsl` | [`crate::cpu::neighbours`] |
 //! | correction, colour gradient, EOS, velocity gradient, rates | `kinematics.wgsl` | [`crate::cpu::kinematics`], [`crate::cpu::eos_and_stress`] |
 //! | momentum, energy, contact area | `forces.wgsl` | [`crate::cpu::forces`] |
-//! | contact pass 1 and 2 (only with contact) | `contact.wgsl` | [`crate::cpu::contact`] |
+//! | contact pass 1 and 2, and the spread of the spring's pull through the normals (only with contact; the midpoint rule's advance passes gather the spread) | `contact.wgsl`, `spread.wgsl` | [`crate::cpu::contact`] |
 //! | CFL minimum, time, observations | `reduce.wgsl` | [`crate::cpu::cfl_step`], [`crate::probe`] |
 //! | midpoint half step; then the evaluation again, adding `Δt k2` in place; positions and checks | `advance.wgsl`, the passes at the midpoint | `cpu::advance` |
 //! | every 16 steps: particles reordered by cell | `reorder.wgsl` | (none needed) |
@@ -32,9 +32,9 @@
 //! full neighbour walk is the kinematic pass's: it leaves each particle a
 //! 64-bit mask of which of its candidates are SPH pairs, and the momentum
 //! and energy walks (the forces pass, twice) visit only those, in the same order
-//! (`common.wgsl`, [`work::GridView::count_masked`]); it also lists the
-//! boundary particles, and the contact's gathers run over that list
-//! (`contact.wgsl`). Its rates `a_n`, `de_n` (and the contact's heat and
+//! (`common.wgsl`, [`work::GridView::count_masked`]); the contact's
+//! gathers run over the list of boundary particles that the kinematics
+//! pass makes in either integrator (`contact.wgsl`). Its rates `a_n`, `de_n` (and the contact's heat and
 //! spring rates) are carried in buffers of their own, and checkpoints hold
 //! them with what the next step's reductions read.
 //!
@@ -137,17 +137,21 @@ fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
     [("cshare", Some("lmat")), ("cown", own_home)]
 }
 
-/// Entries of the leapfrog contact's list of boundary particles
-/// (contact.wgsl) for `n` particles: the boundary of a body large enough to
-/// matter for speed is a small share of it (1.4 % of the benchmark's disks
-/// at 1e5, less at larger sizes), so a sixteenth and a margin, 0.25 bytes
-/// a particle; a step with more boundary particles walks every particle.
+/// Places on the contact's list of boundary particles (kinematics.wgsl,
+/// list_surface) that a solver for `n` particles starts with: the boundary
+/// of a body large enough to matter for memory is a small share of it
+/// (3.2 % of the benchmark's disks at 2e4, 1.4 % at 1e5, 0.25 % at 4e6),
+/// so a thirty-second and a margin: 2.4 bytes a particle at 4e6 for the
+/// 76 bytes a place holds. A list that the state a run starts from fills
+/// past three quarters is lengthened before its first step, and one that
+/// fills so during the run pauses it to be made twice as long
+/// ([`GpuSolver::run_batch`]).
 fn surf_capacity(n: usize) -> u32 {
-    (n / 16 + 4096).min(n).min(MAX_SURF_CAP) as u32
+    (n / 32 + 512).min(n).min(MAX_SURF_CAP) as u32
 }
 
 /// The most entries the list of boundary particles may have: the kinematics pass writes
-/// a particle's place there as a float (kinematics.wgsl, leap_surface).
+/// a particle's place there as a float (kinematics.wgsl, list_surface).
 const MAX_SURF_CAP: usize = 1 << 24;
 
 /// Where the leapfrog's neighbour masks (common.wgsl) live: with contact in
@@ -550,9 +554,23 @@ pub struct StageOutputs {
 pub struct GpuOptions {
     pub max_workgroups_per_dimension: Option<u32>,
     pub max_binding_size: Option<u64>,
-    /// Entries of the leapfrog contact's list of boundary particles, in
-    /// place of `surf_capacity`'s (tests: a list that overflows).
+    /// Places on the contact's list of boundary particles to start with,
+    /// in place of `surf_capacity`'s (tests: a list that grows).
     pub surf_capacity: Option<u32>,
+    /// The list is not checked against the state before the first step
+    /// (tests: a list that fills during a run).
+    pub unchecked_list: bool,
+}
+
+/// The grid a solver's reference positions are given in: its origin, cell
+/// size and row stride, fixed by the state it was made from. A solver
+/// remade for a longer list keeps its predecessor's
+/// ([`GpuSolver::run_batch`]).
+#[derive(Debug, Clone, Copy)]
+struct Frame {
+    origin: DVec2,
+    cell: f64,
+    row_stride: u32,
 }
 
 /// A device state as stored: the buffers that carry a run from step to
@@ -594,6 +612,24 @@ pub struct GpuSolver {
     /// Grid origin and cell size: the frame of the reference positions.
     origin: DVec2,
     cell: f64,
+    /// What the solver was made from, to remake it with a longer list of
+    /// boundary particles ([`GpuSolver::run_batch`]).
+    probes: Vec<Resolved>,
+    opts: GpuOptions,
+    /// The list has been checked against the state the steps start from.
+    list_checked: bool,
+    /// The last batch paused with the list this full.
+    list_full: Option<u32>,
+}
+
+/// The failure code of a contact list more than three quarters full
+/// (kinematics.wgsl, list_surface): the steps pause for a longer list.
+const LIST_FULL: u32 = 7;
+
+/// The next length of a list of `cap` places that held `count` boundary
+/// particles: twice as long, and at least twice the count.
+fn grown_capacity(cap: u32, count: u32, n: usize) -> u32 {
+    (2 * cap.max(count)).min(n as u32).min(MAX_SURF_CAP as u32)
 }
 
 /// `(hi, lo)` f32 pair of an f64.
@@ -625,6 +661,20 @@ impl GpuSolver {
         end_time: f64,
         opts: GpuOptions,
     ) -> Result<Self, String> {
+        Self::build(ctx, model, state, probes, end_time, opts, None)
+    }
+
+    /// The solver for a state, on the grid `frame` where given (else the
+    /// state's own).
+    fn build(
+        ctx: Arc<GpuContext>,
+        model: Model,
+        state: &State,
+        probes: &[Resolved],
+        end_time: f64,
+        opts: GpuOptions,
+        frame: Option<Frame>,
+    ) -> Result<Self, String> {
         let n = model.len();
         let buckets = bucket_count(n);
         let red_groups = (n as u32).div_ceil(RED_CHUNK).max(1);
@@ -637,14 +687,25 @@ impl GpuSolver {
         // margin of 1e-3 cells up to 2 covers the f32 rounding of a
         // particle's place in its cell (1e-5 cells at 100 cells from its
         // reference cell).
-        let cell = h_max * CELL_OVER_H;
         let reach = (2.0 / CELL_OVER_H + REACH_MARGIN) as f32;
-        let (lo, hi) = crate::math::bounds(&state.x);
-        let origin = lo - DVec2::splat(1.5 * cell);
+        let frame = frame.unwrap_or_else(|| {
+            let cell = h_max * CELL_OVER_H;
+            let (lo, hi) = crate::math::bounds(&state.x);
+            let origin = lo - DVec2::splat(1.5 * cell);
+            Frame {
+                origin,
+                cell,
+                row_stride: ((hi.x - origin.x) / cell).floor() as u32 + 3,
+            }
+        });
+        let Frame {
+            origin,
+            cell,
+            row_stride,
+        } = frame;
         // Positions are observed relative to the grid origin; the plan adds
         // it back in f64.
         let plan = ProbePlan::new(probes, &model, origin);
-        let row_stride = ((hi.x - origin.x) / cell).floor() as u32 + 3;
         let (end_hi, end_lo) = split(end_time);
         let maxd = opts
             .max_workgroups_per_dimension
@@ -654,7 +715,7 @@ impl GpuSolver {
             .max(1);
         let leapfrog = model.integrator == Integrator::Leapfrog;
         let contact = model.contact;
-        let surf_cap = if leapfrog && contact {
+        let surf_cap = if contact {
             opts.surf_capacity
                 .unwrap_or_else(|| surf_capacity(n))
                 .clamp(1, MAX_SURF_CAP as u32)
@@ -832,8 +893,7 @@ impl GpuSolver {
             }
             if contact {
                 make("qrate", 8 * nn, None)?;
-                make("surf", 4 * surf_cap as u64, None)?;
-                // The force passes' entries, one a listed particle.
+                // The force passes' entries, on the list.
                 for name in ["cown_e", "cshare_e"] {
                     make(name, 16 * surf_cap as u64, None)?;
                 }
@@ -862,17 +922,23 @@ impl GpuSolver {
                 8 * nn,
                 Some(bytemuck::cast_slice(&vec![0f32; 2 * n])),
             )?;
-            make("area", 4 * nn, None)?;
-            // The contact normals and the spring's derivative (contact.wgsl).
+            // What a boundary particle carries between the contact's passes
+            // on the list of boundary particles (kinematics.wgsl,
+            // list_surface): the list, the normals, the spring's derivative
+            // and dPhi/dg (contact.wgsl); the midpoint rule's contact areas
+            // too, which the leapfrog carries a particle from step to step
+            // (forces.wgsl, area_at).
+            let cap = surf_cap as u64;
+            make("surf", 4 * cap, None)?;
             for name in ["cn", "cbar0", "cbar1", "ckeep"] {
-                make(name, 16 * nn, None)?;
+                make(name, 16 * cap, None)?;
             }
-            for name in ["bt", "band", "claim"] {
-                make(name, 4 * nn, None)?;
-            }
+            make("bt", 4 * cap, None)?;
+            make("area", 4 * if leapfrog { nn } else { cap }, None)?;
+            // The spread's claims, a bit a particle (spread.wgsl).
+            make("claim", 4 * nn.div_ceil(32), None)?;
             let entry: Vec<f32> = state.entry.iter().map(|&e| e as f32).collect();
             make("centry", 4 * nn, Some(bytemuck::cast_slice(&entry)))?;
-            make("spread_args", 16, None)?;
             // The two gather buffers share memory with pass scratch where
             // the scene has it (below); the rest get their own.
             for (name, home) in contact_homes(&model) {
@@ -908,9 +974,10 @@ impl GpuSolver {
             Some(bytemuck::cast_slice(&bodies)),
         )?;
         make("ctl", CTL_BYTES, Some(bytemuck::bytes_of(&control)))?;
-        if leapfrog && contact {
-            // The contact list's (count, workgroups x, y, z): an indirect
-            // dispatch's arguments from byte 4 (contact.wgsl).
+        if contact {
+            // The contact list's (count, workgroups x, y, z): the
+            // leapfrog's indirect dispatch's arguments from byte 4
+            // (contact.wgsl).
             make_as(
                 "surf_args",
                 16,
@@ -1207,7 +1274,9 @@ impl GpuSolver {
                     "advance",
                     "advance_full",
                     Size::Particles,
-                    &[("u_w", "u")],
+                    // The spread reads the midpoint's positions, which
+                    // its cell list was made at.
+                    &[("u_w", "u"), ("v_w", "v"), ("u", "um")],
                 )?)
             },
             end_step: kernel("reduce", "end_step", Size::One, &[])?,
@@ -1242,7 +1311,7 @@ impl GpuSolver {
                         ("t_s", "sm"),
                         ("t_pinfo", "sr2c"),
                         ("t_qheat", "cown"),
-                        ("t_centry", "bt"),
+                        ("t_centry", "nbo"),
                     ],
                 )?)
             },
@@ -1269,9 +1338,107 @@ impl GpuSolver {
             first_pending: leapfrog,
             origin,
             cell,
+            probes: probes.to_vec(),
+            opts,
+            list_checked: opts.unchecked_list,
+            list_full: None,
         };
         solver.refresh_probe_slots();
         Ok(solver)
+    }
+
+    /// The contact's list of boundary particles made `cap` places long: the
+    /// solver remade on the same grid and the device state carried over,
+    /// byte for byte (the list itself is rebuilt by every evaluation).
+    fn lengthen_list(&mut self, cap: u32) -> Result<(), String> {
+        let raw = self.save_raw();
+        let state = self.download();
+        let opts = GpuOptions {
+            surf_capacity: Some(cap),
+            ..self.opts
+        };
+        let frame = Frame {
+            origin: self.origin,
+            cell: self.cell,
+            row_stride: self.params.row_stride,
+        };
+        let end = self.params.end_hi as f64 + self.params.end_lo as f64;
+        let mut g = Self::build(
+            self.ctx.clone(),
+            self.model.clone(),
+            &state,
+            &self.probes,
+            end,
+            opts,
+            Some(frame),
+        )?;
+        g.restore_raw(&raw)?;
+        g.first_pending = self.first_pending;
+        g.list_checked = true;
+        g.clear_list_full();
+        *self = g;
+        Ok(())
+    }
+
+    /// The control block's record of a full list cleared: that pause is
+    /// over (a failure of the state itself is kept).
+    fn clear_list_full(&self) {
+        let mut ctl = self.control();
+        if ctl.fail_code == LIST_FULL {
+            ctl.fail_step = NONE;
+            ctl.fail_code = NONE;
+        }
+        ctl.list_peak = 0;
+        self.ctx
+            .queue
+            .write_buffer(self.buf("ctl"), 0, bytemuck::bytes_of(&ctl));
+    }
+
+    /// Before a solver's first steps: the list of boundary particles long
+    /// enough for the state it starts from, with a quarter to spare (the
+    /// steps only pause to lengthen it as the boundary grows).
+    fn make_list_room(&mut self) -> Result<(), String> {
+        if self.list_checked || !self.model.contact {
+            return Ok(());
+        }
+        self.list_checked = true;
+        loop {
+            let cap = self.params.surf_cap;
+            if cap as usize >= self.n {
+                return Ok(());
+            }
+            let count = self.boundary_count();
+            self.clear_list_full();
+            if count <= cap - cap / 4 {
+                return Ok(());
+            }
+            self.lengthen_list(grown_capacity(cap, count, self.n))?;
+        }
+    }
+
+    /// The boundary particles at the current state (the cell list and the
+    /// kinematics pass, outside a step: the leapfrog's carried arrays they
+    /// overwrite are put back).
+    fn boundary_count(&mut self) -> u32 {
+        let kept = self.k.leap.is_some().then(|| self.save_raw());
+        let pending = self.first_pending;
+        let mut enc = self.ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            self.encode_grid(&mut pass, Var::Base);
+            pass.run(&self.k.eval[Var::Base as usize].kinematics);
+        }
+        let d = self.read_buffers(Some(enc), &[("surf_args", 4)]);
+        if let Some(raw) = kept {
+            self.restore_raw(&raw).expect("the state just saved");
+            self.first_pending = pending;
+        }
+        self.leap_clear();
+        let at = std::mem::offset_of!(Control, fallback_now) as u64;
+        self.ctx
+            .queue
+            .write_buffer(self.buf("ctl"), at, bytemuck::bytes_of(&0u32));
+        bytemuck::pod_read_unaligned(&d[0])
     }
 
     /// Find the probed particles' slots (nothing without particle probes).
@@ -1322,13 +1489,20 @@ impl GpuSolver {
         pass.run(&k.sort);
     }
 
+    /// An evaluation: the cell list, the kinematics, the forces and the
+    /// contact. The midpoint rule's advance passes gather the contact's
+    /// spread (advance.wgsl); the leapfrog's first evaluation runs it.
     fn encode_eval(&self, pass: &mut impl Dispatches, var: Var) {
         self.encode_grid(pass, var);
         let e = &self.k.eval[var as usize];
         pass.run(&e.kinematics);
         pass.run(&e.forces);
-        for k in e.contact.iter().flat_map(ContactKernels::all) {
-            pass.run(k);
+        if let Some(c) = &e.contact {
+            pass.run(&c.pass1);
+            pass.run(&c.pass2);
+            if self.k.leap.is_some() {
+                pass.run(&c.spread);
+            }
         }
     }
 
@@ -1367,7 +1541,7 @@ impl GpuSolver {
         copy("sr2c", "pinfo", 16);
         if self.model.contact {
             copy("cown", "qheat", 8);
-            copy("bt", "centry", 4);
+            copy("nbo", "centry", 4);
         }
         self.encode_map_slots(enc);
     }
@@ -1570,8 +1744,50 @@ impl GpuSolver {
 
     /// Run up to `steps` steps in one submission and deliver the states
     /// they observed.
+    ///
+    /// A list of boundary particles that fills past three quarters pauses
+    /// the steps (the batch ends early, the state where it paused): the
+    /// solver is remade with a list twice as long, and the next batch goes
+    /// on from there, bitwise as if the list had been long enough from the
+    /// start. A boundary that outgrows the list within a step, or a longer
+    /// list the adapter has no room for, is the batch's failure.
     pub fn run_batch(&mut self, steps: u32) -> Batch {
-        self.batch_with(steps, None).0
+        if let Err(e) = self.make_list_room() {
+            return self.list_failure(e);
+        }
+        let batch = self.batch_with(steps, None).0;
+        self.after_batch(batch)
+    }
+
+    /// A batch that paused for a full list: the list lengthened.
+    fn after_batch(&mut self, mut batch: Batch) -> Batch {
+        if let Some(count) = self.list_full.take() {
+            let cap = self.params.surf_cap;
+            if let Err(e) = self.lengthen_list(grown_capacity(cap, count, self.n)) {
+                batch.failure = self.list_failure(e).failure;
+            }
+        }
+        batch
+    }
+
+    /// A batch that could not go on for want of a longer list.
+    fn list_failure(&self, why: String) -> Batch {
+        let ctl = self.control();
+        Batch {
+            states: Vec::new(),
+            done: false,
+            failure: Some(Instability {
+                step: ctl.step as u64,
+                time: ctl.t_hi as f64 + ctl.t_lo as f64,
+                body: self.model.bodies[0].name.clone(),
+                particle: 0,
+                quantity: format!(
+                    "boundary particles, more than the contact's list of {} holds ({why})",
+                    self.params.surf_cap
+                ),
+                value: ctl.list_peak as f64,
+            }),
+        }
     }
 
     /// [`Self::run_batch`] with a timestamp after every dispatch: the same
@@ -1596,6 +1812,7 @@ impl GpuSolver {
         let steps = steps.min((wgpu::QUERY_SET_MAX_QUERIES - 1) / per_step);
         let mut timer = profile::StepTimer::new(&self.ctx.device, per_step * steps + 1);
         let (batch, ticks) = self.batch_with(steps, Some(&mut timer));
+        let batch = self.after_batch(batch);
         let ticks = ticks.expect("timestamps resolved with a timer");
         let period = self.ctx.queue.get_timestamp_period();
         Ok((batch, timer.profile(&ticks, period, steps)))
@@ -1661,6 +1878,12 @@ impl GpuSolver {
         };
         let mut batch = Batch::default();
         let failed = ctl.fail_step != NONE;
+        // A list that filled past three quarters pauses the steps as a
+        // failure does; one that overflowed within a step is one.
+        let paused = failed && ctl.fail_code == LIST_FULL && ctl.list_peak <= self.params.surf_cap;
+        if paused {
+            self.list_full = Some(ctl.list_peak);
+        }
         let reached = ctl.step as u64;
         self.encoded = reached;
         let done = ctl.zero_steps > self.zero_seen;
@@ -1687,7 +1910,7 @@ impl GpuSolver {
             self.last_dt = r[2] as f64;
         }
         batch.done = done && !failed;
-        if failed {
+        if failed && !paused {
             batch.failure = Some(self.instability(&ctl, row(ctl.fail_step as u64)));
         }
         batch
@@ -1702,6 +1925,20 @@ impl GpuSolver {
         let code = ctl.fail_code;
         let (id, q) = ((code / 8) as usize, code % 8);
         let time = row[0] as f64 + row[1] as f64;
+        if code == LIST_FULL {
+            return Instability {
+                step: ctl.fail_step as u64,
+                time,
+                body: self.model.bodies[0].name.clone(),
+                particle: 0,
+                quantity: format!(
+                    "boundary particles, more than the contact's list of {} holds (the \
+                     boundary grew by more than a quarter of it within one step)",
+                    self.params.surf_cap
+                ),
+                value: ctl.list_peak as f64,
+            };
+        }
         let guard = q == 6;
         let (quantity, value) = if q == 4 {
             ("time step".to_string(), row[2] as f64)
@@ -1766,6 +2003,7 @@ impl GpuSolver {
     /// the stop moves again. Takes effect from the next batch.
     pub fn set_stop_time(&mut self, t: f64) {
         let (hi, lo) = split(t);
+        (self.params.end_hi, self.params.end_lo) = (hi, lo);
         let at = std::mem::offset_of!(Params, end_hi) as u64;
         debug_assert_eq!(std::mem::offset_of!(Params, end_lo) as u64, at + 4);
         self.ctx
@@ -2224,8 +2462,9 @@ impl GpuSolver {
         }
         let mut names = vec![("vm", 8 * nn), ("rm", 8 * nn), ("ctl", CTL_BYTES)];
         if self.model.contact {
-            names.push(("area", 4 * nn));
-            names.push(("cn", 16 * nn));
+            let cap = self.params.surf_cap as u64;
+            names.push(("area", 4 * cap));
+            names.push(("cn", 16 * cap));
         }
         let second = self.read_buffers(Some(enc), &names);
 
@@ -2289,8 +2528,10 @@ impl GpuSolver {
         let dv2: &[[f32; 2]] = bytemuck::cast_slice(&second[0]);
         let dr2: &[[f32; 2]] = bytemuck::cast_slice(&second[1]);
         let ctl: Control = bytemuck::pod_read_unaligned(&second[2]);
+        // With contact, the areas and the contact's normals (forces.wgsl)
+        // at each boundary particle's place on the list; else the colour
+        // gradient's normals.
         let area: Option<&[f32]> = second.get(3).map(|a| bytemuck::cast_slice(a));
-        // The contact's normals (forces.wgsl), else the colour gradient's.
         let cn: Option<&[[f32; 4]]> = second.get(4).map(|a| bytemuck::cast_slice(a));
         let mut out = StageOutputs {
             neighbours: vec![Vec::new(); n],
@@ -2320,9 +2561,14 @@ impl GpuSolver {
             out.neighbours[i] = nb;
             out.visits[i] = dump_u[base + 127];
             out.l[i] = l[k].map(|x| x as f64);
-            let nk = cn.map_or(nbo[k], |c| c[k]);
-            out.normal[i] = DVec2::new(nk[0] as f64, nk[1] as f64);
             out.boundary[i] = nbo[k][2] > 0.0;
+            let place = nbo[k][3] as usize;
+            let nk = match cn {
+                Some(c) if out.boundary[i] => c[place],
+                Some(_) => [0.0; 4],
+                None => nbo[k],
+            };
+            out.normal[i] = DVec2::new(nk[0] as f64, nk[1] as f64);
             out.sr2[i] = [sr2c[k][0] as f64, sr2c[k][1] as f64, sr2c[k][2] as f64];
             out.c[i] = sr2c[k][3] as f64;
             out.drho[i] = self.model.material(i).rho0 * dr1[k][0] as f64;
@@ -2337,8 +2583,8 @@ impl GpuSolver {
             out.dv[i] = v2(dv2[k]);
             out.de[i] = dr2[k][1] as f64;
             out.contact_force[i] = (out.dv[i] - out.dv_sph[i]) * self.model.mass[i];
-            if let Some(a) = area {
-                out.area[i] = a[k] as f64;
+            if let Some(a) = area.filter(|_| out.boundary[i]) {
+                out.area[i] = a[place] as f64;
             }
         }
         out

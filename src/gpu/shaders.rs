@@ -5,6 +5,10 @@ use std::collections::BTreeMap;
 
 const COMMON: &str = include_str!("../../shaders/common.wgsl");
 
+/// The contact's spread (shaders/spread.wgsl), part of the stages that run
+/// it: the contact's own pass and the midpoint rule's advance passes.
+const SPREAD: &str = include_str!("../../shaders/spread.wgsl");
+
 /// Every stage file: `(name, source)`.
 pub const STAGES: &[(&str, &str)] = &[
     ("grid", include_str!("../../shaders/grid.wgsl")),
@@ -27,7 +31,12 @@ pub fn source(stage: &str, prelude: &str) -> String {
         .find(|s| s.0 == stage)
         .unwrap_or_else(|| panic!("no shader stage '{stage}'"))
         .1;
-    format!("{COMMON}\n{prelude}\n// ---- {stage}.wgsl ----\n{body}")
+    let spread = if matches!(stage, "contact" | "advance") {
+        SPREAD
+    } else {
+        ""
+    };
+    format!("{COMMON}\n{prelude}\n{spread}\n// ---- {stage}.wgsl ----\n{body}")
 }
 
 /// A prelude to check a stage alone with (tests): for `reduce`, one

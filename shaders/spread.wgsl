@@ -1,0 +1,55 @@
+// The spread of the spring's pull through the contact normals (CPU twin:
+// the spread forces of cpu::contact::penalty_booked). A boundary particle
+// P's normal is its colour gradient g_P = -sum_j V0_j grad W(x_P - x_j)
+// made unit, so the spring's dPhi/dg_P (pass 2 leaves it on the list as
+// beta perp(n_P), `bt`) pulls on every neighbour j of P's body by
+// -V0_j grad grad W (x_P - x_j) dPhi/dg_P. Pass 2 claims those j (a bit a
+// particle, `claim`); each claimed particle gathers its pull here and
+// clears its bit. Shared by the contact's own spread pass and the midpoint
+// rule's advance passes: the stage that includes it declares nbo, cn, bt
+// and claim.
+
+// Claim particle j for the spread (contact.wgsl, pass 2).
+fn claim_spread(j: u32) {
+    let bit = 1u << (j & 31u);
+    if ((atomicLoad(&claim[j >> 5u]) & bit) == 0u) {
+        atomicOr(&claim[j >> 5u], bit);
+    }
+}
+
+// The spread's force on particle j (zero where pass 2 did not claim it, or
+// on a rigid body), its claim cleared.
+fn spread_force(j: u32) -> vec2<f32> {
+    let bit = 1u << (j & 31u);
+    if ((atomicLoad(&claim[j >> 5u]) & bit) == 0u) {
+        return vec2<f32>(0.0);
+    }
+    atomicAnd(&claim[j >> 5u], ~bit);
+    let mj = pinfo[j];
+    let bj = mj.z;
+    let body = bodies[bj];
+    if (body.rigid != 0u) {
+        return vec2<f32>(0.0);
+    }
+    let cs = consts();
+    let wk = walker(j);
+    var f = vec2<f32>(0.0);
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(wk.hm, row);
+        for (var kk = span.start; kk < span.end; kk++) {
+            let cd = cand(wk, kk, cs);
+            let p = cd.j;
+            let mp = pinfo[p];
+            let pr = body_pair(wk, cd, mp.z, span, body.h, bj);
+            if (!pr.inside || pr.dist <= 0.0 || nbo[p].z <= 0.0) {
+                continue;
+            }
+            let k = u32(nbo[p].w);
+            let beta = bt[k];
+            if (beta != 0.0) {
+                f -= hess_times(pr.d, pr.dist, pr.hij, perp(cn[k].xy) * beta);
+            }
+        }
+    }
+    return f * (bitcast<f32>(mj.x) / body.rho0);
+}
