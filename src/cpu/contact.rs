@@ -408,7 +408,7 @@ fn normal_rates(
         .collect()
 }
 
-/// [`penalty`] with the forces of the velocities `st.v` but the heat and
+/// [`penalty()`] with the forces of the velocities `st.v` but the heat and
 /// the spring power booked at the velocities `book` (`None`: `st.v`): the
 /// leapfrog (`CpuSolver::step`) computes its forces at predicted velocities
 /// and books their work at the step's end, and the ledger closes only when
