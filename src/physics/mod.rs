@@ -3,6 +3,7 @@
 //! shaders of the GPU path).
 
 pub mod exact;
+pub mod johnson_cook;
 pub mod kernel;
 pub mod material;
 pub mod penalty;

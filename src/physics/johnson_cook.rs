@@ -1,0 +1,228 @@
+//! Johnson–Cook strength and failure as plain functions (Johnson & Cook,
+//! 1983 for the flow stress, 1985 for the failure strain):
+//!
+//! * flow stress `σ_y = (A + B ε_pⁿ)(1 + C ln ε̇*)(1 − T*ᵐ)`, with
+//!   `ε̇* = ε̇_p / ε̇_0` (rates below the reference give no softening:
+//!   `ln` of at least 1) and the homologous temperature
+//!   `T* = (T − T_room)/(T_melt − T_room)`, clamped to [0, 1];
+//! * failure strain `ε_f = (D1 + D2 exp(D3 σ*))(1 + D4 ln ε̇*)(1 + D5 T*)`
+//!   with the stress triaxiality `σ* = −p / σ_vm`;
+//! * the radial return of a trial deviatoric stress onto the hardening
+//!   yield surface at a fixed rate and temperature: the plastic strain
+//!   increment `Δε_p` that solves `q_trial − 3 G Δε_p = σ_y(ε_p + Δε_p)`
+//!   (von Mises, associated flow), found to round-off.
+
+/// The strength constants of one material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Strength {
+    /// Yield stress at zero plastic strain, Pa.
+    pub a: f64,
+    /// Hardening modulus, Pa.
+    pub b: f64,
+    /// Hardening exponent.
+    pub n: f64,
+    /// Strain-rate coefficient.
+    pub c: f64,
+    /// Thermal softening exponent.
+    pub m: f64,
+    /// Reference plastic strain rate ε̇_0, 1/s.
+    pub reference_strain_rate: f64,
+    /// Room and melt temperatures, K.
+    pub room_temperature: f64,
+    pub melt_temperature: f64,
+}
+
+impl Strength {
+    /// `(1 + C ln ε̇*)`, rates below the reference counting as the reference.
+    pub fn rate_factor(&self, strain_rate: f64) -> f64 {
+        let star = strain_rate / self.reference_strain_rate;
+        if star > 1.0 {
+            1.0 + self.c * star.ln()
+        } else {
+            1.0
+        }
+    }
+
+    /// The homologous temperature `T*`, clamped to [0, 1].
+    pub fn homologous(&self, temperature: f64) -> f64 {
+        ((temperature - self.room_temperature) / (self.melt_temperature - self.room_temperature))
+            .clamp(0.0, 1.0)
+    }
+
+    /// `(1 − T*ᵐ)`: 1 at or below room temperature, 0 at the melt.
+    pub fn thermal_factor(&self, temperature: f64) -> f64 {
+        let t = self.homologous(temperature);
+        if t <= 0.0 {
+            1.0
+        } else {
+            1.0 - t.powf(self.m)
+        }
+    }
+
+    /// The static hardening curve `A + B ε_pⁿ` and its slope.
+    fn hardening(&self, eps_p: f64) -> (f64, f64) {
+        if eps_p <= 0.0 {
+            // The slope is infinite at zero strain for n < 1; the return
+            // below brackets its root, so it never divides by it.
+            let slope = if self.n < 1.0 {
+                f64::INFINITY
+            } else if self.n == 1.0 {
+                self.b
+            } else {
+                0.0
+            };
+            return (self.a, slope);
+        }
+        let pow = eps_p.powf(self.n);
+        (self.a + self.b * pow, self.b * self.n * pow / eps_p)
+    }
+
+    /// The flow stress at plastic strain `eps_p`, plastic strain rate and
+    /// temperature.
+    pub fn flow_stress(&self, eps_p: f64, strain_rate: f64, temperature: f64) -> f64 {
+        self.hardening(eps_p).0 * self.rate_factor(strain_rate) * self.thermal_factor(temperature)
+    }
+
+    /// The plastic strain increment of a radial return from a trial von
+    /// Mises stress `q_trial` with shear modulus `g`, at plastic strain
+    /// `eps_p`, the rate and temperature factors held: 0 where the trial
+    /// state is inside the yield surface. Safeguarded Newton on a bracket
+    /// (the residual falls monotonically in Δε_p), to round-off.
+    pub fn return_increment(&self, q_trial: f64, g: f64, eps_p: f64, scale: f64) -> f64 {
+        let resid = |d: f64| {
+            let (s, slope) = self.hardening(eps_p + d);
+            (q_trial - 3.0 * g * d - scale * s, -3.0 * g - scale * slope)
+        };
+        if resid(0.0).0 <= 0.0 {
+            return 0.0;
+        }
+        let (mut lo, mut hi) = (0.0, q_trial / (3.0 * g));
+        let mut d = 0.5 * (lo + hi);
+        for _ in 0..200 {
+            let (f, df) = resid(d);
+            if f > 0.0 {
+                lo = d;
+            } else {
+                hi = d;
+            }
+            let newton = d - f / df;
+            if newton.is_finite() && newton >= lo && newton <= hi {
+                // Converged where Newton no longer moves.
+                let done = (newton - d).abs() <= 1e-15 * d;
+                d = newton;
+                if done {
+                    break;
+                }
+            } else {
+                d = 0.5 * (lo + hi);
+            }
+            if f == 0.0 || hi - lo <= 1e-15 * hi {
+                break;
+            }
+        }
+        d
+    }
+}
+
+/// The failure constants of one material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Failure {
+    pub d1: f64,
+    pub d2: f64,
+    pub d3: f64,
+    pub d4: f64,
+    pub d5: f64,
+}
+
+impl Failure {
+    /// The failure strain at stress triaxiality `triax` (−p/σ_vm), the
+    /// dimensionless rate `ε̇*` and homologous temperature `T*`.
+    pub fn failure_strain(&self, triax: f64, rate_star: f64, t_star: f64) -> f64 {
+        let rate = if rate_star > 1.0 {
+            1.0 + self.d4 * rate_star.ln()
+        } else {
+            1.0
+        };
+        (self.d1 + self.d2 * (self.d3 * triax).exp()) * rate * (1.0 + self.d5 * t_star)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 4340 steel (Johnson & Cook 1985, Table 1).
+    fn steel_4340() -> Strength {
+        Strength {
+            a: 792e6,
+            b: 510e6,
+            n: 0.26,
+            c: 0.014,
+            m: 1.03,
+            reference_strain_rate: 1.0,
+            room_temperature: 294.0,
+            melt_temperature: 1793.0,
+        }
+    }
+
+    #[test]
+    fn flow_stress_terms_each_alone() {
+        let s = steel_4340();
+        // Static, at room temperature: A + B eps^n.
+        let eps: f64 = 0.1;
+        let want = 792e6 + 510e6 * eps.powf(0.26);
+        assert!((s.flow_stress(eps, 1.0, 294.0) - want).abs() <= 1e-12 * want);
+        // The rate term alone: 1 + C ln(1e3).
+        let r = s.flow_stress(eps, 1e3, 294.0) / want;
+        assert!((r - (1.0 + 0.014 * 1e3f64.ln())).abs() < 1e-14);
+        // Slower than the reference: no softening.
+        assert_eq!(
+            s.flow_stress(eps, 1e-3, 294.0),
+            s.flow_stress(eps, 1.0, 294.0)
+        );
+        // The temperature term alone: T* = 0.5.
+        let t = 294.0 + 0.5 * (1793.0 - 294.0);
+        let r = s.flow_stress(eps, 1.0, t) / want;
+        assert!((r - (1.0 - 0.5f64.powf(1.03))).abs() < 1e-14);
+        // Melted: no strength; below room temperature: none gained.
+        assert_eq!(s.flow_stress(eps, 1.0, 2000.0), 0.0);
+        assert_eq!(
+            s.flow_stress(eps, 1.0, 200.0),
+            s.flow_stress(eps, 1.0, 294.0)
+        );
+    }
+
+    #[test]
+    fn the_return_lands_on_the_hardened_surface() {
+        let s = steel_4340();
+        let g = 77.5e9;
+        for (eps_p, q_trial) in [(0.0, 1.2e9), (0.0, 792.5e6), (0.05, 2.0e9), (0.3, 1.5e9)] {
+            let d = s.return_increment(q_trial, g, eps_p, 1.0);
+            let q = q_trial - 3.0 * g * d;
+            let y = s.flow_stress(eps_p + d, 1.0, 294.0);
+            assert!(d > 0.0, "{eps_p} {q_trial}: yields");
+            assert!((q - y).abs() <= 1e-12 * y, "{eps_p} {q_trial}: {q} vs {y}");
+        }
+        // Inside the surface: elastic.
+        assert_eq!(s.return_increment(700e6, g, 0.0, 1.0), 0.0);
+        assert_eq!(s.return_increment(0.9e9, g, 0.2, 1.0), 0.0);
+    }
+
+    #[test]
+    fn failure_strain_terms() {
+        // 4340 steel (Johnson & Cook 1985, Table 2).
+        let f = Failure {
+            d1: 0.05,
+            d2: 3.44,
+            d3: -2.12,
+            d4: 0.002,
+            d5: 0.61,
+        };
+        let base = 0.05 + 3.44 * (-2.12f64 / 3.0).exp();
+        assert!((f.failure_strain(1.0 / 3.0, 1.0, 0.0) - base).abs() < 1e-15);
+        let r = f.failure_strain(1.0 / 3.0, 1e4, 0.0) / base;
+        assert!((r - (1.0 + 0.002 * 1e4f64.ln())).abs() < 1e-14);
+        let r = f.failure_strain(1.0 / 3.0, 1.0, 0.5) / base;
+        assert!((r - 1.305).abs() < 1e-14);
+    }
+}
