@@ -47,10 +47,7 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (i >= params.n) {
         return;
     }
-    var spread = vec2<f32>(0.0);
-    if (CONTACT) {
-        spread = spread_force(i);
-    }
+    let spread = spread_force(i);
     // A zero-length step (past the stop, or after a failure) leaves the
     // state as it is: non-finite rates times zero would not.
     if (ctl.dt == 0.0) {
@@ -81,10 +78,7 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (i >= params.n) {
         return;
     }
-    var spread = vec2<f32>(0.0);
-    if (CONTACT) {
-        spread = spread_force(i);
-    }
+    let spread = spread_force(i);
     // A zero-length step (past the stop, or after a failure) leaves the
     // state as it is.
     if (ctl.dt == 0.0) {
@@ -99,7 +93,7 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         return;
     }
     var vn = v_w[i];
-    if (CONTACT && any(spread != vec2<f32>(0.0))) {
+    if (any(spread != vec2<f32>(0.0))) {
         vn += spread * (dt / bitcast<f32>(mi.x));
         v_w[i] = vn;
     }

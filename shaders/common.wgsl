@@ -129,6 +129,26 @@ struct Control {
     list_peak: atomic<u32>,
 }
 
+// A pass of a zero-length step (past the stop, or after a failure) that
+// has nothing to do: the leapfrog step's, and the midpoint evaluation's,
+// whose inputs advance_half left as they were and whose results nothing
+// reads. (The midpoint rule's evaluation at the base state still runs: the
+// reductions observe the state through it.)
+fn zero_length_pass() -> bool {
+    return (MID || LEAP >= 2u) && ctl.dt == 0.0;
+}
+
+// Where boundary particle i, at place `place` on the list of boundary
+// particles (its nbo.w, kinematics.wgsl), has its contact area: the
+// leapfrog carries the area a particle (its next step's reductions read
+// it); the midpoint rule keeps it on the list.
+fn area_index(i: u32, place: f32) -> u32 {
+    if (LEAP == 0u) {
+        return u32(place);
+    }
+    return i;
+}
+
 // Global invocation index of a 2-D dispatch of `WG`-wide workgroups
 // (dispatches past 65,535 workgroups wrap into y).
 fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {

@@ -11,14 +11,15 @@
 // at one particle; here each particle pairs with the first partner body its
 // neighbour scan meets, and such particles are counted).
 //
-// The leapfrog (common.wgsl, LEAP) runs both passes twice a step: for the
+// The leapfrog (common.wgsl, LEAP) runs the passes twice a step: for the
 // forces at the predicted velocity (LEAP = 2: `v` is vstar, `dv` the carried
 // a_{n+1}; pass 2 then kicks its particles to v_{n+1}), then for the
-// booking (LEAP = 3), after the energy walk: the same forces,
-// their dashpot heat and spring power at v_{n+1} (`vbook`), the heat added
-// to dr.y and the ledger advanced by half a step (CPU twin:
-// cpu::contact::penalty_booked). The stored spring energy goes to nbo.w
-// there, since the energy walk after the contact still reads sr2c.
+// booking (LEAP = 3), after the energy walk: the same forces, their
+// dashpot heat and spring power at v_{n+1} (`vbook`), the heat added to
+// dr.y and the ledger advanced by half a step (CPU twin:
+// cpu::contact::penalty_booked); only the booking stores the spring
+// energy, since the energy walk before it still reads sr2c
+// (store_energy). Without a rigid body the booking's pass 1 books alone.
 //
 // Where pass 1 leaves a particle's entries: what only boundary particles
 // carry (the normals, the spring's derivative, dPhi/dg for the spread) at
@@ -107,14 +108,6 @@ fn own_at(p: u32) -> u32 {
     return p;
 }
 
-// Where its contact area is (forces.wgsl, area_at).
-fn area_of(p: u32) -> f32 {
-    if (LEAP == 0u) {
-        return area[place(p)];
-    }
-    return area[p];
-}
-
 // Kernel weight W of the candidate pair (p, q) with normals np, nq and
 // d = x_q - x_p, with (dW/dr)/r (so grad_P W = -d times it), or a negative
 // weight when q is not a contact candidate of p (METHOD.md §8.2). Both
@@ -159,11 +152,10 @@ fn series(a: f32, ra: bool, b: f32, rb: bool) -> f32 {
 // as they are, and their readers look at the boundary flag first
 // (reduce.wgsl; advance.wgsl for qrate).
 fn contact_walkers(gid: vec3<u32>, nwg: vec3<u32>, pass2: bool) {
+    if (zero_length_pass()) {
+        return;
+    }
     if (LEAP >= 2u) {
-        // A leapfrog step of zero length leaves everything as it is.
-        if (ctl.dt == 0.0) {
-            return;
-        }
         let end = min(surf_args[0], params.surf_cap);
         for (var k = gid.x; k < end; k += nwg.x * WG) {
             let p = surf[k];
@@ -392,7 +384,7 @@ fn entries(p: u32, count: bool) -> Entries {
     let pres = max(push, 0.0);
     // The dashpot would pull harder than the spring pushes: the pass lets go.
     let clipped = push < 0.0;
-    let a = area_of(p);
+    let a = area[area_index(p, nbo[p].w)];
     // The spring's derivative (physics::penalty::gap_bar) and, through the
     // same derivative, dPhi/dt at the booking velocities.
     var keep = vec2<f32>(0.0);
@@ -557,8 +549,8 @@ fn entries_of(p: u32) -> Entries {
 // Pass 2 at particle q: the dashpot shares and the spring's derivative its
 // partners left, over the candidate pairs they used; then dPhi/dn_q whole,
 // which turns into forces through the colour gradient the normal is made
-// from: on q here, on its neighbours in the spread pass (bt: dPhi/dn_q as
-// beta perp(n_q) / |g_q|; q's neighbours go on the spread list).
+// from: on q here, on its neighbours through the spread (bt: dPhi/dn_q as
+// beta perp(n_q) / |g_q|; q claims its neighbours, spread.wgsl).
 fn pass2_at(q: u32) {
     // A particle off the boundary has no contact rates: the ledger reads
     // qrate (which holds the neighbour masks for part of a step;
@@ -682,9 +674,10 @@ fn pass2_at(q: u32) {
 }
 
 // The spread pass, where it is a pass of its own (the leapfrog, and the
-// stage alone): each particle pass 2 claimed gathers the spring's pull
-// through its boundary neighbours' normals (spread.wgsl). The midpoint
-// rule's steps gather it in their advance passes instead (advance.wgsl).
+// midpoint rule's base evaluation as a stage alone): each particle pass 2
+// claimed gathers the spring's pull through its boundary neighbours'
+// normals (spread.wgsl). The midpoint rule's steps gather it in their
+// advance passes instead (advance.wgsl), so no variant at the midpoint.
 @compute @workgroup_size(WG)
 fn contact_spread(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let j = flat_index(gid, nwg);
@@ -696,12 +689,8 @@ fn contact_spread(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
         return;
     }
     let m = bitcast<f32>(pinfo[j].x);
+    dv[j] += f / m;
     if (LEAP == 2u) {
-        dv[j] += f / m;
         vkick[j] = vkick[j] + f * (0.5 * ctl.dt / m);
-    } else if (!MID) {
-        dv[j] += f / m;
-    } else if (ctl.dt != 0.0) {
-        dv[j] += f * (ctl.dt / m);
     }
 }

@@ -53,16 +53,6 @@ fn size_contact() {
     surf_args[1] = min((walkers + WG - 1u) / WG, params.surf_groups);
 }
 
-// Where particle i's contact area is: the leapfrog carries it a particle
-// (its next step's reductions read it); the midpoint rule keeps it on the
-// list (a boundary particle's place, kinematics.wgsl).
-fn area_at(i: u32) -> u32 {
-    if (LEAP == 0u) {
-        return u32(nbo[i].w);
-    }
-    return i;
-}
-
 // mu = rho/rho0 - 1 of particle j: in a leapfrog step the n+1 value its
 // kinematic pass left in the carried rates' free slot (dr.x).
 fn mu_of(j: u32) -> f32 {
@@ -189,8 +179,8 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if (LEAP == 2u && CONTACT && i == 0u) {
         size_contact();
     }
-    // A leapfrog step of zero length leaves the carried rates as they are.
-    if (i >= params.n || (LEAP >= 2u && ctl.dt == 0.0)) {
+    // A zero-length leapfrog step leaves the carried rates as they are.
+    if (i >= params.n || zero_length_pass()) {
         return;
     }
     let mi = pinfo[i];
@@ -319,7 +309,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             if (DIM != 1u) {
                 a = line_integral(hi) / sums.sw;
             }
-            area[area_at(i)] = a;
+            area[area_index(i, nbo[i].w)] = a;
         } else if (LEAP != 0u) {
             area[i] = 0.0;
         }

@@ -69,9 +69,7 @@ fn list_surface(i: u32, gpsi: vec2<f32>, hi: f32) {
     if (CONTACT && sf.z > 0.0) {
         let k = atomicAdd(&surf_args[0], 1u);
         let cap = params.surf_cap;
-        // (The midpoint evaluation of a zero-length step reads buffers
-        // that advance_half left as they were, and is discarded.)
-        if (cap < params.n && k + 1u > cap - cap / 4u && !(MID && ctl.dt == 0.0)) {
+        if (cap < params.n && k + 1u > cap - cap / 4u) {
             atomicMax(&ctl.list_peak, k + 1u);
             if (atomicLoad(&ctl.fail_step) == NONE) {
                 atomicMin(&ctl.fail_step, ctl.step);
@@ -284,7 +282,7 @@ fn walk_and_correct(i: u32) -> Walked {
 @compute @workgroup_size(WG)
 fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
-    if (i >= params.n) {
+    if (i >= params.n || zero_length_pass()) {
         return;
     }
     let wk = walk_and_correct(i);
@@ -332,9 +330,9 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
 @compute @workgroup_size(WG)
 fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
-    // A zero-length step (past the stop, or after a failure) leaves the
-    // state and the carried rates as they are.
-    if (i >= params.n || ctl.dt == 0.0) {
+    // A zero-length step leaves the state and the carried rates as they
+    // are.
+    if (i >= params.n || zero_length_pass()) {
         return;
     }
     let dt = ctl.dt;

@@ -123,12 +123,7 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
                     return f;
                 }
                 // Its pressure p.
-                // (The midpoint rule keeps the area on the list of
-                // boundary particles; forces.wgsl, area_at.)
-                var ar = area[i];
-                if (LEAP == 0u) {
-                    ar = area[u32(nbo[i].w)];
-                }
+                let ar = area[area_index(i, nbo[i].w)];
                 if (ar > 0.0) {
                     return 2.0 * f / ar;
                 }

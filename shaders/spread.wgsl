@@ -17,9 +17,12 @@ fn claim_spread(j: u32) {
     }
 }
 
-// The spread's force on particle j (zero where pass 2 did not claim it, or
-// on a rigid body), its claim cleared.
+// The spread's force on particle j (zero without contact, where pass 2 did
+// not claim it, or on a rigid body), its claim cleared.
 fn spread_force(j: u32) -> vec2<f32> {
+    if (!CONTACT) {
+        return vec2<f32>(0.0);
+    }
     let bit = 1u << (j & 31u);
     if ((atomicLoad(&claim[j >> 5u]) & bit) == 0u) {
         return vec2<f32>(0.0);

@@ -451,16 +451,18 @@ struct Eval {
 }
 
 /// The contact's force passes in their order: the two gathers, then the
-/// spread of the spring's pull through the normals (contact.wgsl).
+/// spread of the spring's pull through the normals (contact.wgsl), which
+/// the midpoint rule's steps gather in their advance passes instead: its
+/// evaluation at the midpoint has none, its base one only as a stage.
 struct ContactKernels {
     pass1: Kernel,
     pass2: Kernel,
-    spread: Kernel,
+    spread: Option<Kernel>,
 }
 
 impl ContactKernels {
-    fn all(&self) -> [&Kernel; 3] {
-        [&self.pass1, &self.pass2, &self.spread]
+    fn all(&self) -> impl Iterator<Item = &Kernel> {
+        [&self.pass1, &self.pass2].into_iter().chain(&self.spread)
     }
 }
 
@@ -471,9 +473,9 @@ struct LeapKernels {
     kinematics: Kernel,
     forces: Kernel,
     contact: Option<ContactKernels>,
-    /// The booking's two contact passes; without a rigid body the first
-    /// books alone (contact.wgsl, pass1_at).
-    book: Option<(Kernel, Option<Kernel>)>,
+    /// The booking's contact passes (none without contact): the first,
+    /// and the second only with a rigid body (contact.wgsl, pass1_at).
+    book: Vec<Kernel>,
     energy: Kernel,
     finish: Kernel,
 }
@@ -927,7 +929,7 @@ impl GpuSolver {
             // list_surface): the list, the normals, the spring's derivative
             // and dPhi/dg (contact.wgsl); the midpoint rule's contact areas
             // too, which the leapfrog carries a particle from step to step
-            // (forces.wgsl, area_at).
+            // (common.wgsl, area_index).
             let cap = surf_cap as u64;
             make("surf", 4 * cap, None)?;
             for name in ["cn", "cbar0", "cbar1", "ckeep"] {
@@ -1172,7 +1174,10 @@ impl GpuSolver {
                     Some(ContactKernels {
                         pass1: eval_kernel("contact", "contact_pass1")?.walking(Walk::Boundary),
                         pass2: eval_kernel("contact", "contact_pass2")?.walking(Walk::Boundary),
-                        spread: eval_kernel("contact", "contact_spread")?,
+                        spread: match var {
+                            Var::Base => Some(eval_kernel("contact", "contact_spread")?),
+                            Var::Mid => None,
+                        },
                     })
                 } else {
                     None
@@ -1219,26 +1224,28 @@ impl GpuSolver {
                     Some(a) => Some(ContactKernels {
                         pass1: step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
                         pass2: step("contact", "contact_pass2", &listed_at_n1)?.listed(a),
-                        spread: step("contact", "contact_spread", at_n1)?,
+                        spread: Some(step("contact", "contact_spread", at_n1)?),
                     }),
                     None => None,
                 },
                 book: match &surf_args {
-                    Some(a) => Some((
-                        book("contact", "contact_pass1")?
-                            .listed(a)
-                            .labelled("book_pass1"),
-                        if model.any_rigid {
-                            Some(
-                                book("contact", "contact_pass2")?
-                                    .listed(a)
-                                    .labelled("book_pass2"),
-                            )
+                    Some(a) => {
+                        let passes: &[(&str, &'static str)] = if model.any_rigid {
+                            &[
+                                ("contact_pass1", "book_pass1"),
+                                ("contact_pass2", "book_pass2"),
+                            ]
                         } else {
-                            None
-                        },
-                    )),
-                    None => None,
+                            &[("contact_pass1", "book_pass1")]
+                        };
+                        passes
+                            .iter()
+                            .map(|&(entry, role)| {
+                                Ok(book("contact", entry)?.listed(a).labelled(role))
+                            })
+                            .collect::<Result<_, String>>()?
+                    }
+                    None => Vec::new(),
                 },
                 energy: kernel_in(&book_constants, "forces", "forces", Size::Particles, energy)?
                     .walking(Walk::Masked)
@@ -1352,7 +1359,10 @@ impl GpuSolver {
     /// byte for byte (the list itself is rebuilt by every evaluation).
     fn lengthen_list(&mut self, cap: u32) -> Result<(), String> {
         let raw = self.save_raw();
-        let state = self.download();
+        // The state the new solver is first made with (the saved buffers
+        // then replace it): the saved buffers begin with the state's.
+        let saved: Vec<&[u8]> = raw.buffers.iter().map(|b| b.1.as_slice()).collect();
+        let (state, _) = self.unpack_state(&saved);
         let opts = GpuOptions {
             surf_capacity: Some(cap),
             ..self.opts
@@ -1408,7 +1418,6 @@ impl GpuSolver {
                 return Ok(());
             }
             let count = self.boundary_count();
-            self.clear_list_full();
             if count <= cap - cap / 4 {
                 return Ok(());
             }
@@ -1416,11 +1425,21 @@ impl GpuSolver {
         }
     }
 
-    /// The boundary particles at the current state (the cell list and the
-    /// kinematics pass, outside a step: the leapfrog's carried arrays they
-    /// overwrite are put back).
+    /// The boundary particles at the current state.
     fn boundary_count(&mut self) -> u32 {
-        let kept = self.k.leap.is_some().then(|| self.save_raw());
+        let d = self.kinematics_outside_step(&[("surf_args", 4)]);
+        bytemuck::pod_read_unaligned(&d[0])
+    }
+
+    /// The cell list and the kinematics pass at the current state, outside
+    /// a step, and `read` read back after them. What they change that a
+    /// run carries is put back: the leapfrog's carried arrays, and the
+    /// control block (the correction fallbacks and the list's fill they
+    /// count).
+    fn kinematics_outside_step(&mut self, read: &[(&str, u64)]) -> Vec<Vec<u8>> {
+        let leap = self.k.leap.is_some();
+        let raw = leap.then(|| self.save_raw());
+        let ctl = (!leap).then(|| self.read_buffers(None, &[("ctl", CTL_BYTES)]).remove(0));
         let pending = self.first_pending;
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
         {
@@ -1428,17 +1447,16 @@ impl GpuSolver {
             self.encode_grid(&mut pass, Var::Base);
             pass.run(&self.k.eval[Var::Base as usize].kinematics);
         }
-        let d = self.read_buffers(Some(enc), &[("surf_args", 4)]);
-        if let Some(raw) = kept {
+        let d = self.read_buffers(Some(enc), read);
+        if let Some(raw) = raw {
             self.restore_raw(&raw).expect("the state just saved");
             self.first_pending = pending;
+            self.leap_clear();
         }
-        self.leap_clear();
-        let at = std::mem::offset_of!(Control, fallback_now) as u64;
-        self.ctx
-            .queue
-            .write_buffer(self.buf("ctl"), at, bytemuck::bytes_of(&0u32));
-        bytemuck::pod_read_unaligned(&d[0])
+        if let Some(ctl) = ctl {
+            self.ctx.queue.write_buffer(self.buf("ctl"), 0, &ctl);
+        }
+        d
     }
 
     /// Find the probed particles' slots (nothing without particle probes).
@@ -1500,8 +1518,8 @@ impl GpuSolver {
         if let Some(c) = &e.contact {
             pass.run(&c.pass1);
             pass.run(&c.pass2);
-            if self.k.leap.is_some() {
-                pass.run(&c.spread);
+            if let Some(spread) = c.spread.as_ref().filter(|_| self.k.leap.is_some()) {
+                pass.run(spread);
             }
         }
     }
@@ -1595,11 +1613,8 @@ impl GpuSolver {
             // The energy walk reads the neighbour masks the booking's
             // rates then overwrite (mask_home).
             pass.run(&l.energy);
-            if let Some((b1, b2)) = &l.book {
-                pass.run(b1);
-                if let Some(b2) = b2 {
-                    pass.run(b2);
-                }
+            for k in &l.book {
+                pass.run(k);
             }
             pass.run(&l.finish);
             pass.run(&k.end_step);
@@ -1650,16 +1665,8 @@ impl GpuSolver {
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
         self.encode_first(&mut enc);
         self.ctx.queue.submit([enc.finish()]);
-        // The kinematics pass gives the boundary flags and the leapfrog's neighbour masks
-        // at these positions; it overwrites what the leapfrog carries from
-        // step to step, which is kept here and put back.
-        let kept = self.k.leap.is_some().then(|| self.save_raw());
-        let mut enc = self.ctx.device.create_command_encoder(&Default::default());
-        {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            self.encode_grid(&mut pass, Var::Base);
-            pass.run(&self.k.eval[Var::Base as usize].kinematics);
-        }
+        // The kinematics pass gives the boundary flags and the leapfrog's
+        // neighbour masks at these positions.
         let mut read = vec![
             ("x0", 16 * nn),
             ("u", 8 * nn),
@@ -1669,11 +1676,7 @@ impl GpuSolver {
         if self.k.leap.is_some() {
             read.push(("nmask", 8 * nn));
         }
-        let d = self.read_buffers(Some(enc), &read);
-        if let Some(raw) = kept {
-            self.restore_raw(&raw).expect("the state just saved");
-        }
-        self.leap_clear();
+        let d = self.kinematics_outside_step(&read);
         let x0: &[[f32; 4]] = bytemuck::cast_slice(&d[0]);
         let u: &[[f32; 2]] = bytemuck::cast_slice(&d[1]);
         let bstart: &[u32] = bytemuck::cast_slice(&d[2]);
@@ -1773,20 +1776,26 @@ impl GpuSolver {
     /// A batch that could not go on for want of a longer list.
     fn list_failure(&self, why: String) -> Batch {
         let ctl = self.control();
+        let time = ctl.t_hi as f64 + ctl.t_lo as f64;
         Batch {
             states: Vec::new(),
             done: false,
-            failure: Some(Instability {
-                step: ctl.step as u64,
-                time: ctl.t_hi as f64 + ctl.t_lo as f64,
-                body: self.model.bodies[0].name.clone(),
-                particle: 0,
-                quantity: format!(
-                    "boundary particles, more than the contact's list of {} holds ({why})",
-                    self.params.surf_cap
-                ),
-                value: ctl.list_peak as f64,
-            }),
+            failure: Some(self.list_instability(&ctl, ctl.step, time, &why)),
+        }
+    }
+
+    /// A boundary the contact's list could not hold, at `step` and `time`.
+    fn list_instability(&self, ctl: &Control, step: u32, time: f64, why: &str) -> Instability {
+        Instability {
+            step: step as u64,
+            time,
+            body: self.model.bodies[0].name.clone(),
+            particle: 0,
+            quantity: format!(
+                "boundary particles, more than the contact's list of {} holds ({why})",
+                self.params.surf_cap
+            ),
+            value: ctl.list_peak as f64,
         }
     }
 
@@ -1926,18 +1935,8 @@ impl GpuSolver {
         let (id, q) = ((code / 8) as usize, code % 8);
         let time = row[0] as f64 + row[1] as f64;
         if code == LIST_FULL {
-            return Instability {
-                step: ctl.fail_step as u64,
-                time,
-                body: self.model.bodies[0].name.clone(),
-                particle: 0,
-                quantity: format!(
-                    "boundary particles, more than the contact's list of {} holds (the \
-                     boundary grew by more than a quarter of it within one step)",
-                    self.params.surf_cap
-                ),
-                value: ctl.list_peak as f64,
-            };
+            let why = "the boundary grew by more than a quarter of it within one step";
+            return self.list_instability(ctl, ctl.fail_step, time, why);
         }
         let guard = q == 6;
         let (quantity, value) = if q == 4 {
@@ -2015,32 +2014,22 @@ impl GpuSolver {
     /// model's particle order (snapshots). The normals in "nbo" after a step
     /// belong to its midpoint, so the cell list and the kinematics pass run once more at
     /// the state itself first. They only rewrite per-evaluation scratch
-    /// that every step recomputes before reading, except the correction
-    /// fallback counter, which is put back to the zero `end_step` leaves.
+    /// that every step recomputes before reading, and the control block,
+    /// which is put back (`kinematics_outside_step`).
     /// Normals are zero off the boundary, as on the CPU path.
     pub fn snapshot(&mut self) -> (State, Vec<DVec2>, Vec<bool>) {
-        let mut enc = self.ctx.device.create_command_encoder(&Default::default());
-        if self.k.leap.is_some() {
+        let mut names = self.state_buffers();
+        names.push(("nbo", 16 * self.n as u64));
+        let d = if self.k.leap.is_some() {
             // The normals of the last step's kinematic pass, at these
             // positions: an evaluation now would overwrite what the next
             // step's reductions read.
+            let mut enc = self.ctx.device.create_command_encoder(&Default::default());
             self.encode_first(&mut enc);
+            self.read_buffers(Some(enc), &names)
         } else {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            self.encode_grid(&mut pass, Var::Base);
-            self.k.eval[Var::Base as usize]
-                .kinematics
-                .dispatch(&mut pass);
-        }
-        let mut names = self.state_buffers();
-        names.push(("nbo", 16 * self.n as u64));
-        let d = self.read_buffers(Some(enc), &names);
-        if self.k.leap.is_none() {
-            let at = std::mem::offset_of!(Control, fallback_now) as u64;
-            self.ctx
-                .queue
-                .write_buffer(self.buf("ctl"), at, bytemuck::bytes_of(&0u32));
-        }
+            self.kinematics_outside_step(&names)
+        };
         let (st, _) = self.unpack_state(&d);
         let meta: &[[u32; 4]] = bytemuck::cast_slice(&d[5]);
         let nbo: &[[f32; 4]] = bytemuck::cast_slice(d.last().expect("nbo was read"));
@@ -2168,14 +2157,14 @@ impl GpuSolver {
 
     /// The f64 state (model order) and the control block from the buffers
     /// of `state_buffers`.
-    fn unpack_state(&self, d: &[Vec<u8>]) -> (State, Control) {
-        let x0: &[[f32; 4]] = bytemuck::cast_slice(&d[0]);
-        let u: &[[f32; 2]] = bytemuck::cast_slice(&d[1]);
-        let v: &[[f32; 2]] = bytemuck::cast_slice(&d[2]);
-        let r: &[[f32; 2]] = bytemuck::cast_slice(&d[3]);
-        let s: &[[f32; 4]] = bytemuck::cast_slice(&d[4]);
-        let meta: &[[u32; 4]] = bytemuck::cast_slice(&d[5]);
-        let ctl: Control = bytemuck::pod_read_unaligned(&d[6]);
+    fn unpack_state<B: AsRef<[u8]>>(&self, d: &[B]) -> (State, Control) {
+        let x0: &[[f32; 4]] = bytemuck::cast_slice(d[0].as_ref());
+        let u: &[[f32; 2]] = bytemuck::cast_slice(d[1].as_ref());
+        let v: &[[f32; 2]] = bytemuck::cast_slice(d[2].as_ref());
+        let r: &[[f32; 2]] = bytemuck::cast_slice(d[3].as_ref());
+        let s: &[[f32; 4]] = bytemuck::cast_slice(d[4].as_ref());
+        let meta: &[[u32; 4]] = bytemuck::cast_slice(d[5].as_ref());
+        let ctl: Control = bytemuck::pod_read_unaligned(d[6].as_ref());
         let n = self.n;
         let mut st = State {
             t: ctl.t_hi as f64 + ctl.t_lo as f64,
@@ -2208,10 +2197,10 @@ impl GpuSolver {
             };
         }
         if self.model.contact {
-            let q: &[[f32; 2]] = bytemuck::cast_slice(&d[7]);
+            let q: &[[f32; 2]] = bytemuck::cast_slice(d[7].as_ref());
             st.heat = q.iter().map(|x| x[0] as f64).sum();
             st.spring_work = q.iter().map(|x| x[1] as f64).sum();
-            let e: &[f32] = bytemuck::cast_slice(&d[8]);
+            let e: &[f32] = bytemuck::cast_slice(d[8].as_ref());
             st.entry = vec![0.0; n];
             for k in 0..n {
                 st.entry[meta[k][3] as usize] = e[k] as f64;
@@ -2263,15 +2252,13 @@ impl GpuSolver {
                 "kinematics" => run(&[&l.kinematics]),
                 "forces" => run(&[&l.forces, &l.energy]),
                 "contact" => {
-                    if let Some(c) = &l.contact {
-                        run(&c.all());
-                    }
-                    if let Some((b1, b2)) = &l.book {
-                        run(&[b1]);
-                        if let Some(b2) = b2 {
-                            run(&[b2]);
-                        }
-                    }
+                    let ks: Vec<&Kernel> = l
+                        .contact
+                        .iter()
+                        .flat_map(ContactKernels::all)
+                        .chain(&l.book)
+                        .collect();
+                    run(&ks);
                 }
                 "reduce" => self.encode_reduce(&mut pass),
                 "advance" => {
