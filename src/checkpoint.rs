@@ -42,7 +42,7 @@ use crate::scene::{Backend, Scene};
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\n";
-const VERSION: u64 = 3;
+const VERSION: u64 = 4;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]
@@ -191,6 +191,9 @@ impl Checkpoint {
                 w.f64(state.heat);
                 w.f64(state.spring_work);
                 w.f64s(&state.entry);
+                w.f64s(&state.eps_p);
+                w.f64s(&state.temperature);
+                w.f64s(&state.damage);
                 w.f64(initial_dt.unwrap_or(f64::NAN));
                 w.f64(energy_limit.unwrap_or(f64::NAN));
                 w.u32s(&lists.start);
@@ -312,6 +315,9 @@ impl Checkpoint {
                     let heat = r.f64()?;
                     let spring_work = r.f64()?;
                     let entry = r.f64s()?;
+                    let eps_p = r.f64s()?;
+                    let temperature = r.f64s()?;
+                    let damage = r.f64s()?;
                     let initial_dt = Some(r.f64()?).filter(|d| !d.is_nan());
                     let energy_limit = Some(r.f64()?).filter(|d| !d.is_nan());
                     let lists = Neighbours {
@@ -378,6 +384,9 @@ impl Checkpoint {
                             heat,
                             spring_work,
                             entry,
+                            eps_p,
+                            temperature,
+                            damage,
                         },
                         initial_dt,
                         energy_limit,
@@ -438,11 +447,11 @@ impl Checkpoint {
     /// that resumes) and the history's width, so a state is never
     /// half-filled. `origin` names the checkpoint in the error.
     pub fn check_sizes(&self, model: &crate::model::Model, origin: &str) -> Result<(), RunError> {
-        self.sizes_match(model.len(), model.contact)
+        self.sizes_match(model.len(), model.contact, model.history)
             .map_err(|what| RunError::Backend(format!("{origin}: {what}")))
     }
 
-    fn sizes_match(&self, n: usize, contact: bool) -> Result<(), String> {
+    fn sizes_match(&self, n: usize, contact: bool, history: bool) -> Result<(), String> {
         let width = self.scene.probes.len();
         let r = &self.recorder;
         if r.rows.len() != r.times.len()
@@ -459,6 +468,9 @@ impl Checkpoint {
                 && state.e.len() == n
                 && state.s.len() == n
                 && state.entry.len() == if contact { n } else { 0 }
+                && [&state.eps_p, &state.temperature, &state.damage]
+                    .iter()
+                    .all(|a| a.len() == if history { n } else { 0 })
                 && lists.start.len() == n + 1
                 && lists.cross_start.len() == n + 1
                 && lists.x_ref.len() == n

@@ -5,6 +5,7 @@ use glam::DVec2;
 use std::ops::Range;
 
 use crate::physics::material::MaterialModel;
+use crate::physics::strength::History;
 use crate::scene::{place_bodies, Correction, Integrator, Interaction, Scene};
 
 /// One body: its material, its particles (a contiguous range) and flags.
@@ -45,6 +46,14 @@ pub struct Model {
     pub contact: bool,
     /// `true` when some material has a yield stress.
     pub plastic: bool,
+    /// `true` when some deformable body's material carries a plastic
+    /// history (a strength law with hardening, a failure model:
+    /// [`MaterialModel::has_history`]): the state then holds
+    /// [`State::eps_p`], [`State::temperature`] and [`State::damage`].
+    pub history: bool,
+    /// `true` when some material's laws depend on the strain rate: the
+    /// kinematic pass then keeps each particle's equivalent strain rate.
+    pub strain_rate: bool,
     /// `true` when some body is rigid. Without one, [`Model::rigid`]
     /// answers at once instead of looking through the particle's body (the
     /// pair loops ask it for both particles of every pair).
@@ -89,6 +98,31 @@ pub struct State {
     /// which its spring does not push against; negative: not a boundary
     /// particle at the last step's start. Empty without contact.
     pub entry: Vec<f64>,
+    /// Equivalent plastic strain; empty unless [`Model::history`].
+    pub eps_p: Vec<f64>,
+    /// Temperature, K (0 for materials without a strength law); empty
+    /// unless [`Model::history`].
+    pub temperature: Vec<f64>,
+    /// Damage in [0, 1] (1: failed); empty unless [`Model::history`].
+    pub damage: Vec<f64>,
+}
+
+impl State {
+    /// Particle i's plastic history (the state must carry one).
+    #[inline]
+    pub fn history(&self, i: usize) -> History {
+        History {
+            eps_p: self.eps_p[i],
+            temperature: self.temperature[i],
+            damage: self.damage[i],
+        }
+    }
+
+    /// Particle i's damage (0 when the state carries no history).
+    #[inline]
+    pub fn damage_of(&self, i: usize) -> f64 {
+        self.damage.get(i).copied().unwrap_or(0.0)
+    }
 }
 
 impl Model {
@@ -118,6 +152,8 @@ impl Model {
             offset: Vec::with_capacity(n),
             contact: sim.interaction == Interaction::Penalty && scene.bodies.len() > 1,
             plastic: false,
+            history: false,
+            strain_rate: false,
             any_rigid: false,
             domain: [DVec2::ZERO; 2],
             energy_guard: false,
@@ -134,6 +170,9 @@ impl Model {
             heat: 0.0,
             spring_work: 0.0,
             entry: Vec::new(),
+            eps_p: Vec::new(),
+            temperature: Vec::new(),
+            damage: Vec::new(),
         };
         for (bi, (b, p)) in scene.bodies.iter().zip(&placed).enumerate() {
             let material = MaterialModel::new(&scene.materials[&b.material]);
@@ -156,6 +195,9 @@ impl Model {
                 state.rho.push(material.rho0);
             }
             model.plastic |= !b.rigid && material.y0.is_finite();
+            model.history |= !b.rigid && material.has_history();
+            model.strain_rate |=
+                !b.rigid && (material.strength.is_some() || material.failure.is_some());
             model.any_rigid |= b.rigid;
             model.bodies.push(BodyInfo {
                 name: b.name.clone(),
@@ -173,6 +215,13 @@ impl Model {
                 .filter(|&i| !model.rigid(i))
                 .map(|i| model.mass[i] * model.material(i).c_l.powi(2))
                 .sum::<f64>();
+        if model.history {
+            state.eps_p = vec![0.0; model.len()];
+            state.damage = vec![0.0; model.len()];
+            state.temperature = (0..model.len())
+                .map(|i| model.material(i).initial_temperature())
+                .collect();
+        }
         if model.contact {
             // Bodies that start overlapping are pushed apart (entry 0).
             state.entry = vec![0.0; model.len()];

@@ -61,7 +61,12 @@ pub fn resolve(scene: &Scene, model: &Model, st0: &State) -> Vec<Resolved> {
 
 /// Value of a particle quantity.
 pub fn particle_value(model: &Model, st: &State, i: usize, q: ParticleQuantity) -> f64 {
-    let p = || model.material(i).pressure(st.rho[i], st.e[i]);
+    let p = || {
+        model
+            .material(i)
+            .pressure_of(st.rho[i], st.e[i], st.damage_of(i))
+    };
+    let history = |a: &[f64]| a.get(i).copied().unwrap_or(0.0);
     match q {
         ParticleQuantity::PositionX => st.x[i].x,
         ParticleQuantity::PositionY => st.x[i].y,
@@ -74,6 +79,9 @@ pub fn particle_value(model: &Model, st: &State, i: usize, q: ParticleQuantity) 
         ParticleQuantity::StressXy => st.s[i].xy,
         ParticleQuantity::VonMises => st.s[i].von_mises(),
         ParticleQuantity::InternalEnergy => st.e[i],
+        ParticleQuantity::PlasticStrain => history(&st.eps_p),
+        ParticleQuantity::Temperature => history(&st.temperature),
+        ParticleQuantity::Damage => history(&st.damage),
     }
 }
 

@@ -79,6 +79,16 @@ pub struct BackendChoice {
     pub warning: Option<String>,
 }
 
+/// What a scene asks for that only the CPU path has: a strength law, a
+/// failure model or a spall pressure on a deformable body.
+pub fn cpu_only(scene: &Scene) -> Option<&'static str> {
+    let asks = scene.bodies.iter().filter(|b| !b.rigid).any(|b| {
+        let m = &scene.materials[&b.material];
+        m.strength.is_some() || m.failure.is_some() || m.spall_pressure.is_some()
+    });
+    asks.then_some("a strength law or failure model")
+}
+
 /// `cpu` runs the CPU path; `gpu` runs on any adapter (a software one
 /// included) or fails; `auto` runs on a hardware GPU when there is one and
 /// otherwise on the CPU path with one warning line: a software rasteriser
@@ -90,6 +100,17 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
+    if let Some(what) = cpu_only(scene) {
+        return match backend {
+            Backend::Cpu => Ok(cpu(None)),
+            Backend::Gpu => Err(RunError::Backend(format!(
+                "backend gpu: {what} runs on the CPU path only in this version; use --backend cpu (or auto)"
+            ))),
+            Backend::Auto => Ok(cpu(Some(format!(
+                "backend auto: {what} runs on the CPU path only in this version; running the CPU path"
+            )))),
+        };
+    }
     match backend {
         Backend::Cpu => Ok(cpu(None)),
         Backend::Gpu => match crate::gpu::shared_context() {

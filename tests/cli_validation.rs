@@ -538,6 +538,55 @@ fn non_positive_and_negative_values() {
 }
 
 /// Velocities and points of the wrong dimension; shapes of the wrong dimension.
+const YIELD: &str = "yield_stress = 600.0e6";
+const JC: &str = "strength = { kind = \"johnson_cook\", a = 792e6, b = 510e6, n = 0.26, c = 0.014, m = 1.03, reference_strain_rate = 1.0, room_temperature = 294.0, melt_temperature = 1793.0 }\nspecific_heat = 477.0";
+
+/// The strength, failure and library keys: unknown model keys, negative or
+/// missing constants, damage constants whose failure strain is not
+/// positive, an unknown library material.
+#[test]
+fn strength_failure_and_library() {
+    check_cases(&[
+        case("specific_heat_negative", &[(YIELD, JC), ("specific_heat = 477.0", "specific_heat = -1.0")], "materials.steel.specific_heat"),
+        case(
+            "jc_unknown_kind",
+            &[(YIELD, "strength = { kind = \"zerilli_armstrong\", a = 1.0 }")],
+            "materials.steel.strength.kind",
+        )
+        .located()
+        .also(&["zerilli_armstrong", "johnson_cook"]),
+        case("jc_unknown_key", &[(YIELD, JC), ("melt_temperature = 1793.0", "melt_temperature = 1793.0, d = 1.0")], "materials.steel.strength.d")
+            .located(),
+        case("jc_missing_constant", &[(YIELD, JC), ("n = 0.26, ", "")], "materials.steel.strength.n")
+            .located()
+            .also(&["missing"]),
+        case("jc_negative_a", &[(YIELD, JC), ("a = 792e6", "a = -792e6")], "materials.steel.strength.a"),
+        case("jc_negative_c", &[(YIELD, JC), ("c = 0.014", "c = -0.014")], "materials.steel.strength.c"),
+        case("jc_zero_rate", &[(YIELD, JC), ("reference_strain_rate = 1.0", "reference_strain_rate = 0.0")], "materials.steel.strength.reference_strain_rate"),
+        case("jc_melt_below_room", &[(YIELD, JC), ("melt_temperature = 1793.0", "melt_temperature = 200.0")], "materials.steel.strength.melt_temperature"),
+        case("jc_no_specific_heat", &[(YIELD, JC), ("\nspecific_heat = 477.0", "")], "materials.steel.specific_heat"),
+        case("jc_and_yield", &[(YIELD, "yield_stress = 600.0e6\nstrength = { kind = \"johnson_cook\", a = 792e6, b = 510e6, n = 0.26, c = 0.014, m = 1.03, reference_strain_rate = 1.0, room_temperature = 294.0, melt_temperature = 1793.0 }\nspecific_heat = 477.0")], "materials.steel.strength"),
+        case("taylor_quinney_above_one", &[(YIELD, "yield_stress = 600.0e6\ntaylor_quinney = 1.5")], "materials.steel.taylor_quinney"),
+        case(
+            "failure_strain_not_positive",
+            &[(YIELD, "yield_stress = 600.0e6\nfailure = { kind = \"johnson_cook\", d1 = -2.2, d2 = 0.4, d3 = -0.47, d4 = 0.016, d5 = 0.63 }")],
+            "materials.steel.failure.d1",
+        ),
+        case("failure_negative_d4", &[(YIELD, "yield_stress = 600.0e6\nfailure = { kind = \"johnson_cook\", d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = -0.1, d5 = 0.61 }")], "materials.steel.failure.d4"),
+        case("failure_d5_melts_to_zero", &[(YIELD, "yield_stress = 600.0e6\nfailure = { kind = \"johnson_cook\", d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = 0.002, d5 = -1.0 }")], "materials.steel.failure.d5"),
+        case("failure_missing_d", &[(YIELD, "yield_stress = 600.0e6\nfailure = { kind = \"johnson_cook\", d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = 0.002 }")], "materials.steel.failure.d5").located(),
+        case("failure_without_plasticity", &[(YIELD, "failure = { kind = \"johnson_cook\", d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = 0.002, d5 = 0.61 }")], "materials.steel.failure"),
+        case("spall_negative", &[(YIELD, "spall_pressure = -1.0e9")], "materials.steel.spall_pressure"),
+        case(
+            "unknown_library_material",
+            &[("density = 7850.0\nshear_modulus = 77.0e9\nyield_stress = 600.0e6\neos = { kind = \"mie_gruneisen\", c0 = 4580.0, s = 1.49, gamma0 = 2.02 }", "library = \"steel_4341\"")],
+            "materials.steel",
+        )
+        .located()
+        .also(&["steel_4341", "steel_4340"]),
+    ]);
+}
+
 #[test]
 fn wrong_dimensions() {
     check_cases(&[

@@ -9,7 +9,7 @@ use std::borrow::Cow;
 use super::neighbours::Neighbours;
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
-use crate::physics::kernel;
+use crate::physics::{kernel, strength};
 use crate::scene::Correction;
 
 /// Smallest `|det M|` accepted for the correction matrix; `M` is
@@ -40,6 +40,9 @@ pub struct Kinematics {
     pub drho: Vec<f64>,
     /// Deviatoric stress rate ([`stress_rate`]).
     pub ds: Vec<Sym>,
+    /// Equivalent strain rate ([`strength::equivalent_strain_rate`]) when a
+    /// material's laws depend on it (`Model::strain_rate`); empty otherwise.
+    pub rate: Vec<f64>,
 }
 
 /// One particle's sums of the kinematic walk; `S` the sum of the velocity
@@ -226,6 +229,7 @@ fn kinematics_in<S: Seen>(
         gv: Vec::with_capacity(if model.av_reconstruct { n } else { 0 }),
         drho: Vec::with_capacity(n),
         ds: Vec::with_capacity(n),
+        rate: Vec::with_capacity(if model.strain_rate { n } else { 0 }),
     };
     for (i, p) in per.into_iter().enumerate() {
         out.l.push(p.l);
@@ -245,6 +249,9 @@ fn kinematics_in<S: Seen>(
         }
         if model.av_reconstruct {
             out.gv.push(p.gv_seen.unwrap_or(p.gv));
+        }
+        if model.strain_rate {
+            out.rate.push(strength::equivalent_strain_rate(&p.gv));
         }
     }
     out

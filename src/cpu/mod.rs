@@ -30,7 +30,7 @@ use rayon::prelude::*;
 use crate::error::Instability;
 use crate::math::Sym;
 use crate::model::{Model, State};
-use crate::physics::material;
+use crate::physics::{material, strength};
 use crate::scene::Integrator;
 use forces::StressPoint;
 
@@ -208,6 +208,9 @@ pub struct Rates {
     pub de: Vec<f64>,
     /// Empty in the leapfrog's carried rates.
     pub ds: Vec<Sym>,
+    /// Equivalent strain rates (`Model::strain_rate`); empty otherwise and
+    /// in the leapfrog's carried rates.
+    pub rate: Vec<f64>,
     /// Total dashpot heat rate (for the cumulative heat diagnostic).
     pub heat_rate: f64,
     /// Total spring power (for the spring-work ledger).
@@ -236,16 +239,16 @@ pub struct Diagnostics {
 pub fn eos_and_stress(model: &Model, st: &State) -> Vec<StressPoint> {
     (0..model.len())
         .into_par_iter()
-        .map(|i| stress_point(model, i, st.rho[i], st.e[i], &st.s[i]))
+        .map(|i| stress_point(model, i, st.rho[i], st.e[i], &st.s[i], st.damage_of(i)))
         .collect()
 }
 
-/// Particle i's [`StressPoint`] at density `rho`, energy `e` and
-/// deviatoric stress `s`.
+/// Particle i's [`StressPoint`] at density `rho`, energy `e`, deviatoric
+/// stress `s` and damage `damage` (a failed particle carries no tension).
 #[inline]
-fn stress_point(model: &Model, i: usize, rho: f64, e: f64, s: &Sym) -> StressPoint {
+fn stress_point(model: &Model, i: usize, rho: f64, e: f64, s: &Sym, damage: f64) -> StressPoint {
     let mat = model.material(i);
-    let p = mat.pressure(rho, e);
+    let p = mat.pressure_of(rho, e, damage);
     let c = mat.sound_speed(rho, e);
     let sigma = forces::cauchy(p, s);
     let r2 = rho * rho;
@@ -282,7 +285,11 @@ pub fn evaluate_with(
         ..Default::default()
     };
     let kinematics::Kinematics {
-        drho, ds, surface, ..
+        drho,
+        ds,
+        surface,
+        rate,
+        ..
     } = k;
     let mut heat_rate = 0.0;
     let mut spring_rate = 0.0;
@@ -311,6 +318,7 @@ pub fn evaluate_with(
             drho,
             de,
             ds,
+            rate,
             heat_rate,
             spring_rate,
             entry,
@@ -343,7 +351,9 @@ pub fn cfl_step(model: &Model, st: &State, pts: &[StressPoint]) -> f64 {
 }
 
 /// `out = base + k · rates` (positions move with `vel`), with the radial
-/// return of perfect plasticity applied to the new deviatoric stress.
+/// return applied to the new deviatoric stress: perfect plasticity, or,
+/// when the state carries a plastic history, the material's strength and
+/// failure laws ([`strength::update`]) from the history of `base`.
 fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &mut State) {
     out.x
         .par_iter_mut()
@@ -365,8 +375,42 @@ fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &
             *v = base.v[i] + r.dv[i] * k;
             *rho = base.rho[i] + r.drho[i] * k;
             *e = base.e[i] + r.de[i] * k;
-            *s = plastic_return(model, i, base.s[i].add_scaled(&r.ds[i], k));
+            let trial = base.s[i].add_scaled(&r.ds[i], k);
+            // With a history the return is made below, from the trial.
+            *s = if model.history {
+                trial
+            } else {
+                plastic_return(model, i, trial)
+            };
         });
+    if model.history {
+        let State {
+            rho,
+            e,
+            s,
+            eps_p,
+            temperature,
+            damage,
+            ..
+        } = out;
+        s.par_iter_mut()
+            .zip(eps_p.par_iter_mut())
+            .zip(temperature.par_iter_mut())
+            .zip(damage.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (((s, ep), t), d))| {
+                let h = if model.rigid(i) {
+                    base.history(i)
+                } else {
+                    let rate = r.rate.get(i).copied().unwrap_or(0.0);
+                    let (s_new, h) =
+                        material_update(model, i, *s, rate, rho[i], e[i], base.history(i));
+                    *s = s_new;
+                    h
+                };
+                (*ep, *t, *d) = (h.eps_p, h.temperature, h.damage);
+            });
+    }
     out.heat = base.heat + r.heat_rate * k;
     out.spring_work = base.spring_work + r.spring_rate * k;
     out.entry.clone_from(&base.entry);
@@ -398,6 +442,23 @@ fn plastic_return(model: &Model, i: usize, s: Sym) -> Sym {
         }
     }
     s
+}
+
+/// Particle i's stress update with a plastic history ([`strength::update`]):
+/// the trial deviatoric stress `trial` at the strain rate `rate`, the step
+/// ending at density `rho` and energy `e`, from the history `h`.
+#[inline]
+fn material_update(
+    model: &Model,
+    i: usize,
+    trial: Sym,
+    rate: f64,
+    rho: f64,
+    e: f64,
+    h: strength::History,
+) -> (Sym, strength::History) {
+    let mat = model.material(i);
+    strength::update(mat, trial, rate, rho, mat.pressure(rho, e), h)
 }
 
 /// The CPU solver: the state and the evaluation made at it.
@@ -658,7 +719,7 @@ impl CpuSolver {
         next.x.copy_from_slice(&half.x);
         // ρ and s at n+1, the predicted energy of 3, and the EOS at them
         // (eos_and_stress, in the same walk).
-        let pts: Vec<StressPoint> = next
+        let mut pts: Vec<StressPoint> = next
             .e
             .par_iter_mut()
             .zip(next.rho.par_iter_mut())
@@ -670,11 +731,47 @@ impl CpuSolver {
                 } else {
                     *e = half.e[i] + kn.de[i] * h;
                     *rho = half.rho[i] + k.drho[i] * dt;
-                    *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
+                    let trial = half.s[i].add_scaled(&k.ds[i], dt);
+                    if model.history {
+                        // Returned below, with the history.
+                        *s = trial;
+                        return StressPoint::default();
+                    }
+                    *s = plastic_return(model, i, trial);
                 }
-                stress_point(model, i, *rho, *e, s)
+                stress_point(model, i, *rho, *e, s, 0.0)
             })
             .collect();
+        if model.history {
+            let State {
+                rho,
+                e,
+                s,
+                eps_p,
+                temperature,
+                damage,
+                ..
+            } = &mut next;
+            pts.par_iter_mut()
+                .zip(s.par_iter_mut())
+                .zip(eps_p.par_iter_mut())
+                .zip(temperature.par_iter_mut())
+                .zip(damage.par_iter_mut())
+                .enumerate()
+                .for_each(|(i, ((((pt, s), ep), t), d))| {
+                    let hist = if model.rigid(i) {
+                        st.history(i)
+                    } else {
+                        let rate = k.rate.get(i).copied().unwrap_or(0.0);
+                        let (s_new, hist) =
+                            material_update(model, i, *s, rate, rho[i], e[i], st.history(i));
+                        *s = s_new;
+                        hist
+                    };
+                    (*ep, *t, *d) = (hist.eps_p, hist.temperature, hist.damage);
+                    *pt = stress_point(model, i, rho[i], e[i], s, hist.damage);
+                });
+        }
         // 3: the forces at n+1.
         let mut dv = forces::momentum_keeping(
             model,
@@ -757,6 +854,7 @@ impl CpuSolver {
                 drho: Vec::new(),
                 de,
                 ds: Vec::new(),
+                rate: Vec::new(),
                 heat_rate,
                 spring_rate,
                 entry: Vec::new(),

@@ -2176,7 +2176,7 @@ impl GpuSolver {
             s: vec![Sym::default(); n],
             heat: 0.0,
             spring_work: 0.0,
-            entry: Vec::new(),
+            ..Default::default()
         };
         for k in 0..n {
             let i = meta[k][3] as usize;

@@ -69,6 +69,11 @@ fn particle_code(q: ParticleQuantity) -> u32 {
         ParticleQuantity::StressXy => 8,
         ParticleQuantity::VonMises => 9,
         ParticleQuantity::InternalEnergy => 10,
+        // Scenes with a plastic history run on the CPU path only
+        // (`run::cpu_only`).
+        ParticleQuantity::PlasticStrain
+        | ParticleQuantity::Temperature
+        | ParticleQuantity::Damage => unreachable!("a plastic history on the GPU path"),
     }
 }
 

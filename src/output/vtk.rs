@@ -62,6 +62,14 @@ const SCALARS: [(&str, ParticleQuantity); 7] = [
     ("internal_energy", ParticleQuantity::InternalEnergy),
 ];
 
+/// The plastic history's arrays, written when the scene's materials carry
+/// one (8 bytes a particle each beyond [`BYTES_PER_PARTICLE`]).
+const HISTORY: [(&str, ParticleQuantity); 3] = [
+    ("plastic_strain", ParticleQuantity::PlasticStrain),
+    ("temperature", ParticleQuantity::Temperature),
+    ("damage", ParticleQuantity::Damage),
+];
+
 /// One appended array: its XML description and a way to make its bytes
 /// when its turn to be written comes (so only one array is in memory).
 struct Array<'a> {
@@ -122,7 +130,8 @@ pub fn write_vtu(path: &Path, time: f64, f: &Fields) -> Result<u64, RunError> {
         bytes_per_value: 8,
         make: Box::new(move || vec3_bytes(&st.v)),
     }];
-    for (name, q) in SCALARS {
+    let history = if model.history { &HISTORY[..] } else { &[] };
+    for &(name, q) in SCALARS.iter().chain(history) {
         point_data.push(Array {
             name,
             vtk_type: "Float64",

@@ -1044,7 +1044,7 @@ fn jump_state(
     (sigma, e)
 }
 
-/// Exact plane-wave answer of a 1-D elastic–perfectly-plastic rod (uniaxial
+/// Exact plane-wave answer of a 1-D elastic–plastic rod (uniaxial
 /// strain, METHOD.md §6) striking a rigid wall (METHOD.md §8.5) at speed
 /// `v0` > 0: a two-wave structure running from the wall into the rod.
 ///
@@ -1062,7 +1062,13 @@ fn jump_state(
 ///   for the steel of Table 1).
 /// * **Plastic wave.** Behind it the rod is at rest against the wall and the
 ///   deviator stays at yield, `σ = −p(ρ, e) − 2Y0/3` (the radial return
-///   holds `s_xx = −2Y0/3` while compression grows). From the HEL state the
+///   holds `s_xx = −2Y0/3` while compression grows). With a Johnson–Cook
+///   strength without rate term or heating (`C = 0`, Taylor–Quinney 0),
+///   `Y0 = A` and the deviator behind is `−⅔ q(ρ)` with `q` the hardened
+///   flow stress at the compression ρ: under monotonic uniaxial compression
+///   `q + 3G ε_p = 2G ln(ρ/ρ0)` and `q = A + B ε_pⁿ`. The wave is still a
+///   shock when this `σ(ε)` is convex (linear hardening with a linear EOS
+///   is). From the HEL state the
 ///   jump conditions give `(σ_H − σ_F)(ε_H − ε_F) = ρ0 v_H²`, with `σ_F`
 ///   from the EOS and the energy jump (`jump_state`); this one equation in
 ///   `ε_F` is solved by bisection, then `W_p = v_H/(ε_H − ε_F)`. For a weak
@@ -1071,7 +1077,8 @@ fn jump_state(
 ///   little faster.
 ///
 /// `None` when there is no two-wave structure: an elastic material (no
-/// yield stress or no shear modulus), `v0` not above the HEL particle
+/// yield stress or no shear modulus), a strength with a rate term or
+/// heating, `v0` not above the HEL particle
 /// velocity (the rod stays elastic), or a plastic wave at least as fast as
 /// the precursor (an overdriven single shock).
 pub fn rod_on_wall(mat: &MaterialModel, v0: f64) -> Option<TwoWaveImpact> {
@@ -1079,7 +1086,25 @@ pub fn rod_on_wall(mat: &MaterialModel, v0: f64) -> Option<TwoWaveImpact> {
     if !(y0.is_finite() && y0 > 0.0 && g > 0.0 && v0.is_finite() && v0 > 0.0) {
         return None;
     }
+    if let Some(jc) = &mat.strength {
+        // The answer is exact for a strength that depends on the plastic
+        // strain alone: no rate term, no heating.
+        if jc.c != 0.0 || mat.taylor_quinney != 0.0 {
+            return None;
+        }
+    }
     let s_yield = -2.0 * y0 / 3.0;
+    // The deviator on the yield surface at density ρ: constant for perfect
+    // plasticity; with hardening the return from the virgin state at the
+    // equivalent strain ⅔ ln(ρ/ρ0), path-independent under monotonic
+    // compression (docs/method.md, "Strength and failure").
+    let deviator = |rho: f64| match &mat.strength {
+        None => s_yield,
+        Some(jc) => {
+            let q_trial = 2.0 * g * (rho / rho0).ln();
+            -2.0 / 3.0 * (q_trial - 3.0 * g * jc.return_increment(q_trial, g, 0.0, 1.0))
+        }
+    };
 
     // Elastic precursor from rest.
     let rho_h = rho0 * (y0 / (2.0 * g)).exp();
@@ -1101,7 +1126,8 @@ pub fn rod_on_wall(mat: &MaterialModel, v0: f64) -> Option<TwoWaveImpact> {
     // Plastic wave: bring the HEL state to rest.
     let target = rho0 * v_h * v_h;
     let excess = |eps: f64| {
-        let (sig, _) = jump_state(mat, rho0 / (1.0 + eps), s_yield, sig_h, eps_h, e_h);
+        let rho = rho0 / (1.0 + eps);
+        let (sig, _) = jump_state(mat, rho, deviator(rho), sig_h, eps_h, e_h);
         (sig_h - sig) * (eps_h - eps) - target
     };
     // Bracket from the acoustic estimate Δε ≈ v_H/c0, widened until the
@@ -1129,7 +1155,7 @@ pub fn rod_on_wall(mat: &MaterialModel, v0: f64) -> Option<TwoWaveImpact> {
     }
     let eps_f = 0.5 * (lo + hi);
     let rho_f = rho0 / (1.0 + eps_f);
-    let (sig_f, e_f) = jump_state(mat, rho_f, s_yield, sig_h, eps_h, e_h);
+    let (sig_f, e_f) = jump_state(mat, rho_f, deviator(rho_f), sig_h, eps_h, e_h);
     let w_p = v_h / (eps_h - eps_f);
     if !(w_p.is_finite() && w_p > 0.0 && w_p < w_e) {
         return None;
@@ -1262,6 +1288,11 @@ mod tests {
             c_l,
             z: rho0 * c_l,
             m,
+            strength: None,
+            failure: None,
+            spall: f64::INFINITY,
+            specific_heat: 0.0,
+            taylor_quinney: 0.0,
         }
     }
 
@@ -1752,14 +1783,16 @@ mod tests {
     /// Y0 = 600 MPa, as the scenes write it.
     fn steel_mg_plastic() -> MaterialModel {
         MaterialModel::new(&crate::scene::Material {
-            density: 7850.0,
             shear_modulus: Some(77e9),
             yield_stress: Some(600e6),
-            eos: crate::scene::Eos::MieGruneisen {
-                c0: 4580.0,
-                s: 1.49,
-                gamma0: 2.02,
-            },
+            ..crate::scene::Material::basic(
+                7850.0,
+                crate::scene::Eos::MieGruneisen {
+                    c0: 4580.0,
+                    s: 1.49,
+                    gamma0: 2.02,
+                },
+            )
         })
     }
 

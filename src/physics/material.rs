@@ -1,7 +1,8 @@
 //! Material model (METHOD.md §6): Mie–Grüneisen or linear pressure, derived
 //! elastic constants, sound speeds and impedances.
 
-use crate::scene::{Eos, Material};
+use crate::physics::johnson_cook::{Failure, Strength};
+use crate::scene::{Eos, FailureLaw, Material, StrengthLaw};
 
 /// A material with every derived constant the solver needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,6 +30,17 @@ pub struct MaterialModel {
     pub z: f64,
     /// Constrained modulus `M = K + 4G/3 = ρ0 c_L²`.
     pub m: f64,
+    /// Johnson–Cook strength (then `y0` is its `A`); `None`: perfect
+    /// plasticity at `y0`, or elastic.
+    pub strength: Option<Strength>,
+    /// Johnson–Cook damage.
+    pub failure: Option<Failure>,
+    /// The tensile pressure at which a particle fails, Pa (infinite: none).
+    pub spall: f64,
+    /// Specific heat, J/(kg K) (0 when no strength law needs it).
+    pub specific_heat: f64,
+    /// Taylor–Quinney fraction of the plastic work that heats.
+    pub taylor_quinney: f64,
 }
 
 impl MaterialModel {
@@ -39,7 +51,34 @@ impl MaterialModel {
             Eos::Linear { c0 } => (c0, 0.0, 0.0, true),
         };
         let g = mat.shear_modulus.unwrap_or(0.0);
-        let y0 = mat.yield_stress.unwrap_or(f64::INFINITY);
+        let strength = mat.strength.map(|law| match law {
+            StrengthLaw::JohnsonCook {
+                a,
+                b,
+                n,
+                c,
+                m,
+                reference_strain_rate,
+                room_temperature,
+                melt_temperature,
+            } => Strength {
+                a,
+                b,
+                n,
+                c,
+                m,
+                reference_strain_rate,
+                room_temperature,
+                melt_temperature,
+            },
+        });
+        let failure = mat.failure.map(|law| match law {
+            FailureLaw::JohnsonCook { d1, d2, d3, d4, d5 } => Failure { d1, d2, d3, d4, d5 },
+        });
+        let y0 = match &strength {
+            Some(jc) => jc.a,
+            None => mat.yield_stress.unwrap_or(f64::INFINITY),
+        };
         let k = rho0 * c0 * c0;
         let (e, nu) = if g > 0.0 {
             (
@@ -65,6 +104,36 @@ impl MaterialModel {
             c_l,
             z: rho0 * c_l,
             m,
+            strength,
+            failure,
+            spall: mat.spall_pressure.unwrap_or(f64::INFINITY),
+            specific_heat: mat.specific_heat.unwrap_or(0.0),
+            taylor_quinney: mat.taylor_quinney(),
+        }
+    }
+
+    /// Whether a particle of this material carries a plastic history
+    /// ([`crate::physics::strength::History`]): a strength law with
+    /// hardening, or a failure model.
+    pub fn has_history(&self) -> bool {
+        self.strength.is_some() || self.failure.is_some() || self.spall.is_finite()
+    }
+
+    /// The room temperature a particle starts at (0 without a strength law,
+    /// which has no use for it).
+    pub fn initial_temperature(&self) -> f64 {
+        self.strength.map_or(0.0, |jc| jc.room_temperature)
+    }
+
+    /// The pressure of a particle with damage `damage`: a failed one
+    /// ([`crate::physics::strength::FAILED`]) carries no tension.
+    #[inline]
+    pub fn pressure_of(&self, rho: f64, e: f64, damage: f64) -> f64 {
+        let p = self.pressure(rho, e);
+        if damage >= crate::physics::strength::FAILED {
+            p.max(0.0)
+        } else {
+            p
         }
     }
 
@@ -135,14 +204,16 @@ mod tests {
 
     pub fn steel() -> Material {
         Material {
-            density: 7850.0,
             shear_modulus: Some(77e9),
             yield_stress: Some(600e6),
-            eos: Eos::MieGruneisen {
-                c0: 4580.0,
-                s: 1.49,
-                gamma0: 2.02,
-            },
+            ..Material::basic(
+                7850.0,
+                Eos::MieGruneisen {
+                    c0: 4580.0,
+                    s: 1.49,
+                    gamma0: 2.02,
+                },
+            )
         }
     }
 
@@ -156,14 +227,16 @@ mod tests {
         assert!((s.c_l / 5835.7 - 1.0).abs() < 1e-4);
         assert!((s.z / 4.581e7 - 1.0).abs() < 1e-3);
         let a = MaterialModel::new(&Material {
-            density: 2790.0,
             shear_modulus: Some(25e9),
             yield_stress: Some(550e6),
-            eos: Eos::MieGruneisen {
-                c0: 5330.0,
-                s: 1.34,
-                gamma0: 2.0,
-            },
+            ..Material::basic(
+                2790.0,
+                Eos::MieGruneisen {
+                    c0: 5330.0,
+                    s: 1.34,
+                    gamma0: 2.0,
+                },
+            )
         });
         assert!((a.k / 79.26e9 - 1.0).abs() < 1e-3);
         assert!((a.e / 67.9e9 - 1.0).abs() < 1e-3);

@@ -7,3 +7,4 @@ pub mod johnson_cook;
 pub mod kernel;
 pub mod material;
 pub mod penalty;
+pub mod strength;

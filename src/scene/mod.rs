@@ -4,6 +4,7 @@
 //! the contract names them (unknown keys are rejected by serde), the loader,
 //! and re-exports the semantic validation and the particle placement.
 
+pub mod library;
 mod place;
 pub mod validate;
 
@@ -198,18 +199,176 @@ pub fn default_boundary_threshold() -> f64 {
     0.3
 }
 
+/// A material as the solver uses it: every constant given, whether written
+/// out in the scene or taken from the library (`library = "name"`, see
+/// [`library`]) with the scene's own keys overriding the entry's.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "MaterialSpec")]
 pub struct Material {
+    /// The library entry this material was taken from, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub library: Option<String>,
+    /// Where the constants come from (a citation; the library's entries
+    /// carry one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
     /// Reference density ρ0, kg/m³.
     pub density: f64,
     /// Shear modulus G, Pa (absent: no deviatoric stress).
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub shear_modulus: Option<f64>,
-    /// Yield stress Y0, Pa (absent: elastic).
-    #[serde(default)]
+    /// Yield stress Y0, Pa, of perfect plasticity (absent: elastic, unless
+    /// `strength` is given).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub yield_stress: Option<f64>,
     pub eos: Eos,
+    /// A strength law with hardening, rate and temperature terms (instead of
+    /// `yield_stress`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub strength: Option<StrengthLaw>,
+    /// Specific heat c_p, J/(kg K): the plastic work's heating. Required by
+    /// a `strength` law.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub specific_heat: Option<f64>,
+    /// The fraction of plastic work that heats the material (default 0.9).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub taylor_quinney: Option<f64>,
+    /// A ductile damage law; a particle whose damage reaches 1 fails.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failure: Option<FailureLaw>,
+    /// The tensile pressure, Pa (a positive number), at which a particle
+    /// fails (spall).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spall_pressure: Option<f64>,
+}
+
+/// The default Taylor–Quinney fraction (Taylor & Quinney, 1934).
+pub const DEFAULT_TAYLOR_QUINNEY: f64 = 0.9;
+
+impl Material {
+    /// An elastic material with nothing else given.
+    pub fn basic(density: f64, eos: Eos) -> Self {
+        Self {
+            library: None,
+            source: None,
+            density,
+            shear_modulus: None,
+            yield_stress: None,
+            eos,
+            strength: None,
+            specific_heat: None,
+            taylor_quinney: None,
+            failure: None,
+            spall_pressure: None,
+        }
+    }
+
+    pub fn taylor_quinney(&self) -> f64 {
+        self.taylor_quinney.unwrap_or(DEFAULT_TAYLOR_QUINNEY)
+    }
+}
+
+/// A material as written in a scene: each key optional, so that an entry
+/// of the library can supply the rest.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    #[serde(default)]
+    pub library: Option<String>,
+    #[serde(default)]
+    pub source: Option<String>,
+    #[serde(default)]
+    pub density: Option<f64>,
+    #[serde(default)]
+    pub shear_modulus: Option<f64>,
+    #[serde(default)]
+    pub yield_stress: Option<f64>,
+    #[serde(default)]
+    pub eos: Option<Eos>,
+    #[serde(default)]
+    pub strength: Option<StrengthLaw>,
+    #[serde(default)]
+    pub specific_heat: Option<f64>,
+    #[serde(default)]
+    pub taylor_quinney: Option<f64>,
+    #[serde(default)]
+    pub failure: Option<FailureLaw>,
+    #[serde(default)]
+    pub spall_pressure: Option<f64>,
+}
+
+impl TryFrom<MaterialSpec> for Material {
+    type Error = String;
+
+    /// The library entry, if named, with the spec's own keys over it.
+    fn try_from(spec: MaterialSpec) -> Result<Material, String> {
+        let base = match &spec.library {
+            Some(name) => Some(library::entry(name)?),
+            None => None,
+        };
+        let pick = |own: Option<f64>, lib: fn(&Material) -> Option<f64>| {
+            own.or_else(|| base.as_ref().and_then(lib))
+        };
+        let density = spec
+            .density
+            .or(base.as_ref().map(|b| b.density))
+            .ok_or("missing field `density`")?;
+        let eos = spec
+            .eos
+            .or(base.as_ref().map(|b| b.eos))
+            .ok_or("missing field `eos`")?;
+        Ok(Material {
+            shear_modulus: pick(spec.shear_modulus, |b| b.shear_modulus),
+            yield_stress: pick(spec.yield_stress, |b| b.yield_stress),
+            strength: spec
+                .strength
+                .or_else(|| base.as_ref().and_then(|b| b.strength)),
+            specific_heat: pick(spec.specific_heat, |b| b.specific_heat),
+            taylor_quinney: pick(spec.taylor_quinney, |b| b.taylor_quinney),
+            failure: spec
+                .failure
+                .or_else(|| base.as_ref().and_then(|b| b.failure)),
+            spall_pressure: pick(spec.spall_pressure, |b| b.spall_pressure),
+            source: spec
+                .source
+                .or_else(|| base.as_ref().and_then(|b| b.source.clone())),
+            library: spec.library,
+            density,
+            eos,
+        })
+    }
+}
+
+/// Strength laws beyond perfect plasticity.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum StrengthLaw {
+    /// Johnson & Cook (1983): `σ_y = (A + B ε_pⁿ)(1 + C ln ε̇*)(1 − T*ᵐ)`;
+    /// stresses in Pa, the reference rate in 1/s, temperatures in K.
+    JohnsonCook {
+        a: f64,
+        b: f64,
+        n: f64,
+        c: f64,
+        m: f64,
+        reference_strain_rate: f64,
+        room_temperature: f64,
+        melt_temperature: f64,
+    },
+}
+
+/// Damage laws.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum FailureLaw {
+    /// Johnson & Cook (1985): `ε_f = (D1 + D2 exp(D3 σ*))(1 + D4 ln ε̇*)(1 + D5 T*)`.
+    JohnsonCook {
+        d1: f64,
+        d2: f64,
+        d3: f64,
+        d4: f64,
+        d5: f64,
+    },
 }
 
 /// Equation of state (METHOD.md §6).
@@ -315,6 +474,26 @@ pub enum ParticleQuantity {
     StressXy,
     VonMises,
     InternalEnergy,
+    /// Equivalent plastic strain (a body whose material has a strength law
+    /// or a failure model).
+    PlasticStrain,
+    /// Temperature, K (as `plastic_strain`).
+    Temperature,
+    /// Damage, 0 to 1 (1: failed; as `plastic_strain`).
+    Damage,
+}
+
+impl ParticleQuantity {
+    /// Whether the quantity is part of the plastic history, which only
+    /// bodies of materials with a strength law or failure model carry.
+    pub fn needs_history(self) -> bool {
+        matches!(
+            self,
+            ParticleQuantity::PlasticStrain
+                | ParticleQuantity::Temperature
+                | ParticleQuantity::Damage
+        )
+    }
 }
 
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]

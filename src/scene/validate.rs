@@ -102,6 +102,7 @@ pub fn validate(scene: &Scene) -> R {
         if let Some(y) = m.yield_stress {
             non_negative(&k("yield_stress"), y)?;
         }
+        validate_strength(m, &k)?;
     }
 
     if scene.bodies.is_empty() {
@@ -174,9 +175,29 @@ pub fn validate(scene: &Scene) -> R {
             ));
         }
         match p {
-            Probe::Particle { body, at, .. } => {
+            Probe::Particle {
+                body, at, quantity, ..
+            } => {
                 known(i, "body", body)?;
                 dimension_of(&format!("probes[{i}].at"), at, dim)?;
+                if quantity.needs_history() {
+                    let b = scene.bodies.iter().find(|b| &b.name == body);
+                    let carries = b.is_some_and(|b| {
+                        let m = &scene.materials[&b.material];
+                        !b.rigid
+                            && (m.strength.is_some()
+                                || m.failure.is_some()
+                                || m.spall_pressure.is_some())
+                    });
+                    if !carries {
+                        return Err(SceneError::at(
+                            format!("probes[{i}].quantity"),
+                            format!(
+                                "body '{body}' carries no plastic history: its material has no strength law, failure model or spall pressure"
+                            ),
+                        ));
+                    }
+                }
             }
             Probe::Body { body, .. } => known(i, "body", body)?,
             Probe::Contact { bodies, .. } => {
@@ -194,6 +215,109 @@ pub fn validate(scene: &Scene) -> R {
     }
 
     validate_placement(scene)
+}
+
+/// The strength, heating and failure keys of one material; `k` makes the
+/// dotted key of a field.
+fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
+    use super::{FailureLaw, StrengthLaw};
+    let g = m.shear_modulus.unwrap_or(0.0);
+    if let Some(StrengthLaw::JohnsonCook {
+        a,
+        b,
+        n,
+        c,
+        m: m_exp,
+        reference_strain_rate,
+        room_temperature,
+        melt_temperature,
+    }) = m.strength
+    {
+        if m.yield_stress.is_some() {
+            return Err(SceneError::at(
+                k("strength"),
+                "give either yield_stress (perfect plasticity) or a strength law, not both",
+            ));
+        }
+        if g <= 0.0 {
+            return Err(SceneError::at(
+                k("shear_modulus"),
+                "a strength law needs a shear modulus > 0",
+            ));
+        }
+        positive(&k("strength.a"), a)?;
+        non_negative(&k("strength.b"), b)?;
+        positive(&k("strength.n"), n)?;
+        non_negative(&k("strength.c"), c)?;
+        positive(&k("strength.m"), m_exp)?;
+        positive(&k("strength.reference_strain_rate"), reference_strain_rate)?;
+        positive(&k("strength.room_temperature"), room_temperature)?;
+        positive(&k("strength.melt_temperature"), melt_temperature)?;
+        if melt_temperature <= room_temperature {
+            return Err(SceneError::at(
+                k("strength.melt_temperature"),
+                format!("must be above room_temperature ({room_temperature} K)"),
+            ));
+        }
+        match m.specific_heat {
+            Some(cp) => positive(&k("specific_heat"), cp)?,
+            None => return Err(SceneError::at(
+                k("specific_heat"),
+                "a strength law needs the specific heat (J/(kg K)) for the plastic work's heating",
+            )),
+        }
+    } else if let Some(cp) = m.specific_heat {
+        positive(&k("specific_heat"), cp)?;
+    }
+    if let Some(tq) = m.taylor_quinney {
+        if !(tq.is_finite() && (0.0..=1.0).contains(&tq)) {
+            return Err(SceneError::at(
+                k("taylor_quinney"),
+                format!("must be in [0, 1] (got {tq})"),
+            ));
+        }
+    }
+    if let Some(FailureLaw::JohnsonCook { d1, d2, d3, d4, d5 }) = m.failure {
+        finite(&k("failure"), &[d1, d2, d3, d4, d5])?;
+        if m.strength.is_none() && m.yield_stress.is_none() {
+            return Err(SceneError::at(
+                k("failure"),
+                "a damage law needs plastic strain: give yield_stress or a strength law",
+            ));
+        }
+        // ε_f is monotonic in the triaxiality, which the solver bounds:
+        // positive at both bounds, positive everywhere.
+        let bound = crate::physics::strength::TRIAXIALITY_BOUND;
+        for t in [-bound, bound] {
+            let base = d1 + d2 * (d3 * t).exp();
+            if base.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                return Err(SceneError::at(
+                    k("failure.d1"),
+                    format!(
+                        "the failure strain D1 + D2 exp(D3 σ*) is {base} at the triaxiality σ* = {t} (the solver's bound); it must be > 0"
+                    ),
+                ));
+            }
+        }
+        if d4 < 0.0 {
+            return Err(SceneError::at(
+                k("failure.d4"),
+                format!("must be >= 0 (got {d4}): a negative D4 makes the failure strain non-positive at high rates"),
+            ));
+        }
+        if d5 <= -1.0 {
+            return Err(SceneError::at(
+                k("failure.d5"),
+                format!(
+                    "must be > -1 (got {d5}): the failure strain would be non-positive at the melt"
+                ),
+            ));
+        }
+    }
+    if let Some(p) = m.spall_pressure {
+        positive(&k("spall_pressure"), p)?;
+    }
+    Ok(())
 }
 
 fn validate_shape(shape: &Shape, dim: usize, key: &str) -> R {

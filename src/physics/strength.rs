@@ -1,0 +1,249 @@
+//! The stress update of a particle after the trial step: radial return onto
+//! the yield surface of its material's strength law, the plastic work's
+//! heating, damage and failure (docs/method.md, "Strength and failure").
+//!
+//! Perfect plasticity (`yield_stress`) needs nothing but the trial stress.
+//! A Johnson–Cook strength law and the failure models need a history per
+//! particle ([`History`]): the equivalent plastic strain, the temperature
+//! and the damage, carried by the solvers only when a scene's materials ask
+//! for them.
+
+use crate::math::{Mat2, Sym};
+use crate::physics::material::MaterialModel;
+
+/// What a particle remembers of its plastic past.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct History {
+    /// Equivalent plastic strain `ε_p`.
+    pub eps_p: f64,
+    /// Temperature, K.
+    pub temperature: f64,
+    /// Damage `D` in [0, 1]; 1: failed.
+    pub damage: f64,
+}
+
+/// Triaxialities beyond this bound use the bound in the failure strain:
+/// past it the material is in near-hydrostatic tension, where the spall
+/// pressure governs, and where the exponential term of some published
+/// constant sets (Armco iron's) turns the failure strain negative.
+pub const TRIAXIALITY_BOUND: f64 = 1.5;
+
+/// A failed particle's damage.
+pub const FAILED: f64 = 1.0;
+
+/// The equivalent strain rate `sqrt(⅔ d′:d′)` of a velocity gradient, `d′`
+/// the deviatoric rate of deformation in plane strain (`d_zz = 0`): the
+/// rate of the Johnson–Cook rate terms.
+#[inline]
+pub fn equivalent_strain_rate(gv: &Mat2) -> f64 {
+    let dxy = 0.5 * (gv.xy + gv.yx);
+    let tr3 = (gv.xx + gv.yy) / 3.0;
+    let (a, b, c) = (gv.xx - tr3, gv.yy - tr3, -tr3);
+    ((2.0 / 3.0) * (a * a + b * b + c * c + 2.0 * dxy * dxy)).sqrt()
+}
+
+/// The stress update of one particle of material `mat`: the trial
+/// deviatoric stress `trial` returned onto the yield surface at the strain
+/// rate `rate` (1/s), from the history `h` at the start of the step; `rho`
+/// and `p` are the density and pressure the step ends at. Returns the
+/// deviatoric stress and the history at the end.
+///
+/// * Perfect plasticity: `s` scaled onto `Y0`; `Δε_p = (q − Y0)/3G`.
+/// * Johnson–Cook: `Δε_p` from the return at the rate and temperature of
+///   the step's start ([`crate::physics::johnson_cook::Strength::return_increment`]),
+///   and `ΔT = χ σ_y Δε_p / (ρ c_p)`.
+/// * Damage: `ΔD = Δε_p / ε_f(σ*, ε̇*, T*)` with the triaxiality
+///   `σ* = −p/σ_y` of the returned state; a particle whose damage reaches
+///   1, or whose pressure falls below `−p_spall`, fails.
+/// * A failed particle carries no deviatoric stress (and, in the EOS, no
+///   tension: [`MaterialModel::pressure_of`]).
+#[inline]
+pub fn update(
+    mat: &MaterialModel,
+    trial: Sym,
+    rate: f64,
+    rho: f64,
+    p: f64,
+    h: History,
+) -> (Sym, History) {
+    let mut h = h;
+    if h.damage >= FAILED {
+        return (Sym::default(), h);
+    }
+    let q = trial.von_mises();
+    let (mut s, mut d_eps, mut flow) = (trial, 0.0, q);
+    if let Some(jc) = &mat.strength {
+        let scale = jc.rate_factor(rate) * jc.thermal_factor(h.temperature);
+        d_eps = jc.return_increment(q, mat.g, h.eps_p, scale);
+        if d_eps > 0.0 {
+            flow = q - 3.0 * mat.g * d_eps;
+            s = trial.scale(flow / q);
+            h.temperature += mat.taylor_quinney * flow * d_eps / (rho * mat.specific_heat);
+        }
+    } else if q > mat.y0 {
+        d_eps = (q - mat.y0) / (3.0 * mat.g);
+        flow = mat.y0;
+        s = trial.scale(mat.y0 / q);
+    }
+    h.eps_p += d_eps;
+    if let Some(f) = &mat.failure {
+        if d_eps > 0.0 {
+            let triax = if flow > 0.0 {
+                -p / flow
+            } else {
+                -p.signum() * f64::INFINITY
+            };
+            let (rate_star, t_star) = match &mat.strength {
+                Some(jc) => (
+                    rate / jc.reference_strain_rate,
+                    jc.homologous(h.temperature),
+                ),
+                None => (rate, 0.0),
+            };
+            let eps_f = f.failure_strain(
+                triax.clamp(-TRIAXIALITY_BOUND, TRIAXIALITY_BOUND),
+                rate_star,
+                t_star,
+            );
+            h.damage = (h.damage + d_eps / eps_f).min(FAILED);
+        }
+    }
+    if p < -mat.spall {
+        h.damage = FAILED;
+    }
+    if h.damage >= FAILED {
+        s = Sym::default();
+    }
+    (s, h)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Eos, FailureLaw, Material, StrengthLaw};
+
+    fn steel(strength: bool, failure: bool, spall: Option<f64>) -> MaterialModel {
+        MaterialModel::new(&Material {
+            shear_modulus: Some(77.5e9),
+            yield_stress: (!strength).then_some(792e6),
+            strength: strength.then_some(StrengthLaw::JohnsonCook {
+                a: 792e6,
+                b: 510e6,
+                n: 0.26,
+                c: 0.014,
+                m: 1.03,
+                reference_strain_rate: 1.0,
+                room_temperature: 294.0,
+                melt_temperature: 1793.0,
+            }),
+            specific_heat: Some(477.0),
+            failure: failure.then_some(FailureLaw::JohnsonCook {
+                d1: 0.05,
+                d2: 3.44,
+                d3: -2.12,
+                d4: 0.002,
+                d5: 0.61,
+            }),
+            spall_pressure: spall,
+            ..Material::basic(
+                7830.0,
+                Eos::MieGruneisen {
+                    c0: 4578.0,
+                    s: 1.33,
+                    gamma0: 1.67,
+                },
+            )
+        })
+    }
+
+    fn fresh() -> History {
+        History {
+            eps_p: 0.0,
+            temperature: 294.0,
+            damage: 0.0,
+        }
+    }
+
+    /// Uniaxial stretch `s = q·diag(⅔, −⅓, −⅓)` with von Mises `q`.
+    fn uniaxial(q: f64) -> Sym {
+        Sym {
+            xx: 2.0 * q / 3.0,
+            yy: -q / 3.0,
+            xy: 0.0,
+            zz: -q / 3.0,
+        }
+    }
+
+    #[test]
+    fn equivalent_rate_of_uniaxial_strain_and_shear() {
+        // Uniaxial strain rate ε̇: ε̇_eq = ⅔ ε̇.
+        let gv = Mat2 {
+            xx: 3.0,
+            ..Mat2::ZERO
+        };
+        assert!((equivalent_strain_rate(&gv) - 2.0).abs() < 1e-15);
+        // Simple shear γ̇: ε̇_eq = γ̇/√3.
+        let gv = Mat2 {
+            xy: 3.0,
+            ..Mat2::ZERO
+        };
+        assert!((equivalent_strain_rate(&gv) - 3.0 / 3f64.sqrt()).abs() < 1e-15);
+    }
+
+    /// The returned stress lies on the surface, the heating is the
+    /// Taylor–Quinney share of the plastic work, and a purely elastic trial
+    /// changes nothing.
+    #[test]
+    fn johnson_cook_return_heats_by_the_plastic_work() {
+        let m = steel(true, false, None);
+        let (s, h) = update(&m, uniaxial(1.2e9), 1.0, 7830.0, 0.0, fresh());
+        let jc = m.strength.unwrap();
+        let y = jc.flow_stress(h.eps_p, 1.0, 294.0);
+        assert!((s.von_mises() - y).abs() <= 1e-12 * y);
+        assert!((h.eps_p - (1.2e9 - y) / (3.0 * 77.5e9)).abs() <= 1e-12 * h.eps_p);
+        let heat = 0.9 * y * h.eps_p / (7830.0 * 477.0);
+        assert!((h.temperature - 294.0 - heat).abs() <= 1e-12 * heat);
+        let (s, h) = update(&m, uniaxial(700e6), 1.0, 7830.0, 0.0, fresh());
+        assert_eq!((s, h), (uniaxial(700e6), fresh()));
+    }
+
+    /// Damage grows by Δε_p/ε_f; at 1 the particle fails and keeps no
+    /// deviator; spall fails it at once; a failed particle stays failed.
+    #[test]
+    fn damage_and_spall() {
+        let m = steel(false, true, Some(2e9));
+        let q = 792e6 + 3.0 * 77.5e9 * 0.01;
+        // Uniaxial tension, σ* = ⅓: ε_f of 4340 at σ* = ⅓.
+        let p = -792e6 / 3.0;
+        let (s, h) = update(&m, uniaxial(q), 1.0, 7830.0, p, fresh());
+        let eps_f = 0.05 + 3.44 * (-2.12f64 / 3.0).exp();
+        assert!((h.damage - 0.01 / eps_f).abs() < 1e-12);
+        assert!((s.von_mises() - 792e6).abs() < 1e-3);
+        let near = History {
+            damage: 0.995,
+            ..fresh()
+        };
+        let (s, h) = update(&m, uniaxial(q), 1.0, 7830.0, p, near);
+        assert_eq!((s, h.damage), (Sym::default(), FAILED));
+        // Spall: elastic, but the pressure below −p_spall.
+        let (s, h) = update(&m, uniaxial(100e6), 1.0, 7830.0, -2.1e9, fresh());
+        assert_eq!((s, h.damage, h.eps_p), (Sym::default(), FAILED, 0.0));
+        let (s, h2) = update(&m, uniaxial(1e9), 1.0, 7830.0, 1e9, h);
+        assert_eq!((s, h2), (Sym::default(), h));
+    }
+
+    /// At a triaxiality past the bound, Armco iron's failure strain (D1 < 0)
+    /// would be negative; the bound keeps it positive.
+    #[test]
+    fn the_triaxiality_bound_keeps_armco_iron_positive() {
+        let f = crate::physics::johnson_cook::Failure {
+            d1: -2.20,
+            d2: 5.43,
+            d3: -0.47,
+            d4: 0.016,
+            d5: 0.63,
+        };
+        assert!(f.failure_strain(3.0, 1.0, 0.0) < 0.0);
+        assert!(f.failure_strain(TRIAXIALITY_BOUND, 1.0, 0.0) > 0.4);
+    }
+}
