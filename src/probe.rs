@@ -193,7 +193,8 @@ pub enum OutOfRange {
     /// energy that melts them from room temperature): no solid law applies.
     Energy,
     /// Density outside `[½, 2] ρ₀`: compressed or torn beyond what a solid
-    /// at these pressures does.
+    /// at these pressures does (a failed particle may go below ½ρ₀: it
+    /// lies in an opening crack).
     Density,
 }
 
@@ -221,7 +222,8 @@ pub fn out_of_range(model: &Model, st: &State, i: usize) -> Option<(OutOfRange, 
         Some((OutOfRange::NegativeEnergy, -e / (1e-3 * c2)))
     } else if e > 0.1 * c2 {
         Some((OutOfRange::Energy, e / (0.1 * c2)))
-    } else if !(0.5..=2.0).contains(&rho) {
+    } else if rho > 2.0 || (rho < 0.5 && st.damage_of(i) < crate::physics::strength::FAILED) {
+        // A failed particle below ½ρ₀ is an opening crack, not a torn solid.
         Some((OutOfRange::Density, (rho / 2.0).max(0.5 / rho)))
     } else {
         None

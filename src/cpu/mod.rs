@@ -249,7 +249,7 @@ pub fn eos_and_stress(model: &Model, st: &State) -> Vec<StressPoint> {
 fn stress_point(model: &Model, i: usize, rho: f64, e: f64, s: &Sym, damage: f64) -> StressPoint {
     let mat = model.material(i);
     let p = mat.pressure_of(rho, e, damage);
-    let c = mat.sound_speed(rho, e);
+    let c = mat.sound_speed_of(rho, e, damage);
     let sigma = forces::cauchy(p, s);
     let r2 = rho * rho;
     let r = match model.artificial_stress {
@@ -416,18 +416,29 @@ fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &
     out.entry.clone_from(&base.entry);
 }
 
-/// Whether particle i's density is inside `[0.1, 10] ρ0`.
+/// Whether particle i's density is inside `[0.1, 10] ρ0`, or, for a
+/// failed particle (damage `damage`), positive and below `10 ρ0`: an
+/// opening crack takes a failed particle's density towards zero.
 #[inline]
-fn dense(model: &Model, i: usize, rho: f64) -> bool {
+fn dense(model: &Model, i: usize, rho: f64, damage: f64) -> bool {
     let rho0 = model.material(i).rho0;
-    rho > 0.1 * rho0 && rho < 10.0 * rho0
+    let low = if damage >= strength::FAILED {
+        0.0
+    } else {
+        0.1 * rho0
+    };
+    rho > low && rho < 10.0 * rho0
 }
 
 /// Whether particle i at `x`, `v`, `e`, `rho` passes the state check
 /// ([`CpuSolver::check`]).
 #[inline]
-fn sane(model: &Model, i: usize, x: DVec2, v: DVec2, e: f64, rho: f64) -> bool {
-    x.is_finite() && v.is_finite() && e.is_finite() && dense(model, i, rho) && model.in_domain(x)
+fn sane(model: &Model, i: usize, x: DVec2, v: DVec2, e: f64, rho: f64, damage: f64) -> bool {
+    x.is_finite()
+        && v.is_finite()
+        && e.is_finite()
+        && dense(model, i, rho, damage)
+        && model.in_domain(x)
 }
 
 /// Perfect plasticity, radial return (METHOD.md §6): particle i's trial
@@ -833,11 +844,22 @@ impl CpuSolver {
                 let (x, v, rho) = (next.x[i], next.v[i], next.rho[i]);
                 if model.rigid(i) {
                     // Checked too: a rigid body may leave the domain.
-                    return (f64::INFINITY, sane(model, i, x, v, *e, rho));
+                    return (f64::INFINITY, sane(model, i, x, v, *e, rho, 0.0));
                 }
                 *e = half.e[i] + de[i] * h;
                 let dt = material::cfl_step(model.cfl, model.h[i], pts[i].c, v.length());
-                (dt, sane(model, i, x, v, *e, rho))
+                (
+                    dt,
+                    sane(
+                        model,
+                        i,
+                        x,
+                        v,
+                        *e,
+                        rho,
+                        next.damage.get(i).copied().unwrap_or(0.0),
+                    ),
+                )
             })
             .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 && b.1));
         next.heat = half.heat + heat_rate * h;
@@ -911,10 +933,10 @@ impl CpuSolver {
     fn check(&self) -> Result<(), Instability> {
         let st = &self.state;
         let m = &self.model;
-        let dense = |i: usize| dense(m, i, st.rho[i]);
+        let dense = |i: usize| dense(m, i, st.rho[i], st.damage_of(i));
         let bad = (0..m.len())
             .into_par_iter()
-            .find_first(|&i| !sane(m, i, st.x[i], st.v[i], st.e[i], st.rho[i]));
+            .find_first(|&i| !sane(m, i, st.x[i], st.v[i], st.e[i], st.rho[i], st.damage_of(i)));
         match bad {
             None => Ok(()),
             Some(i) => {

@@ -125,6 +125,19 @@ impl MaterialModel {
         self.strength.map_or(0.0, |jc| jc.room_temperature)
     }
 
+    /// The sound speed of a particle with damage `damage`: a failed one has
+    /// no shear stiffness, so its speed is the bulk one (which stays bounded
+    /// as an opening crack takes its density towards zero).
+    #[inline]
+    pub fn sound_speed_of(&self, rho: f64, e: f64, damage: f64) -> f64 {
+        if damage >= crate::physics::strength::FAILED {
+            let bulk = Self { g: 0.0, ..*self };
+            bulk.sound_speed(rho, e)
+        } else {
+            self.sound_speed(rho, e)
+        }
+    }
+
     /// The pressure of a particle with damage `damage`: a failed one
     /// ([`crate::physics::strength::FAILED`]) carries no tension.
     #[inline]
@@ -243,6 +256,24 @@ mod tests {
         assert!((a.nu - 0.357).abs() < 1e-3);
         assert!((a.c_l / 6352.7 - 1.0).abs() < 1e-4);
         assert!((a.z / 1.772e7 - 1.0).abs() < 1e-3);
+    }
+
+    /// A failed particle carries no tension and has the bulk sound speed;
+    /// an intact one is unchanged.
+    #[test]
+    fn a_failed_particle_has_no_tension_and_no_shear_stiffness() {
+        let s = MaterialModel::new(&steel());
+        let stretched = 0.9 * s.rho0;
+        assert!(s.pressure_of(stretched, 0.0, 0.0) < 0.0);
+        assert_eq!(
+            s.pressure_of(stretched, 0.0, 0.0),
+            s.pressure(stretched, 0.0)
+        );
+        assert_eq!(s.pressure_of(stretched, 0.0, 1.0), 0.0);
+        let squeezed = 1.1 * s.rho0;
+        assert_eq!(s.pressure_of(squeezed, 0.0, 1.0), s.pressure(squeezed, 0.0));
+        assert_eq!(s.sound_speed_of(s.rho0, 0.0, 0.5), s.c_l);
+        assert!((s.sound_speed_of(s.rho0, 0.0, 1.0) / s.c0 - 1.0).abs() < 1e-12);
     }
 
     /// p(ρ0, 0) = 0; the slope at ρ0 is c0²; the sound speed at ρ0 is c_L.
