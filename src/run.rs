@@ -82,10 +82,10 @@ pub struct BackendChoice {
 /// What a scene asks for that only the CPU path has: a strength law, a
 /// failure model or a spall pressure on a deformable body.
 pub fn cpu_only(scene: &Scene) -> Option<&'static str> {
-    let asks = scene.bodies.iter().filter(|b| !b.rigid).any(|b| {
-        let m = &scene.materials[&b.material];
-        m.strength.is_some() || m.failure.is_some() || m.spall_pressure.is_some()
-    });
+    let asks = scene
+        .bodies
+        .iter()
+        .any(|b| !b.rigid && scene.materials[&b.material].has_history());
     asks.then_some("a strength law or failure model")
 }
 

@@ -506,10 +506,11 @@ fn elastic_plastic_rod_on_rigid_wall_gpu() {
 fn hardening_rod() {
     let path = "scenes/hard/rod_on_rigid_wall_hardening.toml";
     let scene = load(path);
-    let hard = rod_on_wall(&material(&scene, "steel"), 100.0).unwrap();
+    let v0 = scene.bodies[0].velocity.as_ref().unwrap()[0];
+    let hard = rod_on_wall(&material(&scene, "steel"), v0).unwrap();
     let perfect = rod_on_wall(
         &material(&load("scenes/hard/rod_on_rigid_wall.toml"), "steel"),
-        100.0,
+        v0,
     )
     .unwrap();
     println!(

@@ -115,7 +115,7 @@ fn drive(c: f64, tq: f64, t0: f64, l: Mat2, dt: f64, steps: usize) -> Driven {
             let trial = st.s[i].add_scaled(&k.ds[i], dt);
             let rate = k.rate[i];
             out.rate = (out.rate.0.min(rate), out.rate.1.max(rate));
-            let (s, h) = strength::update(&mat, trial, rate, st.rho[i], 0.0, hist[i]);
+            let (s, h) = strength::update(&mat, trial, rate, st.rho[i], || 0.0, hist[i]);
             st.s[i] = s;
             hist[i] = h;
             st.rho[i] += k.drho[i] * dt;
@@ -259,7 +259,7 @@ fn adiabatic_heating_converges_to_first_order() {
         for _ in 0..steps {
             // ε̇_eq = ⅔|ε̇_xx|: a compression of 1.5 de in x.
             let trial = s.add_scaled(&dir, -3.0 * g * de);
-            let (s2, h2) = strength::update(&mat, trial, 0.5, rho, 0.0, h);
+            let (s2, h2) = strength::update(&mat, trial, 0.5, rho, || 0.0, h);
             s = s2;
             h = h2;
             rho *= (1.5 * de).exp();

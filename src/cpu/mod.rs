@@ -375,41 +375,10 @@ fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &
             *v = base.v[i] + r.dv[i] * k;
             *rho = base.rho[i] + r.drho[i] * k;
             *e = base.e[i] + r.de[i] * k;
-            let trial = base.s[i].add_scaled(&r.ds[i], k);
-            // With a history the return is made below, from the trial.
-            *s = if model.history {
-                trial
-            } else {
-                plastic_return(model, i, trial)
-            };
+            *s = plastic_return(model, i, base.s[i].add_scaled(&r.ds[i], k));
         });
     if model.history {
-        let State {
-            rho,
-            e,
-            s,
-            eps_p,
-            temperature,
-            damage,
-            ..
-        } = out;
-        s.par_iter_mut()
-            .zip(eps_p.par_iter_mut())
-            .zip(temperature.par_iter_mut())
-            .zip(damage.par_iter_mut())
-            .enumerate()
-            .for_each(|(i, (((s, ep), t), d))| {
-                let h = if model.rigid(i) {
-                    base.history(i)
-                } else {
-                    let rate = r.rate.get(i).copied().unwrap_or(0.0);
-                    let (s_new, h) =
-                        material_update(model, i, *s, rate, rho[i], e[i], base.history(i));
-                    *s = s_new;
-                    h
-                };
-                (*ep, *t, *d) = (h.eps_p, h.temperature, h.damage);
-            });
+        return_with_history(model, base, &r.rate, out);
     }
     out.heat = base.heat + r.heat_rate * k;
     out.spring_work = base.spring_work + r.spring_rate * k;
@@ -442,9 +411,14 @@ fn sane(model: &Model, i: usize, x: DVec2, v: DVec2, e: f64, rho: f64, damage: f
 }
 
 /// Perfect plasticity, radial return (METHOD.md §6): particle i's trial
-/// deviatoric stress `s` scaled back onto the yield surface.
+/// deviatoric stress `s` scaled back onto the yield surface. When the state
+/// carries a plastic history the trial is left as it is: the history's
+/// update returns it ([`return_with_history`]).
 #[inline]
 fn plastic_return(model: &Model, i: usize, s: Sym) -> Sym {
+    if model.history {
+        return s;
+    }
     let y0 = model.material(i).y0;
     if y0.is_finite() {
         let j = s.von_mises();
@@ -455,21 +429,40 @@ fn plastic_return(model: &Model, i: usize, s: Sym) -> Sym {
     s
 }
 
-/// Particle i's stress update with a plastic history ([`strength::update`]):
-/// the trial deviatoric stress `trial` at the strain rate `rate`, the step
-/// ending at density `rho` and energy `e`, from the history `h`.
-#[inline]
-fn material_update(
-    model: &Model,
-    i: usize,
-    trial: Sym,
-    rate: f64,
-    rho: f64,
-    e: f64,
-    h: strength::History,
-) -> (Sym, strength::History) {
-    let mat = model.material(i);
-    strength::update(mat, trial, rate, rho, mat.pressure(rho, e), h)
+/// The stress update with a plastic history ([`strength::update`]) over a
+/// whole state: `out.s` holds the trial stresses and leaves with the
+/// returned ones; `out.rho` and `out.e` are where the step ends, `from` the
+/// state whose history it starts from, `rate` the strain rates (empty: 0).
+/// Rigid particles keep `from`'s history.
+fn return_with_history(model: &Model, from: &State, rate: &[f64], out: &mut State) {
+    let State {
+        rho,
+        e,
+        s,
+        eps_p,
+        temperature,
+        damage,
+        ..
+    } = out;
+    s.par_iter_mut()
+        .zip(eps_p.par_iter_mut())
+        .zip(temperature.par_iter_mut())
+        .zip(damage.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, (((s, ep), t), d))| {
+            let h = if model.rigid(i) {
+                from.history(i)
+            } else {
+                let mat = model.material(i);
+                let r = rate.get(i).copied().unwrap_or(0.0);
+                let (rho, e) = (rho[i], e[i]);
+                let (s_new, h) =
+                    strength::update(mat, *s, r, rho, || mat.pressure(rho, e), from.history(i));
+                *s = s_new;
+                h
+            };
+            (*ep, *t, *d) = (h.eps_p, h.temperature, h.damage);
+        });
 }
 
 /// The CPU solver: the state and the evaluation made at it.
@@ -729,60 +722,34 @@ impl CpuSolver {
         let k = kinematics::kinematics_seen(model, &half, nb, &next.v);
         next.x.copy_from_slice(&half.x);
         // ρ and s at n+1, the predicted energy of 3, and the EOS at them
-        // (eos_and_stress, in the same walk).
-        let mut pts: Vec<StressPoint> = next
+        // (eos_and_stress: in the same walk, or, with a plastic history,
+        // after its return).
+        let to_next = |i: usize, e: &mut f64, rho: &mut f64, s: &mut Sym| {
+            if model.rigid(i) {
+                (*e, *rho, *s) = (half.e[i], half.rho[i], half.s[i]);
+                return;
+            }
+            *e = half.e[i] + kn.de[i] * h;
+            *rho = half.rho[i] + k.drho[i] * dt;
+            *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
+        };
+        let walk = next
             .e
             .par_iter_mut()
             .zip(next.rho.par_iter_mut())
             .zip(next.s.par_iter_mut())
-            .enumerate()
-            .map(|(i, ((e, rho), s))| {
-                if model.rigid(i) {
-                    (*e, *rho, *s) = (half.e[i], half.rho[i], half.s[i]);
-                } else {
-                    *e = half.e[i] + kn.de[i] * h;
-                    *rho = half.rho[i] + k.drho[i] * dt;
-                    let trial = half.s[i].add_scaled(&k.ds[i], dt);
-                    if model.history {
-                        // Returned below, with the history.
-                        *s = trial;
-                        return StressPoint::default();
-                    }
-                    *s = plastic_return(model, i, trial);
-                }
+            .enumerate();
+        let pts: Vec<StressPoint> = if model.history {
+            walk.for_each(|(i, ((e, rho), s))| to_next(i, e, rho, s));
+            return_with_history(model, st, &k.rate, &mut next);
+            eos_and_stress(model, &next)
+        } else {
+            walk.map(|(i, ((e, rho), s))| {
+                to_next(i, e, rho, s);
                 stress_point(model, i, *rho, *e, s, 0.0)
             })
-            .collect();
-        if model.history {
-            let State {
-                rho,
-                e,
-                s,
-                eps_p,
-                temperature,
-                damage,
-                ..
-            } = &mut next;
-            pts.par_iter_mut()
-                .zip(s.par_iter_mut())
-                .zip(eps_p.par_iter_mut())
-                .zip(temperature.par_iter_mut())
-                .zip(damage.par_iter_mut())
-                .enumerate()
-                .for_each(|(i, ((((pt, s), ep), t), d))| {
-                    let hist = if model.rigid(i) {
-                        st.history(i)
-                    } else {
-                        let rate = k.rate.get(i).copied().unwrap_or(0.0);
-                        let (s_new, hist) =
-                            material_update(model, i, *s, rate, rho[i], e[i], st.history(i));
-                        *s = s_new;
-                        hist
-                    };
-                    (*ep, *t, *d) = (hist.eps_p, hist.temperature, hist.damage);
-                    *pt = stress_point(model, i, rho[i], e[i], s, hist.damage);
-                });
-        }
+            .collect()
+        };
         // 3: the forces at n+1.
         let mut dv = forces::momentum_keeping(
             model,

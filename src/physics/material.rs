@@ -116,7 +116,14 @@ impl MaterialModel {
     /// ([`crate::physics::strength::History`]): a strength law with
     /// hardening, or a failure model.
     pub fn has_history(&self) -> bool {
-        self.strength.is_some() || self.failure.is_some() || self.spall.is_finite()
+        self.strength.is_some() || self.needs_pressure()
+    }
+
+    /// Whether the stress update's failure laws read the pressure: a
+    /// damage law (through the triaxiality) or a spall pressure.
+    #[inline]
+    pub fn needs_pressure(&self) -> bool {
+        self.failure.is_some() || self.spall.is_finite()
     }
 
     /// The room temperature a particle starts at (0 without a strength law,
@@ -130,12 +137,12 @@ impl MaterialModel {
     /// as an opening crack takes its density towards zero).
     #[inline]
     pub fn sound_speed_of(&self, rho: f64, e: f64, damage: f64) -> f64 {
-        if damage >= crate::physics::strength::FAILED {
-            let bulk = Self { g: 0.0, ..*self };
-            bulk.sound_speed(rho, e)
+        let g = if damage >= crate::physics::strength::FAILED {
+            0.0
         } else {
-            self.sound_speed(rho, e)
-        }
+            self.g
+        };
+        self.speed_with_shear(rho, e, g)
     }
 
     /// The pressure of a particle with damage `damage`: a failed one
@@ -174,6 +181,12 @@ impl MaterialModel {
     /// never below its reference value `K`, so it equals `c_L` at ρ0.
     #[inline]
     pub fn sound_speed(&self, rho: f64, e: f64) -> f64 {
+        self.speed_with_shear(rho, e, self.g)
+    }
+
+    /// [`MaterialModel::sound_speed`] with shear modulus `g`.
+    #[inline]
+    fn speed_with_shear(&self, rho: f64, e: f64, g: f64) -> f64 {
         let mu = rho / self.rho0 - 1.0;
         let a0 = self.k;
         let mut dpdrho = a0 / self.rho0;
@@ -187,7 +200,7 @@ impl MaterialModel {
                 + self.gamma0 * e;
             dpdrho = dpdrho.max(d);
         }
-        ((rho * dpdrho + 4.0 * self.g / 3.0) / rho).sqrt()
+        ((rho * dpdrho + 4.0 * g / 3.0) / rho).sqrt()
     }
 }
 

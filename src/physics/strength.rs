@@ -45,8 +45,9 @@ pub fn equivalent_strain_rate(gv: &Mat2) -> f64 {
 /// The stress update of one particle of material `mat`: the trial
 /// deviatoric stress `trial` returned onto the yield surface at the strain
 /// rate `rate` (1/s), from the history `h` at the start of the step; `rho`
-/// and `p` are the density and pressure the step ends at. Returns the
-/// deviatoric stress and the history at the end.
+/// is the density the step ends at, `pressure` gives its pressure (asked
+/// only by the failure laws, [`MaterialModel::needs_pressure`]). Returns
+/// the deviatoric stress and the history at the end.
 ///
 /// * Perfect plasticity: `s` scaled onto `Y0`; `Δε_p = (q − Y0)/3G`.
 /// * Johnson–Cook: `Δε_p` from the return at the rate and temperature of
@@ -63,7 +64,7 @@ pub fn update(
     trial: Sym,
     rate: f64,
     rho: f64,
-    p: f64,
+    pressure: impl FnOnce() -> f64,
     h: History,
 ) -> (Sym, History) {
     let mut h = h;
@@ -86,6 +87,10 @@ pub fn update(
         s = trial.scale(mat.y0 / q);
     }
     h.eps_p += d_eps;
+    if !mat.needs_pressure() {
+        return (s, h);
+    }
+    let p = pressure();
     if let Some(f) = &mat.failure {
         if d_eps > 0.0 {
             let triax = if flow > 0.0 {
@@ -120,39 +125,19 @@ pub fn update(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Eos, FailureLaw, Material, StrengthLaw};
+    use crate::scene::Material;
 
+    /// 4340 steel of the library; without `strength`, perfectly plastic at
+    /// its A (792 MPa); with or without its damage law; spall pressure
+    /// `spall`.
     fn steel(strength: bool, failure: bool, spall: Option<f64>) -> MaterialModel {
+        let lib = crate::scene::library::entry("steel_4340").unwrap();
         MaterialModel::new(&Material {
-            shear_modulus: Some(77.5e9),
             yield_stress: (!strength).then_some(792e6),
-            strength: strength.then_some(StrengthLaw::JohnsonCook {
-                a: 792e6,
-                b: 510e6,
-                n: 0.26,
-                c: 0.014,
-                m: 1.03,
-                reference_strain_rate: 1.0,
-                room_temperature: 294.0,
-                melt_temperature: 1793.0,
-            }),
-            specific_heat: Some(477.0),
-            failure: failure.then_some(FailureLaw::JohnsonCook {
-                d1: 0.05,
-                d2: 3.44,
-                d3: -2.12,
-                d4: 0.002,
-                d5: 0.61,
-            }),
+            strength: lib.strength.filter(|_| strength),
+            failure: lib.failure.filter(|_| failure),
             spall_pressure: spall,
-            ..Material::basic(
-                7830.0,
-                Eos::MieGruneisen {
-                    c0: 4578.0,
-                    s: 1.33,
-                    gamma0: 1.67,
-                },
-            )
+            ..lib
         })
     }
 
@@ -196,14 +181,15 @@ mod tests {
     #[test]
     fn johnson_cook_return_heats_by_the_plastic_work() {
         let m = steel(true, false, None);
-        let (s, h) = update(&m, uniaxial(1.2e9), 1.0, 7830.0, 0.0, fresh());
+        let g = m.g;
+        let (s, h) = update(&m, uniaxial(1.2e9), 1.0, 7830.0, || 0.0, fresh());
         let jc = m.strength.unwrap();
         let y = jc.flow_stress(h.eps_p, 1.0, 294.0);
         assert!((s.von_mises() - y).abs() <= 1e-12 * y);
-        assert!((h.eps_p - (1.2e9 - y) / (3.0 * 77.5e9)).abs() <= 1e-12 * h.eps_p);
+        assert!((h.eps_p - (1.2e9 - y) / (3.0 * g)).abs() <= 1e-12 * h.eps_p);
         let heat = 0.9 * y * h.eps_p / (7830.0 * 477.0);
         assert!((h.temperature - 294.0 - heat).abs() <= 1e-12 * heat);
-        let (s, h) = update(&m, uniaxial(700e6), 1.0, 7830.0, 0.0, fresh());
+        let (s, h) = update(&m, uniaxial(700e6), 1.0, 7830.0, || 0.0, fresh());
         assert_eq!((s, h), (uniaxial(700e6), fresh()));
     }
 
@@ -212,10 +198,11 @@ mod tests {
     #[test]
     fn damage_and_spall() {
         let m = steel(false, true, Some(2e9));
-        let q = 792e6 + 3.0 * 77.5e9 * 0.01;
+        let g = m.g;
+        let q = 792e6 + 3.0 * g * 0.01;
         // Uniaxial tension, σ* = ⅓: ε_f of 4340 at σ* = ⅓.
         let p = -792e6 / 3.0;
-        let (s, h) = update(&m, uniaxial(q), 1.0, 7830.0, p, fresh());
+        let (s, h) = update(&m, uniaxial(q), 1.0, 7830.0, || p, fresh());
         let eps_f = 0.05 + 3.44 * (-2.12f64 / 3.0).exp();
         assert!((h.damage - 0.01 / eps_f).abs() < 1e-12);
         assert!((s.von_mises() - 792e6).abs() < 1e-3);
@@ -223,27 +210,37 @@ mod tests {
             damage: 0.995,
             ..fresh()
         };
-        let (s, h) = update(&m, uniaxial(q), 1.0, 7830.0, p, near);
+        let (s, h) = update(&m, uniaxial(q), 1.0, 7830.0, || p, near);
         assert_eq!((s, h.damage), (Sym::default(), FAILED));
         // Spall: elastic, but the pressure below −p_spall.
-        let (s, h) = update(&m, uniaxial(100e6), 1.0, 7830.0, -2.1e9, fresh());
+        let (s, h) = update(&m, uniaxial(100e6), 1.0, 7830.0, || -2.1e9, fresh());
         assert_eq!((s, h.damage, h.eps_p), (Sym::default(), FAILED, 0.0));
-        let (s, h2) = update(&m, uniaxial(1e9), 1.0, 7830.0, 1e9, h);
+        let (s, h2) = update(&m, uniaxial(1e9), 1.0, 7830.0, || 1e9, h);
         assert_eq!((s, h2), (Sym::default(), h));
     }
 
     /// At a triaxiality past the bound, Armco iron's failure strain (D1 < 0)
-    /// would be negative; the bound keeps it positive.
+    /// would be negative; the update takes it at the bound, so damage grows
+    /// by Δε_p/ε_f(1.5) and stays positive.
     #[test]
     fn the_triaxiality_bound_keeps_armco_iron_positive() {
-        let f = crate::physics::johnson_cook::Failure {
-            d1: -2.20,
-            d2: 5.43,
-            d3: -0.47,
-            d4: 0.016,
-            d5: 0.63,
-        };
+        let (d1, d2, d3, d4, d5) = (-2.20, 5.43, -0.47, 0.016, 0.63);
+        let f = crate::physics::johnson_cook::Failure { d1, d2, d3, d4, d5 };
         assert!(f.failure_strain(3.0, 1.0, 0.0) < 0.0);
-        assert!(f.failure_strain(TRIAXIALITY_BOUND, 1.0, 0.0) > 0.4);
+        let m = MaterialModel::new(&Material {
+            failure: Some(crate::scene::FailureLaw::JohnsonCook { d1, d2, d3, d4, d5 }),
+            ..crate::scene::library::entry("steel_4340").unwrap()
+        });
+        let m = MaterialModel {
+            strength: None,
+            y0: 175e6,
+            ..m
+        };
+        let q = 175e6 + 3.0 * m.g * 0.001;
+        // σ* = −p/σ_y = 3, twice the bound.
+        let (_, h) = update(&m, uniaxial(q), 1.0, 7830.0, || -3.0 * 175e6, fresh());
+        let eps_f = f.failure_strain(TRIAXIALITY_BOUND, 1.0, 0.0);
+        assert!(eps_f > 0.4);
+        assert!((h.damage - 0.001 / eps_f).abs() < 1e-12, "{}", h.damage);
     }
 }

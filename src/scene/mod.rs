@@ -266,6 +266,14 @@ impl Material {
     pub fn taylor_quinney(&self) -> f64 {
         self.taylor_quinney.unwrap_or(DEFAULT_TAYLOR_QUINNEY)
     }
+
+    /// Whether a deformable body of this material carries a plastic history
+    /// (equivalent plastic strain, temperature, damage): a strength law, a
+    /// failure model or a spall pressure. The scene-level twin of
+    /// [`crate::physics::material::MaterialModel::has_history`].
+    pub fn has_history(&self) -> bool {
+        self.strength.is_some() || self.failure.is_some() || self.spall_pressure.is_some()
+    }
 }
 
 /// A material as written in a scene: each key optional, so that an entry
@@ -306,32 +314,26 @@ impl TryFrom<MaterialSpec> for Material {
             Some(name) => Some(library::entry(name)?),
             None => None,
         };
-        let pick = |own: Option<f64>, lib: fn(&Material) -> Option<f64>| {
-            own.or_else(|| base.as_ref().and_then(lib))
-        };
-        let density = spec
-            .density
-            .or(base.as_ref().map(|b| b.density))
-            .ok_or("missing field `density`")?;
-        let eos = spec
-            .eos
-            .or(base.as_ref().map(|b| b.eos))
-            .ok_or("missing field `eos`")?;
+        // The spec's own value, else the entry's.
+        fn or_base<T>(
+            own: Option<T>,
+            base: &Option<Material>,
+            of: impl Fn(&Material) -> Option<T>,
+        ) -> Option<T> {
+            own.or_else(|| base.as_ref().and_then(of))
+        }
+        let density =
+            or_base(spec.density, &base, |b| Some(b.density)).ok_or("missing field `density`")?;
+        let eos = or_base(spec.eos, &base, |b| Some(b.eos)).ok_or("missing field `eos`")?;
         Ok(Material {
-            shear_modulus: pick(spec.shear_modulus, |b| b.shear_modulus),
-            yield_stress: pick(spec.yield_stress, |b| b.yield_stress),
-            strength: spec
-                .strength
-                .or_else(|| base.as_ref().and_then(|b| b.strength)),
-            specific_heat: pick(spec.specific_heat, |b| b.specific_heat),
-            taylor_quinney: pick(spec.taylor_quinney, |b| b.taylor_quinney),
-            failure: spec
-                .failure
-                .or_else(|| base.as_ref().and_then(|b| b.failure)),
-            spall_pressure: pick(spec.spall_pressure, |b| b.spall_pressure),
-            source: spec
-                .source
-                .or_else(|| base.as_ref().and_then(|b| b.source.clone())),
+            shear_modulus: or_base(spec.shear_modulus, &base, |b| b.shear_modulus),
+            yield_stress: or_base(spec.yield_stress, &base, |b| b.yield_stress),
+            strength: or_base(spec.strength, &base, |b| b.strength),
+            specific_heat: or_base(spec.specific_heat, &base, |b| b.specific_heat),
+            taylor_quinney: or_base(spec.taylor_quinney, &base, |b| b.taylor_quinney),
+            failure: or_base(spec.failure, &base, |b| b.failure),
+            spall_pressure: or_base(spec.spall_pressure, &base, |b| b.spall_pressure),
+            source: or_base(spec.source, &base, |b| b.source.clone()),
             library: spec.library,
             density,
             eos,

@@ -182,13 +182,8 @@ pub fn validate(scene: &Scene) -> R {
                 dimension_of(&format!("probes[{i}].at"), at, dim)?;
                 if quantity.needs_history() {
                     let b = scene.bodies.iter().find(|b| &b.name == body);
-                    let carries = b.is_some_and(|b| {
-                        let m = &scene.materials[&b.material];
-                        !b.rigid
-                            && (m.strength.is_some()
-                                || m.failure.is_some()
-                                || m.spall_pressure.is_some())
-                    });
+                    let carries =
+                        b.is_some_and(|b| !b.rigid && scene.materials[&b.material].has_history());
                     if !carries {
                         return Err(SceneError::at(
                             format!("probes[{i}].quantity"),
@@ -290,7 +285,7 @@ fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
         let bound = crate::physics::strength::TRIAXIALITY_BOUND;
         for t in [-bound, bound] {
             let base = d1 + d2 * (d3 * t).exp();
-            if base.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            if base.is_nan() || base <= 0.0 {
                 return Err(SceneError::at(
                     k("failure.d1"),
                     format!(
