@@ -199,6 +199,27 @@ fn kernel_w(r: f32, h: f32) -> f32 {
     return kernel_alpha(h) * f;
 }
 
+// The cubic spline's shape inside the support (W = alpha f).
+fn kernel_shape(q: f32) -> f32 {
+    if (q < 1.0) {
+        return 1.0 - 1.5 * q * q + 0.75 * q * q * q;
+    }
+    let t = max(2.0 - q, 0.0);
+    return 0.25 * t * t * t;
+}
+
+// The artificial stress's pair weight f^n, f = W(r)/W(dp) at h (the
+// normalisation cancels); n = 4, the usual choice, by two squarings
+// (pow is exp2(n log2 f), undefined at f = 0).
+fn art_weight(r: f32, dp: f32, h: f32) -> f32 {
+    let f = kernel_shape(r / h) / kernel_shape(dp / h);
+    if (params.as_n == 4.0) {
+        let f2 = f * f;
+        return f2 * f2;
+    }
+    return pow(f, params.as_n);
+}
+
 fn kernel_dw(r: f32, h: f32) -> f32 {
     let q = r / h;
     var f = 0.0;

@@ -156,13 +156,17 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) 
     t.y -= pi;
     // The artificial stress's work, half to each particle of the pair, is
     // booked as heat so total energy stays conserved.
+    // A pair acts only where one of its particles is in tension (the
+    // trace of R_i + R_j, R negative semi-definite, below zero).
     var art_work = 0.0;
     if (ART_STRESS) {
-        let dp = 0.5 * (o.body.spacing + bj.spacing);
-        let f = kernel_w(dist, hij) / kernel_w(dp, hij);
-        let rf = (o.art + art[j]) * pow(f, params.as_n);
-        t += rf;
-        art_work = 0.5 * dot(vij, sym_mul(rf, g));
+        let rs = o.art + art[j];
+        if (rs.x + rs.y < 0.0) {
+            let dp = 0.5 * (o.body.spacing + bj.spacing);
+            let rf = rs * art_weight(dist, dp, hij);
+            t += rf;
+            art_work = 0.5 * dot(vij, sym_mul(rf, g));
+        }
     }
     let mass_j = bitcast<f32>(mj.x);
     if (LEAP != 3u) {

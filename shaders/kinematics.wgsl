@@ -87,25 +87,24 @@ fn list_surface(i: u32, gpsi: vec2<f32>, hi: f32) {
 }
 
 // Artificial stress (METHOD.md §4): -eps sigma/rho^2 of each tensile
-// principal value, rotated back.
+// principal value on its axis. Without the angle: both tensile, it is
+// -eps sigma/rho^2; one (a > 0 >= b), -eps a/rho^2 (sigma - b I)/(a - b);
+// none, zero (the CPU's forces::artificial_stress).
 fn artificial_stress(sig: vec4<f32>, rho: f32) -> vec4<f32> {
     let m = 0.5 * (sig.x + sig.y);
-    let rad = sqrt(0.25 * (sig.x - sig.y) * (sig.x - sig.y) + sig.z * sig.z);
-    let th = 0.5 * atan2(2.0 * sig.z, sig.x - sig.y);
+    let d = 0.5 * (sig.x - sig.y);
+    let rad = sqrt(d * d + sig.z * sig.z);
     let a = m + rad;
     let b = m - rad;
-    let r2 = rho * rho;
-    var ra = 0.0;
-    var rb = 0.0;
-    if (a > 0.0) {
-        ra = -params.as_eps * a / r2;
-    }
+    let k = -params.as_eps / (rho * rho);
     if (b > 0.0) {
-        rb = -params.as_eps * b / r2;
+        return vec4<f32>(k * sig.xyz, 0.0);
     }
-    let sn = sin(th);
-    let cs = cos(th);
-    return vec4<f32>(ra * cs * cs + rb * sn * sn, ra * sn * sn + rb * cs * cs, (ra - rb) * sn * cs, 0.0);
+    if (a > 0.0) {
+        let s = k * a / (a - b);
+        return vec4<f32>(s * (sig.x - b), s * (sig.y - b), s * sig.z, 0.0);
+    }
+    return vec4<f32>(0.0);
 }
 
 // V_j = m_j / rho_j; `rho0_i` is particle i's body's, j's too when contact

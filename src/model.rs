@@ -33,7 +33,7 @@ pub struct Model {
     pub beta: f64,
     /// Limited reconstruction of the velocity jump in the viscosity.
     pub av_reconstruct: bool,
-    /// Artificial stress `(ε, n)` when the scene switches it on.
+    /// Artificial stress `(ε, n)` when the scene switches it on (`ε > 0`).
     pub artificial_stress: Option<(f64, f64)>,
     pub boundary_threshold: f64,
     pub bodies: Vec<BodyInfo>,
@@ -143,7 +143,10 @@ impl Model {
             alpha: av.alpha,
             beta: av.beta,
             av_reconstruct: av.reconstruct,
-            artificial_stress: scene.artificial_stress.map(|a| (a.epsilon, a.n)),
+            artificial_stress: scene
+                .artificial_stress
+                .filter(|a| a.epsilon > 0.0)
+                .map(|a| (a.epsilon, a.n)),
             boundary_threshold: cs.boundary_threshold,
             bodies: Vec::with_capacity(placed.len()),
             mass: Vec::with_capacity(n),
@@ -332,6 +335,12 @@ impl Model {
     #[inline]
     pub fn material(&self, i: usize) -> &MaterialModel {
         &self.bodies[self.body[i] as usize].material
+    }
+
+    /// The initial spacing `Δp` of particle i's body.
+    #[inline]
+    pub fn spacing_of(&self, i: usize) -> f64 {
+        self.bodies[self.body[i] as usize].spacing
     }
 
     /// Body name and index within the body of global particle `i`.

@@ -33,15 +33,72 @@ pub fn cauchy(p: f64, s: &Sym) -> Sym {
     }
 }
 
-/// Artificial stress of METHOD.md §4: rotate σ/ρ² to principal axes, take
-/// `−ε σ̄/ρ²` of each tensile principal value, rotate back.
+/// Artificial stress (Gray, Monaghan & Swift 2001): `−ε σ̄/ρ²` of each
+/// tensile principal value `σ̄` of σ, on its principal axis.
+///
+/// Written without the principal angle: with both principal values
+/// tensile it is `−ε σ/ρ²` (in plane), with one (`a > 0 ≥ b`) it is
+/// `−ε a/ρ² P_a` with the projector `P_a = (σ − b I)/(a − b)`, and with
+/// none it is zero. No trigonometry, and exact where the two principal
+/// values meet.
 #[inline]
 pub fn artificial_stress(eps: f64, sigma: &Sym, rho: f64) -> Sym {
-    let (a, b, th) = sigma.principal();
-    let r2 = rho * rho;
-    let ra = if a > 0.0 { -eps * a / r2 } else { 0.0 };
-    let rb = if b > 0.0 { -eps * b / r2 } else { 0.0 };
-    Sym::from_principal(ra, rb, th)
+    let m = 0.5 * (sigma.xx + sigma.yy);
+    let d = 0.5 * (sigma.xx - sigma.yy);
+    let rad = (d * d + sigma.xy * sigma.xy).sqrt();
+    let (a, b) = (m + rad, m - rad);
+    let k = -eps / (rho * rho);
+    if b > 0.0 {
+        Sym {
+            xx: k * sigma.xx,
+            yy: k * sigma.yy,
+            xy: k * sigma.xy,
+            zz: 0.0,
+        }
+    } else if a > 0.0 {
+        let s = k * a / (a - b);
+        Sym {
+            xx: s * (sigma.xx - b),
+            yy: s * (sigma.yy - b),
+            xy: s * sigma.xy,
+            zz: 0.0,
+        }
+    } else {
+        Sym::default()
+    }
+}
+
+/// The artificial stress's pair weight `f^n`, `f = W(r)/W(Δp)` at `h_ij`
+/// (the kernel's normalisation cancels, so only the spline's shape is
+/// evaluated), from `r² = |x_ij|²`, `Δp` and `h_ij`. `n = 4`, the usual
+/// choice, is two squarings.
+#[inline]
+pub fn art_weight(r2: f64, dp: f64, hij: f64, n: f64) -> f64 {
+    let q2 = r2 / (hij * hij);
+    let qd = dp / hij;
+    let f = kernel::shape(q2.sqrt(), q2) / kernel::shape(qd, qd * qd);
+    if n == 4.0 {
+        let f2 = f * f;
+        f2 * f2
+    } else {
+        f.powf(n)
+    }
+}
+
+/// [`art_weight`] for four pairs, one to a lane: the same operations in
+/// the same order (bit-identical); lanes outside the support hold values
+/// for the caller to drop.
+#[inline(always)]
+fn art_weight_lanes(r2: F4, dp: F4, hij: F4, n: f64) -> F4 {
+    let q2 = r2 / (hij * hij);
+    let qd = dp / hij;
+    let f = kernel::shape_lanes(q2.sqrt(), q2) / kernel::shape_lanes(qd, qd * qd);
+    if n == 4.0 {
+        let f2 = f * f;
+        f2 * f2
+    } else {
+        F4::new(f.to_array().map(|f| f.powf(n)))
+    }
 }
 
 /// The velocity jump the viscosity sees: `v_ij` less the linear
@@ -156,15 +213,20 @@ fn pair_terms(
     // R in the momentum bracket only, which leaves its work in no energy
     // (the rubber rings' total swung by 8 %); booked, the ledger closes as
     // for the viscosity.
+    //
+    // A pair acts only where one of its particles is in tension, which
+    // both codes test alike on the trace of `R_i + R_j` (R is negative
+    // semi-definite, so the trace is zero only with R): the lane code
+    // skips whole rows of four untouched by tension on that test.
     let mut art_work = 0.0;
     if let Some((_, n)) = model.artificial_stress {
-        let dp = 0.5
-            * (model.bodies[model.body[i] as usize].spacing
-                + model.bodies[model.body[j] as usize].spacing);
-        let f = b.w / kernel::w(model.dim, dp, hij);
-        let rf = pi_.r.add_scaled(&pj.r, 1.0).scale(f.powf(n));
-        t = t.add_scaled(&rf, 1.0);
-        art_work = 0.5 * vij.dot(rf.mul_vec(g));
+        let rs = pi_.r.add_scaled(&pj.r, 1.0);
+        if rs.xx + rs.yy < 0.0 {
+            let dp = 0.5 * (model.spacing_of(i) + model.spacing_of(j));
+            let rf = rs.scale(art_weight(xij.length_squared(), dp, hij, n));
+            t = t.add_scaled(&rf, 1.0);
+            art_work = 0.5 * vij.dot(rf.mul_vec(g));
+        }
     }
     PairTerms {
         tg: t.mul_vec(g),
@@ -180,10 +242,10 @@ fn pair_terms(
 /// `dv_i/dt = Σ_j m_j t G_ij` and `de_i/dt = −Σ_j m_j (σ_i/ρ_i² − ½Π I +
 /// ½ (R_i + R_j) f^n) : (v_ij ⊗ G_ij)` (METHOD.md §4).
 ///
-/// Scenes with no rigid body and no artificial stress (the common case:
-/// elastic and elasto-plastic impacts) take the lane code, four pairs of a
-/// row at a time (`lane_terms`); the others take the one-pair code
-/// (`pair_terms`). Both give the same bits.
+/// Scenes with no rigid body (the common case: impacts between deforming
+/// bodies) take the lane code, four pairs of a row at a time
+/// (`lane_terms`); the others take the one-pair code (`pair_terms`). Both
+/// give the same bits.
 pub fn momentum_energy(
     model: &Model,
     st: &State,
@@ -253,10 +315,10 @@ fn pair_vectors(tg: DVec2, sig: DVec2, sjg: DVec2) -> PairVectors {
     [xi, tg - xi]
 }
 
-/// Whether the lane code serves the scene: it has neither the rigid
-/// bodies' zero rates nor the artificial stress.
+/// Whether the lane code serves the scene: it does not do the rigid
+/// bodies' zero rates.
 fn lanes_serve(model: &Model) -> bool {
-    !model.any_rigid && model.artificial_stress.is_none()
+    !model.any_rigid
 }
 
 /// [`momentum_energy`] by the lane code (`lanes`, [`lanes_serve`]) or by
@@ -373,13 +435,14 @@ fn sums_into<E: EnergyTerms>(
     if lanes {
         assert!(lanes_serve(model), "the lane code serves this scene");
         let rec = partners(model, st, l, gv, surface, pts);
+        let art = art_rows(model, pts);
         nb.sweep_chunks_store(
             model,
             &st.x,
             &mut acc,
             slots,
             |i, c, ai, piece, base, slots| {
-                let t = lane_terms(&rec, model, i, c);
+                let t = lane_terms(&rec, art.as_ref(), model, i, c);
                 for (k, slot) in slots.iter_mut().enumerate() {
                     if c.inside & (1 << k) == 0 {
                         *slot = E::default();
@@ -488,15 +551,45 @@ fn partners(
         .collect()
 }
 
+/// What the lane code reads of the artificial stress: every particle's
+/// `R` (xx, xy, yy) and its body's spacing, one row of four each, and
+/// whether `R` is not zero (the particle is in tension).
+struct ArtRows {
+    rows: Vec<[f64; 4]>,
+    tension: Vec<bool>,
+}
+
+/// The [`ArtRows`] of one momentum pass, when the scene has the
+/// artificial stress (else none: the pass reads nothing more).
+fn art_rows(model: &Model, pts: &[StressPoint]) -> Option<ArtRows> {
+    use rayon::prelude::*;
+    model.artificial_stress?;
+    let (rows, tension) = (0..model.len())
+        .into_par_iter()
+        .map(|i| {
+            let r = &pts[i].r;
+            ([r.xx, r.xy, r.yy, model.spacing_of(i)], r.xx + r.yy < 0.0)
+        })
+        .unzip();
+    Some(ArtRows { rows, tension })
+}
+
 /// [`pair_terms`] and the sums' updates for up to four pairs of row i at
-/// once, with no rigid particle and no artificial stress. Operation for
+/// once, with no rigid particle; `art` holds the artificial stress's
+/// rows ([`art_rows`]) when the scene has it. Operation for
 /// operation the one-pair code in its order, so the results are
 /// bit-identical; its branches (the reconstruction's early return and
 /// surface test, the viscosity's receding pairs) become selects between
 /// both outcomes. Lanes that hold no pair (`c.inside` clear) compute
 /// values the caller drops.
 #[inline(always)]
-fn lane_terms(rec: &[Partner], model: &Model, i: usize, c: &Chunk) -> LaneTerms {
+fn lane_terms(
+    rec: &[Partner],
+    art: Option<&ArtRows>,
+    model: &Model,
+    i: usize,
+    c: &Chunk,
+) -> LaneTerms {
     let r: [&Partner; LANES] = std::array::from_fn(|k| &rec[c.j[k] as usize]);
     let me = &rec[i];
     // Partner j's rows into lanes, particle i's as scalars.
@@ -552,13 +645,36 @@ fn lane_terms(rec: &[Partner], model: &Model, i: usize, c: &Chunk) -> LaneTerms 
     let hv = hij * wdx;
     let pi_raw = hv * (-model.alpha * c_mean * d + model.beta * hv) / (d * d * rho_mean);
     let pi = wdx.ge(F4::splat(0.0)).select(F4::splat(0.0), pi_raw);
-    // t = σ_i/ρ_i² + σ_j/ρ_j² − Π I, t G, and each side's energy term.
-    let txx = sixx + sjxx - pi;
-    let tyy = siyy + sjyy - pi;
-    let txy = sixy + sjxy;
+    // t = σ_i/ρ_i² + σ_j/ρ_j² − Π I (+ (R_i + R_j) f^n), t G, and each
+    // side's energy term.
+    let mut txx = sixx + sjxx - pi;
+    let mut tyy = siyy + sjyy - pi;
+    let mut txy = sixy + sjxy;
+    let mut art_work = None;
+    if let (Some(art), Some((_, n))) = (art, model.artificial_stress) {
+        // Rows untouched by tension skip it; the others take it lane by
+        // lane where the trace of R_i + R_j is negative (pair_terms).
+        if art.tension[i] || c.j.iter().any(|&j| art.tension[j as usize]) {
+            let [rjxx, rjxy, rjyy, spj] = columns(c.j.map(|j| &art.rows[j as usize]));
+            let [rixx, rixy, riyy, spi] = art.rows[i];
+            let (sxx, sxy, syy) = (rixx + rjxx, rixy + rjxy, riyy + rjyy);
+            let on = (sxx + syy).lt(F4::splat(0.0));
+            let dp = 0.5 * (spi + spj);
+            let fnn = art_weight_lanes(xx * xx + xy * xy, dp, hij, n);
+            let (rfxx, rfxy, rfyy) = (sxx * fnn, sxy * fnn, syy * fnn);
+            txx = on.select(txx + rfxx, txx);
+            tyy = on.select(tyy + rfyy, tyy);
+            txy = on.select(txy + rfxy, txy);
+            let (rgx, rgy) = (rfxx * gx + rfxy * gy, rfxy * gx + rfyy * gy);
+            art_work = Some(on.select(0.5 * (vx * rgx + vy * rgy), F4::splat(0.0)));
+        }
+    }
     let tgx = txx * gx + txy * gy;
     let tgy = txy * gx + tyy * gy;
-    let shared = 0.5 * pi * (vx * gx + vy * gy);
+    let mut shared = 0.5 * pi * (vx * gx + vy * gy);
+    if let Some(w) = art_work {
+        shared = shared - w;
+    }
     // σ_i/ρ_i² G and σ_j/ρ_j² G.
     let (sigx, sigy) = (sixx * gx + sixy * gy, sixy * gx + siyy * gy);
     let (sjgx, sjgy) = (sjxx * gx + sjxy * gy, sjxy * gx + sjyy * gy);
@@ -599,8 +715,37 @@ mod tests {
             let a = (i as f64 * 0.618_033_988_7).fract() * std::f64::consts::TAU;
             *v += DVec2::new(a.cos(), a.sin()) * 0.3;
         }
-        for (reconstruct, h_ratio) in [(true, 1.0), (false, 1.0), (true, 1.15)] {
+        // Densities and deviators stirred too, so that the principal
+        // stresses take every sign pattern and the artificial stress acts.
+        let rho0 = st.rho[0];
+        for i in 0..st.rho.len() {
+            let a = (i as f64 * 0.414_213_562_3).fract() - 0.5;
+            let b = (i as f64 * 0.732_050_807_6).fract() - 0.5;
+            st.rho[i] *= 1.0 + 2e-3 * a;
+            st.s[i] = Sym {
+                xx: 2e-3 * rho0 * b,
+                yy: -1e-3 * rho0 * a,
+                xy: 1.5e-3 * rho0 * (a + b),
+                zz: 1e-3 * rho0 * (b - a),
+            };
+        }
+        let tensile = |m: &Model| {
+            let pts = eos_and_stress(m, &st);
+            pts.iter().filter(|p| p.r != Sym::default()).count()
+        };
+        for (reconstruct, h_ratio, art) in [
+            (true, 1.0, None),
+            (false, 1.0, None),
+            (true, 1.15, None),
+            (true, 1.0, Some((0.3, 4.0))),
+            (false, 1.15, Some((0.2, 3.5))),
+        ] {
             let mut model = base.clone();
+            model.artificial_stress = art;
+            if art.is_some() {
+                let n = tensile(&model);
+                assert!(n > model.len() / 4 && n < model.len(), "{n} in tension");
+            }
             model.av_reconstruct = reconstruct;
             model.contact = h_ratio == 1.0;
             for i in 0..model.len() {
@@ -627,6 +772,127 @@ mod tests {
             // The sums are not trivially equal: the pass does work.
             assert!(one.0.iter().filter(|a| a.length() > 0.0).count() > model.len() / 2);
         }
+    }
+
+    /// The lane code gives the one-pair code's sums bit for bit in 1-D too
+    /// (rows of two to five candidates, so most chunks are partial), with
+    /// the artificial stress on a stirred state in tension and compression.
+    #[test]
+    fn lanes_match_one_pair_code_in_1d() {
+        let scene = crate::scene::Scene::from_toml_str(
+            r#"
+            [simulation]
+            dimension = 1
+            end_time = 1.0e-6
+            interaction = "penalty"
+            [materials.steel]
+            density = 7850.0
+            shear_modulus = 77.0e9
+            eos = { kind = "mie_gruneisen", c0 = 4580.0, s = 1.49, gamma0 = 2.02 }
+            [[bodies]]
+            name = "flyer"
+            material = "steel"
+            spacing = 1.0e-5
+            velocity = [200.0]
+            shape = { kind = "segment", from = -0.001, to = 0.0 }
+            [[bodies]]
+            name = "target"
+            material = "steel"
+            spacing = 1.0e-5
+            velocity = [0.0]
+            shape = { kind = "segment", from = 0.0, to = 0.002 }
+            "#,
+            "the 1-D test scene",
+        )
+        .expect("a valid scene");
+        let (mut model, mut st) = Model::new(&scene);
+        for i in 0..st.rho.len() {
+            let a = (i as f64 * 0.414_213_562_3).fract() - 0.5;
+            st.rho[i] *= 1.0 + 2e-3 * a;
+            st.v[i].x += 30.0 * ((i as f64 * 0.618_033_988_7).fract() - 0.5);
+            st.s[i].xx = 1e8 * ((i as f64 * 0.732_050_807_6).fract() - 0.5);
+            st.s[i].yy = -0.5 * st.s[i].xx;
+            st.s[i].zz = -0.5 * st.s[i].xx;
+        }
+        for art in [None, Some((0.3, 4.0)), Some((0.2, 3.5))] {
+            model.artificial_stress = art;
+            let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
+            let nb = neighbours::find_with_skin(&model, &st.x, skin);
+            let k = kinematics::kinematics(&model, &st, &nb);
+            let pts = eos_and_stress(&model, &st);
+            let a = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
+            let one = sums(a.0, a.1, a.2, a.3, a.4, a.5, a.6, false, None);
+            let four = sums(a.0, a.1, a.2, a.3, a.4, a.5, a.6, true, None);
+            for i in 0..model.len() {
+                assert_eq!(
+                    one.0[i].x.to_bits(),
+                    four.0[i].x.to_bits(),
+                    "dv of {i}, {art:?}"
+                );
+                assert_eq!(
+                    one.1[i].to_bits(),
+                    four.1[i].to_bits(),
+                    "de of {i}, {art:?}"
+                );
+            }
+        }
+    }
+
+    /// The artificial stress without the principal angle is the angle
+    /// form's (rotate to principal axes, keep `−ε σ̄/ρ²` of the tensile
+    /// values, rotate back) on stresses with no, one and two tensile
+    /// principal values, and where the two principal values meet.
+    #[test]
+    fn artificial_stress_is_the_principal_axes_form() {
+        let angle_form = |eps: f64, s: &Sym, rho: f64| {
+            let (a, b, th) = s.principal();
+            let k = |v: f64| if v > 0.0 { -eps * v / (rho * rho) } else { 0.0 };
+            Sym::from_principal(k(a), k(b), th)
+        };
+        let mut seen = [0usize; 3];
+        for i in 0..400 {
+            let u = |m: f64| ((i as f64 * m).fract() - 0.5) * 2.0e9;
+            let mut s = Sym {
+                xx: u(0.618_033_988_7),
+                yy: u(0.414_213_562_3),
+                xy: u(0.732_050_807_6) * 0.5,
+                zz: u(0.236_067_977_5),
+            };
+            if i % 50 == 0 {
+                (s.yy, s.xy) = (s.xx, 0.0);
+            }
+            let (a, b, _) = s.principal();
+            seen[(a > 0.0) as usize + (b > 0.0) as usize] += 1;
+            let (got, want) = (
+                artificial_stress(0.3, &s, 7850.0),
+                angle_form(0.3, &s, 7850.0),
+            );
+            let scale = 0.3 * 2.0e9 / (7850.0f64 * 7850.0);
+            for (g, w) in [(got.xx, want.xx), (got.yy, want.yy), (got.xy, want.xy)] {
+                assert!(
+                    (g - w).abs() <= 1e-12 * scale,
+                    "{s:?}: {got:?} against {want:?}"
+                );
+            }
+            assert_eq!(got.zz, 0.0);
+        }
+        assert!(seen.iter().all(|&n| n > 50), "sign patterns {seen:?}");
+    }
+
+    /// The pair weight is `(W(r)/W(Δp))^n` from the kernel itself, inside
+    /// and outside `q = 1`, with `n = 4` by squarings and other `n` by
+    /// powers.
+    #[test]
+    fn art_weight_is_the_kernel_ratio() {
+        let (dp, h) = (1.0e-5, 1.2e-5);
+        for r in [0.0, 0.3e-5, 1.0e-5, 1.3e-5, 2.2e-5, 2.39e-5] {
+            for n in [4.0, 3.5, 1.0] {
+                let want = (kernel::w(2, r, h) / kernel::w(2, dp, h)).powf(n);
+                let got = art_weight(r * r, dp, h, n);
+                assert!((got - want).abs() <= 1e-13 * want.max(1.0), "r {r} n {n}");
+            }
+        }
+        assert!((art_weight(dp * dp, dp, h, 4.0) - 1.0).abs() < 1e-14);
     }
 
     /// The leapfrog's momentum pass gives `momentum_energy`'s `dv/dt` bit

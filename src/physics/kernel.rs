@@ -133,6 +133,27 @@ pub fn grad_lanes(dim: usize, q2: F4, inv_h: F4) -> F4 {
     a * inv_h * inv_h * g_q
 }
 
+/// The cubic spline's shape `f(q)` (`W = α_d f`) inside the support
+/// (`q < 2`), from `q` and `q²`.
+#[inline]
+pub fn shape(q: f64, q2: f64) -> f64 {
+    if q < 1.0 {
+        1.0 - 1.5 * q2 + 0.75 * q2 * q
+    } else {
+        let t = 2.0 - q;
+        0.25 * t * t * t
+    }
+}
+
+/// [`shape`] for four values of `q`, one to a lane (bit-identical, the
+/// branch a select).
+#[inline(always)]
+pub fn shape_lanes(q: F4, q2: F4) -> F4 {
+    let t = 2.0 - q;
+    q.lt(F4::splat(1.0))
+        .select(1.0 - 1.5 * q2 + 0.75 * q2 * q, 0.25 * t * t * t)
+}
+
 /// The 2-D kernel integrated along a straight line through its centre,
 /// `∫ W dx = 15 / (7 π h)`: the numerator of the kernel measure of a boundary
 /// line (METHOD.md §8.4, contact area).
