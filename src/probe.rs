@@ -222,7 +222,7 @@ pub fn out_of_range(model: &Model, st: &State, i: usize) -> Option<(OutOfRange, 
         Some((OutOfRange::NegativeEnergy, -e / (1e-3 * c2)))
     } else if e > 0.1 * c2 {
         Some((OutOfRange::Energy, e / (0.1 * c2)))
-    } else if rho > 2.0 || (rho < 0.5 && st.damage_of(i) < crate::physics::strength::FAILED) {
+    } else if rho > 2.0 || (rho < 0.5 && !crate::physics::strength::failed(st.damage_of(i))) {
         // A failed particle below ½ρ₀ is an opening crack, not a torn solid.
         Some((OutOfRange::Density, (rho / 2.0).max(0.5 / rho)))
     } else {

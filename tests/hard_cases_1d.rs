@@ -538,7 +538,7 @@ fn hardening_rod_on_rigid_wall_leapfrog() {
 /// (scenes/hard/flyer_plate_tension.toml): the reflected pulse puts the
 /// target in 4.6 GPa of tension. With the artificial stress at ε = 0.1 the
 /// target holds it: the compressive plateau at 8 mm within 2 % and the
-/// tensile one within 5 % of the elastic wave solution, and the free
+/// tensile one between −1 % and +5 % of the elastic wave solution, and the free
 /// surface at rest once the pulse has left it. Returns the largest free-surface speed after the
 /// pulse has left, which the run without the artificial stress shows
 /// breaking.
@@ -582,10 +582,12 @@ fn flyer_tension(scene: &Scene, assert_holds: bool) -> f64 {
             (compression / -sigma - 1.0).abs() < 0.02,
             "compression {compression:e}"
         );
-        // The artificial stress softens the tensile response a little, so
-        // the tension comes out high: +3.3 % here at ε = 0.1 (+6.5 % at
-        // ε = 0.2, +11 % at 0.3; docs/method.md, "Tension").
-        assert!((tension / sigma - 1.0).abs() < 0.05, "tension {tension:e}");
+        // The artificial stress softens the tensile response, so the
+        // tension comes out high, never low: +3.3 % here at ε = 0.1 (+6.5 %
+        // at ε = 0.2, +11 % at 0.3; docs/method.md, "Tension"). Below the
+        // exact answer is where a tearing target starts.
+        let bias = tension / sigma - 1.0;
+        assert!(bias > -0.01 && bias < 0.05, "tension {tension:e}");
         assert!(rest < 5.0, "free surface moves at {rest} m/s");
     }
     rest

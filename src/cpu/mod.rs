@@ -391,7 +391,7 @@ fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &
 #[inline]
 fn dense(model: &Model, i: usize, rho: f64, damage: f64) -> bool {
     let rho0 = model.material(i).rho0;
-    let low = if damage >= strength::FAILED {
+    let low = if strength::failed(damage) {
         0.0
     } else {
         0.1 * rho0

@@ -12,8 +12,12 @@
 //!   increment `Δε_p` that solves `q_trial − 3 G Δε_p = σ_y(ε_p + Δε_p)`
 //!   (von Mises, associated flow), found to round-off.
 
-/// The strength constants of one material.
-#[derive(Debug, Clone, Copy, PartialEq)]
+use serde::{Deserialize, Serialize};
+
+/// The strength constants of one material, as a scene writes them
+/// (`strength = { kind = "johnson_cook", a, b, … }`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Strength {
     /// Yield stress at zero plastic strain, Pa.
     pub a: f64,
@@ -124,8 +128,10 @@ impl Strength {
     }
 }
 
-/// The failure constants of one material.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The failure constants of one material, as a scene writes them
+/// (`failure = { kind = "johnson_cook", d1, … }`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Failure {
     pub d1: f64,
     pub d2: f64,

@@ -51,30 +51,8 @@ impl MaterialModel {
             Eos::Linear { c0 } => (c0, 0.0, 0.0, true),
         };
         let g = mat.shear_modulus.unwrap_or(0.0);
-        let strength = mat.strength.map(|law| match law {
-            StrengthLaw::JohnsonCook {
-                a,
-                b,
-                n,
-                c,
-                m,
-                reference_strain_rate,
-                room_temperature,
-                melt_temperature,
-            } => Strength {
-                a,
-                b,
-                n,
-                c,
-                m,
-                reference_strain_rate,
-                room_temperature,
-                melt_temperature,
-            },
-        });
-        let failure = mat.failure.map(|law| match law {
-            FailureLaw::JohnsonCook { d1, d2, d3, d4, d5 } => Failure { d1, d2, d3, d4, d5 },
-        });
+        let strength = mat.strength.map(|StrengthLaw::JohnsonCook(jc)| jc);
+        let failure = mat.failure.map(|FailureLaw::JohnsonCook(f)| f);
         let y0 = match &strength {
             Some(jc) => jc.a,
             None => mat.yield_stress.unwrap_or(f64::INFINITY),
@@ -137,7 +115,7 @@ impl MaterialModel {
     /// as an opening crack takes its density towards zero).
     #[inline]
     pub fn sound_speed_of(&self, rho: f64, e: f64, damage: f64) -> f64 {
-        let g = if damage >= crate::physics::strength::FAILED {
+        let g = if crate::physics::strength::failed(damage) {
             0.0
         } else {
             self.g
@@ -150,7 +128,7 @@ impl MaterialModel {
     #[inline]
     pub fn pressure_of(&self, rho: f64, e: f64, damage: f64) -> f64 {
         let p = self.pressure(rho, e);
-        if damage >= crate::physics::strength::FAILED {
+        if crate::physics::strength::failed(damage) {
             p.max(0.0)
         } else {
             p

@@ -31,6 +31,12 @@ pub const TRIAXIALITY_BOUND: f64 = 1.5;
 /// A failed particle's damage.
 pub const FAILED: f64 = 1.0;
 
+/// Whether a particle with damage `damage` has failed.
+#[inline]
+pub fn failed(damage: f64) -> bool {
+    damage >= FAILED
+}
+
 /// The equivalent strain rate `sqrt(⅔ d′:d′)` of a velocity gradient, `d′`
 /// the deviatoric rate of deformation in plane strain (`d_zz = 0`): the
 /// rate of the Johnson–Cook rate terms.
@@ -68,7 +74,7 @@ pub fn update(
     h: History,
 ) -> (Sym, History) {
     let mut h = h;
-    if h.damage >= FAILED {
+    if failed(h.damage) {
         return (Sym::default(), h);
     }
     let q = trial.von_mises();
@@ -116,7 +122,7 @@ pub fn update(
     if p < -mat.spall {
         h.damage = FAILED;
     }
-    if h.damage >= FAILED {
+    if failed(h.damage) {
         s = Sym::default();
     }
     (s, h)
@@ -224,11 +230,16 @@ mod tests {
     /// by Δε_p/ε_f(1.5) and stays positive.
     #[test]
     fn the_triaxiality_bound_keeps_armco_iron_positive() {
-        let (d1, d2, d3, d4, d5) = (-2.20, 5.43, -0.47, 0.016, 0.63);
-        let f = crate::physics::johnson_cook::Failure { d1, d2, d3, d4, d5 };
+        let f = crate::physics::johnson_cook::Failure {
+            d1: -2.20,
+            d2: 5.43,
+            d3: -0.47,
+            d4: 0.016,
+            d5: 0.63,
+        };
         assert!(f.failure_strain(3.0, 1.0, 0.0) < 0.0);
         let m = MaterialModel::new(&Material {
-            failure: Some(crate::scene::FailureLaw::JohnsonCook { d1, d2, d3, d4, d5 }),
+            failure: Some(crate::scene::FailureLaw::JohnsonCook(f)),
             ..crate::scene::library::entry("steel_4340").unwrap()
         });
         let m = MaterialModel {

@@ -343,34 +343,19 @@ impl TryFrom<MaterialSpec> for Material {
 
 /// Strength laws beyond perfect plasticity.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "kind", rename_all = "snake_case")]
 pub enum StrengthLaw {
     /// Johnson & Cook (1983): `σ_y = (A + B ε_pⁿ)(1 + C ln ε̇*)(1 − T*ᵐ)`;
     /// stresses in Pa, the reference rate in 1/s, temperatures in K.
-    JohnsonCook {
-        a: f64,
-        b: f64,
-        n: f64,
-        c: f64,
-        m: f64,
-        reference_strain_rate: f64,
-        room_temperature: f64,
-        melt_temperature: f64,
-    },
+    JohnsonCook(crate::physics::johnson_cook::Strength),
 }
 
 /// Damage laws.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "kind", rename_all = "snake_case")]
 pub enum FailureLaw {
     /// Johnson & Cook (1985): `ε_f = (D1 + D2 exp(D3 σ*))(1 + D4 ln ε̇*)(1 + D5 T*)`.
-    JohnsonCook {
-        d1: f64,
-        d2: f64,
-        d3: f64,
-        d4: f64,
-        d5: f64,
-    },
+    JohnsonCook(crate::physics::johnson_cook::Failure),
 }
 
 /// Equation of state (METHOD.md §6).

@@ -217,17 +217,8 @@ pub fn validate(scene: &Scene) -> R {
 fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
     use super::{FailureLaw, StrengthLaw};
     let g = m.shear_modulus.unwrap_or(0.0);
-    if let Some(StrengthLaw::JohnsonCook {
-        a,
-        b,
-        n,
-        c,
-        m: m_exp,
-        reference_strain_rate,
-        room_temperature,
-        melt_temperature,
-    }) = m.strength
-    {
+    if let Some(StrengthLaw::JohnsonCook(jc)) = m.strength {
+        let (room_temperature, melt_temperature) = (jc.room_temperature, jc.melt_temperature);
         if m.yield_stress.is_some() {
             return Err(SceneError::at(
                 k("strength"),
@@ -240,12 +231,15 @@ fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
                 "a strength law needs a shear modulus > 0",
             ));
         }
-        positive(&k("strength.a"), a)?;
-        non_negative(&k("strength.b"), b)?;
-        positive(&k("strength.n"), n)?;
-        non_negative(&k("strength.c"), c)?;
-        positive(&k("strength.m"), m_exp)?;
-        positive(&k("strength.reference_strain_rate"), reference_strain_rate)?;
+        positive(&k("strength.a"), jc.a)?;
+        non_negative(&k("strength.b"), jc.b)?;
+        positive(&k("strength.n"), jc.n)?;
+        non_negative(&k("strength.c"), jc.c)?;
+        positive(&k("strength.m"), jc.m)?;
+        positive(
+            &k("strength.reference_strain_rate"),
+            jc.reference_strain_rate,
+        )?;
         positive(&k("strength.room_temperature"), room_temperature)?;
         positive(&k("strength.melt_temperature"), melt_temperature)?;
         if melt_temperature <= room_temperature {
@@ -272,7 +266,8 @@ fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
             ));
         }
     }
-    if let Some(FailureLaw::JohnsonCook { d1, d2, d3, d4, d5 }) = m.failure {
+    if let Some(FailureLaw::JohnsonCook(f)) = m.failure {
+        let (d1, d2, d3, d4, d5) = (f.d1, f.d2, f.d3, f.d4, f.d5);
         finite(&k("failure"), &[d1, d2, d3, d4, d5])?;
         if m.strength.is_none() && m.yield_stress.is_none() {
             return Err(SceneError::at(
