@@ -14,6 +14,10 @@ override CONTACT: bool = false;
 override CORRECTED: bool = true;
 override PLASTIC: bool = false;
 override ART_STRESS: bool = false;
+// The artificial stress on close pairs only (forces::close_gate).
+override ART_CLOSE: bool = false;
+// Some particle's kappa^2 is below 1 (the kappa buffer exists).
+override ART_KAPPA: bool = false;
 // Limited reconstruction of the velocity jump in the viscosity (the forces pass reads
 // the velocity gradient the kinematics pass stores).
 override RECON: bool = false;
@@ -218,6 +222,37 @@ fn art_weight(r: f32, dp: f32, h: f32) -> f32 {
         return f2 * f2;
     }
     return pow(f, params.as_n);
+}
+
+// The artificial stress R from t = sigma/rho^2 (xyz): -eps times the
+// tensile principal part of t, which is sigma's over rho^2. Without the
+// angle: both tensile, -eps t; one (a > 0 >= b), -eps a (t - b I)/(a - b);
+// none, zero (the CPU's forces::artificial_stress).
+fn art_of(t: vec4<f32>) -> vec4<f32> {
+    let m = 0.5 * (t.x + t.y);
+    let d = 0.5 * (t.x - t.y);
+    let rad = sqrt(d * d + t.z * t.z);
+    let a = m + rad;
+    let b = m - rad;
+    if (b > 0.0) {
+        return vec4<f32>(-params.as_eps * t.xyz, 0.0);
+    }
+    if (a > 0.0) {
+        let s = -params.as_eps * a / (a - b);
+        return vec4<f32>(s * (t.x - b), s * (t.y - b), s * t.z, 0.0);
+    }
+    return vec4<f32>(0.0);
+}
+
+// The close-pair gate (forces::close_gate): 0 at or beyond the local
+// spacing s = kappa vol^(1/d), 1 from CLOSE_FULL s in, linear in (r/s)^2.
+const CLOSE_FULL: f32 = 0.95;
+fn close_gate(r2: f32, vol: f32, k2: f32) -> f32 {
+    var s2 = vol * k2;
+    if (DIM == 1u) {
+        s2 = vol * vol * k2;
+    }
+    return clamp((1.0 - r2 / s2) / (1.0 - CLOSE_FULL * CLOSE_FULL), 0.0, 1.0);
 }
 
 fn kernel_dw(r: f32, h: f32) -> f32 {

@@ -24,7 +24,8 @@
 @group(0) @binding(12) var<storage, read> lmat: array<vec4<f32>>;
 @group(0) @binding(13) var<storage, read> nbo: array<vec4<f32>>;
 @group(0) @binding(14) var<storage, read> sr2c: array<vec4<f32>>;
-@group(0) @binding(15) var<storage, read> art: array<vec4<f32>>;
+// The close-pair gate's spacing scales kappa^2, by original index (constant).
+@group(0) @binding(15) var<storage, read> kappa: array<f32>;
 @group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
 @group(0) @binding(18) var<storage, read_write> dv: array<vec2<f32>>;
 @group(0) @binding(19) var<storage, read_write> area: array<f32>;
@@ -91,6 +92,10 @@ struct Own {
     vs: vec2<f32>,
     g: vec4<f32>,
     rho: f32,
+    // m_i / rho_i and kappa_i^2, for the close-pair gate.
+    vol: f32,
+    k2: f32,
+    // R_i (art_of), zero without the artificial stress.
     art: vec4<f32>,
     alpha: f32,
     beta: f32,
@@ -157,15 +162,29 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) 
     // The artificial stress's work, half to each particle of the pair, is
     // booked as heat so total energy stays conserved.
     // A pair acts only where one of its particles is in tension (the
-    // trace of R_i + R_j, R negative semi-definite, below zero).
+    // trace of R_i + R_j, R negative semi-definite, below zero) and, in
+    // the close-pair form, where its gate is open; R_j comes from t_j.
     var art_work = 0.0;
     if (ART_STRESS) {
-        let rs = o.art + art[j];
-        if (rs.x + rs.y < 0.0) {
-            let dp = 0.5 * (o.body.spacing + bj.spacing);
-            let rf = rs * art_weight(dist, dp, hij);
-            t += rf;
-            art_work = 0.5 * dot(vij, sym_mul(rf, g));
+        var gate = 1.0;
+        if (ART_CLOSE) {
+            let rho_j = bj.rho0 * (1.0 + mu_of(j));
+            let vol = 0.5 * (o.vol + bitcast<f32>(mj.x) / rho_j);
+            // kappa^2 <= 1 only shrinks the spacing: a gate shut at 1 is
+            // shut, and most pairs read no kappa.
+            gate = close_gate(dist * dist, vol, 1.0);
+            if (ART_KAPPA && gate > 0.0) {
+                gate = close_gate(dist * dist, vol, min(o.k2, kappa[mj.w]));
+            }
+        }
+        if (gate > 0.0) {
+            let rs = o.art + art_of(tj);
+            if (rs.x + rs.y < 0.0) {
+                let dp = 0.5 * (o.body.spacing + bj.spacing);
+                let rf = rs * (art_weight(dist, dp, hij) * gate);
+                t += rf;
+                art_work = 0.5 * dot(vij, sym_mul(rf, g));
+            }
         }
     }
     let mass_j = bitcast<f32>(mj.x);
@@ -218,9 +237,15 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if (RECON) {
         gi = gradv[i];
     }
+    let rho_i = body.rho0 * (1.0 + mu_of(i));
+    let ti = sr2c[i];
     var ri = vec4<f32>(0.0);
     if (ART_STRESS) {
-        ri = art[i];
+        ri = art_of(ti);
+    }
+    var k2i = 1.0;
+    if (ART_KAPPA) {
+        k2i = kappa[mi.w];
     }
     var vsi = vec2<f32>(0.0);
     if (LEAP == 3u) {
@@ -233,11 +258,13 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         boundary,
         surface,
         lmat[i],
-        sr2c[i],
+        ti,
         v[i],
         vsi,
         gi,
-        body.rho0 * (1.0 + mu_of(i)),
+        rho_i,
+        bitcast<f32>(mi.x) / rho_i,
+        k2i,
         ri,
         params.alpha,
         params.beta,

@@ -30,7 +30,6 @@
 @group(0) @binding(12) var<storage, read_write> lmat: array<vec4<f32>>;
 @group(0) @binding(13) var<storage, read_write> nbo: array<vec4<f32>>;
 @group(0) @binding(14) var<storage, read_write> sr2c: array<vec4<f32>>;
-@group(0) @binding(15) var<storage, read_write> art: array<vec4<f32>>;
 @group(0) @binding(16) var<storage, read_write> dr: array<vec2<f32>>;
 @group(0) @binding(17) var<storage, read_write> ds: array<vec4<f32>>;
 @group(0) @binding(36) var<storage, read_write> gradv: array<vec4<f32>>;
@@ -84,27 +83,6 @@ fn list_surface(i: u32, gpsi: vec2<f32>, hi: f32) {
         }
     }
     nbo[i] = vec4<f32>(sf, place);
-}
-
-// Artificial stress (METHOD.md §4): -eps sigma/rho^2 of each tensile
-// principal value on its axis. Without the angle: both tensile, it is
-// -eps sigma/rho^2; one (a > 0 >= b), -eps a/rho^2 (sigma - b I)/(a - b);
-// none, zero (the CPU's forces::artificial_stress).
-fn artificial_stress(sig: vec4<f32>, rho: f32) -> vec4<f32> {
-    let m = 0.5 * (sig.x + sig.y);
-    let d = 0.5 * (sig.x - sig.y);
-    let rad = sqrt(d * d + sig.z * sig.z);
-    let a = m + rad;
-    let b = m - rad;
-    let k = -params.as_eps / (rho * rho);
-    if (b > 0.0) {
-        return vec4<f32>(k * sig.xyz, 0.0);
-    }
-    if (a > 0.0) {
-        let s = k * a / (a - b);
-        return vec4<f32>(s * (sig.x - b), s * (sig.y - b), s * sig.z, 0.0);
-    }
-    return vec4<f32>(0.0);
 }
 
 // V_j = m_j / rho_j; `rho0_i` is particle i's body's, j's too when contact
@@ -219,16 +197,13 @@ fn surface_of(gpsi: vec2<f32>, hi: f32) -> vec3<f32> {
 }
 
 // Equation of state at (mu, e, s): sigma/rho^2 (tension positive) and the
-// sound speed into sr2c, the artificial stress into art.
+// sound speed into sr2c.
 fn stress_point(i: u32, body: Body, mu: f32, e: f32, si: vec4<f32>) {
     let p = eos_pressure(body, mu, e);
     let c = eos_sound_speed(body, mu, e);
     let sig = vec4<f32>(si.x - p, si.y - p, si.z, si.w - p);
     let rho = body.rho0 * (1.0 + mu);
     sr2c[i] = vec4<f32>(sig.xyz / (rho * rho), c);
-    if (ART_STRESS) {
-        art[i] = artificial_stress(sig, rho);
-    }
 }
 
 // Velocity gradient with the corrected kernel gradient (METHOD.md §6):

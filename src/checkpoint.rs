@@ -42,7 +42,9 @@ use crate::scene::{Backend, Scene};
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\n";
-const VERSION: u64 = 4;
+/// Version 5: a scene without `[artificial_stress]` runs the default
+/// close-pair form, so a version 4 checkpoint resumed would change its physics.
+const VERSION: u64 = 5;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]

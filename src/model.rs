@@ -6,7 +6,9 @@ use std::ops::Range;
 
 use crate::physics::material::MaterialModel;
 use crate::physics::strength::History;
-use crate::scene::{place_bodies, Correction, Integrator, Interaction, Scene};
+use crate::scene::{
+    place_bodies, ArtPairs, ArtificialStress, Correction, Integrator, Interaction, Scene,
+};
 
 /// One body: its material, its particles (a contiguous range) and flags.
 #[derive(Debug, Clone)]
@@ -33,8 +35,14 @@ pub struct Model {
     pub beta: f64,
     /// Limited reconstruction of the velocity jump in the viscosity.
     pub av_reconstruct: bool,
-    /// Artificial stress `(ε, n)` when the scene switches it on (`ε > 0`).
-    pub artificial_stress: Option<(f64, f64)>,
+    /// The artificial stress, unless the scene switches it off
+    /// (`epsilon = 0`); a scene without the section gets
+    /// [`ArtificialStress::DEFAULT`].
+    pub artificial_stress: Option<ArtificialStress>,
+    /// Each particle's squared spacing scale `κ²` for the close-pair
+    /// artificial stress ([`Model::close_scales`]); empty unless the run
+    /// uses that form and some `κ²` is below 1 (empty reads as all 1).
+    pub close_scale: Vec<f64>,
     pub boundary_threshold: f64,
     pub bodies: Vec<BodyInfo>,
     pub mass: Vec<f64>,
@@ -143,10 +151,9 @@ impl Model {
             alpha: av.alpha,
             beta: av.beta,
             av_reconstruct: av.reconstruct,
-            artificial_stress: scene
-                .artificial_stress
-                .filter(|a| a.epsilon > 0.0)
-                .map(|a| (a.epsilon, a.n)),
+            artificial_stress: Some(scene.artificial_stress.unwrap_or(ArtificialStress::DEFAULT))
+                .filter(|a| a.epsilon > 0.0),
+            close_scale: Vec::new(),
             boundary_threshold: cs.boundary_threshold,
             bodies: Vec::with_capacity(placed.len()),
             mass: Vec::with_capacity(n),
@@ -218,6 +225,16 @@ impl Model {
                 .filter(|&i| !model.rigid(i))
                 .map(|i| model.mass[i] * model.material(i).c_l.powi(2))
                 .sum::<f64>();
+        if model
+            .artificial_stress
+            .is_some_and(|a| a.pairs == ArtPairs::Close)
+        {
+            let k2 = model.close_scales(&state.x);
+            // All 1 (a square lattice): the gate needs none of them.
+            if k2.iter().any(|&k| k < 1.0) {
+                model.close_scale = k2;
+            }
+        }
         if model.history {
             state.eps_p = vec![0.0; model.len()];
             state.damage = vec![0.0; model.len()];
@@ -230,6 +247,41 @@ impl Model {
             state.entry = vec![0.0; model.len()];
         }
         (model, state)
+    }
+
+    /// The close-pair gate's spacing scale of each particle, squared:
+    /// `κ_i² = (d_i / V0_i^(1/d))²`, `d_i` the distance to its nearest
+    /// neighbour of its own body as placed and `V0_i = m_i/ρ0` its volume.
+    /// 1 on the square lattice; below 1 where placement (a polar lattice,
+    /// jitter) puts a neighbour closer than the volume says, so that the
+    /// gate, whose spacing is `κ V̄^(1/d)` with the smaller `κ` of a pair,
+    /// stays shut on the lattice as placed. Within 1e-9 of 1 or above it
+    /// (and alone in its body) is 1.
+    pub fn close_scales(&self, x: &[DVec2]) -> Vec<f64> {
+        use rayon::prelude::*;
+        let reach = 2.0 * self.h.iter().cloned().fold(0.0, f64::max);
+        let cells = crate::cpu::neighbours::CellList::build(x, reach);
+        (0..self.len())
+            .into_par_iter()
+            .map(|i| {
+                let mut d2 = f64::INFINITY;
+                cells.for_each_near(x[i], self.dim, |j| {
+                    if j != i && self.body[j] == self.body[i] {
+                        d2 = d2.min((x[j] - x[i]).length_squared());
+                    }
+                });
+                let v0 = self.mass[i] / self.material(i).rho0;
+                let s2 = if self.dim == 1 { v0 * v0 } else { v0 };
+                // Within round-off of the volume's side is the lattice
+                // spacing itself.
+                let k2 = d2 / s2;
+                if k2 < 1.0 - 1e-9 {
+                    k2
+                } else {
+                    1.0
+                }
+            })
+            .collect()
     }
 
     /// The energy guard: the total energy (kinetic + internal, dashpot heat
@@ -347,5 +399,77 @@ impl Model {
     pub fn locate(&self, i: usize) -> (&str, usize) {
         let b = &self.bodies[self.body[i] as usize];
         (&b.name, i - b.range.start)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(lattice: &str, jitter: f64) -> Scene {
+        Scene::from_toml_str(
+            &format!(
+                r#"
+                [simulation]
+                dimension = 2
+                end_time = 1.0e-6
+                interaction = "penalty"
+                [materials.steel]
+                density = 7850.0
+                shear_modulus = 77.0e9
+                eos = {{ kind = "linear", c0 = 4580.0 }}
+                [[bodies]]
+                name = "a"
+                material = "steel"
+                spacing = 1.0e-4
+                jitter = {jitter}
+                seed = 7
+                shape = {{ kind = "disk", center = [0.0, 0.0], radius = 2.0e-3, lattice = "{lattice}" }}
+                [[bodies]]
+                name = "b"
+                material = "steel"
+                spacing = 1.0e-4
+                shape = {{ kind = "rectangle", min = [3.0e-3, -2.0e-3], max = [5.0e-3, 2.0e-3] }}
+                "#
+            ),
+            "the test scene",
+        )
+        .expect("a valid scene")
+    }
+
+    /// The close-pair scales: 1 on the square lattice; on a jittered one
+    /// the brute-force nearest neighbour of the particle's own body over
+    /// its volume's side, capped at 1; the default form computes them and
+    /// a scene that switches the term off carries none.
+    #[test]
+    fn close_scales_are_the_placed_nearest_neighbour() {
+        let (m, st) = Model::new(&scene("square", 0.0));
+        assert!(m.close_scales(&st.x).iter().all(|&k| k == 1.0));
+        assert!(m.close_scale.is_empty(), "all 1: none kept");
+
+        let (m, st2) = Model::new(&scene("square", 0.1));
+        let mut below = 0;
+        for i in 0..m.len() {
+            let d2 = (0..m.len())
+                .filter(|&j| j != i && m.body[j] == m.body[i])
+                .map(|j| (st2.x[j] - st2.x[i]).length_squared())
+                .fold(f64::INFINITY, f64::min);
+            let want = (d2 / (m.mass[i] / 7850.0)).min(1.0);
+            assert_eq!(m.close_scale.len(), m.len());
+            assert!((m.close_scale[i] - want).abs() < 1e-12, "particle {i}");
+            below += (want < 0.99) as usize;
+        }
+        assert!(below > m.bodies[0].range.len() / 2, "{below} below 0.99");
+        // The rectangle is not jittered: its scales stay 1.
+        let b = m.bodies[1].range.clone();
+        assert!(m.close_scale[b].iter().all(|&k| k == 1.0));
+
+        let mut off = scene("square", 0.0);
+        off.artificial_stress = Some(ArtificialStress {
+            epsilon: 0.0,
+            ..ArtificialStress::DEFAULT
+        });
+        let (m, _) = Model::new(&off);
+        assert!(m.artificial_stress.is_none() && m.close_scale.is_empty());
     }
 }

@@ -263,9 +263,10 @@ fn bar_observables(out: &RunOutput) -> ([f64; 3], f64, f64) {
 /// jitter 0.05 the bias is −1 %, at 0.02 below 0.1 %. Asserted, with room
 /// for the seed: plateau mean within 8 %, every row within 15 %, separation
 /// within 3.5 %, rebound at least 0.85 v0 and at most v0; clean separation
-/// (no tension, zero force after); momentum to round-off and the energy
-/// balance within 0.5 % (`assert_conserved`). Same on the GPU (f32 noise is
-/// far below the jitter's).
+/// (no tension, zero force after); the freed face's stress below 0.25 of
+/// the contact stress from 0.1 µs after the separation; momentum to
+/// round-off and the energy balance within 0.5 % (`assert_conserved`).
+/// Same on the GPU (f32 noise is far below the jitter's).
 fn jittered_bars() {
     let scene = load("scenes/hard/jitter_bars_steel.toml");
     assert!(scene.bodies.iter().all(|b| b.jitter == Some(0.1)));
@@ -303,6 +304,21 @@ fn jittered_bars() {
             assert_eq!(p[k], 0.0, "pressure after separation at {tk:e}");
         }
     }
+    // The freed face settles (exact: stress-free). The jitter leaves a
+    // noise there, measured 0.17 of the contact stress at most from 0.1 µs
+    // after the separation; the close-pair artificial stress must not
+    // ring on it (gated on the spacing as placed: with the volume alone
+    // the jittered pairs sat inside its gate and the face rang at 1.9).
+    let face = column(&out, "stress_a");
+    let ring = (0..t.len())
+        .filter(|&k| t[k] > t_sep + 1e-7)
+        .map(|k| face[k].abs())
+        .fold(0.0, f64::max);
+    println!(
+        "face after separation: {:.3} of the contact stress",
+        ring / sigma.abs()
+    );
+    assert!(ring < 0.25 * sigma.abs(), "the face rings at {ring:e} Pa");
 }
 
 #[test]
@@ -534,15 +550,20 @@ fn hardening_rod_on_rigid_wall_leapfrog() {
     on_leapfrog(hardening_rod_on_rigid_wall);
 }
 
-/// An elastic steel flyer onto an elastic steel target at 200 m/s
-/// (scenes/hard/flyer_plate_tension.toml): the reflected pulse puts the
-/// target in 4.6 GPa of tension. With the artificial stress at ε = 0.1 the
-/// target holds it: the compressive plateau at 8 mm within 2 % and the
-/// tensile one between −1 % and +5 % of the elastic wave solution, and the free
-/// surface at rest once the pulse has left it. Returns the largest free-surface speed after the
-/// pulse has left, which the run without the artificial stress shows
-/// breaking.
-fn flyer_tension(scene: &Scene, assert_holds: bool) -> f64 {
+/// How the elastic target of scenes/hard/flyer_plate_tension.toml took
+/// the reflected tension: each plateau at 8 mm against the elastic wave
+/// solution (measured / exact − 1, over the middle 60 % of its exact
+/// interval), and the largest free-surface speed once the pulse has left
+/// the target (exact: at rest).
+#[derive(Debug)]
+struct Flyer {
+    completed: bool,
+    compression: f64,
+    tension: f64,
+    rest: f64,
+}
+
+fn flyer_tension(scene: &Scene) -> Flyer {
     let mat = material(scene, "steel");
     let c = ((mat.k + 4.0 * mat.g / 3.0) / mat.rho0).sqrt();
     let up = 0.5 * scene.bodies[0].velocity.as_ref().unwrap()[0];
@@ -554,7 +575,6 @@ fn flyer_tension(scene: &Scene, assert_holds: bool) -> f64 {
         column(&out, "stress_8mm"),
         column(&out, "free_surface_velocity"),
     );
-    // Plateau means over the middle 60 % of each exact interval.
     let mean_over = |a: f64, b: f64| {
         let m = 0.2 * (b - a);
         let v: Vec<f64> = (0..t.len())
@@ -571,51 +591,86 @@ fn flyer_tension(scene: &Scene, assert_holds: bool) -> f64 {
         .filter(|&k| t[k] > left + 0.15e-6)
         .map(|k| vfs[k].abs())
         .fold(0.0, f64::max);
+    let f = Flyer {
+        completed: out.summary.status == "completed",
+        compression: compression / -sigma - 1.0,
+        tension: tension / sigma - 1.0,
+        rest,
+    };
     println!(
-        "{:?}: compression {compression:.4e}, tension {tension:.4e} (exact ±{sigma:.4e}), \
-         free surface after {left:.3e} s: {rest:.2} m/s",
-        backend()
+        "{:?}, {:?}, {} m/s: {f:?}",
+        backend(),
+        scene.artificial_stress,
+        2.0 * up
     );
-    if assert_holds {
-        assert_eq!(out.summary.status, "completed");
-        assert!(
-            (compression / -sigma - 1.0).abs() < 0.02,
-            "compression {compression:e}"
-        );
-        // The artificial stress softens the tensile response, so the
-        // tension comes out high, never low: +3.3 % here at ε = 0.1 (+6.5 %
-        // at ε = 0.2, +11 % at 0.3; docs/method.md, "Tension"). Below the
-        // exact answer is where a tearing target starts.
-        let bias = tension / sigma - 1.0;
-        assert!(bias > -0.01 && bias < 0.05, "tension {tension:e}");
-        assert!(rest < 5.0, "free surface moves at {rest} m/s");
-    }
-    rest
+    f
 }
 
+/// The target holds: completed, both plateaus within 2 % of the elastic
+/// wave solution (the discretisation's own error, the same on both
+/// sides: measured +0.65 % in compression, −0.69 % in tension at 200 m/s)
+/// and the free surface at rest (below 5 m/s; measured 1.4).
+fn holds(f: &Flyer) {
+    assert!(f.completed, "{f:?}");
+    assert!(f.compression.abs() < 0.02, "{f:?}");
+    assert!(f.tension.abs() < 0.02, "{f:?}");
+    assert!(f.rest < 5.0, "{f:?}");
+}
+
+/// An elastic steel flyer onto an elastic steel target at 200 m/s, 1-D,
+/// Δx = 10 µm: the reflected pulse puts the target in 4.6 GPa of tension.
+/// The scene asks for no remedy; the default close-pair artificial stress
+/// holds it, and at 400 m/s (9.2 GPa) too. With the artificial stress
+/// switched off the target tears (measured: tension −34 %, the free
+/// surface flying on at 166 m/s); the classic form on every pair holds it
+/// too, with its bias (+3.3 % at ε = 0.1: docs/method.md, "Tension").
 #[test]
 fn elastic_target_holds_its_tension() {
+    use sphcontact::scene::{ArtPairs, ArtificialStress};
     let scene = load("scenes/hard/flyer_plate_tension.toml");
-    assert_eq!(scene.artificial_stress.map(|a| a.epsilon), Some(0.1));
-    flyer_tension(&scene, true);
-    // Without the remedy the same target breaks: the test tells them apart.
-    let mut off = scene;
-    off.artificial_stress = None;
-    let rest = flyer_tension(&off, false);
-    assert!(rest > 50.0, "without artificial stress: {rest} m/s");
+    assert_eq!(
+        scene.artificial_stress, None,
+        "the scene asks for no remedy"
+    );
+    holds(&flyer_tension(&scene));
+    let mut fast = scene.clone();
+    fast.bodies[0].velocity = Some(vec![400.0]);
+    holds(&flyer_tension(&fast));
+
+    let with = |epsilon: f64, pairs: ArtPairs| {
+        let mut s = scene.clone();
+        s.artificial_stress = Some(ArtificialStress {
+            epsilon,
+            n: 4.0,
+            pairs,
+        });
+        flyer_tension(&s)
+    };
+    let off = with(0.0, ArtPairs::All);
+    assert!(off.rest > 50.0 && off.tension < -0.1, "without: {off:?}");
+    let classic = with(0.1, ArtPairs::All);
+    assert!(classic.completed && classic.rest < 5.0, "{classic:?}");
+    assert!(
+        classic.tension > 0.0 && classic.tension < 0.05,
+        "{classic:?}"
+    );
 }
 
 #[test]
 fn elastic_target_holds_its_tension_leapfrog() {
     on_leapfrog(|| {
-        flyer_tension(&load("scenes/hard/flyer_plate_tension.toml"), true);
+        holds(&flyer_tension(&load(
+            "scenes/hard/flyer_plate_tension.toml",
+        )))
     });
 }
 
 #[test]
 fn elastic_target_holds_its_tension_gpu() {
     on_gpu(|| {
-        flyer_tension(&load("scenes/hard/flyer_plate_tension.toml"), true);
+        holds(&flyer_tension(&load(
+            "scenes/hard/flyer_plate_tension.toml",
+        )))
     });
 }
 

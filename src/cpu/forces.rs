@@ -10,6 +10,7 @@ use super::neighbours::{Chunk, Nbr, Neighbours};
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
 use crate::physics::kernel;
+use crate::scene::ArtPairs;
 
 /// Per-particle inputs of the momentum pass, computed once per evaluation.
 #[derive(Debug, Clone, Copy, Default)]
@@ -83,6 +84,37 @@ pub fn art_weight(r2: f64, dp: f64, hij: f64, n: f64) -> f64 {
     } else {
         f.powf(n)
     }
+}
+
+/// The share of the local spacing at and below which
+/// [`ArtPairs::Close`]'s gate is fully open ([`close_gate`]).
+pub const CLOSE_FULL: f64 = 0.95;
+
+/// The gate's slope in `u = (r/s)²`: from 0 at `u = 1` to 1 at
+/// `u = CLOSE_FULL²`.
+const CLOSE_SLOPE: f64 = 1.0 / (1.0 - CLOSE_FULL * CLOSE_FULL);
+
+/// The close-pair gate of the artificial stress ([`ArtPairs::Close`]): 0
+/// for a pair at or beyond its local spacing `s = κ V̄^(1/d)` (`V̄` the
+/// pair's mean particle volume `m/ρ`, so `s` follows the local strain;
+/// `κ²` the smaller of the pair's [`Model::close_scales`], 1 on a square
+/// lattice), rising linearly in `(r/s)²` to 1 at `r = CLOSE_FULL s`. A
+/// smoothly strained lattice keeps its nearest neighbours at `s` and sees
+/// none of the term; the zig-zag clumping of the tensile instability
+/// brings every other pair inside it.
+#[inline]
+pub fn close_gate(r2: f64, vol: f64, k2: f64, dim: usize) -> f64 {
+    let s2 = if dim == 1 { vol * vol } else { vol } * k2;
+    ((1.0 - r2 / s2) * CLOSE_SLOPE).clamp(0.0, 1.0)
+}
+
+/// [`close_gate`] for four pairs, one to a lane (bit-identical).
+#[inline(always)]
+fn close_gate_lanes(r2: F4, vol: F4, k2: F4, dim: usize) -> F4 {
+    let s2 = if dim == 1 { vol * vol } else { vol } * k2;
+    ((1.0 - r2 / s2) * CLOSE_SLOPE)
+        .min(F4::splat(1.0))
+        .max(F4::splat(0.0))
 }
 
 /// [`art_weight`] for four pairs, one to a lane: the same operations in
@@ -219,11 +251,21 @@ fn pair_terms(
     // semi-definite, so the trace is zero only with R): the lane code
     // skips whole rows of four untouched by tension on that test.
     let mut art_work = 0.0;
-    if let Some((_, n)) = model.artificial_stress {
+    if let Some(a) = model.artificial_stress {
         let rs = pi_.r.add_scaled(&pj.r, 1.0);
-        if rs.xx + rs.yy < 0.0 {
+        let r2 = xij.length_squared();
+        let gate = match a.pairs {
+            ArtPairs::All => 1.0,
+            ArtPairs::Close => {
+                let vol = 0.5 * (model.mass[i] / st.rho[i] + model.mass[j] / st.rho[j]);
+                let ks = &model.close_scale;
+                let k2 = if ks.is_empty() { 1.0 } else { ks[i].min(ks[j]) };
+                close_gate(r2, vol, k2, model.dim)
+            }
+        };
+        if rs.xx + rs.yy < 0.0 && gate > 0.0 {
             let dp = 0.5 * (model.spacing_of(i) + model.spacing_of(j));
-            let rf = rs.scale(art_weight(xij.length_squared(), dp, hij, n));
+            let rf = rs.scale(art_weight(r2, dp, hij, a.n) * gate);
             t = t.add_scaled(&rf, 1.0);
             art_work = 0.5 * vij.dot(rf.mul_vec(g));
         }
@@ -651,22 +693,52 @@ fn lane_terms(
     let mut tyy = siyy + sjyy - pi;
     let mut txy = sixy + sjxy;
     let mut art_work = None;
-    if let (Some(art), Some((_, n))) = (art, model.artificial_stress) {
-        // Rows untouched by tension skip it; the others take it lane by
-        // lane where the trace of R_i + R_j is negative (pair_terms).
+    if let (Some(art), Some(a)) = (art, model.artificial_stress) {
+        // Rows untouched by tension skip it, and so do rows with no close
+        // pair in the close-pair form; the others take it lane by lane
+        // where the trace of R_i + R_j is negative and the gate open
+        // (pair_terms).
         if art.tension[i] || c.j.iter().any(|&j| art.tension[j as usize]) {
-            let [rjxx, rjxy, rjyy, spj] = columns(c.j.map(|j| &art.rows[j as usize]));
-            let [rixx, rixy, riyy, spi] = art.rows[i];
-            let (sxx, sxy, syy) = (rixx + rjxx, rixy + rjxy, riyy + rjyy);
-            let on = (sxx + syy).lt(F4::splat(0.0));
-            let dp = 0.5 * (spi + spj);
-            let fnn = art_weight_lanes(xx * xx + xy * xy, dp, hij, n);
-            let (rfxx, rfxy, rfyy) = (sxx * fnn, sxy * fnn, syy * fnn);
-            txx = on.select(txx + rfxx, txx);
-            tyy = on.select(tyy + rfyy, tyy);
-            txy = on.select(txy + rfxy, txy);
-            let (rgx, rgy) = (rfxx * gx + rfxy * gy, rfxy * gx + rfyy * gy);
-            art_work = Some(on.select(0.5 * (vx * rgx + vy * rgy), F4::splat(0.0)));
+            let r2 = xx * xx + xy * xy;
+            // The close-pair gate first: most rows have no pair inside
+            // it and read no R. κ² ≤ 1 only shuts it further, so a gate
+            // shut at κ² = 1 is shut.
+            let gate = match a.pairs {
+                ArtPairs::All => None,
+                ArtPairs::Close => {
+                    let vol = (mi / rhoi + mj / rhoj) * 0.5;
+                    let mut gate = close_gate_lanes(r2, vol, F4::splat(1.0), model.dim);
+                    let ks = &model.close_scale;
+                    if !ks.is_empty() && F4::splat(0.0).lt(gate).bits() != 0 {
+                        let k2 = F4::gather(|k| ks[c.j[k] as usize]).min(F4::splat(ks[i]));
+                        gate = close_gate_lanes(r2, vol, k2, model.dim);
+                    }
+                    Some(gate)
+                }
+            };
+            let open = gate.map_or(true, |g| F4::splat(0.0).lt(g).bits() != 0);
+            if open {
+                let [rjxx, rjxy, rjyy, spj] = columns(c.j.map(|j| &art.rows[j as usize]));
+                let [rixx, rixy, riyy, spi] = art.rows[i];
+                let (sxx, sxy, syy) = (rixx + rjxx, rixy + rjxy, riyy + rjyy);
+                let mut on = (sxx + syy).lt(F4::splat(0.0));
+                if let Some(gate) = gate {
+                    on = on.and(F4::splat(0.0).lt(gate));
+                }
+                if on.bits() != 0 {
+                    let dp = 0.5 * (spi + spj);
+                    let mut fnn = art_weight_lanes(r2, dp, hij, a.n);
+                    if let Some(gate) = gate {
+                        fnn = fnn * gate;
+                    }
+                    let (rfxx, rfxy, rfyy) = (sxx * fnn, sxy * fnn, syy * fnn);
+                    txx = on.select(txx + rfxx, txx);
+                    tyy = on.select(tyy + rfyy, tyy);
+                    txy = on.select(txy + rfxy, txy);
+                    let (rgx, rgy) = (rfxx * gx + rfxy * gy, rfxy * gx + rfyy * gy);
+                    art_work = Some(on.select(0.5 * (vx * rgx + vy * rgy), F4::splat(0.0)));
+                }
+            }
         }
     }
     let tgx = txx * gx + txy * gy;
@@ -737,11 +809,19 @@ mod tests {
             (true, 1.0, None),
             (false, 1.0, None),
             (true, 1.15, None),
-            (true, 1.0, Some((0.3, 4.0))),
-            (false, 1.15, Some((0.2, 3.5))),
+            (true, 1.0, Some((0.3, 4.0, ArtPairs::All))),
+            (false, 1.15, Some((0.2, 3.5, ArtPairs::All))),
+            (true, 1.0, Some((0.3, 4.0, ArtPairs::Close))),
+            (false, 1.15, Some((0.2, 3.5, ArtPairs::Close))),
         ] {
             let mut model = base.clone();
-            model.artificial_stress = art;
+            model.artificial_stress = art.map(as_of);
+            if art.is_some_and(|a| a.1 == 3.5 && a.2 == ArtPairs::Close) {
+                // Placement scales below 1, as jitter leaves them.
+                model.close_scale = (0..model.len())
+                    .map(|i| 1.0 - 0.03 * (i as f64 * 0.377_964_473_0).fract())
+                    .collect();
+            }
             if art.is_some() {
                 let n = tensile(&model);
                 assert!(n > model.len() / 4 && n < model.len(), "{n} in tension");
@@ -814,8 +894,14 @@ mod tests {
             st.s[i].yy = -0.5 * st.s[i].xx;
             st.s[i].zz = -0.5 * st.s[i].xx;
         }
-        for art in [None, Some((0.3, 4.0)), Some((0.2, 3.5))] {
-            model.artificial_stress = art;
+        let mut seen = Vec::new();
+        for art in [
+            None,
+            Some((0.3, 4.0, ArtPairs::All)),
+            Some((0.2, 3.5, ArtPairs::All)),
+            Some((0.3, 4.0, ArtPairs::Close)),
+        ] {
+            model.artificial_stress = art.map(as_of);
             let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
             let nb = neighbours::find_with_skin(&model, &st.x, skin);
             let k = kinematics::kinematics(&model, &st, &nb);
@@ -835,6 +921,42 @@ mod tests {
                     "de of {i}, {art:?}"
                 );
             }
+            seen.push(one.0);
+        }
+        // Each form does work of its own: the close-pair form acts (the
+        // stirred densities open its gate on some pairs) and differs from
+        // the classic one.
+        let differ = |a: &[DVec2], b: &[DVec2]| a.iter().zip(b).filter(|(p, q)| p != q).count();
+        assert!(differ(&seen[0], &seen[1]) > model.len() / 2);
+        let close = differ(&seen[0], &seen[3]);
+        assert!(
+            close > 10 && close < differ(&seen[0], &seen[1]),
+            "{close} changed"
+        );
+    }
+
+    fn as_of((epsilon, n, pairs): (f64, f64, ArtPairs)) -> crate::scene::ArtificialStress {
+        crate::scene::ArtificialStress { epsilon, n, pairs }
+    }
+
+    /// The close-pair gate: shut at and beyond the local spacing `V̄^(1/d)`,
+    /// open fully from `CLOSE_FULL` of it in, linear in `(r/s)²` between,
+    /// in 1-D (`s = V̄`) and 2-D (`s = √V̄`).
+    #[test]
+    fn close_gate_opens_inside_the_local_spacing() {
+        for (dim, vol, s) in [(1, 2.0e-5, 2.0e-5), (2, 4.0e-10, 2.0e-5)] {
+            let g = |r: f64| close_gate(r * r, vol, 1.0, dim);
+            assert_eq!(g(s), 0.0);
+            assert_eq!(g(1.5 * s), 0.0);
+            assert_eq!(g(CLOSE_FULL * s * (1.0 - 1e-12)), 1.0);
+            assert_eq!(g(0.5 * s), 1.0);
+            let r = 0.975 * s;
+            let want = (1.0 - 0.975f64.powi(2)) / (1.0 - CLOSE_FULL * CLOSE_FULL);
+            assert!((g(r) - want).abs() < 1e-12, "{} against {want}", g(r));
+            assert!(g(0.99 * s) > 0.0 && g(0.99 * s) < g(0.98 * s));
+            // κ² scales the spacing: shut beyond κ s.
+            assert_eq!(close_gate((0.91 * s).powi(2), vol, 0.81, dim), 0.0);
+            assert_eq!(close_gate((0.85 * s).powi(2), vol, 0.81, dim), 1.0);
         }
     }
 

@@ -117,6 +117,10 @@ mod imp {
         pub fn or(self, o: M4) -> M4 {
             M4(unsafe { _mm256_or_pd(self.0, o.0) })
         }
+        #[inline(always)]
+        pub fn and(self, o: M4) -> M4 {
+            M4(unsafe { _mm256_and_pd(self.0, o.0) })
+        }
         /// Bit k set where lane k is.
         #[inline(always)]
         pub fn bits(self) -> u32 {
@@ -216,6 +220,10 @@ mod imp {
         #[inline(always)]
         pub fn or(self, o: M4) -> M4 {
             M4(std::array::from_fn(|k| self.0[k] || o.0[k]))
+        }
+        #[inline(always)]
+        pub fn and(self, o: M4) -> M4 {
+            M4(std::array::from_fn(|k| self.0[k] && o.0[k]))
         }
         /// Bit k set where lane k is.
         #[inline(always)]

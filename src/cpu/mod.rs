@@ -253,7 +253,7 @@ fn stress_point(model: &Model, i: usize, rho: f64, e: f64, s: &Sym, damage: f64)
     let sigma = forces::cauchy(p, s);
     let r2 = rho * rho;
     let r = match model.artificial_stress {
-        Some((eps, _)) => forces::artificial_stress(eps, &sigma, rho),
+        Some(a) => forces::artificial_stress(a.epsilon, &sigma, rho),
         None => Sym::default(),
     };
     StressPoint {

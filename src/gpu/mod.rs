@@ -83,7 +83,7 @@ use crate::error::Instability;
 use crate::math::Sym;
 use crate::model::{Model, State};
 use crate::probe::Resolved;
-use crate::scene::{Correction, Integrator};
+use crate::scene::{ArtPairs, Correction, Integrator};
 pub use context::GpuContext;
 use context::Pipeline;
 use layout::{BodyGpu, Control, Params};
@@ -109,12 +109,12 @@ fn bucket_count(n: usize) -> u32 {
 /// The contact's `cshare` (pass 1 → pass 2) and `cown` (pass 1 → pass 2
 /// and the reductions after the first evaluation) are written after the forces pass
 /// and dead before the next kinematics pass. The correction matrices (`lmat`), the
-/// velocity gradients (`gradv`, reconstructed viscosity) and the artificial
-/// stresses (`art`) are written by the kinematics pass and last read by the forces pass, and no
+/// velocity gradients (`gradv`, reconstructed viscosity) are written by the
+/// kinematics pass and last read by the forces pass, and no
 /// kernel binds one of them together with the contact buffer it hosts (the
 /// reorder uses `lmat` and `cown` as scratch, at the start of a step, as
 /// two different buffers). So `cshare` lives in `lmat`, and `cown` in
-/// `gradv` or `art` when the scene has one: 16 or 32 bytes a particle less.
+/// `gradv` when the scene has it: 16 or 32 bytes a particle less.
 /// In the same way the stored spring energy (an observation) goes to
 /// `sr2c.x` (`σ_xx/ρ²`, dead after the forces pass; the reductions read only its
 /// sound speed `w`), written by the particle's own thread in contact pass 1,
@@ -129,8 +129,6 @@ fn bucket_count(n: usize) -> u32 {
 fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
     let own_home = if model.av_reconstruct {
         Some("gradv")
-    } else if model.artificial_stress.is_some() {
-        Some("art")
     } else {
         None
     };
@@ -737,8 +735,8 @@ impl GpuSolver {
             cfl: model.cfl as f32,
             fixed_dt: model.fixed_dt.unwrap_or(0.0) as f32,
             boundary_threshold: model.boundary_threshold as f32,
-            as_eps: model.artificial_stress.map_or(0.0, |a| a.0) as f32,
-            as_n: model.artificial_stress.map_or(0.0, |a| a.1) as f32,
+            as_eps: model.artificial_stress.map_or(0.0, |a| a.epsilon) as f32,
+            as_n: model.artificial_stress.map_or(0.0, |a| a.n) as f32,
             end_hi,
             end_lo,
             ring_len: RING_LEN,
@@ -884,6 +882,12 @@ impl GpuSolver {
         make("r", 8 * nn, Some(bytemuck::cast_slice(&r)))?;
         make("s", 16 * nn, Some(bytemuck::cast_slice(&s)))?;
         make("pinfo", 16 * nn, Some(bytemuck::cast_slice(&meta)))?;
+        if !model.close_scale.is_empty() {
+            // By original index (pinfo.w): constant, never permuted. Not
+            // made when every scale is 1 (ART_KAPPA off).
+            let k2: Vec<f32> = model.close_scale.iter().map(|&k| k as f32).collect();
+            make("kappa", 4 * nn, Some(bytemuck::cast_slice(&k2)))?;
+        }
         if leapfrog {
             // The carried rates a_n and (_, de_n/dt), and the predicted
             // velocity (common.wgsl, LEAP); buffers wgpu zeroes.
@@ -910,9 +914,6 @@ impl GpuSolver {
         }
         for name in ["lmat", "nbo", "sr2c"] {
             make(name, 16 * nn, None)?;
-        }
-        if model.artificial_stress.is_some() {
-            make("art", 16 * nn, None)?;
         }
         if model.av_reconstruct {
             make("gradv", 16 * nn, None)?;
@@ -1024,6 +1025,13 @@ impl GpuSolver {
             ),
             ("PLASTIC", model.plastic as u8 as f64),
             ("ART_STRESS", model.artificial_stress.is_some() as u8 as f64),
+            (
+                "ART_CLOSE",
+                model
+                    .artificial_stress
+                    .is_some_and(|a| a.pairs == ArtPairs::Close) as u8 as f64,
+            ),
+            ("ART_KAPPA", !model.close_scale.is_empty() as u8 as f64),
             ("RECON", model.av_reconstruct as u8 as f64),
             ("WG", WG as f64),
             ("GUARD", plan.energy.is_some() as u8 as f64),

@@ -130,7 +130,11 @@ impl std::fmt::Display for Backend {
     }
 }
 
-/// Gray, Monaghan & Swift artificial stress (METHOD.md §4).
+/// Gray, Monaghan & Swift artificial stress (docs/method.md, "Tension").
+///
+/// A scene without the section gets [`ArtificialStress::DEFAULT`], the
+/// close-pair form; a section without `pairs` is the classic form on
+/// every pair; `epsilon = 0` switches the term off.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ArtificialStress {
@@ -138,12 +142,38 @@ pub struct ArtificialStress {
     pub epsilon: f64,
     #[serde(default = "default_as_n")]
     pub n: f64,
+    #[serde(default)]
+    pub pairs: ArtPairs,
 }
 fn default_as_epsilon() -> f64 {
     0.3
 }
 fn default_as_n() -> f64 {
     4.0
+}
+
+impl ArtificialStress {
+    /// What a scene without `[artificial_stress]` runs with: the
+    /// close-pair form at Gray, Monaghan & Swift's `ε = 0.3`, `n = 4`.
+    pub const DEFAULT: ArtificialStress = ArtificialStress {
+        epsilon: 0.3,
+        n: 4.0,
+        pairs: ArtPairs::Close,
+    };
+}
+
+/// Which pairs the artificial stress acts on.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ArtPairs {
+    /// Every pair with a particle in tension (Gray, Monaghan & Swift).
+    #[default]
+    All,
+    /// Only pairs closer than their local spacing `(V̄)^(1/d)`, at full
+    /// strength from [`crate::cpu::forces::CLOSE_FULL`] of it: zero on a
+    /// smoothly strained lattice, on at the clumping the tensile
+    /// instability starts with.
+    Close,
 }
 
 /// Monaghan artificial viscosity (METHOD.md §4).
