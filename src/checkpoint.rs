@@ -42,9 +42,11 @@ use crate::scene::{Backend, Scene};
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\n";
-/// Version 5: a scene without `[artificial_stress]` runs the default
-/// close-pair form, so a version 4 checkpoint resumed would change its physics.
-const VERSION: u64 = 5;
+/// Version 6: the failure times of a state with a plastic history.
+/// (Version 5: a scene without `[artificial_stress]` runs the default
+/// close-pair form, so a version 4 checkpoint resumed would change its
+/// physics.)
+const VERSION: u64 = 6;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]
@@ -196,6 +198,7 @@ impl Checkpoint {
                 w.f64s(&state.eps_p);
                 w.f64s(&state.temperature);
                 w.f64s(&state.damage);
+                w.f64s(&state.failed_at);
                 w.f64(initial_dt.unwrap_or(f64::NAN));
                 w.f64(energy_limit.unwrap_or(f64::NAN));
                 w.u32s(&lists.start);
@@ -320,6 +323,7 @@ impl Checkpoint {
                     let eps_p = r.f64s()?;
                     let temperature = r.f64s()?;
                     let damage = r.f64s()?;
+                    let failed_at = r.f64s()?;
                     let initial_dt = Some(r.f64()?).filter(|d| !d.is_nan());
                     let energy_limit = Some(r.f64()?).filter(|d| !d.is_nan());
                     let lists = Neighbours {
@@ -389,6 +393,7 @@ impl Checkpoint {
                             eps_p,
                             temperature,
                             damage,
+                            failed_at,
                         },
                         initial_dt,
                         energy_limit,
@@ -470,9 +475,14 @@ impl Checkpoint {
                 && state.e.len() == n
                 && state.s.len() == n
                 && state.entry.len() == if contact { n } else { 0 }
-                && [&state.eps_p, &state.temperature, &state.damage]
-                    .iter()
-                    .all(|a| a.len() == if history { n } else { 0 })
+                && [
+                    &state.eps_p,
+                    &state.temperature,
+                    &state.damage,
+                    &state.failed_at,
+                ]
+                .iter()
+                .all(|a| a.len() == if history { n } else { 0 })
                 && lists.start.len() == n + 1
                 && lists.cross_start.len() == n + 1
                 && lists.x_ref.len() == n

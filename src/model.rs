@@ -113,6 +113,10 @@ pub struct State {
     pub temperature: Vec<f64>,
     /// Damage in [0, 1] (1: failed); empty unless [`Model::history`].
     pub damage: Vec<f64>,
+    /// The time at which each particle failed (the end of the step that
+    /// failed it), negative while it holds; empty unless
+    /// [`Model::history`].
+    pub failed_at: Vec<f64>,
 }
 
 impl State {
@@ -183,6 +187,7 @@ impl Model {
             eps_p: Vec::new(),
             temperature: Vec::new(),
             damage: Vec::new(),
+            failed_at: Vec::new(),
         };
         for (bi, (b, p)) in scene.bodies.iter().zip(&placed).enumerate() {
             let material = MaterialModel::new(&scene.materials[&b.material]);
@@ -238,6 +243,7 @@ impl Model {
         if model.history {
             state.eps_p = vec![0.0; model.len()];
             state.damage = vec![0.0; model.len()];
+            state.failed_at = vec![-1.0; model.len()];
             state.temperature = (0..model.len())
                 .map(|i| model.material(i).initial_temperature())
                 .collect();

@@ -82,6 +82,7 @@ pub fn particle_value(model: &Model, st: &State, i: usize, q: ParticleQuantity) 
         ParticleQuantity::PlasticStrain => history(&st.eps_p),
         ParticleQuantity::Temperature => history(&st.temperature),
         ParticleQuantity::Damage => history(&st.damage),
+        ParticleQuantity::FailureTime => st.failed_at.get(i).copied().unwrap_or(-1.0),
     }
 }
 

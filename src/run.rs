@@ -1,7 +1,6 @@
 //! Running a scene: the stepping loop, history rows and snapshots at exact
 //! times, the progress display and the output files.
 
-use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -16,7 +15,7 @@ use crate::error::{Instability, RunError};
 use crate::gpu::{GpuContext, GpuSolver};
 use crate::model::{Model, State};
 use crate::output::vtk::{Fields, SnapshotSeries};
-use crate::output::{BodySummary, History, Summary};
+use crate::output::{vec_of, BodySummary, History, Summary};
 use crate::probe;
 use crate::scene::{Backend, Integrator, Scene};
 
@@ -343,14 +342,6 @@ pub fn history_times(end: f64, interval: f64) -> Vec<f64> {
     t
 }
 
-fn vec_of(v: DVec2, dim: usize) -> Vec<f64> {
-    if dim == 1 {
-        vec![v.x]
-    } else {
-        vec![v.x, v.y]
-    }
-}
-
 /// Plain progress lines come at least this often in simulated time (per
 /// cent of the end time) and in wall time (seconds), whichever is first.
 const LINE_PERCENT: f64 = 5.0;
@@ -586,6 +577,12 @@ fn run_from(
     // The model and the probes come from the scene's initial state, also
     // when resuming: probes are fixed by where particles start.
     let (model, state) = Model::new(&scene);
+    // Where particles start, for the summary's first failures.
+    let x0 = if model.history {
+        state.x.clone()
+    } else {
+        Vec::new()
+    };
     if let Some(ck) = &resume {
         ck.check_sizes(&model, "the checkpoint")?;
     }
@@ -734,6 +731,7 @@ fn run_from(
                     particles: model.bodies[b].range.len(),
                     mass: m,
                     velocity_final: vec_of(mv / m, dim),
+                    failure: crate::output::BodyFailure::of(model, st, &x0, b),
                 }
             })
             .collect(),

@@ -139,6 +139,41 @@ fn resume_matches_of(scene: Scene, backend: Backend) {
     }
 }
 
+/// A scene whose target spalls (scenes/hard/flyer_plate_tension.toml with
+/// a 2 GPa spall pressure: failures from 2.057 µs), checkpointed at 2.3 µs
+/// with the crack open and resumed: the same history, the same final
+/// state (damage and failure times included) and the same failures in
+/// the summary.
+#[test]
+fn cpu_resume_keeps_the_failures() {
+    let mut scene = load("scenes/hard/flyer_plate_tension.toml");
+    scene.materials.get_mut("steel").unwrap().spall_pressure = Some(2.0e9);
+    scene.output.snapshot_interval = None;
+    let tmp = tempfile::tempdir().unwrap();
+    let (full, ck) = (tmp.path().join("full"), tmp.path().join("ck"));
+    let whole = run_scene(&scene, None, &write_opts(&full, Backend::Cpu, None)).expect("runs");
+    run_scene(&scene, None, &write_opts(&ck, Backend::Cpu, Some(2.3e-6))).expect("runs");
+    let saved = sphcontact::checkpoint::Checkpoint::read(&ck).expect("a checkpoint");
+    assert!((2.3e-6..2.31e-6).contains(&saved.time()));
+    std::fs::remove_file(ck.join("summary.json")).unwrap();
+    let opts = RunOptions {
+        silent: true,
+        ..Default::default()
+    };
+    let resumed = resume_run(&ck, &opts).expect("resumes");
+    assert!(read(full.join("history.csv")) == read(ck.join("history.csv")));
+    assert!(whole.state.failed_at.iter().any(|&t| t > 0.0 && t < 2.3e-6));
+    assert!(whole.state == resumed.state, "final states differ");
+    let bodies = |d: &Path| {
+        serde_json::from_slice::<serde_json::Value>(&read(d.join("summary.json"))).unwrap()
+            ["bodies"]
+            .clone()
+    };
+    let b = bodies(&full);
+    assert!(b[1]["failure"]["failed"].as_u64().unwrap() > 0, "{b}");
+    assert_eq!(b, bodies(&ck));
+}
+
 #[test]
 fn cpu_resume_gives_the_same_bytes() {
     resume_matches(Backend::Cpu);

@@ -378,7 +378,7 @@ fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &
             *s = plastic_return(model, i, base.s[i].add_scaled(&r.ds[i], k));
         });
     if model.history {
-        return_with_history(model, base, &r.rate, out);
+        return_with_history(model, base, &r.rate, base.t + k, out);
     }
     out.heat = base.heat + r.heat_rate * k;
     out.spring_work = base.spring_work + r.spring_rate * k;
@@ -432,9 +432,10 @@ fn plastic_return(model: &Model, i: usize, s: Sym) -> Sym {
 /// The stress update with a plastic history ([`strength::update`]) over a
 /// whole state: `out.s` holds the trial stresses and leaves with the
 /// returned ones; `out.rho` and `out.e` are where the step ends, `from` the
-/// state whose history it starts from, `rate` the strain rates (empty: 0).
+/// state whose history it starts from, `rate` the strain rates (empty: 0),
+/// `t_end` the time `out` is at (a particle failing now fails at it).
 /// Rigid particles keep `from`'s history.
-fn return_with_history(model: &Model, from: &State, rate: &[f64], out: &mut State) {
+fn return_with_history(model: &Model, from: &State, rate: &[f64], t_end: f64, out: &mut State) {
     let State {
         rho,
         e,
@@ -442,14 +443,16 @@ fn return_with_history(model: &Model, from: &State, rate: &[f64], out: &mut Stat
         eps_p,
         temperature,
         damage,
+        failed_at,
         ..
     } = out;
     s.par_iter_mut()
         .zip(eps_p.par_iter_mut())
         .zip(temperature.par_iter_mut())
         .zip(damage.par_iter_mut())
+        .zip(failed_at.par_iter_mut())
         .enumerate()
-        .for_each(|(i, (((s, ep), t), d))| {
+        .for_each(|(i, ((((s, ep), t), d), at))| {
             let h = if model.rigid(i) {
                 from.history(i)
             } else {
@@ -462,6 +465,11 @@ fn return_with_history(model: &Model, from: &State, rate: &[f64], out: &mut Stat
                 h
             };
             (*ep, *t, *d) = (h.eps_p, h.temperature, h.damage);
+            *at = if strength::failed(h.damage) && from.failed_at[i] < 0.0 {
+                t_end
+            } else {
+                from.failed_at[i]
+            };
         });
 }
 
@@ -741,7 +749,7 @@ impl CpuSolver {
             .enumerate();
         let pts: Vec<StressPoint> = if model.history {
             walk.for_each(|(i, ((e, rho), s))| to_next(i, e, rho, s));
-            return_with_history(model, st, &k.rate, &mut next);
+            return_with_history(model, st, &k.rate, st.t + dt, &mut next);
             eos_and_stress(model, &next)
         } else {
             walk.map(|(i, ((e, rho), s))| {
@@ -854,7 +862,8 @@ impl CpuSolver {
     }
 
     /// Bytes of host memory the solver holds for its particles: the model's
-    /// per-particle constants, the three states (current, midpoint, next),
+    /// per-particle constants, the three states (current, midpoint, next,
+    /// with the contact entries and plastic histories a scene carries),
     /// the rates of the current evaluation, the neighbour lists and the
     /// leapfrog's pair vectors (32 B a visited candidate). The
     /// transient arrays of an evaluation are not counted.
@@ -864,13 +873,19 @@ impl CpuSolver {
         let model = size_of_val(&m.mass[..])
             + size_of_val(&m.h[..])
             + size_of_val(&m.body[..])
-            + size_of_val(&m.offset[..]);
+            + size_of_val(&m.offset[..])
+            + size_of_val(&m.close_scale[..]);
         let state = |s: &State| {
             size_of_val(&s.x[..])
                 + size_of_val(&s.v[..])
                 + size_of_val(&s.rho[..])
                 + size_of_val(&s.e[..])
                 + size_of_val(&s.s[..])
+                + size_of_val(&s.entry[..])
+                + size_of_val(&s.eps_p[..])
+                + size_of_val(&s.temperature[..])
+                + size_of_val(&s.damage[..])
+                + size_of_val(&s.failed_at[..])
         };
         let states = state(&self.state) + state(&self.scratch) + state(&self.spare);
         let rates = self.current.as_ref().map_or(0, |(r, _)| {
@@ -878,6 +893,7 @@ impl CpuSolver {
                 + size_of_val(&r.drho[..])
                 + size_of_val(&r.de[..])
                 + size_of_val(&r.ds[..])
+                + size_of_val(&r.rate[..])
         });
         (model + states + rates + self.nb.bytes() + size_of_val(&self.kept[..])) as u64
     }

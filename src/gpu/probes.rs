@@ -73,7 +73,8 @@ fn particle_code(q: ParticleQuantity) -> u32 {
         // (`run::cpu_only`).
         ParticleQuantity::PlasticStrain
         | ParticleQuantity::Temperature
-        | ParticleQuantity::Damage => unreachable!("a plastic history on the GPU path"),
+        | ParticleQuantity::Damage
+        | ParticleQuantity::FailureTime => unreachable!("a plastic history on the GPU path"),
     }
 }
 

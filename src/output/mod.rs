@@ -154,6 +154,69 @@ pub struct BodySummary {
     pub particles: usize,
     pub mass: f64,
     pub velocity_final: Vec<f64>,
+    /// The body's failed particles, for a body whose material can fail
+    /// (a damage law or a spall pressure); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failure: Option<BodyFailure>,
+}
+
+/// How much of a body has failed by the end of a run, and where it began.
+#[derive(Debug, Clone, Serialize)]
+pub struct BodyFailure {
+    /// Particles failed at the end.
+    pub failed: usize,
+    /// The first particle to fail (the lowest index among those failing in
+    /// the same step); absent while none has.
+    pub first: Option<FirstFailure>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct FirstFailure {
+    /// The end of the step it failed in, s.
+    pub time: f64,
+    /// The particle's index in the scene's order (bodies in turn).
+    pub particle: usize,
+    /// Where it was placed at the start of the run, m.
+    pub position_initial: Vec<f64>,
+}
+
+impl BodyFailure {
+    /// Body `b`'s failures in state `st`, `x0` the positions the run
+    /// started from; `None` for a body whose material cannot fail.
+    pub fn of(
+        model: &crate::model::Model,
+        st: &crate::model::State,
+        x0: &[glam::DVec2],
+        b: usize,
+    ) -> Option<Self> {
+        let body = &model.bodies[b];
+        if !(model.history && body.material.can_fail()) {
+            return None;
+        }
+        let range = body.range.clone();
+        let failed = range
+            .clone()
+            .filter(|&i| crate::physics::strength::failed(st.damage[i]))
+            .count();
+        let first = range
+            .filter(|&i| st.failed_at[i] >= 0.0)
+            .min_by(|&i, &j| st.failed_at[i].total_cmp(&st.failed_at[j]).then(i.cmp(&j)))
+            .map(|i| FirstFailure {
+                time: st.failed_at[i],
+                particle: i,
+                position_initial: vec_of(x0[i], model.dim),
+            });
+        Some(BodyFailure { failed, first })
+    }
+}
+
+/// The first `dim` components of `v`.
+pub fn vec_of(v: glam::DVec2, dim: usize) -> Vec<f64> {
+    if dim == 1 {
+        vec![v.x]
+    } else {
+        vec![v.x, v.y]
+    }
 }
 
 /// The particles of the final state outside the solid range: how many,

@@ -64,10 +64,11 @@ const SCALARS: [(&str, ParticleQuantity); 7] = [
 
 /// The plastic history's arrays, written when the scene's materials carry
 /// one (8 bytes a particle each beyond [`BYTES_PER_PARTICLE`]).
-const HISTORY: [(&str, ParticleQuantity); 3] = [
+const HISTORY: [(&str, ParticleQuantity); 4] = [
     ("plastic_strain", ParticleQuantity::PlasticStrain),
     ("temperature", ParticleQuantity::Temperature),
     ("damage", ParticleQuantity::Damage),
+    ("failure_time", ParticleQuantity::FailureTime),
 ];
 
 /// One appended array: its XML description and a way to make its bytes

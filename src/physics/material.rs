@@ -97,11 +97,19 @@ impl MaterialModel {
         self.strength.is_some() || self.needs_pressure()
     }
 
+    /// Whether a particle of the material can fail: it has a damage law or
+    /// a spall pressure.
+    #[inline]
+    pub fn can_fail(&self) -> bool {
+        self.failure.is_some() || self.spall.is_finite()
+    }
+
     /// Whether the stress update's failure laws read the pressure: a
-    /// damage law (through the triaxiality) or a spall pressure.
+    /// damage law (through the triaxiality) or a spall pressure, so
+    /// whenever the material can fail.
     #[inline]
     pub fn needs_pressure(&self) -> bool {
-        self.failure.is_some() || self.spall.is_finite()
+        self.can_fail()
     }
 
     /// The room temperature a particle starts at (0 without a strength law,

@@ -498,6 +498,9 @@ pub enum ParticleQuantity {
     Temperature,
     /// Damage, 0 to 1 (1: failed; as `plastic_strain`).
     Damage,
+    /// The time the particle failed, s; −1 while it holds (as
+    /// `plastic_strain`).
+    FailureTime,
 }
 
 impl ParticleQuantity {
@@ -509,6 +512,7 @@ impl ParticleQuantity {
             ParticleQuantity::PlasticStrain
                 | ParticleQuantity::Temperature
                 | ParticleQuantity::Damage
+                | ParticleQuantity::FailureTime
         )
     }
 }
