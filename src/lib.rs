@@ -52,6 +52,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod ballistic;
 pub mod bench;
 pub mod checkpoint;
 pub mod cpu;

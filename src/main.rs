@@ -87,6 +87,103 @@ enum Command {
     /// Particle throughput: the two-disk impact (square lattice) timed in
     /// contact at each particle count, on each backend.
     Bench(BenchArgs),
+    /// The ballistic limit of a projectile against a target, by bisection
+    /// over whole runs of the scene; each shot's residual velocity.
+    Ballistic(BallisticArgs),
+}
+
+#[derive(Args)]
+struct BallisticArgs {
+    /// The scene file (TOML): the projectile's velocity gives the impact
+    /// direction.
+    scene: PathBuf,
+    /// The projectile body.
+    #[arg(long)]
+    projectile: String,
+    /// The target body.
+    #[arg(long)]
+    target: String,
+    /// An impact speed that does not perforate, m/s.
+    #[arg(long, allow_negative_numbers = true)]
+    low: f64,
+    /// An impact speed that perforates, m/s.
+    #[arg(long, allow_negative_numbers = true)]
+    high: f64,
+    /// Stop when the bracket is this narrow, m/s.
+    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true)]
+    tolerance: f64,
+    /// Every body's particle spacing for the search, m (default: the
+    /// scene's); the result is reported with it.
+    #[arg(long, allow_negative_numbers = true)]
+    spacing: Option<f64>,
+    /// The shots' end time, s (default: the scene's).
+    #[arg(long, allow_negative_numbers = true)]
+    end_time: Option<f64>,
+    /// More impact speeds to shoot after the search, for the residual
+    /// velocity curve, m/s.
+    #[arg(long, num_args = 1.., allow_negative_numbers = true)]
+    speeds: Vec<f64>,
+    /// Which backend runs the shots.
+    #[arg(long, value_enum)]
+    backend: Option<BackendArg>,
+    /// Output directory: ballistic.json, residual.csv, residual.png, and
+    /// each shot's outputs in v<speed>/.
+    #[arg(long, default_value = "out/ballistic")]
+    out: PathBuf,
+}
+
+fn ballistic_cmd(args: BallisticArgs) -> ExitCode {
+    use sphcontact::ballistic::{search, BallisticOptions};
+    let scene = match load(&args.scene) {
+        Ok(s) => s,
+        Err(code) => return code,
+    };
+    let opts = BallisticOptions {
+        projectile: args.projectile,
+        target: args.target,
+        low: args.low,
+        high: args.high,
+        tolerance: args.tolerance,
+        spacing: args.spacing,
+        end_time: args.end_time,
+        speeds: args.speeds,
+        backend: args.backend.map(backend_of),
+        out_dir: Some(args.out.clone()),
+    };
+    let label = args.scene.display().to_string();
+    let result = search(&scene, &label, &opts, |s| {
+        eprintln!(
+            "shot {:8.1} m/s: {:<16} residual {:8.1} m/s, {} target particles failed, {} particles, {} steps, {:.1} s",
+            s.speed,
+            match (s.perforated, s.undecided) {
+                (true, _) => "perforates",
+                (_, true) => "undecided",
+                _ => "stops",
+            },
+            s.residual_velocity,
+            s.target_failed,
+            s.particles,
+            s.steps,
+            s.wall_seconds
+        );
+    });
+    match result.and_then(|b| b.write(&args.out).map(|_| b)) {
+        Ok(b) => {
+            if let Some(why) = &b.stopped {
+                eprintln!("warning: the bisection stopped early: {why}");
+            }
+            println!(
+                "ballistic limit {:.1} m/s (between {:.1} and {:.1} m/s) at a spacing of {:.3e} m; outputs in {}",
+                b.ballistic_limit,
+                b.limit_bracket[0],
+                b.limit_bracket[1],
+                b.spacing[0],
+                args.out.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => failed(e),
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -474,6 +571,7 @@ fn command(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Validate(args) => validate_cmd(args),
         Command::Bench(args) => bench_cmd(args),
+        Command::Ballistic(args) => ballistic_cmd(args),
         Command::Check { scene } => match load(&scene) {
             Ok(s) => {
                 check(&scene, &s);

@@ -707,7 +707,7 @@ fn with_spall(p_spall: f64) -> Scene {
 /// failed particles, 10, in pairs over 7.93–8.09 mm (the smeared fronts
 /// crack the material more than once), centred 0.5 Δx from the plane,
 /// the first of them 5.5 Δx right of it, where the ringing behind the
-/// reflected front overshoots; the scab at −0.8 % of the flyer's speed.
+/// reflected front overshoots; the scab at −0.7 % of the flyer's speed.
 fn spalls_at_the_plane() {
     let scene = with_spall(2.0e9);
     let mat = material(&scene, "steel");

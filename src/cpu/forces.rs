@@ -9,7 +9,7 @@ use super::lanes::{columns, F4, LANES};
 use super::neighbours::{Chunk, Nbr, Neighbours};
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
-use crate::physics::kernel;
+use crate::physics::{kernel, strength};
 use crate::scene::ArtPairs;
 
 /// Per-particle inputs of the momentum pass, computed once per evaluation.
@@ -250,8 +250,13 @@ fn pair_terms(
     // both codes test alike on the trace of `R_i + R_j` (R is negative
     // semi-definite, so the trace is zero only with R): the lane code
     // skips whole rows of four untouched by tension on that test.
+    //
+    // It holds intact material together against the tensile instability;
+    // a failed particle is bonded to nothing and takes no part in it.
     let mut art_work = 0.0;
-    if let Some(a) = model.artificial_stress {
+    let bonded =
+        st.damage.is_empty() || !(strength::failed(st.damage[i]) || strength::failed(st.damage[j]));
+    if let Some(a) = model.artificial_stress.filter(|_| bonded) {
         let rs = pi_.r.add_scaled(&pj.r, 1.0);
         let r2 = xij.length_squared();
         let gate = match a.pairs {
@@ -477,7 +482,7 @@ fn sums_into<E: EnergyTerms>(
     if lanes {
         assert!(lanes_serve(model), "the lane code serves this scene");
         let rec = partners(model, st, l, gv, surface, pts);
-        let art = art_rows(model, pts);
+        let art = art_rows(model, st, pts);
         nb.sweep_chunks_store(
             model,
             &st.x,
@@ -599,11 +604,14 @@ fn partners(
 struct ArtRows {
     rows: Vec<[f64; 4]>,
     tension: Vec<bool>,
+    /// 1 for a particle that has not failed, 0 for one that has (which
+    /// takes no part in the term); empty without a plastic history.
+    intact: Vec<f64>,
 }
 
 /// The [`ArtRows`] of one momentum pass, when the scene has the
 /// artificial stress (else none: the pass reads nothing more).
-fn art_rows(model: &Model, pts: &[StressPoint]) -> Option<ArtRows> {
+fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
     use rayon::prelude::*;
     model.artificial_stress?;
     let (rows, tension) = (0..model.len())
@@ -613,7 +621,16 @@ fn art_rows(model: &Model, pts: &[StressPoint]) -> Option<ArtRows> {
             ([r.xx, r.xy, r.yy, model.spacing_of(i)], r.xx + r.yy < 0.0)
         })
         .unzip();
-    Some(ArtRows { rows, tension })
+    let intact = st
+        .damage
+        .iter()
+        .map(|&d| if strength::failed(d) { 0.0 } else { 1.0 })
+        .collect();
+    Some(ArtRows {
+        rows,
+        tension,
+        intact,
+    })
 }
 
 /// [`pair_terms`] and the sums' updates for up to four pairs of row i at
@@ -693,7 +710,8 @@ fn lane_terms(
     let mut tyy = siyy + sjyy - pi;
     let mut txy = sixy + sjxy;
     let mut art_work = None;
-    if let (Some(art), Some(a)) = (art, model.artificial_stress) {
+    let bonded = |art: &ArtRows| art.intact.is_empty() || art.intact[i] > 0.0;
+    if let (Some(art), Some(a)) = (art.filter(|a| bonded(a)), model.artificial_stress) {
         // Rows untouched by tension skip it, and so do rows with no close
         // pair in the close-pair form; the others take it lane by lane
         // where the trace of R_i + R_j is negative and the gate open
@@ -724,6 +742,10 @@ fn lane_terms(
                 let mut on = (sxx + syy).lt(F4::splat(0.0));
                 if let Some(gate) = gate {
                     on = on.and(F4::splat(0.0).lt(gate));
+                }
+                if !art.intact.is_empty() {
+                    let ok = F4::gather(|k| art.intact[c.j[k] as usize]);
+                    on = on.and(F4::splat(0.0).lt(ok));
                 }
                 if on.bits() != 0 {
                     let dp = 0.5 * (spi + spj);
@@ -801,19 +823,28 @@ mod tests {
                 zz: 1e-3 * rho0 * (b - a),
             };
         }
-        let tensile = |m: &Model| {
-            let pts = eos_and_stress(m, &st);
+        let tensile = |m: &Model, st: &State| {
+            let pts = eos_and_stress(m, st);
             pts.iter().filter(|p| p.r != Sym::default()).count()
         };
-        for (reconstruct, h_ratio, art) in [
-            (true, 1.0, None),
-            (false, 1.0, None),
-            (true, 1.15, None),
-            (true, 1.0, Some((0.3, 4.0, ArtPairs::All))),
-            (false, 1.15, Some((0.2, 3.5, ArtPairs::All))),
-            (true, 1.0, Some((0.3, 4.0, ArtPairs::Close))),
-            (false, 1.15, Some((0.2, 3.5, ArtPairs::Close))),
+        // Every seventh particle failed: it takes no part in the artificial
+        // stress, and no tension.
+        let mut failed = st.clone();
+        failed.damage = (0..st.x.len())
+            .map(|i| if i % 7 == 3 { 1.0 } else { 0.4 })
+            .collect();
+        for (reconstruct, h_ratio, art, damaged) in [
+            (true, 1.0, None, false),
+            (false, 1.0, None, false),
+            (true, 1.15, None, false),
+            (true, 1.0, Some((0.3, 4.0, ArtPairs::All)), false),
+            (false, 1.15, Some((0.2, 3.5, ArtPairs::All)), false),
+            (true, 1.0, Some((0.3, 4.0, ArtPairs::Close)), false),
+            (false, 1.15, Some((0.2, 3.5, ArtPairs::Close)), false),
+            (true, 1.0, Some((0.3, 4.0, ArtPairs::All)), true),
+            (false, 1.0, Some((0.3, 4.0, ArtPairs::Close)), true),
         ] {
+            let st = if damaged { &failed } else { &st };
             let mut model = base.clone();
             model.artificial_stress = art.map(as_of);
             if art.is_some_and(|a| a.1 == 3.5 && a.2 == ArtPairs::Close) {
@@ -823,7 +854,7 @@ mod tests {
                     .collect();
             }
             if art.is_some() {
-                let n = tensile(&model);
+                let n = tensile(&model, st);
                 assert!(n > model.len() / 4 && n < model.len(), "{n} in tension");
             }
             model.av_reconstruct = reconstruct;
@@ -835,8 +866,8 @@ mod tests {
             }
             let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
             let nb = neighbours::find_with_skin(&model, &st.x, skin);
-            let k = kinematics::kinematics(&model, &st, &nb);
-            let pts = eos_and_stress(&model, &st);
+            let k = kinematics::kinematics(&model, st, &nb);
+            let pts = eos_and_stress(&model, st);
             let args = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
             let one = sums(
                 args.0, args.1, args.2, args.3, args.4, args.5, args.6, false, None,

@@ -434,6 +434,8 @@ fn plastic_return(model: &Model, i: usize, s: Sym) -> Sym {
 /// returned ones; `out.rho` and `out.e` are where the step ends, `from` the
 /// state whose history it starts from, `rate` the strain rates (empty: 0),
 /// `t_end` the time `out` is at (a particle failing now fails at it).
+/// A failed particle's density is held at or above the density at which
+/// its pressure vanishes ([`crate::physics::material::MaterialModel::failed_density_floor`]).
 /// Rigid particles keep `from`'s history.
 fn return_with_history(model: &Model, from: &State, rate: &[f64], t_end: f64, out: &mut State) {
     let State {
@@ -447,21 +449,31 @@ fn return_with_history(model: &Model, from: &State, rate: &[f64], t_end: f64, ou
         ..
     } = out;
     s.par_iter_mut()
+        .zip(rho.par_iter_mut())
         .zip(eps_p.par_iter_mut())
         .zip(temperature.par_iter_mut())
         .zip(damage.par_iter_mut())
         .zip(failed_at.par_iter_mut())
         .enumerate()
-        .for_each(|(i, ((((s, ep), t), d), at))| {
+        .for_each(|(i, (((((s, rho), ep), t), d), at))| {
             let h = if model.rigid(i) {
                 from.history(i)
             } else {
                 let mat = model.material(i);
                 let r = rate.get(i).copied().unwrap_or(0.0);
-                let (rho, e) = (rho[i], e[i]);
-                let (s_new, h) =
-                    strength::update(mat, *s, r, rho, || mat.pressure(rho, e), from.history(i));
+                let (rho_i, e) = (*rho, e[i]);
+                let (s_new, h) = strength::update(
+                    mat,
+                    *s,
+                    r,
+                    rho_i,
+                    || mat.pressure(rho_i, e),
+                    from.history(i),
+                );
                 *s = s_new;
+                if strength::failed(h.damage) {
+                    *rho = rho_i.max(mat.failed_density_floor(e));
+                }
                 h
             };
             (*ep, *t, *d) = (h.eps_p, h.temperature, h.damage);

@@ -143,6 +143,27 @@ impl MaterialModel {
         }
     }
 
+    /// The density at or above which a failed particle with specific
+    /// internal energy `e` stays: the density at which its pressure
+    /// vanishes (ρ0 for the linear EOS; for Mie–Grüneisen the root of
+    /// `(1 − Γμ/2) K μ + Γ ρ0 (1 + μ) e = 0` near μ = 0, with `e` taken
+    /// as at least 0 so that it is never above ρ0). A failed particle
+    /// carries no tension, so below it the material would do nothing but
+    /// dilate, and its volume `m/ρ` would grow in its neighbours' sums
+    /// without bound: an opening crack is void, not stretched metal.
+    pub fn failed_density_floor(&self, e: f64) -> f64 {
+        if self.linear || self.gamma0 == 0.0 {
+            return self.rho0;
+        }
+        let (k, g) = (self.k, self.gamma0);
+        let ge = g * self.rho0 * e.max(0.0);
+        // −½ΓK μ² + (K + Γρ0e) μ + Γρ0e = 0, the root near 0, written to
+        // keep its digits: μ = −2c / (b + sqrt(b² − 4ac)).
+        let b = k + ge;
+        let mu = -2.0 * ge / (b + (b * b + 2.0 * g * k * ge).sqrt());
+        self.rho0 * (1.0 + mu)
+    }
+
     /// Pressure `p(ρ, e)` (METHOD.md §6), compression positive.
     #[inline]
     pub fn pressure(&self, rho: f64, e: f64) -> f64 {
@@ -227,6 +248,29 @@ mod tests {
                 },
             )
         }
+    }
+
+    /// A failed particle's density floor is where its pressure vanishes:
+    /// ρ0 cold, below it as heat adds thermal pressure, ρ0 for the linear
+    /// EOS.
+    #[test]
+    fn failed_density_floor_is_the_zero_pressure_density() {
+        let s = MaterialModel::new(&steel());
+        assert_eq!(s.failed_density_floor(0.0), s.rho0);
+        assert_eq!(s.failed_density_floor(-1e4), s.rho0);
+        let mut last = s.rho0;
+        for e in [1e3, 1e5, 5e5, 2e6] {
+            let rho = s.failed_density_floor(e);
+            assert!(rho < last, "{e}: {rho}");
+            assert!(
+                s.pressure(rho, e).abs() < 1e-9 * s.k,
+                "{e}: p = {}",
+                s.pressure(rho, e)
+            );
+            last = rho;
+        }
+        let lin = MaterialModel::new(&Material::basic(7850.0, Eos::Linear { c0: 4580.0 }));
+        assert_eq!(lin.failed_density_floor(1e5), 7850.0);
     }
 
     /// The derived constants METHOD.md §6 lists for steel and aluminium.
