@@ -661,13 +661,18 @@ mod tests {
 
     fn scenes() -> Vec<Scene> {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        ["scenes/paper", "scenes/large", "scenes/hard"]
-            .iter()
-            .flat_map(|d| std::fs::read_dir(root.join(d)).expect("scene folder"))
-            .map(|e| e.expect("entry").path())
-            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-            .map(|p| Scene::from_file(&p).expect("a valid scene"))
-            .collect()
+        [
+            "scenes/paper",
+            "scenes/large",
+            "scenes/hard",
+            "scenes/penetration",
+        ]
+        .iter()
+        .flat_map(|d| std::fs::read_dir(root.join(d)).expect("scene folder"))
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .map(|p| Scene::from_file(&p).expect("a valid scene"))
+        .collect()
     }
 
     /// The scene travels as TOML text: every shipped scene comes back equal.
