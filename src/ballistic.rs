@@ -211,6 +211,17 @@ fn judge(
 /// One shot at `speed`.
 pub fn shoot(scene: &Scene, opts: &BallisticOptions, speed: f64) -> Result<Shot, RunError> {
     let pt = check(scene, opts)?;
+    shoot_checked(scene, opts, pt, speed)
+}
+
+/// [`shoot`] with the options checked: `pt` the projectile's and the
+/// target's body indices.
+fn shoot_checked(
+    scene: &Scene,
+    opts: &BallisticOptions,
+    pt: (usize, usize),
+    speed: f64,
+) -> Result<Shot, RunError> {
     let s = shot_scene(scene, opts, speed);
     crate::scene::validate::validate(&s)?;
     let x0 = Model::new(&s).1.x;
@@ -250,10 +261,10 @@ pub fn search(
     opts: &BallisticOptions,
     mut report: impl FnMut(&Shot),
 ) -> Result<Ballistic, RunError> {
-    check(scene, opts)?;
+    let pt = check(scene, opts)?;
     let mut shots = Vec::new();
     let mut fire = |v: f64, shots: &mut Vec<Shot>| -> Result<(bool, bool), RunError> {
-        let s = shoot(scene, opts, v)?;
+        let s = shoot_checked(scene, opts, pt, v)?;
         report(&s);
         let p = (s.perforated, s.undecided);
         shots.push(s);
@@ -264,25 +275,28 @@ pub fn search(
             "at {v} m/s the projectile is still moving into the target at the end: give a longer --end-time"
         )
     };
-    match fire(opts.low, &mut shots)? {
-        (true, _) => {
-            return Err(RunError::Backend(format!(
-                "--low {} m/s already perforates: give a lower speed",
-                opts.low
-            )))
+    // The bracket's ends must be decided, and on their own sides.
+    for (v, end, through, wrong) in [
+        (
+            opts.low,
+            "low",
+            false,
+            "already perforates: give a lower speed",
+        ),
+        (
+            opts.high,
+            "high",
+            true,
+            "does not perforate: give a higher speed",
+        ),
+    ] {
+        match fire(v, &mut shots)? {
+            (_, true) => return Err(RunError::Backend(longer(v))),
+            (p, _) if p != through => {
+                return Err(RunError::Backend(format!("--{end} {v} m/s {wrong}")))
+            }
+            _ => {}
         }
-        (_, true) => return Err(RunError::Backend(longer(opts.low))),
-        _ => {}
-    }
-    match fire(opts.high, &mut shots)? {
-        (false, false) => {
-            return Err(RunError::Backend(format!(
-                "--high {} m/s does not perforate: give a higher speed",
-                opts.high
-            )))
-        }
-        (_, true) => return Err(RunError::Backend(longer(opts.high))),
-        _ => {}
     }
     let (mut lo, mut hi) = (opts.low, opts.high);
     let mut stopped = None;

@@ -254,9 +254,10 @@ fn pair_terms(
     // It holds intact material together against the tensile instability;
     // a failed particle is bonded to nothing and takes no part in it.
     let mut art_work = 0.0;
-    let bonded =
-        st.damage.is_empty() || !(strength::failed(st.damage[i]) || strength::failed(st.damage[j]));
-    if let Some(a) = model.artificial_stress.filter(|_| bonded) {
+    let bonded = || {
+        st.damage.is_empty() || !(strength::failed(st.damage[i]) || strength::failed(st.damage[j]))
+    };
+    if let Some(a) = model.artificial_stress.filter(|_| bonded()) {
         let rs = pi_.r.add_scaled(&pj.r, 1.0);
         let r2 = xij.length_squared();
         let gate = match a.pairs {
@@ -605,7 +606,7 @@ struct ArtRows {
     rows: Vec<[f64; 4]>,
     tension: Vec<bool>,
     /// 1 for a particle that has not failed, 0 for one that has (which
-    /// takes no part in the term); empty without a plastic history.
+    /// takes no part in the term); empty while no particle has failed.
     intact: Vec<f64>,
 }
 
@@ -621,11 +622,12 @@ fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
             ([r.xx, r.xy, r.yy, model.spacing_of(i)], r.xx + r.yy < 0.0)
         })
         .unzip();
-    let intact = st
-        .damage
-        .iter()
-        .map(|&d| if strength::failed(d) { 0.0 } else { 1.0 })
-        .collect();
+    let intact = if st.damage.iter().any(|&d| strength::failed(d)) {
+        let state = |&d: &f64| if strength::failed(d) { 0.0 } else { 1.0 };
+        st.damage.iter().map(state).collect()
+    } else {
+        Vec::new()
+    };
     Some(ArtRows {
         rows,
         tension,

@@ -94,22 +94,15 @@ impl MaterialModel {
     /// ([`crate::physics::strength::History`]): a strength law with
     /// hardening, or a failure model.
     pub fn has_history(&self) -> bool {
-        self.strength.is_some() || self.needs_pressure()
+        self.strength.is_some() || self.can_fail()
     }
 
     /// Whether a particle of the material can fail: it has a damage law or
-    /// a spall pressure.
+    /// a spall pressure. Both read the pressure (the damage law through
+    /// the triaxiality), so the stress update asks for it only then.
     #[inline]
     pub fn can_fail(&self) -> bool {
         self.failure.is_some() || self.spall.is_finite()
-    }
-
-    /// Whether the stress update's failure laws read the pressure: a
-    /// damage law (through the triaxiality) or a spall pressure, so
-    /// whenever the material can fail.
-    #[inline]
-    pub fn needs_pressure(&self) -> bool {
-        self.can_fail()
     }
 
     /// The room temperature a particle starts at (0 without a strength law,

@@ -52,7 +52,7 @@ pub fn equivalent_strain_rate(gv: &Mat2) -> f64 {
 /// deviatoric stress `trial` returned onto the yield surface at the strain
 /// rate `rate` (1/s), from the history `h` at the start of the step; `rho`
 /// is the density the step ends at, `pressure` gives its pressure (asked
-/// only by the failure laws, [`MaterialModel::needs_pressure`]). Returns
+/// only by the failure laws, [`MaterialModel::can_fail`]). Returns
 /// the deviatoric stress and the history at the end.
 ///
 /// * Perfect plasticity: `s` scaled onto `Y0`; `Δε_p = (q − Y0)/3G`.
@@ -93,7 +93,7 @@ pub fn update(
         s = trial.scale(mat.y0 / q);
     }
     h.eps_p += d_eps;
-    if !mat.needs_pressure() {
+    if !mat.can_fail() {
         return (s, h);
     }
     let p = pressure();
