@@ -22,6 +22,13 @@
 @group(0) @binding(66) var<storage, read> cn: array<vec4<f32>>;
 @group(0) @binding(70) var<storage, read> bt: array<f32>;
 @group(0) @binding(72) var<storage, read_write> claim: array<atomic<u32>>;
+// The plastic history (common.wgsl, HISTORY): the base state's, and the
+// one written (advance_half: the midpoint's; advance_full: the base
+// state's, in place); the strain rates of the evaluation before
+// (kinematics.wgsl).
+@group(0) @binding(76) var<storage, read> hist: array<vec4<f32>>;
+@group(0) @binding(77) var<storage, read_write> hist_w: array<vec4<f32>>;
+@group(0) @binding(78) var<storage, read> srate: array<f32>;
 
 fn finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
@@ -61,17 +68,39 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         v_w[i] = v[i];
         r_w[i] = r[i];
         s_w[i] = s[i];
+        if (HISTORY) {
+            hist_w[i] = hist[i];
+        }
         return;
     }
     v_w[i] = v[i] + (v_w[i] + spread / bitcast<f32>(mi.x)) * k;
-    r_w[i] = r[i] + r_w[i] * k;
-    s_w[i] = plastic_return(s[i] + s_w[i] * k, b);
+    var rn = r[i] + r_w[i] * k;
+    var sn = plastic_return(s[i] + s_w[i] * k, b);
+    if (HISTORY) {
+        let up = strength_update(mi.z, sn, rate_of(i), rn.x, rn.y, hist[i], ctl.t_hi + ctl.t_lo + k);
+        sn = up.s;
+        rn.x = up.mu;
+        hist_w[i] = up.h;
+    }
+    r_w[i] = rn;
+    s_w[i] = sn;
+}
+
+// The equivalent strain rate of particle i's last evaluation (0 where no
+// law reads it).
+fn rate_of(i: u32) -> f32 {
+    if (STRAIN_RATE) {
+        return srate[i];
+    }
+    return 0.0;
 }
 
 // Stage 2: the new positions, in place (u_w is the base buffer), and the
 // checks of the new state (velocity, density, energy and stress were
 // already advanced by the evaluation at the midpoint, but for the spread,
-// added here; v_w is the base velocity and r reads the rest).
+// added here; v_w is the base velocity and r_w reads the rest). With a
+// plastic history the stress update of the new state runs here, where its
+// energy is whole: r_w, s_w and hist_w are the base state's buffers.
 @compute @workgroup_size(WG)
 fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
@@ -97,7 +126,24 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         vn += spread * (dt / bitcast<f32>(mi.x));
         v_w[i] = vn;
     }
-    check(i, un, vn, r[i]);
+    var rn = r_w[i];
+    if (HISTORY) {
+        let up = strength_update(mi.z, s_w[i], rate_of(i), rn.x, rn.y, hist_w[i], ctl.t_hi + ctl.t_lo + dt);
+        s_w[i] = up.s;
+        rn.x = up.mu;
+        r_w[i] = rn;
+        hist_w[i] = up.h;
+    }
+    check(i, un, vn, rn);
+}
+
+// The lowest mu a particle's density may reach: -0.9 (0.1 rho0); a failed
+// particle's, whose crack opens, -1 (any positive density).
+fn low_mu(i: u32) -> f32 {
+    if (FAILURE && hist_w[i].z >= FAILED) {
+        return -1.0;
+    }
+    return -0.9;
 }
 
 // The checks of a new state (position `un`, velocity `vn`, density and
@@ -113,7 +159,7 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
         fail(i, 1u);
     } else if (!finite(rn.y)) {
         fail(i, 2u);
-    } else if (!(rn.x > -0.9 && rn.x < 9.0)) {
+    } else if (!(rn.x > low_mu(i) && rn.x < 9.0)) {
         fail(i, 3u);
     } else {
         // The domain (Model::domain_of), in the grid origin's frame; f32 is

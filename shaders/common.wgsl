@@ -43,6 +43,16 @@ override MID: bool = false;
 // vstar); 3 the step's booking at v_{n+1} (the energy sums and the
 // contact's heat). CPU twin: cpu::CpuSolver::leapfrog.
 override LEAP: u32 = 0u;
+// The state carries a plastic history (physics::strength): per particle
+// (eps_p, T - T_room, D, failure time) in `hist`; the radial return is the
+// strength update's (strength.wgsl).
+override HISTORY: bool = false;
+// Some material can fail (a damage law or a spall pressure): a failed
+// particle carries no tension, has the bulk sound speed, no lower density
+// bound and no artificial stress.
+override FAILURE: bool = false;
+// The strength or damage laws read the equivalent strain rate.
+override STRAIN_RATE: bool = false;
 
 const NONE: u32 = 0xffffffffu;
 const BIG: f32 = 3.0e38;
@@ -309,8 +319,31 @@ fn eos_pressure(b: Body, mu: f32, e: f32) -> f32 {
     return (1.0 - 0.5 * b.gamma0 * mu) * ph + b.gamma0 * b.rho0 * (1.0 + mu) * e;
 }
 
-// Longitudinal sound speed, bulk part never below K (as the CPU path).
-fn eos_sound_speed(b: Body, mu: f32, e: f32) -> f32 {
+// A failed particle's damage (physics::strength::FAILED).
+const FAILED: f32 = 1.0;
+
+// The pressure of a particle with damage `d`: a failed one carries no
+// tension (MaterialModel::pressure_of).
+fn pressure_of(b: Body, mu: f32, e: f32, d: f32) -> f32 {
+    let p = eos_pressure(b, mu, e);
+    if (FAILURE && d >= FAILED) {
+        return max(p, 0.0);
+    }
+    return p;
+}
+
+// The sound speed of a particle with damage `d`: a failed one has no
+// shear stiffness (MaterialModel::sound_speed_of).
+fn sound_speed_of(b: Body, mu: f32, e: f32, d: f32) -> f32 {
+    if (FAILURE && d >= FAILED) {
+        return speed_with_shear(b, mu, e, 0.0);
+    }
+    return speed_with_shear(b, mu, e, b.g);
+}
+
+// Longitudinal sound speed with shear modulus `g`, bulk part never below K
+// (as the CPU path).
+fn speed_with_shear(b: Body, mu: f32, e: f32, g: f32) -> f32 {
     var dpdrho = b.k / b.rho0;
     if (b.linear == 0u && mu > 0.0) {
         let sm = b.s - 1.0;
@@ -322,7 +355,7 @@ fn eos_sound_speed(b: Body, mu: f32, e: f32) -> f32 {
         dpdrho = max(dpdrho, d);
     }
     let rho = b.rho0 * (1.0 + mu);
-    return sqrt((rho * dpdrho + 4.0 * b.g / 3.0) / rho);
+    return sqrt((rho * dpdrho + 4.0 * g / 3.0) / rho);
 }
 
 // Symmetric in-plane tensors are vec4 (xx, yy, xy, zz).
@@ -336,8 +369,10 @@ fn von_mises(s: vec4<f32>) -> f32 {
 
 // Perfect plasticity, radial return (METHOD.md §6), on an updated
 // deviatoric stress.
+// With a plastic history the trial stress is left as it is: the strength
+// update returns it (strength.wgsl).
 fn plastic_return(sn: vec4<f32>, b: Body) -> vec4<f32> {
-    if (PLASTIC && b.elastic == 0u) {
+    if (PLASTIC && !HISTORY && b.elastic == 0u) {
         let j = von_mises(sn);
         if (j > b.y0) {
             return sn * (b.y0 / j);

@@ -31,6 +31,8 @@
 @group(0) @binding(19) var<storage, read_write> area: array<f32>;
 @group(0) @binding(36) var<storage, read> gradv: array<vec4<f32>>;
 @group(0) @binding(53) var<storage, read> vstar: array<vec2<f32>>;
+// The plastic history, for the damage (common.wgsl, FAILURE).
+@group(0) @binding(76) var<storage, read> hist: array<vec4<f32>>;
 // The neighbour mask the kinematics pass left (common.wgsl; the leapfrog's).
 @group(0) @binding(9) var<storage, read> nmask: array<vec2<u32>>;
 // The momentum walk of a leapfrog step (LEAP = 2) kicks the state's
@@ -61,6 +63,11 @@ fn mu_of(j: u32) -> f32 {
         return dr[j].x;
     }
     return r[j].x;
+}
+
+// Whether particle j has not failed.
+fn intact(j: u32) -> bool {
+    return !FAILURE || hist[j].z < FAILED;
 }
 
 // The velocity jump the viscosity sees: v_ij less each side's linear
@@ -97,6 +104,8 @@ struct Own {
     k2: f32,
     // R_i (art_of), zero without the artificial stress.
     art: vec4<f32>,
+    // Not failed: a failed particle takes no part in the artificial stress.
+    intact: bool,
     alpha: f32,
     beta: f32,
 }
@@ -164,8 +173,10 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) 
     // A pair acts only where one of its particles is in tension (the
     // trace of R_i + R_j, R negative semi-definite, below zero) and, in
     // the close-pair form, where its gate is open; R_j comes from t_j.
+    // It holds intact material together against the tensile instability;
+    // a failed particle is bonded to nothing.
     var art_work = 0.0;
-    if (ART_STRESS) {
+    if (ART_STRESS && o.intact) {
         var gate = 1.0;
         if (ART_CLOSE) {
             let rho_j = bj.rho0 * (1.0 + mu_of(j));
@@ -179,7 +190,7 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) 
         }
         if (gate > 0.0) {
             let rs = o.art + art_of(tj);
-            if (rs.x + rs.y < 0.0) {
+            if (rs.x + rs.y < 0.0 && intact(j)) {
                 let dp = 0.5 * (o.body.spacing + bj.spacing);
                 let rf = rs * (art_weight(dist, dp, hij) * gate);
                 t += rf;
@@ -266,6 +277,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         bitcast<f32>(mi.x) / rho_i,
         k2i,
         ri,
+        intact(i),
         params.alpha,
         params.beta,
     );

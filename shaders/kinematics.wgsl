@@ -38,6 +38,12 @@
 @group(0) @binding(51) var<storage, read> acc: array<vec2<f32>>;
 @group(0) @binding(52) var<storage, read_write> rdt: array<vec2<f32>>;
 @group(0) @binding(53) var<storage, read_write> vstar: array<vec2<f32>>;
+// The plastic history (common.wgsl, HISTORY): read for the damage of the
+// state evaluated, updated in place by the leapfrog's step. The equivalent
+// strain rate of the evaluation, for the midpoint rule's advance passes
+// (common.wgsl, STRAIN_RATE).
+@group(0) @binding(77) var<storage, read_write> hist_w: array<vec4<f32>>;
+@group(0) @binding(78) var<storage, read_write> srate: array<f32>;
 // The neighbour mask (common.wgsl), for the forces pass.
 @group(0) @binding(9) var<storage, read_write> nmask: array<vec2<u32>>;
 // The contact's list of boundary particles and its length (contact.wgsl,
@@ -182,6 +188,14 @@ fn correction(m_in: vec4<f32>) -> vec4<f32> {
     return l;
 }
 
+// Particle i's damage in the state evaluated (0 where nothing can fail).
+fn damage_of(i: u32) -> f32 {
+    if (FAILURE) {
+        return hist_w[i].z;
+    }
+    return 0.0;
+}
+
 // Outward normal and boundary flag from the colour gradient.
 fn surface_of(gpsi: vec2<f32>, hi: f32) -> vec3<f32> {
     var normal = vec2<f32>(0.0);
@@ -196,11 +210,11 @@ fn surface_of(gpsi: vec2<f32>, hi: f32) -> vec3<f32> {
     return vec3<f32>(normal, boundary);
 }
 
-// Equation of state at (mu, e, s): sigma/rho^2 (tension positive) and the
-// sound speed into sr2c.
-fn stress_point(i: u32, body: Body, mu: f32, e: f32, si: vec4<f32>) {
-    let p = eos_pressure(body, mu, e);
-    let c = eos_sound_speed(body, mu, e);
+// Equation of state at (mu, e, s) with damage `d`: sigma/rho^2 (tension
+// positive) and the sound speed into sr2c.
+fn stress_point(i: u32, body: Body, mu: f32, e: f32, si: vec4<f32>, d: f32) {
+    let p = pressure_of(body, mu, e, d);
+    let c = sound_speed_of(body, mu, e, d);
     let sig = vec4<f32>(si.x - p, si.y - p, si.z, si.w - p);
     let rho = body.rho0 * (1.0 + mu);
     sr2c[i] = vec4<f32>(sig.xyz / (rho * rho), c);
@@ -267,7 +281,7 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     list_surface(i, ks.gpsi, body.h);
     let mu = r[i].x;
     let si = s[i];
-    stress_point(i, body, mu, r[i].y, si);
+    stress_point(i, body, mu, r[i].y, si, damage_of(i));
 
     if (rigid) {
         if (!MID && LEAP == 0u) {
@@ -285,6 +299,9 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     }
     if (LEAP != 0u) {
         return;
+    }
+    if (STRAIN_RATE) {
+        srate[i] = equivalent_rate(gv);
     }
     let dmu = -(1.0 + mu) * (gv.x + gv.w);
     let rate = stress_rate(body.g, si, gv);
@@ -323,7 +340,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         // A rigid body keeps its velocity and reference state.
         list_surface(i, ks.gpsi, hi);
         rdt[i].x = mu;
-        stress_point(i, body, mu, r[i].y, si);
+        stress_point(i, body, mu, r[i].y, si, 0.0);
         vstar[i] = v[i];
         if (RECON) {
             gradv[i] = vec4<f32>(0.0);
@@ -331,12 +348,25 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         return;
     }
     let gv = velocity_gradient(ks.gsum, l);
-    let mu1 = mu + (-(1.0 + mu) * (gv.x + gv.w)) * dt;
-    let s1 = plastic_return(si + stress_rate(body.g, si, gv) * dt, body);
+    var mu1 = mu + (-(1.0 + mu) * (gv.x + gv.w)) * dt;
+    var s1 = plastic_return(si + stress_rate(body.g, si, gv) * dt, body);
+    let e1 = r[i].y + rdt[i].y * h;
+    var d1 = 0.0;
+    if (HISTORY) {
+        var rate = 0.0;
+        if (STRAIN_RATE) {
+            rate = equivalent_rate(gv);
+        }
+        let up = strength_update(pinfo[i].z, s1, rate, mu1, e1, hist_w[i], ctl.t_hi + ctl.t_lo + dt);
+        s1 = up.s;
+        mu1 = up.mu;
+        hist_w[i] = up.h;
+        d1 = up.h.z;
+    }
     list_surface(i, ks.gpsi, hi);
     rdt[i].x = mu1;
     ds[i] = s1;
-    stress_point(i, body, mu1, r[i].y + rdt[i].y * h, s1);
+    stress_point(i, body, mu1, e1, s1, d1);
     vstar[i] = predicted(i);
     if (RECON) {
         gradv[i] = velocity_gradient(ks.gseen, l);

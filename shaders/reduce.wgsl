@@ -18,6 +18,8 @@
 @group(0) @binding(28) var<storage, read> probes: array<vec2<u32>>;
 // Each probed particle's slot (reorder.wgsl, map_slots).
 @group(0) @binding(48) var<storage, read> probe_slot: array<u32>;
+// The plastic history (common.wgsl, HISTORY), for the probes.
+@group(0) @binding(76) var<storage, read> hist: array<vec4<f32>>;
 
 // The scene's observation slots are constants the host puts before this
 // file (gpu::probes::ProbePlan::wgsl): NSLOTS, and for each slot its code
@@ -338,7 +340,11 @@ fn probe_value(k: u32) {
     let i = probe_slot[pr.x];
     let b = bodies[pinfo[i].z];
     let mu = r[i].x;
-    let p = eos_pressure(b, mu, r[i].y);
+    var h = vec4<f32>(0.0);
+    if (HISTORY) {
+        h = hist[i];
+    }
+    let p = pressure_of(b, mu, r[i].y, h.z);
     let si = s[i];
     var val = 0.0;
     switch pr.y {
@@ -352,6 +358,11 @@ fn probe_value(k: u32) {
         case 7u: { val = si.y - p; }
         case 8u: { val = si.z; }
         case 9u: { val = von_mises(si); }
+        // The plastic history (gpu::probes adds the room temperature).
+        case 11u: { val = h.x; }
+        case 12u: { val = h.y; }
+        case 13u: { val = h.z; }
+        case 14u: { val = h.w; }
         default: { val = r[i].y; }
     }
     ring[row_base() + 3u + NSLOTS + k] = val;

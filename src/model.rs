@@ -401,6 +401,14 @@ impl Model {
         self.bodies[self.body[i] as usize].spacing
     }
 
+    /// Whether some deformable body's material can fail
+    /// ([`MaterialModel::can_fail`]).
+    pub fn can_fail(&self) -> bool {
+        self.bodies
+            .iter()
+            .any(|b| !b.rigid && b.material.can_fail())
+    }
+
     /// Body name and index within the body of global particle `i`.
     pub fn locate(&self, i: usize) -> (&str, usize) {
         let b = &self.bodies[self.body[i] as usize];

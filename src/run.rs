@@ -78,16 +78,6 @@ pub struct BackendChoice {
     pub warning: Option<String>,
 }
 
-/// What a scene asks for that only the CPU path has: a strength law, a
-/// failure model or a spall pressure on a deformable body.
-pub fn cpu_only(scene: &Scene) -> Option<&'static str> {
-    let asks = scene
-        .bodies
-        .iter()
-        .any(|b| !b.rigid && scene.materials[&b.material].has_history());
-    asks.then_some("a strength law or failure model")
-}
-
 /// `cpu` runs the CPU path; `gpu` runs on any adapter (a software one
 /// included) or fails; `auto` runs on a hardware GPU when there is one and
 /// otherwise on the CPU path with one warning line: a software rasteriser
@@ -99,17 +89,6 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    if let Some(what) = cpu_only(scene) {
-        return match backend {
-            Backend::Cpu => Ok(cpu(None)),
-            Backend::Gpu => Err(RunError::Backend(format!(
-                "backend gpu: {what} runs on the CPU path only in this version; use --backend cpu (or auto)"
-            ))),
-            Backend::Auto => Ok(cpu(Some(format!(
-                "backend auto: {what} runs on the CPU path only in this version; running the CPU path"
-            )))),
-        };
-    }
     match backend {
         Backend::Cpu => Ok(cpu(None)),
         Backend::Gpu => match crate::gpu::shared_context() {

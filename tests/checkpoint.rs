@@ -144,15 +144,15 @@ fn resume_matches_of(scene: Scene, backend: Backend) {
 /// with the crack open and resumed: the same history, the same final
 /// state (damage and failure times included) and the same failures in
 /// the summary.
-#[test]
-fn cpu_resume_keeps_the_failures() {
+fn resume_keeps_the_failures(backend: Backend, integrator: Integrator) {
     let mut scene = load("scenes/hard/flyer_plate_tension.toml");
     scene.materials.get_mut("steel").unwrap().spall_pressure = Some(2.0e9);
     scene.output.snapshot_interval = None;
+    scene.simulation.integrator = integrator;
     let tmp = tempfile::tempdir().unwrap();
     let (full, ck) = (tmp.path().join("full"), tmp.path().join("ck"));
-    let whole = run_scene(&scene, None, &write_opts(&full, Backend::Cpu, None)).expect("runs");
-    run_scene(&scene, None, &write_opts(&ck, Backend::Cpu, Some(2.3e-6))).expect("runs");
+    let whole = run_scene(&scene, None, &write_opts(&full, backend, None)).expect("runs");
+    run_scene(&scene, None, &write_opts(&ck, backend, Some(2.3e-6))).expect("runs");
     let saved = sphcontact::checkpoint::Checkpoint::read(&ck).expect("a checkpoint");
     assert!((2.3e-6..2.31e-6).contains(&saved.time()));
     std::fs::remove_file(ck.join("summary.json")).unwrap();
@@ -172,6 +172,21 @@ fn cpu_resume_keeps_the_failures() {
     let b = bodies(&full);
     assert!(b[1]["failure"]["failed"].as_u64().unwrap() > 0, "{b}");
     assert_eq!(b, bodies(&ck));
+}
+
+#[test]
+fn cpu_resume_keeps_the_failures() {
+    resume_keeps_the_failures(Backend::Cpu, Integrator::Midpoint);
+}
+
+/// The device's plastic histories travel in its checkpoint, under both
+/// integrators.
+#[test]
+fn gpu_resume_keeps_the_failures() {
+    on_gpu(|| {
+        resume_keeps_the_failures(Backend::Gpu, Integrator::Midpoint);
+        resume_keeps_the_failures(Backend::Gpu, Integrator::Leapfrog);
+    });
 }
 
 #[test]

@@ -550,6 +550,16 @@ fn hardening_rod_on_rigid_wall_leapfrog() {
     on_leapfrog(hardening_rod_on_rigid_wall);
 }
 
+#[test]
+fn hardening_rod_on_rigid_wall_gpu() {
+    on_gpu(hardening_rod);
+}
+
+#[test]
+fn hardening_rod_on_rigid_wall_gpu_leapfrog() {
+    on_leapfrog(|| on_gpu(hardening_rod));
+}
+
 /// How the elastic target of scenes/hard/flyer_plate_tension.toml took
 /// the reflected tension: each plateau at 8 mm against the elastic wave
 /// solution (measured / exact − 1, over the middle 60 % of its exact
@@ -782,6 +792,16 @@ fn target_spalls_at_the_plane() {
 #[test]
 fn target_spalls_at_the_plane_leapfrog() {
     on_leapfrog(spalls_at_the_plane);
+}
+
+#[test]
+fn target_spalls_at_the_plane_gpu() {
+    on_gpu(spalls_at_the_plane);
+}
+
+#[test]
+fn target_spalls_at_the_plane_gpu_leapfrog() {
+    on_leapfrog(|| on_gpu(spalls_at_the_plane));
 }
 
 /// With a spall pressure above the incident stress (4.6 GPa against

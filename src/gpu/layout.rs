@@ -74,6 +74,34 @@ pub struct BodyGpu {
     pub pad2: u32,
 }
 
+/// `Plastic` in strength.wgsl: per-body constants of the strength and
+/// failure laws (only with a plastic history).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct PlasticGpu {
+    pub a: f32,
+    pub b: f32,
+    pub n: f32,
+    pub c: f32,
+    pub m: f32,
+    /// Reference strain rate, 1/s.
+    pub rate0: f32,
+    /// Melt temperature less room temperature, K.
+    pub melt_rise: f32,
+    /// Taylor–Quinney fraction over the specific heat.
+    pub heat: f32,
+    pub d1: f32,
+    pub d2: f32,
+    pub d3: f32,
+    pub d4: f32,
+    pub d5: f32,
+    /// Spall pressure, Pa (`f32::MAX`: none).
+    pub spall: f32,
+    /// 1: Johnson–Cook strength; 1: Johnson–Cook damage.
+    pub strength: u32,
+    pub damage: u32,
+}
+
 /// `Control` in common.wgsl: time, step and run status on the device.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
@@ -97,6 +125,10 @@ pub struct Control {
     /// (kinematics.wgsl, list_surface).
     pub list_peak: u32,
 }
+
+/// Shared structs declared outside common.wgsl, in the files of the stages
+/// that use them.
+const OWN_FILE: &[&str] = &["Plastic"];
 
 /// Field offsets of a host struct, for the layout check.
 macro_rules! offsets {
@@ -156,6 +188,14 @@ pub fn host_layouts() -> Vec<HostLayout> {
             ),
         ),
         (
+            "Plastic",
+            std::mem::size_of::<PlasticGpu>(),
+            offsets!(
+                PlasticGpu, a, b, n, c, m, rate0, melt_rise, heat, d1, d2, d3, d4, d5, spall,
+                strength, damage
+            ),
+        ),
+        (
             "Control",
             std::mem::size_of::<Control>(),
             offsets!(
@@ -179,18 +219,26 @@ pub fn host_layouts() -> Vec<HostLayout> {
 }
 
 /// Compare every host struct with naga's layout of the WGSL struct of the
-/// same name: size, and each member's name and offset, in order.
-pub fn check_layouts(module: &naga::Module) -> Result<(), String> {
+/// same name: size, and each member's name and offset, in order. The
+/// structs of common.wgsl must be in every module; the others are checked
+/// where a module has them. Returns the names checked.
+pub fn check_layouts(module: &naga::Module) -> Result<Vec<&'static str>, String> {
+    let mut checked = Vec::new();
     let mut layouter = naga::proc::Layouter::default();
     layouter
         .update(module.to_ctx())
         .map_err(|e| format!("naga layouter: {e}"))?;
     for (name, size, fields) in host_layouts() {
-        let (handle, ty) = module
+        let found = module
             .types
             .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .ok_or_else(|| format!("no WGSL struct {name}"))?;
+            .find(|(_, t)| t.name.as_deref() == Some(name));
+        let Some((handle, ty)) = found else {
+            if OWN_FILE.contains(&name) {
+                continue;
+            }
+            return Err(format!("no WGSL struct {name}"));
+        };
         let naga::TypeInner::Struct { members, span } = &ty.inner else {
             return Err(format!("{name} is not a struct"));
         };
@@ -213,6 +261,7 @@ pub fn check_layouts(module: &naga::Module) -> Result<(), String> {
                 ));
             }
         }
+        checked.push(name);
     }
-    Ok(())
+    Ok(checked)
 }

@@ -62,9 +62,11 @@
 //!
 //! ## Model only what a scene needs
 //!
-//! Dimension, contact, gradient correction, plasticity and artificial
-//! stress are pipeline-override constants: a scene that does not switch
-//! them on compiles them out, and the contact passes are not dispatched.
+//! Dimension, contact, gradient correction, plasticity, artificial stress
+//! and the plastic history of strength and failure (shaders/strength.wgsl)
+//! are pipeline-override constants: a scene that does not switch them on
+//! compiles them out, and the contact passes are not dispatched; the
+//! history's buffers exist only in scenes that carry one.
 
 pub mod context;
 pub mod layout;
@@ -86,7 +88,7 @@ use crate::probe::Resolved;
 use crate::scene::{ArtPairs, Correction, Integrator};
 pub use context::GpuContext;
 use context::Pipeline;
-use layout::{BodyGpu, Control, Params};
+use layout::{BodyGpu, Control, Params, PlasticGpu};
 pub use probes::ProbePlan;
 
 /// Cell-list buckets for `n` particles: a power of two at least the count.
@@ -181,6 +183,9 @@ fn leap_arrays(model: &Model) -> Vec<(&'static str, u64)> {
         ("sr2c", 16),
         ("nbo", 16),
     ];
+    if model.history {
+        a.push(("hist", 16));
+    }
     if model.contact {
         a.extend([
             ("qheat", 8),
@@ -191,6 +196,49 @@ fn leap_arrays(model: &Model) -> Vec<(&'static str, u64)> {
         ]);
     }
     a
+}
+
+/// The device's constants of a material's strength and failure laws
+/// (strength.wgsl, `Plastic`).
+fn plastic_gpu(m: &crate::physics::material::MaterialModel) -> PlasticGpu {
+    let mut p = PlasticGpu {
+        heat: if m.specific_heat > 0.0 {
+            (m.taylor_quinney / m.specific_heat) as f32
+        } else {
+            0.0
+        },
+        rate0: 1.0,
+        melt_rise: 1.0,
+        spall: if m.spall.is_finite() {
+            m.spall as f32
+        } else {
+            f32::MAX
+        },
+        ..Default::default()
+    };
+    if let Some(jc) = &m.strength {
+        p.strength = 1;
+        (p.a, p.b, p.n, p.c, p.m) = (
+            jc.a as f32,
+            jc.b as f32,
+            jc.n as f32,
+            jc.c as f32,
+            jc.m as f32,
+        );
+        p.rate0 = jc.reference_strain_rate as f32;
+        p.melt_rise = (jc.melt_temperature - jc.room_temperature) as f32;
+    }
+    if let Some(f) = &m.failure {
+        p.damage = 1;
+        (p.d1, p.d2, p.d3, p.d4, p.d5) = (
+            f.d1 as f32,
+            f.d2 as f32,
+            f.d3 as f32,
+            f.d4 as f32,
+            f.d5 as f32,
+        );
+    }
+    p
 }
 
 /// The GPU's particle-probe tables from the plan's `(particle, code)` list:
@@ -238,7 +286,11 @@ pub const REORDER_EVERY: u64 = 16;
 const NONE: u32 = u32::MAX;
 /// The cell-list build writes, under these names, the buffers every other
 /// stage reads under the second names.
-const WRITER_ALIASES: &[(&str, &str)] = &[("bstart_w", "bstart"), ("blist_w", "blist")];
+const WRITER_ALIASES: &[(&str, &str)] = &[
+    ("bstart_w", "bstart"),
+    ("blist_w", "blist"),
+    ("hist_w", "hist"),
+];
 /// Cell size over the largest smoothing length (see `GpuSolver::with_options`).
 const CELL_OVER_H: f64 = 1.002;
 /// Margin, in cells, of a particle's support radius in the row stencil.
@@ -546,6 +598,12 @@ pub struct StageOutputs {
     pub de: Vec<f64>,
     /// The device's step (CFL, clipped to the end time).
     pub dt: f64,
+    /// With a plastic history: the midpoint state's deviatoric stress,
+    /// density and history (eps_p, T, D, failure time) after
+    /// `advance_half` (the strength update at `t + dt/2`); empty otherwise.
+    pub mid_s: Vec<Sym>,
+    pub mid_rho: Vec<f64>,
+    pub mid_hist: Vec<[f64; 4]>,
 }
 
 /// Limits below the adapter's, to exercise a small adapter's paths (2-D
@@ -822,6 +880,26 @@ impl GpuSolver {
                 ]
             })
             .collect();
+        let hist: Vec<[f32; 4]> = if model.history {
+            (0..n)
+                .map(|i| {
+                    let room = model.material(i).initial_temperature();
+                    [
+                        state.eps_p[i] as f32,
+                        (state.temperature[i] - room) as f32,
+                        state.damage[i] as f32,
+                        state.failed_at[i] as f32,
+                    ]
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let plastic: Vec<PlasticGpu> = model
+            .bodies
+            .iter()
+            .map(|b| plastic_gpu(&b.material))
+            .collect();
         // Particle probes find their particle through a slot per probed
         // particle, not a map of every particle (4 B a particle): the probed
         // ids sorted (padded to one per probe with ids no particle has, so
@@ -882,6 +960,23 @@ impl GpuSolver {
         make("r", 8 * nn, Some(bytemuck::cast_slice(&r)))?;
         make("s", 16 * nn, Some(bytemuck::cast_slice(&s)))?;
         make("pinfo", 16 * nn, Some(bytemuck::cast_slice(&meta)))?;
+        if model.history {
+            // The plastic history (strength.wgsl's precision plan), its
+            // laws' constants a body, and the midpoint rule's midpoint
+            // history and strain rates.
+            make("hist", 16 * nn, Some(bytemuck::cast_slice(&hist)))?;
+            make(
+                "plastic",
+                64 * plastic.len() as u64,
+                Some(bytemuck::cast_slice(&plastic)),
+            )?;
+            if !leapfrog {
+                make("histm", 16 * nn, None)?;
+                if model.strain_rate {
+                    make("srate", 4 * nn, None)?;
+                }
+            }
+        }
         if !model.close_scale.is_empty() {
             // By original index (pinfo.w): constant, never permuted. Not
             // made when every scale is 1 (ART_KAPPA off).
@@ -1033,6 +1128,9 @@ impl GpuSolver {
             ),
             ("ART_KAPPA", !model.close_scale.is_empty() as u8 as f64),
             ("RECON", model.av_reconstruct as u8 as f64),
+            ("HISTORY", model.history as u8 as f64),
+            ("FAILURE", model.can_fail() as u8 as f64),
+            ("STRAIN_RATE", model.strain_rate as u8 as f64),
             ("WG", WG as f64),
             ("GUARD", plan.energy.is_some() as u8 as f64),
             ("RIGID", model.any_rigid as u8 as f64),
@@ -1064,6 +1162,8 @@ impl GpuSolver {
         // evaluation reads instead of the base state, into the base state.
         let base_aliases: &[(&str, &str)] = &[("dv", "vm"), ("dr", "rm"), ("ds", "sm")];
         let mid_aliases: &[(&str, &str)] = &[
+            ("hist", "histm"),
+            ("hist_w", "histm"),
             ("u", "um"),
             ("v", "vm"),
             ("r", "rm"),
@@ -1279,7 +1379,13 @@ impl GpuSolver {
                     "advance",
                     "advance_half",
                     Size::Particles,
-                    &[("u_w", "um"), ("v_w", "vm"), ("r_w", "rm"), ("s_w", "sm")],
+                    &[
+                        ("u_w", "um"),
+                        ("v_w", "vm"),
+                        ("r_w", "rm"),
+                        ("s_w", "sm"),
+                        ("hist_w", "histm"),
+                    ],
                 )?)
             },
             advance_full: if leapfrog {
@@ -1291,12 +1397,26 @@ impl GpuSolver {
                     Size::Particles,
                     // The spread reads the midpoint's positions, which
                     // its cell list was made at.
-                    &[("u_w", "u"), ("v_w", "v"), ("u", "um")],
+                    &[
+                        ("u_w", "u"),
+                        ("v_w", "v"),
+                        ("r_w", "r"),
+                        ("s_w", "s"),
+                        ("u", "um"),
+                    ],
                 )?)
             },
             end_step: kernel("reduce", "end_step", Size::One, &[])?,
-            permute_each: if leapfrog {
-                leap_arrays(&model)
+            permute_each: {
+                let arrays = if leapfrog {
+                    leap_arrays(&model)
+                } else if model.history {
+                    // The midpoint rule's `permute` has no room for it.
+                    vec![("hist", 16)]
+                } else {
+                    Vec::new()
+                };
+                arrays
                     .into_iter()
                     .map(|(name, bytes)| {
                         let (entry, src, dst) = match bytes {
@@ -1308,8 +1428,6 @@ impl GpuSolver {
                         Ok((kernel("reorder", entry, Size::Particles, &al)?, name, bytes))
                     })
                     .collect::<Result<_, String>>()?
-            } else {
-                Vec::new()
             },
             permute: if leapfrog {
                 None
@@ -1535,7 +1653,7 @@ impl GpuSolver {
     /// Reorder the particles by cell: gather into scratch, copy back.
     fn encode_reorder(&self, enc: &mut wgpu::CommandEncoder) {
         let n = self.n as u64;
-        if !self.k.permute_each.is_empty() {
+        if self.k.leap.is_some() {
             self.encode_grid(&mut enc.begin_compute_pass(&Default::default()), Var::Base);
             for (k, name, bytes) in &self.k.permute_each {
                 k.dispatch(&mut enc.begin_compute_pass(&Default::default()));
@@ -1568,6 +1686,12 @@ impl GpuSolver {
         if self.model.contact {
             copy("cown", "qheat", 8);
             copy("nbo", "centry", 4);
+        }
+        // The arrays `permute` has no room for, through `lmat` (its x0 is
+        // copied out above).
+        for (k, name, bytes) in &self.k.permute_each {
+            k.dispatch(&mut enc.begin_compute_pass(&Default::default()));
+            enc.copy_buffer_to_buffer(self.buf("lmat"), 0, self.buf(name), 0, bytes * n);
         }
         self.encode_map_slots(enc);
     }
@@ -2160,6 +2284,9 @@ impl GpuSolver {
             names.push(("qheat", 8 * n));
             names.push(("centry", 4 * n));
         }
+        if self.model.history {
+            names.push(("hist", 16 * n));
+        }
         names
     }
 
@@ -2212,6 +2339,23 @@ impl GpuSolver {
             st.entry = vec![0.0; n];
             for k in 0..n {
                 st.entry[meta[k][3] as usize] = e[k] as f64;
+            }
+        }
+        if self.model.history {
+            // After the state's and the contact's buffers (`state_buffers`).
+            let at = if self.model.contact { 9 } else { 7 };
+            let h: &[[f32; 4]] = bytemuck::cast_slice(d[at].as_ref());
+            st.eps_p = vec![0.0; n];
+            st.temperature = vec![0.0; n];
+            st.damage = vec![0.0; n];
+            st.failed_at = vec![0.0; n];
+            for k in 0..n {
+                let i = meta[k][3] as usize;
+                let room = self.model.material(i).initial_temperature();
+                st.eps_p[i] = h[k][0] as f64;
+                st.temperature[i] = room + h[k][1] as f64;
+                st.damage[i] = h[k][2] as f64;
+                st.failed_at[i] = h[k][3] as f64;
             }
         }
         (st, ctl)
@@ -2462,6 +2606,18 @@ impl GpuSolver {
             names.push(("cn", 16 * cap));
         }
         let second = self.read_buffers(Some(enc), &names);
+        // The strength update of the midpoint state, at the step the
+        // reductions chose.
+        let mid = self.model.history.then(|| {
+            let mut enc = dev.create_command_encoder(&Default::default());
+            if let Some(k) = &self.k.advance_half {
+                k.dispatch(&mut enc.begin_compute_pass(&Default::default()));
+            }
+            self.read_buffers(
+                Some(enc),
+                &[("sm", 16 * nn), ("rm", 8 * nn), ("histm", 16 * nn)],
+            )
+        });
 
         // Neighbour dump (test-only kernel), indexed by original id.
         let consts = [("DIM", self.model.dim as f64), ("WG", WG as f64)];
@@ -2545,7 +2701,27 @@ impl GpuSolver {
             dv: vec![DVec2::ZERO; n],
             de: vec![0.0; n],
             dt: ctl.dt as f64,
+            mid_s: Vec::new(),
+            mid_rho: Vec::new(),
+            mid_hist: Vec::new(),
         };
+        if let Some(m) = &mid {
+            let sm: &[[f32; 4]] = bytemuck::cast_slice(&m[0]);
+            let rm: &[[f32; 2]] = bytemuck::cast_slice(&m[1]);
+            let hm: &[[f32; 4]] = bytemuck::cast_slice(&m[2]);
+            out.mid_s = vec![Sym::default(); n];
+            out.mid_rho = vec![0.0; n];
+            out.mid_hist = vec![[0.0; 4]; n];
+            for k in 0..n {
+                let i = meta[k][3] as usize;
+                let mat = self.model.material(i);
+                let [xx, yy, xy, zz] = sm[k].map(|x| x as f64);
+                out.mid_s[i] = Sym { xx, yy, xy, zz };
+                out.mid_rho[i] = mat.rho0 * (1.0 + rm[k][0] as f64);
+                let h = hm[k].map(|x| x as f64);
+                out.mid_hist[i] = [h[0], mat.initial_temperature() + h[1], h[2], h[3]];
+            }
+        }
         let v2 = |a: [f32; 2]| DVec2::new(a[0] as f64, a[1] as f64);
         for k in 0..n {
             let i = meta[k][3] as usize;

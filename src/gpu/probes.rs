@@ -69,12 +69,12 @@ fn particle_code(q: ParticleQuantity) -> u32 {
         ParticleQuantity::StressXy => 8,
         ParticleQuantity::VonMises => 9,
         ParticleQuantity::InternalEnergy => 10,
-        // Scenes with a plastic history run on the CPU path only
-        // (`run::cpu_only`).
-        ParticleQuantity::PlasticStrain
-        | ParticleQuantity::Temperature
-        | ParticleQuantity::Damage
-        | ParticleQuantity::FailureTime => unreachable!("a plastic history on the GPU path"),
+        ParticleQuantity::PlasticStrain => 11,
+        // The rise above room temperature (strength.wgsl): the plan adds
+        // the room temperature.
+        ParticleQuantity::Temperature => 12,
+        ParticleQuantity::Damage => 13,
+        ParticleQuantity::FailureTime => 14,
     }
 }
 
@@ -98,6 +98,7 @@ impl ProbePlan {
                     let shift = match q {
                         ParticleQuantity::PositionX => origin.x,
                         ParticleQuantity::PositionY => origin.y,
+                        ParticleQuantity::Temperature => model.material(i).initial_temperature(),
                         _ => 0.0,
                     };
                     Expr::Particle(plan.particles.len() - 1, shift)

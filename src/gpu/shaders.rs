@@ -9,6 +9,11 @@ const COMMON: &str = include_str!("../../shaders/common.wgsl");
 /// it: the contact's own pass and the midpoint rule's advance passes.
 const SPREAD: &str = include_str!("../../shaders/spread.wgsl");
 
+/// The stress update with a plastic history (shaders/strength.wgsl), part
+/// of the stages that run it: the kinematics pass (the leapfrog's step) and
+/// the midpoint rule's advance passes.
+const STRENGTH: &str = include_str!("../../shaders/strength.wgsl");
+
 /// Every stage file: `(name, source)`.
 pub const STAGES: &[(&str, &str)] = &[
     ("grid", include_str!("../../shaders/grid.wgsl")),
@@ -36,7 +41,12 @@ pub fn source(stage: &str, prelude: &str) -> String {
     } else {
         ""
     };
-    format!("{COMMON}\n{prelude}\n{spread}\n// ---- {stage}.wgsl ----\n{body}")
+    let strength = if matches!(stage, "kinematics" | "advance") {
+        STRENGTH
+    } else {
+        ""
+    };
+    format!("{COMMON}\n{prelude}\n{spread}\n{strength}\n// ---- {stage}.wgsl ----\n{body}")
 }
 
 /// A prelude to check a stage alone with (tests): for `reduce`, one

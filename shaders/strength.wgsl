@@ -1,0 +1,222 @@
+// The stress update with a plastic history (docs/method.md, "Strength and
+// failure"): the radial return onto a Johnson–Cook or perfectly plastic
+// yield surface, the plastic work's heating, Johnson–Cook damage, spall,
+// and a failed particle's density floor. Part of the stages that run it:
+// the kinematics pass (the leapfrog's step) and the midpoint rule's
+// advance passes. CPU twin: physics::strength::update, with
+// physics::johnson_cook for the laws.
+//
+// Precision plan: a particle's history is (eps_p, T - T_room, D, failure
+// time) in f32. The temperature is kept as its rise above room temperature
+// so that a step's heating (millikelvins) is not lost against 300 K; the
+// host adds the room temperature back in f64.
+
+// Per-body constants of the strength and failure laws (mirrored by
+// `gpu::layout::PlasticGpu`).
+struct Plastic {
+    a: f32,
+    b: f32,
+    n: f32,
+    c: f32,
+    m: f32,
+    // Reference strain rate, 1/s.
+    rate0: f32,
+    // T_melt - T_room, K.
+    melt_rise: f32,
+    // Taylor–Quinney fraction over the specific heat, K kg/J.
+    heat: f32,
+    d1: f32,
+    d2: f32,
+    d3: f32,
+    d4: f32,
+    d5: f32,
+    // Spall pressure, Pa (BIG: none).
+    spall: f32,
+    // 1: Johnson–Cook strength (else perfect plasticity at Body.y0 or
+    // elastic); 1: Johnson–Cook damage.
+    strength: u32,
+    damage: u32,
+}
+
+@group(0) @binding(79) var<storage, read> plastic: array<Plastic>;
+
+// physics::strength::TRIAXIALITY_BOUND.
+const TRIAXIALITY_BOUND: f32 = 1.5;
+
+// sqrt(2/3 d':d') of a velocity gradient (xx, xy, yx, yy), plane strain
+// (physics::strength::equivalent_strain_rate).
+fn equivalent_rate(gv: vec4<f32>) -> f32 {
+    let dxy = 0.5 * (gv.y + gv.z);
+    let tr3 = (gv.x + gv.w) / 3.0;
+    let a = gv.x - tr3;
+    let b = gv.w - tr3;
+    return sqrt((2.0 / 3.0) * (a * a + b * b + tr3 * tr3 + 2.0 * dxy * dxy));
+}
+
+// 1 + C ln(rate / rate0), rates below the reference counting as it.
+fn rate_factor(p: Plastic, rate: f32) -> f32 {
+    let star = rate / p.rate0;
+    if (star > 1.0) {
+        return 1.0 + p.c * log(star);
+    }
+    return 1.0;
+}
+
+// The homologous temperature T* from the rise above room temperature.
+fn homologous(p: Plastic, rise: f32) -> f32 {
+    return clamp(rise / p.melt_rise, 0.0, 1.0);
+}
+
+fn thermal_factor(p: Plastic, rise: f32) -> f32 {
+    let t = homologous(p, rise);
+    if (t <= 0.0) {
+        return 1.0;
+    }
+    return 1.0 - pow(t, p.m);
+}
+
+// A + B eps^n and its slope (BIG at zero strain for n < 1: the return
+// brackets its root and never divides by it).
+fn hardening(p: Plastic, eps: f32) -> vec2<f32> {
+    if (eps <= 0.0) {
+        var slope = 0.0;
+        if (p.n < 1.0) {
+            slope = BIG;
+        } else if (p.n == 1.0) {
+            slope = p.b;
+        }
+        return vec2<f32>(p.a, slope);
+    }
+    let pw = pow(eps, p.n);
+    return vec2<f32>(p.a + p.b * pw, p.b * p.n * pw / eps);
+}
+
+// The plastic strain increment of the return from von Mises stress `q`
+// with shear modulus `g` at plastic strain `eps`, the rate and temperature
+// factors `scale` held: safeguarded Newton on a bracket, to f32 round-off
+// (Strength::return_increment).
+fn return_increment(p: Plastic, q: f32, g: f32, eps: f32, scale: f32) -> f32 {
+    if (q - scale * hardening(p, eps).x <= 0.0) {
+        return 0.0;
+    }
+    var lo = 0.0;
+    var hi = q / (3.0 * g);
+    var d = 0.5 * hi;
+    for (var it = 0; it < 60; it++) {
+        let hs = hardening(p, eps + d);
+        let f = q - 3.0 * g * d - scale * hs.x;
+        let df = -3.0 * g - scale * hs.y;
+        if (f > 0.0) {
+            lo = d;
+        } else {
+            hi = d;
+        }
+        let newton = d - f / df;
+        if (newton >= lo && newton <= hi) {
+            let done = abs(newton - d) <= 1e-7 * d;
+            d = newton;
+            if (done) {
+                break;
+            }
+        } else {
+            d = 0.5 * (lo + hi);
+        }
+        if (f == 0.0 || hi - lo <= 1e-7 * hi) {
+            break;
+        }
+    }
+    return d;
+}
+
+// (D1 + D2 exp(D3 sigma*)) (1 + D4 ln rate*) (1 + D5 T*)
+// (Failure::failure_strain).
+fn failure_strain(p: Plastic, triax: f32, rate_star: f32, t_star: f32) -> f32 {
+    var rf = 1.0;
+    if (rate_star > 1.0) {
+        rf = 1.0 + p.d4 * log(rate_star);
+    }
+    return (p.d1 + p.d2 * exp(p.d3 * triax)) * rf * (1.0 + p.d5 * t_star);
+}
+
+// mu at which a failed particle with specific energy `e` has no pressure
+// (MaterialModel::failed_density_floor).
+fn failed_floor(b: Body, e: f32) -> f32 {
+    if (b.linear != 0u || b.gamma0 == 0.0) {
+        return 0.0;
+    }
+    let ge = b.gamma0 * b.rho0 * max(e, 0.0);
+    let bb = b.k + ge;
+    return -2.0 * ge / (bb + sqrt(bb * bb + 2.0 * b.gamma0 * b.k * ge));
+}
+
+// A particle's stress and history after the update, and its mu (raised to
+// the floor where it fails).
+struct Updated {
+    s: vec4<f32>,
+    h: vec4<f32>,
+    mu: f32,
+}
+
+// The stress update of a particle of body `bi` (physics::strength::update):
+// trial deviatoric stress `trial` at strain rate `rate`, ending at (mu, e),
+// from history `h`; `t_end` is the time the step ends at (a particle
+// failing now fails then).
+fn strength_update(bi: u32, trial: vec4<f32>, rate: f32, mu: f32, e: f32, h_in: vec4<f32>, t_end: f32) -> Updated {
+    var h = h_in;
+    let b = bodies[bi];
+    if (FAILURE && h.z >= FAILED) {
+        return Updated(vec4<f32>(0.0), h, max(mu, failed_floor(b, e)));
+    }
+    let pl = plastic[bi];
+    let q = von_mises(trial);
+    var s = trial;
+    var d_eps = 0.0;
+    var flow = q;
+    if (pl.strength != 0u) {
+        let scale = rate_factor(pl, rate) * thermal_factor(pl, h.y);
+        d_eps = return_increment(pl, q, b.g, h.x, scale);
+        if (d_eps > 0.0) {
+            flow = q - 3.0 * b.g * d_eps;
+            s = trial * (flow / q);
+            h.y += pl.heat * flow * d_eps / (b.rho0 * (1.0 + mu));
+        }
+    } else if (b.elastic == 0u && q > b.y0) {
+        d_eps = (q - b.y0) / (3.0 * b.g);
+        flow = b.y0;
+        s = trial * (b.y0 / q);
+    }
+    h.x += d_eps;
+    var mu_out = mu;
+    if (FAILURE) {
+        let p = eos_pressure(b, mu, e);
+        if (pl.damage != 0u && d_eps > 0.0) {
+            // A melted particle (no flow stress) at the bound of its sign.
+            var triax = BIG;
+            if (p >= 0.0) {
+                triax = -BIG;
+            }
+            if (flow > 0.0) {
+                triax = -p / flow;
+            }
+            var rate_star = rate;
+            var t_star = 0.0;
+            if (pl.strength != 0u) {
+                rate_star = rate / pl.rate0;
+                t_star = homologous(pl, h.y);
+            }
+            let eps_f = failure_strain(pl, clamp(triax, -TRIAXIALITY_BOUND, TRIAXIALITY_BOUND), rate_star, t_star);
+            h.z = min(h.z + d_eps / eps_f, FAILED);
+        }
+        if (p < -pl.spall) {
+            h.z = FAILED;
+        }
+        if (h.z >= FAILED) {
+            s = vec4<f32>(0.0);
+            mu_out = max(mu, failed_floor(b, e));
+            if (h.w < 0.0) {
+                h.w = t_end;
+            }
+        }
+    }
+    return Updated(s, h, mu_out);
+}
