@@ -560,7 +560,47 @@ fn check(path: &Path, scene: &Scene) {
 #[global_allocator]
 static ALLOC: sphcontact::cpu::HugePages = sphcontact::cpu::HugePages;
 
+/// Mesa's Vulkan drivers look for a display while the adapters are listed,
+/// and on a machine without a desktop session (no `XDG_RUNTIME_DIR`) print
+/// `error: XDG_RUNTIME_DIR is invalid or not set in the environment.` for
+/// each, although a compute solver needs no display. A private directory
+/// of this process's user, made at most once, quiets them; nothing is ever
+/// written there. Set before any thread starts.
+#[cfg(unix)]
+fn quiet_display_lookup() {
+    use std::os::unix::fs::{DirBuilderExt, MetadataExt};
+    let set = std::env::var_os("XDG_RUNTIME_DIR")
+        .is_some_and(|d| Path::new(&d).is_absolute() && Path::new(&d).is_dir());
+    if set {
+        return;
+    }
+    let user = std::env::var("USER").unwrap_or_else(|_| "user".into());
+    let dir = std::env::temp_dir().join(format!("sphcontact-runtime-{user}"));
+    let _ = std::fs::DirBuilder::new().mode(0o700).create(&dir);
+    // Only a directory this user owns (another user's is left alone).
+    let own = std::fs::metadata(&dir).is_ok_and(|m| m.is_dir() && m.uid() == own_uid());
+    if own {
+        std::env::set_var("XDG_RUNTIME_DIR", &dir);
+    }
+}
+
+/// This process's user id, from a file it has just made.
+#[cfg(unix)]
+fn own_uid() -> u32 {
+    use std::os::unix::fs::MetadataExt;
+    let probe = std::env::temp_dir().join(format!("sphcontact-uid-{}", std::process::id()));
+    let uid = std::fs::File::create(&probe)
+        .and_then(|f| f.metadata())
+        .map_or(u32::MAX, |m| m.uid());
+    let _ = std::fs::remove_file(&probe);
+    uid
+}
+
+#[cfg(not(unix))]
+fn quiet_display_lookup() {}
+
 fn main() -> ExitCode {
+    quiet_display_lookup();
     let cli = Cli::parse();
     // The whole command on a pool worker, freed memory kept: the solver's
     // parallel loops then start without waking the main thread each time.

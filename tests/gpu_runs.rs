@@ -402,3 +402,31 @@ fn kernel_mode_leapfrog_gpu_matches_cpu() {
     let peak = |o: &RunOutput| column(o, "von_mises_a").iter().cloned().fold(0.0, f64::max);
     close("peak von Mises stress", peak(&gpu_out), peak(&cpu), 5e-3);
 }
+
+/// A machine without a desktop session (no `XDG_RUNTIME_DIR`): listing the
+/// adapters prints no line beginning with `error:` when the run works
+/// (Mesa's drivers would, twice, without the binary's private directory).
+#[test]
+fn no_error_lines_without_a_display() {
+    let tmp = tempfile::tempdir().expect("a temp dir");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_sphcontact"))
+        .args([
+            "run",
+            "scenes/paper/bars_steel.toml",
+            "--quiet",
+            "--end-time",
+            "1e-7",
+        ])
+        .arg("--out")
+        .arg(tmp.path())
+        .env_remove("XDG_RUNTIME_DIR")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        !stderr.lines().any(|l| l.starts_with("error:")),
+        "error lines on a working run:\n{stderr}"
+    );
+}
