@@ -333,12 +333,48 @@ fn runs(points: &[(f64, f64)], log_x: bool, log_y: bool) -> Vec<Vec<(f64, f64)>>
 
 /// Draws `fig` as a PNG at `path` (the parent directory must exist).
 pub fn line_plot(path: &Path, fig: &Figure) -> Result<(), PlotError> {
-    if !(200..=20_000).contains(&fig.width) || !(150..=20_000).contains(&fig.height) {
-        let size = format!("{}x{}", fig.width, fig.height);
+    check_size(fig.width, fig.height)?;
+    guarded(|| {
+        let root = BitMapBackend::new(path, (fig.width, fig.height)).into_drawing_area();
+        root.fill(&WHITE)?;
+        draw_figure(&root, fig)?;
+        root.present()?;
+        Ok(())
+    })
+}
+
+/// Draws `figs` as panels stacked top to bottom in one PNG at `path`, each
+/// `fig.width` by `fig.height` of the first: one axis each, for quantities
+/// of different units against one abscissa.
+pub fn panel_plot(path: &Path, figs: &[Figure]) -> Result<(), PlotError> {
+    let Some(first) = figs.first() else {
+        return Err(PlotError::Input("no panels".into()));
+    };
+    let (w, h) = (first.width, first.height.saturating_mul(figs.len() as u32));
+    check_size(w, h)?;
+    guarded(|| {
+        let root = BitMapBackend::new(path, (w, h)).into_drawing_area();
+        root.fill(&WHITE)?;
+        for (area, fig) in root.split_evenly((figs.len(), 1)).iter().zip(figs) {
+            draw_figure(area, fig)?;
+        }
+        root.present()?;
+        Ok(())
+    })
+}
+
+fn check_size(width: u32, height: u32) -> Result<(), PlotError> {
+    if !(200..=20_000).contains(&width) || !(150..=20_000).contains(&height) {
+        let size = format!("{width}x{height}");
         return Err(PlotError::Input(format!(
             "image size {size} not in 200x150..20000x20000"
         )));
     }
+    Ok(())
+}
+
+/// One line plot into `root`.
+fn draw_figure(root: &Area, fig: &Figure) -> Result<(), PlotError> {
     let pts = || fig.series.iter().flat_map(|s| s.points.iter().copied());
     let (xa, ya) = (
         Axis::new(pts().map(|p| p.0), fig.log_x),
@@ -348,12 +384,12 @@ pub fn line_plot(path: &Path, fig: &Figure) -> Result<(), PlotError> {
     let (xr, yr) = (ax[0].lo..ax[0].hi, ax[1].lo..ax[1].hi);
     // The coordinate types differ, so each linear/log combination is its own
     // instance of the generic drawing function.
-    guarded(|| match (fig.log_x, fig.log_y) {
-        (false, false) => draw_lines(path, fig, ax, xr, yr),
-        (true, false) => draw_lines(path, fig, ax, xr.log_scale(), yr),
-        (false, true) => draw_lines(path, fig, ax, xr, yr.log_scale()),
-        (true, true) => draw_lines(path, fig, ax, xr.log_scale(), yr.log_scale()),
-    })
+    match (fig.log_x, fig.log_y) {
+        (false, false) => draw_lines(root, fig, ax, xr, yr),
+        (true, false) => draw_lines(root, fig, ax, xr.log_scale(), yr),
+        (false, true) => draw_lines(root, fig, ax, xr, yr.log_scale()),
+        (true, true) => draw_lines(root, fig, ax, xr.log_scale(), yr.log_scale()),
+    }
 }
 
 /// The corner, top-right preferred, where a legend box of `size` pixels in a
@@ -386,17 +422,15 @@ fn legend_corner(fig: &Figure, ax: [&Axis; 2], dim: (u32, u32), size: (u32, u32)
     (0..4).min_by_key(|&c| (hits[c], c)).unwrap_or(0)
 }
 
-fn draw_lines<X, Y>(path: &Path, fig: &Figure, ax: [&Axis; 2], x: X, y: Y) -> Result<(), PlotError>
+fn draw_lines<X, Y>(root: &Area, fig: &Figure, ax: [&Axis; 2], x: X, y: Y) -> Result<(), PlotError>
 where
     X: AsRangedCoord<Value = f64>,
     Y: AsRangedCoord<Value = f64>,
     X::CoordDescType: ValueFormatter<f64>,
     Y::CoordDescType: ValueFormatter<f64>,
 {
-    let root = BitMapBackend::new(path, (fig.width, fig.height)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (tick, y_area) = (font(16), ax[1].label_width(&root, &font(16)) + 48);
-    let mut builder = ChartBuilder::on(&root);
+    let (tick, y_area) = (font(16), ax[1].label_width(root, &font(16)) + 48);
+    let mut builder = ChartBuilder::on(root);
     builder
         .margin(12)
         .margin_right(28)
@@ -464,14 +498,16 @@ where
         legend.label_font(font(16)).border_style(BLACK.mix(0.4));
         legend.background_style(WHITE.mix(0.85)).draw()?;
     }
-    close_frame(&root, chart.plotting_area().get_pixel_range())?;
-    root.present()?;
+    close_frame(root, chart.plotting_area().get_pixel_range())?;
     Ok(())
 }
 
 /// Draws the top and right edges of a plotting area (plotters draws only the
-/// left and bottom axes) for a closed, publication-style frame.
+/// left and bottom axes) for a closed, publication-style frame; the range
+/// is in the backend's pixels, `root` may be a panel of it.
 fn close_frame(root: &Area, (px, py): (Range<i32>, Range<i32>)) -> Result<(), PlotError> {
+    let (bx, by) = root.get_base_pixel();
+    let (px, py) = (px.start - bx..px.end - bx, py.start - by..py.end - by);
     let corners = vec![(px.start, py.start), (px.end, py.start), (px.end, py.end)];
     root.draw(&PathElement::new(corners, BLACK))?;
     Ok(())

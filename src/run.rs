@@ -650,6 +650,18 @@ fn run_from(
     };
     rec.progress.finish();
     rec.history.flush()?;
+    let mut rec_warnings = Vec::new();
+    if let Some(d) = &dir {
+        // A picture of the run; one that cannot be drawn (no font) is a
+        // warning, never the run's failure.
+        if let Err(e) = crate::output::history_plot::write(d, &scene, &rec.history) {
+            let w = format!("history.png not drawn: {e}");
+            if !opts.silent {
+                eprintln!("warning: {w}");
+            }
+            rec_warnings.push(w);
+        }
+    }
     let wall = wall_before + rec.start.elapsed().as_secs_f64();
     let history = rec.history;
     let (snapshots, snapshot_bytes, snapshot_seconds) = rec.snaps.map_or((0, 0, 0.0), |s| {
@@ -667,6 +679,7 @@ fn run_from(
     let (final_model, final_state) = (model, state);
     let (model, st) = (&final_model, &final_state);
     warnings.extend(extra);
+    warnings.extend(rec_warnings);
     let e0 = base_energy + stored.0;
     let final_diag = Diagnostics {
         contact: ContactStats {

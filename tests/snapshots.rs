@@ -365,3 +365,32 @@ fn gpu_snapshots_match_the_cpu_ones_at_the_start() {
     }
     assert_eq!(cpu.summary.snapshots, 4);
 }
+
+/// A run that writes its outputs draws `history.png` beside `history.csv`:
+/// one 300-pixel panel a probe, 1000 pixels wide (or, without a font, a
+/// warning in the summary and no picture).
+#[test]
+fn run_draws_its_history() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = load("scenes/paper/disks_polar.toml");
+    let out = run_on(&scene, Backend::Cpu, Some(tmp.path()));
+    let png = tmp.path().join("history.png");
+    if !sphcontact::plot::font_available() {
+        assert!(!png.exists());
+        assert!(out
+            .summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("history.png")));
+        return;
+    }
+    let bytes = std::fs::read(&png).expect("history.png written");
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "a PNG");
+    let be = |k: usize| u32::from_be_bytes(bytes[k..k + 4].try_into().unwrap());
+    assert_eq!(
+        (be(16), be(20)),
+        (1000, 300 * scene.probes.len() as u32),
+        "width and height"
+    );
+    assert!(scene.probes.len() >= 5, "a panel a probe");
+}

@@ -1,6 +1,7 @@
 //! Output files (SCENES.md, "Outputs"): `history.csv`, `summary.json` and
 //! the particle snapshots ([`vtk`]).
 
+pub mod history_plot;
 pub mod vtk;
 
 use serde::Serialize;
