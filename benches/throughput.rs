@@ -292,12 +292,12 @@ fn gpu_benches(c: &mut Criterion, sizes: &[usize], ctx: Arc<GpuContext>) {
 
 /// The command line's allocator, so that the figures match `sphcontact bench`.
 #[global_allocator]
-static ALLOC: sphcontact::cpu::HugePages = sphcontact::cpu::HugePages;
+static ALLOC: cpu::HugePages = cpu::HugePages;
 
 fn main() {
     // The command line's set-up, so the figures match `sphcontact bench`
     // (docs/performance.md).
-    sphcontact::cpu::solver_process(benches);
+    cpu::solver_process(benches);
 }
 
 fn benches() {

@@ -213,7 +213,7 @@ impl Recorder {
     /// that the snapshot's whole cost is booked.
     fn snapshot(&mut self, t: f64, fields: &Fields, prepared: Instant) -> Result<(), RunError> {
         self.progress.out_of_range =
-            Some(crate::probe::count_out_of_range(fields.model, fields.state).total());
+            Some(probe::count_out_of_range(fields.model, fields.state).total());
         let Some(s) = &mut self.snaps else {
             return Ok(());
         };
@@ -826,7 +826,7 @@ fn run_cpu(
         }
         if solver.state.step % OUT_OF_RANGE_STEPS == 0 {
             rec.progress.out_of_range =
-                Some(crate::probe::count_out_of_range(&solver.model, &solver.state).total());
+                Some(probe::count_out_of_range(&solver.model, &solver.state).total());
         }
         rec.report(solver.state.t, solver.state.step - first_step);
     }

@@ -517,7 +517,7 @@ fn device_memory_per_particle_at_four_million() {
     println!("{n} particles: {per:.2} device bytes a particle");
     assert!(per <= 200.0, "{per:.2} device bytes a particle");
     drop(solver);
-    model.integrator = sphcontact::scene::Integrator::Leapfrog;
+    model.integrator = Integrator::Leapfrog;
     let solver = GpuSolver::new(ctx, model, &case.state, &case.probes, 1e-5)
         .expect("four million particles fit the adapter");
     let per = solver.device_bytes() as f64 / n as f64;

@@ -250,7 +250,7 @@ fn disk_bounces_off_a_rigid_wall_leapfrog() {
 /// Positions and body indices of the particles in a snapshot file (the
 /// `Points` and `body` arrays of SCENES.md's VTK output).
 fn snapshot_particles(path: &Path) -> (f64, Vec<(usize, glam::DVec2)>) {
-    let v = common::vtu::read_vtu(path);
+    let v = vtu::read_vtu(path);
     let particles = v
         .ints("body")
         .into_iter()

@@ -13,7 +13,11 @@ use std::ops::{Add, Div, Mul, Sub};
 /// Pairs a lane value holds.
 pub const LANES: usize = 4;
 
+// SAFETY (every unsafe block of this module): each is an AVX intrinsic on
+// registers or on a local array of four f64, and the module is compiled
+// only where AVX is enabled (the `cfg`), so none can fault.
 #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+#[allow(clippy::undocumented_unsafe_blocks)]
 mod imp {
     use std::arch::x86_64::*;
 
@@ -25,8 +29,6 @@ mod imp {
     #[derive(Clone, Copy, Debug)]
     pub struct M4(__m256d);
 
-    // The intrinsics below need AVX, which this module is compiled only
-    // with (the `cfg` above): calling them cannot fault.
     impl F4 {
         #[inline(always)]
         pub fn new(a: [f64; 4]) -> F4 {

@@ -145,7 +145,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
     vec![
         (
             "Params",
-            std::mem::size_of::<Params>(),
+            size_of::<Params>(),
             offsets!(
                 Params,
                 n,
@@ -181,7 +181,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
         ),
         (
             "Body",
-            std::mem::size_of::<BodyGpu>(),
+            size_of::<BodyGpu>(),
             offsets!(
                 BodyGpu, rho0, k, s, gamma0, g, y0, z, modulus, spacing, h, rigid, linear, elastic,
                 pad0, pad1, pad2
@@ -189,7 +189,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
         ),
         (
             "Plastic",
-            std::mem::size_of::<PlasticGpu>(),
+            size_of::<PlasticGpu>(),
             offsets!(
                 PlasticGpu, a, b, n, c, m, rate0, melt_rise, heat, d1, d2, d3, d4, d5, spall,
                 strength, damage
@@ -197,7 +197,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
         ),
         (
             "Control",
-            std::mem::size_of::<Control>(),
+            size_of::<Control>(),
             offsets!(
                 Control,
                 t_hi,

@@ -296,7 +296,7 @@ const CELL_OVER_H: f64 = 1.002;
 /// Margin, in cells, of a particle's support radius in the row stencil.
 const REACH_MARGIN: f64 = 1e-3;
 /// Bytes of the control block.
-const CTL_BYTES: u64 = std::mem::size_of::<Control>() as u64;
+const CTL_BYTES: u64 = size_of::<Control>() as u64;
 /// The entry of a saved device state that names its grid
 /// ([`GpuSolver::save_raw`]).
 const FRAME: &str = "frame";
@@ -1097,7 +1097,7 @@ impl GpuSolver {
         let surf_args = buffers.get("surf_args").cloned();
         let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("params"),
-            size: std::mem::size_of::<Params>() as u64,
+            size: size_of::<Params>() as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
