@@ -5,13 +5,13 @@
 //!     cargo run --release --example bar_impact
 
 use sphcontact::output::contact_window;
-use sphcontact::physics::exact::bar_impact;
 use sphcontact::physics::material::MaterialModel;
 use sphcontact::run::{run_scene, RunOptions};
 use sphcontact::scene::{
     default_cfl, default_smoothing_ratio, Backend, Body, ContactQuantity, Correction, Eos,
     Integrator, Interaction, Material, Output, Probe, Scene, Shape, Simulation,
 };
+use sphcontact::validation::exact::bar_impact;
 use std::collections::BTreeMap;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

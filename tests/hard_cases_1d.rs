@@ -7,9 +7,9 @@
 
 mod common;
 use common::*;
-use sphcontact::physics::exact::{bar_impact, bar_impact_history, rod_on_wall, BarId};
 use sphcontact::run::RunOutput;
 use sphcontact::scene::{Integrator, Probe};
+use sphcontact::validation::exact::{bar_impact, bar_impact_history, rod_on_wall, BarId};
 use sphcontact::Scene;
 
 /// The initial coordinate `at[0]` of the particle probe `name`.

@@ -13,11 +13,11 @@ use std::process::Command;
 use std::sync::OnceLock;
 
 use common::*;
-use sphcontact::physics::exact::{
-    hertz_c_inertia, hertz_disk_on_wall, ring_flexural_period, HERTZ_C_JOHNSON,
-};
 use sphcontact::run::RunOutput;
 use sphcontact::scene::{Backend, Shape};
+use sphcontact::validation::exact::{
+    hertz_c_inertia, hertz_disk_on_wall, ring_flexural_period, HERTZ_C_JOHNSON,
+};
 
 // ---------------------------------------------------------------------------
 // 1. A disk bouncing off a rigid wall
@@ -730,7 +730,8 @@ fn run_at_the_edge(
 /// −10 m/s (METHOD.md §11: 0.94–0.97 at 100 particles per bar).
 fn bars_answers(scene: &sphcontact::Scene) -> impl Fn(&[String], &[Vec<f64>]) {
     let steel = material(scene, "steel");
-    let exact = sphcontact::physics::exact::bar_impact(&steel, 0.005, 10.0, &steel, 0.005, -10.0);
+    let exact =
+        sphcontact::validation::exact::bar_impact(&steel, 0.005, 10.0, &steel, 0.005, -10.0);
     move |names, rows| {
         let col = |n: &str| -> Vec<f64> {
             let k = names.iter().position(|x| x == n).unwrap();
@@ -766,7 +767,7 @@ fn bars_answers(scene: &sphcontact::Scene) -> impl Fn(&[String], &[Vec<f64>]) {
 /// is coarse: METHOD.md §8.4 finds the polar lattice 6 % low at 20),
 /// restitution in [0.8, 1].
 fn disks_answers(scene: &sphcontact::Scene) -> impl Fn(&[String], &[Vec<f64>]) {
-    use sphcontact::physics::exact::hertz_disks;
+    use sphcontact::validation::exact::hertz_disks;
     let steel = material(scene, "steel");
     let soft = hertz_disks(&steel, 0.005, 10.0, HERTZ_C_JOHNSON);
     let stiff = hertz_disks(&steel, 0.005, 10.0, hertz_c_inertia(steel.nu));

@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use sphcontact::physics::exact::bar_impact;
+use sphcontact::validation::exact::bar_impact;
 
 const L: f64 = 0.005;
 

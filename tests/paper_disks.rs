@@ -1,10 +1,10 @@
 //! The paper's 2-D case (METHOD.md §10, case 3): two steel disks, R = 5 mm,
 //! closing at 10 m/s, on the square and on the polar lattice (R/Δx = 25),
-//! against the quasi-static Hertz bracket computed by `physics::exact`.
+//! against the quasi-static Hertz bracket computed by `validation::exact`.
 
 mod common;
 use common::*;
-use sphcontact::physics::exact::{hertz_c_inertia, hertz_disks, HERTZ_C_JOHNSON};
+use sphcontact::validation::exact::{hertz_c_inertia, hertz_disks, HERTZ_C_JOHNSON};
 
 fn check_lattice(path: &str) {
     let scene = load(path);

@@ -11,9 +11,9 @@ mod common;
 use common::assert_conserved;
 
 use sphcontact::output::contact_window;
-use sphcontact::physics::exact::{hertz_c_inertia, hertz_disks, HERTZ_C_JOHNSON};
 use sphcontact::physics::material::MaterialModel;
 use sphcontact::scene::Backend;
+use sphcontact::validation::exact::{hertz_c_inertia, hertz_disks, HERTZ_C_JOHNSON};
 use sphcontact::validation::{
     bar_observables, convergence_order, disk_observables, disk_scene, DISKS_CONTACT_TIME,
     DISKS_PEAK_FORCE,

@@ -1,8 +1,8 @@
-//! Plain functions of scalars: the kernel, the material model and the exact
-//! answers of the paper's cases. Used by the CPU path (and mirrored by the
-//! shaders of the GPU path).
+//! Plain functions of scalars: the kernel, the material model, the penalty
+//! law and the strength and failure laws. Used by the CPU path (and
+//! mirrored by the shaders of the GPU path); the exact answers of the
+//! validation cases are in [`crate::validation::exact`].
 
-pub mod exact;
 pub mod johnson_cook;
 pub mod kernel;
 pub mod material;

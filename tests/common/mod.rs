@@ -6,10 +6,10 @@ pub mod vtu;
 
 use std::path::Path;
 
-use sphcontact::physics::exact::HertzImpact;
 use sphcontact::physics::material::MaterialModel;
 use sphcontact::run::{run_scene, RunOptions, RunOutput};
 use sphcontact::scene::{Backend, Integrator};
+use sphcontact::validation::exact::HertzImpact;
 use sphcontact::Scene;
 
 pub fn load(path: &str) -> Scene {

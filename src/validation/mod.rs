@@ -7,29 +7,32 @@
 //! binary, so `validate` runs from any directory) with only the resolution
 //! and the recording interval changed.
 
+pub mod exact;
+
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::model::Model;
 use crate::output::contact_window;
-use crate::physics::exact::{
-    bar_impact_history, hertz_c_inertia, hertz_disks, BarId, BarImpactHistory, HERTZ_C_JOHNSON,
-};
 use crate::physics::material::MaterialModel;
 use crate::plot::{self, Field, Figure, Series, Style};
 use crate::probe::particle_value;
 use crate::run::{run_scene, RunOptions, RunOutput};
 use crate::scene::{Backend, Integrator, ParticleQuantity, Scene};
 use crate::RunError;
+use exact::{
+    bar_impact_history, hertz_c_inertia, hertz_disks, BarId, BarImpactHistory, HERTZ_C_JOHNSON,
+};
 
 /// The paper's scenes, embedded.
-pub const BARS: &str = include_str!("../scenes/paper/bars_steel.toml");
-pub const BARS_KERNEL: &str = include_str!("../scenes/paper/bars_steel_kernel.toml");
-pub const STEEL_AL: &str = include_str!("../scenes/paper/bars_steel_aluminium.toml");
-pub const STEEL_AL_KERNEL: &str = include_str!("../scenes/paper/bars_steel_aluminium_kernel.toml");
-pub const DISKS_SQUARE: &str = include_str!("../scenes/paper/disks_square.toml");
-pub const DISKS_POLAR: &str = include_str!("../scenes/paper/disks_polar.toml");
+pub const BARS: &str = include_str!("../../scenes/paper/bars_steel.toml");
+pub const BARS_KERNEL: &str = include_str!("../../scenes/paper/bars_steel_kernel.toml");
+pub const STEEL_AL: &str = include_str!("../../scenes/paper/bars_steel_aluminium.toml");
+pub const STEEL_AL_KERNEL: &str =
+    include_str!("../../scenes/paper/bars_steel_aluminium_kernel.toml");
+pub const DISKS_SQUARE: &str = include_str!("../../scenes/paper/disks_square.toml");
+pub const DISKS_POLAR: &str = include_str!("../../scenes/paper/disks_polar.toml");
 
 /// Converged dynamic reference for the two disks (METHOD.md §8.4: a
 /// converged dynamic finite-element solution): peak force per unit
@@ -390,7 +393,7 @@ impl Report {
         case: &str,
         plateau: &str,
         run: &CaseRun,
-        r: &crate::physics::exact::BarImpact,
+        r: &exact::BarImpact,
         sep_tol: f64,
     ) -> BarScores {
         let sc = BarScores::of(run);
