@@ -1,5 +1,7 @@
 //! Small 2×2 tensors for the 2-D (and, with zero y, the 1-D) solver.
 
+pub mod lanes;
+
 use glam::DVec2;
 
 /// Lower and upper corners of the box around `points` (infinite, inside

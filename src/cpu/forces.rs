@@ -5,8 +5,8 @@
 
 use glam::DVec2;
 
-use super::lanes::{columns, F4, LANES};
 use super::neighbours::{Chunk, Nbr, Neighbours};
+use crate::math::lanes::{columns, F4, LANES};
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
 use crate::physics::{kernel, strength};

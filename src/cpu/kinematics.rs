@@ -9,12 +9,9 @@ use std::borrow::Cow;
 use super::neighbours::Neighbours;
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
-use crate::physics::{kernel, strength};
+use crate::physics::kernel::{self, CORRECTION_MIN_DET};
+use crate::physics::strength;
 use crate::scene::Correction;
-
-/// Smallest `|det M|` accepted for the correction matrix; `M` is
-/// dimensionless and ≈ I inside a body, ≈ ½ at a face, ≈ ¼ at a corner.
-pub const CORRECTION_MIN_DET: f64 = 1e-3;
 
 /// Output of the kinematic pass.
 #[derive(Debug, Clone, Default)]

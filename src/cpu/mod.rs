@@ -19,7 +19,6 @@
 pub mod contact;
 pub mod forces;
 pub mod kinematics;
-pub mod lanes;
 pub mod neighbours;
 
 use std::alloc::{GlobalAlloc, Layout, System};

@@ -7,7 +7,7 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
-use super::lanes::{F4, LANES};
+use crate::math::lanes::{F4, LANES};
 use crate::model::Model;
 use crate::physics::kernel;
 

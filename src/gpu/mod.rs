@@ -80,10 +80,10 @@ use std::sync::Arc;
 
 use glam::DVec2;
 
-use crate::cpu::kinematics::CORRECTION_MIN_DET;
 use crate::error::Instability;
 use crate::math::Sym;
 use crate::model::{Model, State};
+use crate::physics::kernel::CORRECTION_MIN_DET;
 use crate::probe::Resolved;
 use crate::scene::{ArtPairs, Correction, Integrator};
 pub use context::GpuContext;

@@ -2,7 +2,12 @@
 
 use std::ops::{Div, Mul};
 
-use crate::cpu::lanes::F4;
+use crate::math::lanes::F4;
+
+/// Smallest `|det M|` accepted for the corrected gradient's matrix `M`
+/// (dimensionless: ≈ I inside a body, ≈ ½ at a face, ≈ ¼ at a corner);
+/// below it a particle falls back to `L = I`.
+pub const CORRECTION_MIN_DET: f64 = 1e-3;
 
 /// Normalisation `α_d` of the cubic spline in `dim` dimensions.
 #[inline]

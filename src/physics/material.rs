@@ -1,8 +1,9 @@
 //! Material model (METHOD.md §6): Mie–Grüneisen or linear pressure, derived
-//! elastic constants, sound speeds and impedances.
+//! elastic constants, sound speeds and impedances. A scene's material
+//! becomes one through `MaterialModel::new` (src/scene/model.rs), so that
+//! this module knows nothing of the scene format.
 
 use crate::physics::johnson_cook::{Failure, Strength};
-use crate::scene::{Eos, FailureLaw, Material, StrengthLaw};
 
 /// A material with every derived constant the solver needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,52 +45,6 @@ pub struct MaterialModel {
 }
 
 impl MaterialModel {
-    pub fn new(mat: &Material) -> Self {
-        let rho0 = mat.density;
-        let (c0, s, gamma0, linear) = match mat.eos {
-            Eos::MieGruneisen { c0, s, gamma0 } => (c0, s, gamma0, false),
-            Eos::Linear { c0 } => (c0, 0.0, 0.0, true),
-        };
-        let g = mat.shear_modulus.unwrap_or(0.0);
-        let strength = mat.strength.map(|StrengthLaw::JohnsonCook(jc)| jc);
-        let failure = mat.failure.map(|FailureLaw::JohnsonCook(f)| f);
-        let y0 = match &strength {
-            Some(jc) => jc.a,
-            None => mat.yield_stress.unwrap_or(f64::INFINITY),
-        };
-        let k = rho0 * c0 * c0;
-        let (e, nu) = if g > 0.0 {
-            (
-                9.0 * k * g / (3.0 * k + g),
-                (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g)),
-            )
-        } else {
-            (k, 0.5)
-        };
-        let m = k + 4.0 * g / 3.0;
-        let c_l = (m / rho0).sqrt();
-        Self {
-            rho0,
-            c0,
-            s,
-            gamma0,
-            linear,
-            g,
-            y0,
-            k,
-            e,
-            nu,
-            c_l,
-            z: rho0 * c_l,
-            m,
-            strength,
-            failure,
-            spall: mat.spall_pressure.unwrap_or(f64::INFINITY),
-            specific_heat: mat.specific_heat.unwrap_or(0.0),
-            taylor_quinney: mat.taylor_quinney(),
-        }
-    }
-
     /// Whether a particle of this material carries a plastic history
     /// ([`crate::physics::strength::History`]): a strength law with
     /// hardening, or a failure model.

@@ -5,6 +5,7 @@
 //! and re-exports the semantic validation and the particle placement.
 
 pub mod library;
+mod model;
 mod place;
 pub mod validate;
 
