@@ -292,12 +292,12 @@ fn gpu_benches(c: &mut Criterion, sizes: &[usize], ctx: Arc<GpuContext>) {
 
 /// The command line's allocator, so that the figures match `sphcontact bench`.
 #[global_allocator]
-static ALLOC: cpu::HugePages = cpu::HugePages;
+static ALLOC: sphcontact::process::HugePages = sphcontact::process::HugePages;
 
 fn main() {
     // The command line's set-up, so the figures match `sphcontact bench`
     // (docs/performance.md).
-    cpu::solver_process(benches);
+    sphcontact::process::solver_process(benches);
 }
 
 fn benches() {

@@ -29,12 +29,13 @@
 use glam::DVec2;
 use std::path::{Path, PathBuf};
 
-use crate::cpu::contact::ContactStats;
 use crate::cpu::neighbours::Neighbours;
-use crate::cpu::{Diagnostics, Rates};
+use crate::cpu::Rates;
 use crate::error::RunError;
 use crate::gpu::RawDevice;
 use crate::math::Sym;
+use crate::model::ContactStats;
+use crate::model::Diagnostics;
 use crate::model::State;
 use crate::scene::{Backend, Scene};
 

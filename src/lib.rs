@@ -64,6 +64,7 @@ pub mod output;
 pub mod physics;
 pub mod plot;
 pub mod probe;
+pub mod process;
 pub mod run;
 pub mod scene;
 pub mod validation;

@@ -556,9 +556,9 @@ fn check(path: &Path, scene: &Scene) {
     );
 }
 
-/// Large blocks on huge pages (`cpu::HugePages`).
+/// Large blocks on huge pages (`process::HugePages`).
 #[global_allocator]
-static ALLOC: sphcontact::cpu::HugePages = sphcontact::cpu::HugePages;
+static ALLOC: sphcontact::process::HugePages = sphcontact::process::HugePages;
 
 /// Mesa's Vulkan drivers look for a display while the adapters are listed,
 /// and on a machine without a desktop session (no `XDG_RUNTIME_DIR`) print
@@ -604,7 +604,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     // The whole command on a pool worker, freed memory kept: the solver's
     // parallel loops then start without waking the main thread each time.
-    sphcontact::cpu::solver_process(move || command(cli))
+    sphcontact::process::solver_process(move || command(cli))
 }
 
 fn command(cli: Cli) -> ExitCode {

@@ -487,3 +487,51 @@ mod tests {
         assert!(m.artificial_stress.is_none() && m.close_scale.is_empty());
     }
 }
+
+/// What an evaluation tells about the state it was made at, beyond the rates.
+#[derive(Debug, Clone, Default)]
+pub struct Diagnostics {
+    /// The CFL step at this state (METHOD.md §9), from the sound speeds the
+    /// evaluation computed anyway.
+    pub cfl_dt: f64,
+    pub contact: ContactStats,
+    /// Particles whose correction matrix fell back to the identity.
+    pub correction_fallback: usize,
+    /// Boundary particles, when the contact runs.
+    pub boundary_count: usize,
+}
+
+/// Totals per pair of bodies (`a < b`), and the energies of the contact.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ContactStats {
+    /// `(a, b, total normal force, largest pressure)`.
+    pub pairs: Vec<(u32, u32, f64, f64)>,
+    /// Stored penalty-spring energy.
+    pub stored: f64,
+    /// Total dashpot heat rate.
+    pub heat_rate: f64,
+    /// Rate of change of the stored energy, `Σ dΦ/dt` over the passes at
+    /// the booking velocities: the springs' absorbed power.
+    pub spring_rate: f64,
+}
+
+impl ContactStats {
+    pub fn pair(&self, a: u32, b: u32) -> (f64, f64) {
+        let (a, b) = (a.min(b), a.max(b));
+        self.pairs
+            .iter()
+            .find(|p| p.0 == a && p.1 == b)
+            .map_or((0.0, 0.0), |p| (p.2, p.3))
+    }
+
+    pub(crate) fn add(&mut self, a: u32, b: u32, force: f64, p: f64) {
+        let (a, b) = (a.min(b), a.max(b));
+        match self.pairs.iter_mut().find(|x| x.0 == a && x.1 == b) {
+            Some(x) => {
+                x.2 += force;
+                x.3 = x.3.max(p);
+            }
+            None => self.pairs.push((a, b, force, p)),
+        }
+    }
+}

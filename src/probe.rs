@@ -3,7 +3,7 @@
 
 use glam::DVec2;
 
-use crate::cpu::Diagnostics;
+use crate::model::Diagnostics;
 use crate::model::{Model, State};
 use crate::scene::{BodyQuantity, ContactQuantity, EnergyQuantity, ParticleQuantity, Probe, Scene};
 

@@ -9,10 +9,11 @@ use std::time::Instant;
 use std::sync::Arc;
 
 use crate::checkpoint::{Checkpoint, CpuState, GpuState, Ledger, RecorderState, SolverState};
-use crate::cpu::contact::ContactStats;
-use crate::cpu::{CpuSolver, Diagnostics};
+use crate::cpu::CpuSolver;
 use crate::error::{Instability, RunError};
 use crate::gpu::{GpuContext, GpuSolver};
+use crate::model::ContactStats;
+use crate::model::Diagnostics;
 use crate::model::{Model, State};
 use crate::output::vtk::{Fields, SnapshotSeries};
 use crate::output::{vec_of, BodySummary, History, Summary};

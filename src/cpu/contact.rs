@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::kinematics::{reference_volume, Boundary};
 use super::neighbours::{pair_inv_h, Neighbours};
-use crate::model::{Model, State};
+use crate::model::{ContactStats, Model, State};
 use crate::physics::kernel;
 use crate::physics::material::series;
 use crate::physics::penalty::{self, Sums, SumsBar};
@@ -80,20 +80,6 @@ pub struct ContactForces {
     pub stats: ContactStats,
 }
 
-/// Totals per pair of bodies (`a < b`), and the energies of the contact.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct ContactStats {
-    /// `(a, b, total normal force, largest pressure)`.
-    pub pairs: Vec<(u32, u32, f64, f64)>,
-    /// Stored penalty-spring energy.
-    pub stored: f64,
-    /// Total dashpot heat rate.
-    pub heat_rate: f64,
-    /// Rate of change of the stored energy, `Σ dΦ/dt` over the passes at
-    /// the booking velocities: the springs' absorbed power.
-    pub spring_rate: f64,
-}
-
 /// Writes the entry overlaps of every particle into `out` (a state's
 /// [`State::entry`]): the listed boundary particles' `(particle, overlap)`,
 /// none (−1) elsewhere.
@@ -120,27 +106,6 @@ impl ContactForces {
             if !model.rigid(i) {
                 dv[i] += f / model.mass[i];
             }
-        }
-    }
-}
-
-impl ContactStats {
-    pub fn pair(&self, a: u32, b: u32) -> (f64, f64) {
-        let (a, b) = (a.min(b), a.max(b));
-        self.pairs
-            .iter()
-            .find(|p| p.0 == a && p.1 == b)
-            .map_or((0.0, 0.0), |p| (p.2, p.3))
-    }
-
-    fn add(&mut self, a: u32, b: u32, force: f64, p: f64) {
-        let (a, b) = (a.min(b), a.max(b));
-        match self.pairs.iter_mut().find(|x| x.0 == a && x.1 == b) {
-            Some(x) => {
-                x.2 += force;
-                x.3 = x.3.max(p);
-            }
-            None => self.pairs.push((a, b, force, p)),
         }
     }
 }
