@@ -368,7 +368,7 @@ fn gpu_snapshots_match_the_cpu_ones_at_the_start() {
 
 /// A run that writes its outputs draws `history.png` beside `history.csv`:
 /// one 300-pixel panel a probe, 1000 pixels wide (or, without a font, a
-/// warning in the summary and no picture).
+/// warning in the summary and no picture; CI requires the font).
 #[test]
 fn run_draws_its_history() {
     let tmp = tempfile::tempdir().unwrap();
@@ -376,6 +376,10 @@ fn run_draws_its_history() {
     let out = run_on(&scene, Backend::Cpu, Some(tmp.path()));
     let png = tmp.path().join("history.png");
     if !sphcontact::plot::font_available() {
+        assert!(
+            std::env::var_os("SPHCONTACT_REQUIRE_FONT").is_none(),
+            "SPHCONTACT_REQUIRE_FONT is set but no TrueType font was found"
+        );
         assert!(!png.exists());
         assert!(out
             .summary
