@@ -18,6 +18,7 @@
 //! Conventions (METHOD.md §2): SI units, stress tension positive, so contact
 //! stresses are negative.
 
+mod bar_tracer;
 mod bars;
 mod hertz;
 mod ring;

@@ -1,0 +1,394 @@
+//! The exact 1-D two-bar impact's engine: an event-driven tracer of the
+//! piecewise-constant wave fronts ([`super::bar_impact_history`] says why
+//! it is exact).
+
+use std::collections::VecDeque;
+
+use super::bars::{BarImpact, BarImpactHistory, StressStep};
+use crate::physics::material::MaterialModel;
+
+/// A wave front, emitted at one end of a bar at `t_emit`, carrying the stress
+/// jump `dsig` (state behind minus state ahead). Its velocity jump follows
+/// from the characteristic relations: right-going `dv = −dσ/Z`, left-going
+/// `dv = +dσ/Z`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Front {
+    t_emit: f64,
+    dsig: f64,
+}
+
+/// Stress and velocity at one end of a bar.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct EndState {
+    sig: f64,
+    v: f64,
+}
+
+/// Direction index: right-going fronts are emitted at the left end and arrive
+/// at the right end; left-going ones the reverse.
+const RIGHT_GOING: usize = 0;
+const LEFT_GOING: usize = 1;
+/// End index.
+const LEFT_END: usize = 0;
+const RIGHT_END: usize = 1;
+
+/// Fronts arriving within this fraction of the shortest transit time `L/c`
+/// are treated as simultaneous (e.g. the two release waves of equal bars).
+const TIME_TOL: f64 = 1e-9;
+/// Stress jumps below this fraction of the first contact stress are dropped.
+const PRUNE_TOL: f64 = 1e-12;
+/// Safety cap on processed events; exceeding it reports "unresolved" (None)
+/// instead of a possibly wrong answer.
+const MAX_EVENTS: usize = 400_000;
+
+/// Constants and the complete front log of one bar.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct BarTrace {
+    pub(super) len: f64,
+    c: f64,
+    z: f64,
+    pub(super) rho0: f64,
+    pub(super) v0: f64,
+    /// Every front ever emitted, `[RIGHT_GOING]` and `[LEFT_GOING]`, in
+    /// emission order.
+    log: [Vec<Front>; 2],
+}
+
+impl BarTrace {
+    fn transit(&self) -> f64 {
+        self.len / self.c
+    }
+
+    /// State `(σ, v)` at local coordinate `x ∈ [0, L]` (0 = left end) and
+    /// time `t ≥ 0`: the initial state plus every front that has passed `x`
+    /// by `t` (a front is included from the instant it passes).
+    pub(super) fn state(&self, x: f64, t: f64) -> (f64, f64) {
+        let mut sig = 0.0;
+        let mut v = self.v0;
+        let dt_right = x / self.c;
+        for f in &self.log[RIGHT_GOING] {
+            if f.t_emit + dt_right > t {
+                break;
+            }
+            sig += f.dsig;
+            v -= f.dsig / self.z;
+        }
+        let dt_left = (self.len - x) / self.c;
+        for f in &self.log[LEFT_GOING] {
+            if f.t_emit + dt_left > t {
+                break;
+            }
+            sig += f.dsig;
+            v += f.dsig / self.z;
+        }
+        (sig, v)
+    }
+}
+
+/// Event-driven wave tracer on piecewise-constant states (method of
+/// characteristics for linear acoustics). Fronts are only ever emitted at bar
+/// ends and cross the full bar, so each (bar, direction) queue is FIFO.
+struct BarSim {
+    bars: [BarTrace; 2],
+    /// `[bar][LEFT_END | RIGHT_END]`.
+    ends: [[EndState; 2]; 2],
+    /// Fronts in flight, `[bar][RIGHT_GOING | LEFT_GOING]`.
+    flight: [[VecDeque<Front>; 2]; 2],
+    prune: f64,
+}
+
+impl BarSim {
+    fn arrival(&self, b: usize, dir: usize) -> f64 {
+        self.flight[b][dir]
+            .front()
+            .map_or(f64::INFINITY, |f| f.t_emit + self.bars[b].transit())
+    }
+
+    fn quiet(&self, b: usize) -> bool {
+        self.flight[b][RIGHT_GOING].is_empty() && self.flight[b][LEFT_GOING].is_empty()
+    }
+
+    /// Emit a front from the end it starts at; the jump changes that end's
+    /// state at once.
+    fn emit(&mut self, b: usize, dir: usize, t: f64, dsig: f64) {
+        if dsig.is_nan() || dsig.abs() <= self.prune {
+            return;
+        }
+        let z = self.bars[b].z;
+        match dir {
+            RIGHT_GOING => {
+                let e = &mut self.ends[b][LEFT_END];
+                e.sig += dsig;
+                e.v -= dsig / z;
+            }
+            _ => {
+                let e = &mut self.ends[b][RIGHT_END];
+                e.sig += dsig;
+                e.v += dsig / z;
+            }
+        }
+        let f = Front { t_emit: t, dsig };
+        match self.flight[b][dir].back_mut() {
+            Some(last) if last.t_emit == t => last.dsig += dsig,
+            _ => self.flight[b][dir].push_back(f),
+        }
+        let log = &mut self.bars[b].log[dir];
+        match log.last_mut() {
+            Some(last) if last.t_emit == t => last.dsig += dsig,
+            _ => log.push(f),
+        }
+    }
+
+    /// Absorb every front of (b, dir) arriving by `t_window` into the end
+    /// state it arrives at; true if any arrived.
+    fn absorb(&mut self, b: usize, dir: usize, t_window: f64) -> bool {
+        let mut any = false;
+        while self.arrival(b, dir) <= t_window {
+            let Some(f) = self.flight[b][dir].pop_front() else {
+                break;
+            };
+            any = true;
+            let z = self.bars[b].z;
+            if dir == RIGHT_GOING {
+                let e = &mut self.ends[b][RIGHT_END];
+                e.sig += f.dsig;
+                e.v -= f.dsig / z;
+            } else {
+                let e = &mut self.ends[b][LEFT_END];
+                e.sig += f.dsig;
+                e.v += f.dsig / z;
+            }
+        }
+        any
+    }
+
+    /// Free end: reflect so that the end is stress-free (the reflected front
+    /// has the opposite stress jump, the same velocity jump).
+    fn free_end(&mut self, b: usize, end: usize, t: f64) {
+        let sig = self.ends[b][end].sig;
+        let dir = if end == LEFT_END {
+            RIGHT_GOING
+        } else {
+            LEFT_GOING
+        };
+        self.emit(b, dir, t, -sig);
+    }
+}
+
+/// The history of two valid bars (checked by the caller) traced to at
+/// least `t_end`; `None` when the event cap is hit.
+pub(super) fn trace(
+    m1: &MaterialModel,
+    l1: f64,
+    v1: f64,
+    m2: &MaterialModel,
+    l2: f64,
+    v2: f64,
+    t_end: f64,
+) -> Option<BarImpactHistory> {
+    let trace = |m: &MaterialModel, len: f64, v0: f64| BarTrace {
+        len,
+        c: m.c_l,
+        z: m.z,
+        rho0: m.rho0,
+        v0,
+        log: [Vec::new(), Vec::new()],
+    };
+    let (z1, z2) = (m1.z, m2.z);
+    let sigma_scale = z1 * z2 * (v1 - v2) / (z1 + z2);
+    let mut sim = BarSim {
+        bars: [trace(m1, l1, v1), trace(m2, l2, v2)],
+        ends: [
+            [EndState { sig: 0.0, v: v1 }; 2],
+            [EndState { sig: 0.0, v: v2 }; 2],
+        ],
+        flight: Default::default(),
+        prune: PRUNE_TOL * sigma_scale,
+    };
+    let t_tol = TIME_TOL * sim.bars[0].transit().min(sim.bars[1].transit());
+    let v_scale = v1.abs() + v2.abs() + (v1 - v2);
+    let v_tol = 1e-12 * v_scale;
+    let gap_tol = 4.0 * v_scale * t_tol;
+    let periods = [2.0 * sim.bars[0].transit(), 2.0 * sim.bars[1].transit()];
+    let masses = [m1.rho0 * l1, m2.rho0 * l2];
+
+    // Interface bookkeeping.
+    let mut in_contact = false;
+    let mut gap = 0.0_f64;
+    let mut t_gap = 0.0_f64;
+    let mut sigma_i = 0.0_f64;
+    let mut t_sigma = 0.0_f64;
+    let mut impulse = 0.0_f64; // ∫ σ_I dt over finished contact steps
+    let mut steps: Vec<StressStep> = Vec::new();
+    let mut first_contact: Option<(f64, f64)> = None;
+    let mut first_sep: Option<f64> = None;
+    let mut last_sep = 0.0_f64;
+    let mut sep_start = 0.0_f64;
+    let mut bmax = [0.0_f64; 2];
+    let mut resolved: Option<BarImpact> = None;
+
+    let mean_vel = |impulse: f64| [v1 + impulse / masses[0], v2 - impulse / masses[1]];
+
+    let mut t_now;
+    let mut events = 0usize;
+    // First contact is an interface event at t = 0 with the gap closed.
+    let mut pending_close = true;
+    let mut t = 0.0_f64;
+    loop {
+        if events > MAX_EVENTS {
+            return None;
+        }
+        events += 1;
+        let window = t + t_tol;
+
+        // Free ends: bar 1 left, bar 2 right.
+        if sim.absorb(0, LEFT_GOING, window) {
+            sim.free_end(0, LEFT_END, t);
+        }
+        if sim.absorb(1, RIGHT_GOING, window) {
+            sim.free_end(1, RIGHT_END, t);
+        }
+
+        // Interface faces: bar 1 right end, bar 2 left end.
+        let vf_before = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
+        let a1 = sim.absorb(0, RIGHT_GOING, window);
+        let a2 = sim.absorb(1, LEFT_GOING, window);
+        if a1 || a2 || pending_close {
+            if !in_contact {
+                gap += (vf_before[1] - vf_before[0]) * (t - t_gap);
+                t_gap = t;
+                if pending_close {
+                    gap = 0.0;
+                }
+            }
+            let f1 = sim.ends[0][RIGHT_END];
+            let f2 = sim.ends[1][LEFT_END];
+            let j1 = f1.sig - z1 * f1.v;
+            let j2 = f2.sig + z2 * f2.v;
+            let sig_star = (z2 * j1 + z1 * j2) / (z1 + z2);
+            let v_star = (j2 - j1) / (z1 + z2);
+            let touching = in_contact || gap <= gap_tol;
+            // A contact that would carry no (or tensile) stress is open: the
+            // faces then move apart or, at most, together without load.
+            let contact = resolved.is_none() && touching && sig_star < -sim.prune;
+            if contact {
+                sim.emit(0, LEFT_GOING, t, sig_star - f1.sig);
+                sim.emit(1, RIGHT_GOING, t, sig_star - f2.sig);
+                gap = 0.0;
+                if first_contact.is_none() {
+                    first_contact = Some((sig_star, v_star));
+                }
+                if !in_contact {
+                    sigma_i = sig_star;
+                    t_sigma = t;
+                } else if (sig_star - sigma_i).abs() > sim.prune {
+                    impulse += sigma_i * (t - t_sigma);
+                    steps.push(StressStep {
+                        t_start: t_sigma,
+                        t_end: t,
+                        stress: sigma_i,
+                    });
+                    sigma_i = sig_star;
+                    t_sigma = t;
+                }
+            } else {
+                sim.emit(0, LEFT_GOING, t, -f1.sig);
+                sim.emit(1, RIGHT_GOING, t, -f2.sig);
+                if in_contact {
+                    impulse += sigma_i * (t - t_sigma);
+                    steps.push(StressStep {
+                        t_start: t_sigma,
+                        t_end: t,
+                        stress: sigma_i,
+                    });
+                    sigma_i = 0.0;
+                    first_sep.get_or_insert(t);
+                    last_sep = t;
+                    sep_start = t;
+                    gap = gap.max(0.0);
+                    t_gap = t;
+                    bmax = [0.0; 2];
+                }
+                let vm = mean_vel(impulse);
+                let vf = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
+                for b in 0..2 {
+                    bmax[b] = bmax[b].max((vf[b] - vm[b]).abs());
+                }
+            }
+            in_contact = contact;
+        }
+        t_now = t;
+
+        // Next event: a front arrival or, while separated and closing, the
+        // gap reaching zero.
+        let mut t_next = f64::INFINITY;
+        for b in 0..2 {
+            for dir in 0..2 {
+                t_next = t_next.min(sim.arrival(b, dir));
+            }
+        }
+        let vf = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
+        let mut t_close = f64::INFINITY;
+        if !in_contact && resolved.is_none() && vf[0] - vf[1] > v_tol {
+            t_close = t_gap + gap.max(0.0) / (vf[0] - vf[1]);
+        }
+        let closing = t_close <= t_next;
+        t_next = t_next.min(t_close);
+
+        // Is the outcome final? Checked on the state that holds on
+        // [t_now, t_next).
+        if resolved.is_none() && !in_contact {
+            let vm = mean_vel(impulse);
+            let mut done = vm[1] >= vm[0] - v_tol;
+            if done && !(sim.quiet(0) && sim.quiet(1)) {
+                let t_check = if t_next.is_finite() { t_next } else { t_now };
+                let gap_t = gap + (vf[1] - vf[0]) * (t_check - t_gap);
+                let mut excursion = 0.0;
+                for b in 0..2 {
+                    if sim.quiet(b) {
+                        continue;
+                    }
+                    if t_check - sep_start < periods[b] {
+                        done = false;
+                    }
+                    excursion += bmax[b] * periods[b];
+                }
+                done = done && gap_t > excursion;
+            }
+            if done {
+                let (contact_stress, interface_velocity) = first_contact?;
+                resolved = Some(BarImpact {
+                    contact_stress,
+                    interface_velocity,
+                    separation_time: last_sep,
+                    final_velocity_1: vm[0],
+                    final_velocity_2: vm[1],
+                });
+            }
+        }
+
+        if resolved.is_some() && (t_next > t_end || t_next.is_infinite()) {
+            let valid_until = if t_next.is_finite() {
+                t_end.max(t_now)
+            } else {
+                f64::INFINITY
+            };
+            let result = resolved?;
+            let [b1, b2] = sim.bars;
+            return Some(BarImpactHistory {
+                result,
+                first_separation_time: first_sep.unwrap_or(last_sep),
+                contact_steps: steps,
+                valid_until,
+                bars: [b1, b2],
+            });
+        }
+        if !t_next.is_finite() {
+            // Nothing will ever happen again, yet not resolved: cannot occur
+            // for valid input, but never loop forever.
+            return None;
+        }
+        pending_close = closing;
+        t = t_next;
+    }
+}
