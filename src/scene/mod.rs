@@ -7,6 +7,7 @@
 pub mod library;
 mod model;
 mod place;
+mod toml_errors;
 pub mod validate;
 
 pub use place::{place_bodies, PlacedBody};
