@@ -574,26 +574,15 @@ fn quiet_display_lookup() {
     if set {
         return;
     }
-    let user = std::env::var("USER").unwrap_or_else(|_| "user".into());
-    let dir = std::env::temp_dir().join(format!("sphcontact-runtime-{user}"));
+    // SAFETY: getuid only reads the process's credentials; it cannot fail.
+    let uid = unsafe { libc::getuid() };
+    let dir = std::env::temp_dir().join(format!("sphcontact-runtime-{uid}"));
     let _ = std::fs::DirBuilder::new().mode(0o700).create(&dir);
     // Only a directory this user owns (another user's is left alone).
-    let own = std::fs::metadata(&dir).is_ok_and(|m| m.is_dir() && m.uid() == own_uid());
+    let own = std::fs::metadata(&dir).is_ok_and(|m| m.is_dir() && m.uid() == uid);
     if own {
         std::env::set_var("XDG_RUNTIME_DIR", &dir);
     }
-}
-
-/// This process's user id, from a file it has just made.
-#[cfg(unix)]
-fn own_uid() -> u32 {
-    use std::os::unix::fs::MetadataExt;
-    let probe = std::env::temp_dir().join(format!("sphcontact-uid-{}", std::process::id()));
-    let uid = std::fs::File::create(&probe)
-        .and_then(|f| f.metadata())
-        .map_or(u32::MAX, |m| m.uid());
-    let _ = std::fs::remove_file(&probe);
-    uid
 }
 
 #[cfg(not(unix))]
