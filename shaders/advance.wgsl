@@ -140,7 +140,7 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
 // The lowest mu a particle's density may reach: -0.9 (0.1 rho0); a failed
 // particle's, whose crack opens, -1 (any positive density).
 fn low_mu(i: u32) -> f32 {
-    if (FAILURE && hist_w[i].z >= FAILED) {
+    if (FAILURE && failed(hist_w[i].z)) {
         return -1.0;
     }
     return -0.9;

@@ -322,11 +322,17 @@ fn eos_pressure(b: Body, mu: f32, e: f32) -> f32 {
 // A failed particle's damage (physics::strength::FAILED).
 const FAILED: f32 = 1.0;
 
+// Whether a particle with damage `d` has failed: the one test, false
+// where nothing can fail (physics::strength::failed).
+fn failed(d: f32) -> bool {
+    return FAILURE && d >= FAILED;
+}
+
 // The pressure of a particle with damage `d`: a failed one carries no
 // tension (MaterialModel::pressure_of).
 fn pressure_of(b: Body, mu: f32, e: f32, d: f32) -> f32 {
     let p = eos_pressure(b, mu, e);
-    if (FAILURE && d >= FAILED) {
+    if (failed(d)) {
         return max(p, 0.0);
     }
     return p;
@@ -335,7 +341,7 @@ fn pressure_of(b: Body, mu: f32, e: f32, d: f32) -> f32 {
 // The sound speed of a particle with damage `d`: a failed one has no
 // shear stiffness (MaterialModel::sound_speed_of).
 fn sound_speed_of(b: Body, mu: f32, e: f32, d: f32) -> f32 {
-    if (FAILURE && d >= FAILED) {
+    if (failed(d)) {
         return speed_with_shear(b, mu, e, 0.0);
     }
     return speed_with_shear(b, mu, e, b.g);

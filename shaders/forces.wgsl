@@ -67,7 +67,8 @@ fn mu_of(j: u32) -> f32 {
 
 // Whether particle j has not failed.
 fn intact(j: u32) -> bool {
-    return !FAILURE || hist[j].z < FAILED;
+    // The guard keeps scenes that cannot fail from reading the history.
+    return !FAILURE || !failed(hist[j].z);
 }
 
 // The velocity jump the viscosity sees: v_ij less each side's linear

@@ -164,7 +164,7 @@ struct Updated {
 fn strength_update(bi: u32, trial: vec4<f32>, rate: f32, mu: f32, e: f32, h_in: vec4<f32>, t_end: f32) -> Updated {
     var h = h_in;
     let b = bodies[bi];
-    if (FAILURE && h.z >= FAILED) {
+    if (failed(h.z)) {
         return Updated(vec4<f32>(0.0), h, max(mu, failed_floor(b, e)));
     }
     let pl = plastic[bi];
@@ -210,7 +210,7 @@ fn strength_update(bi: u32, trial: vec4<f32>, rate: f32, mu: f32, e: f32, h_in: 
         if (p < -pl.spall) {
             h.z = FAILED;
         }
-        if (h.z >= FAILED) {
+        if (failed(h.z)) {
             s = vec4<f32>(0.0);
             mu_out = max(mu, failed_floor(b, e));
             if (h.w < 0.0) {

@@ -198,6 +198,12 @@ fn leap_arrays(model: &Model) -> Vec<(&'static str, u64)> {
     a
 }
 
+/// A symmetric tensor from the device's `(xx, yy, xy, zz)`.
+fn sym_of(a: [f32; 4]) -> Sym {
+    let [xx, yy, xy, zz] = a.map(f64::from);
+    Sym { xx, yy, xy, zz }
+}
+
 /// The device's constants of a material's strength and failure laws
 /// (strength.wgsl, `Plastic`).
 fn plastic_gpu(m: &crate::physics::material::MaterialModel) -> PlasticGpu {
@@ -895,11 +901,6 @@ impl GpuSolver {
         } else {
             Vec::new()
         };
-        let plastic: Vec<PlasticGpu> = model
-            .bodies
-            .iter()
-            .map(|b| plastic_gpu(&b.material))
-            .collect();
         // Particle probes find their particle through a slot per probed
         // particle, not a map of every particle (4 B a particle): the probed
         // ids sorted (padded to one per probe with ids no particle has, so
@@ -965,6 +966,11 @@ impl GpuSolver {
             // laws' constants a body, and the midpoint rule's midpoint
             // history and strain rates.
             make("hist", 16 * nn, Some(bytemuck::cast_slice(&hist)))?;
+            let plastic: Vec<PlasticGpu> = model
+                .bodies
+                .iter()
+                .map(|b| plastic_gpu(&b.material))
+                .collect();
             make(
                 "plastic",
                 64 * plastic.len() as u64,
@@ -2290,6 +2296,22 @@ impl GpuSolver {
         names
     }
 
+    /// Where buffer `name` is among `state_buffers`.
+    fn state_index(&self, name: &str) -> usize {
+        self.state_buffers()
+            .iter()
+            .position(|b| b.0 == name)
+            .unwrap_or_else(|| panic!("no state buffer '{name}'"))
+    }
+
+    /// Particle i's history `(ε_p, T, D, t_f)` in f64 from the device's
+    /// (strength.wgsl's precision plan: the temperature as its rise).
+    fn history_of(&self, i: usize, h: [f32; 4]) -> [f64; 4] {
+        let room = self.model.material(i).initial_temperature();
+        let [eps, rise, d, t] = h.map(f64::from);
+        [eps, room + rise, d, t]
+    }
+
     /// The f64 state (model order) and the control block from the buffers
     /// of `state_buffers`.
     fn unpack_state<B: AsRef<[u8]>>(&self, d: &[B]) -> (State, Control) {
@@ -2324,38 +2346,32 @@ impl GpuSolver {
             st.v[i] = DVec2::new(v[k][0] as f64, v[k][1] as f64);
             st.rho[i] = self.model.material(i).rho0 * (1.0 + r[k][0] as f64);
             st.e[i] = r[k][1] as f64;
-            st.s[i] = Sym {
-                xx: s[k][0] as f64,
-                yy: s[k][1] as f64,
-                xy: s[k][2] as f64,
-                zz: s[k][3] as f64,
-            };
+            st.s[i] = sym_of(s[k]);
         }
         if self.model.contact {
-            let q: &[[f32; 2]] = bytemuck::cast_slice(d[7].as_ref());
+            let q: &[[f32; 2]] = bytemuck::cast_slice(d[self.state_index("qheat")].as_ref());
             st.heat = q.iter().map(|x| x[0] as f64).sum();
             st.spring_work = q.iter().map(|x| x[1] as f64).sum();
-            let e: &[f32] = bytemuck::cast_slice(d[8].as_ref());
+            let e: &[f32] = bytemuck::cast_slice(d[self.state_index("centry")].as_ref());
             st.entry = vec![0.0; n];
             for k in 0..n {
                 st.entry[meta[k][3] as usize] = e[k] as f64;
             }
         }
         if self.model.history {
-            // After the state's and the contact's buffers (`state_buffers`).
-            let at = if self.model.contact { 9 } else { 7 };
-            let h: &[[f32; 4]] = bytemuck::cast_slice(d[at].as_ref());
+            let h: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index("hist")].as_ref());
             st.eps_p = vec![0.0; n];
             st.temperature = vec![0.0; n];
             st.damage = vec![0.0; n];
             st.failed_at = vec![0.0; n];
             for k in 0..n {
                 let i = meta[k][3] as usize;
-                let room = self.model.material(i).initial_temperature();
-                st.eps_p[i] = h[k][0] as f64;
-                st.temperature[i] = room + h[k][1] as f64;
-                st.damage[i] = h[k][2] as f64;
-                st.failed_at[i] = h[k][3] as f64;
+                [
+                    st.eps_p[i],
+                    st.temperature[i],
+                    st.damage[i],
+                    st.failed_at[i],
+                ] = self.history_of(i, h[k]);
             }
         }
         (st, ctl)
@@ -2715,11 +2731,9 @@ impl GpuSolver {
             for k in 0..n {
                 let i = meta[k][3] as usize;
                 let mat = self.model.material(i);
-                let [xx, yy, xy, zz] = sm[k].map(|x| x as f64);
-                out.mid_s[i] = Sym { xx, yy, xy, zz };
+                out.mid_s[i] = sym_of(sm[k]);
                 out.mid_rho[i] = mat.rho0 * (1.0 + rm[k][0] as f64);
-                let h = hm[k].map(|x| x as f64);
-                out.mid_hist[i] = [h[0], mat.initial_temperature() + h[1], h[2], h[3]];
+                out.mid_hist[i] = self.history_of(i, hm[k]);
             }
         }
         let v2 = |a: [f32; 2]| DVec2::new(a[0] as f64, a[1] as f64);
@@ -2743,12 +2757,7 @@ impl GpuSolver {
             out.sr2[i] = [sr2c[k][0] as f64, sr2c[k][1] as f64, sr2c[k][2] as f64];
             out.c[i] = sr2c[k][3] as f64;
             out.drho[i] = self.model.material(i).rho0 * dr1[k][0] as f64;
-            out.ds[i] = Sym {
-                xx: ds[k][0] as f64,
-                yy: ds[k][1] as f64,
-                xy: ds[k][2] as f64,
-                zz: ds[k][3] as f64,
-            };
+            out.ds[i] = sym_of(ds[k]);
             out.dv_sph[i] = v2(dv1[k]);
             out.de_sph[i] = dr1[k][1] as f64;
             out.dv[i] = v2(dv2[k]);
