@@ -27,9 +27,10 @@ use sphcontact::bench::{cpu_name, CpuBench, DiskCase, GpuBench};
 use sphcontact::cpu::forces::{self, PairVectors, StressPoint};
 use sphcontact::cpu::neighbours::{self, Neighbours};
 use sphcontact::cpu::{self, contact, kinematics};
-use sphcontact::gpu::{GpuContext, STAGES};
+use sphcontact::gpu::GpuContext;
 use sphcontact::model::{Model, State};
 use sphcontact::scene::Integrator;
+use sphcontact::stage::STAGES;
 
 const SIZES: [usize; 4] = [1_000, 10_000, 100_000, 1_000_000];
 const DEFAULT_MAX: usize = 100_000;

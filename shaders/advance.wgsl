@@ -188,7 +188,7 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 @group(0) @binding(52) var<storage, read> rdt: array<vec2<f32>>;
 @group(0) @binding(55) var<storage, read> qrate: array<vec2<f32>>;
 
-// The cell list's counts (grid.wgsl), filled here for the new positions.
+// The cell list's counts (neighbours.wgsl), filled here for the new positions.
 @group(0) @binding(16) var<storage, read_write> bstart_w: array<atomic<u32>>;
 // The count of the contact's list of boundary particles, which the step's
 // the kinematics pass fills (kinematics.wgsl, list_surface).
@@ -196,7 +196,7 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
 
 // v_{n+1/2} = v_n + dt/2 a_n, e likewise, x_{n+1} = x_n + dt v_{n+1/2}, the
 // contact ledger's first half step, and the first pass of the cell list at
-// x_{n+1} (grid.wgsl, grid_cells).
+// x_{n+1} (neighbours.wgsl, grid_cells).
 @compute @workgroup_size(WG)
 fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);

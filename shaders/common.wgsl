@@ -180,7 +180,7 @@ fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
 @group(0) @binding(3) var<storage, read> x0: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> u: array<vec2<f32>>;
 @group(0) @binding(8) var<storage, read> pinfo: array<vec4<u32>>;
-// The cell list (written by grid.wgsl): the start of each bucket in the
+// The cell list (written by neighbours.wgsl): the start of each bucket in the
 // sorted list, the sorted list of particles. A particle's cell is not
 // stored: `current_cell` recomputes it from the reference cell and the
 // displacement a pair reads anyway, with the same arithmetic the build used.

@@ -6,7 +6,10 @@
 //!
 //! * [`scene`]: the scene file (TOML) and particle placement;
 //! * [`physics`]: kernel, material model, exact answers;
-//! * [`cpu`]: the f64 reference solver, one function per stage;
+//! * [`stage`]: the time step's stages, each a shader and its CPU twin, and
+//!   the two integrators' schedules;
+//! * [`cpu`]: the f64 reference solver, one file per stage;
+//! * [`gpu`]: the same stages as WGSL compute shaders;
 //! * [`run`]: running a scene to its outputs (history, summary, snapshots);
 //! * [`probe`]: the recorded observables;
 //! * [`mod@bench`]: particle throughput of both backends (`sphcontact bench`).
@@ -67,6 +70,7 @@ pub mod probe;
 pub mod process;
 pub mod run;
 pub mod scene;
+pub mod stage;
 pub mod validation;
 
 pub use error::{RunError, SceneError};

@@ -1,5 +1,6 @@
 //! Small 2×2 tensors for the 2-D (and, with zero y, the 1-D) solver.
 
+pub mod cells;
 pub mod lanes;
 
 use glam::DVec2;

@@ -266,7 +266,7 @@ impl Model {
     pub fn close_scales(&self, x: &[DVec2]) -> Vec<f64> {
         use rayon::prelude::*;
         let reach = 2.0 * self.h.iter().cloned().fold(0.0, f64::max);
-        let cells = crate::cpu::neighbours::CellList::build(x, reach);
+        let cells = crate::math::cells::CellList::build(x, reach);
         (0..self.len())
             .into_par_iter()
             .map(|i| {

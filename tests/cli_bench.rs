@@ -281,7 +281,7 @@ fn gpu_records_and_stages() {
     assert!(r["particle_steps_per_second_per_core"].is_null(), "{r}");
     let stages = r["stages"].as_array().expect("stage times with --stages");
     let names: Vec<&str> = stages.iter().map(|s| s["name"].as_str().unwrap()).collect();
-    let expected: Vec<&str> = sphcontact::gpu::STAGES.iter().map(|s| s.name).collect();
+    let expected: Vec<&str> = sphcontact::stage::STAGES.iter().map(|s| s.name).collect();
     assert_eq!(names, expected);
     for s in stages {
         assert!(num(s, "seconds_per_call") > 0.0, "{s}");

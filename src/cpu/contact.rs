@@ -676,6 +676,98 @@ mod tests {
         penalty(model, st, &nb, &bd).stats.stored
     }
 
+    /// Two steel bars of four particles (1-D), the right one pushed
+    /// `δ = 0.01 Δx` into the left, at rest, entries zero: the gap, the
+    /// stiffness, the force and the stored energy worked out by hand.
+    #[test]
+    fn two_particles_gap_and_force_by_hand() {
+        let dx = 1.0e-4;
+        let scene = crate::Scene::from_toml_str(
+            r#"
+[simulation]
+dimension = 1
+end_time = 1.0e-6
+[materials.steel]
+density = 7850.0
+shear_modulus = 77.0e9
+eos = { kind = "linear", c0 = 4580.0 }
+[[bodies]]
+name = "left"
+material = "steel"
+spacing = 1.0e-4
+velocity = [0.0]
+shape = { kind = "segment", from = -4.0e-4, to = 0.0 }
+[[bodies]]
+name = "right"
+material = "steel"
+spacing = 1.0e-4
+velocity = [0.0]
+shape = { kind = "segment", from = 0.0, to = 4.0e-4 }
+"#,
+            "bars",
+        )
+        .expect("the scene");
+        let (model, mut st) = Model::new(&scene);
+        let delta = 0.01 * dx;
+        for i in 4..8 {
+            st.x[i].x -= delta;
+        }
+        assert_eq!(st.entry, vec![0.0; 8]);
+        // P, the left bar's last particle, at −Δx/2; Q, the right bar's
+        // first, at Δx/2 − δ; their surfaces Δx/2 beyond them: gap −δ.
+        let (p, q) = (3, 4);
+        assert!((model.offset[p] / (0.5 * dx) - 1.0).abs() < 1e-12);
+        assert!((model.offset[q] / (0.5 * dx) - 1.0).abs() < 1e-12);
+        // Constrained modulus M = ρ0 c0² + 4G/3; two layers Δx/2 thick in
+        // series: k = M/Δx.
+        let m = 7850.0 * 4580.0 * 4580.0 + 4.0 / 3.0 * 77.0e9;
+        assert!((model.bodies[0].material.m / m - 1.0).abs() < 1e-15);
+        let k = m / dx;
+        assert!((spring_stiffness(0.5 * dx, dx, m, 0.5 * dx, dx, m) / k - 1.0).abs() < 1e-15);
+
+        let nb = neighbours::find(&model, &st.x);
+        let surface = kinematics::kinematics(&model, &st, &nb).surface;
+        let bd = kinematics::boundary(&model, &st.x, &nb, surface);
+        // The four ends are the boundary; in 1-D the area is 1.
+        assert_eq!(bd.list, vec![0, 3, 4, 7]);
+        assert!(bd.list.iter().all(|&i| bd.area[i as usize] == 1.0));
+        let c = penalty(&model, &st, &nb, &bd);
+        // Two passes (P against Q, Q against P), each Φ = ¼ k δ² A: the
+        // total ½ k δ², its gradient k δ on each particle, apart.
+        let force = |i: usize| {
+            let k = bd.list.iter().position(|&j| j as usize == i).unwrap();
+            c.force[k]
+                + c.spread
+                    .iter()
+                    .filter(|s| s.0 as usize == i)
+                    .map(|s| s.1)
+                    .sum::<DVec2>()
+        };
+        let want = k * delta;
+        let tol = 1e-9 * want;
+        assert!(
+            (force(p).x + want).abs() < tol,
+            "P: {} against {}",
+            force(p).x,
+            -want
+        );
+        assert!(
+            (force(q).x - want).abs() < tol,
+            "Q: {} against {want}",
+            force(q).x
+        );
+        assert_eq!(force(0), DVec2::ZERO);
+        assert_eq!(force(7), DVec2::ZERO);
+        let stored = 0.5 * k * delta * delta;
+        assert!(
+            (c.stats.stored / stored - 1.0).abs() < 1e-9,
+            "stored {} against {stored}",
+            c.stats.stored
+        );
+        // At rest there is no dashpot and nothing to heat.
+        assert!(c.heat.iter().all(|&h| h == 0.0));
+    }
+
     /// The entry rule: a particle that joins the surface in overlap stores
     /// nothing and takes its overlap as its entry; the entry only shrinks;
     /// with the entries the evaluation returns the evaluation is the same

@@ -1,11 +1,13 @@
 //! Kinematic pass: the correction matrix, the colour gradient, the velocity
 //! gradient, continuity and the deviatoric stress rate in one walk over the
-//! neighbours (METHOD.md §5, §6, §8.1); then the boundary set and area.
+//! neighbours (METHOD.md §5, §6, §8.1); the EOS and the stress the momentum
+//! pass reads; then the boundary set and area.
 
 use glam::DVec2;
 use rayon::prelude::*;
 use std::borrow::Cow;
 
+use super::forces::{self, StressPoint};
 use super::neighbours::Neighbours;
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
@@ -112,6 +114,42 @@ struct Point {
     gv: Mat2,
     /// `∇v` of the velocities the viscosity sees, when not the state's.
     gv_seen: Option<Mat2>,
+}
+
+/// Per-particle inputs of the momentum pass: `σ/ρ²`, artificial stress and
+/// sound speed, from the EOS.
+pub fn eos_and_stress(model: &Model, st: &State) -> Vec<StressPoint> {
+    (0..model.len())
+        .into_par_iter()
+        .map(|i| stress_point(model, i, st.rho[i], st.e[i], &st.s[i], st.damage_of(i)))
+        .collect()
+}
+
+/// Particle i's [`StressPoint`] at density `rho`, energy `e`, deviatoric
+/// stress `s` and damage `damage` (a failed particle carries no tension).
+#[inline]
+pub(crate) fn stress_point(
+    model: &Model,
+    i: usize,
+    rho: f64,
+    e: f64,
+    s: &Sym,
+    damage: f64,
+) -> StressPoint {
+    let mat = model.material(i);
+    let p = mat.pressure_of(rho, e, damage);
+    let c = mat.sound_speed_of(rho, e, damage);
+    let sigma = forces::cauchy(p, s);
+    let r2 = rho * rho;
+    let r = match model.artificial_stress {
+        Some(a) => forces::artificial_stress(a.epsilon, &sigma, rho),
+        None => Sym::default(),
+    };
+    StressPoint {
+        sr2: sigma.scale(1.0 / r2),
+        r,
+        c,
+    }
 }
 
 /// The kinematic pass at `st`.
@@ -348,5 +386,59 @@ pub fn stress_rate(g_mod: f64, s: &Sym, gv: &Mat2) -> Sym {
         yy: 2.0 * g_mod * (gv.yy - tr3) - 2.0 * w * s.xy,
         xy: 2.0 * g_mod * exy + w * (s.yy - s.xx),
         zz: -2.0 * g_mod * tr3,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cpu::neighbours;
+    use crate::scene::Scene;
+
+    /// A 3×3 block of particles: by its mirror symmetries the corner's
+    /// normal is the outward diagonal, an edge's middle particle's normal
+    /// the outward axis, and the centre's colour gradient vanishes, so it
+    /// is inside.
+    #[test]
+    fn square_corner_normal_by_hand() {
+        let scene = Scene::from_toml_str(
+            r#"
+[simulation]
+dimension = 2
+end_time = 1.0e-6
+[materials.m]
+density = 1000.0
+shear_modulus = 1.0e9
+eos = { kind = "linear", c0 = 2000.0 }
+[[bodies]]
+name = "block"
+material = "m"
+spacing = 1.0
+shape = { kind = "rectangle", min = [0.0, 0.0], max = [3.0, 3.0] }
+"#,
+            "block",
+        )
+        .expect("the scene");
+        let (model, st) = Model::new(&scene);
+        assert_eq!(model.len(), 9);
+        let at = |x: f64, y: f64| {
+            (0..9)
+                .find(|&i| st.x[i] == DVec2::new(x, y))
+                .unwrap_or_else(|| panic!("a particle at ({x}, {y})"))
+        };
+        let nb = neighbours::find(&model, &st.x);
+        let k = kinematics(&model, &st, &nb);
+        let bd = boundary(&model, &st.x, &nb, k.surface.clone());
+        let close = |a: DVec2, b: DVec2| (a - b).length() < 1e-12;
+        let d = std::f64::consts::FRAC_1_SQRT_2;
+        assert!(close(bd.normal[at(0.5, 0.5)], DVec2::new(-d, -d)));
+        assert!(close(bd.normal[at(2.5, 2.5)], DVec2::new(d, d)));
+        assert!(close(bd.normal[at(2.5, 0.5)], DVec2::new(d, -d)));
+        assert!(close(bd.normal[at(0.5, 1.5)], DVec2::new(-1.0, 0.0)));
+        assert!(close(bd.normal[at(1.5, 2.5)], DVec2::new(0.0, 1.0)));
+        let centre = at(1.5, 1.5);
+        assert!(k.grad_psi[centre].length() < 1e-12);
+        assert!(!bd.is_boundary[centre]);
+        assert_eq!(bd.list.len(), 8);
     }
 }

@@ -1,25 +1,26 @@
 //! The CPU reference solver: f64, one function per stage (the oracle the GPU
 //! path is checked against), rayon-parallel gathers, deterministic.
 //!
-//! One evaluation of the rates, in order:
-//!
-//! | stage | function | what |
-//! |---|---|---|
-//! | neighbours | [`neighbours::find_with_skin`] | cell list, SPH and cross-body candidate lists (kept while valid) |
-//! | EOS | [`eos_and_stress`] | `p`, `c`, `σ/ρ²`, artificial stress |
-//! | kinematics | [`kinematics::kinematics`] | `L_i`, `∇ψ_i`, `∇v`, `dρ/dt`, `ds/dt` |
-//! | boundary | [`kinematics::boundary`] | normals, boundary set, area |
-//! | forces | [`forces::momentum_energy`] | `dv/dt`, `de/dt` |
-//! | contact | [`contact::penalty`] | penalty forces, dashpot heat |
+//! One file per stage of the step, each the twin of the shader of the same
+//! name ([`crate::stage`]): [`neighbours`], [`kinematics`] (with the EOS and
+//! the boundary set), [`forces`], [`contact`], [`reduce`], [`advance`].
 //!
 //! Time integration (METHOD.md §9) is the explicit midpoint rule (RK2, two
 //! evaluations a step) or, when the scene asks for it, a kick–drift–kick
 //! leapfrog with one evaluation a step ([`CpuSolver::step`]).
 
+pub mod advance;
 pub mod contact;
 pub mod forces;
 pub mod kinematics;
 pub mod neighbours;
+pub mod reduce;
+
+pub use kinematics::eos_and_stress;
+pub use reduce::cfl_step;
+
+use advance::{advance, dense, plastic_return, return_with_history, sane};
+use kinematics::stress_point;
 
 use glam::DVec2;
 use rayon::prelude::*;
@@ -27,8 +28,9 @@ use rayon::prelude::*;
 use crate::error::Instability;
 use crate::math::Sym;
 use crate::model::{Diagnostics, Model, State};
-use crate::physics::{material, strength};
+use crate::physics::material;
 use crate::scene::Integrator;
+use crate::stage::{self, Role, Stage};
 use forces::StressPoint;
 
 /// Rates of one evaluation. The leapfrog's rates at the end of its step
@@ -55,35 +57,6 @@ pub struct Rates {
     pub entry: Vec<(u32, f64)>,
 }
 
-/// Per-particle inputs of the momentum pass: `σ/ρ²`, artificial stress and
-/// sound speed, from the EOS.
-pub fn eos_and_stress(model: &Model, st: &State) -> Vec<StressPoint> {
-    (0..model.len())
-        .into_par_iter()
-        .map(|i| stress_point(model, i, st.rho[i], st.e[i], &st.s[i], st.damage_of(i)))
-        .collect()
-}
-
-/// Particle i's [`StressPoint`] at density `rho`, energy `e`, deviatoric
-/// stress `s` and damage `damage` (a failed particle carries no tension).
-#[inline]
-fn stress_point(model: &Model, i: usize, rho: f64, e: f64, s: &Sym, damage: f64) -> StressPoint {
-    let mat = model.material(i);
-    let p = mat.pressure_of(rho, e, damage);
-    let c = mat.sound_speed_of(rho, e, damage);
-    let sigma = forces::cauchy(p, s);
-    let r2 = rho * rho;
-    let r = match model.artificial_stress {
-        Some(a) => forces::artificial_stress(a.epsilon, &sigma, rho),
-        None => Sym::default(),
-    };
-    StressPoint {
-        sr2: sigma.scale(1.0 / r2),
-        r,
-        c,
-    }
-}
-
 /// One full evaluation of the rates at `st`, neighbour lists built for it.
 pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
     let nb = neighbours::find(model, &st.x);
@@ -97,11 +70,25 @@ pub fn evaluate_with(
     st: &State,
     nb: &neighbours::Neighbours,
 ) -> (Rates, Diagnostics) {
+    evaluate_at(model, st, nb, Role::Base)
+}
+
+/// [`evaluate_with`] in the role `role` of the step's schedule
+/// ([`crate::stage::MIDPOINT`]): at the midpoint the CFL step is not
+/// taken (`cfl_dt` is infinite), as the step's own is the base state's.
+fn evaluate_at(
+    model: &Model,
+    st: &State,
+    nb: &neighbours::Neighbours,
+    role: Role,
+) -> (Rates, Diagnostics) {
+    stage::enter(Stage::Kinematics, role);
     let pts = eos_and_stress(model, st);
     let k = kinematics::kinematics(model, st, nb);
+    stage::enter(Stage::Forces, role);
     let (mut dv, mut de) = forces::momentum_energy(model, st, nb, &k.l, &k.gv, &k.surface, &pts);
     let mut diag = Diagnostics {
-        cfl_dt: cfl_step(model, st, &pts),
+        cfl_dt: f64::INFINITY,
         correction_fallback: k.fallback.len(),
         ..Default::default()
     };
@@ -116,6 +103,7 @@ pub fn evaluate_with(
     let mut spring_rate = 0.0;
     let mut entry = Vec::new();
     if model.contact {
+        stage::enter(Stage::Contact, role);
         let bd = kinematics::boundary(model, &st.x, nb, surface);
         diag.boundary_count = bd.list.len();
         let c = contact::penalty(model, st, nb, &bd);
@@ -132,6 +120,10 @@ pub fn evaluate_with(
         heat_rate = c.stats.heat_rate;
         spring_rate = c.stats.spring_rate;
         diag.contact = c.stats;
+    }
+    if role != Role::Mid {
+        stage::enter(Stage::Reduce, Role::Step);
+        diag.cfl_dt = cfl_step(model, st, &pts);
     }
     (
         Rates {
@@ -159,151 +151,6 @@ pub fn surface(model: &Model, st: &State) -> (Vec<DVec2>, Vec<bool>) {
     let a = kinematics::kinematics(model, st, &nb);
     let bd = kinematics::boundary(model, &st.x, &nb, a.surface);
     (bd.normal, bd.is_boundary)
-}
-
-/// The CFL step (METHOD.md §9): `C min_i h_i / (c_i + |v_i|)` over deformable
-/// particles, with the sound speeds of `pts`.
-pub fn cfl_step(model: &Model, st: &State, pts: &[StressPoint]) -> f64 {
-    (0..model.len())
-        .into_par_iter()
-        .filter(|&i| !model.rigid(i))
-        .map(|i| material::cfl_step(model.cfl, model.h[i], pts[i].c, st.v[i].length()))
-        .reduce(|| f64::INFINITY, f64::min)
-}
-
-/// `out = base + k · rates` (positions move with `vel`), with the radial
-/// return applied to the new deviatoric stress: perfect plasticity, or,
-/// when the state carries a plastic history, the material's strength and
-/// failure laws ([`strength::update`]) from the history of `base`.
-fn advance(model: &Model, base: &State, vel: &[DVec2], r: &Rates, k: f64, out: &mut State) {
-    out.x
-        .par_iter_mut()
-        .zip(out.v.par_iter_mut())
-        .zip(out.rho.par_iter_mut())
-        .zip(out.e.par_iter_mut())
-        .zip(out.s.par_iter_mut())
-        .enumerate()
-        .for_each(|(i, ((((x, v), rho), e), s))| {
-            *x = base.x[i] + vel[i] * k;
-            if model.rigid(i) {
-                // A rigid body keeps its velocity and reference state.
-                *v = base.v[i];
-                *rho = base.rho[i];
-                *e = base.e[i];
-                *s = base.s[i];
-                return;
-            }
-            *v = base.v[i] + r.dv[i] * k;
-            *rho = base.rho[i] + r.drho[i] * k;
-            *e = base.e[i] + r.de[i] * k;
-            *s = plastic_return(model, i, base.s[i].add_scaled(&r.ds[i], k));
-        });
-    if model.history {
-        return_with_history(model, base, &r.rate, base.t + k, out);
-    }
-    out.heat = base.heat + r.heat_rate * k;
-    out.spring_work = base.spring_work + r.spring_rate * k;
-    out.entry.clone_from(&base.entry);
-}
-
-/// Whether particle i's density is inside `[0.1, 10] ρ0`, or, for a
-/// failed particle (damage `damage`), positive and below `10 ρ0`: an
-/// opening crack takes a failed particle's density towards zero.
-#[inline]
-fn dense(model: &Model, i: usize, rho: f64, damage: f64) -> bool {
-    let rho0 = model.material(i).rho0;
-    let low = if strength::failed(damage) {
-        0.0
-    } else {
-        0.1 * rho0
-    };
-    rho > low && rho < 10.0 * rho0
-}
-
-/// Whether particle i at `x`, `v`, `e`, `rho` passes the state check
-/// ([`CpuSolver::check`]).
-#[inline]
-fn sane(model: &Model, i: usize, x: DVec2, v: DVec2, e: f64, rho: f64, damage: f64) -> bool {
-    x.is_finite()
-        && v.is_finite()
-        && e.is_finite()
-        && dense(model, i, rho, damage)
-        && model.in_domain(x)
-}
-
-/// Perfect plasticity, radial return (METHOD.md §6): particle i's trial
-/// deviatoric stress `s` scaled back onto the yield surface. When the state
-/// carries a plastic history the trial is left as it is: the history's
-/// update returns it ([`return_with_history`]).
-#[inline]
-fn plastic_return(model: &Model, i: usize, s: Sym) -> Sym {
-    if model.history {
-        return s;
-    }
-    let y0 = model.material(i).y0;
-    if y0.is_finite() {
-        let j = s.von_mises();
-        if j > y0 {
-            return s.scale(y0 / j);
-        }
-    }
-    s
-}
-
-/// The stress update with a plastic history ([`strength::update`]) over a
-/// whole state: `out.s` holds the trial stresses and leaves with the
-/// returned ones; `out.rho` and `out.e` are where the step ends, `from` the
-/// state whose history it starts from, `rate` the strain rates (empty: 0),
-/// `t_end` the time `out` is at (a particle failing now fails at it).
-/// A failed particle's density is held at or above the density at which
-/// its pressure vanishes ([`crate::physics::material::MaterialModel::failed_density_floor`]).
-/// Rigid particles keep `from`'s history.
-fn return_with_history(model: &Model, from: &State, rate: &[f64], t_end: f64, out: &mut State) {
-    let State {
-        rho,
-        e,
-        s,
-        eps_p,
-        temperature,
-        damage,
-        failed_at,
-        ..
-    } = out;
-    s.par_iter_mut()
-        .zip(rho.par_iter_mut())
-        .zip(eps_p.par_iter_mut())
-        .zip(temperature.par_iter_mut())
-        .zip(damage.par_iter_mut())
-        .zip(failed_at.par_iter_mut())
-        .enumerate()
-        .for_each(|(i, (((((s, rho), ep), t), d), at))| {
-            let h = if model.rigid(i) {
-                from.history(i)
-            } else {
-                let mat = model.material(i);
-                let r = rate.get(i).copied().unwrap_or(0.0);
-                let (rho_i, e) = (*rho, e[i]);
-                let (s_new, h) = strength::update(
-                    mat,
-                    *s,
-                    r,
-                    rho_i,
-                    || mat.pressure(rho_i, e),
-                    from.history(i),
-                );
-                *s = s_new;
-                if strength::failed(h.damage) {
-                    *rho = rho_i.max(mat.failed_density_floor(e));
-                }
-                h
-            };
-            (*ep, *t, *d) = (h.eps_p, h.temperature, h.damage);
-            *at = if strength::failed(h.damage) && from.failed_at[i] < 0.0 {
-                t_end
-            } else {
-                from.failed_at[i]
-            };
-        });
 }
 
 /// The CPU solver: the state and the evaluation made at it.
@@ -407,7 +254,9 @@ impl CpuSolver {
         nb: &mut neighbours::Neighbours,
         builds: &mut u64,
         x: &[DVec2],
+        role: Role,
     ) {
+        stage::enter(Stage::Neighbours, role);
         if !nb.still_valid(x) {
             let h_max = model.h.iter().cloned().fold(0.0, f64::max);
             *nb = neighbours::find_with_skin(model, x, SKIN_FRACTION * 2.0 * h_max);
@@ -423,6 +272,7 @@ impl CpuSolver {
                 &mut self.nb,
                 &mut self.list_builds,
                 &self.state.x,
+                Role::Base,
             );
             let (r, d) = evaluate_with(&self.model, &self.state, &self.nb);
             if self.model.contact {
@@ -481,6 +331,7 @@ impl CpuSolver {
             return Ok(dt);
         }
         let mut half = std::mem::take(&mut self.scratch);
+        stage::enter(Stage::Advance, Role::HalfStep);
         advance(
             &self.model,
             &self.state,
@@ -489,9 +340,11 @@ impl CpuSolver {
             0.5 * dt,
             &mut half,
         );
-        Self::refresh_lists(&self.model, &mut self.nb, &mut self.list_builds, &half.x);
-        let (k2, _) = evaluate_with(&self.model, &half, &self.nb);
+        let lists = (&mut self.nb, &mut self.list_builds);
+        Self::refresh_lists(&self.model, lists.0, lists.1, &half.x, Role::Mid);
+        let (k2, _) = evaluate_at(&self.model, &half, &self.nb, Role::Mid);
         let mut next = std::mem::take(&mut self.spare);
+        stage::enter(Stage::Advance, Role::FullStep);
         advance(&self.model, &self.state, &half.v, &k2, dt, &mut next);
         next.t = self.state.t + dt;
         next.step = self.state.step + 1;
@@ -532,6 +385,7 @@ impl CpuSolver {
         // predicted velocity of 3 goes to next.v.
         let mut half = std::mem::take(&mut self.scratch);
         let mut next = std::mem::take(&mut self.spare);
+        stage::enter(Stage::Advance, Role::KickDrift);
         half.x
             .par_iter_mut()
             .zip(half.v.par_iter_mut())
@@ -554,8 +408,15 @@ impl CpuSolver {
         half.s.copy_from_slice(&st.s);
         half.heat = st.heat + kn.heat_rate * h;
         half.spring_work = st.spring_work + kn.spring_rate * h;
-        Self::refresh_lists(model, &mut self.nb, &mut self.list_builds, &half.x);
+        Self::refresh_lists(
+            model,
+            &mut self.nb,
+            &mut self.list_builds,
+            &half.x,
+            Role::Drifted,
+        );
         let nb = &self.nb;
+        stage::enter(Stage::Kinematics, Role::Next);
         // 2: ρ and s to n+1; the reconstruction's ∇v at the predicted
         // velocities, in the same walk. (A ∇v at n+½ with velocities at n+1
         // mixes two levels: a jump O(Δt) where it should be O(Δx²), which
@@ -592,6 +453,7 @@ impl CpuSolver {
             .collect()
         };
         // 3: the forces at n+1.
+        stage::enter(Stage::Forces, Role::Next);
         let mut dv = forces::momentum_keeping(
             model,
             &next,
@@ -607,6 +469,7 @@ impl CpuSolver {
             ..Default::default()
         };
         let bd = model.contact.then(|| {
+            stage::enter(Stage::Contact, Role::Next);
             let kinematics::Kinematics { surface, .. } = k;
             let bd = kinematics::boundary(model, &next.x, nb, surface);
             diag.boundary_count = bd.list.len();
@@ -625,9 +488,11 @@ impl CpuSolver {
             }
         });
         let v_next = &half.v;
+        stage::enter(Stage::Forces, Role::Energy);
         let mut de = forces::energy_replay(model, nb, &self.kept, v_next);
         let (mut heat_rate, mut spring_rate) = (0.0, 0.0);
         if let Some(bd) = bd {
+            stage::enter(Stage::Contact, Role::Book);
             // The contact's forces again (the same bits), their heat and
             // spring power booked at v_{n+1}.
             let c = contact::penalty_booked(model, &next, nb, &bd, Some(v_next));
@@ -641,6 +506,9 @@ impl CpuSolver {
             diag.contact = c.stats;
         }
         std::mem::swap(&mut next.v, &mut half.v);
+        stage::enter(Stage::Advance, Role::Finish);
+        // The next step's reduction is fused into this walk.
+        stage::enter(Stage::Reduce, Role::Step);
         // e at n+1, the CFL step at the new state (cfl_step) and whether
         // it passes the state check ([`CpuSolver::check`], which names
         // the particle when it does not), in one walk.
@@ -771,6 +639,72 @@ impl CpuSolver {
                 };
                 Err(self.instability(i, &q, v))
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+    use crate::stage::{trace, Scheduled, LEAPFROG, MIDPOINT};
+
+    /// Two steel bars closing at 20 m/s, touching from the start.
+    fn bars(integrator: &str) -> (Model, State) {
+        let scene = Scene::from_toml_str(
+            &format!(
+                r#"
+[simulation]
+dimension = 1
+end_time = 1.0e-6
+integrator = "{integrator}"
+[materials.steel]
+density = 7850.0
+shear_modulus = 77.0e9
+eos = {{ kind = "linear", c0 = 4580.0 }}
+[[bodies]]
+name = "left"
+material = "steel"
+spacing = 1.0e-4
+velocity = [10.0]
+shape = {{ kind = "segment", from = -0.002, to = 0.0 }}
+[[bodies]]
+name = "right"
+material = "steel"
+spacing = 1.0e-4
+velocity = [-10.0]
+shape = {{ kind = "segment", from = 0.0, to = 0.002 }}
+"#
+            ),
+            "bars",
+        )
+        .expect("the scene");
+        Model::new(&scene)
+    }
+
+    /// The CPU's step runs the stages of its integrator's schedule
+    /// (crate::stage) in the schedule's order; it keeps the scene's
+    /// particle order, so it has no reorder, and the leapfrog takes the
+    /// next step's CFL step in its finishing walk.
+    #[test]
+    fn a_step_runs_the_schedule() {
+        for (name, schedule) in [("midpoint", MIDPOINT), ("leapfrog", LEAPFROG)] {
+            let (model, state) = bars(name);
+            assert!(model.contact);
+            let mut solver = CpuSolver::new(model, state);
+            solver.step(f64::INFINITY).expect("a first step");
+            let ran = trace::record(|| {
+                solver.step(f64::INFINITY).expect("a second step");
+            });
+            let mut want: Vec<Scheduled> = schedule
+                .iter()
+                .filter(|e| e.stage != Stage::Reorder)
+                .copied()
+                .collect();
+            if name == "leapfrog" {
+                want.rotate_left(1);
+            }
+            assert_eq!(ran, want, "{name}");
         }
     }
 }

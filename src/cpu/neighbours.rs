@@ -1,78 +1,16 @@
-//! Cell-list neighbour search (O(N)): particles sorted by the key of their
-//! cell (cells of side `2 h_max`), each particle then scans the 3 (1-D) or
-//! 3×3 (2-D) cells around its own. Keys are row-major over a grid that spans
-//! only the particles' bounding box, so bodies far apart cost nothing extra,
-//! and the sort is stable, so the neighbour order is deterministic.
+//! The neighbours stage (twin of `shaders/neighbours.wgsl`): the cell list
+//! ([`CellList`], cells of side `2 h_max` plus a skin), then each
+//! particle's candidates from the 3 (1-D) or 3×3 (2-D) cells around its
+//! own, kept as lists while no particle has moved more than half the skin.
+//! The cell list's sort is stable, so the neighbour order is deterministic.
 
 use glam::DVec2;
 use rayon::prelude::*;
 
+use crate::math::cells::CellList;
 use crate::math::lanes::{F4, LANES};
 use crate::model::Model;
 use crate::physics::kernel;
-
-/// Particles sorted by cell key.
-#[derive(Debug, Clone)]
-pub struct CellList {
-    pub cell: f64,
-    pub origin: DVec2,
-    /// Cells per row, padding included.
-    pub nx: u64,
-    /// `(key, particle)` sorted by key, then by particle index.
-    pub sorted: Vec<(u64, u32)>,
-}
-
-impl CellList {
-    pub fn build(x: &[DVec2], cell: f64) -> CellList {
-        let (lo, hi) = crate::math::bounds(x);
-        // At least one padding cell on every side keeps the 3×3 scan inside
-        // the grid; 1.5 so that rounding can never put the lowest particle
-        // in cell 0 (whose lower neighbour would underflow).
-        let origin = lo - DVec2::splat(1.5 * cell);
-        let nx = ((hi.x - origin.x) / cell).floor() as u64 + 2;
-        let mut list = CellList {
-            cell,
-            origin,
-            nx,
-            sorted: Vec::new(),
-        };
-        let mut sorted: Vec<(u64, u32)> = x
-            .par_iter()
-            .enumerate()
-            .map(|(i, p)| {
-                let (cx, cy) = list.coords(*p);
-                (cy * nx + cx, i as u32)
-            })
-            .collect();
-        sorted.par_sort_unstable();
-        list.sorted = sorted;
-        list
-    }
-
-    #[inline]
-    pub fn coords(&self, p: DVec2) -> (u64, u64) {
-        let d = (p - self.origin) / self.cell;
-        (d.x.floor() as u64, d.y.floor() as u64)
-    }
-
-    /// Call `f(j)` for every particle in the cells around `p`.
-    #[inline]
-    pub fn for_each_near(&self, p: DVec2, dim: usize, mut f: impl FnMut(usize)) {
-        let (cx, cy) = self.coords(p);
-        let rows = if dim == 1 { cy..cy + 1 } else { cy - 1..cy + 2 };
-        for row in rows {
-            let lo = row * self.nx + cx - 1;
-            let hi = row * self.nx + cx + 1;
-            let start = self.sorted.partition_point(|&(k, _)| k < lo);
-            for &(k, j) in &self.sorted[start..] {
-                if k > hi {
-                    break;
-                }
-                f(j as usize);
-            }
-        }
-    }
-}
 
 /// Up to four candidates of one row with their kernel values in lanes
 /// ([`Neighbours::sweep_chunks`]).

@@ -3,14 +3,17 @@
 //!
 //! ## One step on the device
 //!
+//! The stages and the two integrators' schedules are listed once, in
+//! [`crate::stage`]; the dispatches of each:
+//!
 //! | dispatches | shader | CPU twin |
 //! |---|---|---|
-//! | cell list: cells, count, two-pass prefix sum, scatter, per-bucket sort | `grid.wgsl` | [`crate::cpu::neighbours`] |
-//! | correction, colour gradient, EOS, velocity gradient, rates | `kinematics.wgsl` | [`crate::cpu::kinematics`], [`crate::cpu::eos_and_stress`] |
+//! | cell list: cells, count, two-pass prefix sum, scatter, per-bucket sort | `neighbours.wgsl` | [`crate::cpu::neighbours`] |
+//! | correction, colour gradient, EOS, velocity gradient, rates | `kinematics.wgsl` | [`crate::cpu::kinematics`] |
 //! | momentum, energy, contact area | `forces.wgsl` | [`crate::cpu::forces`] |
 //! | contact pass 1 and 2, and the spread of the spring's pull through the normals (only with contact; the midpoint rule's advance passes gather the spread) | `contact.wgsl`, `spread.wgsl` | [`crate::cpu::contact`] |
-//! | CFL minimum, time, observations | `reduce.wgsl` | [`crate::cpu::cfl_step`], [`crate::probe`] |
-//! | midpoint half step; then the evaluation again, adding `Δt k2` in place; positions and checks | `advance.wgsl`, the passes at the midpoint | `cpu::advance` |
+//! | CFL minimum, time, observations | `reduce.wgsl` | [`crate::cpu::reduce`], [`crate::probe`] |
+//! | midpoint half step; then the evaluation again, adding `Δt k2` in place; positions and checks | `advance.wgsl`, the passes at the midpoint | [`crate::cpu::advance`] |
 //! | every 16 steps: particles reordered by cell | `reorder.wgsl` | (none needed) |
 //!
 //! There are no buffers of rates. The evaluation at the base state leaves
@@ -42,7 +45,7 @@
 //! only a small control block and the ring of per-step observations the
 //! history is interpolated from (and the whole state at the end).
 //!
-//! For benchmarks, each group of dispatches above ([`STAGES`]) can be run
+//! For benchmarks, each stage of the step ([`crate::stage`]) can be run
 //! and timed alone on the current state ([`GpuSolver::time_stage`]).
 //!
 //! ## Precision plan (f32 on the device)
@@ -86,6 +89,7 @@ use crate::model::{Model, State};
 use crate::physics::kernel::CORRECTION_MIN_DET;
 use crate::probe::Resolved;
 use crate::scene::{ArtPairs, Correction, Integrator};
+use crate::stage::{self, Role, Scheduled, Stage};
 pub use context::GpuContext;
 use context::Pipeline;
 use layout::{BodyGpu, Control, Params, PlasticGpu};
@@ -309,62 +313,10 @@ const FRAME: &str = "frame";
 /// A binding name no buffer has: bound to a placeholder the kernel's
 /// variant never writes (`kernel_in`).
 const UNUSED: &str = "unused";
-/// Buckets a workgroup of the cell list's scan takes (grid.wgsl, BLOCK).
+/// Buckets a workgroup of the cell list's scan takes (neighbours.wgsl, BLOCK).
 const SCAN_BLOCK: u32 = 1024;
 /// Particles per workgroup of the reductions (256 threads × 4).
 const RED_CHUNK: u32 = 1024;
-
-/// A group of kernels of the step that can be timed alone
-/// ([`GpuSolver::time_stage`]), named after how `encode_step` groups them.
-#[derive(Debug, Clone, Copy)]
-pub struct StageSpec {
-    pub name: &'static str,
-    /// How many times one step runs it: the evaluation stages run at the
-    /// base state and at the midpoint, the reordering every
-    /// `REORDER_EVERY` steps.
-    pub per_step: f64,
-    /// What it does, and which CPU stages it stands for.
-    pub what: &'static str,
-}
-
-/// The step's stages, in the order a step runs them.
-pub const STAGES: &[StageSpec] = &[
-    StageSpec {
-        name: "reorder",
-        per_step: 1.0 / REORDER_EVERY as f64,
-        what: "cell list, then particles permuted by cell (every 16 steps)",
-    },
-    StageSpec {
-        name: "grid",
-        per_step: 2.0,
-        what: "cell list: clear, cells, two-pass prefix sum, scatter, per-cell sort (CPU: neighbours)",
-    },
-    StageSpec {
-        name: "kinematics",
-        per_step: 2.0,
-        what: "correction, colour gradient, normals and boundary, EOS, velocity gradient, density and stress rates (CPU: eos, kinematics, boundary)",
-    },
-    StageSpec {
-        name: "forces",
-        per_step: 2.0,
-        what: "momentum, energy, contact area (CPU: forces)",
-    },
-    StageSpec {
-        name: "contact",
-        per_step: 2.0,
-        what: "penalty contact, both gathers (CPU: contact)",
-    },
-    StageSpec {
-        name: "reduce",
-        per_step: 1.0,
-        what: "CFL minimum and the step's observations",
-    },
-    StageSpec {
-        name: "advance",
-        per_step: 1.0,
-        what: "midpoint half step, full-step positions and checks, time and step counters",
-    },
-];
 
 /// How many threads a kernel runs.
 #[derive(Debug, Clone, Copy)]
@@ -404,7 +356,7 @@ enum Walk {
 struct Kernel {
     /// The entry point.
     name: String,
-    /// Its shader (a stage of [`STAGES`]).
+    /// Its shader (a stage of [`crate::stage::STAGES`]).
     stage: String,
     /// Its role where a step runs one entry point in two roles (what a
     /// step profile calls it then, [`Kernel::label`]).
@@ -498,7 +450,7 @@ impl Dispatches for Tally {
 /// An evaluation's kernels for one state variant.
 struct Eval {
     // The cell list's two per-particle passes read the evaluation's state
-    // (a particle's cell is recomputed, not stored; grid.wgsl).
+    // (a particle's cell is recomputed, not stored; neighbours.wgsl).
     cells: Kernel,
     scatter: Kernel,
     kinematics: Kernel,
@@ -1052,7 +1004,7 @@ impl GpuSolver {
             }
         }
         make("blist", 4 * nn, None)?;
-        // Counts, then ends, then starts (grid.wgsl): one array.
+        // Counts, then ends, then starts (neighbours.wgsl): one array.
         make("bstart", 4 * (buckets as u64 + 1), None)?;
         make("bsum", 4 * buckets.div_ceil(SCAN_BLOCK) as u64, None)?;
         let red_len = red_groups as u64 * (1 + plan.slots.len() as u64);
@@ -1280,8 +1232,8 @@ impl GpuSolver {
             };
             let eval_kernel = |stage, entry| kernel_in(consts, stage, entry, Size::Particles, al);
             evals.push(Eval {
-                cells: eval_kernel("grid", "grid_cells")?,
-                scatter: eval_kernel("grid", "grid_scatter")?,
+                cells: eval_kernel("neighbours", "grid_cells")?,
+                scatter: eval_kernel("neighbours", "grid_scatter")?,
                 kinematics: eval_kernel("kinematics", "kinematics")?.walking(Walk::All),
                 forces: eval_kernel("forces", "forces")?.walking(Walk::All),
                 contact: if contact {
@@ -1370,10 +1322,10 @@ impl GpuSolver {
             None
         };
         let k = Kernels {
-            clear: kernel("grid", "grid_clear", Size::Buckets, &[])?,
-            scan_local: kernel("grid", "scan_local", Size::ScanBlocks, &[])?,
-            scan_add: kernel("grid", "scan_add", Size::ScanBlocks, &[])?,
-            sort: kernel("grid", "grid_sort", Size::Buckets, &[])?,
+            clear: kernel("neighbours", "grid_clear", Size::Buckets, &[])?,
+            scan_local: kernel("neighbours", "scan_local", Size::ScanBlocks, &[])?,
+            scan_add: kernel("neighbours", "scan_add", Size::ScanBlocks, &[])?,
+            sort: kernel("neighbours", "grid_sort", Size::Buckets, &[])?,
             eval: evals,
             leap,
             reduce_partial: kernel("reduce", "reduce_partial", Size::RedGroups, &[])?,
@@ -1732,38 +1684,74 @@ impl GpuSolver {
         }
     }
 
-    /// A step's dispatches after the periodic reorder, in one compute pass.
+    /// The step's schedule ([`crate::stage`]).
+    fn schedule(&self) -> &'static [Scheduled] {
+        stage::schedule(self.model.integrator)
+    }
+
+    /// A step's dispatches after the periodic reorder, in one compute
+    /// pass: the schedule's entries in order.
     fn encode_step_pass(&self, pass: &mut impl Dispatches) {
-        let k = &self.k;
-        if let Some(l) = &k.leap {
-            // The state the step starts from: its time step and
-            // observations, from what the step before left.
-            self.encode_reduce(pass);
-            // The cell list at x_{n+1}, its counts taken by the drift
-            // (the last step's `finish` zeroed them).
-            pass.run(&l.kick_drift);
-            self.encode_grid_after_counts(pass, Var::Base);
-            pass.run(&l.kinematics);
-            pass.run(&l.forces);
-            for k in l.contact.iter().flat_map(ContactKernels::all) {
-                pass.run(k);
+        for &e in self.schedule() {
+            if e.stage != Stage::Reorder {
+                self.encode_entry(pass, e);
             }
-            // The energy walk reads the neighbour masks the booking's
-            // rates then overwrite (mask_home).
-            pass.run(&l.energy);
-            for k in &l.book {
-                pass.run(k);
-            }
-            pass.run(&l.finish);
-            pass.run(&k.end_step);
-            return;
         }
-        self.encode_eval(pass, Var::Base);
-        self.encode_reduce(pass);
-        pass.run(k.advance_half.as_ref().expect("the midpoint rule's"));
-        self.encode_eval(pass, Var::Mid);
-        pass.run(k.advance_full.as_ref().expect("the midpoint rule's"));
-        pass.run(&k.end_step);
+    }
+
+    /// The dispatches of one entry of the schedule (the reorder aside: it
+    /// copies buffers between its dispatches, [`GpuSolver::encode_reorder`]).
+    ///
+    /// Leapfrog: the reductions read the state the step starts from; the
+    /// cell list at `x_{n+1}` takes its counts from the drift (the last
+    /// step's `finish` zeroed them); the energy walk reads the neighbour
+    /// masks that the booking's rates then overwrite (`mask_home`).
+    fn encode_entry(&self, pass: &mut impl Dispatches, e: Scheduled) {
+        let k = &self.k;
+        let var = if e.role == Role::Mid {
+            Var::Mid
+        } else {
+            Var::Base
+        };
+        let ev = &k.eval[var as usize];
+        let midpoint = "a kernel of the midpoint rule";
+        match (e.stage, e.role, &k.leap) {
+            (Stage::Neighbours, Role::Drifted, Some(_)) => {
+                self.encode_grid_after_counts(pass, Var::Base)
+            }
+            (Stage::Neighbours, _, None) => self.encode_grid(pass, var),
+            (Stage::Kinematics, _, Some(l)) => pass.run(&l.kinematics),
+            (Stage::Kinematics, _, None) => pass.run(&ev.kinematics),
+            (Stage::Forces, Role::Energy, Some(l)) => pass.run(&l.energy),
+            (Stage::Forces, _, Some(l)) => pass.run(&l.forces),
+            (Stage::Forces, _, None) => pass.run(&ev.forces),
+            (Stage::Contact, Role::Book, Some(l)) => l.book.iter().for_each(|k| pass.run(k)),
+            (Stage::Contact, _, Some(l)) => l
+                .contact
+                .iter()
+                .flat_map(ContactKernels::all)
+                .for_each(|k| pass.run(k)),
+            (Stage::Contact, _, None) => {
+                if let Some(c) = &ev.contact {
+                    pass.run(&c.pass1);
+                    pass.run(&c.pass2);
+                }
+            }
+            (Stage::Reduce, _, _) => self.encode_reduce(pass),
+            (Stage::Advance, Role::HalfStep, None) => {
+                pass.run(k.advance_half.as_ref().expect(midpoint))
+            }
+            (Stage::Advance, Role::FullStep, None) => {
+                pass.run(k.advance_full.as_ref().expect(midpoint));
+                pass.run(&k.end_step);
+            }
+            (Stage::Advance, Role::KickDrift, Some(l)) => pass.run(&l.kick_drift),
+            (Stage::Advance, Role::Finish, Some(l)) => {
+                pass.run(&l.finish);
+                pass.run(&k.end_step);
+            }
+            _ => unreachable!("{e:?} is not an entry of this integrator's step"),
+        }
     }
 
     /// The leapfrog's first evaluation, if the run has not made it yet: the
@@ -2378,81 +2366,39 @@ impl GpuSolver {
     }
 
     /// The stages [`GpuSolver::time_stage`] can run for this scene (the
-    /// contact only when the scene has contact), in step order.
+    /// contact only when the scene has contact), in the order of
+    /// [`stage::STAGES`].
     pub fn stage_names(&self) -> Vec<&'static str> {
-        STAGES
+        stage::STAGES
             .iter()
-            .filter(|s| s.name != "contact" || self.model.contact)
+            .filter(|s| s.stage != Stage::Contact || self.model.contact)
             .map(|s| s.name)
             .collect()
     }
 
-    /// How many times a step runs a stage of [`GpuSolver::stage_names`]:
-    /// [`STAGES`]' count for the midpoint rule; once for the leapfrog,
-    /// whose stages group one step's kernels (`encode_stage`), but for the
-    /// reorder.
+    /// How many times a step runs what [`GpuSolver::time_stage`] times of
+    /// a stage: its entries at the step's own state (the evaluation at the
+    /// midpoint runs the same kernels again).
     pub fn stage_per_step(&self, name: &str) -> f64 {
-        if self.k.leap.is_some() && name != "reorder" {
-            return 1.0;
-        }
-        STAGES
-            .iter()
-            .find(|s| s.name == name)
-            .map_or(1.0, |s| s.per_step)
+        Stage::named(name).map_or(1.0, |s| stage::per_step(self.schedule(), s, REORDER_EVERY))
     }
 
-    /// Encode one run of a stage (at the base state).
-    fn encode_stage(&self, enc: &mut wgpu::CommandEncoder, name: &str) {
-        // The reordering copies buffers between its dispatches, so it
-        // cannot live inside a compute pass.
-        if name == "reorder" {
+    /// Encode one run of a stage: its entries of the schedule at the base
+    /// state ([`stage::at_base`]).
+    fn encode_stage(&self, enc: &mut wgpu::CommandEncoder, stage: Stage) {
+        if stage == Stage::Reorder {
             self.encode_reorder(enc);
             return;
         }
-        let k = &self.k;
-        let e = &k.eval[Var::Base as usize];
         let mut pass = enc.begin_compute_pass(&Default::default());
-        if let Some(l) = &k.leap {
-            // The leapfrog's step, grouped as the midpoint rule's is.
-            let mut run = |ks: &[&Kernel]| ks.iter().for_each(|k| k.dispatch(&mut pass));
-            match name {
-                "grid" => self.encode_grid(&mut pass, Var::Base),
-                "kinematics" => run(&[&l.kinematics]),
-                "forces" => run(&[&l.forces, &l.energy]),
-                "contact" => {
-                    let ks: Vec<&Kernel> = l
-                        .contact
-                        .iter()
-                        .flat_map(ContactKernels::all)
-                        .chain(&l.book)
-                        .collect();
-                    run(&ks);
-                }
-                "reduce" => self.encode_reduce(&mut pass),
-                "advance" => {
-                    run(&[&l.kick_drift, &l.finish, &k.end_step]);
-                }
-                _ => unreachable!("stage names are checked by time_stage"),
+        for e in stage::at_base(self.schedule(), stage) {
+            if e.role == Role::Drifted {
+                // Alone, the cell list counts for itself (in a step the
+                // drift counts).
+                self.encode_grid(&mut pass, Var::Base);
+            } else {
+                self.encode_entry(&mut pass, e);
             }
-            return;
-        }
-        match name {
-            "grid" => self.encode_grid(&mut pass, Var::Base),
-            "kinematics" => e.kinematics.dispatch(&mut pass),
-            "forces" => e.forces.dispatch(&mut pass),
-            "contact" => {
-                for k in e.contact.iter().flat_map(ContactKernels::all) {
-                    k.dispatch(&mut pass);
-                }
-            }
-            "reduce" => self.encode_reduce(&mut pass),
-            "advance" => {
-                for a in [&k.advance_half, &k.advance_full].into_iter().flatten() {
-                    a.dispatch(&mut pass);
-                }
-                k.end_step.dispatch(&mut pass);
-            }
-            _ => unreachable!("stage names are checked by time_stage"),
         }
     }
 
@@ -2478,12 +2424,15 @@ impl GpuSolver {
     /// overhead is small.
     pub fn time_stage(&mut self, name: &str, reps: u32) -> Result<std::time::Duration, String> {
         let names = self.stage_names();
-        if !names.contains(&name) {
-            return Err(format!(
-                "no GPU stage '{name}' for this scene (stages: {})",
-                names.join(", ")
-            ));
-        }
+        let stage = match Stage::named(name) {
+            Some(s) if names.contains(&name) => s,
+            _ => {
+                return Err(format!(
+                    "no GPU stage '{name}' for this scene (stages: {})",
+                    names.join(", ")
+                ))
+            }
+        };
         if reps == 0 {
             return Err("a stage is timed over at least one repetition".into());
         }
@@ -2495,7 +2444,7 @@ impl GpuSolver {
             // Every stage of a leapfrog step changes the state or what it
             // carries: all of it is put back afterwards.
             saved = self.persistent_buffers();
-        } else if name == "advance" {
+        } else if stage == Stage::Advance {
             // Of the state it moves the positions only: the rest of the full
             // step is added in place by the passes at the midpoint.
             saved.push(("u", 8 * nn));
@@ -2544,7 +2493,7 @@ impl GpuSolver {
 
         let mut enc = dev.create_command_encoder(&Default::default());
         for _ in 0..reps {
-            self.encode_stage(&mut enc, name);
+            self.encode_stage(&mut enc, stage);
         }
         let commands = enc.finish();
         let start = std::time::Instant::now();

@@ -15,7 +15,7 @@ use serde::Serialize;
 /// One dispatch's (or the reorder's) time inside the profiled steps.
 #[derive(Debug, Clone, Serialize)]
 pub struct DispatchTime {
-    /// The shader it comes from (`grid`, `kinematics`, ...; `reorder`).
+    /// The shader it comes from (`neighbours`, `kinematics`, ...; `reorder`).
     pub stage: String,
     /// Its entry point, or its role where one entry point runs twice a
     /// step with other constants (the leapfrog's `energy` walk and
@@ -151,9 +151,9 @@ mod tests {
     #[test]
     fn intervals_go_to_the_dispatch_that_ends_them() {
         let marks = [
-            ("grid", "a"),
+            ("neighbours", "a"),
             ("forces", "b"),
-            ("grid", "a"),
+            ("neighbours", "a"),
             ("forces", "b"),
         ];
         let marks: Vec<(String, String)> = marks

@@ -16,7 +16,7 @@ const STRENGTH: &str = include_str!("../../shaders/strength.wgsl");
 
 /// Every stage file: `(name, source)`.
 pub const STAGES: &[(&str, &str)] = &[
-    ("grid", include_str!("../../shaders/grid.wgsl")),
+    ("neighbours", include_str!("../../shaders/neighbours.wgsl")),
     ("kinematics", include_str!("../../shaders/kinematics.wgsl")),
     ("forces", include_str!("../../shaders/forces.wgsl")),
     ("contact", include_str!("../../shaders/contact.wgsl")),

@@ -79,7 +79,7 @@ pub struct GridView<'a> {
     pub dim: usize,
     pub x0: &'a [[f32; 4]],
     pub u: &'a [[f32; 2]],
-    /// Bucket starts, `buckets + 1` of them (grid.wgsl).
+    /// Bucket starts, `buckets + 1` of them (neighbours.wgsl).
     pub bstart: &'a [u32],
 }
 

@@ -1,0 +1,168 @@
+//! The advance stage (twin of `shaders/advance.wgsl`): the midpoint rule's
+//! `base + k · rates` with the radial return or the strength update
+//! (`shaders/strength.wgsl`, [`crate::physics::strength`]), and the state
+//! check a new state must pass.
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use super::Rates;
+use crate::math::Sym;
+use crate::model::{Model, State};
+use crate::physics::strength;
+
+/// `out = base + k · rates` (positions move with `vel`), with the radial
+/// return applied to the new deviatoric stress: perfect plasticity, or,
+/// when the state carries a plastic history, the material's strength and
+/// failure laws ([`strength::update`]) from the history of `base`.
+pub(super) fn advance(
+    model: &Model,
+    base: &State,
+    vel: &[DVec2],
+    r: &Rates,
+    k: f64,
+    out: &mut State,
+) {
+    out.x
+        .par_iter_mut()
+        .zip(out.v.par_iter_mut())
+        .zip(out.rho.par_iter_mut())
+        .zip(out.e.par_iter_mut())
+        .zip(out.s.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, ((((x, v), rho), e), s))| {
+            *x = base.x[i] + vel[i] * k;
+            if model.rigid(i) {
+                // A rigid body keeps its velocity and reference state.
+                *v = base.v[i];
+                *rho = base.rho[i];
+                *e = base.e[i];
+                *s = base.s[i];
+                return;
+            }
+            *v = base.v[i] + r.dv[i] * k;
+            *rho = base.rho[i] + r.drho[i] * k;
+            *e = base.e[i] + r.de[i] * k;
+            *s = plastic_return(model, i, base.s[i].add_scaled(&r.ds[i], k));
+        });
+    if model.history {
+        return_with_history(model, base, &r.rate, base.t + k, out);
+    }
+    out.heat = base.heat + r.heat_rate * k;
+    out.spring_work = base.spring_work + r.spring_rate * k;
+    out.entry.clone_from(&base.entry);
+}
+
+/// Whether particle i's density is inside `[0.1, 10] ρ0`, or, for a
+/// failed particle (damage `damage`), positive and below `10 ρ0`: an
+/// opening crack takes a failed particle's density towards zero.
+#[inline]
+pub(super) fn dense(model: &Model, i: usize, rho: f64, damage: f64) -> bool {
+    let rho0 = model.material(i).rho0;
+    let low = if strength::failed(damage) {
+        0.0
+    } else {
+        0.1 * rho0
+    };
+    rho > low && rho < 10.0 * rho0
+}
+
+/// Whether particle i at `x`, `v`, `e`, `rho` passes the state check
+/// ([`CpuSolver::check`]).
+#[inline]
+pub(super) fn sane(
+    model: &Model,
+    i: usize,
+    x: DVec2,
+    v: DVec2,
+    e: f64,
+    rho: f64,
+    damage: f64,
+) -> bool {
+    x.is_finite()
+        && v.is_finite()
+        && e.is_finite()
+        && dense(model, i, rho, damage)
+        && model.in_domain(x)
+}
+
+/// Perfect plasticity, radial return (METHOD.md §6): particle i's trial
+/// deviatoric stress `s` scaled back onto the yield surface. When the state
+/// carries a plastic history the trial is left as it is: the history's
+/// update returns it ([`return_with_history`]).
+#[inline]
+pub(super) fn plastic_return(model: &Model, i: usize, s: Sym) -> Sym {
+    if model.history {
+        return s;
+    }
+    let y0 = model.material(i).y0;
+    if y0.is_finite() {
+        let j = s.von_mises();
+        if j > y0 {
+            return s.scale(y0 / j);
+        }
+    }
+    s
+}
+
+/// The stress update with a plastic history ([`strength::update`]) over a
+/// whole state: `out.s` holds the trial stresses and leaves with the
+/// returned ones; `out.rho` and `out.e` are where the step ends, `from` the
+/// state whose history it starts from, `rate` the strain rates (empty: 0),
+/// `t_end` the time `out` is at (a particle failing now fails at it).
+/// A failed particle's density is held at or above the density at which
+/// its pressure vanishes ([`crate::physics::material::MaterialModel::failed_density_floor`]).
+/// Rigid particles keep `from`'s history.
+pub(super) fn return_with_history(
+    model: &Model,
+    from: &State,
+    rate: &[f64],
+    t_end: f64,
+    out: &mut State,
+) {
+    let State {
+        rho,
+        e,
+        s,
+        eps_p,
+        temperature,
+        damage,
+        failed_at,
+        ..
+    } = out;
+    s.par_iter_mut()
+        .zip(rho.par_iter_mut())
+        .zip(eps_p.par_iter_mut())
+        .zip(temperature.par_iter_mut())
+        .zip(damage.par_iter_mut())
+        .zip(failed_at.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, (((((s, rho), ep), t), d), at))| {
+            let h = if model.rigid(i) {
+                from.history(i)
+            } else {
+                let mat = model.material(i);
+                let r = rate.get(i).copied().unwrap_or(0.0);
+                let (rho_i, e) = (*rho, e[i]);
+                let (s_new, h) = strength::update(
+                    mat,
+                    *s,
+                    r,
+                    rho_i,
+                    || mat.pressure(rho_i, e),
+                    from.history(i),
+                );
+                *s = s_new;
+                if strength::failed(h.damage) {
+                    *rho = rho_i.max(mat.failed_density_floor(e));
+                }
+                h
+            };
+            (*ep, *t, *d) = (h.eps_p, h.temperature, h.damage);
+            *at = if strength::failed(h.damage) && from.failed_at[i] < 0.0 {
+                t_end
+            } else {
+                from.failed_at[i]
+            };
+        });
+}

@@ -1,0 +1,119 @@
+//! The cell list: particles sorted by the key of their cell (cells of side
+//! at least the interaction reach), so that the particles within reach of a
+//! point are among those of the 3 (1-D) or 3×3 (2-D) cells around it. Keys
+//! are row-major over a grid that spans only the particles' bounding box,
+//! so bodies far apart cost nothing extra; ties sort by particle index, so
+//! every order is deterministic. The CPU's neighbour search
+//! ([`crate::cpu::neighbours`]) and the model's set-up build on it; the
+//! GPU's is `shaders/neighbours.wgsl`.
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// Particles sorted by cell key.
+#[derive(Debug, Clone)]
+pub struct CellList {
+    pub cell: f64,
+    pub origin: DVec2,
+    /// Cells per row, padding included.
+    pub nx: u64,
+    /// `(key, particle)` sorted by key, then by particle index.
+    pub sorted: Vec<(u64, u32)>,
+}
+
+impl CellList {
+    pub fn build(x: &[DVec2], cell: f64) -> CellList {
+        let (lo, hi) = crate::math::bounds(x);
+        // At least one padding cell on every side keeps the 3×3 scan inside
+        // the grid; 1.5 so that rounding can never put the lowest particle
+        // in cell 0 (whose lower neighbour would underflow).
+        let origin = lo - DVec2::splat(1.5 * cell);
+        let nx = ((hi.x - origin.x) / cell).floor() as u64 + 2;
+        let mut list = CellList {
+            cell,
+            origin,
+            nx,
+            sorted: Vec::new(),
+        };
+        let mut sorted: Vec<(u64, u32)> = x
+            .par_iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let (cx, cy) = list.coords(*p);
+                (cy * nx + cx, i as u32)
+            })
+            .collect();
+        sorted.par_sort_unstable();
+        list.sorted = sorted;
+        list
+    }
+
+    #[inline]
+    pub fn coords(&self, p: DVec2) -> (u64, u64) {
+        let d = (p - self.origin) / self.cell;
+        (d.x.floor() as u64, d.y.floor() as u64)
+    }
+
+    /// Call `f(j)` for every particle in the cells around `p`.
+    #[inline]
+    pub fn for_each_near(&self, p: DVec2, dim: usize, mut f: impl FnMut(usize)) {
+        let (cx, cy) = self.coords(p);
+        let rows = if dim == 1 { cy..cy + 1 } else { cy - 1..cy + 2 };
+        for row in rows {
+            let lo = row * self.nx + cx - 1;
+            let hi = row * self.nx + cx + 1;
+            let start = self.sorted.partition_point(|&(k, _)| k < lo);
+            for &(k, j) in &self.sorted[start..] {
+                if k > hi {
+                    break;
+                }
+                f(j as usize);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Four particles in cells of side 1: the keys, the order and the
+    /// particles near each point, worked out by hand.
+    #[test]
+    fn cells_of_four_particles_by_hand() {
+        let x = [
+            DVec2::new(0.2, 0.2),
+            DVec2::new(2.6, 0.4),
+            DVec2::new(0.9, 0.1),
+            DVec2::new(1.1, 1.9),
+        ];
+        let cells = CellList::build(&x, 1.0);
+        // Bounds (0.2..2.6, 0.1..1.9): the origin 1.5 cells below the
+        // lowest corner, (-1.3, -1.4); rows of floor(2.6 + 1.3) + 2 = 5.
+        assert_eq!(cells.origin, DVec2::new(0.2, 0.1) - DVec2::splat(1.5));
+        assert_eq!(cells.nx, 5);
+        assert_eq!(cells.coords(x[0]), (1, 1));
+        assert_eq!(cells.coords(x[1]), (3, 1));
+        assert_eq!(cells.coords(x[2]), (2, 1));
+        assert_eq!(cells.coords(x[3]), (2, 3));
+        // Keys 5 cy + cx: 6, 8, 7, 17.
+        assert_eq!(cells.sorted, vec![(6, 0), (7, 2), (8, 1), (17, 3)]);
+        let near = |p: DVec2, dim: usize| {
+            let mut v = Vec::new();
+            cells.for_each_near(p, dim, |j| v.push(j));
+            v
+        };
+        // Cell (1, 1) scans x 0..2 of rows 0..2: keys 6 and 7.
+        assert_eq!(near(x[0], 2), vec![0, 2]);
+        // Cell (2, 1): keys 6..8 of row 1; particle 3 is two rows up.
+        assert_eq!(near(x[2], 2), vec![0, 2, 1]);
+        // Cell (3, 1): keys 7..9.
+        assert_eq!(near(x[1], 2), vec![2, 1]);
+        // Cell (2, 3): rows 2..4, only key 17.
+        assert_eq!(near(x[3], 2), vec![3]);
+        // In 1-D only the point's own row is scanned: cell (2, 3) finds
+        // nothing of row 1 or 2.
+        assert_eq!(near(x[3], 1), vec![3]);
+        assert_eq!(near(DVec2::new(1.6, 0.5), 1), vec![0, 2, 1]);
+    }
+}
