@@ -1,5 +1,5 @@
-// Explicit midpoint (RK2) updates (METHOD.md §9) with the radial return of
-// perfect plasticity (METHOD.md §6). The evaluation at the base state left
+// Explicit midpoint (RK2) updates (docs/method.md §9) with the radial return of
+// perfect plasticity (docs/method.md §6). The evaluation at the base state left
 // its rates k1 in the midpoint buffers; advance_half turns them into the
 // midpoint state in place, mid = base + dt/2 k1. The evaluation at the
 // midpoint adds dt k2 to the base state itself (common.wgsl, MID) and the

@@ -28,7 +28,7 @@ override GUARD: bool = false;
 // heat to its partners (a rigid particle cannot keep it), and the
 // leapfrog's booking needs its second pass (contact.wgsl, pass1_at).
 override RIGID: bool = false;
-// Which evaluation of the midpoint step a pass belongs to (METHOD.md §9).
+// Which evaluation of the midpoint step a pass belongs to (docs/method.md §9).
 // At the base state (false) the kinematics and forces passes and the contact store their
 // particle's rates in the midpoint buffers, which advance_half then turns
 // into the midpoint state in place. At the midpoint (true) they add
@@ -187,7 +187,7 @@ fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
 @group(0) @binding(10) var<storage, read> bstart: array<u32>;
 @group(0) @binding(11) var<storage, read> blist: array<u32>;
 
-// Cubic B-spline (METHOD.md §3).
+// Cubic B-spline (docs/method.md §3).
 fn kernel_alpha(h: f32) -> f32 {
     if (DIM == 1u) {
         return 2.0 / (3.0 * h);
@@ -304,7 +304,7 @@ fn perp(n: vec2<f32>) -> vec2<f32> {
     return vec2<f32>(-n.y, n.x);
 }
 
-// Mie-Grüneisen or linear pressure (METHOD.md §6), from mu = rho/rho0 - 1.
+// Mie-Grüneisen or linear pressure (docs/method.md §6), from mu = rho/rho0 - 1.
 fn eos_pressure(b: Body, mu: f32, e: f32) -> f32 {
     if (b.linear != 0u) {
         return b.k * mu;
@@ -373,7 +373,7 @@ fn von_mises(s: vec4<f32>) -> f32 {
     return sqrt(1.5 * (s.x * s.x + s.y * s.y + s.w * s.w + 2.0 * s.z * s.z));
 }
 
-// Perfect plasticity, radial return (METHOD.md §6), on an updated
+// Perfect plasticity, radial return (docs/method.md §6), on an updated
 // deviatoric stress.
 // With a plastic history the trial stress is left as it is: the strength
 // update returns it (strength.wgsl).

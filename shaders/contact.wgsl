@@ -1,4 +1,4 @@
-// Penalty contact (METHOD.md §8), two gathers, no atomics.
+// Penalty contact (docs/method.md §8), two gathers, no atomics.
 // Pass 1: each boundary particle P interpolates the partner body's surface
 // points s_q = x_q + o_q n_q with kernel weights, takes the gap as the mean
 // of the chord and tangent-line estimates, and the pressure
@@ -110,7 +110,7 @@ fn own_at(p: u32) -> u32 {
 
 // Kernel weight W of the candidate pair (p, q) with normals np, nq and
 // d = x_q - x_p, with (dW/dr)/r (so grad_P W = -d times it), or a negative
-// weight when q is not a contact candidate of p (METHOD.md §8.2). Both
+// weight when q is not a contact candidate of p (docs/method.md §8.2). Both
 // passes call it with the same arguments in the same order, so both see
 // the same weight.
 fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32) -> vec2<f32> {
@@ -132,7 +132,7 @@ fn layer(o: f32, b: Body) -> f32 {
     return max(o, 0.25 * b.spacing) / b.modulus;
 }
 
-// Series combination, a rigid side counting as infinite (METHOD.md §8.5).
+// Series combination, a rigid side counting as infinite (docs/method.md §8.5).
 fn series(a: f32, ra: bool, b: f32, rb: bool) -> f32 {
     if (ra) {
         return b;
@@ -325,7 +325,7 @@ fn entries(p: u32, count: bool) -> Entries {
     let tg = swt / sw;
     let vrel = v[p] - swv / sw;
     // Contact normal: of n_P, -nbar and their bisector, the one with the
-    // largest projected distance (least penetration; METHOD.md §8.2).
+    // largest projected distance (least penetration; docs/method.md §8.2).
     var n = np;
     var chord = dot(np, rr);
     var choice = 0u;

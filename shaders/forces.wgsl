@@ -1,7 +1,7 @@
-// The forces pass (METHOD.md §4): momentum and energy sums with the pair-symmetric
+// The forces pass (docs/method.md §4): momentum and energy sums with the pair-symmetric
 // corrected gradient G_ij = (L_i + L_j)/2 grad_i W_ij, Monaghan viscosity
 // and, when the scene switches it on, artificial stress. With contact on it
-// also measures each boundary particle's contact area (METHOD.md §8.4), and
+// also measures each boundary particle's contact area (docs/method.md §8.4), and
 // its contact normal from the colour gradient with reference volumes,
 // g = -sum_j V0_j grad W, with how fast that normal turns at the walk's
 // velocities (`cn`, for contact.wgsl).

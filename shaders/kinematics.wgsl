@@ -1,4 +1,4 @@
-// The kinematics pass (METHOD.md §5, §6, §8.1): per particle, one neighbour loop gathers
+// The kinematics pass (docs/method.md §5, §6, §8.1): per particle, one neighbour loop gathers
 // the correction matrix M_i, the colour gradient and the uncorrected velocity
 // gradient sum; then L_i = M_i^-1, the equation of state, sigma/rho^2 and the
 // sound speed, and the corrected velocity gradient
@@ -220,7 +220,7 @@ fn stress_point(i: u32, body: Body, mu: f32, e: f32, si: vec4<f32>, d: f32) {
     sr2c[i] = vec4<f32>(sig.xyz / (rho * rho), c);
 }
 
-// Velocity gradient with the corrected kernel gradient (METHOD.md §6):
+// Velocity gradient with the corrected kernel gradient (docs/method.md §6):
 // gsum L^T, in the order of math::Mat2::mul_transpose.
 fn velocity_gradient(gsum: vec4<f32>, l: vec4<f32>) -> vec4<f32> {
     return vec4<f32>(

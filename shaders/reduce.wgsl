@@ -1,5 +1,5 @@
 // Reductions and bookkeeping, all in a fixed order (deterministic):
-// the CFL step (METHOD.md §9) as a two-level minimum, the time and step
+// the CFL step (docs/method.md §9) as a two-level minimum, the time and step
 // counters, and the per-step observations the history is built from
 // (body sums, contact statistics, particle probes) written into a ring the
 // host reads back only when it needs rows.

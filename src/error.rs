@@ -84,7 +84,7 @@ pub enum RunError {
 }
 
 impl RunError {
-    /// The process exit status this error maps to (SCENES.md: 2 bad input, 1 run failed).
+    /// The process exit status this error maps to (docs/scenes.md, "Exit status": 2 bad input, 1 run failed).
     pub fn exit_code(&self) -> i32 {
         match self {
             RunError::Scene(_) | RunError::Backend(_) => 2,

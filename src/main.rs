@@ -1,4 +1,4 @@
-//! The `sphcontact` command line (SCENES.md, "Command line").
+//! The `sphcontact` command line (docs/scenes.md, "Command line").
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
@@ -260,7 +260,7 @@ fn backend_of(b: BackendArg) -> Backend {
     }
 }
 
-/// Exit status and message of a run that failed (SCENES.md: 2 bad input,
+/// Exit status and message of a run that failed (docs/scenes.md, "Exit status": 2 bad input,
 /// 1 the run itself).
 fn failed(e: sphcontact::RunError) -> ExitCode {
     eprintln!("error: {e}");

@@ -135,7 +135,7 @@ impl std::ops::AddAssign for Mat2 {
 }
 
 /// A symmetric in-plane stress-like tensor plus its out-of-plane `zz`
-/// component (plane strain carries `s_zz`; METHOD.md §6).
+/// component (plane strain carries `s_zz`; docs/method.md §6).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Sym {
     pub xx: f64,

@@ -16,7 +16,7 @@ pub struct BodyInfo {
     pub name: String,
     pub material: MaterialModel,
     pub rigid: bool,
-    /// The placed spacing Δx (METHOD.md §8.3's `h0`).
+    /// The placed spacing Δx (docs/method.md §8.3's `h0`).
     pub spacing: f64,
     pub range: Range<usize>,
     pub velocity0: DVec2,
@@ -48,7 +48,7 @@ pub struct Model {
     pub mass: Vec<f64>,
     pub h: Vec<f64>,
     pub body: Vec<u32>,
-    /// Surface offset `o` of each particle (METHOD.md §8.3).
+    /// Surface offset `o` of each particle (docs/method.md §8.3).
     pub offset: Vec<f64>,
     /// `true` when the penalty contact runs: penalty mode and two or more bodies.
     pub contact: bool,
@@ -98,7 +98,7 @@ pub struct State {
     /// in 1-D, per unit thickness in 2-D).
     pub heat: f64,
     /// Cumulative work the contact forces' spring part absorbed,
-    /// `∫ Σ ½ k δ A w dt` (METHOD.md §8.3). On a conservative spring it
+    /// `∫ Σ ½ k δ A w dt` (docs/method.md §8.3). On a conservative spring it
     /// equals the stored energy `Σ ¼ k δ² A`; the difference is the energy
     /// the discrete spring lost (`energy_spring_loss` in the summary).
     pub spring_work: f64,
@@ -297,7 +297,7 @@ impl Model {
     /// [`ENERGY_FLOOR`] `Σ m c_L²`: the energy of a motion at 1e-5 c_L, far
     /// above the round-off energy of bodies at rest (1e-17 of it in f32)
     /// and far below any impact's. The method conserves the total
-    /// (METHOD.md §4; the discrete spring loses a little), so energy grown
+    /// (docs/method.md §4; the discrete spring loses a little), so energy grown
     /// by half was made by the time integration going unstable: the run
     /// stops instead of finishing with answers that look right and energy
     /// many times the start's. Both solvers check each state at the start
@@ -491,7 +491,7 @@ mod tests {
 /// What an evaluation tells about the state it was made at, beyond the rates.
 #[derive(Debug, Clone, Default)]
 pub struct Diagnostics {
-    /// The CFL step at this state (METHOD.md §9), from the sound speeds the
+    /// The CFL step at this state (docs/method.md §9), from the sound speeds the
     /// evaluation computed anyway.
     pub cfl_dt: f64,
     pub contact: ContactStats,

@@ -1,4 +1,4 @@
-//! Probes: the observables a scene records into `history.csv` (SCENES.md,
+//! Probes: the observables a scene records into `history.csv` (docs/scenes.md,
 //! "Probes"), resolved once against the model and evaluated on a state.
 
 use glam::DVec2;
@@ -86,7 +86,7 @@ pub fn particle_value(model: &Model, st: &State, i: usize, q: ParticleQuantity) 
     }
 }
 
-/// Energies of the whole system (SCENES.md `energy` probe): kinetic,
+/// Energies of the whole system (docs/scenes.md, "Probes": `energy`): kinetic,
 /// internal (dashpot heat included: it is booked into `e`), cumulative
 /// dashpot heat, and total = kinetic + internal + stored penalty energy.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

@@ -57,7 +57,7 @@ pub struct RunOutput {
     pub state: State,
 }
 
-/// The output directory SCENES.md prescribes.
+/// The output directory docs/scenes.md gives ("Output section").
 pub fn output_dir(scene: &Scene, scene_path: Option<&Path>, opts: &RunOptions) -> PathBuf {
     if let Some(d) = &opts.out_dir {
         return d.clone();

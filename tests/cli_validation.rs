@@ -1,4 +1,4 @@
-//! The command line on bad input (SCENES.md, "Command line" and "Validation"):
+//! The command line on bad input (docs/scenes.md, "Command line" and "Validation"):
 //! every validation rule answers exit status 2 and one line on stderr,
 //! `error: <file>: <key>: <what is wrong>`, never a panic or a backtrace.
 //!

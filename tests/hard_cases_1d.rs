@@ -82,7 +82,7 @@ fn plateau_error(
 /// of `exact::bar_impact_history` (−301.5, −211.3, −148.2 MPa), separation
 /// at 1.889 µs, final mean velocities 8.455 and 26.62 m/s.
 ///
-/// Tolerances, from what the method reaches on the paper's bars (METHOD.md
+/// Tolerances, from what the method reaches on the paper's bars (docs/method.md
 /// §11, docs/usage.md: plateau +0.2 %, separation +0.4 %, rebound −3 % at 100 per
 /// bar): the contact pressure over the middle half of each contact step
 /// within 1 %, 1 % and 7 % (the striker is 80 particles long, so each
@@ -252,7 +252,7 @@ fn bar_observables(out: &RunOutput) -> ([f64; 3], f64, f64) {
 /// separation 1.7136 µs, rebound −10 m/s (`exact::bar_impact`).
 ///
 /// What the method should reach here: the momentum equation's
-/// pair-antisymmetric gradient `G_ij = ½(L_i + L_j)∇W_ij` (METHOD.md §5)
+/// pair-antisymmetric gradient `G_ij = ½(L_i + L_j)∇W_ij` (docs/method.md §5)
 /// conserves momentum and energy exactly but is only zeroth-order
 /// consistent on an irregular particle set, so the jitter leaves an error
 /// that does not shrink with resolution: a noise on the contact plateau of
@@ -1173,7 +1173,7 @@ fn long_ringing_free_bar_gpu() {
 // 5. Order of the time integration
 // ---------------------------------------------------------------------------
 
-/// Both integrators are second order in time (METHOD.md §9): the ringing
+/// Both integrators are second order in time (docs/method.md §9): the ringing
 /// bar of the long run, to two transits, at CFL numbers 0.2, 0.1 and 0.05
 /// against a run at 0.0125 on the same particles. Halving the step must
 /// cut the largest error of a half's mean velocity about fourfold (at

@@ -23,7 +23,7 @@ use sphcontact::validation::exact::{
 // 1. A disk bouncing off a rigid wall
 // ---------------------------------------------------------------------------
 
-/// The two-disk impact the wall case must reproduce (METHOD.md §8.5):
+/// The two-disk impact the wall case must reproduce (docs/method.md §8.5):
 /// scenes/paper/disks_polar.toml (the same disk, at ±5 m/s) shortened to the
 /// wall scene's end time. Run once per test binary, on the CPU path (the
 /// oracle), and shared by the CPU and the GPU wall tests; the GPU two-disk
@@ -60,11 +60,11 @@ fn two_disks(end_time: f64) -> &'static TwoDisks {
 /// A steel disk (R = 5 mm, polar lattice, R/Δx = 25) at V = 5 m/s onto a
 /// rigid frictionless wall (scenes/hard/disk_wall.toml).
 ///
-/// Exact answer (METHOD.md §8.5): the force history of two identical disks
+/// Exact answer (docs/method.md §8.5): the force history of two identical disks
 /// closing at 2V, so the Hertz bracket of case 3 (peak 1.161–1.224 MN/m,
 /// contact 8.30–8.71 µs, `hertz_disk_on_wall`). Asserted:
 ///
-/// * peak force and contact time within 5 % of the bracket (METHOD.md §8.4:
+/// * peak force and contact time within 5 % of the bracket (docs/method.md §8.4:
 ///   the polar lattice at R/Δx 20–30 sits up to 6 % under the converged
 ///   peak). Measured (CPU and GPU alike): 1.186 MN/m, 8.52 µs, inside it.
 /// * restitution `−v_end/V` in [0.95, 1] (elastic: a few % of the energy
@@ -73,7 +73,7 @@ fn two_disks(end_time: f64) -> &'static TwoDisks {
 ///   within 2 %, restitution within 0.02, and the whole force history within
 ///   5 % in the L2 norm relative to the two-disk one. What may differ is the
 ///   partner surface each pass interpolates (a flat wall against a curved
-///   disk, METHOD.md §8.4) and the spring's loss (0.7 % of the energy between
+///   disk, docs/method.md §8.4) and the spring's loss (0.7 % of the energy between
 ///   two curved faces, none against the flat one). Measured: peak −1.7 %,
 ///   contact +0.2 %, restitution +0.009, L2 2.8 %.
 /// * no penetration, defined as: no centre of a particle of the disk's outer
@@ -82,7 +82,7 @@ fn two_disks(end_time: f64) -> &'static TwoDisks {
 ///   spacing beyond the wall's front row) than 0.45 Δx, at any history row
 ///   (every 20 ns, under two steps). The surface offset of those particles
 ///   is o = Δx/2; the penalty lets a centre into its layer by δ = p o/M
-///   (spring M/o against a rigid side, METHOD.md §8.3) and the layer itself
+///   (spring M/o against a rigid side, docs/method.md §8.3) and the layer itself
 ///   strains by about p/M: at the measured peak pressure (3.5 GPa) together
 ///   2.6 % of o, so 0.45 Δx (10 % of o) holds with a margin for a discrete
 ///   pressure up to four times that. Measured: 0.495 Δx.
@@ -125,7 +125,7 @@ fn disk_on_wall() {
         "restitution {restitution}"
     );
 
-    // METHOD.md §8.5 against the two-disk run.
+    // docs/method.md §8.5 against the two-disk run.
     let two = two_disks(scene.simulation.end_time);
     assert_eq!(two.times.len(), t.len(), "the same history rows");
     let l2 = (f
@@ -248,7 +248,7 @@ fn disk_bounces_off_a_rigid_wall_leapfrog() {
 // ---------------------------------------------------------------------------
 
 /// Positions and body indices of the particles in a snapshot file (the
-/// `Points` and `body` arrays of SCENES.md's VTK output).
+/// `Points` and `body` arrays of the VTK output of docs/scenes.md).
 fn snapshot_particles(path: &Path) -> (f64, Vec<(usize, glam::DVec2)>) {
     let v = vtu::read_vtu(path);
     let particles = v
@@ -724,10 +724,10 @@ fn run_at_the_edge(
     }
 }
 
-/// The bars' main answers (METHOD.md §10, case 1) if the run holds: the
+/// The bars' main answers (docs/method.md §10, case 1) if the run holds: the
 /// contact pressure's mean over the middle 60 % of the contact within 2 % of
 /// −σ = ρ0 c_L v0, separation within 2 % of 2L/c_L, rebound within 10 % of
-/// −10 m/s (METHOD.md §11: 0.94–0.97 at 100 particles per bar).
+/// −10 m/s (docs/method.md §11: 0.94–0.97 at 100 particles per bar).
 fn bars_answers(scene: &sphcontact::Scene) -> impl Fn(&[String], &[Vec<f64>]) {
     let steel = material(scene, "steel");
     let exact =
@@ -762,9 +762,9 @@ fn bars_answers(scene: &sphcontact::Scene) -> impl Fn(&[String], &[Vec<f64>]) {
     }
 }
 
-/// The coarse disks' main answers (METHOD.md §10, case 3) if the run holds:
+/// The coarse disks' main answers (docs/method.md §10, case 3) if the run holds:
 /// peak force and contact time within 15 % of the Hertz bracket (R/Δx = 10
-/// is coarse: METHOD.md §8.4 finds the polar lattice 6 % low at 20),
+/// is coarse: docs/method.md §8.4 finds the polar lattice 6 % low at 20),
 /// restitution in [0.8, 1].
 fn disks_answers(scene: &sphcontact::Scene) -> impl Fn(&[String], &[Vec<f64>]) {
     use sphcontact::validation::exact::hertz_disks;

@@ -1,7 +1,7 @@
 //! A run that goes unstable stops with exit status 1 and one message naming
 //! the step, time, body, particle and quantity, and keeps what it had
 //! written: the history and a summary marked failed, both still parseable
-//! (SCENES.md, "Command line"). On both backends.
+//! (docs/scenes.md, "Command line"). On both backends.
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! The paper's 1-D cases (METHOD.md §10, cases 1 and 2) against their exact
+//! The paper's 1-D cases (docs/method.md §10, cases 1 and 2) against their exact
 //! answers, in both interaction modes.
 
 mod common;
@@ -221,7 +221,7 @@ quantity = "velocity_x"
     }
 }
 
-/// A rigid partner has infinite impedance and modulus (METHOD.md §8.5): a
+/// A rigid partner has infinite impedance and modulus (docs/method.md §8.5): a
 /// steel bar at 10 m/s onto a rigid wall sees the stress of two equal bars
 /// closing at 20 m/s, separates at 2L/c_L and rebounds at −10 m/s; the wall
 /// does not move.
@@ -255,7 +255,7 @@ fn bar_onto_rigid_wall() {
     assert!(drift < 5e-3, "energy drift {drift:e}");
 }
 
-/// Perfect plasticity (METHOD.md §6): below yield the run is identical to the
+/// Perfect plasticity (docs/method.md §6): below yield the run is identical to the
 /// elastic one; above it the radial return holds von Mises at Y0 exactly.
 #[test]
 fn plasticity_caps_von_mises() {

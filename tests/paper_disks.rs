@@ -1,4 +1,4 @@
-//! The paper's 2-D case (METHOD.md §10, case 3): two steel disks, R = 5 mm,
+//! The paper's 2-D case (docs/method.md §10, case 3): two steel disks, R = 5 mm,
 //! closing at 10 m/s, on the square and on the polar lattice (R/Δx = 25),
 //! against the quasi-static Hertz bracket computed by `validation::exact`.
 

@@ -1,6 +1,6 @@
 //! Property test of the scene parser: whatever the text, `Scene::from_toml_str`
 //! returns a scene or a [`SceneError`] naming the file, never a panic
-//! (SCENES.md: "Never a panic or a backtrace for bad input").
+//! (docs/scenes.md, "Errors": never a panic or a backtrace).
 //!
 //! Thousands of inputs from three generators, all from a fixed seed so a
 //! failure reproduces: random TOML-ish text, random edits of the paper's

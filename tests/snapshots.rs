@@ -1,4 +1,4 @@
-//! Snapshots (SCENES.md, "Snapshots"): the `.vtu` files are read back with a
+//! Snapshots (docs/scenes.md, "Snapshots"): the `.vtu` files are read back with a
 //! small reader of the VTK XML appended-raw layout and checked against the
 //! run's own state, the `.pvd` collection against the snapshot times.
 

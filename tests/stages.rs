@@ -190,7 +190,7 @@ fn outward_normals() {
     // On the square lattice the surface is a staircase: the colour gradient
     // follows the steps: measured at R/Δx = 20, mean error 8.8°, worst 19.7°
     // (step corners). The surface-offset contact distance, not the normal,
-    // carries the geometry there (METHOD.md §8.3).
+    // carries the geometry there (docs/method.md §8.3).
     let (model, st) = scene(2, SQUARE_DISK, "gradient");
     let (n, worst, mean) = normal_errors_deg(&model, &st, |x| Some(x.normalize()));
     println!("square-lattice disk: {n} boundary particles, normal error mean {mean:.2}°, worst {worst:.2}°");

@@ -4,7 +4,7 @@
 //! Goals: the 1-D rebound at 100 particles per bar at least 0.97 of the
 //! impact speed; two steel disks at R/Δx = 50 on both lattices with peak
 //! force and contact time within 3 % of the converged dynamic answer (and
-//! inside the quasi-static Hertz bracket of METHOD.md §10), restitution
+//! inside the quasi-static Hertz bracket of docs/method.md §10), restitution
 //! between 0.95 and 1; contact pressure never tensile in contact mode.
 
 mod common;
@@ -21,7 +21,7 @@ use sphcontact::validation::{
 
 fn rebound(backend: Backend, n: usize) -> f64 {
     let (run, obs) = bar_observables(n, Some(backend)).expect("bars run");
-    // Contact pressure is never tensile (Kuhn–Tucker, METHOD.md §8.3).
+    // Contact pressure is never tensile (Kuhn–Tucker, docs/method.md §8.3).
     let p = run.col("contact_pressure");
     assert!(p.iter().all(|&x| x >= 0.0), "tensile contact pressure");
     obs[0].measured / obs[0].exact
@@ -45,7 +45,7 @@ fn bars_rebound_at_100_per_bar_is_at_least_0_97_gpu() {
     assert!((0.97..=1.0).contains(&r), "rebound {r}");
 }
 
-/// The rebound error falls with resolution at order ≥ 1/2 (METHOD.md §11:
+/// The rebound error falls with resolution at order ≥ 1/2 (docs/method.md §11:
 /// the unloading front smeared over a fixed number of particles), and
 /// monotonically; the plateau stays within 0.5 % at every resolution.
 #[test]

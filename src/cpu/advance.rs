@@ -86,7 +86,7 @@ pub(super) fn sane(
         && model.in_domain(x)
 }
 
-/// Perfect plasticity, radial return (METHOD.md §6): particle i's trial
+/// Perfect plasticity, radial return (docs/method.md §6): particle i's trial
 /// deviatoric stress `s` scaled back onto the yield surface. When the state
 /// carries a plastic history the trial is left as it is: the history's
 /// update returns it ([`return_with_history`]).

@@ -1,8 +1,8 @@
-//! Penalty contact (METHOD.md §8): contact test and normal, gap from the
+//! Penalty contact (docs/method.md §8): contact test and normal, gap from the
 //! contact distance, impedance dashpot + spring pressure clipped to
 //! compression, and a two-pass pairing that conserves momentum exactly.
 //!
-//! Pairing (METHOD.md §8.4, scheme (c)): each boundary particle P interpolates
+//! Pairing (docs/method.md §8.4, scheme (c)): each boundary particle P interpolates
 //! the partner body's surface around it with kernel weights (position,
 //! normal, velocity, surface offset), computes one pressure `p_P` against that
 //! surface, keeps `−½ p_P A_P n_P` itself and hands `+½ p_P A_P n_P` to the
@@ -20,7 +20,7 @@ use crate::physics::material::series;
 use crate::physics::penalty::{self, Sums, SumsBar};
 
 /// Whether boundary particle `q` (another body) is a contact candidate of
-/// boundary particle `p` (METHOD.md §8.2): within `2 h_pq`, normals facing
+/// boundary particle `p` (docs/method.md §8.2): within `2 h_pq`, normals facing
 /// each other, and each particle no further in front of the other's surface
 /// than the contact distance plus `h_pq`. The last bound is deliberately
 /// looser than the paper's `h_pq` so that pairs whose gap is already closed
@@ -110,7 +110,7 @@ impl ContactForces {
     }
 }
 
-/// Impedance and constrained modulus of a body (∞ when rigid, METHOD.md §8.5).
+/// Impedance and constrained modulus of a body (∞ when rigid, docs/method.md §8.5).
 #[inline]
 fn body_constants(model: &Model, b: u32) -> (f64, f64) {
     let info = &model.bodies[b as usize];
@@ -121,7 +121,7 @@ fn body_constants(model: &Model, b: u32) -> (f64, f64) {
     }
 }
 
-/// Stiffness of the penalty spring, Pa/m (METHOD.md §8.3, derived here).
+/// Stiffness of the penalty spring, Pa/m (docs/method.md §8.3, derived here).
 ///
 /// The spring stands for the two surface layers between the particle
 /// centres and the surfaces they meet: thickness `o_a` of body A and `o_b`

@@ -1,4 +1,4 @@
-//! The forces pass: momentum and energy sums (METHOD.md §4) with Monaghan artificial
+//! The forces pass: momentum and energy sums (docs/method.md §4) with Monaghan artificial
 //! viscosity and, when the scene asks for it, Gray–Monaghan–Swift artificial
 //! stress. The pair-antisymmetric `G_ij = ½ (L_i + L_j) ∇_i W_ij` conserves
 //! momentum and energy exactly in semi-discrete form.
@@ -159,7 +159,7 @@ pub fn reconstructed_jump(vij: DVec2, xij: DVec2, gv_i: &Mat2, gv_j: &Mat2) -> D
     vij - (di + dj) * (0.5 * phi)
 }
 
-/// Monaghan's `Π_ij` (METHOD.md §4), zero for receding pairs.
+/// Monaghan's `Π_ij` (docs/method.md §4), zero for receding pairs.
 #[inline]
 pub fn viscosity_pi(
     alpha: f64,
@@ -241,7 +241,7 @@ fn pair_terms(
     t.xx -= pi;
     t.yy -= pi;
     // The artificial stress's work on the pair, half to each particle, is
-    // booked as heat: ½ (R_i + R_j) f^n : (v_ij ⊗ G_ij). METHOD.md §4 puts
+    // booked as heat: ½ (R_i + R_j) f^n : (v_ij ⊗ G_ij). docs/method.md §4 puts
     // R in the momentum bracket only, which leaves its work in no energy
     // (the rubber rings' total swung by 8 %); booked, the ledger closes as
     // for the viscosity.
@@ -288,7 +288,7 @@ fn pair_terms(
 /// once ([`Neighbours::sweep`]); rigid particles get zero rates.
 ///
 /// `dv_i/dt = Σ_j m_j t G_ij` and `de_i/dt = −Σ_j m_j (σ_i/ρ_i² − ½Π I +
-/// ½ (R_i + R_j) f^n) : (v_ij ⊗ G_ij)` (METHOD.md §4).
+/// ½ (R_i + R_j) f^n) : (v_ij ⊗ G_ij)` (docs/method.md §4).
 ///
 /// Scenes with no rigid body (the common case: impacts between deforming
 /// bodies) take the lane code, four pairs of a row at a time

@@ -1,6 +1,6 @@
 //! Kinematic pass: the correction matrix, the colour gradient, the velocity
 //! gradient, continuity and the deviatoric stress rate in one walk over the
-//! neighbours (METHOD.md §5, §6, §8.1); the EOS and the stress the momentum
+//! neighbours (docs/method.md §5, §6, §8.1); the EOS and the stress the momentum
 //! pass reads; then the boundary set and area.
 
 use glam::DVec2;
@@ -18,13 +18,13 @@ use crate::scene::Correction;
 /// Output of the kinematic pass.
 #[derive(Debug, Clone, Default)]
 pub struct Kinematics {
-    /// Correction matrix `L_i` (METHOD.md §5); identity without correction.
+    /// Correction matrix `L_i` (docs/method.md §5); identity without correction.
     pub l: Vec<Mat2>,
     /// Particles whose `M_i` could not be inverted and fell back to `L = I`.
     pub fallback: Vec<u32>,
-    /// Colour gradient `(∇ψ)_i = −Σ_j V_j ∇_i W_ij` (METHOD.md §8.1, eq. 26).
+    /// Colour gradient `(∇ψ)_i = −Σ_j V_j ∇_i W_ij` (docs/method.md §8.1, eq. 26).
     pub grad_psi: Vec<DVec2>,
-    /// Surface particles, `h_i |∇ψ|_i` above the boundary threshold (METHOD.md
+    /// Surface particles, `h_i |∇ψ|_i` above the boundary threshold (docs/method.md
     /// §8.1): the contact's boundary set, and where the viscosity keeps the
     /// plain velocity jump.
     pub surface: Vec<bool>,
@@ -34,7 +34,7 @@ pub struct Kinematics {
     /// reconstructs velocities with it (`Model::av_reconstruct`); empty
     /// otherwise.
     pub gv: Vec<Mat2>,
-    /// Continuity `dρ/dt = −ρ tr(∇v)` (the difference form of METHOD.md §4
+    /// Continuity `dρ/dt = −ρ tr(∇v)` (the difference form of docs/method.md §4
     /// with the corrected gradient).
     pub drho: Vec<f64>,
     /// Deviatoric stress rate ([`stress_rate`]).
@@ -312,7 +312,7 @@ pub struct Boundary {
 /// The boundary set of the kinematics pass ([`Kinematics::surface`]), with
 /// each boundary particle's outward normal `n_i = g_i/|g_i|` and contact
 /// area `A_i = (15/(7π h)) / Σ_j W_ij` over the body's boundary particles,
-/// self included (METHOD.md §8.4, "Contact area"), at positions `x`.
+/// self included (docs/method.md §8.4, "Contact area"), at positions `x`.
 ///
 /// `g_i = −Σ_j V⁰_j ∇_i W_ij` is the colour gradient with the reference
 /// volumes `V⁰ = m/ρ₀` where the kinematics pass has the current ones: the
@@ -373,7 +373,7 @@ pub fn reference_volume(model: &Model, j: usize) -> f64 {
     model.mass[j] / model.material(j).rho0
 }
 
-/// Jaumann-rate hypoelastic deviatoric stress rate (METHOD.md §6):
+/// Jaumann-rate hypoelastic deviatoric stress rate (docs/method.md §6):
 /// `ṡ = 2G(ε̇ − ⅓ tr ε̇ I) + s Ωᵀ + Ω s`, plane strain with `s_zz` carried
 /// (1-D uniaxial strain is the same formula with zero y-gradients).
 #[inline]

@@ -5,7 +5,7 @@
 //! name ([`crate::stage`]): [`neighbours`], [`kinematics`] (with the EOS and
 //! the boundary set), [`forces`], [`contact`], [`reduce`], [`advance`].
 //!
-//! Time integration (METHOD.md §9) is the explicit midpoint rule (RK2, two
+//! Time integration (docs/method.md §9) is the explicit midpoint rule (RK2, two
 //! evaluations a step) or, when the scene asks for it, a kick–drift–kick
 //! leapfrog with one evaluation a step ([`CpuSolver::step`]).
 
@@ -354,7 +354,7 @@ impl CpuSolver {
         Ok(dt)
     }
 
-    /// One kick–drift–kick step (METHOD.md §9), one evaluation, with the
+    /// One kick–drift–kick step (docs/method.md §9), one evaluation, with the
     /// rates `kn` at the current state (`a_n`, `ė_n`):
     ///
     /// 1. `v_{n+½} = v_n + ½Δt a_n`, `e_{n+½}` likewise, `x_{n+1} = x_n +

@@ -8,7 +8,7 @@ use super::forces::StressPoint;
 use crate::model::{Model, State};
 use crate::physics::material;
 
-/// The CFL step (METHOD.md §9): `C min_i h_i / (c_i + |v_i|)` over deformable
+/// The CFL step (docs/method.md §9): `C min_i h_i / (c_i + |v_i|)` over deformable
 /// particles, with the sound speeds of `pts`.
 pub fn cfl_step(model: &Model, st: &State, pts: &[StressPoint]) -> f64 {
     (0..model.len())

@@ -1,4 +1,4 @@
-//! Output files (SCENES.md, "Outputs"): `history.csv`, `summary.json` and
+//! Output files (docs/scenes.md, "Outputs"): `history.csv`, `summary.json` and
 //! the particle snapshots ([`vtk`]).
 
 pub mod history_plot;
@@ -294,7 +294,7 @@ impl OutOfRangeSummary {
     }
 }
 
-/// `summary.json` (SCENES.md): the contract's keys, plus `status`, `error`,
+/// `summary.json` (docs/scenes.md, "summary.json"): the documented keys, plus `status`, `error`,
 /// `time_reached`, `energy_spring_loss` and the snapshot counts.
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
@@ -302,7 +302,7 @@ pub struct Summary {
     pub dimension: usize,
     pub backend: String,
     pub adapter: Option<String>,
-    /// `midpoint` or `leapfrog` (METHOD.md §9).
+    /// `midpoint` or `leapfrog` (docs/method.md §9).
     pub integrator: String,
     pub particles: usize,
     pub steps: u64,

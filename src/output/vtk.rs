@@ -1,10 +1,10 @@
-//! Particle snapshots (SCENES.md, "Snapshots"): one VTK XML
+//! Particle snapshots (docs/scenes.md, "Snapshots"): one VTK XML
 //! UnstructuredGrid file (`.vtu`) per snapshot in `<out>/snapshots/`, and
 //! `<out>/snapshots.pvd`, the ParaView collection that lists them with
 //! their times (its file paths are relative to the output directory).
 //!
 //! Each `.vtu` holds one VTK_VERTEX cell per particle, the positions as the
-//! points (z = 0), and as point data every particle quantity of SCENES.md
+//! points (z = 0), and as point data every particle quantity of docs/scenes.md
 //! (`velocity` as a 3-vector; `density`, `pressure`, `stress_xx`,
 //! `stress_yy`, `stress_xy`, `von_mises`, `internal_energy`), `body` (the
 //! body's index), `boundary` (1 on the contact boundary set) and `normal`

@@ -1,4 +1,4 @@
-//! Cubic B-spline kernel, support `2h` (METHOD.md §3).
+//! Cubic B-spline kernel, support `2h` (docs/method.md §3).
 
 use std::ops::{Div, Mul};
 
@@ -104,7 +104,7 @@ pub fn w_grad(dim: usize, d: glam::DVec2, r2: f64, inv_h: f64) -> Option<(f64, g
 /// the support. `s` is `(∂W/∂r)/r` (the factor of [`w_grad`]) and `t` is
 /// `(∂s/∂r)/r`; both are continuous at `q = 1`, where the cubic spline's
 /// second derivative is. The spring's normals move with this
-/// (`docs/method.md`, "Energy-consistent spring").
+/// (docs/method.md, "The spring as the gradient of its stored energy").
 #[inline]
 pub fn hessian(dim: usize, r2: f64, inv_h: f64) -> Option<(f64, f64)> {
     let q2 = r2 * inv_h * inv_h;
@@ -161,7 +161,7 @@ pub fn shape_lanes(q: F4, q2: F4) -> F4 {
 
 /// The 2-D kernel integrated along a straight line through its centre,
 /// `∫ W dx = 15 / (7 π h)`: the numerator of the kernel measure of a boundary
-/// line (METHOD.md §8.4, contact area).
+/// line (docs/method.md §8.4, contact area).
 #[inline]
 pub fn line_integral_2d(h: f64) -> f64 {
     15.0 / (7.0 * std::f64::consts::PI * h)

@@ -1,4 +1,4 @@
-//! Material model (METHOD.md §6): Mie–Grüneisen or linear pressure, derived
+//! Material model (docs/method.md §6): Mie–Grüneisen or linear pressure, derived
 //! elastic constants, sound speeds and impedances. A scene's material
 //! becomes one through `MaterialModel::new` (src/scene/model.rs), so that
 //! this module knows nothing of the scene format.
@@ -27,7 +27,7 @@ pub struct MaterialModel {
     pub nu: f64,
     /// Longitudinal (P-wave) speed at ρ0, `sqrt((K + 4G/3)/ρ0)`.
     pub c_l: f64,
-    /// Acoustic impedance `Z = ρ0 c_L` (METHOD.md §8.3, eq. 24).
+    /// Acoustic impedance `Z = ρ0 c_L` (docs/method.md §8.3, eq. 24).
     pub z: f64,
     /// Constrained modulus `M = K + 4G/3 = ρ0 c_L²`.
     pub m: f64,
@@ -112,7 +112,7 @@ impl MaterialModel {
         self.rho0 * (1.0 + mu)
     }
 
-    /// Pressure `p(ρ, e)` (METHOD.md §6), compression positive.
+    /// Pressure `p(ρ, e)` (docs/method.md §6), compression positive.
     #[inline]
     pub fn pressure(&self, rho: f64, e: f64) -> f64 {
         let mu = rho / self.rho0 - 1.0;
@@ -159,7 +159,7 @@ impl MaterialModel {
     }
 }
 
-/// The CFL step of one particle (METHOD.md §9): `C h / (c + |v|)`.
+/// The CFL step of one particle (docs/method.md §9): `C h / (c + |v|)`.
 #[inline]
 pub fn cfl_step(cfl: f64, h: f64, c: f64, speed: f64) -> f64 {
     cfl * h / (c + speed)
@@ -221,7 +221,7 @@ mod tests {
         assert_eq!(lin.failed_density_floor(1e5), 7850.0);
     }
 
-    /// The derived constants METHOD.md §6 lists for steel and aluminium.
+    /// The derived constants docs/method.md §6 lists for steel and aluminium.
     #[test]
     fn derived_constants() {
         let s = MaterialModel::new(&steel());

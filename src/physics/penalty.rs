@@ -1,5 +1,5 @@
 //! The penalty spring's gap and the exact gradient of its stored energy
-//! (`docs/method.md`, "Gap" and "Energy-consistent spring").
+//! (docs/method.md §8.3, "Gap, penalty pressure, force", and "The spring as the gradient of its stored energy").
 //!
 //! One pass of boundary particle P against one partner body sees that body
 //! through kernel-weighted sums over its candidates q ([`Sums`]). The gap is

@@ -1,4 +1,4 @@
-//! The scene file: the public contract of `SCENES.md`.
+//! The scene file: the format of docs/scenes.md.
 //!
 //! A scene is one TOML document. This module holds its data types exactly as
 //! the contract names them (unknown keys are rejected by serde), the loader,
@@ -61,7 +61,7 @@ pub struct Simulation {
     pub correction: Correction,
     #[serde(default)]
     pub backend: Backend,
-    /// Time integration (METHOD.md §9; an addition to the contract).
+    /// Time integration (docs/method.md §9; an addition to the contract).
     #[serde(default)]
     pub integrator: Integrator,
 }
@@ -73,7 +73,7 @@ pub fn default_smoothing_ratio() -> f64 {
     1.2
 }
 
-/// How bodies interact (METHOD.md §7).
+/// How bodies interact (docs/method.md §7).
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum Interaction {
@@ -84,7 +84,7 @@ pub enum Interaction {
     Kernel,
 }
 
-/// Time integration (METHOD.md §9), both second order.
+/// Time integration (docs/method.md §9), both second order.
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum Integrator {
@@ -104,7 +104,7 @@ impl std::fmt::Display for Integrator {
     }
 }
 
-/// Kernel gradient correction (METHOD.md §5).
+/// Kernel gradient correction (docs/method.md §5).
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum Correction {
@@ -178,7 +178,7 @@ pub enum ArtPairs {
     Close,
 }
 
-/// Monaghan artificial viscosity (METHOD.md §4).
+/// Monaghan artificial viscosity (docs/method.md §4).
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ArtificialViscosity {
@@ -212,11 +212,11 @@ impl Default for ArtificialViscosity {
     }
 }
 
-/// Penalty contact settings (METHOD.md §8.3); an optional addition to the contract.
+/// Penalty contact settings (docs/method.md §8.3); an optional addition to the contract.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSettings {
-    /// Boundary-particle threshold on `h |∇ψ|` (METHOD.md §8.1).
+    /// Boundary-particle threshold on `h |∇ψ|` (docs/method.md §8.1).
     #[serde(default = "default_boundary_threshold")]
     pub boundary_threshold: f64,
 }
@@ -390,7 +390,7 @@ pub enum FailureLaw {
     JohnsonCook(crate::physics::johnson_cook::Failure),
 }
 
-/// Equation of state (METHOD.md §6).
+/// Equation of state (docs/method.md §6).
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Eos {

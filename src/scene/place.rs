@@ -1,9 +1,9 @@
-//! Particle placement (SCENES.md, "Shapes and how particles are placed").
+//! Particle placement (docs/scenes.md, "Shapes and how particles are placed").
 //!
 //! Particles sit at cell centres, so a body's surface lies half a spacing
 //! beyond its outer particles and bodies built touching start with zero gap.
 //! Each particle also gets its *surface offset* `o`: the distance of its
-//! centre to the shape's boundary (METHOD.md §8.3). The contact distance of a
+//! centre to the shape's boundary (docs/method.md §8.3). The contact distance of a
 //! pair is `o_i + o_j`, which is what keeps square-lattice disks from touching
 //! along a flat facet.
 
@@ -78,7 +78,7 @@ impl SplitMix64 {
 ///   and momentum are those of the regular lattice;
 /// * the surface offsets are recomputed from the displaced centres (the
 ///   shape's surface has not moved): bodies built touching still start with
-///   zero gap (METHOD.md §8.3's `d_c = o_i + o_j` follows the particles), and
+///   zero gap (docs/method.md §8.3's `d_c = o_i + o_j` follows the particles), and
 ///   a particle pushed past a curved surface gets offset 0 rather than a
 ///   negative one.
 ///
@@ -98,7 +98,7 @@ fn jitter(placed: &mut PlacedBody, shape: &Shape, fraction: f64, seed: u64) {
 }
 
 /// Signed distance of `p` to the boundary of `shape` (positive inside):
-/// the surface offset `o` of a particle centred at `p` (METHOD.md §8.3).
+/// the surface offset `o` of a particle centred at `p` (docs/method.md §8.3).
 /// The one rule for placement and jitter alike.
 fn surface_distance(shape: &Shape, p: DVec2) -> f64 {
     match shape {
@@ -237,7 +237,7 @@ fn annulus(
             out.spacing = dr;
             for k in 0..k_rings {
                 let r = r_in + (k as f64 + 0.5) * dr;
-                // SCENES.md: max(1, round(2π r_k K / radius)) for a disk; for a
+                // docs/scenes.md: max(1, round(2π r_k K / radius)) for a disk; for a
                 // ring the same rule reads 2π r_k / dr.
                 let count = ((2.0 * PI * r / dr).round() as usize).max(1);
                 let ring_area = PI * ((r + 0.5 * dr).powi(2) - (r - 0.5 * dr).powi(2));

@@ -1,4 +1,4 @@
-//! Semantic validation of a parsed scene (SCENES.md, "Validation"). Serde has
+//! Semantic validation of a parsed scene (docs/scenes.md, "Validation"). Serde has
 //! already rejected unknown keys, missing required keys and wrong types; what
 //! is left is every rule that needs values, and the ones that need the placed
 //! particles (empty shapes, overlapping bodies, a fixed step above the CFL
@@ -48,7 +48,7 @@ fn dimension_of(key: &str, v: &[f64], dim: usize) -> R {
     finite(key, v)
 }
 
-/// Check every rule of SCENES.md that serde does not.
+/// Check every rule of docs/scenes.md ("Validation") that serde does not.
 pub fn validate(scene: &Scene) -> R {
     let sim = &scene.simulation;
     let dim = sim.dimension as usize;
@@ -469,7 +469,7 @@ fn estimated_particles(shape: &Shape, dx: f64) -> f64 {
     }
 }
 
-/// The CFL step at t = 0 (METHOD.md §9): `C min h / (c_L + |v|)` over the
+/// The CFL step at t = 0 (docs/method.md §9): `C min h / (c_L + |v|)` over the
 /// deformable bodies (a rigid body has no wave to resolve).
 pub fn cfl_step_at_start(scene: &Scene, placed: &[super::PlacedBody]) -> f64 {
     let mut dt = f64::INFINITY;

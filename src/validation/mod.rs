@@ -1,5 +1,5 @@
 //! `sphcontact validate`: the paper's cases run and scored against their
-//! exact answers (METHOD.md §10), with one PNG figure per paper figure, the
+//! exact answers (docs/method.md §10), with one PNG figure per paper figure, the
 //! CSV behind every curve, `validation.json`, and a speed-against-error
 //! sweep over resolution and backend.
 //!
@@ -34,10 +34,10 @@ pub const STEEL_AL_KERNEL: &str =
 pub const DISKS_SQUARE: &str = include_str!("../../scenes/paper/disks_square.toml");
 pub const DISKS_POLAR: &str = include_str!("../../scenes/paper/disks_polar.toml");
 
-/// Converged dynamic reference for the two disks (METHOD.md §8.4: a
+/// Converged dynamic reference for the two disks (docs/method.md §8.4: a
 /// converged dynamic finite-element solution): peak force per unit
 /// thickness, N/m, and contact time, s. It lies inside the quasi-static
-/// Hertz bracket of METHOD.md §10 (1.161–1.224 MN/m, 8.30–8.71 µs).
+/// Hertz bracket of docs/method.md §10 (1.161–1.224 MN/m, 8.30–8.71 µs).
 pub const DISKS_PEAK_FORCE: f64 = 1.198e6;
 pub const DISKS_CONTACT_TIME: f64 = 8.39e-6;
 
@@ -495,7 +495,7 @@ fn probe_distance(scene: &Scene, at: f64) -> f64 {
         .map_or(at.abs(), f64::abs)
 }
 
-/// The exact answer of a bar case (METHOD.md §10) over the scene's run.
+/// The exact answer of a bar case (docs/method.md §10) over the scene's run.
 fn exact_bars(scene: &Scene, right: &str) -> Result<BarImpactHistory, RunError> {
     let steel = MaterialModel::new(&scene.materials["steel"]);
     let other = MaterialModel::new(&scene.materials[right]);
@@ -562,7 +562,7 @@ fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
     )?;
 
     // Fig. 5: stress at the contact point a. In contact mode that is the
-    // contact pressure (METHOD.md §11); in kernel mode the SPH stress of the
+    // contact pressure (docs/method.md §11); in kernel mode the SPH stress of the
     // face particle (tension positive), shown as −σ_xx (compression up).
     let p_pen = pen.col("contact_pressure");
     let s_ker: Vec<f64> = ker.col("stress_a").iter().map(|s| -s).collect();
@@ -588,7 +588,7 @@ fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
         .push(exact_series("exact", pts(&t, &exact_p, us, 1e-6)));
     rep.figure("fig5_stress_a", &f);
     // The traction the bodies exert on each other is the contact pressure
-    // (METHOD.md §11): never tensile.
+    // (docs/method.md §11): never tensile.
     let tension = p_pen.iter().fold(0.0f64, |a, &p| a.max(-p));
     rep.csv(
         "fig5_stress_a",
@@ -675,7 +675,7 @@ fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
         0.0,
         de,
         &pen,
-        "|·| < 1e-3 (METHOD.md §11)",
+        "|·| < 1e-3 (docs/method.md §11)",
         de.abs() < 1e-3,
     );
 

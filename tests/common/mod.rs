@@ -219,7 +219,7 @@ fn parse_instability(line: &str) -> Option<Message> {
     })
 }
 
-/// What a run that went unstable left, checked as SCENES.md and the
+/// What a run that went unstable left, checked as docs/scenes.md and the
 /// instability contract ask: `stderr` holds exactly one instability
 /// message (the adapter may add lines of its own), naming a known
 /// quantity; `summary.json` in `out_dir` parses, is marked failed and

@@ -5,10 +5,10 @@ use super::bar_tracer::{trace, BarTrace};
 use crate::physics::material::MaterialModel;
 
 // ---------------------------------------------------------------------------
-// 1-D elastic bar impact (METHOD.md §10, cases 1 and 2)
+// 1-D elastic bar impact (docs/method.md §10, cases 1 and 2)
 // ---------------------------------------------------------------------------
 
-/// Summary of a 1-D impact of two elastic bars (METHOD.md §10, cases 1–2).
+/// Summary of a 1-D impact of two elastic bars (docs/method.md §10, cases 1–2).
 ///
 /// Bar 1 is on the left moving at `v1`, bar 2 on the right moving at `v2`,
 /// `v1 > v2`; first contact at `t = 0`.
@@ -69,7 +69,7 @@ pub struct StressStep {
     pub stress: f64,
 }
 
-/// Full exact history of a 1-D two-bar impact (METHOD.md §10, cases 1–2).
+/// Full exact history of a 1-D two-bar impact (docs/method.md §10, cases 1–2).
 ///
 /// Local geometry: bar 1 occupies `[−L1, 0]`, bar 2 `[0, L2]` (Lagrangian,
 /// small strain), contact face at `x = 0`, first contact at `t = 0`.
@@ -138,7 +138,7 @@ impl BarImpactHistory {
     /// Mean (momentum) velocity of `bar` at time `t`: the initial velocity
     /// plus the interface impulse delivered up to `t` over the mass per unit
     /// area `ρ0 L`. Falls linearly from `v0` to its final value while the
-    /// interface stress is constant (METHOD.md §10, case 1).
+    /// interface stress is constant (docs/method.md §10, case 1).
     pub fn mean_velocity(&self, bar: BarId, t: f64) -> f64 {
         let impulse: f64 = self
             .contact_steps
@@ -156,7 +156,7 @@ impl BarImpactHistory {
     }
 }
 
-/// Exact summary of the 1-D impact of two elastic bars (METHOD.md §10, cases
+/// Exact summary of the 1-D impact of two elastic bars (docs/method.md §10, cases
 /// 1–2): bar 1 (material `m1`, length `l1`, velocity `v1`) on the left, bar 2
 /// (`m2`, `l2`, `v2`) on the right, `v1 > v2`, uniaxial strain, waves at
 /// `c_L`, impedances `Z = ρ0 c_L`.
@@ -188,7 +188,7 @@ pub fn try_bar_impact(
     bar_impact_history(m1, l1, v1, m2, l2, v2, 0.0).map(|h| h.result)
 }
 
-/// Exact wave history of the 1-D two-bar impact (METHOD.md §10, cases 1–2),
+/// Exact wave history of the 1-D two-bar impact (docs/method.md §10, cases 1–2),
 /// traced at least until `t_end` (s) and at least until the outcome is final.
 ///
 /// Method (why it is exact): in linear acoustics with piecewise-constant
@@ -244,7 +244,7 @@ pub fn bar_impact_history(
     trace(m1, l1, v1, m2, l2, v2, t_end)
 }
 
-/// Exact particle velocity in case 1 of METHOD.md §10 (two equal bars, each
+/// Exact particle velocity in case 1 of docs/method.md §10 (two equal bars, each
 /// of length `l`, wave speed `c`, impacting at `±v0`): bar 1 occupies
 /// `[−l, 0]` and moves at `+v0` (to the right, towards the contact face at
 /// `x = 0`); the point is at distance `d ∈ [0, l]` from the contact face;
@@ -275,7 +275,7 @@ mod tests {
 
     const L: f64 = 5e-3;
 
-    /// METHOD.md §10 case 1: −458.1 MPa, 2L/c_L = 1.7136 µs, rebound ∓10 m/s.
+    /// docs/method.md §10 case 1: −458.1 MPa, 2L/c_L = 1.7136 µs, rebound ∓10 m/s.
     #[test]
     fn equal_steel_bars() {
         let s = steel();
@@ -289,7 +289,7 @@ mod tests {
         assert!(near(r.final_velocity_2, 10.0, 1e-9), "{r:?}");
     }
 
-    /// METHOD.md §10 case 2: −255.6 MPa, +4.42 m/s, 2L/c_Al = 1.574 µs,
+    /// docs/method.md §10 case 2: −255.6 MPa, +4.42 m/s, 2L/c_Al = 1.574 µs,
     /// aluminium +18.84 m/s, steel mean −0.25 m/s.
     #[test]
     fn steel_on_aluminium() {
@@ -344,7 +344,7 @@ mod tests {
         }
     }
 
-    /// METHOD.md §10 case 2, Galilean check: steel at 20 m/s onto aluminium
+    /// docs/method.md §10 case 2, Galilean check: steel at 20 m/s onto aluminium
     /// at rest gives the same stress and timing, velocities shifted by +10.
     #[test]
     fn galilean_invariance() {

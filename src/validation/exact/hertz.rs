@@ -7,22 +7,22 @@ use std::f64::consts::{FRAC_PI_2, LN_2, PI};
 use super::tanh_sinh;
 
 // ---------------------------------------------------------------------------
-// 2-D quasi-static Hertz line contact of two identical disks (METHOD.md §10,
+// 2-D quasi-static Hertz line contact of two identical disks (docs/method.md §10,
 // case 3)
 // ---------------------------------------------------------------------------
 
 /// Approach constant `C` of Johnson (1985) for a disk in diametral
-/// compression (METHOD.md §10, case 3): the softer end of the bracket.
+/// compression (docs/method.md §10, case 3): the softer end of the bracket.
 pub const HERTZ_C_JOHNSON: f64 = 1.0;
 
 /// Approach constant `C = 1 + 2 ln 2 − (3 − 4ν)/(4(1 − ν))` for a free disk
-/// loaded at the contact and held by its own inertia (METHOD.md §10, case 3):
+/// loaded at the contact and held by its own inertia (docs/method.md §10, case 3):
 /// the stiffer end of the bracket, ≈ 1.742 for steel.
 pub fn hertz_c_inertia(nu: f64) -> f64 {
     1.0 + 2.0 * LN_2 - (3.0 - 4.0 * nu) / (4.0 * (1.0 - nu))
 }
 
-/// Plane-strain modulus `E' = E/(1 − ν²)` (METHOD.md §10, case 3).
+/// Plane-strain modulus `E' = E/(1 − ν²)` (docs/method.md §10, case 3).
 pub fn plane_strain_modulus(mat: &MaterialModel) -> f64 {
     mat.e / (1.0 - mat.nu * mat.nu)
 }
@@ -33,7 +33,7 @@ pub fn hertz_half_width(mat: &MaterialModel, radius: f64, force: f64) -> f64 {
     (4.0 * force.max(0.0) * radius / (PI * plane_strain_modulus(mat))).sqrt()
 }
 
-/// Result of the quasi-static Hertz impact of two identical disks (METHOD.md
+/// Result of the quasi-static Hertz impact of two identical disks (docs/method.md
 /// §10, case 3), per unit thickness.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HertzImpact {
@@ -176,7 +176,7 @@ fn solve_log_equation(k: f64, beta: f64, target: f64) -> Option<f64> {
 }
 
 /// Approach of the two centres `δ = 2 δ1` (m) of identical disks under the
-/// contact force `force` (N/m), `δ1 = (P/(π E'))[2 ln(4R/a) − C]` (METHOD.md
+/// contact force `force` (N/m), `δ1 = (P/(π E'))[2 ln(4R/a) − C]` (docs/method.md
 /// §10, case 3). None outside the monotone range of the law or for invalid
 /// input.
 pub fn hertz_approach(mat: &MaterialModel, radius: f64, c: f64, force: f64) -> Option<f64> {
@@ -203,7 +203,7 @@ pub fn hertz_force(mat: &MaterialModel, radius: f64, c: f64, approach: f64) -> O
 const HERTZ_HALF_SAMPLES: usize = 400;
 
 /// Quasi-static Hertz impact of two identical elastic disks in plane strain
-/// (METHOD.md §10, case 3): radius `radius` (m), closing speed
+/// (docs/method.md §10, case 3): radius `radius` (m), closing speed
 /// `closing_speed` (m/s, i.e. each disk at half of it), approach constant `c`
 /// ([`HERTZ_C_JOHNSON`] or [`hertz_c_inertia`]).
 ///
@@ -310,7 +310,7 @@ pub fn try_hertz_disks(
     })
 }
 
-/// A single disk at speed `speed` on a rigid frictionless wall (METHOD.md
+/// A single disk at speed `speed` on a rigid frictionless wall (docs/method.md
 /// §8.5): the same force history as two identical disks at closing speed
 /// `2 speed`; `max_approach` is then the approach of the disk centre to the
 /// wall, `δ1 = δ/2`.
@@ -325,7 +325,7 @@ mod tests {
     use super::*;
     use crate::validation::exact::test_support::*;
 
-    /// METHOD.md §6 derived constants and the §10 case-3 inputs.
+    /// docs/method.md §6 derived constants and the §10 case-3 inputs.
     #[test]
     fn steel_constants() {
         let s = steel();
@@ -337,7 +337,7 @@ mod tests {
         assert!(near(c, 1.742, 5e-4));
     }
 
-    /// METHOD.md §10 case 3: peak 1.161 (C = 1) to 1.224 MN/m (C ≈ 1.742),
+    /// docs/method.md §10 case 3: peak 1.161 (C = 1) to 1.224 MN/m (C ≈ 1.742),
     /// contact time 8.71 to 8.30 µs.
     #[test]
     fn hertz_bracket() {
@@ -478,7 +478,7 @@ mod tests {
         }
     }
 
-    /// METHOD.md §8.5: a disk at V on a rigid wall equals two disks at 2V.
+    /// docs/method.md §8.5: a disk at V on a rigid wall equals two disks at 2V.
     #[test]
     fn hertz_wall() {
         let s = steel();

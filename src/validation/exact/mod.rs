@@ -1,9 +1,9 @@
-//! Exact answers of the paper's validation cases (METHOD.md §10), computed
+//! Exact answers of the paper's validation cases (docs/method.md §10), computed
 //! from the material constants so that tests and validation figures compare
 //! against computed, not hard-coded, values.
 //!
 //! * 1-D elastic bar impact (cases 1 and 2): linear acoustics in uniaxial
-//!   strain, waves at `c_L` (METHOD.md §6: "1-D is uniaxial strain … waves
+//!   strain, waves at `c_L` (docs/method.md §6: "1-D is uniaxial strain … waves
 //!   therefore travel at `c_L`, not `c0`"), impedance `Z = ρ0 c_L`. Solved
 //!   exactly by tracing the piecewise-constant wave fronts ([`bar_impact`],
 //!   [`bar_impact_history`]); the equal-bar point history also in closed form
@@ -15,7 +15,7 @@
 //!   strain (case 3), with the two published choices of the approach constant
 //!   `C` that bracket the dynamic answer ([`hertz_disks`]).
 //!
-//! Conventions (METHOD.md §2): SI units, stress tension positive, so contact
+//! Conventions (docs/method.md §2): SI units, stress tension positive, so contact
 //! stresses are negative.
 
 mod bar_tracer;
@@ -90,7 +90,7 @@ pub(crate) mod test_support {
     use crate::physics::material::MaterialModel;
 
     /// A linear-EOS material from `(ρ0, c0, G)`, derived constants as in
-    /// METHOD.md §6 (K = ρ0 c0², E = 9KG/(3K+G), c_L = sqrt((K + 4G/3)/ρ0)).
+    /// docs/method.md §6 (K = ρ0 c0², E = 9KG/(3K+G), c_L = sqrt((K + 4G/3)/ρ0)).
     pub fn material(rho0: f64, c0: f64, g: f64) -> MaterialModel {
         let k = rho0 * c0 * c0;
         let e = 9.0 * k * g / (3.0 * k + g);

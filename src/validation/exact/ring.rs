@@ -11,7 +11,7 @@ use super::hertz::plane_strain_modulus;
 // ---------------------------------------------------------------------------
 
 /// Period (s) of the in-plane flexural mode `n ≥ 2` of a free circular ring
-/// of radii `inner` < `outer`, in plane strain (METHOD.md §6: 2-D is plane
+/// of radii `inner` < `outer`, in plane strain (docs/method.md §6: 2-D is plane
 /// strain, so the bending modulus is `E' = E/(1 − ν²)`); `n = 2` is the
 /// ovalling mode.
 ///

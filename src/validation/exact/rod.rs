@@ -7,11 +7,11 @@ use crate::physics::material::MaterialModel;
 // 1-D elastic–plastic rod on a rigid wall: elastic precursor and plastic wave
 // ---------------------------------------------------------------------------
 
-/// A uniform state of a rod in uniaxial strain (METHOD.md §6), behind one of
+/// A uniform state of a rod in uniaxial strain (docs/method.md §6), behind one of
 /// the waves of [`rod_on_wall`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RodState {
-    /// Axial stress `σ_xx`, Pa, tension positive (METHOD.md §2).
+    /// Axial stress `σ_xx`, Pa, tension positive (docs/method.md §2).
     pub stress: f64,
     /// Particle velocity towards the wall, m/s.
     pub velocity: f64,
@@ -19,7 +19,7 @@ pub struct RodState {
     pub density: f64,
     /// Specific internal energy, J/kg (all of it: the EOS's energy is the
     /// total work of the stress, deviatoric part included, as in the
-    /// solver's energy equation, METHOD.md §4).
+    /// solver's energy equation, docs/method.md §4).
     pub energy: f64,
     /// Pressure `p(ρ, e)` of the material's EOS, Pa.
     pub pressure: f64,
@@ -45,7 +45,7 @@ pub struct TwoWaveImpact {
 }
 
 /// The acoustic (small-strain) Hugoniot elastic limit in uniaxial strain,
-/// `σ_HEL = (K + 4G/3) Y0/(2G)` (METHOD.md §6: the deviator reaches the von
+/// `σ_HEL = (K + 4G/3) Y0/(2G)` (docs/method.md §6: the deviator reaches the von
 /// Mises limit `|s_xx| = 2Y0/3` at the strain `Y0/(2G)`), Pa, as a positive
 /// magnitude. ≈ 1.04 GPa for the steel of Table 1 with Y0 = 600 MPa.
 pub fn acoustic_hel(mat: &MaterialModel) -> f64 {
@@ -57,7 +57,7 @@ pub fn acoustic_hel(mat: &MaterialModel) -> f64 {
 /// single jump, with deviatoric stress `s_xx`: the Rankine–Hugoniot energy
 /// jump `e − e_a = (σ + σ_a)(ε − ε_a)/(2ρ0)` together with
 /// `σ = −p(ρ, e) + s_xx`. The EOS is linear in `e`
-/// (`p = p(ρ, 0) + Γ0 ρ e`, METHOD.md §6), so the pair solves in closed form.
+/// (`p = p(ρ, 0) + Γ0 ρ e`, docs/method.md §6), so the pair solves in closed form.
 fn jump_state(
     mat: &MaterialModel,
     rho: f64,
@@ -76,7 +76,7 @@ fn jump_state(
 }
 
 /// Exact plane-wave answer of a 1-D elastic–plastic rod (uniaxial
-/// strain, METHOD.md §6) striking a rigid wall (METHOD.md §8.5) at speed
+/// strain, docs/method.md §6) striking a rigid wall (docs/method.md §8.5) at speed
 /// `v0` > 0: a two-wave structure running from the wall into the rod.
 ///
 /// * **Elastic precursor.** The rod is compressed elastically until the von
@@ -210,7 +210,7 @@ mod tests {
     use super::*;
     use crate::validation::exact::test_support::*;
 
-    /// The steel of METHOD.md §6 Table 1 with its Mie–Grüneisen EOS and
+    /// The steel of docs/method.md §6 Table 1 with its Mie–Grüneisen EOS and
     /// Y0 = 600 MPa, as the scenes write it.
     fn steel_mg_plastic() -> MaterialModel {
         MaterialModel::new(&crate::scene::Material {
