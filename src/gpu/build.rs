@@ -1,0 +1,611 @@
+//! Making a solver for a scene: the device arrays of its state in the
+//! precision plan's form, the buffers the scene needs and no others, and
+//! its kernels ([`super::kernels`]).
+
+use std::collections::HashMap;
+
+use super::*;
+
+/// Cell-list buckets for `n` particles: a power of two at least the count.
+///
+/// A cell's key is row-major over the initial bounding box (`bucket_of`,
+/// common.wgsl), so distinct cells share a bucket only once the keys span
+/// more than the bucket count. Cells are a little larger than `h`, so
+/// bodies that fill their box (the disks: 0.9 cells a particle) stay
+/// collision-free until they have spread over their starting box times the
+/// buckets a particle (1 to 2) over 0.9. Twice as many buckets would halve
+/// the collisions of scattered bodies (a wasted candidate read each) for 4
+/// bytes a particle more.
+pub(super) fn bucket_count(n: usize) -> u32 {
+    n.next_power_of_two().max(256) as u32
+}
+
+/// The contact's two gather buffers and the pass-scratch buffer each lives
+/// in, if the scene has one (else it gets its own).
+///
+/// The contact's `cshare` (pass 1 → pass 2) and `cown` (pass 1 → pass 2
+/// and the reductions after the first evaluation) are written after the forces pass
+/// and dead before the next kinematics pass. The correction matrices (`lmat`), the
+/// velocity gradients (`gradv`, reconstructed viscosity) are written by the
+/// kinematics pass and last read by the forces pass, and no
+/// kernel binds one of them together with the contact buffer it hosts (the
+/// reorder uses `lmat` and `cown` as scratch, at the start of a step, as
+/// two different buffers). So `cshare` lives in `lmat`, and `cown` in
+/// `gradv` when the scene has it: 16 or 32 bytes a particle less.
+/// In the same way the stored spring energy (an observation) goes to
+/// `sr2c.x` (`σ_xx/ρ²`, dead after the forces pass; the reductions read only its
+/// sound speed `w`), written by the particle's own thread in contact pass 1,
+/// which reads no other part of `sr2c`.
+///
+/// The leapfrog's first evaluation and its booking (after the energy walk,
+/// the scratch's last reader) use the same homes; `cown` then carries the
+/// forces to the next step's reductions, through the reorder (whose
+/// scratch is `lmat`). Its force passes, before the energy walk, keep the
+/// entries on the list of boundary particles instead (`cown_e`, `cshare_e`;
+/// contact.wgsl).
+fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
+    let own_home = if model.av_reconstruct {
+        Some("gradv")
+    } else {
+        None
+    };
+    [("cshare", Some("lmat")), ("cown", own_home)]
+}
+
+/// Places on the contact's list of boundary particles (kinematics.wgsl,
+/// list_surface) that a solver for `n` particles starts with: the boundary
+/// of a body large enough to matter for memory is a small share of it
+/// (3.2 % of the benchmark's disks at 2e4, 1.4 % at 1e5, 0.25 % at 4e6),
+/// so a thirty-second and a margin: 2.4 bytes a particle at 4e6 for the
+/// 76 bytes a place holds. A list that the state a run starts from fills
+/// past three quarters is lengthened before its first step, and one that
+/// fills so during the run pauses it to be made twice as long
+/// ([`GpuSolver::run_batch`]).
+fn surf_capacity(n: usize) -> u32 {
+    (n / 32 + 512).min(n).min(MAX_SURF_CAP) as u32
+}
+
+/// The most entries the list of boundary particles may have: the kinematics pass writes
+/// a particle's place there as a float (kinematics.wgsl, list_surface).
+pub(super) const MAX_SURF_CAP: usize = 1 << 24;
+
+/// Where the leapfrog's neighbour masks (common.wgsl) live: with contact in
+/// `qrate`, the contact's rates for the ledger's next half step, which the
+/// booking writes after the energy walk (the masks' last reader) and the
+/// next step's drift reads before the kinematics pass writes the masks again; the first
+/// evaluation's contact writes it after its forces pass too. Only the boundary
+/// particles' entries are rates (the drift reads no others). Without
+/// contact (`None`), in a buffer of their own.
+fn mask_home(model: &Model) -> Option<&'static str> {
+    (model.integrator == Integrator::Leapfrog && model.contact).then_some("qrate")
+}
+
+/// The device's constants of a material's strength and failure laws
+/// (strength.wgsl, `Plastic`).
+fn plastic_gpu(m: &crate::physics::material::MaterialModel) -> PlasticGpu {
+    let mut p = PlasticGpu {
+        heat: if m.specific_heat > 0.0 {
+            (m.taylor_quinney / m.specific_heat) as f32
+        } else {
+            0.0
+        },
+        rate0: 1.0,
+        melt_rise: 1.0,
+        spall: if m.spall.is_finite() {
+            m.spall as f32
+        } else {
+            f32::MAX
+        },
+        ..Default::default()
+    };
+    if let Some(jc) = &m.strength {
+        p.strength = 1;
+        (p.a, p.b, p.n, p.c, p.m) = (
+            jc.a as f32,
+            jc.b as f32,
+            jc.n as f32,
+            jc.c as f32,
+            jc.m as f32,
+        );
+        p.rate0 = jc.reference_strain_rate as f32;
+        p.melt_rise = (jc.melt_temperature - jc.room_temperature) as f32;
+    }
+    if let Some(f) = &m.failure {
+        p.damage = 1;
+        (p.d1, p.d2, p.d3, p.d4, p.d5) = (
+            f.d1 as f32,
+            f.d2 as f32,
+            f.d3 as f32,
+            f.d4 as f32,
+            f.d5 as f32,
+        );
+    }
+    p
+}
+
+/// The GPU's particle-probe tables from the plan's `(particle, code)` list:
+/// the probed particle ids sorted and deduplicated, padded with `u32::MAX`
+/// to one entry a probe, and each probe as `(entry, code)`.
+fn probe_tables(particles: &[[u32; 2]]) -> (Vec<u32>, Vec<[u32; 2]>) {
+    let mut ids: Vec<u32> = particles.iter().map(|p| p[0]).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    let refs = particles
+        .iter()
+        .map(|p| {
+            [
+                ids.binary_search(&p[0]).expect("an id of the list") as u32,
+                p[1],
+            ]
+        })
+        .collect();
+    ids.resize(particles.len(), u32::MAX);
+    (ids, refs)
+}
+
+impl GpuSolver {
+    /// Upload a model and state. `probes` are the scene's resolved probes;
+    /// `end_time` is where the device stops stepping. `Err` when the scene
+    /// does not fit the adapter.
+    pub fn new(
+        ctx: Arc<GpuContext>,
+        model: Model,
+        state: &State,
+        probes: &[Resolved],
+        end_time: f64,
+    ) -> Result<Self, String> {
+        Self::with_options(ctx, model, state, probes, end_time, GpuOptions::default())
+    }
+
+    /// [`GpuSolver::new`] under limits tighter than the adapter's.
+    pub fn with_options(
+        ctx: Arc<GpuContext>,
+        model: Model,
+        state: &State,
+        probes: &[Resolved],
+        end_time: f64,
+        opts: GpuOptions,
+    ) -> Result<Self, String> {
+        Self::build(ctx, model, state, probes, end_time, opts, None)
+    }
+
+    /// The solver for a state, on the grid `frame` where given (else the
+    /// state's own).
+    pub(super) fn build(
+        ctx: Arc<GpuContext>,
+        model: Model,
+        state: &State,
+        probes: &[Resolved],
+        end_time: f64,
+        opts: GpuOptions,
+        frame: Option<Frame>,
+    ) -> Result<Self, String> {
+        let n = model.len();
+        let buckets = bucket_count(n);
+        let red_groups = (n as u32).div_ceil(RED_CHUNK).max(1);
+        let h_max = model.h.iter().cloned().fold(0.0, f64::max);
+        // Cells of h_max and a hair more: a pair within 2 h_ij is then at
+        // most two cells apart along each axis, and a particle's candidates
+        // lie in five rows of at most five cells (`row_span`, common.wgsl).
+        // Each row's columns are clipped to the disk of radius `reach`
+        // cells; the support's 2 h_max / cell is 1.996 cells, and the
+        // margin of 1e-3 cells up to 2 covers the f32 rounding of a
+        // particle's place in its cell (1e-5 cells at 100 cells from its
+        // reference cell).
+        let reach = (2.0 / CELL_OVER_H + REACH_MARGIN) as f32;
+        let frame = frame.unwrap_or_else(|| {
+            let cell = h_max * CELL_OVER_H;
+            let (lo, hi) = crate::math::bounds(&state.x);
+            let origin = lo - DVec2::splat(1.5 * cell);
+            Frame {
+                origin,
+                cell,
+                row_stride: ((hi.x - origin.x) / cell).floor() as u32 + 3,
+            }
+        });
+        let Frame {
+            origin,
+            cell,
+            row_stride,
+        } = frame;
+        // Positions are observed relative to the grid origin; the plan adds
+        // it back in f64.
+        let plan = ProbePlan::new(probes, &model, origin);
+        let (end_hi, end_lo) = split(end_time);
+        let maxd = opts
+            .max_workgroups_per_dimension
+            .map_or(ctx.limits.max_compute_workgroups_per_dimension, |m| {
+                m.min(ctx.limits.max_compute_workgroups_per_dimension)
+            })
+            .max(1);
+        let leapfrog = model.integrator == Integrator::Leapfrog;
+        let contact = model.contact;
+        let surf_cap = if contact {
+            opts.surf_capacity
+                .unwrap_or_else(|| surf_capacity(n))
+                .clamp(1, MAX_SURF_CAP as u32)
+        } else {
+            0
+        };
+        let params = Params {
+            n: n as u32,
+            nbodies: model.bodies.len() as u32,
+            buckets,
+            row_stride,
+            energy_growth: crate::model::ENERGY_GROWTH as f32,
+            energy_floor: model.energy_floor as f32,
+            inv_cell: (1.0 / cell) as f32,
+            alpha: model.alpha as f32,
+            beta: model.beta as f32,
+            cfl: model.cfl as f32,
+            fixed_dt: model.fixed_dt.unwrap_or(0.0) as f32,
+            boundary_threshold: model.boundary_threshold as f32,
+            as_eps: model.artificial_stress.map_or(0.0, |a| a.epsilon) as f32,
+            as_n: model.artificial_stress.map_or(0.0, |a| a.n) as f32,
+            end_hi,
+            end_lo,
+            ring_len: RING_LEN,
+            ring_width: plan.row_width() as u32,
+            surf_cap,
+            nprobes: plan.particles.len() as u32,
+            cell: cell as f32,
+            red_groups,
+            min_det: CORRECTION_MIN_DET as f32,
+            reach,
+            domain: {
+                let [lo, hi] = model.domain;
+                let (lo, hi) = (lo - origin, hi - origin);
+                [lo.x as f32, lo.y as f32, hi.x as f32, hi.y as f32]
+            },
+            energy_kin: plan.energy.map_or(0, |e| e.0 as u32),
+            energy_int: plan.energy.map_or(0, |e| e.1 as u32),
+            energy_stored: plan.stored.map_or(NONE, |k| k as u32),
+            surf_groups: maxd,
+        };
+        let bodies: Vec<BodyGpu> = model
+            .bodies
+            .iter()
+            .map(|b| {
+                let m = &b.material;
+                BodyGpu {
+                    rho0: m.rho0 as f32,
+                    k: m.k as f32,
+                    s: m.s as f32,
+                    gamma0: m.gamma0 as f32,
+                    g: m.g as f32,
+                    y0: if m.y0.is_finite() { m.y0 as f32 } else { 0.0 },
+                    z: m.z as f32,
+                    modulus: m.m as f32,
+                    spacing: b.spacing as f32,
+                    h: model.h[b.range.start] as f32,
+                    rigid: b.rigid as u32,
+                    linear: m.linear as u32,
+                    elastic: (!m.y0.is_finite()) as u32,
+                    ..Default::default()
+                }
+            })
+            .collect();
+        let control = Control {
+            fail_step: NONE,
+            fail_code: NONE,
+            energy_limit: -1.0,
+            ..Default::default()
+        };
+
+        // Per-particle arrays, in the model's order to start with.
+        // Reference cell and offset in it (precision plan), from f64.
+        let x0: Vec<[f32; 4]> = state
+            .x
+            .iter()
+            .map(|p| {
+                let d = (*p - origin) / cell;
+                let c = d.floor();
+                let off = *p - origin - c * cell;
+                [c.x as f32, c.y as f32, off.x as f32, off.y as f32]
+            })
+            .collect();
+        let zeros2 = vec![[0f32; 2]; n];
+        let v: Vec<[f32; 2]> = state.v.iter().map(|p| [p.x as f32, p.y as f32]).collect();
+        let r: Vec<[f32; 2]> = (0..n)
+            .map(|i| {
+                let rho0 = model.material(i).rho0;
+                [(state.rho[i] / rho0 - 1.0) as f32, state.e[i] as f32]
+            })
+            .collect();
+        let s: Vec<[f32; 4]> = state
+            .s
+            .iter()
+            .map(|s| [s.xx as f32, s.yy as f32, s.xy as f32, s.zz as f32])
+            .collect();
+        let meta: Vec<[u32; 4]> = (0..n)
+            .map(|i| {
+                [
+                    (model.mass[i] as f32).to_bits(),
+                    (model.offset[i] as f32).to_bits(),
+                    model.body[i],
+                    i as u32,
+                ]
+            })
+            .collect();
+        let hist: Vec<[f32; 4]> = if model.history {
+            (0..n)
+                .map(|i| {
+                    let room = model.material(i).initial_temperature();
+                    [
+                        state.eps_p[i] as f32,
+                        (state.temperature[i] - room) as f32,
+                        state.damage[i] as f32,
+                        state.failed_at[i] as f32,
+                    ]
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        // Particle probes find their particle through a slot per probed
+        // particle, not a map of every particle (4 B a particle): the probed
+        // ids sorted (padded to one per probe with ids no particle has, so
+        // that the kernels know the length), each probe pointing at its
+        // entry, and the entry's slot, found by a binary search from every
+        // particle (reorder.wgsl, map_slots) now and after each reorder.
+        let (probe_ids, probe_refs) = probe_tables(&plan.particles);
+
+        let dev = &ctx.device;
+        let limits = &ctx.limits;
+        let max_binding = opts
+            .max_binding_size
+            .map_or(limits.max_storage_buffer_binding_size, |m| {
+                m.min(limits.max_storage_buffer_binding_size)
+            });
+        let max_buffer = limits.max_buffer_size;
+        let mut buffers = HashMap::new();
+        let mut device_bytes = 0u64;
+        // A device buffer for storage and copies, and any `extra` use.
+        let mut make_as = |name: &'static str,
+                           size: u64,
+                           data: Option<&[u8]>,
+                           extra: wgpu::BufferUsages|
+         -> Result<(), String> {
+            let size = size.max(16).next_multiple_of(4);
+            if size > max_binding || size > max_buffer {
+                return Err(format!(
+                    "the scene does not fit this adapter: its {n} particles need a {size}-byte \
+                     device buffer '{name}', and the adapter allows {} bytes per binding and {} per \
+                     buffer; use fewer particles or --backend cpu",
+                    max_binding, max_buffer
+                ));
+            }
+            let usage = wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST
+                | extra;
+            let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(name),
+                size,
+                usage,
+                mapped_at_creation: false,
+            });
+            if let Some(d) = data {
+                ctx.queue.write_buffer(&buf, 0, d);
+            }
+            device_bytes += size;
+            buffers.insert(name, buf);
+            Ok(())
+        };
+        let mut make = |name: &'static str, size: u64, data: Option<&[u8]>| {
+            make_as(name, size, data, wgpu::BufferUsages::empty())
+        };
+        let nn = n as u64;
+        make("x0", 16 * nn, Some(bytemuck::cast_slice(&x0)))?;
+        make("u", 8 * nn, Some(bytemuck::cast_slice(&zeros2)))?;
+        make("v", 8 * nn, Some(bytemuck::cast_slice(&v)))?;
+        make("r", 8 * nn, Some(bytemuck::cast_slice(&r)))?;
+        make("s", 16 * nn, Some(bytemuck::cast_slice(&s)))?;
+        make("pinfo", 16 * nn, Some(bytemuck::cast_slice(&meta)))?;
+        if model.history {
+            // The plastic history (strength.wgsl's precision plan), its
+            // laws' constants a body, and the midpoint rule's midpoint
+            // history and strain rates.
+            make("hist", 16 * nn, Some(bytemuck::cast_slice(&hist)))?;
+            let plastic: Vec<PlasticGpu> = model
+                .bodies
+                .iter()
+                .map(|b| plastic_gpu(&b.material))
+                .collect();
+            make(
+                "plastic",
+                64 * plastic.len() as u64,
+                Some(bytemuck::cast_slice(&plastic)),
+            )?;
+            if !leapfrog {
+                make("histm", 16 * nn, None)?;
+                if model.strain_rate {
+                    make("srate", 4 * nn, None)?;
+                }
+            }
+        }
+        if !model.close_scale.is_empty() {
+            // By original index (pinfo.w): constant, never permuted. Not
+            // made when every scale is 1 (ART_KAPPA off).
+            let k2: Vec<f32> = model.close_scale.iter().map(|&k| k as f32).collect();
+            make("kappa", 4 * nn, Some(bytemuck::cast_slice(&k2)))?;
+        }
+        if leapfrog {
+            // The carried rates a_n and (_, de_n/dt), and the predicted
+            // velocity (common.wgsl, LEAP); buffers wgpu zeroes.
+            for name in ["acc", "rdt", "vstar"] {
+                make(name, 8 * nn, None)?;
+            }
+            if mask_home(&model).is_none() {
+                make("nmask", 8 * nn, None)?;
+            }
+            if contact {
+                make("qrate", 8 * nn, None)?;
+                // The force passes' entries, on the list.
+                for name in ["cown_e", "cshare_e"] {
+                    make(name, 16 * surf_cap as u64, None)?;
+                }
+            }
+        } else {
+            // The midpoint state; the evaluation at the base state leaves
+            // its rates there (common.wgsl, MID), so there are no rate
+            // buffers.
+            for name in ["um", "vm", "rm", "sm"] {
+                make(name, if name == "sm" { 16 } else { 8 } * nn, None)?;
+            }
+        }
+        for name in ["lmat", "nbo", "sr2c"] {
+            make(name, 16 * nn, None)?;
+        }
+        if model.av_reconstruct {
+            make("gradv", 16 * nn, None)?;
+        }
+        if contact {
+            // Per particle: (dashpot heat booked, spring work of its passes).
+            make(
+                "qheat",
+                8 * nn,
+                Some(bytemuck::cast_slice(&vec![0f32; 2 * n])),
+            )?;
+            // What a boundary particle carries between the contact's passes
+            // on the list of boundary particles (kinematics.wgsl,
+            // list_surface): the list, the normals, the spring's derivative
+            // and dPhi/dg (contact.wgsl); the midpoint rule's contact areas
+            // too, which the leapfrog carries a particle from step to step
+            // (common.wgsl, area_index).
+            let cap = surf_cap as u64;
+            make("surf", 4 * cap, None)?;
+            for name in ["cn", "cbar0", "cbar1", "ckeep"] {
+                make(name, 16 * cap, None)?;
+            }
+            make("bt", 4 * cap, None)?;
+            make("area", 4 * if leapfrog { nn } else { cap }, None)?;
+            // The spread's claims, a bit a particle (spread.wgsl).
+            make("claim", 4 * nn.div_ceil(32), None)?;
+            let entry: Vec<f32> = state.entry.iter().map(|&e| e as f32).collect();
+            make("centry", 4 * nn, Some(bytemuck::cast_slice(&entry)))?;
+            // The two gather buffers share memory with pass scratch where
+            // the scene has it (below); the rest get their own.
+            for (name, home) in contact_homes(&model) {
+                if home.is_none() {
+                    make(name, 16 * nn, None)?;
+                }
+            }
+        }
+        make("blist", 4 * nn, None)?;
+        // Counts, then ends, then starts (neighbours.wgsl): one array.
+        make("bstart", 4 * (buckets as u64 + 1), None)?;
+        make("bsum", 4 * buckets.div_ceil(SCAN_BLOCK) as u64, None)?;
+        let red_len = red_groups as u64 * (1 + plan.slots.len() as u64);
+        make("red", 4 * red_len, None)?;
+        let ring_bytes = 4 * RING_LEN as u64 * plan.row_width() as u64;
+        make("ring", ring_bytes, None)?;
+        make(
+            "probes",
+            8 * plan.particles.len() as u64,
+            Some(bytemuck::cast_slice(&probe_refs)),
+        )?;
+        if !plan.particles.is_empty() {
+            make(
+                "probe_ids",
+                4 * probe_ids.len() as u64,
+                Some(bytemuck::cast_slice(&probe_ids)),
+            )?;
+            make("probe_slot", 4 * probe_ids.len() as u64, None)?;
+        }
+        make(
+            "bodies",
+            64 * bodies.len() as u64,
+            Some(bytemuck::cast_slice(&bodies)),
+        )?;
+        make("ctl", CTL_BYTES, Some(bytemuck::bytes_of(&control)))?;
+        if contact {
+            // The contact list's (count, workgroups x, y, z): the
+            // leapfrog's indirect dispatch's arguments from byte 4
+            // (contact.wgsl).
+            make_as(
+                "surf_args",
+                16,
+                Some(bytemuck::cast_slice(&[0u32, 0, 1, 1])),
+                wgpu::BufferUsages::INDIRECT,
+            )?;
+        }
+        if let Some(home) = mask_home(&model) {
+            buffers.insert("nmask", buffers[home].clone());
+        }
+        if contact {
+            for (name, home) in contact_homes(&model) {
+                if let Some(home) = home {
+                    let shared = buffers[home].clone();
+                    buffers.insert(name, shared);
+                }
+            }
+        }
+        let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("params"),
+            size: size_of::<Params>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        ctx.queue
+            .write_buffer(&params_buf, 0, bytemuck::bytes_of(&params));
+        buffers.insert("params", params_buf);
+        let staging = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("staging"),
+            size: CTL_BYTES + ring_bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+
+        let k = kernels::make_kernels(
+            &ctx,
+            &model,
+            &plan,
+            &buffers,
+            kernels::Sizes {
+                n,
+                buckets,
+                red_groups,
+                maxd,
+            },
+        )?;
+        let solver = Self {
+            ctx,
+            model,
+            n,
+            buffers,
+            staging,
+            plan,
+            k,
+            encoded: 0,
+            delivered: 0,
+            zero_seen: 0,
+            last_dt: 0.0,
+            device_bytes,
+            params,
+            first_pending: leapfrog,
+            origin,
+            cell,
+            probes: probes.to_vec(),
+            opts,
+            list_checked: opts.unchecked_list,
+            list_full: None,
+        };
+        solver.refresh_probe_slots();
+        Ok(solver)
+    }
+}
+#[cfg(test)]
+mod tests {
+    use super::probe_tables;
+
+    #[test]
+    fn probe_tables_sort_deduplicate_and_pad() {
+        // Three probes on two particles, out of order.
+        let (ids, refs) = probe_tables(&[[40, 1], [7, 2], [40, 5]]);
+        assert_eq!(ids, vec![7, 40, u32::MAX]);
+        assert_eq!(refs, vec![[1, 1], [0, 2], [1, 5]]);
+        let (ids, refs) = probe_tables(&[]);
+        assert!(ids.is_empty() && refs.is_empty());
+    }
+}
