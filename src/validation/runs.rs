@@ -1,0 +1,153 @@
+//! Running a paper scene in memory and reading its scores off the history.
+
+use crate::output::contact_window;
+use crate::run::{run_scene, RunOptions, RunOutput};
+use crate::scene::{Backend, Integrator, Scene};
+use crate::RunError;
+
+use super::{DISKS_POLAR, DISKS_SQUARE};
+
+/// A run of one scene for validation.
+pub struct CaseRun {
+    pub scene: Scene,
+    pub out: RunOutput,
+}
+
+impl CaseRun {
+    pub fn col(&self, name: &str) -> Vec<f64> {
+        self.out.history.column(name).unwrap_or_default()
+    }
+    pub fn times(&self) -> &[f64] {
+        &self.out.history.times
+    }
+    pub(super) fn backend(&self) -> String {
+        self.out.summary.backend.clone()
+    }
+}
+
+fn parse_embedded(text: &str, name: &str) -> Scene {
+    Scene::from_toml_str(text, name).expect("the embedded paper scenes are valid")
+}
+
+/// The bar scene at `n` particles per bar, recorded every `dt_rec`.
+pub fn bar_scene(text: &str, n: usize, dt_rec: f64) -> Scene {
+    let mut scene = parse_embedded(text, "paper bar scene");
+    for b in &mut scene.bodies {
+        if let crate::scene::Shape::Segment { from, to } = b.shape {
+            b.spacing = (to - from).abs() / n as f64;
+        }
+    }
+    scene.output.history_interval = Some(dt_rec);
+    scene
+}
+
+/// The disk scene (`square` or `polar`) at `R/Δx = r_over_dx`.
+pub fn disk_scene(lattice: &str, r_over_dx: f64) -> Scene {
+    let text = if lattice == "square" {
+        DISKS_SQUARE
+    } else {
+        DISKS_POLAR
+    };
+    let mut scene = parse_embedded(text, "paper disk scene");
+    for b in &mut scene.bodies {
+        if let crate::scene::Shape::Disk { radius, .. } = b.shape {
+            b.spacing = radius / r_over_dx;
+        }
+    }
+    scene.output.history_interval = Some(2.0e-8);
+    scene
+}
+
+/// Run a scene in memory (nothing written).
+pub fn run_case(
+    scene: &Scene,
+    backend: Option<Backend>,
+    integrator: Option<Integrator>,
+    end: Option<f64>,
+) -> Result<CaseRun, RunError> {
+    let opts = RunOptions {
+        silent: true,
+        backend,
+        integrator,
+        end_time: end,
+        ..Default::default()
+    };
+    let out = run_scene(scene, None, &opts)?;
+    Ok(CaseRun {
+        scene: scene.clone(),
+        out,
+    })
+}
+
+/// Value of column `name` at the row nearest `t`.
+fn at(run: &CaseRun, name: &str, t: f64) -> f64 {
+    let ts = run.times();
+    let k = ts
+        .iter()
+        .enumerate()
+        .min_by(|a, b| (a.1 - t).abs().total_cmp(&(b.1 - t).abs()))
+        .map_or(0, |x| x.0);
+    run.col(name).get(k).copied().unwrap_or(f64::NAN)
+}
+
+pub(super) fn last(run: &CaseRun, name: &str) -> f64 {
+    run.col(name).last().copied().unwrap_or(f64::NAN)
+}
+
+/// What a bar run measured of the observables the exact answer fixes.
+#[derive(Debug, Clone, Copy)]
+pub struct BarScores {
+    /// Contact pressure at half the contact time, Pa.
+    pub plateau: f64,
+    /// End of the contact, s.
+    pub separation: f64,
+    /// Mean velocities of the left and right bar at the end, m/s.
+    pub final_left: f64,
+    pub final_right: f64,
+}
+
+impl BarScores {
+    pub fn of(run: &CaseRun) -> Self {
+        let (_, ts) = contact_window(run.times(), &run.col("contact_pressure"));
+        Self {
+            plateau: at(run, "contact_pressure", 0.5 * ts),
+            separation: ts,
+            final_left: last(run, "velocity_left"),
+            final_right: last(run, "velocity_right"),
+        }
+    }
+}
+
+/// What a disk run measured against the dynamic reference.
+#[derive(Debug, Clone, Copy)]
+pub struct DiskScores {
+    /// Peak contact force, N/m, and when it happened, s.
+    pub peak: f64,
+    pub t_peak: f64,
+    /// Contact time, s.
+    pub contact_time: f64,
+    /// Relative velocity after over before (closing at 10 m/s).
+    pub restitution: f64,
+    /// Least contact force over the run (negative would be tension).
+    pub least_force: f64,
+}
+
+impl DiskScores {
+    pub fn of(run: &CaseRun) -> Self {
+        let t = run.times();
+        let f = run.col("contact_force");
+        let (t0, t1) = contact_window(t, &f);
+        let (k, peak) = f
+            .iter()
+            .enumerate()
+            .fold((0, 0.0f64), |a, (i, &v)| if v > a.1 { (i, v) } else { a });
+        Self {
+            peak,
+            t_peak: t[k],
+            contact_time: t1 - t0,
+            // Separating velocity over the closing speed (10 m/s).
+            restitution: (last(run, "velocity_right") - last(run, "velocity_left")) / 10.0,
+            least_force: f.iter().copied().fold(f64::INFINITY, f64::min),
+        }
+    }
+}
