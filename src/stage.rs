@@ -85,7 +85,7 @@ pub const STAGES: [StageInfo; 7] = [
         cpu: Some("cpu/neighbours.rs"),
         tests: &[
             "tests/gpu_stages.rs::stages_match_cpu_disks_square",
-            "src/cpu/neighbours.rs::cell_list_equals_brute_force",
+            "src/cpu/neighbours_tests.rs::cell_list_equals_brute_force",
             "src/math/cells.rs::cells_of_four_particles_by_hand",
         ],
         reads: "x",
@@ -117,8 +117,8 @@ pub const STAGES: [StageInfo; 7] = [
         cpu: Some("cpu/forces.rs"),
         tests: &[
             "tests/gpu_stages.rs::stages_match_cpu_bars_steel_aluminium",
-            "src/cpu/forces.rs::lanes_match_one_pair_code_bit_for_bit",
-            "src/cpu/forces.rs::artificial_stress_is_the_principal_axes_form",
+            "src/cpu/forces_tests.rs::lanes_match_one_pair_code_bit_for_bit",
+            "src/cpu/forces_tests.rs::artificial_stress_is_the_principal_axes_form",
         ],
         reads: "x, v, σ/ρ², c, L, ∇v, the boundary set; the cell list",
         writes: "dv/dt and de/dt of the SPH sums, the contact area",
@@ -131,8 +131,8 @@ pub const STAGES: [StageInfo; 7] = [
         cpu: Some("cpu/contact.rs"),
         tests: &[
             "tests/gpu_stages.rs::stages_match_cpu_with_entry_overlaps",
-            "src/cpu/contact.rs::two_particles_gap_and_force_by_hand",
-            "src/cpu/contact.rs::spring_force_is_the_stored_energys_gradient",
+            "src/cpu/contact_tests.rs::two_particles_gap_and_force_by_hand",
+            "src/cpu/contact_tests.rs::spring_force_is_the_stored_energys_gradient",
         ],
         reads: "x, v, normals, contact area, the boundary list, entry overlaps",
         writes: "penalty forces (and their spread onto neighbours), dashpot heat, \

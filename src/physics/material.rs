@@ -3,6 +3,7 @@
 //! becomes one through `MaterialModel::new` (src/scene/model.rs), so that
 //! this module knows nothing of the scene format.
 
+use crate::math::Sym;
 use crate::physics::johnson_cook::{Failure, Strength};
 
 /// A material with every derived constant the solver needs.
@@ -176,6 +177,17 @@ pub fn series(a: f64, b: f64) -> f64 {
         return a;
     }
     a * b / (a + b)
+}
+
+/// The Cauchy stress `σ = −p I + s` (in plane; `zz` = `−p + s_zz`).
+#[inline]
+pub fn cauchy(p: f64, s: &Sym) -> Sym {
+    Sym {
+        xx: s.xx - p,
+        yy: s.yy - p,
+        xy: s.xy,
+        zz: s.zz - p,
+    }
 }
 
 #[cfg(test)]

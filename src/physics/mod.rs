@@ -1,5 +1,6 @@
-//! Plain functions of scalars: the kernel, the material model, the penalty
-//! law and the strength and failure laws. Used by the CPU path (and
+//! Plain functions of scalars and small tensors: the kernel, the material
+//! model, the artificial viscosity and stress, the penalty law and the
+//! strength and failure laws; they depend on [`crate::math`] alone. Used by the CPU path (and
 //! mirrored by the shaders of the GPU path); the exact answers of the
 //! validation cases are in [`crate::validation::exact`].
 
@@ -8,3 +9,5 @@ pub mod kernel;
 pub mod material;
 pub mod penalty;
 pub mod strength;
+pub mod tension;
+pub mod viscosity;

@@ -9,7 +9,9 @@
 //! ([`SumsBar`]), and from those each candidate's share ([`candidate`]):
 //! the derivatives with respect to its position, its normal and its weight.
 //! The solvers turn the normals' derivatives into forces through the
-//! colour gradient the normals are made from.
+//! colour gradient the normals are made from. The spring's stiffness from
+//! the two surface layers, the touching and yield overlaps and the entry
+//! rule are here too ([`spring_stiffness`], [`entry_rule`]).
 
 use glam::DVec2;
 
@@ -205,9 +207,113 @@ pub fn candidate(bar: &SumsBar, sp: DVec2, w: f64, sq: DVec2, nq: DVec2, oq: f64
     }
 }
 
+// The spring's constants and the entry rule: functions of the two
+// surfaces' layers and overlaps alone.
+
+/// Stiffness of the penalty spring, Pa/m (docs/method.md §8.3, derived here).
+///
+/// The spring stands for the two surface layers between the particle
+/// centres and the surfaces they meet: thickness `o_a` of body A and `o_b`
+/// of body B, each squeezed in uniaxial strain (the layer is thin against
+/// the body, so the constrained modulus `M = K + 4G/3 = ρ0 c_L²` holds).
+/// In series their compliance is `o_a/M_a + o_b/M_b`. On a conforming
+/// lattice (`o = Δx/2`) between equal bodies this is `M/Δx`, where the
+/// paper's `E*/h0` gives `E/(2Δx)`: for steel 2.7 times more compliant than
+/// the material it stands for, which made contacts soft and long.
+///
+/// A layer is taken at least `Δx/4` thick: on a square lattice around a curve
+/// a particle centre can sit almost on the surface, and a zero-thickness
+/// layer would be an infinitely stiff spring. At the floor the spring's
+/// frequency is `√2 c_L/Δx`, so `ω Δt ≈ 0.5` at the CFL step: stable with margin.
+/// A rigid side (`M = ∞`) adds no compliance.
+pub fn spring_stiffness(o_a: f64, dx_a: f64, m_a: f64, o_b: f64, dx_b: f64, m_b: f64) -> f64 {
+    let layer = |o: f64, dx: f64, m: f64| {
+        if m.is_infinite() {
+            0.0
+        } else {
+            o.max(0.25 * dx) / m
+        }
+    };
+    1.0 / (layer(o_a, dx_a, m_a) + layer(o_b, dx_b, m_b))
+}
+
+/// The gap below which two surfaces count as touching: `1e-5 Δx`.
+///
+/// Bodies placed touching have a gap of zero up to the round-off of their
+/// coordinates (`+2e-19 m` for the paper's bars in f64, a few `1e-7 Δx` on
+/// the GPU's f32 offsets). A gap of `+ε` makes the contact start inside the
+/// first step instead of at it: the midpoint step then applies the dashpot
+/// from its half state, which has not yet felt it, and books 0.3 % too much
+/// heat for the bar impact. Counting round-off as touching starts both
+/// backends alike; the dashpot engages `1e-5 Δx / w` early at most (a
+/// thousandth of a time step), the spring only on a true overlap.
+#[inline]
+pub fn touching(spacing: f64) -> f64 {
+    1e-5 * spacing
+}
+
+/// The overlap beyond its entry at which a particle's spring yields:
+/// a quarter spacing of its body.
+///
+/// An overlap that deep is no resolved contact (the physical ones are
+/// `p Δx / M`: 1e-3 Δx for the paper's disks, 0.09 Δx for a steel rod
+/// into aluminium at 500 m/s); at a crater lip the interpolated partner
+/// surface of a particle with a few grazing candidates can jump by
+/// several spacings between steps. Beyond it the entry overlap follows
+/// (`State::entry`): the pressure holds at `k Δx/4` (a quarter of the
+/// constrained modulus on a conforming lattice), the stored energy stays
+/// continuous, and the work a further compression does is booked as heat.
+#[inline]
+pub fn yield_overlap(spacing: f64) -> f64 {
+    0.25 * spacing
+}
+
+/// The entry overlap after an evaluation whose deepest raw overlap over
+/// P's passes is `deepest`, from the stored one `e_in` (negative: P was
+/// off the boundary at the last base state), with the yield overlap `cap`
+/// ([`yield_overlap`]); and whether the spring has yielded. A particle
+/// joins storing nothing; the entry only shrinks, except to follow an
+/// overlap more than `cap` beyond it.
+#[inline]
+pub fn entry_rule(e_in: f64, deepest: f64, cap: f64) -> (f64, bool) {
+    if e_in < 0.0 {
+        return (deepest, false);
+    }
+    let e = e_in.min(deepest);
+    if deepest - e > cap {
+        (deepest - cap, true)
+    } else {
+        (e, false)
+    }
+}
+
+/// The stiffness's slope `∂k/∂o_b` with the far layer's thickness (`k`
+/// from [`spring_stiffness`]): zero where the layer sits at its floor or
+/// the far side is rigid.
+pub fn stiffness_slope(k: f64, o_b: f64, dx_b: f64, m_b: f64) -> f64 {
+    if m_b.is_infinite() || o_b <= 0.25 * dx_b {
+        0.0
+    } else {
+        -k * k / m_b
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The entry rule's cases, exactly.
+    #[test]
+    fn entry_rule_cases() {
+        // Joining: the overlap is the entry.
+        assert_eq!(entry_rule(-1.0, 0.3, 0.25), (0.3, false));
+        // Shrinks to a smaller overlap, stays against a larger one.
+        assert_eq!(entry_rule(0.2, 0.1, 0.25), (0.1, false));
+        assert_eq!(entry_rule(0.1, 0.3, 0.25), (0.1, false));
+        // Follows an overlap more than the cap beyond it.
+        assert_eq!(entry_rule(0.1, 0.5, 0.25), (0.25, true));
+        assert_eq!(entry_rule(0.0, 0.0, 0.25), (0.0, false));
+    }
 
     /// A candidate `(w, s_q, n_q, o_q)`.
     type Cand = (f64, DVec2, DVec2, f64);

@@ -1,0 +1,413 @@
+//! The forces stage's sweep: every pair once, its terms added to both of
+//! its particles; four pairs of a row at a time in vector lanes where the
+//! scene has no rigid body (`lane_terms`), one at a time with the plain
+//! pair code (`forces::pair_terms`) elsewhere. Both give the same bits
+//! (tested in `forces_tests.rs`).
+
+use glam::DVec2;
+
+use super::forces::*;
+use super::neighbours::{Chunk, Nbr, Neighbours};
+use crate::math::lanes::{columns, F4, LANES};
+use crate::math::Mat2;
+use crate::model::{Model, State};
+use crate::physics::strength;
+use crate::physics::tension::{art_weight_lanes, close_gate_lanes};
+use crate::scene::ArtPairs;
+
+/// Where a pass's energy terms go: into the particles' sums (`()`, no
+/// memory) or into the pair's slot ([`PairVectors`]).
+pub(super) trait EnergyTerms: Send + Default {
+    /// Lane k of the pair terms `t`: i's and, for a near pair, j's.
+    fn lane(self_: &mut Self, t: &LaneTerms, k: usize, ei: &mut f64, ej: Option<&mut f64>);
+    /// The one-pair terms `p` of pair `ij = (i, j)` with the masses
+    /// `m = (m_i, m_j)`: i's side unless i is rigid, j's for a near pair.
+    fn pair(
+        self_: &mut Self,
+        p: &PairTerms,
+        pts: &[StressPoint],
+        ij: (usize, usize),
+        m: (f64, f64),
+        ei: Option<&mut f64>,
+        ej: Option<&mut f64>,
+    );
+}
+
+impl EnergyTerms for () {
+    #[inline(always)]
+    fn lane(_: &mut (), t: &LaneTerms, k: usize, ei: &mut f64, ej: Option<&mut f64>) {
+        *ei -= t.e_i[k];
+        if let Some(ej) = ej {
+            *ej -= t.e_j[k];
+        }
+    }
+
+    #[inline(always)]
+    fn pair(
+        _: &mut (),
+        p: &PairTerms,
+        pts: &[StressPoint],
+        (i, j): (usize, usize),
+        (mi, mj): (f64, f64),
+        ei: Option<&mut f64>,
+        ej: Option<&mut f64>,
+    ) {
+        if let Some(ei) = ei {
+            *ei -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g)) - p.shared);
+        }
+        if let Some(ej) = ej {
+            *ej -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g)) - p.shared);
+        }
+    }
+}
+
+impl EnergyTerms for PairVectors {
+    #[inline(always)]
+    fn lane(slot: &mut Self, t: &LaneTerms, k: usize, _: &mut f64, _: Option<&mut f64>) {
+        *slot = [
+            DVec2::new(t.x_i[0][k], t.x_i[1][k]),
+            DVec2::new(t.x_j[0][k], t.x_j[1][k]),
+        ];
+    }
+
+    #[inline(always)]
+    fn pair(
+        slot: &mut Self,
+        p: &PairTerms,
+        pts: &[StressPoint],
+        (i, j): (usize, usize),
+        _: (f64, f64),
+        _: Option<&mut f64>,
+        _: Option<&mut f64>,
+    ) {
+        *slot = pair_vectors(p.tg, pts[i].sr2.mul_vec(p.g), pts[j].sr2.mul_vec(p.g));
+    }
+}
+
+/// The inputs of the momentum pass.
+type Inputs<'a> = (
+    &'a Model,
+    &'a State,
+    &'a Neighbours,
+    &'a [Mat2],
+    &'a [Mat2],
+    &'a [bool],
+    &'a [StressPoint],
+);
+
+/// [`sums`] with the energy terms going to `E` (one slot per visited
+/// candidate).
+pub(super) fn sums_into<E: EnergyTerms>(
+    (model, st, nb, l, gv, surface, pts): Inputs<'_>,
+    lanes: bool,
+    slots: &mut [E],
+) -> (Vec<DVec2>, Vec<f64>) {
+    let mut acc = vec![(DVec2::ZERO, 0.0); model.len()];
+    if lanes {
+        assert!(lanes_serve(model), "the lane code serves this scene");
+        let rec = partners(model, st, l, gv, surface, pts);
+        let art = art_rows(model, st, pts);
+        nb.sweep_chunks_store(
+            model,
+            &st.x,
+            &mut acc,
+            slots,
+            |i, c, ai, piece, base, slots| {
+                let t = lane_terms(&rec, art.as_ref(), model, i, c);
+                for (k, slot) in slots.iter_mut().enumerate() {
+                    if c.inside & (1 << k) == 0 {
+                        *slot = E::default();
+                        continue;
+                    }
+                    ai.0 += DVec2::new(t.tg_mj[0][k], t.tg_mj[1][k]);
+                    let aj = c.near.then(|| &mut piece[c.j[k] as usize - base]);
+                    let ej = aj.map(|aj| {
+                        aj.0 -= DVec2::new(t.tg_mi[0][k], t.tg_mi[1][k]);
+                        &mut aj.1
+                    });
+                    E::lane(slot, &t, k, &mut ai.1, ej);
+                }
+            },
+        );
+        return acc.into_iter().unzip();
+    }
+    let terms = |i, b: &Nbr| pair_terms(model, st, l, gv, surface, pts, i, b);
+    nb.sweep_store(model, &st.x, &mut acc, slots, |i, b, ai, aj, slot| {
+        let j = b.j as usize;
+        // Rigid particles keep zero rates; a far pair has no j side here.
+        let aj = aj.filter(|_| !model.rigid(j));
+        let ri = model.rigid(i);
+        if ri && aj.is_none() {
+            *slot = E::default();
+            return;
+        }
+        let p = terms(i, b);
+        let (mi, mj) = (model.mass[i], model.mass[j]);
+        let ei = (!ri).then(|| {
+            ai.0 += p.tg * mj;
+            &mut ai.1
+        });
+        let ej = aj.map(|aj| {
+            aj.0 -= p.tg * mi;
+            &mut aj.1
+        });
+        E::pair(slot, &p, pts, (i, j), (mi, mj), ei, ej);
+    });
+    acc.into_iter().unzip()
+}
+
+/// What four pairs of one row add to their particles' sums: i's side and
+/// j's, the masses applied.
+pub(super) struct LaneTerms {
+    tg_mj: [[f64; LANES]; 2],
+    tg_mi: [[f64; LANES]; 2],
+    e_i: [f64; LANES],
+    e_j: [f64; LANES],
+    /// The pair's [`PairVectors`] (x and y rows).
+    x_i: [[f64; LANES]; 2],
+    x_j: [[f64; LANES]; 2],
+}
+
+/// What the momentum pass reads of a particle, in one record of five rows
+/// of four, so that four partners' values come into lanes by a transpose
+/// of their rows ([`columns`]) instead of twenty single gathers.
+#[derive(Clone, Copy)]
+#[repr(C, align(32))]
+struct Partner {
+    /// `x`, `v`.
+    xv: [f64; 4],
+    /// `L` (xx, xy, yx, yy).
+    l: [f64; 4],
+    /// `∇v` (xx, xy, yx, yy); zero unless the viscosity is reconstructed.
+    gv: [f64; 4],
+    /// `σ/ρ²` (xx, xy, yy) and the sound speed.
+    sc: [f64; 4],
+    /// `ρ`, `h`, `m`, and 1 on a surface particle (else 0).
+    rhm: [f64; 4],
+}
+
+/// Every particle's [`Partner`] record for one momentum pass (written once,
+/// read by the twenty or so pairs each particle is in).
+fn partners(
+    model: &Model,
+    st: &State,
+    l: &[Mat2],
+    gv: &[Mat2],
+    surface: &[bool],
+    pts: &[StressPoint],
+) -> Vec<Partner> {
+    use rayon::prelude::*;
+    (0..model.len())
+        .into_par_iter()
+        .map(|i| {
+            let (x, v, li, p) = (st.x[i], st.v[i], &l[i], &pts[i]);
+            let g = if model.av_reconstruct {
+                gv[i]
+            } else {
+                Mat2::ZERO
+            };
+            Partner {
+                xv: [x.x, x.y, v.x, v.y],
+                l: [li.xx, li.xy, li.yx, li.yy],
+                gv: [g.xx, g.xy, g.yx, g.yy],
+                sc: [p.sr2.xx, p.sr2.xy, p.sr2.yy, p.c],
+                rhm: [
+                    st.rho[i],
+                    model.h[i],
+                    model.mass[i],
+                    if surface[i] { 1.0 } else { 0.0 },
+                ],
+            }
+        })
+        .collect()
+}
+
+/// What the lane code reads of the artificial stress: every particle's
+/// `R` (xx, xy, yy) and its body's spacing, one row of four each, and
+/// whether `R` is not zero (the particle is in tension).
+struct ArtRows {
+    rows: Vec<[f64; 4]>,
+    tension: Vec<bool>,
+    /// 1 for a particle that has not failed, 0 for one that has (which
+    /// takes no part in the term); empty while no particle has failed.
+    intact: Vec<f64>,
+}
+
+/// The [`ArtRows`] of one momentum pass, when the scene has the
+/// artificial stress (else none: the pass reads nothing more).
+fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
+    use rayon::prelude::*;
+    model.artificial_stress?;
+    let (rows, tension) = (0..model.len())
+        .into_par_iter()
+        .map(|i| {
+            let r = &pts[i].r;
+            ([r.xx, r.xy, r.yy, model.spacing_of(i)], r.xx + r.yy < 0.0)
+        })
+        .unzip();
+    let intact = if st.damage.iter().any(|&d| strength::failed(d)) {
+        let state = |&d: &f64| if strength::failed(d) { 0.0 } else { 1.0 };
+        st.damage.iter().map(state).collect()
+    } else {
+        Vec::new()
+    };
+    Some(ArtRows {
+        rows,
+        tension,
+        intact,
+    })
+}
+
+/// [`pair_terms`] and the sums' updates for up to four pairs of row i at
+/// once, with no rigid particle; `art` holds the artificial stress's
+/// rows ([`art_rows`]) when the scene has it. Operation for
+/// operation the one-pair code in its order, so the results are
+/// bit-identical; its branches (the reconstruction's early return and
+/// surface test, the viscosity's receding pairs) become selects between
+/// both outcomes. Lanes that hold no pair (`c.inside` clear) compute
+/// values the caller drops.
+#[inline(always)]
+fn lane_terms(
+    rec: &[Partner],
+    art: Option<&ArtRows>,
+    model: &Model,
+    i: usize,
+    c: &Chunk,
+) -> LaneTerms {
+    let r: [&Partner; LANES] = std::array::from_fn(|k| &rec[c.j[k] as usize]);
+    let me = &rec[i];
+    // Partner j's rows into lanes, particle i's as scalars.
+    let [xjx, xjy, vjx, vjy] = columns([&r[0].xv, &r[1].xv, &r[2].xv, &r[3].xv]);
+    let [ljxx, ljxy, ljyx, ljyy] = columns([&r[0].l, &r[1].l, &r[2].l, &r[3].l]);
+    let [sjxx, sjxy, sjyy, cj] = columns([&r[0].sc, &r[1].sc, &r[2].sc, &r[3].sc]);
+    let [rhoj, hj, mj, surj] = columns([&r[0].rhm, &r[1].rhm, &r[2].rhm, &r[3].rhm]);
+    let [xix, xiy, vix, viy] = me.xv;
+    let [lixx, lixy, liyx, liyy] = me.l;
+    let [sixx, sixy, siyy, ci] = me.sc;
+    let [rhoi, hi, mi, suri] = me.rhm;
+
+    let hij = 0.5 * (hi + hj);
+    let xx = xix - xjx;
+    let xy = xiy - xjy;
+    let vx = vix - vjx;
+    let vy = viy - vjy;
+    let (gwx, gwy) = (c.gwx, c.gwy);
+    // G = ½ (L_i + L_j) ∇W.
+    let axx = (lixx + ljxx) * 0.5;
+    let axy = (lixy + ljxy) * 0.5;
+    let ayx = (liyx + ljyx) * 0.5;
+    let ayy = (liyy + ljyy) * 0.5;
+    let gx = axx * gwx + axy * gwy;
+    let gy = ayx * gwx + ayy * gwy;
+    // The viscosity's velocity jump (reconstructed_jump).
+    let (wx, wy) = if model.av_reconstruct {
+        let [gixx, gixy, giyx, giyy] = me.gv;
+        let [gjxx, gjxy, gjyx, gjyy] = columns([&r[0].gv, &r[1].gv, &r[2].gv, &r[3].gv]);
+        let dix = gixx * xx + gixy * xy;
+        let diy = giyx * xx + giyy * xy;
+        let djx = gjxx * xx + gjxy * xy;
+        let djy = gjyx * xx + gjyy * xy;
+        let si = xx * dix + xy * diy;
+        let sj = xx * djx + xy * djy;
+        let sum = si + sj;
+        let phi = (4.0 * si * sj / (sum * sum)).min(F4::splat(1.0));
+        let half = 0.5 * phi;
+        let surface = (suri + surj).ge(F4::splat(1.0));
+        let keep = surface.or((si * sj).le(F4::splat(0.0)));
+        (
+            keep.select(vx, vx - (dix + djx) * half),
+            keep.select(vy, vy - (diy + djy) * half),
+        )
+    } else {
+        (vx, vy)
+    };
+    // Monaghan's Π (viscosity_pi).
+    let c_mean = 0.5 * (ci + cj);
+    let rho_mean = 0.5 * (rhoi + rhoj);
+    let wdx = wx * xx + wy * xy;
+    let d = (xx * xx + xy * xy) + 0.01 * hij * hij;
+    let hv = hij * wdx;
+    let pi_raw = hv * (-model.alpha * c_mean * d + model.beta * hv) / (d * d * rho_mean);
+    let pi = wdx.ge(F4::splat(0.0)).select(F4::splat(0.0), pi_raw);
+    // t = σ_i/ρ_i² + σ_j/ρ_j² − Π I (+ (R_i + R_j) f^n), t G, and each
+    // side's energy term.
+    let mut txx = sixx + sjxx - pi;
+    let mut tyy = siyy + sjyy - pi;
+    let mut txy = sixy + sjxy;
+    let mut art_work = None;
+    let bonded = |art: &ArtRows| art.intact.is_empty() || art.intact[i] > 0.0;
+    if let (Some(art), Some(a)) = (art.filter(|a| bonded(a)), model.artificial_stress) {
+        // Rows untouched by tension skip it, and so do rows with no close
+        // pair in the close-pair form; the others take it lane by lane
+        // where the trace of R_i + R_j is negative and the gate open
+        // (pair_terms).
+        if art.tension[i] || c.j.iter().any(|&j| art.tension[j as usize]) {
+            let r2 = xx * xx + xy * xy;
+            // The close-pair gate first: most rows have no pair inside
+            // it and read no R. κ² ≤ 1 only shuts it further, so a gate
+            // shut at κ² = 1 is shut.
+            let gate = match a.pairs {
+                ArtPairs::All => None,
+                ArtPairs::Close => {
+                    let vol = (mi / rhoi + mj / rhoj) * 0.5;
+                    let mut gate = close_gate_lanes(r2, vol, F4::splat(1.0), model.dim);
+                    let ks = &model.close_scale;
+                    if !ks.is_empty() && F4::splat(0.0).lt(gate).bits() != 0 {
+                        let k2 = F4::gather(|k| ks[c.j[k] as usize]).min(F4::splat(ks[i]));
+                        gate = close_gate_lanes(r2, vol, k2, model.dim);
+                    }
+                    Some(gate)
+                }
+            };
+            let open = gate.map_or(true, |g| F4::splat(0.0).lt(g).bits() != 0);
+            if open {
+                let [rjxx, rjxy, rjyy, spj] = columns(c.j.map(|j| &art.rows[j as usize]));
+                let [rixx, rixy, riyy, spi] = art.rows[i];
+                let (sxx, sxy, syy) = (rixx + rjxx, rixy + rjxy, riyy + rjyy);
+                let mut on = (sxx + syy).lt(F4::splat(0.0));
+                if let Some(gate) = gate {
+                    on = on.and(F4::splat(0.0).lt(gate));
+                }
+                if !art.intact.is_empty() {
+                    let ok = F4::gather(|k| art.intact[c.j[k] as usize]);
+                    on = on.and(F4::splat(0.0).lt(ok));
+                }
+                if on.bits() != 0 {
+                    let dp = 0.5 * (spi + spj);
+                    let mut fnn = art_weight_lanes(r2, dp, hij, a.n);
+                    if let Some(gate) = gate {
+                        fnn = fnn * gate;
+                    }
+                    let (rfxx, rfxy, rfyy) = (sxx * fnn, sxy * fnn, syy * fnn);
+                    txx = on.select(txx + rfxx, txx);
+                    tyy = on.select(tyy + rfyy, tyy);
+                    txy = on.select(txy + rfxy, txy);
+                    let (rgx, rgy) = (rfxx * gx + rfxy * gy, rfxy * gx + rfyy * gy);
+                    art_work = Some(on.select(0.5 * (vx * rgx + vy * rgy), F4::splat(0.0)));
+                }
+            }
+        }
+    }
+    let tgx = txx * gx + txy * gy;
+    let tgy = txy * gx + tyy * gy;
+    let mut shared = 0.5 * pi * (vx * gx + vy * gy);
+    if let Some(w) = art_work {
+        shared = shared - w;
+    }
+    // σ_i/ρ_i² G and σ_j/ρ_j² G.
+    let (sigx, sigy) = (sixx * gx + sixy * gy, sixy * gx + siyy * gy);
+    let (sjgx, sjgy) = (sjxx * gx + sjxy * gy, sjxy * gx + sjyy * gy);
+    let ei = vx * sigx + vy * sigy;
+    let ej = vx * sjgx + vy * sjgy;
+    // pair_vectors, lane by lane.
+    let xix = (tgx + (sigx - sjgx)) * 0.5;
+    let xiy = (tgy + (sigy - sjgy)) * 0.5;
+    LaneTerms {
+        tg_mj: [(tgx * mj).to_array(), (tgy * mj).to_array()],
+        tg_mi: [(tgx * mi).to_array(), (tgy * mi).to_array()],
+        e_i: (mj * (ei - shared)).to_array(),
+        e_j: (mi * (ej - shared)).to_array(),
+        x_i: [xix.to_array(), xiy.to_array()],
+        x_j: [(tgx - xix).to_array(), (tgy - xiy).to_array()],
+    }
+}

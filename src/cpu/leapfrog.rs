@@ -1,0 +1,217 @@
+//! The leapfrog's step on the CPU (docs/method.md §9): one evaluation a
+//! step, the rates at its start carried from the step before, the energy
+//! sums replayed from the pairs the momentum sums kept.
+
+use rayon::prelude::*;
+
+use super::*;
+
+impl CpuSolver {
+    /// One kick–drift–kick step (docs/method.md §9), one evaluation, with the
+    /// rates `kn` at the current state (`a_n`, `ė_n`):
+    ///
+    /// 1. `v_{n+½} = v_n + ½Δt a_n`, `e_{n+½}` likewise, `x_{n+1} = x_n +
+    ///    Δt v_{n+½}`;
+    /// 2. the kinematic pass at `(x_{n+1}, v_{n+½})` takes `ρ` and `s` from
+    ///    `n` to `n+1` (time-centred rates; with the radial return);
+    /// 3. EOS and the momentum pass at `n+1`; the viscosity and the
+    ///    dashpot see the predicted `v_{n+½} + ½Δt a_n`, the EOS the
+    ///    predicted `e_{n+½} + ½Δt ė_n`, the viscosity's reconstruction the
+    ///    gradient of the predicted velocities (taken in the walk of 2,
+    ///    [`kinematics::kinematics_seen`]);
+    /// 4. `v_{n+1} = v_{n+½} + ½Δt a_{n+1}`; then the energy sums with the
+    ///    pair terms of 3 but the work done on `v_{n+1}`
+    ///    ([`forces::energy_replay`]), and `e_{n+1} = e_{n+½} + ½Δt ė_{n+1}`.
+    ///
+    /// The work of the force at `n+1` over the two half steps around it is
+    /// exactly `Δt F·v_{n+1}`; energy booked at any other velocity drifts
+    /// one way (docs/performance.md has the measurements). The rates of 3
+    /// and 4 are the next step's `a_n`, `ė_n`.
+    ///
+    /// Returns whether every particle of the new state passes the state
+    /// check.
+    pub(super) fn leapfrog(&mut self, kn: Rates, dt: f64) -> bool {
+        let model = &self.model;
+        let st = &self.state;
+        let h = 0.5 * dt;
+        // 1: the half kick and the drift; ρ and s still at n. The
+        // predicted velocity of 3 goes to next.v.
+        let mut half = std::mem::take(&mut self.scratch);
+        let mut next = std::mem::take(&mut self.spare);
+        stage::enter(Stage::Advance, Role::KickDrift);
+        half.x
+            .par_iter_mut()
+            .zip(half.v.par_iter_mut())
+            .zip(half.e.par_iter_mut())
+            .zip(next.v.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (((x, v), e), vp))| {
+                if model.rigid(i) {
+                    *v = st.v[i];
+                    *e = st.e[i];
+                    *vp = *v;
+                } else {
+                    *v = st.v[i] + kn.dv[i] * h;
+                    *e = st.e[i] + kn.de[i] * h;
+                    *vp = *v + kn.dv[i] * h;
+                }
+                *x = st.x[i] + *v * dt;
+            });
+        half.rho.copy_from_slice(&st.rho);
+        half.s.copy_from_slice(&st.s);
+        half.heat = st.heat + kn.heat_rate * h;
+        half.spring_work = st.spring_work + kn.spring_rate * h;
+        Self::refresh_lists(
+            model,
+            &mut self.nb,
+            &mut self.list_builds,
+            &half.x,
+            Role::Drifted,
+        );
+        let nb = &self.nb;
+        stage::enter(Stage::Kinematics, Role::Next);
+        // 2: ρ and s to n+1; the reconstruction's ∇v at the predicted
+        // velocities, in the same walk. (A ∇v at n+½ with velocities at n+1
+        // mixes two levels: a jump O(Δt) where it should be O(Δx²), which
+        // makes the step first order.)
+        let k = kinematics::kinematics_seen(model, &half, nb, &next.v);
+        next.x.copy_from_slice(&half.x);
+        // ρ and s at n+1, the predicted energy of 3, and the EOS at them
+        // (eos_and_stress: in the same walk, or, with a plastic history,
+        // after its return).
+        let to_next = |i: usize, e: &mut f64, rho: &mut f64, s: &mut Sym| {
+            if model.rigid(i) {
+                (*e, *rho, *s) = (half.e[i], half.rho[i], half.s[i]);
+                return;
+            }
+            *e = half.e[i] + kn.de[i] * h;
+            *rho = half.rho[i] + k.drho[i] * dt;
+            *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
+        };
+        let walk = next
+            .e
+            .par_iter_mut()
+            .zip(next.rho.par_iter_mut())
+            .zip(next.s.par_iter_mut())
+            .enumerate();
+        let pts: Vec<StressPoint> = if model.history {
+            walk.for_each(|(i, ((e, rho), s))| to_next(i, e, rho, s));
+            return_with_history(model, st, &k.rate, st.t + dt, &mut next);
+            eos_and_stress(model, &next)
+        } else {
+            walk.map(|(i, ((e, rho), s))| {
+                to_next(i, e, rho, s);
+                stress_point(model, i, *rho, *e, s, 0.0)
+            })
+            .collect()
+        };
+        // 3: the forces at n+1.
+        stage::enter(Stage::Forces, Role::Next);
+        let mut dv = forces::momentum_keeping(
+            model,
+            &next,
+            nb,
+            &k.l,
+            &k.gv,
+            &k.surface,
+            &pts,
+            &mut self.kept,
+        );
+        let mut diag = Diagnostics {
+            correction_fallback: k.fallback.len(),
+            ..Default::default()
+        };
+        let bd = model.contact.then(|| {
+            stage::enter(Stage::Contact, Role::Next);
+            let kinematics::Kinematics { surface, .. } = k;
+            let bd = kinematics::boundary(model, &next.x, nb, surface);
+            diag.boundary_count = bd.list.len();
+            next.entry.clone_from(&st.entry);
+            let c = contact::penalty(model, &next, nb, &bd);
+            c.add_forces(model, &bd, &mut dv);
+            contact::write_entries(&c.entry, &mut next.entry);
+            bd
+        });
+        // 4: the second half kick, in place (v_{n+½} is dead after it;
+        // next.v keeps the predicted velocity the contact's forces were
+        // made at until the booking below), then the work on v_{n+1}.
+        half.v.par_iter_mut().enumerate().for_each(|(i, v)| {
+            if !model.rigid(i) {
+                *v += dv[i] * h;
+            }
+        });
+        let v_next = &half.v;
+        stage::enter(Stage::Forces, Role::Energy);
+        let mut de = forces::energy_replay(model, nb, &self.kept, v_next);
+        let (mut heat_rate, mut spring_rate) = (0.0, 0.0);
+        if let Some(bd) = bd {
+            stage::enter(Stage::Contact, Role::Book);
+            // The contact's forces again (the same bits), their heat and
+            // spring power booked at v_{n+1}.
+            let c = contact::penalty_booked(model, &next, nb, &bd, Some(v_next));
+            for (k, &i) in bd.list.iter().enumerate() {
+                let i = i as usize;
+                if !model.rigid(i) {
+                    de[i] += c.heat[k] / model.mass[i];
+                }
+            }
+            (heat_rate, spring_rate) = (c.stats.heat_rate, c.stats.spring_rate);
+            diag.contact = c.stats;
+        }
+        std::mem::swap(&mut next.v, &mut half.v);
+        stage::enter(Stage::Advance, Role::Finish);
+        // The next step's reduction is fused into this walk.
+        stage::enter(Stage::Reduce, Role::Step);
+        // e at n+1, the CFL step at the new state (cfl_step) and whether
+        // it passes the state check ([`CpuSolver::check`], which names
+        // the particle when it does not), in one walk.
+        let (cfl_dt, sane) = next
+            .e
+            .par_iter_mut()
+            .enumerate()
+            .map(|(i, e)| {
+                let (x, v, rho) = (next.x[i], next.v[i], next.rho[i]);
+                if model.rigid(i) {
+                    // Checked too: a rigid body may leave the domain.
+                    return (f64::INFINITY, sane(model, i, x, v, *e, rho, 0.0));
+                }
+                *e = half.e[i] + de[i] * h;
+                let dt = material::cfl_step(model.cfl, model.h[i], pts[i].c, v.length());
+                (
+                    dt,
+                    sane(
+                        model,
+                        i,
+                        x,
+                        v,
+                        *e,
+                        rho,
+                        next.damage.get(i).copied().unwrap_or(0.0),
+                    ),
+                )
+            })
+            .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 && b.1));
+        next.heat = half.heat + heat_rate * h;
+        next.spring_work = half.spring_work + spring_rate * h;
+        next.t = st.t + dt;
+        next.step = st.step + 1;
+        // The next step's size, at the state it starts from.
+        diag.cfl_dt = cfl_dt;
+        self.scratch = half;
+        self.spare = std::mem::replace(&mut self.state, next);
+        self.current = Some((
+            Rates {
+                dv,
+                drho: Vec::new(),
+                de,
+                ds: Vec::new(),
+                rate: Vec::new(),
+                heat_rate,
+                spring_rate,
+                entry: Vec::new(),
+            },
+            diag,
+        ));
+        sane
+    }
+}
