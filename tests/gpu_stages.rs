@@ -12,6 +12,7 @@ use sphcontact::gpu::{layout, shaders, GpuSolver};
 use sphcontact::math::Sym;
 use sphcontact::model::{Model, State};
 use sphcontact::scene::Integrator;
+use sphcontact::stage::{self, Stage};
 
 /// Every shader parses and validates with naga, and every struct shared
 /// with the host has the host's layout.
@@ -28,6 +29,18 @@ fn shaders_validate_and_layouts_match() {
     for (name, _, _) in layout::host_layouts() {
         assert!(checked.contains(name), "{name} is in no stage");
     }
+}
+
+/// A field of a stage's output, as a failure names it: the stage, its
+/// shader and its CPU twin (the stage table, `sphcontact::stage`).
+fn at(stage: Stage, field: &str) -> String {
+    let s = stage::info(stage);
+    format!(
+        "stage {} ({} against src/{}): {field}",
+        s.name,
+        s.shaders[0],
+        s.cpu.unwrap_or("-")
+    )
 }
 
 /// `gpu` within `tol` of the largest |cpu|; on failure, the worst index and
@@ -117,14 +130,19 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
                 let r = (st.x[i] - st.x[j]).length();
                 assert!(
                     (r / (2.0 * hij) - 1.0).abs() < 1e-5,
-                    "particle {i}: neighbour {j} at r = {r:e} (2h = {:e}) found by only one side",
+                    "{}: particle {i}: neighbour {j} at r = {r:e} (2h = {:e}) found by only one side",
+                    at(Stage::Neighbours, "neighbour sets"),
                     2.0 * hij
                 );
             }
         }
     }
     let per = if model.dim == 1 { 3 } else { 10 };
-    assert!(pairs > per * n, "a real neighbourhood: {pairs} pairs");
+    assert!(
+        pairs > per * n,
+        "{}: {pairs} pairs",
+        at(Stage::Neighbours, "a real neighbourhood")
+    );
 
     // The kinematics pass against its twins.
     let a = kinematics::kinematics(&model, &st, &nb);
@@ -132,7 +150,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     for (k, name) in ["L.xx", "L.xy", "L.yx", "L.yy"].iter().enumerate() {
         let cpu_l: Vec<f64> = a.l.iter().map(|m| [m.xx, m.xy, m.yx, m.yy][k]).collect();
         let gpu_l: Vec<f64> = out.l.iter().map(|m| m[k]).collect();
-        assert_field(name, &gpu_l, &cpu_l, 1e-4, &none);
+        assert_field(&at(Stage::Kinematics, name), &gpu_l, &cpu_l, 1e-4, &none);
     }
     let bd = kinematics::boundary(&model, &st.x, &nb, a.surface.clone());
     for i in 0..n {
@@ -140,7 +158,8 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
             let x = model.h[i] * a.grad_psi[i].length();
             assert!(
                 (x / model.boundary_threshold - 1.0).abs() < 1e-4,
-                "particle {i}: boundary cpu {} gpu {} (h|∇ψ| = {x})",
+                "{}: particle {i}: boundary cpu {} gpu {} (h|∇ψ| = {x})",
+                at(Stage::Kinematics, "boundary set"),
                 bd.is_boundary[i],
                 out.boundary[i]
             );
@@ -162,7 +181,8 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     println!("normals: worst angle {worst_angle:.2e} rad");
     assert!(
         worst_angle < 1e-3,
-        "boundary normals differ by {worst_angle} rad"
+        "{}: normals differ by {worst_angle} rad",
+        at(Stage::Kinematics, "boundary normals")
     );
 
     let pts = cpu::eos_and_stress(&model, &st);
@@ -172,29 +192,59 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
             .map(|p| [p.sr2.xx, p.sr2.yy, p.sr2.xy][k])
             .collect();
         let gg: Vec<f64> = out.sr2.iter().map(|p| p[k]).collect();
-        assert_field(name, &gg, &c, 1e-4, &none);
+        assert_field(&at(Stage::Kinematics, name), &gg, &c, 1e-4, &none);
     }
     let c: Vec<f64> = pts.iter().map(|p| p.c).collect();
-    assert_field("sound speed", &out.c, &c, 1e-5, &none);
+    assert_field(
+        &at(Stage::Kinematics, "sound speed"),
+        &out.c,
+        &c,
+        1e-5,
+        &none,
+    );
 
-    assert_field("dρ/dt", &out.drho, &a.drho, 1e-4, &none);
+    assert_field(
+        &at(Stage::Kinematics, "dρ/dt"),
+        &out.drho,
+        &a.drho,
+        1e-4,
+        &none,
+    );
     for (k, name) in ["ds.xx", "ds.yy", "ds.xy", "ds.zz"].iter().enumerate() {
         let c: Vec<f64> = a.ds.iter().map(|s| [s.xx, s.yy, s.xy, s.zz][k]).collect();
         let gg: Vec<f64> = out.ds.iter().map(|s| [s.xx, s.yy, s.xy, s.zz][k]).collect();
-        assert_field(name, &gg, &c, 1e-4, &none);
+        assert_field(&at(Stage::Kinematics, name), &gg, &c, 1e-4, &none);
     }
 
     // The forces pass: momentum and energy before contact.
     let (dv, de) = forces::momentum_energy(&model, &st, &nb, &a.l, &a.gv, &a.surface, &pts);
     let xs = |v: &[DVec2]| v.iter().map(|p| p.x).collect::<Vec<_>>();
     let ys = |v: &[DVec2]| v.iter().map(|p| p.y).collect::<Vec<_>>();
-    assert_field("dv/dt.x (SPH)", &xs(&out.dv_sph), &xs(&dv), 1e-4, &none);
-    assert_field("dv/dt.y (SPH)", &ys(&out.dv_sph), &ys(&dv), 1e-4, &none);
-    assert_field("de/dt (SPH)", &out.de_sph, &de, 1e-4, &none);
+    assert_field(
+        &at(Stage::Forces, "dv/dt.x"),
+        &xs(&out.dv_sph),
+        &xs(&dv),
+        1e-4,
+        &none,
+    );
+    assert_field(
+        &at(Stage::Forces, "dv/dt.y"),
+        &ys(&out.dv_sph),
+        &ys(&dv),
+        1e-4,
+        &none,
+    );
+    assert_field(&at(Stage::Forces, "de/dt"), &out.de_sph, &de, 1e-4, &none);
 
     // Contact: area, force on each particle, and the full rates.
     if model.contact {
-        assert_field("contact area", &out.area, &bd.area, 1e-4, &none);
+        assert_field(
+            &at(Stage::Forces, "contact area"),
+            &out.area,
+            &bd.area,
+            1e-4,
+            &none,
+        );
         let cf = contact::penalty(&model, &st, &nb, &bd);
         // The CPU gives the force on the boundary particles and the spread
         // onto their neighbours; every other particle's is zero.
@@ -209,14 +259,14 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
         assert_eq!(total > 0.0, expect_contact, "contact force {total}");
         let rigid = |i: usize| model.rigid(i);
         assert_field(
-            "contact force.x",
+            &at(Stage::Contact, "force.x"),
             &xs(&out.contact_force),
             &xs(&force),
             1e-4,
             &rigid,
         );
         assert_field(
-            "contact force.y",
+            &at(Stage::Contact, "force.y"),
             &ys(&out.contact_force),
             &ys(&force),
             1e-4,
@@ -237,13 +287,35 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     let dvy = ys(&rates.dv);
     let sx = part(&xs(&dv), &dvx);
     let sy = part(&ys(&dv), &dvy);
-    assert_scaled("dv/dt.x", &xs(&out.dv), &dvx, 1e-4, sx, &none);
-    assert_scaled("dv/dt.y", &ys(&out.dv), &dvy, 1e-4, sy, &none);
+    assert_scaled(
+        &at(Stage::Contact, "dv/dt.x with contact"),
+        &xs(&out.dv),
+        &dvx,
+        1e-4,
+        sx,
+        &none,
+    );
+    assert_scaled(
+        &at(Stage::Contact, "dv/dt.y with contact"),
+        &ys(&out.dv),
+        &dvy,
+        1e-4,
+        sy,
+        &none,
+    );
     let se = part(&de, &rates.de);
-    assert_scaled("de/dt", &out.de, &rates.de, 1e-4, se, &none);
+    assert_scaled(
+        &at(Stage::Contact, "de/dt with contact"),
+        &out.de,
+        &rates.de,
+        1e-4,
+        se,
+        &none,
+    );
     assert!(
         (out.dt / diag.cfl_dt - 1.0).abs() < 1e-5,
-        "CFL step: gpu {} cpu {}",
+        "{}: gpu {} cpu {}",
+        at(Stage::Reduce, "CFL step"),
         out.dt,
         diag.cfl_dt
     );
