@@ -33,7 +33,7 @@
 @group(0) @binding(53) var<storage, read> vstar: array<vec2<f32>>;
 // The plastic history, for the damage (common.wgsl, FAILURE).
 @group(0) @binding(76) var<storage, read> hist: array<vec4<f32>>;
-// The neighbour mask the kinematics pass left (common.wgsl; the leapfrog's).
+// The neighbour mask the kinematics pass left (walk.wgsl; the leapfrog's).
 @group(0) @binding(9) var<storage, read> nmask: array<vec2<u32>>;
 // The momentum walk of a leapfrog step (LEAP = 2) kicks the state's
 // velocity to v_{n+1} where a_{n+1} is whole, every particle the contact
@@ -289,7 +289,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         mask = nmask[i];
     }
     if ((mask.y & MASK_FULL) == 0u) {
-        // The pairs the kinematics pass found, in walk order (common.wgsl).
+        // The pairs the kinematics pass found, in walk order (walk.wgsl).
         let rm = row_map(wk.hm);
         loop {
             let o = mask_next(&mask);

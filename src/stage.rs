@@ -24,7 +24,9 @@
 //! stress update with a plastic history, [`crate::physics::strength`]) in
 //! the kinematics and advance stages, `spread.wgsl` (the contact spring's
 //! pull through the normals) in the contact and advance stages.
-//! `common.wgsl` holds the declarations every stage shares.
+//! `common.wgsl` holds the declarations every stage shares and `walk.wgsl`
+//! the neighbour walk; `penalty.wgsl` is the contact stage's pass of the
+//! penalty law ([`crate::physics::penalty`]).
 
 use crate::scene::Integrator;
 
@@ -84,7 +86,7 @@ pub const STAGES: [StageInfo; 7] = [
         shaders: &["neighbours.wgsl"],
         cpu: Some("cpu/neighbours.rs"),
         tests: &[
-            "tests/gpu_stages.rs::stages_match_cpu_disks_square",
+            "tests/gpu_stages/parity.rs::stages_match_cpu_disks_square",
             "src/cpu/neighbours_tests.rs::cell_list_equals_brute_force",
             "src/math/cells.rs::cells_of_four_particles_by_hand",
         ],
@@ -99,7 +101,7 @@ pub const STAGES: [StageInfo; 7] = [
         shaders: &["kinematics.wgsl", "strength.wgsl"],
         cpu: Some("cpu/kinematics.rs"),
         tests: &[
-            "tests/gpu_stages.rs::stages_match_cpu_disks_polar",
+            "tests/gpu_stages/parity.rs::stages_match_cpu_disks_polar",
             "tests/stages.rs::corrected_gradient_reproduces_linear_fields",
             "tests/stages.rs::outward_normals",
             "src/cpu/kinematics.rs::square_corner_normal_by_hand",
@@ -116,7 +118,7 @@ pub const STAGES: [StageInfo; 7] = [
         shaders: &["forces.wgsl"],
         cpu: Some("cpu/forces.rs"),
         tests: &[
-            "tests/gpu_stages.rs::stages_match_cpu_bars_steel_aluminium",
+            "tests/gpu_stages/parity.rs::stages_match_cpu_bars_steel_aluminium",
             "src/cpu/forces_tests.rs::lanes_match_one_pair_code_bit_for_bit",
             "src/cpu/forces_tests.rs::artificial_stress_is_the_principal_axes_form",
         ],
@@ -127,10 +129,10 @@ pub const STAGES: [StageInfo; 7] = [
     StageInfo {
         stage: Stage::Contact,
         name: "contact",
-        shaders: &["contact.wgsl", "spread.wgsl"],
+        shaders: &["contact.wgsl", "penalty.wgsl", "spread.wgsl"],
         cpu: Some("cpu/contact.rs"),
         tests: &[
-            "tests/gpu_stages.rs::stages_match_cpu_with_entry_overlaps",
+            "tests/gpu_stages/parity.rs::stages_match_cpu_with_entry_overlaps",
             "src/cpu/contact_tests.rs::two_particles_gap_and_force_by_hand",
             "src/cpu/contact_tests.rs::spring_force_is_the_stored_energys_gradient",
         ],
@@ -145,7 +147,7 @@ pub const STAGES: [StageInfo; 7] = [
         shaders: &["reduce.wgsl"],
         cpu: Some("cpu/reduce.rs"),
         tests: &[
-            "tests/gpu_stages.rs::stages_match_cpu_disks_square",
+            "tests/gpu_stages/parity.rs::stages_match_cpu_disks_square",
             "src/cpu/reduce.rs::cfl_step_by_hand",
         ],
         reads: "c, v, h; the probes' quantities",
@@ -158,8 +160,8 @@ pub const STAGES: [StageInfo; 7] = [
         shaders: &["advance.wgsl", "strength.wgsl", "spread.wgsl"],
         cpu: Some("cpu/advance.rs"),
         tests: &[
-            "tests/gpu_stages.rs::stages_match_cpu_penetration",
-            "tests/gpu_stages.rs::leapfrog_steps_match_cpu",
+            "tests/gpu_stages/steps.rs::stages_match_cpu_penetration",
+            "tests/gpu_stages/steps.rs::leapfrog_steps_match_cpu",
             "tests/strength.rs::a_block_follows_the_exact_johnson_cook_curve",
         ],
         reads: "the state and the rates",

@@ -118,7 +118,7 @@ fn time_stage_leaves_the_state_as_it_was() {
 /// The size check the benches skip sizes with: a size it accepts builds,
 /// and the first size whose widest per-particle array is over the adapter's
 /// binding limit is refused (the solver's own refusal of such a size is
-/// `too_large_for_the_adapter_is_a_clear_error` in gpu_stages.rs).
+/// `too_large_for_the_adapter_is_a_clear_error` in tests/gpu_stages/).
 #[test]
 fn fits_agrees_with_the_solver() {
     let Some(ctx) = gpu() else { return };

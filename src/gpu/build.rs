@@ -9,7 +9,7 @@ use super::*;
 /// Cell-list buckets for `n` particles: a power of two at least the count.
 ///
 /// A cell's key is row-major over the initial bounding box (`bucket_of`,
-/// common.wgsl), so distinct cells share a bucket only once the keys span
+/// walk.wgsl), so distinct cells share a bucket only once the keys span
 /// more than the bucket count. Cells are a little larger than `h`, so
 /// bodies that fill their box (the disks: 0.9 cells a particle) stay
 /// collision-free until they have spread over their starting box times the

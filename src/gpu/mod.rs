@@ -11,7 +11,7 @@
 //! | cell list: cells, count, two-pass prefix sum, scatter, per-bucket sort | `neighbours.wgsl` | [`crate::cpu::neighbours`] |
 //! | correction, colour gradient, EOS, velocity gradient, rates | `kinematics.wgsl` | [`crate::cpu::kinematics`] |
 //! | momentum, energy, contact area | `forces.wgsl` | [`crate::cpu::forces`] |
-//! | contact pass 1 and 2, and the spread of the spring's pull through the normals (only with contact; the midpoint rule's advance passes gather the spread) | `contact.wgsl`, `spread.wgsl` | [`crate::cpu::contact`] |
+//! | contact pass 1 and 2, and the spread of the spring's pull through the normals (only with contact; the midpoint rule's advance passes gather the spread) | `contact.wgsl`, `penalty.wgsl`, `spread.wgsl` | [`crate::cpu::contact`] |
 //! | CFL minimum, time, observations | `reduce.wgsl` | [`crate::cpu::reduce`], [`crate::probe`] |
 //! | midpoint half step; then the evaluation again, adding `Δt k2` in place; positions and checks | `advance.wgsl`, the passes at the midpoint | [`crate::cpu::advance`] |
 //! | every 16 steps: particles reordered by cell | `reorder.wgsl` | (none needed) |
@@ -35,7 +35,7 @@
 //! full neighbour walk is the kinematic pass's: it leaves each particle a
 //! 64-bit mask of which of its candidates are SPH pairs, and the momentum
 //! and energy walks (the forces pass, twice) visit only those, in the same order
-//! (`common.wgsl`, [`work::GridView::count_masked`]); the contact's
+//! (`walk.wgsl`, [`work::GridView::count_masked`]); the contact's
 //! gathers run over the list of boundary particles that the kinematics
 //! pass makes in either integrator (`contact.wgsl`). Its rates `a_n`, `de_n` (and the contact's heat and
 //! spring rates) are carried in buffers of their own, and checkpoints hold
@@ -232,7 +232,7 @@ enum Walk {
     /// particle (the leapfrog's contact, dispatched over the list).
     Listed,
     /// Every particle's thread visits the pairs of its neighbour mask
-    /// (common.wgsl), or walks in full where the mask overflowed.
+    /// (walk.wgsl), or walks in full where the mask overflowed.
     Masked,
 }
 

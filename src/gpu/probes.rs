@@ -3,7 +3,7 @@
 //! probe, and a row of the device's ring turns back into probe values.
 //!
 //! Positions are observed relative to the grid origin (`position_rel` in
-//! common.wgsl) and the origin is added back here, in f64: an absolute f32
+//! walk.wgsl) and the origin is added back here, in f64: an absolute f32
 //! coordinate near 100 m resolves only 7.6e-6 m, a relative one the f32
 //! resolution of the bodies' extent.
 

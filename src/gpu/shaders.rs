@@ -5,6 +5,13 @@ use std::collections::BTreeMap;
 
 const COMMON: &str = include_str!("../../shaders/common.wgsl");
 
+/// The neighbour walk every stage shares (shaders/walk.wgsl).
+const WALK: &str = include_str!("../../shaders/walk.wgsl");
+
+/// One pass of the penalty law (shaders/penalty.wgsl), part of the contact
+/// stage.
+const PENALTY: &str = include_str!("../../shaders/penalty.wgsl");
+
 /// The contact's spread (shaders/spread.wgsl), part of the stages that run
 /// it: the contact's own pass and the midpoint rule's advance passes.
 const SPREAD: &str = include_str!("../../shaders/spread.wgsl");
@@ -46,7 +53,8 @@ pub fn source(stage: &str, prelude: &str) -> String {
     } else {
         ""
     };
-    format!("{COMMON}\n{prelude}\n{spread}\n{strength}\n// ---- {stage}.wgsl ----\n{body}")
+    let penalty = if stage == "contact" { PENALTY } else { "" };
+    format!("{COMMON}\n{WALK}\n{prelude}\n{spread}\n{strength}\n{penalty}\n// ---- {stage}.wgsl ----\n{body}")
 }
 
 /// A prelude to check a stage alone with (tests): for `reduce`, one

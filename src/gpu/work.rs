@@ -5,11 +5,11 @@
 //! lock step, so a walk's cost is not the candidates each particle visits
 //! but the loop trips of each group: every row range of the stencil runs as
 //! long as its longest lane's. [`GridView::count_walk`] repeats the stencil of
-//! `row_span` (common.wgsl) in the same f32 arithmetic over the cell list
+//! `row_span` (walk.wgsl) in the same f32 arithmetic over the cell list
 //! read back from the device, and counts both: what a walk costs on a
 //! device follows from these counts without one. The leapfrog's momentum
 //! and energy walks visit only the pairs of the neighbour masks its
-//! kinematic walk leaves (common.wgsl); [`GridView::count_masked`] counts
+//! kinematic walk leaves (walk.wgsl); [`GridView::count_masked`] counts
 //! them from the masks read back.
 
 use serde::Serialize;
@@ -19,7 +19,7 @@ use super::layout::Params;
 /// Threads of a group that step together (an NVIDIA warp).
 pub const WARP: usize = 32;
 
-/// Rows of the stencil and its reach in cells (common.wgsl: `scan_rows`,
+/// Rows of the stencil and its reach in cells (walk.wgsl: `scan_rows`,
 /// `REACH`).
 const REACH: i32 = 2;
 
@@ -58,7 +58,7 @@ pub struct StepWork {
     pub per_walk: Vec<WalkWork>,
 }
 
-/// A particle's cell and its place in the cell (common.wgsl `home`).
+/// A particle's cell and its place in the cell (walk.wgsl `home`).
 fn home(x0: [f32; 4], u: [f32; 2], inv_cell: f32) -> ([i32; 2], [f32; 2]) {
     let p = [(x0[2] + u[0]) * inv_cell, (x0[3] + u[1]) * inv_cell];
     let f = [p[0].floor(), p[1].floor()];
@@ -68,7 +68,7 @@ fn home(x0: [f32; 4], u: [f32; 2], inv_cell: f32) -> ([i32; 2], [f32; 2]) {
     )
 }
 
-/// The bucket of a cell (common.wgsl `bucket_of`).
+/// The bucket of a cell (walk.wgsl `bucket_of`).
 fn bucket_of(c: [i32; 2], p: &Params) -> u32 {
     (c[0] as u32).wrapping_add((c[1] as u32).wrapping_mul(p.row_stride)) & (p.buckets - 1)
 }
@@ -84,7 +84,7 @@ pub struct GridView<'a> {
 }
 
 impl GridView<'_> {
-    /// Length of each row range of particle `i`'s stencil (common.wgsl
+    /// Length of each row range of particle `i`'s stencil (walk.wgsl
     /// `row_span`); rows the support does not reach have none.
     fn row_lengths(&self, i: usize) -> [u32; 5] {
         let p = self.params;
@@ -161,7 +161,7 @@ impl GridView<'_> {
     }
 
     /// Count one masked walk (every particle walks; forces.wgsl) from the
-    /// device's neighbour masks (common.wgsl): a particle visits the pairs
+    /// device's neighbour masks (walk.wgsl): a particle visits the pairs
     /// its mask holds in one loop, a group as long as its fullest lane; a
     /// particle whose mask overflowed walks its row ranges in full, and its
     /// group runs those rows too.

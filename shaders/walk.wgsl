@@ -1,0 +1,304 @@
+// The neighbour walk every stage shares: a particle's cell and its place
+// in it, the rows of its stencil and the ranges of the sorted particle list
+// they cover, the candidates and the pairs within reach, and the neighbour
+// masks of the leapfrog. Assembled after common.wgsl (src/gpu/shaders.rs);
+// the CPU's twin is src/cpu/neighbours.rs with src/math/cells.rs.
+
+// Bucket of a cell in the hashed cell table: row-major keys modulo a power
+// of two, so neighbouring cells of a row are neighbouring buckets and
+// far-apart bodies need no large grid.
+fn bucket_of(c: vec2<i32>) -> u32 {
+    return (bitcast<u32>(c.x) + bitcast<u32>(c.y) * params.row_stride) & (params.buckets - 1u);
+}
+
+// Cells are a hair larger than the largest h, so a pair within 2 h_ij is at
+// most REACH = 2 cells apart along each axis: a particle's candidates lie in
+// the 5 x 5 cells around its own (5 cells in 1-D).
+const REACH: i32 = 2;
+
+// Where a particle is in the grid: its cell, and its place inside the cell
+// in units of the cell, in [0, 1) along each axis. The cell list and every
+// neighbour loop call this one function on the same state, so they agree
+// on every particle's cell bit for bit (an add, a multiply and a floor:
+// nothing a compiler may contract).
+struct Home {
+    cell: vec2<i32>,
+    frac: vec2<f32>,
+}
+
+// `home` of a particle with reference `a` (its x0) and displacement `un`.
+fn home_at(a: vec4<f32>, un: vec2<f32>) -> Home {
+    return home_in(a, un, params.inv_cell);
+}
+
+fn home_in(a: vec4<f32>, un: vec2<f32>, inv_cell: f32) -> Home {
+    let p = (a.zw + un) * inv_cell;
+    let f = floor(p);
+    return Home(vec2<i32>(a.xy) + vec2<i32>(f), p - f);
+}
+
+// The cell a particle is in now: its reference cell plus whole cells moved.
+fn current_cell(i: u32) -> vec2<i32> {
+    return home_at(x0[i], u[i]).cell;
+}
+
+// Rows of the stencil, bottom to top, always in this order (the order of
+// every neighbour sum is fixed).
+fn scan_rows() -> u32 {
+    if (DIM == 1u) {
+        return 1u;
+    }
+    return 5u;
+}
+
+// One row of a particle's stencil: the row `cy`, its columns `lo..=hi` (the
+// cells its support reaches), and the range of the sorted particle list
+// that holds their buckets. Row-major keys make a row's cells consecutive
+// buckets, so the row is one contiguous range: a warp's lanes run five
+// loops a walk, not nine or twenty-five. When the buckets wrap past the
+// last, the range runs on past `n` into the list's start (`cand`).
+// A bucket may also hold cells of other rows: callers keep only particles
+// whose cell is in the span (`in_row`).
+struct RowSpan {
+    cy: i32,
+    lo: i32,
+    hi: i32,
+    start: u32,
+    end: u32,
+}
+
+fn row_span(hm: Home, row: u32) -> RowSpan {
+    var dy = i32(row) - REACH;
+    // The distance in cells from the particle to the row's band.
+    var gap = 0.0;
+    if (DIM == 1u) {
+        dy = 0;
+    } else if (dy > 0) {
+        gap = f32(dy) - hm.frac.y;
+    } else if (dy < 0) {
+        gap = hm.frac.y - f32(dy + 1);
+    }
+    let cy = hm.cell.y + dy;
+    if (gap >= params.reach) {
+        return RowSpan(cy, 1, 0, 0u, 0u);
+    }
+    // The columns a disk of radius `reach` reaches in this row.
+    let w = sqrt(params.reach * params.reach - gap * gap);
+    let lo = max(-REACH, i32(floor(hm.frac.x - w)));
+    let hi = min(REACH, i32(floor(hm.frac.x + w)));
+    let b = bucket_of(vec2<i32>(hm.cell.x + lo, cy));
+    let e = b + u32(hi - lo + 1);
+    var end = 0u;
+    if (e <= params.buckets) {
+        end = bstart[e];
+    } else {
+        end = bstart[e - params.buckets] + params.n;
+    }
+    return RowSpan(cy, hm.cell.x + lo, hm.cell.x + hi, bstart[b], end);
+}
+
+// Whether cell `c` is one of the span's.
+fn in_row(c: vec2<i32>, span: RowSpan) -> bool {
+    return c.y == span.cy && c.x >= span.lo && c.x <= span.hi;
+}
+
+// A neighbour walk reads everything it can before its loop: on a software
+// adapter (lavapipe) every read inside the loop, a uniform's too, is a
+// scalar load for each lane, and these reads were most of a walk's cost.
+//
+// The run constants a walk's loop uses.
+struct Consts {
+    n: u32,
+    cell: f32,
+    inv_cell: f32,
+}
+
+fn consts() -> Consts {
+    return Consts(params.n, params.cell, params.inv_cell);
+}
+
+// The walking particle: its index, reference, displacement and grid home.
+struct Walker {
+    i: u32,
+    a: vec4<f32>,
+    un: vec2<f32>,
+    hm: Home,
+}
+
+fn walker(i: u32) -> Walker {
+    let a = x0[i];
+    let un = u[i];
+    return Walker(i, a, un, home_at(a, un));
+}
+
+// Candidate j at place k of a row's range (a range that wraps past the
+// last bucket runs on past `n`): its cell, and the pair difference
+// d = x_i - x_j from one read of its position. x0 holds each particle's
+// reference cell (integral, exact in f32) and its offset in that cell at
+// the start, u the displacement since; the difference is formed part by
+// part, so its round-off scales with the pair distance, not with the
+// distance from the origin. (x_j - x_i is exactly -d: each part negates.)
+struct Cand {
+    j: u32,
+    cell: vec2<i32>,
+    d: vec2<f32>,
+}
+
+fn cand(w: Walker, k: u32, c: Consts) -> Cand {
+    let j = sorted_at(k, c);
+    let b = x0[j];
+    let uj = u[j];
+    let cell = home_in(b, uj, c.inv_cell).cell;
+    return Cand(j, cell, pair_diff(w, b, uj, c));
+}
+
+// The particle at place k of the sorted list, run on past `n` where a row
+// range wraps round the bucket table.
+fn sorted_at(k: u32, c: Consts) -> u32 {
+    return blist[select(k, k - c.n, k >= c.n)];
+}
+
+// x_i - x_j of the walker and a particle at reference cell and offset `b`
+// and displacement `uj` (the precision plan: cells and offsets apart).
+fn pair_diff(w: Walker, b: vec4<f32>, uj: vec2<f32>, c: Consts) -> vec2<f32> {
+    return (w.a.xy - b.xy) * c.cell + (w.a.zw - b.zw) + (w.un - uj);
+}
+
+// An SPH pair (i, j), h_ij the mean of the bodies' h: separation x_i - x_j,
+// distance, and grad_i W_ij (computed only inside the support, zero at zero
+// distance); `inside` when the distance is below 2 h_ij.
+struct Pair {
+    d: vec2<f32>,
+    dist: f32,
+    hij: f32,
+    gw: vec2<f32>,
+    inside: bool,
+}
+
+// The SPH pair of walker `w` (particle i, body bi, smoothing length hi) and
+// candidate `cd` of row `span` (body bj). `inside` is false when j is i,
+// lies in a cell outside the span that shares a bucket, or (with contact
+// on) belongs to another body: bodies then meet only through the contact
+// force. Every SPH sum scans its neighbours through this filter.
+fn body_pair(w: Walker, cd: Cand, bj: u32, span: RowSpan, hi: f32, bi: u32) -> Pair {
+    if (cd.j == w.i || !in_row(cd.cell, span) || (CONTACT && bj != bi)) {
+        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false);
+    }
+    return pair_at(cd.d, pair_h(hi, bj));
+}
+
+// h_ij of a pair with i's h `hi` and j of body `bj`. With contact on, SPH
+// pairs are of one body: h_ij is h_i, the same bits as the mean, without
+// the partner's body read.
+fn pair_h(hi: f32, bj: u32) -> f32 {
+    if (!CONTACT) {
+        return 0.5 * (hi + bodies[bj].h);
+    }
+    return hi;
+}
+
+// The SPH pair of separation `d` and smoothing length `hij`.
+fn pair_at(d: vec2<f32>, hij: f32) -> Pair {
+    let dist = length(d);
+    let inside = dist < 2.0 * hij;
+    var gw = vec2<f32>(0.0);
+    if (inside && dist > 0.0) {
+        gw = d * (kernel_dw(dist, hij) / dist);
+    }
+    return Pair(d, dist, hij, gw, inside);
+}
+
+// The neighbour mask (leapfrog only, LEAP != 0): the kinematic walk
+// (kinematics.wgsl) numbers a particle's candidates in walk order, rows bottom
+// to top and each row's range in order, and sets bit o of the mask when
+// candidate o is an SPH pair (`body_pair` inside); the walks after it at
+// the same positions and cell list (forces.wgsl) visit only those, in the
+// same order, so every sum keeps its order and its bits. Ordinals 0..62
+// fit; a particle with more candidates sets MASK_FULL and is walked in
+// full.
+const MASK_FULL: u32 = 0x80000000u;
+const MASK_BITS: u32 = 63u;
+
+fn mask_set(m: vec2<u32>, o: u32) -> vec2<u32> {
+    if (o < 32u) {
+        return vec2<u32>(m.x | (1u << o), m.y);
+    }
+    return vec2<u32>(m.x, m.y | (1u << (o - 32u)));
+}
+
+// Where ordinal o of a walk lies in the sorted list: o plus the offset of
+// its row (`start` of the row less the ordinals before it); rows past the
+// last reached have no ordinals.
+struct RowMap {
+    // The first ordinal of rows 1..4.
+    first: vec4<u32>,
+    // Each row's offset (wrapping u32 arithmetic).
+    off0: u32,
+    off: vec4<u32>,
+}
+
+fn row_map(hm: Home) -> RowMap {
+    var first = vec4<u32>(0u);
+    var off = vec4<u32>(0u);
+    let s0 = row_span(hm, 0u);
+    var o = s0.end - s0.start;
+    for (var row = 1u; row < scan_rows(); row++) {
+        let sp = row_span(hm, row);
+        first[row - 1u] = o;
+        off[row - 1u] = sp.start - o;
+        o += sp.end - sp.start;
+    }
+    if (scan_rows() == 1u) {
+        // 1-D: one row, every later row starts past the mask.
+        first = vec4<u32>(64u);
+    }
+    return RowMap(first, s0.start, off);
+}
+
+// The place in the sorted list (run on past `n` where a range wraps, as
+// `cand`) of ordinal o.
+fn row_place(rm: RowMap, o: u32) -> u32 {
+    var off = rm.off0;
+    if (o >= rm.first.x) {
+        off = rm.off.x;
+    }
+    if (o >= rm.first.y) {
+        off = rm.off.y;
+    }
+    if (o >= rm.first.z) {
+        off = rm.off.z;
+    }
+    if (o >= rm.first.w) {
+        off = rm.off.w;
+    }
+    return o + off;
+}
+
+// Take the lowest set bit of the mask: its ordinal (64 when none is left).
+fn mask_next(m: ptr<function, vec2<u32>>) -> u32 {
+    let x = (*m).x;
+    if (x != 0u) {
+        (*m).x = x & (x - 1u);
+        return countTrailingZeros(x);
+    }
+    let y = (*m).y;
+    if (y != 0u) {
+        (*m).y = y & (y - 1u);
+        return 32u + countTrailingZeros(y);
+    }
+    return 64u;
+}
+
+// The pair difference d = x_i - x_j of the walker and particle j (as `cand`).
+fn pair_d(w: Walker, j: u32, c: Consts) -> vec2<f32> {
+    return pair_diff(w, x0[j], u[j], c);
+}
+
+// Position relative to the grid origin (output only). The host adds the
+// origin in f64 (gpu::probes): far from the coordinate origin an absolute
+// f32 position is coarse (7.6e-6 m near 100 m, 0.15 of a typical spacing),
+// while this relative one keeps the f32 resolution of the bodies' own size.
+fn position_rel(i: u32) -> vec2<f32> {
+    let a = x0[i];
+    return a.xy * params.cell + (a.zw + u[i]);
+}

@@ -1,0 +1,250 @@
+//! Runs: the backend flag without an adapter, the integrator, check and validate.
+
+use super::*;
+
+/// A refusal: exit status 2, no panic, and each of `needles` in the message.
+fn refused(out: &Output, needles: &[&str]) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
+    for n in needles {
+        assert!(stderr.contains(n), "no {n:?} in stderr: {stderr}");
+    }
+    assert!(!stderr.to_lowercase().contains("panicked"), "{stderr}");
+}
+
+/// A run that succeeded with exactly one `warning:` line on stderr: that line.
+fn the_warning(out: &Output) -> String {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "stderr: {stderr}");
+    warnings[0].to_string()
+}
+
+/// `run` of the tiny base scene on `backend`, writing into `<tmp>/out`.
+fn run_base(tmp: &Path, name: &str, backend: &str) -> (Output, PathBuf) {
+    let scene = write_scene(tmp, name, BASE_1D);
+    let out_dir = tmp.join("out");
+    let args = [
+        "run",
+        scene.to_str().unwrap(),
+        "--backend",
+        backend,
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--quiet",
+    ];
+    (sphcontact(tmp, &args), out_dir)
+}
+
+/// Without an adapter (here: wgpu asked for a backend this platform does not
+/// have), `--backend gpu` is bad input with a clear message and `auto` runs
+/// the CPU path with one warning line.
+#[test]
+fn no_adapter_gpu_refuses_and_auto_falls_back() {
+    if cfg!(target_os = "macos") {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = write_scene(tmp.path(), "noadapter", BASE_1D);
+    let run = |backend: &str| {
+        let out_dir = tmp.path().join(backend);
+        let args = [
+            "run",
+            scene.to_str().unwrap(),
+            "--backend",
+            backend,
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--quiet",
+        ];
+        let out = sphcontact_env(tmp.path(), &args, &[("WGPU_BACKEND", "metal")]);
+        (out, out_dir)
+    };
+    let (out, _) = run("gpu");
+    refused(&out, &["no GPU adapter", "--backend cpu"]);
+
+    let (out, dir) = run("auto");
+    let warning = the_warning(&out);
+    assert!(warning.contains("CPU path"), "{warning}");
+    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
+}
+
+/// The leapfrog (scene key or `--integrator`) runs on both paths, and the
+/// summary names it.
+#[test]
+fn leapfrog_by_key_or_flag() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = BASE_1D.replacen(
+        "dimension = 1",
+        "dimension = 1\nintegrator = \"leapfrog\"",
+        1,
+    );
+    let scene = write_scene(tmp.path(), "leap", &text);
+    let plain = write_scene(tmp.path(), "plain", BASE_1D);
+    let run = |scene: &Path, extra: &[&str], dir: &str| {
+        let out_dir = tmp.path().join(dir);
+        let mut args = vec![
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--quiet",
+        ];
+        args.extend(extra);
+        (sphcontact(tmp.path(), &args), out_dir)
+    };
+    let summary = |dir: &Path| -> serde_json::Value {
+        serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap()
+    };
+    for (scene, extra, dir) in [
+        (&scene, &["--backend", "cpu"][..], "key"),
+        (
+            &plain,
+            &["--backend", "cpu", "--integrator", "leapfrog"][..],
+            "flag",
+        ),
+    ] {
+        let (out, dir) = run(scene, extra, dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
+        let s = summary(&dir);
+        assert_eq!(s["integrator"], "leapfrog", "{s}");
+        assert_eq!(s["backend"], "cpu", "{s}");
+    }
+    let (out, dir) = run(&plain, &["--backend", "cpu"], "plain");
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(summary(&dir)["integrator"], "midpoint");
+
+    if common::gpu().is_none() {
+        return;
+    }
+    let (out, dir) = run(&scene, &["--backend", "gpu"], "gpu");
+    assert_eq!(out.status.code(), Some(0));
+    let s = summary(&dir);
+    assert_eq!(
+        (&s["integrator"], &s["backend"]),
+        (&"leapfrog".into(), &"gpu".into())
+    );
+}
+
+#[test]
+fn tiny_scene_runs_on_the_cpu() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, out_dir) = run_base(tmp.path(), "tiny", "cpu");
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out_dir.join("history.csv").is_file());
+    assert!(out_dir.join("summary.json").is_file());
+}
+
+#[test]
+fn check_prints_the_derived_set_up() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/paper/bars_steel.toml");
+    let out = sphcontact(tmp.path(), &["check", scene.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let particles = stdout
+        .lines()
+        .find(|l| l.starts_with("particles"))
+        .unwrap_or_else(|| panic!("no particle count: {stdout}"));
+    assert_eq!(
+        particles.split_whitespace().nth(1),
+        Some("200"),
+        "{particles}"
+    );
+    // c_L = sqrt((K + 4G/3) / ρ0) with K = ρ0 c0²: 5835.66 m/s for this steel.
+    assert!(stdout.contains("c_L 5835."), "{stdout}");
+    assert!(stdout.contains("midpoint rule"), "{stdout}");
+    // check runs nothing and writes nothing.
+    assert!(std::fs::read_dir(tmp.path()).unwrap().next().is_none());
+}
+
+/// `validate` at small resolutions writes every figure, the CSV behind each,
+/// and `validation.json` with the contract's keys; bad arguments exit 2.
+#[test]
+fn validate_writes_figures_csv_and_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = sphcontact(
+        dir.path(),
+        &[
+            "validate",
+            "--backend",
+            "cpu",
+            "--bar-particles",
+            "25",
+            "--disk-resolution",
+            "8",
+            "--out",
+            "v",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "validate failed: {stderr}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("| case | observable | exact | measured |"),
+        "{stdout}"
+    );
+    let v = dir.path().join("v");
+    let fonts = sphcontact::plot::font_available();
+    for stem in [
+        "fig4_velocity_b",
+        "fig5_stress_a",
+        "fig6_mean_velocity",
+        "fig7_stress_profiles",
+        "fig8_von_mises",
+        "fig9_contact_force",
+    ] {
+        let csv = std::fs::read_to_string(v.join(format!("{stem}.csv"))).unwrap();
+        assert!(csv.lines().count() > 10, "{stem}.csv is nearly empty");
+        let png = v.join(format!("{stem}.png"));
+        if fonts {
+            let bytes = std::fs::read(&png).unwrap();
+            assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{stem}.png");
+        } else if std::env::var_os("SPHCONTACT_REQUIRE_FONT").is_some() {
+            panic!("SPHCONTACT_REQUIRE_FONT is set but no TrueType font was found");
+        } else {
+            eprintln!("SKIP: no TrueType font, {stem}.png not checked");
+        }
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(v.join("validation.json")).unwrap()).unwrap();
+    let records = json.as_array().unwrap();
+    assert!(records.len() >= 20, "{} records", records.len());
+    for r in records {
+        for key in [
+            "case",
+            "observable",
+            "exact",
+            "measured",
+            "relative_error",
+            "backend",
+            "particles",
+            "wall_seconds",
+        ] {
+            assert!(r.get(key).is_some(), "record without {key}: {r}");
+        }
+        assert_eq!(r["backend"], "cpu");
+    }
+
+    let bad = sphcontact(dir.path(), &["validate", "nonsense"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("unknown case 'nonsense'"));
+    let bad = sphcontact(dir.path(), &["validate", "--bar-particles", "3"]);
+    assert_eq!(bad.status.code(), Some(2));
+}

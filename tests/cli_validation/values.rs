@@ -1,0 +1,239 @@
+//! Values out of range, the strength and failure keys, dimensions and names.
+
+use super::*;
+
+/// Non-positive density, spacing, c0, end time, CFL (zero and negative);
+/// negative G and Y0.
+#[test]
+fn non_positive_and_negative_values() {
+    check_cases(&[
+        case(
+            "density_zero",
+            &[("density = 7850.0", "density = 0.0")],
+            "materials.steel.density",
+        ),
+        case(
+            "density_negative",
+            &[("density = 7850.0", "density = -7850.0")],
+            "materials.steel.density",
+        ),
+        case(
+            "spacing_zero",
+            &[(
+                RIGHT_SPACING,
+                "name = \"right\"\nmaterial = \"steel\"\nspacing = 0.0",
+            )],
+            "bodies[1].spacing",
+        ),
+        case(
+            "spacing_negative",
+            &[(
+                RIGHT_SPACING,
+                "name = \"right\"\nmaterial = \"steel\"\nspacing = -1.0e-4",
+            )],
+            "bodies[1].spacing",
+        ),
+        case(
+            "c0_zero",
+            &[("c0 = 4580.0", "c0 = 0.0")],
+            "materials.steel.eos.c0",
+        ),
+        case(
+            "c0_negative",
+            &[("c0 = 4580.0", "c0 = -4580.0")],
+            "materials.steel.eos.c0",
+        ),
+        case(
+            "end_time_zero",
+            &[("end_time = 1.0e-7", "end_time = 0.0")],
+            "simulation.end_time",
+        ),
+        case(
+            "end_time_negative",
+            &[("end_time = 1.0e-7", "end_time = -1.0e-7")],
+            "simulation.end_time",
+        ),
+        case(
+            "cfl_zero",
+            &[("dimension = 1", "dimension = 1\ncfl = 0.0")],
+            "simulation.cfl",
+        ),
+        case(
+            "cfl_negative",
+            &[("dimension = 1", "dimension = 1\ncfl = -0.3")],
+            "simulation.cfl",
+        ),
+        case(
+            "shear_modulus_negative",
+            &[("shear_modulus = 77.0e9", "shear_modulus = -77.0e9")],
+            "materials.steel.shear_modulus",
+        ),
+        case(
+            "yield_stress_negative",
+            &[("yield_stress = 600.0e6", "yield_stress = -600.0e6")],
+            "materials.steel.yield_stress",
+        ),
+        case(
+            "dt_zero",
+            &[("dimension = 1", "dimension = 1\ndt = 0.0")],
+            "simulation.dt",
+        ),
+        case(
+            "dimension_three",
+            &[("dimension = 1", "dimension = 3")],
+            "simulation.dimension",
+        ),
+    ]);
+}
+
+/// Velocities and points of the wrong dimension; shapes of the wrong dimension.
+const YIELD: &str = "yield_stress = 600.0e6";
+const JC: &str = "strength = { kind = \"johnson_cook\", a = 792e6, b = 510e6, n = 0.26, c = 0.014, m = 1.03, reference_strain_rate = 1.0, room_temperature = 294.0, melt_temperature = 1793.0 }\nspecific_heat = 477.0";
+
+/// The strength, failure and library keys: unknown model keys, negative or
+/// missing constants, damage constants whose failure strain is not
+/// positive, an unknown library material.
+#[test]
+fn strength_failure_and_library() {
+    check_cases(&[
+        case("specific_heat_negative", &[(YIELD, JC), ("specific_heat = 477.0", "specific_heat = -1.0")], "materials.steel.specific_heat"),
+        case(
+            "jc_unknown_kind",
+            &[(YIELD, "strength = { kind = \"zerilli_armstrong\", a = 1.0 }")],
+            "materials.steel.strength.kind",
+        )
+        .located()
+        .also(&["zerilli_armstrong", "johnson_cook"]),
+        case("jc_unknown_key", &[(YIELD, JC), ("melt_temperature = 1793.0", "melt_temperature = 1793.0, d = 1.0")], "materials.steel.strength.d")
+            .located(),
+        case("jc_missing_constant", &[(YIELD, JC), ("n = 0.26, ", "")], "materials.steel.strength.n")
+            .located()
+            .also(&["missing"]),
+        case("jc_negative_a", &[(YIELD, JC), ("a = 792e6", "a = -792e6")], "materials.steel.strength.a"),
+        case("jc_negative_c", &[(YIELD, JC), ("c = 0.014", "c = -0.014")], "materials.steel.strength.c"),
+        case("jc_zero_rate", &[(YIELD, JC), ("reference_strain_rate = 1.0", "reference_strain_rate = 0.0")], "materials.steel.strength.reference_strain_rate"),
+        case("jc_melt_below_room", &[(YIELD, JC), ("melt_temperature = 1793.0", "melt_temperature = 200.0")], "materials.steel.strength.melt_temperature"),
+        case("jc_no_specific_heat", &[(YIELD, JC), ("\nspecific_heat = 477.0", "")], "materials.steel.specific_heat"),
+        case("jc_and_yield", &[(YIELD, "yield_stress = 600.0e6\nstrength = { kind = \"johnson_cook\", a = 792e6, b = 510e6, n = 0.26, c = 0.014, m = 1.03, reference_strain_rate = 1.0, room_temperature = 294.0, melt_temperature = 1793.0 }\nspecific_heat = 477.0")], "materials.steel.strength"),
+        case("taylor_quinney_above_one", &[(YIELD, "yield_stress = 600.0e6\ntaylor_quinney = 1.5")], "materials.steel.taylor_quinney"),
+        case(
+            "failure_strain_not_positive",
+            &[(YIELD, "yield_stress = 600.0e6\nfailure = { kind = \"johnson_cook\", d1 = -2.2, d2 = 0.4, d3 = -0.47, d4 = 0.016, d5 = 0.63 }")],
+            "materials.steel.failure.d1",
+        ),
+        case("failure_negative_d4", &[(YIELD, "yield_stress = 600.0e6\nfailure = { kind = \"johnson_cook\", d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = -0.1, d5 = 0.61 }")], "materials.steel.failure.d4"),
+        case("failure_d5_melts_to_zero", &[(YIELD, "yield_stress = 600.0e6\nfailure = { kind = \"johnson_cook\", d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = 0.002, d5 = -1.0 }")], "materials.steel.failure.d5"),
+        case("failure_missing_d", &[(YIELD, "yield_stress = 600.0e6\nfailure = { kind = \"johnson_cook\", d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = 0.002 }")], "materials.steel.failure.d5").located(),
+        case("failure_without_plasticity", &[(YIELD, "failure = { kind = \"johnson_cook\", d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = 0.002, d5 = 0.61 }")], "materials.steel.failure"),
+        case("spall_negative", &[(YIELD, "spall_pressure = -1.0e9")], "materials.steel.spall_pressure"),
+        case(
+            "unknown_library_material",
+            &[("density = 7850.0\nshear_modulus = 77.0e9\nyield_stress = 600.0e6\neos = { kind = \"mie_gruneisen\", c0 = 4580.0, s = 1.49, gamma0 = 2.02 }", "library = \"steel_4341\"")],
+            "materials.steel",
+        )
+        .located()
+        .also(&["steel_4341", "steel_4340"]),
+    ]);
+}
+
+#[test]
+fn wrong_dimensions() {
+    check_cases(&[
+        case(
+            "velocity_2d_in_1d",
+            &[(RIGHT_VELOCITY, "velocity = [-10.0, 0.0]")],
+            "bodies[1].velocity",
+        ),
+        case(
+            "velocity_1d_in_2d",
+            &[("velocity = [0.0, -10.0]", "velocity = [-10.0]")],
+            "bodies[1].velocity",
+        )
+        .two_d(),
+        case(
+            "probe_at_2d_in_1d",
+            &[("at = [-0.0005]", "at = [-0.0005, 0.0]")],
+            "probes[0].at",
+        ),
+        case(
+            "probe_at_1d_in_2d",
+            &[("at = [0.0, 0.0005]", "at = [0.0005]")],
+            "probes[0].at",
+        )
+        .two_d(),
+        case(
+            "disk_center_1d_in_2d",
+            &[("center = [0.0, 0.001]", "center = [0.001]")],
+            "bodies[1].shape.center",
+        )
+        .two_d(),
+        case(
+            "rectangle_min_3d_in_2d",
+            &[("min = [-0.001, -0.001]", "min = [-0.001, -0.001, 0.0]")],
+            "bodies[0].shape.min",
+        )
+        .two_d(),
+        case(
+            "rectangle_max_1d_in_2d",
+            &[("max = [0.001, 0.0]", "max = [0.001]")],
+            "bodies[0].shape.max",
+        )
+        .two_d(),
+        case(
+            "segment_in_2d_scene",
+            &[(
+                "shape = { kind = \"disk\", center = [0.0, 0.001], radius = 0.001, lattice = \"square\" }",
+                "shape = { kind = \"segment\", from = 0.0, to = 0.001 }",
+            )],
+            "bodies[1].shape.kind",
+        )
+        .also(&["segment"])
+        .two_d(),
+        case(
+            "rectangle_in_1d_scene",
+            &[(RIGHT_SHAPE, "shape = { kind = \"rectangle\", min = [0.0, 0.0], max = [0.001, 0.001] }")],
+            "bodies[1].shape.kind",
+        )
+        .also(&["rectangle"]),
+    ]);
+}
+
+/// Names: unknown materials and bodies, duplicate body and probe names.
+#[test]
+fn names() {
+    check_cases(&[
+        case(
+            "body_unknown_material",
+            &[(RIGHT_SPACING, "name = \"right\"\nmaterial = \"iron\"\nspacing = 1.0e-4")],
+            "bodies[1].material",
+        )
+        .also(&["iron"]),
+        case(
+            "particle_probe_unknown_body",
+            &[(PROBE0_BODY, "body = \"middle\"\nat = [-0.0005]")],
+            "probes[0].body",
+        )
+        .also(&["middle"]),
+        case(
+            "contact_probe_unknown_body",
+            &[(
+                PROBE1_QUANTITY,
+                "quantity = \"total\"\n\n[[probes]]\nname = \"force\"\nkind = \"contact\"\nbodies = [\"left\", \"centre\"]\nquantity = \"force\"",
+            )],
+            "probes[2].bodies",
+        )
+        .also(&["centre"]),
+        case(
+            "duplicate_body_name",
+            &[(RIGHT_SPACING, "name = \"left\"\nmaterial = \"steel\"\nspacing = 1.0e-4")],
+            "bodies[1].name",
+        )
+        .also(&["left"]),
+        case(
+            "duplicate_probe_name",
+            &[("name = \"energy\"", "name = \"v_left\"")],
+            "probes[1].name",
+        )
+        .also(&["v_left"]),
+    ]);
+}

@@ -1,0 +1,63 @@
+//! Every stage against its CPU twin on the paper's scenes.
+
+use super::*;
+
+#[test]
+fn stages_match_cpu_disks_square() {
+    check_stages("scenes/paper/disks_square.toml", 3e-6);
+}
+
+#[test]
+fn stages_match_cpu_disks_polar() {
+    check_stages("scenes/paper/disks_polar.toml", 3e-6);
+}
+
+/// The entry overlaps (`State::entry`) on both sides of the rule: body
+/// 0's particles joined the surface with a small overlap (their springs
+/// push against less, or nothing), body 1's were off the surface at the
+/// last step (they join now: no spring of their own).
+#[test]
+fn stages_match_cpu_with_entry_overlaps() {
+    if gpu().is_none() {
+        return;
+    }
+    let (model, mut st) = state_during_contact("scenes/paper/disks_square.toml", 3e-6);
+    let dx = model.bodies[0].spacing;
+    for i in 0..model.len() {
+        st.entry[i] = if model.body[i] == 0 { 2e-3 * dx } else { -1.0 };
+    }
+    check_state(model, st, true);
+}
+
+/// Disks pushed half a spacing further into each other than the run
+/// had them: the deepest springs yield (`cpu::contact::yield_overlap`).
+#[test]
+fn stages_match_cpu_with_yielded_springs() {
+    if gpu().is_none() {
+        return;
+    }
+    let (model, mut st) = state_during_contact("scenes/paper/disks_square.toml", 3e-6);
+    let dx = model.bodies[1].spacing;
+    let shift = DVec2::new(-0.5 * dx, 0.0);
+    for i in 0..model.len() {
+        if model.body[i] == 1 {
+            st.x[i] += shift;
+        }
+    }
+    let nb = neighbours::find(&model, &st.x);
+    let surface = kinematics::kinematics(&model, &st, &nb).surface;
+    let bd = kinematics::boundary(&model, &st.x, &nb, surface);
+    let c = contact::penalty(&model, &st, &nb, &bd);
+    assert!(c.entry.iter().any(|e| e.1 > 0.0), "some spring yields");
+    check_state(model, st, true);
+}
+
+#[test]
+fn stages_match_cpu_bars_steel_aluminium() {
+    check_stages("scenes/paper/bars_steel_aluminium.toml", 0.5e-6);
+}
+
+#[test]
+fn stages_match_cpu_kernel_mode() {
+    check_stages("scenes/paper/disks_square_kernel.toml", 2e-6);
+}

@@ -1,0 +1,209 @@
+//! Whole steps against the CPU: the leapfrog, the strength update.
+
+use super::*;
+
+/// One per-particle quantity of a state.
+type Field = dyn Fn(&State, usize) -> f64;
+
+/// Two leapfrog steps from one state in mid-contact, device against the CPU
+/// twin, particle by particle: what each step changed. The first step
+/// starts from the first evaluation's rates, the second from the rates the
+/// first step carried (the predicted velocity and energy, the extrapolated
+/// velocity gradient, the contact booked at v_{n+1}). As in the stage test,
+/// the velocity change is compared on the scale of its parts: at a contact
+/// face the SPH and contact accelerations nearly cancel, so each particle's
+/// change is only as exact as the contact part, dt max |F_c / m|; the rest
+/// on the scale of their largest change.
+#[test]
+fn leapfrog_steps_match_cpu() {
+    let Some(ctx) = gpu() else { return };
+    let (mut model, st) = state_during_contact("scenes/paper/disks_polar.toml", 3e-6);
+    model.integrator = Integrator::Leapfrog;
+    let mut cpu = CpuSolver::new(model.clone(), st.clone());
+    let mut g = GpuSolver::new(ctx, model.clone(), &st, &[], 1.0).expect("fits the adapter");
+    let nb = neighbours::find(&model, &st.x);
+    let k = kinematics::kinematics(&model, &st, &nb);
+    let bd = kinematics::boundary(&model, &st.x, &nb, k.surface.clone());
+    let cf = contact::penalty(&model, &st, &nb, &bd);
+    let a_contact = bd
+        .list
+        .iter()
+        .zip(&cf.force)
+        .map(|(&i, f)| f.length() / model.mass[i as usize])
+        .fold(0.0, f64::max);
+    let mut before = st.clone();
+    for step in 1..=2 {
+        cpu.step(1.0).expect("a stable CPU step");
+        let b = g.run_batch(1);
+        assert!(b.failure.is_none());
+        let gs = g.download();
+        let c = &cpu.state;
+        // The device counts time from its own start.
+        let tc = c.t - st.t;
+        assert!(
+            (gs.t / tc - 1.0).abs() < 1e-6,
+            "step {step}: t {} vs {tc}",
+            gs.t
+        );
+        let n = model.len();
+        let change = |f: &Field| -> (Vec<f64>, Vec<f64>) {
+            (
+                (0..n).map(|i| f(&gs, i) - f(&before, i)).collect(),
+                (0..n).map(|i| f(c, i) - f(&before, i)).collect(),
+            )
+        };
+        let none = |_: usize| false;
+        let dt = c.t - before.t;
+        let velocities: [(&str, &Field); 2] = [("vx", &|s, i| s.v[i].x), ("vy", &|s, i| s.v[i].y)];
+        for (name, f) in velocities {
+            let (dg, dc) = change(f);
+            let what = format!("step {step}: change of {name}");
+            assert_scaled(&what, &dg, &dc, 1e-4, dt * a_contact, &none);
+        }
+        let fields: [(&str, &Field); 6] = [
+            ("x", &|s, i| s.x[i].x),
+            ("rho", &|s, i| s.rho[i]),
+            ("e", &|s, i| s.e[i]),
+            ("sxx", &|s, i| s.s[i].xx),
+            ("syy", &|s, i| s.s[i].yy),
+            ("sxy", &|s, i| s.s[i].xy),
+        ];
+        for (name, f) in fields {
+            let (dg, dc) = change(f);
+            assert_field(
+                &format!("step {step}: change of {name}"),
+                &dg,
+                &dc,
+                1e-3,
+                &none,
+            );
+        }
+        before = c.clone();
+    }
+}
+
+/// A tungsten-alloy rod 5 µs into a 4340 plate at 1,200 m/s (the
+/// penetration scene at a spacing of 0.2 mm): both bodies in plastic flow
+/// with Johnson–Cook strength and heating, the plate's damage growing and
+/// some of its particles failed. The kinematics, forces and contact passes
+/// against their twins there (a failed particle's pressure, sound speed and
+/// absence from the artificial stress included), then the strength update
+/// of the midpoint rule's half step (strength.wgsl in `advance_half`)
+/// against physics::strength::update from the CPU's rates: the stress,
+/// the density (a failed particle's floor), and the increments of the
+/// plastic strain, temperature and damage, each within 1e-4 of its
+/// field's largest (f32 against f64; an increment is a small difference
+/// of f32 values: measured 1.4e-5 at worst).
+#[test]
+fn stages_match_cpu_penetration() {
+    use sphcontact::physics::strength;
+    if gpu().is_none() {
+        return;
+    }
+    let mut scene = load("scenes/penetration/tungsten_rod_steel_plate.toml");
+    for b in &mut scene.bodies {
+        b.spacing = 2.0e-4;
+    }
+    let (model, st) = Model::new(&scene);
+    let mut cpu = CpuSolver::new(model, st);
+    while cpu.state.t < 5e-6 {
+        cpu.step(5e-6 - cpu.state.t).expect("a stable CPU run");
+    }
+    let (model, st) = (cpu.model.clone(), cpu.state.clone());
+    let failed = st.damage.iter().filter(|&&d| strength::failed(d)).count();
+    let yielded = st.eps_p.iter().filter(|&&e| e > 0.0).count();
+    println!("{failed} failed, {yielded} yielded of {}", model.len());
+    assert!(
+        failed > 20 && yielded > 200,
+        "a state in plastic flow with failures"
+    );
+    check_state(model.clone(), st.clone(), true);
+
+    let Some(ctx) = gpu() else { return };
+    let mut g = GpuSolver::new(ctx, model.clone(), &st, &[], 1.0).expect("fits the adapter");
+    let out = g.stage_outputs();
+    let (rates, _) = cpu::evaluate(&model, &st);
+    let k = 0.5 * out.dt;
+    let n = model.len();
+    let (mut s, mut rho) = (vec![Sym::default(); n], vec![0.0; n]);
+    let mut hist = vec![
+        strength::History {
+            eps_p: 0.0,
+            temperature: 0.0,
+            damage: 0.0
+        };
+        n
+    ];
+    let mut near_failure = vec![false; n];
+    for i in 0..n {
+        hist[i] = st.history(i);
+        (s[i], rho[i]) = (st.s[i], st.rho[i]);
+        if model.rigid(i) {
+            continue;
+        }
+        let mat = model.material(i);
+        let trial = st.s[i].add_scaled(&rates.ds[i], k);
+        let r = st.rho[i] + rates.drho[i] * k;
+        let e = st.e[i] + rates.de[i] * k;
+        let (sn, h) =
+            strength::update(mat, trial, rates.rate[i], r, || mat.pressure(r, e), hist[i]);
+        // Within f32 of failing: either side may call it.
+        near_failure[i] = !strength::failed(st.damage[i])
+            && (h.damage > 0.998 || (mat.pressure(r, e) + mat.spall).abs() < 1e-3 * mat.spall);
+        s[i] = sn;
+        rho[i] = if strength::failed(h.damage) {
+            r.max(mat.failed_density_floor(e))
+        } else {
+            r
+        };
+        hist[i] = h;
+    }
+    let skip = |i: usize| near_failure[i];
+    let mismatched: Vec<usize> = (0..n)
+        .filter(|&i| strength::failed(hist[i].damage) != (out.mid_hist[i][2] >= 1.0))
+        .collect();
+    assert!(
+        mismatched.iter().all(|&i| near_failure[i]),
+        "failed on one side only: {:?}",
+        mismatched
+            .iter()
+            .filter(|&&i| !near_failure[i])
+            .collect::<Vec<_>>()
+    );
+    let newly = (0..n)
+        .filter(|&i| strength::failed(hist[i].damage) && !strength::failed(st.damage[i]))
+        .count();
+    println!("{newly} fail in the half step");
+    for (k, name) in ["s.xx", "s.yy", "s.xy", "s.zz"].iter().enumerate() {
+        let c: Vec<f64> = s.iter().map(|s| [s.xx, s.yy, s.xy, s.zz][k]).collect();
+        let gg: Vec<f64> = out
+            .mid_s
+            .iter()
+            .map(|s| [s.xx, s.yy, s.xy, s.zz][k])
+            .collect();
+        assert_field(name, &gg, &c, 1e-4, &skip);
+    }
+    assert_field("ρ", &out.mid_rho, &rho, 1e-5, &skip);
+    let increments = |f: &dyn Fn(&strength::History) -> f64, col: usize| {
+        let c: Vec<f64> = (0..n).map(|i| f(&hist[i]) - f(&st.history(i))).collect();
+        let gg: Vec<f64> = (0..n)
+            .map(|i| out.mid_hist[i][col] - f(&st.history(i)))
+            .collect();
+        (gg, c)
+    };
+    for (col, name, f) in [
+        (
+            0,
+            "Δε_p",
+            &(|h: &strength::History| h.eps_p) as &dyn Fn(&strength::History) -> f64,
+        ),
+        (1, "ΔT", &|h: &strength::History| h.temperature),
+        (2, "ΔD", &|h: &strength::History| h.damage),
+    ] {
+        let (gg, c) = increments(f, col);
+        let max = c.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        println!("{name}: largest {max:.3e}");
+        assert!(max > 0.0, "{name} grows");
+        assert_field(name, &gg, &c, 1e-4, &skip);
+    }
+}
