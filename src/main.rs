@@ -491,7 +491,7 @@ fn check(path: &Path, scene: &Scene) {
             for b in &model.bodies[i + 1..] {
                 let z = series(inf(a, a.material.z), inf(b, b.material.z));
                 // The spring at conforming-lattice offsets (Δx/2 each side).
-                let k = sphcontact::cpu::contact::spring_stiffness(
+                let k = sphcontact::physics::penalty::spring_stiffness(
                     0.5 * a.spacing,
                     a.spacing,
                     inf(a, a.material.m),

@@ -17,9 +17,8 @@ use super::neighbours::{pair_inv_h, Neighbours};
 use crate::model::{ContactStats, Model, State};
 use crate::physics::kernel;
 use crate::physics::material::series;
-use crate::physics::penalty::{self, Sums, SumsBar};
-pub use crate::physics::penalty::{
-    entry_rule, spring_stiffness, stiffness_slope, touching, yield_overlap,
+use crate::physics::penalty::{
+    self, entry_rule, spring_stiffness, stiffness_slope, touching, yield_overlap, Sums, SumsBar,
 };
 
 /// Whether boundary particle `q` (another body) is a contact candidate of

@@ -3,6 +3,7 @@
 use super::contact::*;
 use crate::cpu::{kinematics, neighbours};
 use crate::model::{Model, State};
+use crate::physics::penalty::{spring_stiffness, yield_overlap};
 use crate::validation::disk_scene;
 use glam::DVec2;
 
@@ -38,41 +39,22 @@ fn stored(model: &Model, st: &State, surface: &[bool], area: &[f64]) -> f64 {
     penalty(model, st, &nb, &bd).stats.stored
 }
 
-/// Two steel bars of four particles (1-D), the right one pushed
-/// `δ = 0.01 Δx` into the left, at rest, entries zero: the gap, the
-/// stiffness, the force and the stored energy worked out by hand.
+/// The paper's two steel bars at four particles each (1-D, Δx = 1.25 mm),
+/// the right one pushed `δ = 0.01 Δx` into the left, at rest, entries
+/// zero: the gap, the stiffness, the force and the stored energy worked
+/// out by hand.
 #[test]
 fn two_particles_gap_and_force_by_hand() {
-    let dx = 1.0e-4;
-    let scene = crate::Scene::from_toml_str(
-        r#"
-[simulation]
-dimension = 1
-end_time = 1.0e-6
-[materials.steel]
-density = 7850.0
-shear_modulus = 77.0e9
-eos = { kind = "linear", c0 = 4580.0 }
-[[bodies]]
-name = "left"
-material = "steel"
-spacing = 1.0e-4
-velocity = [0.0]
-shape = { kind = "segment", from = -4.0e-4, to = 0.0 }
-[[bodies]]
-name = "right"
-material = "steel"
-spacing = 1.0e-4
-velocity = [0.0]
-shape = { kind = "segment", from = 0.0, to = 4.0e-4 }
-"#,
-        "bars",
-    )
-    .expect("the scene");
+    let dx = 1.25e-3;
+    let scene = crate::validation::bar_scene(crate::validation::BARS, 4, 1e-8);
     let (model, mut st) = Model::new(&scene);
+    assert_eq!(model.bodies[0].spacing, dx);
     let delta = 0.01 * dx;
-    for i in 4..8 {
-        st.x[i].x -= delta;
+    for i in 0..8 {
+        st.v[i] = DVec2::ZERO;
+        if model.body[i] == 1 {
+            st.x[i].x -= delta;
+        }
     }
     assert_eq!(st.entry, vec![0.0; 8]);
     // P, the left bar's last particle, at −Δx/2; Q, the right bar's
@@ -80,7 +62,8 @@ shape = { kind = "segment", from = 0.0, to = 4.0e-4 }
     let (p, q) = (3, 4);
     assert!((model.offset[p] / (0.5 * dx) - 1.0).abs() < 1e-12);
     assert!((model.offset[q] / (0.5 * dx) - 1.0).abs() < 1e-12);
-    // Constrained modulus M = ρ0 c0² + 4G/3; two layers Δx/2 thick in
+    // Constrained modulus at the reference state M = ρ0 c0² + 4G/3 (steel
+    // of the paper's Table 1); two layers Δx/2 thick in
     // series: k = M/Δx.
     let m = 7850.0 * 4580.0 * 4580.0 + 4.0 / 3.0 * 77.0e9;
     assert!((model.bodies[0].material.m / m - 1.0).abs() < 1e-15);

@@ -12,9 +12,8 @@ use crate::physics::strength;
 use crate::scene::ArtPairs;
 
 use super::forces_sweep::sums_into;
-pub use crate::physics::material::cauchy;
-pub use crate::physics::tension::{art_weight, artificial_stress, close_gate, CLOSE_FULL};
-pub use crate::physics::viscosity::{reconstructed_jump, viscosity_pi};
+use crate::physics::tension::{art_weight, close_gate};
+use crate::physics::viscosity::{reconstructed_jump, viscosity_pi};
 
 /// Per-particle inputs of the momentum pass, computed once per evaluation.
 #[derive(Debug, Clone, Copy, Default)]

@@ -6,6 +6,7 @@ use crate::cpu::{eos_and_stress, kinematics, neighbours, SKIN_FRACTION};
 use crate::math::Sym;
 use crate::model::{Model, State};
 use crate::physics::kernel;
+use crate::physics::tension::{art_weight, artificial_stress, close_gate, CLOSE_FULL};
 use crate::scene::ArtPairs;
 use glam::DVec2;
 

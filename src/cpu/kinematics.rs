@@ -7,12 +7,12 @@ use glam::DVec2;
 use rayon::prelude::*;
 use std::borrow::Cow;
 
-use super::forces::{self, StressPoint};
+use super::forces::StressPoint;
 use super::neighbours::Neighbours;
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
 use crate::physics::kernel::{self, CORRECTION_MIN_DET};
-use crate::physics::strength;
+use crate::physics::{material, strength, tension};
 use crate::scene::Correction;
 
 /// Output of the kinematic pass.
@@ -139,10 +139,10 @@ pub(crate) fn stress_point(
     let mat = model.material(i);
     let p = mat.pressure_of(rho, e, damage);
     let c = mat.sound_speed_of(rho, e, damage);
-    let sigma = forces::cauchy(p, s);
+    let sigma = material::cauchy(p, s);
     let r2 = rho * rho;
     let r = match model.artificial_stress {
-        Some(a) => forces::artificial_stress(a.epsilon, &sigma, rho),
+        Some(a) => tension::artificial_stress(a.epsilon, &sigma, rho),
         None => Sym::default(),
     };
     StressPoint {

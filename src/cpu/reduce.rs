@@ -21,48 +21,29 @@ pub fn cfl_step(model: &Model, st: &State, pts: &[StressPoint]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::Scene;
     use glam::DVec2;
 
-    /// Three particles of a 1-D bar: `C h / (c + |v|)` worked out by hand
-    /// for each, the smallest taken; the rigid wall's is not.
+    /// The paper's bars at three particles each, the right bar made rigid
+    /// and thrown at 1e5 m/s: `C h / (c + |v|)` worked out by hand for the
+    /// left bar's three particles, the smallest taken; the rigid bar's,
+    /// far smaller, is not.
     #[test]
     fn cfl_step_by_hand() {
-        let scene = Scene::from_toml_str(
-            r#"
-[simulation]
-dimension = 1
-end_time = 1.0e-6
-cfl = 0.25
-[materials.m]
-density = 1000.0
-shear_modulus = 1.0e9
-eos = { kind = "linear", c0 = 2000.0 }
-[[bodies]]
-name = "bar"
-material = "m"
-spacing = 1.0e-3
-velocity = [0.0]
-shape = { kind = "segment", from = 0.0, to = 3.0e-3 }
-"#,
-            "cfl",
-        )
-        .expect("the scene");
+        let mut scene = crate::validation::bar_scene(crate::validation::BARS, 3, 1e-8);
+        scene.bodies[1].rigid = true;
         let (model, mut st) = Model::new(&scene);
-        assert_eq!(model.len(), 3);
-        st.v = vec![
-            DVec2::new(0.0, 0.0),
-            DVec2::new(-500.0, 0.0),
-            DVec2::new(100.0, 0.0),
-        ];
-        let pts: Vec<StressPoint> = (0..3)
+        assert_eq!(model.len(), 6);
+        st.v = [0.0, -500.0, 100.0, 1e5, 1e5, 1e5]
+            .map(|v| DVec2::new(v, 0.0))
+            .to_vec();
+        let pts: Vec<StressPoint> = (0..6)
             .map(|_| StressPoint {
                 c: 2000.0,
                 ..Default::default()
             })
             .collect();
-        let h = model.h[0];
-        // 0.25 h / 2000, 0.25 h / 2500, 0.25 h / 2100: the second.
-        assert_eq!(cfl_step(&model, &st, &pts), 0.25 * h / 2500.0);
+        let (c, h) = (model.cfl, model.h[0]);
+        // C h / 2000, C h / 2500, C h / 2100: the second.
+        assert_eq!(cfl_step(&model, &st, &pts), c * h / 2500.0);
     }
 }

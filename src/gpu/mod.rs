@@ -344,7 +344,8 @@ struct Eval {
 /// The contact's force passes in their order: the two gathers, then the
 /// spread of the spring's pull through the normals (contact.wgsl), which
 /// the midpoint rule's steps gather in their advance passes instead: its
-/// evaluation at the midpoint has none, its base one only as a stage.
+/// evaluation at the midpoint has none, its base one serves only the
+/// stage outputs the tests read ([`GpuSolver::stage_outputs`]).
 struct ContactKernels {
     pass1: Kernel,
     pass2: Kernel,

@@ -57,10 +57,6 @@ impl<'a> CpuStepper<'a> {
 }
 
 impl Stepper for CpuStepper<'_> {
-    fn begin(&mut self, _: &mut Recorder) -> Result<(), RunError> {
-        Ok(())
-    }
-
     fn advance(&mut self, rec: &mut Recorder, stop: f64) -> Result<Advanced, RunError> {
         loop {
             let t = self.solver.state.t;

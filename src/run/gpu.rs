@@ -71,13 +71,6 @@ impl GpuStepper {
 }
 
 impl Stepper for GpuStepper {
-    fn begin(&mut self, rec: &mut Recorder) -> Result<(), RunError> {
-        if rec.snapshot_due(self.t_last) {
-            self.snapshot(rec, self.t_last)?;
-        }
-        Ok(())
-    }
-
     fn advance(&mut self, rec: &mut Recorder, stop: f64) -> Result<Advanced, RunError> {
         if self.stop != Some(stop) {
             self.solver.set_stop_time(stop);

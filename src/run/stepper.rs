@@ -19,9 +19,6 @@ pub(super) enum Advanced {
 /// feeding the recorder every state it observes, and writes snapshots and
 /// checkpoints of its current state.
 pub(super) trait Stepper {
-    /// Before the first advance (the GPU observes a state only by stepping
-    /// from it, so it writes the snapshot of its first state here).
-    fn begin(&mut self, rec: &mut Recorder) -> Result<(), RunError>;
     /// Step towards `stop`, never past it, feeding `rec` each state: until
     /// the state at `stop` is observed, a checkpoint falls due, the
     /// history is complete, or the solver fails.
@@ -41,7 +38,11 @@ pub(super) trait Stepper {
 /// The run loop of both backends: from stop to stop (the snapshot times,
 /// then the end), a snapshot at each, checkpoints where they fall due.
 pub(super) fn drive(mut s: impl Stepper, rec: &mut Recorder) -> Result<Outcome, RunError> {
-    s.begin(rec)?;
+    // The snapshot of the state the run starts from (the GPU observes a
+    // state only by stepping from it).
+    if rec.snapshot_due(s.time()) {
+        s.snapshot(rec, s.time())?;
+    }
     let mut failure = None;
     'run: loop {
         let stop = rec.next_stop();

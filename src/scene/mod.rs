@@ -172,7 +172,7 @@ pub enum ArtPairs {
     #[default]
     All,
     /// Only pairs closer than their local spacing `(V̄)^(1/d)`, at full
-    /// strength from [`crate::cpu::forces::CLOSE_FULL`] of it: zero on a
+    /// strength from [`crate::physics::tension::CLOSE_FULL`] of it: zero on a
     /// smoothly strained lattice, on at the clumping the tensile
     /// instability starts with.
     Close,
@@ -187,7 +187,7 @@ pub struct ArtificialViscosity {
     #[serde(default = "default_av_beta")]
     pub beta: f64,
     /// Limited linear reconstruction of the velocity jump to the pair
-    /// midpoint (`cpu::forces::reconstructed_jump`): the viscosity acts at
+    /// midpoint (`physics::viscosity::reconstructed_jump`): the viscosity acts at
     /// fronts, not on smooth compression. Default on.
     #[serde(default = "default_true")]
     pub reconstruct: bool,

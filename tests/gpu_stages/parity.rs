@@ -30,7 +30,7 @@ fn stages_match_cpu_with_entry_overlaps() {
 }
 
 /// Disks pushed half a spacing further into each other than the run
-/// had them: the deepest springs yield (`cpu::contact::yield_overlap`).
+/// had them: the deepest springs yield (`physics::penalty::yield_overlap`).
 #[test]
 fn stages_match_cpu_with_yielded_springs() {
     if gpu().is_none() {
