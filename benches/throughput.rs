@@ -24,8 +24,9 @@ use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, BenchmarkId, Criterion, SamplingMode, Throughput};
 
 use sphcontact::bench::{cpu_name, CpuBench, DiskCase, GpuBench};
-use sphcontact::cpu::forces::{self, PairVectors, StressPoint};
+use sphcontact::cpu::forces::StressPoint;
 use sphcontact::cpu::neighbours::{self, Neighbours};
+use sphcontact::cpu::sweep::{self, PairVectors};
 use sphcontact::cpu::{self, contact, kinematics};
 use sphcontact::gpu::GpuContext;
 use sphcontact::model::{Model, State};
@@ -160,11 +161,11 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
             black_box(cpu::eos_and_stress(m, s));
         }),
         ("kinematics", |m, s, i| {
-            black_box(kinematics::kinematics(m, s, &i.nb));
+            black_box(sweep::kinematics(m, s, &i.nb));
         }),
         ("forces", |m, s, i| {
             let k = &i.k;
-            black_box(forces::momentum_energy(
+            black_box(sweep::momentum_energy(
                 m, s, &i.nb, &k.l, &k.gv, &k.surface, &i.pts,
             ));
         }),
@@ -173,12 +174,12 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
         ("forces_keeping", |m, s, i| {
             let k = &i.k;
             let mut kept = i.scratch.borrow_mut();
-            black_box(forces::momentum_keeping(
+            black_box(sweep::momentum_keeping(
                 m, s, &i.nb, &k.l, &k.gv, &k.surface, &i.pts, &mut kept,
             ));
         }),
         ("energy_replay", |m, s, i| {
-            black_box(forces::energy_replay(m, &i.nb, &i.kept, &s.v));
+            black_box(sweep::energy_replay(m, &i.nb, &i.kept, &s.v));
         }),
         ("contact", |m, s, i| {
             let k = &i.k;
@@ -226,10 +227,10 @@ struct Inputs {
 impl Inputs {
     fn new(model: &Model, state: &State) -> Self {
         let nb = neighbours::find_with_skin(model, &state.x, skin(model));
-        let k = kinematics::kinematics(model, state, &nb);
+        let k = sweep::kinematics(model, state, &nb);
         let pts = cpu::eos_and_stress(model, state);
         let mut kept = Vec::new();
-        forces::momentum_keeping(model, state, &nb, &k.l, &k.gv, &k.surface, &pts, &mut kept);
+        sweep::momentum_keeping(model, state, &nb, &k.l, &k.gv, &k.surface, &pts, &mut kept);
         Inputs {
             pts,
             k,

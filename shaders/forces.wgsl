@@ -16,7 +16,7 @@
 // alone (LEAP = 3): the same pair terms, the viscosity at the predicted
 // velocity `vstar`, their work on v_{n+1} (`v`), into dr.y, to which the
 // contact's booking then adds its heat (CPU twins:
-// cpu::forces::momentum_keeping and energy_replay, which keeps the pair
+// cpu::sweep::momentum_keeping and energy_replay, which keeps the pair
 // terms instead of walking again).
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;

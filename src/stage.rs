@@ -2,7 +2,9 @@
 //!
 //! A stage is one piece of the step that both backends run: the GPU as a
 //! shader, `shaders/<stage>.wgsl`, the CPU oracle as a plain gather of the
-//! same name, `src/cpu/<stage>.rs`. [`STAGES`] lists each stage with its
+//! same name, `src/cpu/<stage>.rs`. Where the CPU solver runs the stage's
+//! sums pair by pair instead (kinematics and forces, [`crate::cpu::sweep`]),
+//! the row names that file too. [`STAGES`] lists each stage with its
 //! files, the tests that hold the two to each other, and what it reads and
 //! writes; [`MIDPOINT`] and [`LEAPFROG`] are the two integrators' steps as
 //! sequences of stages. The GPU encodes its step from these schedules
@@ -53,6 +55,10 @@ pub struct StageInfo {
     pub shaders: &'static [&'static str],
     /// Its CPU twin, under `src/`; `None` where the CPU has no such stage.
     pub cpu: Option<&'static str>,
+    /// What the CPU solver runs in the twin's place, under `src/`, where it
+    /// runs something else: the same sums pair by pair
+    /// ([`crate::cpu::sweep`]), tested against the twin.
+    pub solver: Option<&'static str>,
     /// Tests of the stage: `file::function`, the file under the crate root.
     /// The first checks the shader against the CPU twin.
     pub tests: &'static [&'static str],
@@ -71,6 +77,7 @@ pub const STAGES: [StageInfo; 7] = [
         name: "reorder",
         shaders: &["reorder.wgsl"],
         cpu: None,
+        solver: None,
         tests: &[
             "tests/gpu_runs.rs::disks_polar_gpu_matches_cpu",
             "tests/gpu_runs.rs::gpu_histories_are_bitwise_repeatable",
@@ -85,6 +92,7 @@ pub const STAGES: [StageInfo; 7] = [
         name: "neighbours",
         shaders: &["neighbours.wgsl"],
         cpu: Some("cpu/neighbours.rs"),
+        solver: None,
         tests: &[
             "tests/gpu_stages/parity.rs::stages_match_cpu_disks_square",
             "src/cpu/neighbours_tests.rs::cell_list_equals_brute_force",
@@ -100,11 +108,13 @@ pub const STAGES: [StageInfo; 7] = [
         name: "kinematics",
         shaders: &["kinematics.wgsl", "strength.wgsl"],
         cpu: Some("cpu/kinematics.rs"),
+        solver: Some("cpu/sweep/kinematics.rs"),
         tests: &[
             "tests/gpu_stages/parity.rs::stages_match_cpu_disks_polar",
             "tests/stages.rs::corrected_gradient_reproduces_linear_fields",
             "tests/stages.rs::outward_normals",
             "src/cpu/kinematics.rs::square_corner_normal_by_hand",
+            "src/cpu/sweep/tests.rs::sweeps_match_gathers_and_lanes_one_pair_code",
         ],
         reads: "x, v, ρ, e, s, damage; the cell list",
         writes: "L (the gradient correction), ∇ψ and the boundary set, σ/ρ² and c (EOS), \
@@ -117,10 +127,11 @@ pub const STAGES: [StageInfo; 7] = [
         name: "forces",
         shaders: &["forces.wgsl"],
         cpu: Some("cpu/forces.rs"),
+        solver: Some("cpu/sweep/forces.rs"),
         tests: &[
             "tests/gpu_stages/parity.rs::stages_match_cpu_bars_steel_aluminium",
-            "src/cpu/forces_tests.rs::lanes_match_one_pair_code_bit_for_bit",
-            "src/cpu/forces_tests.rs::artificial_stress_is_the_principal_axes_form",
+            "src/cpu/sweep/tests.rs::sweeps_match_gathers_and_lanes_one_pair_code",
+            "src/physics/tension.rs::artificial_stress_is_the_principal_axes_form",
         ],
         reads: "x, v, σ/ρ², c, L, ∇v, the boundary set; the cell list",
         writes: "dv/dt and de/dt of the SPH sums, the contact area",
@@ -131,6 +142,7 @@ pub const STAGES: [StageInfo; 7] = [
         name: "contact",
         shaders: &["contact.wgsl", "penalty.wgsl", "spread.wgsl"],
         cpu: Some("cpu/contact.rs"),
+        solver: None,
         tests: &[
             "tests/gpu_stages/parity.rs::stages_match_cpu_with_entry_overlaps",
             "src/cpu/contact_tests.rs::two_particles_gap_and_force_by_hand",
@@ -146,6 +158,7 @@ pub const STAGES: [StageInfo; 7] = [
         name: "reduce",
         shaders: &["reduce.wgsl"],
         cpu: Some("cpu/reduce.rs"),
+        solver: None,
         tests: &[
             "tests/gpu_stages/parity.rs::stages_match_cpu_disks_square",
             "src/cpu/reduce.rs::cfl_step_by_hand",
@@ -159,6 +172,7 @@ pub const STAGES: [StageInfo; 7] = [
         name: "advance",
         shaders: &["advance.wgsl", "strength.wgsl", "spread.wgsl"],
         cpu: Some("cpu/advance.rs"),
+        solver: None,
         tests: &[
             "tests/gpu_stages/steps.rs::stages_match_cpu_penetration",
             "tests/gpu_stages/steps.rs::leapfrog_steps_match_cpu",
@@ -339,6 +353,9 @@ mod tests {
             }
             if let Some(c) = s.cpu {
                 assert_eq!(c, format!("cpu/{}.rs", s.name), "twins by name");
+                assert!(root.join("src").join(c).is_file(), "src/{c}");
+            }
+            if let Some(c) = s.solver {
                 assert!(root.join("src").join(c).is_file(), "src/{c}");
             }
             for t in s.tests {

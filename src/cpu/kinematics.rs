@@ -30,7 +30,7 @@ pub struct Kinematics {
     pub surface: Vec<bool>,
     /// Corrected velocity gradient `∇v_i` (zero on rigid particles) of the
     /// velocities the viscosity sees (the state's, or the leapfrog's
-    /// predicted ones, [`kinematics_seen`]), kept only when the viscosity
+    /// predicted ones, [`super::sweep::kinematics_seen`]), kept only when the viscosity
     /// reconstructs velocities with it (`Model::av_reconstruct`); empty
     /// otherwise.
     pub gv: Vec<Mat2>,
@@ -48,21 +48,21 @@ pub struct Kinematics {
 /// gradient the viscosity sees, when it sees other velocities than the
 /// state's ([`Seen`]).
 #[derive(Debug, Clone, Copy, Default)]
-struct Sums<S> {
+pub(in crate::cpu) struct Sums<S> {
     /// `M_i = Σ_j V_j ∇_i W_ij ⊗ (x_j − x_i)`.
-    m: Mat2,
+    pub(in crate::cpu) m: Mat2,
     /// `Σ_j V_j (v_j − v_i) ⊗ ∇_i W_ij`.
-    gsum: Mat2,
+    pub(in crate::cpu) gsum: Mat2,
     /// `(∇ψ)_i`.
-    gpsi: DVec2,
-    seen: S,
+    pub(in crate::cpu) gpsi: DVec2,
+    pub(in crate::cpu) seen: S,
 }
 
 /// The kinematic walk's velocities and sum for the velocity gradient of the
 /// velocities the viscosity sees: none (`()`, they are the state's; the
 /// walk reads the state's velocities `v`), or (`Mat2`) `Σ_j V_j (v*_j −
 /// v*_i) ⊗ ∇_i W_ij`, the walk reading `[v, v*]` of a particle together.
-trait Seen: Copy + Default + Send + Sync {
+pub(in crate::cpu) trait Seen: Copy + Default + Send + Sync {
     type Vel: Copy + Send + Sync;
     /// Each particle's velocities for the walk, from the state's `v` and
     /// the `seen` ones.
@@ -161,57 +161,40 @@ pub(crate) fn stress_point(
 /// `M_i` and corrected once at the end, so one pass over the neighbours
 /// serves what would otherwise take two.
 ///
-/// The walk visits each pair once ([`Neighbours::sweep`]): with
-/// `∇_j W_ji = −∇_i W_ij`, particle j's terms are i's outer products
-/// `∇_i W_ij ⊗ (x_j − x_i)` and `(v_j − v_i) ⊗ ∇_i W_ij` weighted by `V_i`
-/// instead of `V_j`, and its colour-gradient term changes sign.
+///
+/// Each particle's sums are gathered over its own neighbours, as the
+/// shader does; the solver runs the same sums pair by pair
+/// ([`super::sweep::kinematics()`], equal to round-off).
 pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
-    kinematics_in::<()>(model, st, nb, &[])
+    let vol = volumes(model, st);
+    let sums = (0..model.len())
+        .map(|i| {
+            let mut sum = Sums::<()>::default();
+            for b in nb.of(model, &st.x, i) {
+                let j = b.j as usize;
+                let gi = b.gw * vol[j];
+                sum.m += Mat2::outer(gi, st.x[j] - st.x[i]);
+                sum.gsum += Mat2::outer(st.v[j] - st.v[i], gi);
+                sum.gpsi -= gi;
+            }
+            sum
+        })
+        .collect();
+    finish(model, st, sums)
 }
 
-/// [`kinematics`], with the velocity gradient the viscosity's
-/// reconstruction uses ([`Kinematics::gv`]) taken at the velocities `seen`
-/// (the leapfrog's predicted `v_{n+½} + ½Δt a_n` at `x_{n+1}`) instead of the
-/// state's, in the same walk: the reconstruction then removes exactly the
-/// linear part of the jump the viscosity sees.
-pub fn kinematics_seen(model: &Model, st: &State, nb: &Neighbours, seen: &[DVec2]) -> Kinematics {
-    if model.av_reconstruct {
-        kinematics_in::<Mat2>(model, st, nb, seen)
-    } else {
-        kinematics(model, st, nb)
-    }
-}
-
-fn kinematics_in<S: Seen>(
-    model: &Model,
-    st: &State,
-    nb: &Neighbours,
-    seen: &[DVec2],
-) -> Kinematics {
-    let corrected = model.correction == Correction::Gradient;
-    let vol: Vec<f64> = (0..model.len())
+/// Each particle's volume `V_j = m_j / ρ_j`.
+pub(in crate::cpu) fn volumes(model: &Model, st: &State) -> Vec<f64> {
+    (0..model.len())
         .into_par_iter()
         .map(|j| model.mass[j] / st.rho[j])
-        .collect();
-    let vel = S::vel(&st.v, seen);
-    let mut sums = vec![Sums::<S>::default(); model.len()];
-    nb.sweep(model, &st.x, &mut sums, |i, b, si, sj| {
-        let j = b.j as usize;
-        let (vi, vj) = (vel[i], vel[j]);
-        let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
-        let gi = b.gw * vol[j];
-        si.m += Mat2::outer(gi, dx);
-        si.gsum += Mat2::outer(dv, gi);
-        si.gpsi -= gi;
-        si.seen.add(vj, vi, gi);
-        if let Some(sj) = sj {
-            let gj = b.gw * vol[i];
-            sj.m += Mat2::outer(gj, dx);
-            sj.gsum += Mat2::outer(dv, gj);
-            sj.gpsi += gj;
-            sj.seen.add(vj, vi, gj);
-        }
-    });
+        .collect()
+}
+
+/// The kinematic pass's results from each particle's sums: `L_i`, `∇v_i`,
+/// continuity, the stress rate, the surface set.
+pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<S>>) -> Kinematics {
+    let corrected = model.correction == Correction::Gradient;
     let per: Vec<Point> = sums
         .into_par_iter()
         .enumerate()

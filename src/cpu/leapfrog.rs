@@ -18,10 +18,10 @@ impl CpuSolver {
     ///    dashpot see the predicted `v_{n+½} + ½Δt a_n`, the EOS the
     ///    predicted `e_{n+½} + ½Δt ė_n`, the viscosity's reconstruction the
     ///    gradient of the predicted velocities (taken in the walk of 2,
-    ///    [`kinematics::kinematics_seen`]);
+    ///    [`sweep::kinematics_seen`]);
     /// 4. `v_{n+1} = v_{n+½} + ½Δt a_{n+1}`; then the energy sums with the
     ///    pair terms of 3 but the work done on `v_{n+1}`
-    ///    ([`forces::energy_replay`]), and `e_{n+1} = e_{n+½} + ½Δt ė_{n+1}`.
+    ///    ([`sweep::energy_replay`]), and `e_{n+1} = e_{n+½} + ½Δt ė_{n+1}`.
     ///
     /// The work of the force at `n+1` over the two half steps around it is
     /// exactly `Δt F·v_{n+1}`; energy booked at any other velocity drifts
@@ -74,7 +74,7 @@ impl CpuSolver {
         // velocities, in the same walk. (A ∇v at n+½ with velocities at n+1
         // mixes two levels: a jump O(Δt) where it should be O(Δx²), which
         // makes the step first order.)
-        let k = kinematics::kinematics_seen(model, &half, nb, &next.v);
+        let k = sweep::kinematics_seen(model, &half, nb, &next.v);
         next.x.copy_from_slice(&half.x);
         // ρ and s at n+1, the predicted energy of 3, and the EOS at them
         // (eos_and_stress: in the same walk, or, with a plastic history,
@@ -107,7 +107,7 @@ impl CpuSolver {
         };
         // 3: the forces at n+1.
         stage::enter(Stage::Forces, Role::Next);
-        let mut dv = forces::momentum_keeping(
+        let mut dv = sweep::momentum_keeping(
             model,
             &next,
             nb,
@@ -142,7 +142,7 @@ impl CpuSolver {
         });
         let v_next = &half.v;
         stage::enter(Stage::Forces, Role::Energy);
-        let mut de = forces::energy_replay(model, nb, &self.kept, v_next);
+        let mut de = sweep::energy_replay(model, nb, &self.kept, v_next);
         let (mut heat_rate, mut spring_rate) = (0.0, 0.0);
         if let Some(bd) = bd {
             stage::enter(Stage::Contact, Role::Book);

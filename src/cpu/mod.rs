@@ -1,14 +1,16 @@
 //! The CPU reference solver: f64, one function per stage (the oracle the GPU
-//! path is checked against), rayon-parallel gathers, deterministic.
+//! path is checked against), deterministic.
 //!
 //! One file per stage of the step, each the twin of the shader of the same
 //! name ([`crate::stage`]): [`neighbours`], [`kinematics`] (with the EOS and
 //! the boundary set), [`forces`], [`contact`], [`reduce`], [`advance`].
-//! The forces stage sums every pair once, four pairs at a time in vector
-//! lanes (`forces_sweep.rs`), tested bit for bit against the one-pair code
-//! of [`forces`]; the leapfrog's step, which keeps each pair's energy
-//! vectors for its second half kick, is `leapfrog.rs`; each stage's tests
-//! are in `<stage>_tests.rs`.
+//! The kinematic and forces twins are plain gathers, each particle's sums
+//! over its own neighbours as the shaders take them. The solver runs the
+//! same sums pair by pair ([`sweep`]: each pair evaluated once for both
+//! of its particles, the forces four pairs at a time in vector lanes),
+//! tested against the gathers to round-off. The leapfrog's step, which
+//! keeps each pair's energy vectors for its second half kick, is
+//! `leapfrog.rs`; each stage's tests are in `<stage>_tests.rs`.
 //!
 //! Time integration (docs/method.md §9) is the explicit midpoint rule (RK2, two
 //! evaluations a step) or, when the scene asks for it, a kick–drift–kick
@@ -19,15 +21,13 @@ pub mod contact;
 #[cfg(test)]
 mod contact_tests;
 pub mod forces;
-mod forces_sweep;
-#[cfg(test)]
-mod forces_tests;
 pub mod kinematics;
 mod leapfrog;
 pub mod neighbours;
 #[cfg(test)]
-mod neighbours_tests;
+pub(crate) mod neighbours_tests;
 pub mod reduce;
+pub mod sweep;
 
 pub use kinematics::eos_and_stress;
 pub use reduce::cfl_step;
@@ -97,9 +97,9 @@ fn evaluate_at(
 ) -> (Rates, Diagnostics) {
     stage::enter(Stage::Kinematics, role);
     let pts = eos_and_stress(model, st);
-    let k = kinematics::kinematics(model, st, nb);
+    let k = sweep::kinematics(model, st, nb);
     stage::enter(Stage::Forces, role);
-    let (mut dv, mut de) = forces::momentum_energy(model, st, nb, &k.l, &k.gv, &k.surface, &pts);
+    let (mut dv, mut de) = sweep::momentum_energy(model, st, nb, &k.l, &k.gv, &k.surface, &pts);
     let mut diag = Diagnostics {
         cfl_dt: f64::INFINITY,
         correction_fallback: k.fallback.len(),
@@ -161,7 +161,7 @@ fn evaluate_at(
 /// another body are not surface there.
 pub fn surface(model: &Model, st: &State) -> (Vec<DVec2>, Vec<bool>) {
     let nb = neighbours::find(model, &st.x);
-    let a = kinematics::kinematics(model, st, &nb);
+    let a = sweep::kinematics(model, st, &nb);
     let bd = kinematics::boundary(model, &st.x, &nb, a.surface);
     (bd.normal, bd.is_boundary)
 }
@@ -185,8 +185,8 @@ pub struct CpuSolver {
     /// List builds so far (a diagnostic of the skin's economy).
     pub list_builds: u64,
     /// The leapfrog's pair vectors of the step's momentum pass
-    /// ([`forces::PairVectors`]), kept between steps for their memory only.
-    kept: Vec<forces::PairVectors>,
+    /// ([`sweep::PairVectors`]), kept between steps for their memory only.
+    kept: Vec<sweep::PairVectors>,
 }
 
 /// The skin of the CPU neighbour lists as a fraction of the support `2 h`.

@@ -1,30 +1,18 @@
 //! The neighbours stage (twin of `shaders/neighbours.wgsl`): the cell list
 //! ([`CellList`], cells of side `2 h_max` plus a skin), then each
 //! particle's candidates from the 3 (1-D) or 3×3 (2-D) cells around its
-//! own, kept as lists while no particle has moved more than half the skin.
-//! The cell list's sort is stable, so the neighbour order is deterministic.
+//! own. The cell list's sort is stable, so the neighbour order is
+//! deterministic. The solver keeps its lists, built with a skin, while no
+//! particle has moved more than half the skin ([`Neighbours::still_valid`]),
+//! and walks their rows in the layout of its pair-once sweeps
+//! ([`super::sweep`]).
 
 use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::math::cells::CellList;
-use crate::math::lanes::{F4, LANES};
 use crate::model::Model;
 use crate::physics::kernel;
-
-/// Up to four candidates of one row with their kernel values in lanes
-/// ([`Neighbours::sweep_chunks`]).
-pub struct Chunk {
-    /// The candidates; missing lanes repeat the last one.
-    pub j: [u32; LANES],
-    /// Bit k set where candidate k lies within `2 h_ij` (a pair).
-    pub inside: u32,
-    /// Near pairs (both sides add) or far pairs (i's side only).
-    pub near: bool,
-    /// `∇_i W_ij` (`W_ij` itself is not computed).
-    pub gwx: F4,
-    pub gwy: F4,
-}
 
 /// One neighbour of particle i: `j`, `W_ij` and `∇_i W_ij` (with `h_ij`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,50 +65,6 @@ pub struct Neighbours {
     pub chunk: usize,
 }
 
-/// Particles per chunk of the pair sweep over the rows `start`/`list`: the
-/// smallest power of two above the index distance `|j − i|` of 99 % of the
-/// candidate pairs (the rest are far pairs, visited from both sides), and
-/// no smaller than 256 particles or a 256th of them, so that a task is
-/// worth scheduling. The chunk depends on the lists alone, so the order of
-/// every sum, and every result, is the same whatever the thread count. In
-/// the generated lattices neighbours are a few lattice rows apart (about
-/// 700 indices in a 10⁵-particle disk).
-fn chunk_len(start: &[u32], list: &[u32]) -> usize {
-    let n = start.len().saturating_sub(1);
-    // Pairs by the bit length of their index distance.
-    let hist = (0..n)
-        .into_par_iter()
-        .fold(
-            || [0u64; 33],
-            |mut h, i| {
-                for &j in &list[start[i] as usize..start[i + 1] as usize] {
-                    h[(usize::BITS - (j as usize).abs_diff(i).leading_zeros()).min(32) as usize] +=
-                        1;
-                }
-                h
-            },
-        )
-        .reduce(
-            || [0u64; 33],
-            |mut a, b| {
-                a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
-                a
-            },
-        );
-    let total: u64 = hist.iter().sum();
-    let mut covered = 0;
-    let mut bits = 0;
-    for (b, &c) in hist.iter().enumerate() {
-        covered += c;
-        bits = b;
-        if covered * 100 >= total * 99 {
-            break;
-        }
-    }
-    // Distances below 2^bits: a chunk of that size keeps them near.
-    (1usize << bits).max(256).max(n / 256)
-}
-
 impl Neighbours {
     /// The SPH partners of particle `i` at positions `x`: candidates closer
     /// than `2 h_ij`, with `W_ij` and `∇_i W_ij`, in list order.
@@ -135,337 +79,6 @@ impl Neighbours {
         self.candidates(i)
             .iter()
             .filter_map(move |&j| pair(model, x, i, inv_hi, j))
-    }
-
-    /// Partition every SPH row for the pair sweep and record where its
-    /// segments end (the layout of [`Neighbours::fwd_end`]). The partition
-    /// is stable, so indexing rows that are already indexed changes nothing.
-    pub fn index_rows(&mut self) {
-        self.index_rows_in(chunk_len(&self.start, &self.list));
-    }
-
-    /// [`Neighbours::index_rows`] with chunks of `chunk` particles.
-    pub(super) fn index_rows_in(&mut self, chunk: usize) {
-        let n = self.start.len().saturating_sub(1);
-        let near = |i: usize, j: usize| (i / chunk).abs_diff(j / chunk) <= 1;
-        // Rows in blocks: each block's rows are one contiguous run of the
-        // list, partitioned in parallel with one scratch row per block.
-        let mut pieces = Vec::with_capacity(n.div_ceil(BLOCK));
-        let mut rest: &mut [u32] = &mut self.list;
-        for b in 0..n.div_ceil(BLOCK) {
-            let (lo, hi) = (b * BLOCK, ((b + 1) * BLOCK).min(n));
-            let len = (self.start[hi] - self.start[lo]) as usize;
-            let (piece, tail) = rest.split_at_mut(len);
-            pieces.push((lo, hi, piece));
-            rest = tail;
-        }
-        let start = &self.start;
-        let ends: Vec<Vec<(u32, u32)>> = pieces
-            .into_par_iter()
-            .map(|(lo, hi, piece)| {
-                let base = start[lo];
-                let mut scratch = Vec::new();
-                (lo..hi)
-                    .map(|i| {
-                        let (a, b) = ((start[i] - base) as usize, (start[i + 1] - base) as usize);
-                        let row = &mut piece[a..b];
-                        scratch.clear();
-                        let iu = i as u32;
-                        scratch.extend(row.iter().filter(|&&j| j > iu && near(i, j as usize)));
-                        let fwd = scratch.len();
-                        scratch.extend(row.iter().filter(|&&j| !near(i, j as usize)));
-                        let far = scratch.len();
-                        scratch.extend(row.iter().filter(|&&j| j < iu && near(i, j as usize)));
-                        row.copy_from_slice(&scratch);
-                        (start[i] + fwd as u32, start[i] + far as u32)
-                    })
-                    .collect()
-            })
-            .collect();
-        (self.fwd_end, self.far_end) = ends.into_iter().flatten().unzip();
-        let mut at = 0;
-        self.visited = std::iter::once(0)
-            .chain((0..n).map(|i| {
-                at += self.far_end[i] - self.start[i];
-                at
-            }))
-            .collect();
-        self.chunk = chunk;
-    }
-
-    /// Every SPH pair within `2 h_ij` at positions `x`, each evaluated
-    /// once, summed into `acc` (one entry per particle).
-    ///
-    /// A pair's kernel gradient and most of its terms are the same for both
-    /// particles up to sign, so a near pair is visited once, from its lower
-    /// index, and `pair(i, nbr, acc_i, Some(acc_j))` adds to both sides; a
-    /// far pair (rows indexed by [`Neighbours::index_rows`]) is visited from
-    /// both of its particles, and `pair(i, nbr, acc_i, None)` adds to i
-    /// only. One function serves both, so i's side is written once.
-    ///
-    /// Writes to `acc_j` need `j` to be owned by the task too: chunks are
-    /// taken in two phases, even chunks with their right neighbour and then
-    /// odd ones, so two tasks never share an entry. Each entry then receives
-    /// its terms in an order fixed by the lists and the chunk size alone,
-    /// whatever the thread count.
-    pub fn sweep<T, P>(&self, model: &Model, x: &[DVec2], acc: &mut [T], pair_fn: P)
-    where
-        T: Send + Default,
-        P: Fn(usize, &Nbr, &mut T, Option<&mut T>) + Sync,
-    {
-        // A store of zero-sized slots: no memory, and no work once inlined.
-        let mut none = self.no_store();
-        self.sweep_store(model, x, acc, &mut none, |i, b, ai, aj, _| {
-            pair_fn(i, b, ai, aj)
-        });
-    }
-
-    /// [`Neighbours::sweep`] that also hands the pair function the pair's
-    /// slot of `store` (one per visited candidate, laid out by
-    /// [`Neighbours::visited`]); the slots of candidates outside the support
-    /// are reset to the default. A later pass reads them back with
-    /// [`Neighbours::replay`] in the same order.
-    pub fn sweep_store<T, S, P>(
-        &self,
-        model: &Model,
-        x: &[DVec2],
-        acc: &mut [T],
-        store: &mut [S],
-        pair_fn: P,
-    ) where
-        T: Send + Default,
-        S: Send + Default,
-        P: Fn(usize, &Nbr, &mut T, Option<&mut T>, &mut S) + Sync,
-    {
-        self.rows_store(acc, store, |i, ai, piece, base, slots| {
-            let inv_hi = 1.0 / model.h[i];
-            let (s, f, e) = self.row_ends(i);
-            for (q, &j) in self.list[s..f].iter().enumerate() {
-                match pair(model, x, i, inv_hi, j) {
-                    // j is at most one chunk on: inside this task's piece.
-                    Some(b) => pair_fn(
-                        i,
-                        &b,
-                        ai,
-                        Some(&mut piece[j as usize - base]),
-                        &mut slots[q],
-                    ),
-                    None => slots[q] = S::default(),
-                }
-            }
-            for (q, &j) in self.list[f..e].iter().enumerate() {
-                let slot = &mut slots[f - s + q];
-                match pair(model, x, i, inv_hi, j) {
-                    Some(b) => pair_fn(i, &b, ai, None, slot),
-                    None => *slot = S::default(),
-                }
-            }
-        });
-    }
-
-    /// The pairs of the last [`Neighbours::sweep_store`] (or
-    /// [`Neighbours::sweep_chunks_store`]) again, from their slots alone
-    /// (no positions, no kernel), in the sweep's order and with its task
-    /// layout: `pair_fn(i, j, slot, acc_i, acc_j)`, `acc_j` `None` for a
-    /// far pair. Slots of candidates outside the support hold the default.
-    pub fn replay<T, S, P>(&self, acc: &mut [T], store: &[S], pair_fn: P)
-    where
-        T: Send + Default,
-        S: Sync,
-        P: Fn(usize, usize, &S, &mut T, Option<&mut T>) + Sync,
-    {
-        let n = acc.len();
-        assert_eq!(
-            store.len(),
-            self.visited[n] as usize,
-            "a store of this sweep's pairs"
-        );
-        self.rows(acc, |i, ai, piece, base| {
-            let (s, f, e) = self.row_ends(i);
-            let slots = &store[self.visited[i] as usize..self.visited[i + 1] as usize];
-            for (q, &j) in self.list[s..f].iter().enumerate() {
-                let j = j as usize;
-                pair_fn(i, j, &slots[q], ai, Some(&mut piece[j - base]));
-            }
-            for (q, &j) in self.list[f..e].iter().enumerate() {
-                pair_fn(i, j as usize, &slots[f - s + q], ai, None);
-            }
-        });
-    }
-
-    /// A store of zero-sized slots for sweeps that keep nothing.
-    fn no_store(&self) -> Vec<()> {
-        vec![(); self.store_len()]
-    }
-
-    /// Slots a store for [`Neighbours::sweep_store`] needs.
-    pub fn store_len(&self) -> usize {
-        self.visited.last().map_or(0, |&t| t as usize)
-    }
-
-    /// [`Neighbours::sweep`] four candidates at a time, for passes whose
-    /// pair terms run in SIMD lanes: `chunk(i, c, acc_i, piece, base)` for
-    /// each [`Chunk`] of row i's candidates in the sweep's order, near
-    /// chunks (both sides add: particle j's entry is `piece[j − base]`)
-    /// before far ones (i's side only). A pass that adds lane k's terms
-    /// only where `c.inside` has bit k, in lane order, sums what the sweep
-    /// sums in the sweep's order. No buffer between the kernel and the
-    /// terms: a chunk's candidates go from the list straight into lanes
-    /// (a row buffer of pairs cost the momentum pass a fifth of its time).
-    /// The kinematic pass stays on [`Neighbours::sweep`]: its terms are
-    /// few, and in lanes, with or without a buffer, it ran 16–44 % slower.
-    pub fn sweep_chunks<T, R>(&self, model: &Model, x: &[DVec2], acc: &mut [T], chunk: R)
-    where
-        T: Send + Default,
-        R: Fn(usize, &Chunk, &mut T, &mut [T], usize) + Sync,
-    {
-        let mut none = self.no_store();
-        self.sweep_chunks_store(model, x, acc, &mut none, |i, c, ai, piece, base, _| {
-            chunk(i, c, ai, piece, base)
-        });
-    }
-
-    /// [`Neighbours::sweep_chunks`] that also hands each chunk its
-    /// candidates' slots of `store` (as [`Neighbours::sweep_store`]); a
-    /// chunk with no pair is not handed on, its slots reset to the default.
-    pub fn sweep_chunks_store<T, S, R>(
-        &self,
-        model: &Model,
-        x: &[DVec2],
-        acc: &mut [T],
-        store: &mut [S],
-        chunk: R,
-    ) where
-        T: Send + Default,
-        S: Send + Default,
-        R: Fn(usize, &Chunk, &mut T, &mut [T], usize, &mut [S]) + Sync,
-    {
-        let h = &model.h[..x.len()];
-        let top = x.len().saturating_sub(1);
-        self.rows_store(acc, store, |i, ai, piece, base, slots| {
-            let (hi, xi) = (h[i], x[i]);
-            let inv_hi = 1.0 / hi;
-            let (s, f, e) = self.row_ends(i);
-            for (near, at, cands) in [
-                (true, 0, &self.list[s..f]),
-                (false, f - s, &self.list[f..e]),
-            ] {
-                for (m, c) in cands.chunks(LANES).enumerate() {
-                    let at = at + m * LANES;
-                    let slots = &mut slots[at..at + c.len()];
-                    let last = c.len() - 1;
-                    let j: [u32; LANES] = std::array::from_fn(|k| c[k.min(last)]);
-                    let js = j.map(|j| (j as usize).min(top));
-                    let hj = F4::gather(|k| h[js[k]]);
-                    // As `pair`: h_ij's inverse by division only across
-                    // bodies of different spacing.
-                    let same = hj.eq(F4::splat(hi));
-                    let inv_h = if same.bits() == 0b1111 {
-                        F4::splat(inv_hi)
-                    } else {
-                        same.select(F4::splat(inv_hi), 2.0 / (hi + hj))
-                    };
-                    let dx = xi.x - F4::gather(|k| x[js[k]].x);
-                    let dy = xi.y - F4::gather(|k| x[js[k]].y);
-                    let q2 = (dx * dx + dy * dy) * inv_h * inv_h;
-                    // `!(q2 >= 4)` as in `w_grad`: a NaN position still
-                    // reaches the sums (and the instability check).
-                    let inside = !q2.ge(F4::splat(4.0)).bits() & ((1 << c.len()) - 1);
-                    if inside == 0 {
-                        slots.iter_mut().for_each(|s| *s = S::default());
-                        continue;
-                    }
-                    let g = kernel::grad_lanes(model.dim, q2, inv_h);
-                    let ch = Chunk {
-                        j,
-                        inside,
-                        near,
-                        gwx: dx * g,
-                        gwy: dy * g,
-                    };
-                    chunk(i, &ch, ai, piece, base, slots);
-                }
-            }
-        });
-    }
-
-    /// Row i's list from its start to the end of its near pairs and of its
-    /// far pairs.
-    #[inline]
-    fn row_ends(&self, i: usize) -> (usize, usize, usize) {
-        (
-            self.start[i] as usize,
-            self.fwd_end[i] as usize,
-            self.far_end[i] as usize,
-        )
-    }
-
-    /// The task layout every sweep shares: `row(i, acc_i, piece, base)` for
-    /// every row, `piece` the task's entries from `base` on.
-    fn rows<T, R>(&self, acc: &mut [T], row: R)
-    where
-        T: Send + Default,
-        R: Fn(usize, &mut T, &mut [T], usize) + Sync,
-    {
-        let mut none = self.no_store();
-        self.rows_store(acc, &mut none, |i, ai, piece, base, _| {
-            row(i, ai, piece, base)
-        });
-    }
-
-    /// [`Neighbours::rows`] that also hands each row its slots of `store`
-    /// ([`Neighbours::visited`]): a task's rows' slots are one run of the
-    /// store, split off before the tasks start.
-    fn rows_store<T, S, R>(&self, acc: &mut [T], store: &mut [S], row: R)
-    where
-        T: Send + Default,
-        S: Send,
-        R: Fn(usize, &mut T, &mut [T], usize, &mut [S]) + Sync,
-    {
-        let n = acc.len();
-        assert_eq!(self.fwd_end.len(), n, "rows not indexed for the sweep");
-        assert_eq!(
-            store.len(),
-            self.visited[n] as usize,
-            "a store for these rows"
-        );
-        let c = self.chunk;
-        let vis = &self.visited;
-        for phase in 0..2 {
-            let off = phase * c;
-            if off >= n {
-                break;
-            }
-            // Each task's slots, in task order.
-            let mut slots: Vec<&mut [S]> = Vec::with_capacity((n - off).div_ceil(2 * c));
-            let mut rest: &mut [S] = &mut store[..];
-            let mut at = 0;
-            for r0 in (off..n).step_by(2 * c) {
-                let (a, b) = (vis[r0] as usize, vis[(r0 + c).min(n)] as usize);
-                let (_, tail) = std::mem::take(&mut rest).split_at_mut(a - at);
-                let (mine, tail) = tail.split_at_mut(b - a);
-                slots.push(mine);
-                rest = tail;
-                at = b;
-            }
-            acc[off..]
-                .par_chunks_mut(2 * c)
-                .zip(slots)
-                .enumerate()
-                .for_each(|(k, (piece, sl))| {
-                    let base = off + 2 * k * c;
-                    let sbase = vis[base] as usize;
-                    for i in base..(base + c).min(n) {
-                        // No other row of this task writes to i while
-                        // i's row runs (its partners are all j > i), so its
-                        // sums stay in registers until the row ends.
-                        let mut ai = std::mem::take(&mut piece[i - base]);
-                        let (a, b) = (vis[i] as usize - sbase, vis[i + 1] as usize - sbase);
-                        row(i, &mut ai, piece, base, &mut sl[a..b]);
-                        piece[i - base] = ai;
-                    }
-                });
-        }
     }
 
     /// Raw candidate SPH partners of `i` (a superset of [`Neighbours::of`]).
@@ -511,7 +124,7 @@ impl Neighbours {
 /// Candidate `j` of particle `i` if it lies within `2 h_ij` at positions
 /// `x`, with `W_ij` and `∇_i W_ij`; `inv_hi = 1/h_i`.
 #[inline]
-fn pair(model: &Model, x: &[DVec2], i: usize, inv_hi: f64, j: u32) -> Option<Nbr> {
+pub(super) fn pair(model: &Model, x: &[DVec2], i: usize, inv_hi: f64, j: u32) -> Option<Nbr> {
     let inv_h = pair_inv_h(model.h[i], model.h[j as usize], inv_hi);
     let d = x[i] - x[j as usize];
     kernel::w_grad(model.dim, d, d.length_squared(), inv_h).map(|(w, gw)| Nbr { j, w, gw })
@@ -529,9 +142,6 @@ pub fn pair_inv_h(hi: f64, hj: f64, inv_hi: f64) -> f64 {
     }
 }
 
-/// The candidates `cands` of row i that lie within `2 h_ij`, appended to
-/// `out` in order with their kernel values: `pair` four candidates at a
-/// time, one to a SIMD lane, with the same operations (bit-identical).
 /// Mean number of neighbours per particle within `2 h_ij` at positions `x`
 /// (SPH partners and other-body contact candidates together): the work
 /// measure that goes with a throughput figure.
@@ -551,7 +161,7 @@ pub fn find(model: &Model, x: &[DVec2]) -> Neighbours {
 
 /// Particles per block of the parallel list build: large enough that the
 /// per-block vectors amortise, small enough to balance two to many cores.
-const BLOCK: usize = 2048;
+pub(in crate::cpu) const BLOCK: usize = 2048;
 
 /// Build the candidate lists of every particle: all particles within
 /// `2 h_ij + skin`, SPH partners and other-body candidates apart.

@@ -7,7 +7,7 @@ use glam::DVec2;
 
 /// The model of a 2-D scene of one linear-EOS material `m` and the
 /// bodies given as TOML.
-fn model_of(bodies: &str) -> (Model, crate::model::State) {
+pub(in crate::cpu) fn model_of(bodies: &str) -> (Model, crate::model::State) {
     let text = format!(
         r#"
 [simulation]
@@ -25,7 +25,7 @@ eos = {{ kind = "linear", c0 = 1000.0 }}
 /// A polar-lattice disk and a coarser rectangle beside it: two bodies of
 /// different spacing, many cells, and particle orders that put some
 /// neighbours far apart in index.
-fn two_bodies() -> (Model, crate::model::State) {
+pub(in crate::cpu) fn two_bodies() -> (Model, crate::model::State) {
     model_of(
         r#"
 [[bodies]]
@@ -96,104 +96,6 @@ fn cell_list_equals_brute_force() {
         a.sort_by_key(|p| p.j);
         b.sort_by_key(|p| p.j);
         assert_eq!(a, b, "particle {i}");
-    }
-}
-
-/// The pair sweep sums what a gather over every particle's own partners
-/// sums, with small chunks (so that far pairs and both phases occur) as
-/// with the default, and the same bits on one thread as on three.
-#[test]
-fn sweep_equals_gather() {
-    let (model, state) = two_bodies();
-    let x = &state.x;
-    let n = x.len();
-    // Σ W_ij, Σ ∇_i W_ij and Σ j W_ij: symmetric, antisymmetric and
-    // neither, so a term added to the wrong side shows.
-    type Acc = (f64, DVec2, f64);
-    let gather: Vec<Acc> = {
-        let nb = find_with_skin(&model, x, 0.05);
-        (0..n)
-            .map(|i| {
-                nb.of(&model, x, i).fold((0.0, DVec2::ZERO, 0.0), |a, b| {
-                    (a.0 + b.w, a.1 + b.gw, a.2 + b.j as f64 * b.w)
-                })
-            })
-            .collect()
-    };
-    let sweep = |nb: &Neighbours| {
-        let mut acc = vec![(0.0, DVec2::ZERO, 0.0); n];
-        nb.sweep(
-            &model,
-            x,
-            &mut acc,
-            |i, b, ai: &mut Acc, aj: Option<&mut Acc>| {
-                ai.0 += b.w;
-                ai.1 += b.gw;
-                ai.2 += b.j as f64 * b.w;
-                if let Some(aj) = aj {
-                    aj.0 += b.w;
-                    aj.1 -= b.gw;
-                    aj.2 += i as f64 * b.w;
-                }
-            },
-        );
-        acc
-    };
-    for chunk in [Some(8), Some(64), None] {
-        let mut nb = find_with_skin(&model, x, 0.05);
-        let plain = nb.clone();
-        // The lists come indexed with the default chunk.
-        let far = |nb: &Neighbours| -> usize {
-            (0..n)
-                .map(|i| (nb.far_end[i] - nb.fwd_end[i]) as usize)
-                .sum()
-        };
-        // 1 % of the pairs, each in both of its rows: 2 % of the entries.
-        assert!(
-            far(&nb) * 50 < nb.list.len(),
-            "the default leaves under 2 % of the row entries far"
-        );
-        if let Some(c) = chunk {
-            nb.index_rows_in(c);
-            assert!(far(&nb) > 0, "far pairs with chunks of {c}");
-        }
-        let chunk = nb.chunk;
-        for i in 0..n {
-            // Each row is a permutation of the unindexed one, and
-            // indexing again changes nothing.
-            let (mut a, mut b) = (nb.candidates(i).to_vec(), plain.candidates(i).to_vec());
-            a.sort();
-            b.sort();
-            assert_eq!(a, b, "row {i}");
-        }
-        let again = {
-            let mut c = nb.clone();
-            c.index_rows_in(chunk);
-            c
-        };
-        assert_eq!(again.list, nb.list);
-        let one = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .unwrap();
-        let three = rayon::ThreadPoolBuilder::new()
-            .num_threads(3)
-            .build()
-            .unwrap();
-        let s1 = one.install(|| sweep(&nb));
-        let s3 = three.install(|| sweep(&nb));
-        for i in 0..n {
-            let (g, s) = (gather[i], s1[i]);
-            let scale = g.0.abs() + g.1.length() * model.h[i];
-            assert!((g.0 - s.0).abs() < 1e-12 * scale, "ΣW at {i}: {g:?} {s:?}");
-            assert!(
-                (g.1 - s.1).length() * model.h[i] < 1e-12 * scale,
-                "Σ∇W at {i}"
-            );
-            assert!((g.2 - s.2).abs() < 1e-12 * n as f64 * scale, "Σ jW at {i}");
-            assert_eq!(s1[i].0.to_bits(), s3[i].0.to_bits(), "thread count, {i}");
-            assert_eq!(s1[i].1, s3[i].1, "thread count, {i}");
-        }
     }
 }
 

@@ -105,3 +105,88 @@ pub fn art_weight_lanes(r2: F4, dp: F4, hij: F4, n: f64) -> F4 {
         F4::new(f.to_array().map(|f| f.powf(n)))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Sym;
+    use crate::physics::kernel;
+
+    /// The close-pair gate: shut at and beyond the local spacing `V̄^(1/d)`,
+    /// open fully from `CLOSE_FULL` of it in, linear in `(r/s)²` between,
+    /// in 1-D (`s = V̄`) and 2-D (`s = √V̄`).
+    #[test]
+    fn close_gate_opens_inside_the_local_spacing() {
+        for (dim, vol, s) in [(1, 2.0e-5, 2.0e-5), (2, 4.0e-10, 2.0e-5)] {
+            let g = |r: f64| close_gate(r * r, vol, 1.0, dim);
+            assert_eq!(g(s), 0.0);
+            assert_eq!(g(1.5 * s), 0.0);
+            assert_eq!(g(CLOSE_FULL * s * (1.0 - 1e-12)), 1.0);
+            assert_eq!(g(0.5 * s), 1.0);
+            let r = 0.975 * s;
+            let want = (1.0 - 0.975f64.powi(2)) / (1.0 - CLOSE_FULL * CLOSE_FULL);
+            assert!((g(r) - want).abs() < 1e-12, "{} against {want}", g(r));
+            assert!(g(0.99 * s) > 0.0 && g(0.99 * s) < g(0.98 * s));
+            // κ² scales the spacing: shut beyond κ s.
+            assert_eq!(close_gate((0.91 * s).powi(2), vol, 0.81, dim), 0.0);
+            assert_eq!(close_gate((0.85 * s).powi(2), vol, 0.81, dim), 1.0);
+        }
+    }
+
+    /// The artificial stress without the principal angle is the angle
+    /// form's (rotate to principal axes, keep `−ε σ̄/ρ²` of the tensile
+    /// values, rotate back) on stresses with no, one and two tensile
+    /// principal values, and where the two principal values meet.
+    #[test]
+    fn artificial_stress_is_the_principal_axes_form() {
+        let angle_form = |eps: f64, s: &Sym, rho: f64| {
+            let (a, b, th) = s.principal();
+            let k = |v: f64| if v > 0.0 { -eps * v / (rho * rho) } else { 0.0 };
+            Sym::from_principal(k(a), k(b), th)
+        };
+        let mut seen = [0usize; 3];
+        for i in 0..400 {
+            let u = |m: f64| ((i as f64 * m).fract() - 0.5) * 2.0e9;
+            let mut s = Sym {
+                xx: u(0.618_033_988_7),
+                yy: u(0.414_213_562_3),
+                xy: u(0.732_050_807_6) * 0.5,
+                zz: u(0.236_067_977_5),
+            };
+            if i % 50 == 0 {
+                (s.yy, s.xy) = (s.xx, 0.0);
+            }
+            let (a, b, _) = s.principal();
+            seen[(a > 0.0) as usize + (b > 0.0) as usize] += 1;
+            let (got, want) = (
+                artificial_stress(0.3, &s, 7850.0),
+                angle_form(0.3, &s, 7850.0),
+            );
+            let scale = 0.3 * 2.0e9 / (7850.0f64 * 7850.0);
+            for (g, w) in [(got.xx, want.xx), (got.yy, want.yy), (got.xy, want.xy)] {
+                assert!(
+                    (g - w).abs() <= 1e-12 * scale,
+                    "{s:?}: {got:?} against {want:?}"
+                );
+            }
+            assert_eq!(got.zz, 0.0);
+        }
+        assert!(seen.iter().all(|&n| n > 50), "sign patterns {seen:?}");
+    }
+
+    /// The pair weight is `(W(r)/W(Δp))^n` from the kernel itself, inside
+    /// and outside `q = 1`, with `n = 4` by squarings and other `n` by
+    /// powers.
+    #[test]
+    fn art_weight_is_the_kernel_ratio() {
+        let (dp, h) = (1.0e-5, 1.2e-5);
+        for r in [0.0, 0.3e-5, 1.0e-5, 1.3e-5, 2.2e-5, 2.39e-5] {
+            for n in [4.0, 3.5, 1.0] {
+                let want = (kernel::w(2, r, h) / kernel::w(2, dp, h)).powf(n);
+                let got = art_weight(r * r, dp, h, n);
+                assert!((got - want).abs() <= 1e-13 * want.max(1.0), "r {r} n {n}");
+            }
+        }
+        assert!((art_weight(dp * dp, dp, h, 4.0) - 1.0).abs() < 1e-14);
+    }
+}

@@ -1,17 +1,119 @@
-//! Tests of the forces stage (`forces.rs`).
+//! Tests of the pair-once sweeps: the same sums as the plain gathers,
+//! the lane code's bits equal to the one-pair code's, the same bits on
+//! any thread count.
 
-use super::forces::*;
+use super::forces::sums;
+use super::*;
 use crate::bench::{CpuBench, DiskCase};
-use crate::cpu::{eos_and_stress, kinematics, neighbours, SKIN_FRACTION};
+use crate::cpu::neighbours::{find_with_skin, Neighbours};
+use crate::cpu::neighbours_tests::two_bodies;
+use crate::cpu::{eos_and_stress, SKIN_FRACTION};
 use crate::math::Sym;
 use crate::model::{Model, State};
-use crate::physics::kernel;
-use crate::physics::tension::{art_weight, artificial_stress, close_gate, CLOSE_FULL};
 use crate::scene::ArtPairs;
 use glam::DVec2;
 
-/// The lane code gives the one-pair code's sums bit for bit, on the
-/// disks in contact with a velocity field stirred so that every branch
+/// The pair sweep sums what a gather over every particle's own partners
+/// sums, with small chunks (so that far pairs and both phases occur) as
+/// with the default, and the same bits on one thread as on three.
+#[test]
+fn sweep_equals_gather() {
+    let (model, state) = two_bodies();
+    let x = &state.x;
+    let n = x.len();
+    // Σ W_ij, Σ ∇_i W_ij and Σ j W_ij: symmetric, antisymmetric and
+    // neither, so a term added to the wrong side shows.
+    type Acc = (f64, DVec2, f64);
+    let gather: Vec<Acc> = {
+        let nb = find_with_skin(&model, x, 0.05);
+        (0..n)
+            .map(|i| {
+                nb.of(&model, x, i).fold((0.0, DVec2::ZERO, 0.0), |a, b| {
+                    (a.0 + b.w, a.1 + b.gw, a.2 + b.j as f64 * b.w)
+                })
+            })
+            .collect()
+    };
+    let sweep = |nb: &Neighbours| {
+        let mut acc = vec![(0.0, DVec2::ZERO, 0.0); n];
+        nb.sweep(
+            &model,
+            x,
+            &mut acc,
+            |i, b, ai: &mut Acc, aj: Option<&mut Acc>| {
+                ai.0 += b.w;
+                ai.1 += b.gw;
+                ai.2 += b.j as f64 * b.w;
+                if let Some(aj) = aj {
+                    aj.0 += b.w;
+                    aj.1 -= b.gw;
+                    aj.2 += i as f64 * b.w;
+                }
+            },
+        );
+        acc
+    };
+    for chunk in [Some(8), Some(64), None] {
+        let mut nb = find_with_skin(&model, x, 0.05);
+        let plain = nb.clone();
+        // The lists come indexed with the default chunk.
+        let far = |nb: &Neighbours| -> usize {
+            (0..n)
+                .map(|i| (nb.far_end[i] - nb.fwd_end[i]) as usize)
+                .sum()
+        };
+        // 1 % of the pairs, each in both of its rows: 2 % of the entries.
+        assert!(
+            far(&nb) * 50 < nb.list.len(),
+            "the default leaves under 2 % of the row entries far"
+        );
+        if let Some(c) = chunk {
+            nb.index_rows_in(c);
+            assert!(far(&nb) > 0, "far pairs with chunks of {c}");
+        }
+        let chunk = nb.chunk;
+        for i in 0..n {
+            // Each row is a permutation of the unindexed one, and
+            // indexing again changes nothing.
+            let (mut a, mut b) = (nb.candidates(i).to_vec(), plain.candidates(i).to_vec());
+            a.sort();
+            b.sort();
+            assert_eq!(a, b, "row {i}");
+        }
+        let again = {
+            let mut c = nb.clone();
+            c.index_rows_in(chunk);
+            c
+        };
+        assert_eq!(again.list, nb.list);
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let three = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let s1 = one.install(|| sweep(&nb));
+        let s3 = three.install(|| sweep(&nb));
+        for i in 0..n {
+            let (g, s) = (gather[i], s1[i]);
+            let scale = g.0.abs() + g.1.length() * model.h[i];
+            assert!((g.0 - s.0).abs() < 1e-12 * scale, "ΣW at {i}: {g:?} {s:?}");
+            assert!(
+                (g.1 - s.1).length() * model.h[i] < 1e-12 * scale,
+                "Σ∇W at {i}"
+            );
+            assert!((g.2 - s.2).abs() < 1e-12 * n as f64 * scale, "Σ jW at {i}");
+            assert_eq!(s1[i].0.to_bits(), s3[i].0.to_bits(), "thread count, {i}");
+            assert_eq!(s1[i].1, s3[i].1, "thread count, {i}");
+        }
+    }
+}
+
+/// The sweeps sum what the plain gathers sum (kinematics and forces, to
+/// round-off; with one disk rigid too), and the lane code gives the
+/// one-pair code's sums bit for bit, on the disks in contact with a velocity field stirred so that every branch
 /// is taken both ways in many pairs (receding and approaching pairs,
 /// the limiter on and off): with the reconstructed viscosity and
 /// without, on candidate lists with a skin (candidates beyond the
@@ -19,7 +121,7 @@ use glam::DVec2;
 /// bodies) with the second disk's `h` changed, so that pairs across
 /// the contact take `h_ij` of two different lengths.
 #[test]
-fn lanes_match_one_pair_code_bit_for_bit() {
+fn sweeps_match_gathers_and_lanes_one_pair_code() {
     let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
     let (base, mut st) = (bench.model().clone(), bench.state().clone());
     for (i, v) in st.v.iter_mut().enumerate() {
@@ -82,8 +184,8 @@ fn lanes_match_one_pair_code_bit_for_bit() {
             }
         }
         let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-        let nb = neighbours::find_with_skin(&model, &st.x, skin);
-        let k = kinematics::kinematics(&model, st, &nb);
+        let nb = find_with_skin(&model, &st.x, skin);
+        let k = kinematics(&model, st, &nb);
         let pts = eos_and_stress(&model, st);
         let args = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
         let one = sums(
@@ -99,6 +201,68 @@ fn lanes_match_one_pair_code_bit_for_bit() {
         }
         // The sums are not trivially equal: the pass does work.
         assert!(one.0.iter().filter(|a| a.length() > 0.0).count() > model.len() / 2);
+        gathers_match(&model, st, &nb, &one);
+        if art.is_none() && !damaged {
+            // One disk rigid: the one-pair code's zero rates against the
+            // gather's.
+            let mut rigid = model.clone();
+            rigid.bodies[1].rigid = true;
+            rigid.any_rigid = true;
+            let k = kinematics(&rigid, st, &nb);
+            let args = (&rigid, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
+            let sums = sums(
+                args.0, args.1, args.2, args.3, args.4, args.5, args.6, false, None,
+            );
+            gathers_match(&rigid, st, &nb, &sums);
+        }
+    }
+}
+
+/// The plain gathers ([`crate::cpu::kinematics::kinematics`],
+/// [`crate::cpu::forces::momentum_energy`]) sum what the sweeps sum,
+/// `sums` the sweep's forces, to round-off: each field within 1e-12 of its
+/// largest value (the sums differ only in the order of their terms).
+fn gathers_match(model: &Model, st: &State, nb: &Neighbours, sums: &(Vec<DVec2>, Vec<f64>)) {
+    let k = kinematics(model, st, nb);
+    let plain = crate::cpu::kinematics::kinematics(model, st, nb);
+    let close = |what: &str, a: &[f64], b: &[f64]| {
+        let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        assert!(scale > 0.0, "{what} is zero");
+        for i in 0..a.len() {
+            assert!(
+                (a[i] - b[i]).abs() <= 1e-12 * scale,
+                "{what} of {i}: {} against {}",
+                a[i],
+                b[i]
+            );
+        }
+    };
+    let flat = |m: &[crate::math::Mat2]| -> Vec<f64> {
+        m.iter().flat_map(|m| [m.xx, m.xy, m.yx, m.yy]).collect()
+    };
+    let syms =
+        |s: &[Sym]| -> Vec<f64> { s.iter().flat_map(|s| [s.xx, s.yy, s.xy, s.zz]).collect() };
+    let xy = |v: &[DVec2]| -> Vec<f64> { v.iter().flat_map(|v| [v.x, v.y]).collect() };
+    close("L", &flat(&k.l), &flat(&plain.l));
+    close("∇ψ", &xy(&k.grad_psi), &xy(&plain.grad_psi));
+    close("dρ/dt", &k.drho, &plain.drho);
+    close("ds/dt", &syms(&k.ds), &syms(&plain.ds));
+    assert_eq!(k.surface, plain.surface, "surface set");
+    assert_eq!(k.fallback, plain.fallback, "fallbacks");
+    if model.av_reconstruct {
+        close("∇v", &flat(&k.gv), &flat(&plain.gv));
+    }
+    let pts = eos_and_stress(model, st);
+    let (dv, de) =
+        crate::cpu::forces::momentum_energy(model, st, nb, &k.l, &k.gv, &k.surface, &pts);
+    close("dv/dt", &xy(&sums.0), &xy(&dv));
+    close("de/dt", &sums.1, &de);
+    if model.any_rigid {
+        let rigid = (0..model.len()).filter(|&i| model.rigid(i));
+        assert!(rigid.clone().count() > 0);
+        for i in rigid {
+            assert_eq!((dv[i], de[i]), (DVec2::ZERO, 0.0), "rigid {i}");
+        }
     }
 }
 
@@ -151,8 +315,8 @@ fn lanes_match_one_pair_code_in_1d() {
     ] {
         model.artificial_stress = art.map(as_of);
         let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-        let nb = neighbours::find_with_skin(&model, &st.x, skin);
-        let k = kinematics::kinematics(&model, &st, &nb);
+        let nb = find_with_skin(&model, &st.x, skin);
+        let k = kinematics(&model, &st, &nb);
         let pts = eos_and_stress(&model, &st);
         let a = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
         let one = sums(a.0, a.1, a.2, a.3, a.4, a.5, a.6, false, None);
@@ -187,84 +351,6 @@ fn as_of((epsilon, n, pairs): (f64, f64, ArtPairs)) -> crate::scene::ArtificialS
     crate::scene::ArtificialStress { epsilon, n, pairs }
 }
 
-/// The close-pair gate: shut at and beyond the local spacing `V̄^(1/d)`,
-/// open fully from `CLOSE_FULL` of it in, linear in `(r/s)²` between,
-/// in 1-D (`s = V̄`) and 2-D (`s = √V̄`).
-#[test]
-fn close_gate_opens_inside_the_local_spacing() {
-    for (dim, vol, s) in [(1, 2.0e-5, 2.0e-5), (2, 4.0e-10, 2.0e-5)] {
-        let g = |r: f64| close_gate(r * r, vol, 1.0, dim);
-        assert_eq!(g(s), 0.0);
-        assert_eq!(g(1.5 * s), 0.0);
-        assert_eq!(g(CLOSE_FULL * s * (1.0 - 1e-12)), 1.0);
-        assert_eq!(g(0.5 * s), 1.0);
-        let r = 0.975 * s;
-        let want = (1.0 - 0.975f64.powi(2)) / (1.0 - CLOSE_FULL * CLOSE_FULL);
-        assert!((g(r) - want).abs() < 1e-12, "{} against {want}", g(r));
-        assert!(g(0.99 * s) > 0.0 && g(0.99 * s) < g(0.98 * s));
-        // κ² scales the spacing: shut beyond κ s.
-        assert_eq!(close_gate((0.91 * s).powi(2), vol, 0.81, dim), 0.0);
-        assert_eq!(close_gate((0.85 * s).powi(2), vol, 0.81, dim), 1.0);
-    }
-}
-
-/// The artificial stress without the principal angle is the angle
-/// form's (rotate to principal axes, keep `−ε σ̄/ρ²` of the tensile
-/// values, rotate back) on stresses with no, one and two tensile
-/// principal values, and where the two principal values meet.
-#[test]
-fn artificial_stress_is_the_principal_axes_form() {
-    let angle_form = |eps: f64, s: &Sym, rho: f64| {
-        let (a, b, th) = s.principal();
-        let k = |v: f64| if v > 0.0 { -eps * v / (rho * rho) } else { 0.0 };
-        Sym::from_principal(k(a), k(b), th)
-    };
-    let mut seen = [0usize; 3];
-    for i in 0..400 {
-        let u = |m: f64| ((i as f64 * m).fract() - 0.5) * 2.0e9;
-        let mut s = Sym {
-            xx: u(0.618_033_988_7),
-            yy: u(0.414_213_562_3),
-            xy: u(0.732_050_807_6) * 0.5,
-            zz: u(0.236_067_977_5),
-        };
-        if i % 50 == 0 {
-            (s.yy, s.xy) = (s.xx, 0.0);
-        }
-        let (a, b, _) = s.principal();
-        seen[(a > 0.0) as usize + (b > 0.0) as usize] += 1;
-        let (got, want) = (
-            artificial_stress(0.3, &s, 7850.0),
-            angle_form(0.3, &s, 7850.0),
-        );
-        let scale = 0.3 * 2.0e9 / (7850.0f64 * 7850.0);
-        for (g, w) in [(got.xx, want.xx), (got.yy, want.yy), (got.xy, want.xy)] {
-            assert!(
-                (g - w).abs() <= 1e-12 * scale,
-                "{s:?}: {got:?} against {want:?}"
-            );
-        }
-        assert_eq!(got.zz, 0.0);
-    }
-    assert!(seen.iter().all(|&n| n > 50), "sign patterns {seen:?}");
-}
-
-/// The pair weight is `(W(r)/W(Δp))^n` from the kernel itself, inside
-/// and outside `q = 1`, with `n = 4` by squarings and other `n` by
-/// powers.
-#[test]
-fn art_weight_is_the_kernel_ratio() {
-    let (dp, h) = (1.0e-5, 1.2e-5);
-    for r in [0.0, 0.3e-5, 1.0e-5, 1.3e-5, 2.2e-5, 2.39e-5] {
-        for n in [4.0, 3.5, 1.0] {
-            let want = (kernel::w(2, r, h) / kernel::w(2, dp, h)).powf(n);
-            let got = art_weight(r * r, dp, h, n);
-            assert!((got - want).abs() <= 1e-13 * want.max(1.0), "r {r} n {n}");
-        }
-    }
-    assert!((art_weight(dp * dp, dp, h, 4.0) - 1.0).abs() < 1e-14);
-}
-
 /// The leapfrog's momentum pass gives `momentum_energy`'s `dv/dt` bit
 /// for bit, keeps the same pair vectors in the lane code and in the
 /// one-pair code, and the energy replayed from them at the pass's own
@@ -280,8 +366,8 @@ fn kept_pair_vectors_replay_the_energy_sums() {
         *v += DVec2::new(a.cos(), a.sin()) * 0.3;
     }
     let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-    let nb = neighbours::find_with_skin(&model, &st.x, skin);
-    let k = kinematics::kinematics(&model, &st, &nb);
+    let nb = find_with_skin(&model, &st.x, skin);
+    let k = kinematics(&model, &st, &nb);
     let pts = eos_and_stress(&model, &st);
     let args = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
     let (dv, de) = momentum_energy(args.0, args.1, args.2, args.3, args.4, args.5, args.6);
@@ -346,8 +432,8 @@ fn lanes_are_the_same_on_any_thread_count() {
     let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
     let (model, st) = (bench.model(), bench.state());
     let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-    let nb = neighbours::find_with_skin(model, &st.x, skin);
-    let k = kinematics::kinematics(model, st, &nb);
+    let nb = find_with_skin(model, &st.x, skin);
+    let k = kinematics(model, st, &nb);
     let pts = eos_and_stress(model, st);
     let on = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()

@@ -1,13 +1,15 @@
 //! The forces stage's sweep: every pair once, its terms added to both of
 //! its particles; four pairs of a row at a time in vector lanes where the
 //! scene has no rigid body (`lane_terms`), one at a time with the plain
-//! pair code (`forces::pair_terms`) elsewhere. Both give the same bits
-//! (tested in `forces_tests.rs`).
+//! pair code (`cpu::forces::pair_terms`) elsewhere. Both give the same
+//! bits (tested in `tests.rs`).
 
 use glam::DVec2;
 
-use super::forces::*;
-use super::neighbours::{Chunk, Nbr, Neighbours};
+use super::forces::{lanes_serve, pair_vectors, PairVectors};
+use super::Chunk;
+use crate::cpu::forces::{pair_terms, PairTerms, StressPoint};
+use crate::cpu::neighbours::{Nbr, Neighbours};
 use crate::math::lanes::{columns, F4, LANES};
 use crate::math::Mat2;
 use crate::model::{Model, State};

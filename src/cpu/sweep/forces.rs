@@ -1,0 +1,120 @@
+//! The forces stage as the solver runs it: every pair once
+//! ([`Neighbours::sweep`]), four pairs of a row at a time in vector lanes
+//! where the scene has no rigid body (`forces_lanes.rs`); and, for the
+//! leapfrog, the momentum sums alone with each pair's energy vectors kept
+//! for the energy sums at the step's end.
+
+use glam::DVec2;
+
+use super::forces_lanes::sums_into;
+use crate::cpu::forces::StressPoint;
+use crate::cpu::neighbours::Neighbours;
+use crate::math::Mat2;
+use crate::model::{Model, State};
+/// The forces pass: `dv_i/dt` and `de_i/dt` from the SPH sums, each pair evaluated
+/// once ([`Neighbours::sweep`]); rigid particles get zero rates.
+///
+/// `dv_i/dt = Σ_j m_j t G_ij` and `de_i/dt = −Σ_j m_j (σ_i/ρ_i² − ½Π I +
+/// ½ (R_i + R_j) f^n) : (v_ij ⊗ G_ij)` (docs/method.md §4).
+///
+/// Scenes with no rigid body (the common case: impacts between deforming
+/// bodies) take the lane code, four pairs of a row at a time
+/// (`lane_terms`); the others take the one-pair code (`pair_terms`). Both
+/// give the same bits.
+pub fn momentum_energy(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    l: &[Mat2],
+    gv: &[Mat2],
+    surface: &[bool],
+    pts: &[StressPoint],
+) -> (Vec<DVec2>, Vec<f64>) {
+    sums(model, st, nb, l, gv, surface, pts, lanes_serve(model), None)
+}
+
+/// A pair's energy vectors, kept by [`momentum_keeping`] in the pair's
+/// slot of the sweep: particle i's `X_i = (σ_i/ρ_i² − ½Π_ij I + ½ (R_i +
+/// R_j) f^n) G_ij` and particle j's `X_j = t G_ij − X_i`, so that the
+/// energy sums at any velocities `w` are `de_i/dt = −Σ_j m_j w_ij·X_i`
+/// and `de_j/dt = −Σ_i m_i w_ij·X_j` ([`energy_replay`]).
+pub type PairVectors = [DVec2; 2];
+
+/// The forces pass's momentum sums (`dv/dt`, as [`momentum_energy`], the same bits)
+/// with the energy sums left for later: each pair's [`PairVectors`] go to
+/// `keep` instead. The leapfrog (`CpuSolver::step`) books the work of the
+/// forces on the velocity at the end of the step, which the momentum sums
+/// themselves give.
+#[allow(clippy::too_many_arguments)]
+pub fn momentum_keeping(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    l: &[Mat2],
+    gv: &[Mat2],
+    surface: &[bool],
+    pts: &[StressPoint],
+    keep: &mut Vec<PairVectors>,
+) -> Vec<DVec2> {
+    keep.resize(nb.store_len(), [DVec2::ZERO; 2]);
+    let lanes = lanes_serve(model);
+    sums(model, st, nb, l, gv, surface, pts, lanes, Some(keep)).0
+}
+
+/// `de/dt` from the pairs kept by [`momentum_keeping`] with the work done
+/// on the velocities `w` (rigid particles: zero), in the sweep's order.
+pub fn energy_replay(
+    model: &Model,
+    nb: &Neighbours,
+    kept: &[PairVectors],
+    w: &[DVec2],
+) -> Vec<f64> {
+    let mut acc = vec![0.0f64; model.len()];
+    nb.replay(&mut acc, kept, |i, j, x, ai, aj| {
+        let wij = w[i] - w[j];
+        if !model.rigid(i) {
+            *ai -= model.mass[j] * wij.dot(x[0]);
+        }
+        if let Some(aj) = aj.filter(|_| !model.rigid(j)) {
+            *aj -= model.mass[i] * wij.dot(x[1]);
+        }
+    });
+    acc
+}
+
+/// Particle i's energy vector `X_i = ½ (t G + (σ_i/ρ_i² − σ_j/ρ_j²) G)`
+/// and j's `t G − X_i` ([`PairVectors`]).
+#[inline]
+pub(in crate::cpu) fn pair_vectors(tg: DVec2, sig: DVec2, sjg: DVec2) -> PairVectors {
+    let xi = (tg + (sig - sjg)) * 0.5;
+    [xi, tg - xi]
+}
+
+/// Whether the lane code serves the scene: it does not do the rigid
+/// bodies' zero rates.
+pub(in crate::cpu) fn lanes_serve(model: &Model) -> bool {
+    !model.any_rigid
+}
+
+/// [`momentum_energy`] by the lane code (`lanes`, [`lanes_serve`]) or by
+/// the one-pair code; with `keep`, the energy terms' vectors go there
+/// instead of into the sums ([`momentum_keeping`]).
+#[allow(clippy::too_many_arguments)]
+pub(in crate::cpu) fn sums(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    l: &[Mat2],
+    gv: &[Mat2],
+    surface: &[bool],
+    pts: &[StressPoint],
+    lanes: bool,
+    keep: Option<&mut Vec<PairVectors>>,
+) -> (Vec<DVec2>, Vec<f64>) {
+    let args = (model, st, nb, l, gv, surface, pts);
+    match keep {
+        Some(keep) => sums_into(args, lanes, keep),
+        // Zero-sized slots: the energy terms go into the sums.
+        None => sums_into(args, lanes, &mut vec![(); nb.store_len()]),
+    }
+}

@@ -1,0 +1,62 @@
+//! The kinematic pass pair by pair: each pair's terms added to both of
+//! its particles, then finished as the plain gather is
+//! ([`crate::cpu::kinematics`]).
+
+use glam::DVec2;
+
+use crate::cpu::kinematics::{finish, volumes, Kinematics, Seen, Sums};
+use crate::cpu::neighbours::Neighbours;
+use crate::math::Mat2;
+use crate::model::{Model, State};
+
+/// The kinematic pass at `st` ([`crate::cpu::kinematics::kinematics`]).
+///
+/// The walk visits each pair once ([`Neighbours::sweep`]): with
+/// `∇_j W_ji = −∇_i W_ij`, particle j's terms are i's outer products
+/// `∇_i W_ij ⊗ (x_j − x_i)` and `(v_j − v_i) ⊗ ∇_i W_ij` weighted by `V_i`
+/// instead of `V_j`, and its colour-gradient term changes sign.
+pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
+    kinematics_in::<()>(model, st, nb, &[])
+}
+
+/// [`kinematics`], with the velocity gradient the viscosity's
+/// reconstruction uses ([`Kinematics::gv`](crate::cpu::kinematics::Kinematics::gv)) taken at the velocities `seen`
+/// (the leapfrog's predicted `v_{n+½} + ½Δt a_n` at `x_{n+1}`) instead of the
+/// state's, in the same walk: the reconstruction then removes exactly the
+/// linear part of the jump the viscosity sees.
+pub fn kinematics_seen(model: &Model, st: &State, nb: &Neighbours, seen: &[DVec2]) -> Kinematics {
+    if model.av_reconstruct {
+        kinematics_in::<Mat2>(model, st, nb, seen)
+    } else {
+        kinematics(model, st, nb)
+    }
+}
+
+fn kinematics_in<S: Seen>(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    seen: &[DVec2],
+) -> Kinematics {
+    let vol = volumes(model, st);
+    let vel = S::vel(&st.v, seen);
+    let mut sums = vec![Sums::<S>::default(); model.len()];
+    nb.sweep(model, &st.x, &mut sums, |i, b, si, sj| {
+        let j = b.j as usize;
+        let (vi, vj) = (vel[i], vel[j]);
+        let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
+        let gi = b.gw * vol[j];
+        si.m += Mat2::outer(gi, dx);
+        si.gsum += Mat2::outer(dv, gi);
+        si.gpsi -= gi;
+        si.seen.add(vj, vi, gi);
+        if let Some(sj) = sj {
+            let gj = b.gw * vol[i];
+            sj.m += Mat2::outer(gj, dx);
+            sj.gsum += Mat2::outer(dv, gj);
+            sj.gpsi += gj;
+            sj.seen.add(vj, vi, gj);
+        }
+    });
+    finish(model, st, sums)
+}
