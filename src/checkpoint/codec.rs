@@ -1,5 +1,7 @@
-//! The checkpoint file's little-endian primitives: numbers, strings and
-//! arrays written and read back with their lengths, and the checksum.
+//! The checkpoint file's little-endian primitives (numbers, strings and
+//! arrays written and read back with their lengths), the checksum, and
+//! [`Record`]: each kind of value the file holds, written and read in one
+//! place.
 
 use glam::DVec2;
 
@@ -26,31 +28,12 @@ impl Writer {
     pub(super) fn str(&mut self, s: &str) {
         self.bytes(s.as_bytes());
     }
-    pub(super) fn f64s(&mut self, v: &[f64]) {
-        self.u64(v.len() as u64);
-        for x in v {
-            self.f64(*x);
-        }
-    }
     /// Records of four values (a tensor's components), as one list of
     /// their values.
     pub(super) fn quads(&mut self, v: impl ExactSizeIterator<Item = [f64; 4]>) {
         self.u64(4 * v.len() as u64);
         for q in v {
             q.iter().for_each(|x| self.f64(*x));
-        }
-    }
-    pub(super) fn vec2s(&mut self, v: &[DVec2]) {
-        self.u64(v.len() as u64);
-        for p in v {
-            self.f64(p.x);
-            self.f64(p.y);
-        }
-    }
-    pub(super) fn u32s(&mut self, v: &[u32]) {
-        self.u64(v.len() as u64);
-        for x in v {
-            self.0.extend_from_slice(&x.to_le_bytes());
         }
     }
 }
@@ -108,18 +91,127 @@ impl Reader<'_> {
             .map(|c| [c[0], c[1], c[2], c[3]])
             .collect())
     }
-    pub(super) fn vec2s(&mut self) -> Result<Vec<DVec2>, String> {
-        let k = self.count(16)?;
-        (0..k)
-            .map(|_| Ok(DVec2::new(self.f64()?, self.f64()?)))
-            .collect()
+}
+
+/// A value the checkpoint holds: how it is written and read back, in one
+/// place, so the two cannot drift apart.
+pub(super) trait Record: Sized {
+    /// The fewest bytes one such value takes: a list's count is checked
+    /// against what is left of the file before anything is allocated.
+    const MIN: usize;
+    fn put(&self, w: &mut Writer);
+    fn get(r: &mut Reader) -> Result<Self, String>;
+}
+
+impl Record for u64 {
+    const MIN: usize = 8;
+    fn put(&self, w: &mut Writer) {
+        w.u64(*self);
     }
-    pub(super) fn u32s(&mut self) -> Result<Vec<u32>, String> {
-        let k = self.count(4)?;
-        Ok(self
-            .take(4 * k)?
-            .chunks_exact(4)
-            .map(|c| u32::from_le_bytes(c.try_into().expect("4")))
-            .collect())
+    fn get(r: &mut Reader) -> Result<Self, String> {
+        r.u64()
     }
 }
+
+impl Record for u32 {
+    const MIN: usize = 4;
+    fn put(&self, w: &mut Writer) {
+        w.0.extend_from_slice(&self.to_le_bytes());
+    }
+    fn get(r: &mut Reader) -> Result<Self, String> {
+        Ok(u32::from_le_bytes(r.take(4)?.try_into().expect("4")))
+    }
+}
+
+impl Record for f64 {
+    const MIN: usize = 8;
+    fn put(&self, w: &mut Writer) {
+        w.f64(*self);
+    }
+    fn get(r: &mut Reader) -> Result<Self, String> {
+        r.f64()
+    }
+}
+
+impl Record for String {
+    const MIN: usize = 8;
+    fn put(&self, w: &mut Writer) {
+        w.str(self);
+    }
+    fn get(r: &mut Reader) -> Result<Self, String> {
+        r.str()
+    }
+}
+
+impl Record for DVec2 {
+    const MIN: usize = 16;
+    fn put(&self, w: &mut Writer) {
+        w.f64(self.x);
+        w.f64(self.y);
+    }
+    fn get(r: &mut Reader) -> Result<Self, String> {
+        Ok(DVec2::new(r.f64()?, r.f64()?))
+    }
+}
+
+/// A list: its length, then its items.
+impl<T: Record> Record for Vec<T> {
+    const MIN: usize = 8;
+    fn put(&self, w: &mut Writer) {
+        w.u64(self.len() as u64);
+        self.iter().for_each(|x| x.put(w));
+    }
+    fn get(r: &mut Reader) -> Result<Self, String> {
+        let k = r.count(T::MIN.max(1))?;
+        (0..k).map(|_| T::get(r)).collect()
+    }
+}
+
+/// 0 for none, 1 and the value for some.
+impl<T: Record> Record for Option<T> {
+    const MIN: usize = 8;
+    fn put(&self, w: &mut Writer) {
+        match self {
+            Some(x) => {
+                w.u64(1);
+                x.put(w);
+            }
+            None => w.u64(0),
+        }
+    }
+    fn get(r: &mut Reader) -> Result<Self, String> {
+        Ok(match r.u64()? {
+            0 => None,
+            _ => Some(T::get(r)?),
+        })
+    }
+}
+
+impl<A: Record, B: Record> Record for (A, B) {
+    const MIN: usize = A::MIN + B::MIN;
+    fn put(&self, w: &mut Writer) {
+        self.0.put(w);
+        self.1.put(w);
+    }
+    fn get(r: &mut Reader) -> Result<Self, String> {
+        Ok((A::get(r)?, B::get(r)?))
+    }
+}
+
+/// A struct whose fields are records, written in the order listed; the
+/// fields not listed (after `..`) are not saved and start from the given
+/// values when read.
+macro_rules! record {
+    ($t:ident { $($f:ident),* $(,)? } $(.. $rest:expr)?) => {
+        impl Record for $t {
+            const MIN: usize = 1;
+            fn put(&self, w: &mut Writer) {
+                $( self.$f.put(w); )*
+            }
+            fn get(r: &mut Reader) -> Result<Self, String> {
+                Ok($t { $( $f: Record::get(r)?, )* $(.. $rest)? })
+            }
+        }
+    };
+}
+pub(super) use record;

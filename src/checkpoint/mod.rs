@@ -33,8 +33,6 @@ use crate::cpu::neighbours::Neighbours;
 use crate::cpu::Rates;
 use crate::error::RunError;
 use crate::gpu::RawDevice;
-use crate::math::Sym;
-use crate::model::ContactStats;
 use crate::model::Diagnostics;
 use crate::model::State;
 use crate::scene::{Backend, Scene};
@@ -143,107 +141,9 @@ impl Checkpoint {
         w.str(&scene);
         w.str(&self.backend.to_string());
         w.str(self.adapter.as_deref().unwrap_or(""));
-        let l = &self.ledger;
-        w.f64(l.base_energy);
-        w.f64(l.momentum.x);
-        w.f64(l.momentum.y);
-        w.f64(l.stored0);
-        w.u64(l.max_fallback as u64);
-        w.f64(l.wall_seconds);
-        w.u64(l.warnings.len() as u64);
-        for s in &l.warnings {
-            w.str(s);
-        }
-        let r = &self.recorder;
-        w.f64s(&r.times);
-        w.u64(r.rows.len() as u64);
-        for row in &r.rows {
-            w.f64s(row);
-        }
-        match &r.prev {
-            Some((t, obs)) => {
-                w.u64(1);
-                w.f64(*t);
-                w.f64s(obs);
-            }
-            None => w.u64(0),
-        }
-        w.u64(r.snapshots.len() as u64);
-        for (t, f) in &r.snapshots {
-            w.f64(*t);
-            w.str(f);
-        }
-        w.f64(r.checkpoint_every);
-        w.f64(r.next_checkpoint);
-        match &self.solver {
-            SolverState::Cpu(c) => {
-                let CpuState {
-                    state,
-                    initial_dt,
-                    energy_limit,
-                    lists,
-                    carried,
-                } = &**c;
-                // Kind 2 is kind 0 followed by the carried rates.
-                w.u64(if carried.is_some() { 2 } else { 0 });
-                w.f64(state.t);
-                w.u64(state.step);
-                w.vec2s(&state.x);
-                w.vec2s(&state.v);
-                w.f64s(&state.rho);
-                w.f64s(&state.e);
-                w.quads(state.s.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]));
-                w.f64(state.heat);
-                w.f64(state.spring_work);
-                w.f64s(&state.entry);
-                w.f64s(&state.eps_p);
-                w.f64s(&state.temperature);
-                w.f64s(&state.damage);
-                w.f64s(&state.failed_at);
-                w.f64(initial_dt.unwrap_or(f64::NAN));
-                w.f64(energy_limit.unwrap_or(f64::NAN));
-                w.u32s(&lists.start);
-                w.u32s(&lists.list);
-                w.u32s(&lists.cross_start);
-                w.u32s(&lists.cross);
-                w.f64(lists.skin);
-                w.vec2s(&lists.x_ref);
-                if let Some((r, d)) = carried {
-                    w.vec2s(&r.dv);
-                    w.f64s(&r.de);
-                    w.f64(r.heat_rate);
-                    w.f64(r.spring_rate);
-                    w.f64(d.cfl_dt);
-                    w.u64(d.correction_fallback as u64);
-                    w.u64(d.boundary_count as u64);
-                    let c = &d.contact;
-                    w.u64(c.pairs.len() as u64);
-                    for &(a, b, f, p) in &c.pairs {
-                        w.u32s(&[a, b]);
-                        w.f64(f);
-                        w.f64(p);
-                    }
-                    w.f64(c.stored);
-                    w.f64(c.heat_rate);
-                    w.f64(c.spring_rate);
-                }
-            }
-            SolverState::Gpu(g) => {
-                let d = &g.device;
-                w.u64(1);
-                w.u64(d.buffers.len() as u64);
-                for (name, bytes) in &d.buffers {
-                    w.str(name);
-                    w.bytes(bytes);
-                }
-                w.u64(d.encoded);
-                w.u64(d.delivered);
-                w.u64(d.zero_seen as u64);
-                w.f64(d.last_dt);
-                w.f64(g.t_last);
-                w.f64(g.stored_last);
-            }
-        }
+        self.ledger.put(&mut w);
+        self.recorder.put(&mut w);
+        self.solver.put(&mut w);
         let sum = fnv1a(&w.0);
         w.u64(sum);
         Ok(w.0)
@@ -283,144 +183,9 @@ impl Checkpoint {
                 other => return Err(format!("unknown backend '{other}'")),
             };
             let adapter = Some(r.str()?).filter(|a| !a.is_empty());
-            let base_energy = r.f64()?;
-            let momentum = DVec2::new(r.f64()?, r.f64()?);
-            let stored0 = r.f64()?;
-            let max_fallback = r.u64()? as u32;
-            let wall_seconds = r.f64()?;
-            let nw = r.count(8)?;
-            let warnings = (0..nw).map(|_| r.str()).collect::<Result<_, _>>()?;
-            let times = r.f64s()?;
-            let nrows = r.count(8)?;
-            let rows = (0..nrows)
-                .map(|_| r.f64s())
-                .collect::<Result<Vec<_>, _>>()?;
-            let prev = match r.u64()? {
-                0 => None,
-                _ => Some((r.f64()?, r.f64s()?)),
-            };
-            let nsnap = r.count(16)?;
-            let snapshots = (0..nsnap)
-                .map(|_| Ok((r.f64()?, r.str()?)))
-                .collect::<Result<_, String>>()?;
-            let checkpoint_every = r.f64()?;
-            let next_checkpoint = r.f64()?;
-            let solver = match r.u64()? {
-                kind @ (0 | 2) => {
-                    let t = r.f64()?;
-                    let step = r.u64()?;
-                    let x = r.vec2s()?;
-                    let v = r.vec2s()?;
-                    let rho = r.f64s()?;
-                    let e = r.f64s()?;
-                    let s: Vec<Sym> = r
-                        .quads()?
-                        .into_iter()
-                        .map(|[xx, yy, xy, zz]| Sym { xx, yy, xy, zz })
-                        .collect();
-                    let heat = r.f64()?;
-                    let spring_work = r.f64()?;
-                    let entry = r.f64s()?;
-                    let eps_p = r.f64s()?;
-                    let temperature = r.f64s()?;
-                    let damage = r.f64s()?;
-                    let failed_at = r.f64s()?;
-                    let initial_dt = Some(r.f64()?).filter(|d| !d.is_nan());
-                    let energy_limit = Some(r.f64()?).filter(|d| !d.is_nan());
-                    let lists = Neighbours {
-                        start: r.u32s()?,
-                        list: r.u32s()?,
-                        cross_start: r.u32s()?,
-                        cross: r.u32s()?,
-                        skin: r.f64()?,
-                        x_ref: r.vec2s()?,
-                        // The sweep's row index is rebuilt from the rows by
-                        // the solver that resumes them.
-                        ..Default::default()
-                    };
-                    let carried = if kind == 2 {
-                        let dv = r.vec2s()?;
-                        let de = r.f64s()?;
-                        let (heat_rate, spring_rate) = (r.f64()?, r.f64()?);
-                        let cfl_dt = r.f64()?;
-                        let correction_fallback = r.u64()? as usize;
-                        let boundary_count = r.u64()? as usize;
-                        let np = r.count(24)?;
-                        let pairs = (0..np)
-                            .map(|_| {
-                                let ab = r.u32s()?;
-                                let [a, b] = ab[..] else {
-                                    return Err("a contact pair is not two bodies".to_string());
-                                };
-                                Ok((a, b, r.f64()?, r.f64()?))
-                            })
-                            .collect::<Result<_, String>>()?;
-                        let contact = ContactStats {
-                            pairs,
-                            stored: r.f64()?,
-                            heat_rate: r.f64()?,
-                            spring_rate: r.f64()?,
-                        };
-                        Some((
-                            Rates {
-                                dv,
-                                de,
-                                heat_rate,
-                                spring_rate,
-                                ..Default::default()
-                            },
-                            Diagnostics {
-                                cfl_dt,
-                                contact,
-                                correction_fallback,
-                                boundary_count,
-                            },
-                        ))
-                    } else {
-                        None
-                    };
-                    SolverState::Cpu(Box::new(CpuState {
-                        state: State {
-                            t,
-                            step,
-                            x,
-                            v,
-                            rho,
-                            e,
-                            s,
-                            heat,
-                            spring_work,
-                            entry,
-                            eps_p,
-                            temperature,
-                            damage,
-                            failed_at,
-                        },
-                        initial_dt,
-                        energy_limit,
-                        lists,
-                        carried,
-                    }))
-                }
-                1 => {
-                    let nb = r.count(16)?;
-                    let buffers = (0..nb)
-                        .map(|_| Ok((r.str()?, r.bytes()?.to_vec())))
-                        .collect::<Result<_, String>>()?;
-                    SolverState::Gpu(Box::new(GpuState {
-                        device: RawDevice {
-                            buffers,
-                            encoded: r.u64()?,
-                            delivered: r.u64()?,
-                            zero_seen: r.u64()? as u32,
-                            last_dt: r.f64()?,
-                        },
-                        t_last: r.f64()?,
-                        stored_last: r.f64()?,
-                    }))
-                }
-                k => return Err(format!("unknown solver kind {k}")),
-            };
+            let ledger = Ledger::get(r)?;
+            let recorder = RecorderState::get(r)?;
+            let solver = SolverState::get(r)?;
             if r.at != r.b.len() {
                 return Err("trailing bytes after the state".into());
             }
@@ -429,22 +194,8 @@ impl Checkpoint {
                 scene,
                 backend,
                 adapter,
-                ledger: Ledger {
-                    base_energy,
-                    momentum,
-                    stored0,
-                    max_fallback,
-                    wall_seconds,
-                    warnings,
-                },
-                recorder: RecorderState {
-                    times,
-                    rows,
-                    prev,
-                    snapshots,
-                    checkpoint_every,
-                    next_checkpoint,
-                },
+                ledger,
+                recorder,
                 solver,
             })
         };
@@ -536,7 +287,8 @@ pub fn path(dir: &Path) -> PathBuf {
 }
 
 mod codec;
+mod records;
 #[cfg(test)]
 mod tests;
 
-use codec::{fnv1a, Reader, Writer};
+use codec::{fnv1a, Reader, Record, Writer};

@@ -1,6 +1,7 @@
 //! Checkpoints: round trips, size checks, damaged files.
 
 use super::*;
+use crate::model::ContactStats;
 
 fn scenes() -> Vec<Scene> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -154,4 +155,69 @@ fn damage_is_refused() {
     }
     let e = Checkpoint::from_bytes(b"time,a\n0,1\n.......", "h.csv").expect_err("foreign");
     assert!(e.to_string().contains("not a sphcontact checkpoint"), "{e}");
+}
+
+/// The records' bytes are the file format's, worked out by hand: a list
+/// is its length as a u64 then its items, a u32 is four bytes, an option
+/// is 0 or 1 then its value, a text its length then UTF-8; and each comes
+/// back as written.
+#[test]
+fn records_are_the_documented_bytes() {
+    use codec::Record;
+    let put = |f: &dyn Fn(&mut Writer)| {
+        let mut w = Writer(Vec::new());
+        f(&mut w);
+        w.0
+    };
+    let le = |v: u64| v.to_le_bytes().to_vec();
+    assert_eq!(
+        put(&|w| vec![7u32, 9].put(w)),
+        [le(2), vec![7, 0, 0, 0, 9, 0, 0, 0]].concat()
+    );
+    assert_eq!(
+        put(&|w| Some((0.5f64, "ab".to_string())).put(w)),
+        [le(1), le(0.5f64.to_bits()), le(2), b"ab".to_vec()].concat()
+    );
+    assert_eq!(put(&|w| None::<f64>.put(w)), le(0));
+    let rec = RecorderState {
+        times: vec![1.0, 2.0],
+        rows: vec![vec![3.0], vec![4.0]],
+        prev: Some((2.0, vec![4.0])),
+        snapshots: vec![(1.5, "snap_000001.vtu".into())],
+        checkpoint_every: 1e-6,
+        next_checkpoint: 3e-6,
+    };
+    let bytes = put(&|w| rec.put(w));
+    let f = |v: f64| le(v.to_bits());
+    let want = [
+        le(2),
+        f(1.0),
+        f(2.0),
+        le(2),
+        le(1),
+        f(3.0),
+        le(1),
+        f(4.0),
+        le(1),
+        f(2.0),
+        le(1),
+        f(4.0),
+        le(1),
+        f(1.5),
+        le(15),
+        b"snap_000001.vtu".to_vec(),
+        f(1e-6),
+        f(3e-6),
+    ]
+    .concat();
+    assert_eq!(bytes, want);
+    let mut r = Reader { b: &bytes, at: 0 };
+    assert_eq!(RecorderState::get(&mut r), Ok(rec));
+    assert_eq!(r.at, bytes.len());
+    // A count larger than what is left is refused before allocating.
+    let mut r = Reader {
+        b: &[255, 255, 255, 255, 0, 0, 0, 0],
+        at: 0,
+    };
+    assert!(Vec::<f64>::get(&mut r).is_err());
 }
