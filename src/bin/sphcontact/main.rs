@@ -4,10 +4,14 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use sphcontact::model::Model;
-use sphcontact::physics::material::series;
-use sphcontact::run::{history_times, output_dir, run_scene, RunOptions};
-use sphcontact::scene::{validate::cfl_step_at_start, Backend, Integrator, Scene};
+use sphcontact::run::{run_scene, RunOptions};
+use sphcontact::scene::{Backend, Integrator, Scene};
+
+mod check;
+mod validate;
+
+use check::check;
+use validate::{validate_cmd, ValidateArgs};
 
 #[derive(Parser)]
 #[command(
@@ -224,34 +228,6 @@ struct BenchArgs {
     json: bool,
 }
 
-#[derive(Args)]
-struct ValidateArgs {
-    /// Cases to run: bars, steel_aluminium, disks (default: all).
-    cases: Vec<String>,
-    /// Which backend runs the cases (default: the scenes' auto).
-    #[arg(long, value_enum)]
-    backend: Option<BackendArg>,
-    /// Time integration of the cases (default: the scenes' midpoint).
-    #[arg(long, value_enum)]
-    integrator: Option<IntegratorArg>,
-    /// Output directory.
-    #[arg(long, default_value = "out/validate")]
-    out: PathBuf,
-    /// Particles per bar (cases bars, steel_aluminium).
-    #[arg(long, default_value_t = 100)]
-    bar_particles: usize,
-    /// Disk radius over particle spacing (case disks).
-    #[arg(long, default_value_t = 50.0)]
-    disk_resolution: f64,
-    /// Instead of the cases: the speed-against-error sweep over
-    /// resolution, on every available backend (or the one --backend names).
-    #[arg(long)]
-    sweep: bool,
-    /// Largest R/Δx of the sweep's disks.
-    #[arg(long, default_value_t = 50.0)]
-    sweep_max_disk_resolution: f64,
-}
-
 fn backend_of(b: BackendArg) -> Backend {
     match b {
         BackendArg::Auto => Backend::Auto,
@@ -265,123 +241,6 @@ fn backend_of(b: BackendArg) -> Backend {
 fn failed(e: sphcontact::RunError) -> ExitCode {
     eprintln!("error: {e}");
     ExitCode::from(e.exit_code() as u8)
-}
-
-fn validate_cmd(args: ValidateArgs) -> ExitCode {
-    use sphcontact::validation as v;
-    let ValidateArgs {
-        cases,
-        backend,
-        integrator,
-        out,
-        bar_particles,
-        disk_resolution,
-        sweep,
-        sweep_max_disk_resolution: sweep_max,
-    } = args;
-    let bad = |msg: String| {
-        eprintln!("error: {msg}");
-        ExitCode::from(2)
-    };
-    if bar_particles < 10 {
-        return bad(format!(
-            "--bar-particles must be at least 10 (got {bar_particles})"
-        ));
-    }
-    if !(disk_resolution.is_finite() && disk_resolution >= 5.0) {
-        return bad(format!(
-            "--disk-resolution must be at least 5 (got {disk_resolution})"
-        ));
-    }
-    let mut chosen = Vec::new();
-    for c in &cases {
-        match v::Case::parse(c) {
-            Some(k) => chosen.push(k),
-            None => {
-                return bad(format!(
-                    "unknown case '{c}' (known: bars, steel_aluminium, disks)"
-                ))
-            }
-        }
-    }
-    if chosen.is_empty() {
-        chosen = v::Case::ALL.to_vec();
-    }
-    if sweep {
-        let backends = match backend.map(backend_of) {
-            Some(Backend::Auto) | None => {
-                let mut b = vec![Backend::Cpu];
-                match sphcontact::gpu::shared_context() {
-                    Ok(ctx) => {
-                        eprintln!("sweep: GPU adapter {}", ctx.adapter_name());
-                        b.push(Backend::Gpu);
-                    }
-                    Err(e) => eprintln!("sweep: no GPU adapter ({e}); CPU only"),
-                }
-                b
-            }
-            Some(b) => vec![b],
-        };
-        let mut opts = v::SweepOptions::new(backends, out.clone());
-        opts.disk_r_over_dx.retain(|&r| r <= sweep_max);
-        if let Some(i) = integrator {
-            opts.integrator = integrator_of(i);
-        }
-        opts.verbose = true;
-        return match v::sweep(&opts) {
-            Ok((points, warnings)) => {
-                println!("| case | lattice | backend | resolution | particles | wall (s) | observable | relative error |");
-                println!("|---|---|---|---|---|---|---|---|");
-                for p in &points {
-                    println!(
-                        "| {} | {} | {} | {} | {} | {:.2} | {} | {:+.3} % |",
-                        p.case,
-                        p.lattice,
-                        p.backend,
-                        p.resolution,
-                        p.particles,
-                        p.wall_seconds,
-                        p.observable,
-                        100.0 * p.relative_error
-                    );
-                }
-                for w in warnings {
-                    eprintln!("warning: {w}");
-                }
-                eprintln!("sweep written to {}", out.display());
-                ExitCode::SUCCESS
-            }
-            Err(e) => failed(e),
-        };
-    }
-    let opts = v::Options {
-        cases: chosen,
-        backend: backend.map(backend_of),
-        integrator: integrator.map(integrator_of),
-        out: out.clone(),
-        resolution: v::Resolution {
-            bar_particles,
-            disk_r_over_dx: disk_resolution,
-        },
-        verbose: true,
-    };
-    match v::validate(&opts) {
-        Ok(rep) => {
-            print!("{}", rep.table());
-            for w in &rep.warnings {
-                eprintln!("warning: {w}");
-            }
-            let failed = rep.records.iter().filter(|r| !r.pass).count();
-            eprintln!(
-                "{} observables, {} outside their target; figures, CSV and validation.json in {}",
-                rep.records.len(),
-                failed,
-                out.display()
-            );
-            ExitCode::SUCCESS
-        }
-        Err(e) => failed(e),
-    }
 }
 
 fn bench_cmd(args: BenchArgs) -> ExitCode {
@@ -427,133 +286,6 @@ fn load(path: &Path) -> Result<Scene, ExitCode> {
         eprintln!("error: {e}");
         ExitCode::from(2)
     })
-}
-
-fn check(path: &Path, scene: &Scene) {
-    let (model, _) = Model::new(scene);
-    let sim = &scene.simulation;
-    println!("scene       {}", path.display());
-    if let Some(t) = &scene.title {
-        println!("title       {t}");
-    }
-    println!(
-        "set-up      {}-D, interaction {:?}, correction {:?}, smoothing ratio {}",
-        sim.dimension, sim.interaction, sim.correction, sim.smoothing_ratio
-    );
-    let av = scene.viscosity();
-    println!(
-        "viscosity   alpha {}, beta {}, {}",
-        av.alpha,
-        av.beta,
-        if av.reconstruct {
-            "on the reconstructed velocity jump (plain at surfaces)"
-        } else {
-            "plain Monaghan"
-        }
-    );
-    println!("particles   {}", model.len());
-    for (bi, (b, sb)) in model.bodies.iter().zip(&scene.bodies).enumerate() {
-        let m = &b.material;
-        let mass: f64 = b.range.clone().map(|i| model.mass[i]).sum();
-        println!(
-            "body        {:<12} {:>8} particles, spacing {:.4e} m, h {:.4e} m, mass {:.6e}, velocity ({}, {}){}",
-            b.name,
-            b.range.len(),
-            b.spacing,
-            model.h[b.range.start],
-            mass,
-            b.velocity0.x,
-            b.velocity0.y,
-            if b.rigid { ", rigid" } else { "" }
-        );
-        if let Some(j) = sb.jitter.filter(|&j| j > 0.0) {
-            println!(
-                "            jitter ±{j} Δx per coordinate (seed {}), mass from the nominal cells",
-                sb.seed
-                    .map_or_else(|| format!("{bi}, the body's index"), |s| s.to_string())
-            );
-        }
-        println!(
-            "            rho0 {} kg/m3, K {:.4e} Pa, G {:.4e} Pa, E {:.4e} Pa, nu {:.4}, c_L {:.2} m/s, Z {:.4e} Pa s/m{}",
-            m.rho0,
-            m.k,
-            m.g,
-            m.e,
-            m.nu,
-            m.c_l,
-            m.z,
-            if m.y0.is_finite() { format!(", Y0 {:.4e} Pa", m.y0) } else { String::new() }
-        );
-    }
-    if model.contact {
-        let inf = |b: &sphcontact::model::BodyInfo, v: f64| if b.rigid { f64::INFINITY } else { v };
-        for (i, a) in model.bodies.iter().enumerate() {
-            for b in &model.bodies[i + 1..] {
-                let z = series(inf(a, a.material.z), inf(b, b.material.z));
-                // The spring at conforming-lattice offsets (Δx/2 each side).
-                let k = sphcontact::physics::penalty::spring_stiffness(
-                    0.5 * a.spacing,
-                    a.spacing,
-                    inf(a, a.material.m),
-                    0.5 * b.spacing,
-                    b.spacing,
-                    inf(b, b.material.m),
-                );
-                let spring = format!("spring (surface layers Δx/2) {k:.4e} Pa/m");
-                println!(
-                    "contact     {} | {}: Z* {:.4e} Pa s/m, {}",
-                    a.name, b.name, z, spring
-                );
-            }
-        }
-    }
-    let [lo, hi] = model.domain;
-    if model.dim == 1 {
-        println!(
-            "domain      x in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
-            lo.x, hi.x
-        );
-    } else {
-        println!(
-            "domain      x in [{:.4e}, {:.4e}] m, y in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
-            lo.x, hi.x, lo.y, hi.y
-        );
-    }
-    let placed = sphcontact::scene::place_bodies(scene);
-    let dt = cfl_step_at_start(scene, &placed);
-    let used = sim.dt.unwrap_or(dt);
-    println!(
-        "time        end {:.4e} s, step {:.4e} s ({}), about {} steps, {}",
-        sim.end_time,
-        used,
-        if sim.dt.is_some() {
-            "fixed"
-        } else {
-            "CFL at t = 0"
-        },
-        (sim.end_time / used).ceil(),
-        match sim.integrator {
-            Integrator::Midpoint => "midpoint rule (two evaluations a step)",
-            Integrator::Leapfrog => "leapfrog (one evaluation a step)",
-        }
-    );
-    println!(
-        "output      {} ({} history rows, {} probes{})",
-        output_dir(scene, Some(path), &RunOptions::default()).display(),
-        history_times(sim.end_time, scene.history_interval()).len(),
-        scene.probes.len(),
-        match scene.output.snapshot_interval {
-            // A size to plan disk for.
-            Some(dt) => {
-                let k = history_times(sim.end_time, dt).len();
-                format!(
-                    ", {k} snapshots of about {:.0} MB each",
-                    (sphcontact::output::vtk::BYTES_PER_PARTICLE * model.len() as u64) as f64 / 1e6
-                )
-            }
-            None => String::new(),
-        }
-    );
 }
 
 /// Large blocks on huge pages (`process::HugePages`).

@@ -1,0 +1,135 @@
+//! `sphcontact check`: what a scene sets up, without running it.
+
+use std::path::Path;
+
+use sphcontact::model::Model;
+use sphcontact::physics::material::series;
+use sphcontact::run::{history_times, output_dir, RunOptions};
+use sphcontact::scene::{validate::cfl_step_at_start, Integrator, Scene};
+
+pub(crate) fn check(path: &Path, scene: &Scene) {
+    let (model, _) = Model::new(scene);
+    let sim = &scene.simulation;
+    println!("scene       {}", path.display());
+    if let Some(t) = &scene.title {
+        println!("title       {t}");
+    }
+    println!(
+        "set-up      {}-D, interaction {:?}, correction {:?}, smoothing ratio {}",
+        sim.dimension, sim.interaction, sim.correction, sim.smoothing_ratio
+    );
+    let av = scene.viscosity();
+    println!(
+        "viscosity   alpha {}, beta {}, {}",
+        av.alpha,
+        av.beta,
+        if av.reconstruct {
+            "on the reconstructed velocity jump (plain at surfaces)"
+        } else {
+            "plain Monaghan"
+        }
+    );
+    println!("particles   {}", model.len());
+    for (bi, (b, sb)) in model.bodies.iter().zip(&scene.bodies).enumerate() {
+        let m = &b.material;
+        let mass: f64 = b.range.clone().map(|i| model.mass[i]).sum();
+        println!(
+            "body        {:<12} {:>8} particles, spacing {:.4e} m, h {:.4e} m, mass {:.6e}, velocity ({}, {}){}",
+            b.name,
+            b.range.len(),
+            b.spacing,
+            model.h[b.range.start],
+            mass,
+            b.velocity0.x,
+            b.velocity0.y,
+            if b.rigid { ", rigid" } else { "" }
+        );
+        if let Some(j) = sb.jitter.filter(|&j| j > 0.0) {
+            println!(
+                "            jitter ±{j} Δx per coordinate (seed {}), mass from the nominal cells",
+                sb.seed
+                    .map_or_else(|| format!("{bi}, the body's index"), |s| s.to_string())
+            );
+        }
+        println!(
+            "            rho0 {} kg/m3, K {:.4e} Pa, G {:.4e} Pa, E {:.4e} Pa, nu {:.4}, c_L {:.2} m/s, Z {:.4e} Pa s/m{}",
+            m.rho0,
+            m.k,
+            m.g,
+            m.e,
+            m.nu,
+            m.c_l,
+            m.z,
+            if m.y0.is_finite() { format!(", Y0 {:.4e} Pa", m.y0) } else { String::new() }
+        );
+    }
+    if model.contact {
+        let inf = |b: &sphcontact::model::BodyInfo, v: f64| if b.rigid { f64::INFINITY } else { v };
+        for (i, a) in model.bodies.iter().enumerate() {
+            for b in &model.bodies[i + 1..] {
+                let z = series(inf(a, a.material.z), inf(b, b.material.z));
+                // The spring at conforming-lattice offsets (Δx/2 each side).
+                let k = sphcontact::physics::penalty::spring_stiffness(
+                    0.5 * a.spacing,
+                    a.spacing,
+                    inf(a, a.material.m),
+                    0.5 * b.spacing,
+                    b.spacing,
+                    inf(b, b.material.m),
+                );
+                let spring = format!("spring (surface layers Δx/2) {k:.4e} Pa/m");
+                println!(
+                    "contact     {} | {}: Z* {:.4e} Pa s/m, {}",
+                    a.name, b.name, z, spring
+                );
+            }
+        }
+    }
+    let [lo, hi] = model.domain;
+    if model.dim == 1 {
+        println!(
+            "domain      x in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
+            lo.x, hi.x
+        );
+    } else {
+        println!(
+            "domain      x in [{:.4e}, {:.4e}] m, y in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
+            lo.x, hi.x, lo.y, hi.y
+        );
+    }
+    let placed = sphcontact::scene::place_bodies(scene);
+    let dt = cfl_step_at_start(scene, &placed);
+    let used = sim.dt.unwrap_or(dt);
+    println!(
+        "time        end {:.4e} s, step {:.4e} s ({}), about {} steps, {}",
+        sim.end_time,
+        used,
+        if sim.dt.is_some() {
+            "fixed"
+        } else {
+            "CFL at t = 0"
+        },
+        (sim.end_time / used).ceil(),
+        match sim.integrator {
+            Integrator::Midpoint => "midpoint rule (two evaluations a step)",
+            Integrator::Leapfrog => "leapfrog (one evaluation a step)",
+        }
+    );
+    println!(
+        "output      {} ({} history rows, {} probes{})",
+        output_dir(scene, Some(path), &RunOptions::default()).display(),
+        history_times(sim.end_time, scene.history_interval()).len(),
+        scene.probes.len(),
+        match scene.output.snapshot_interval {
+            // A size to plan disk for.
+            Some(dt) => {
+                let k = history_times(sim.end_time, dt).len();
+                format!(
+                    ", {k} snapshots of about {:.0} MB each",
+                    (sphcontact::output::vtk::BYTES_PER_PARTICLE * model.len() as u64) as f64 / 1e6
+                )
+            }
+            None => String::new(),
+        }
+    );
+}
