@@ -206,7 +206,7 @@ impl Model {
                 model.body.push(bi as u32);
                 model.offset.push(p.offsets[k]);
                 state.x.push(p.positions[k]);
-                state.v.push(v0);
+                state.v.push(p.velocities.get(k).copied().unwrap_or(v0));
                 state.rho.push(material.rho0);
             }
             model.plastic |= !b.rigid && material.y0.is_finite();

@@ -10,6 +10,7 @@ fn scenes() -> Vec<Scene> {
         "scenes/large",
         "scenes/hard",
         "scenes/penetration",
+        "scenes/shapes",
     ]
     .iter()
     .flat_map(|d| std::fs::read_dir(root.join(d)).expect("scene folder"))

@@ -7,7 +7,10 @@
 pub mod library;
 mod material;
 mod model;
+pub mod outline;
+pub mod particles_file;
 mod place;
+mod surface;
 mod toml_errors;
 pub mod validate;
 
@@ -292,6 +295,19 @@ pub enum Shape {
         #[serde(default)]
         lattice: Lattice,
     },
+    /// A closed outline (`[[x, y], ...]`, the last vertex joined to the
+    /// first, either orientation) with optional holes, filled on the square
+    /// lattice fitted to the outline's bounding box.
+    Polygon {
+        vertices: Vec<Vec<f64>>,
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        holes: Vec<Vec<Vec<f64>>>,
+    },
+    /// Particles read from a CSV file ([`particles_file`]); a relative path
+    /// is taken from the scene file's folder.
+    Particles {
+        file: PathBuf,
+    },
 }
 
 impl Shape {
@@ -301,6 +317,8 @@ impl Shape {
             Shape::Rectangle { .. } => "rectangle",
             Shape::Disk { .. } => "disk",
             Shape::Ring { .. } => "ring",
+            Shape::Polygon { .. } => "polygon",
+            Shape::Particles { .. } => "particles",
         }
     }
 }
@@ -427,10 +445,9 @@ pub struct Output {
 impl Scene {
     /// Parse a scene from TOML text and validate it. `origin` names the source
     /// in error messages (usually the file path).
+    /// Relative particle files are taken from the working folder.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, SceneError> {
-        let scene: Scene = toml::from_str(text).map_err(|e| SceneError::parse(origin, text, &e))?;
-        validate(&scene).map_err(|e| e.in_file(origin))?;
-        Ok(scene)
+        Self::from_toml_in(text, origin, Path::new(""))
     }
 
     /// Read, parse and validate a scene file.
@@ -441,7 +458,24 @@ impl Scene {
             key: None,
             message: format!("cannot read the scene file: {e}"),
         })?;
-        Self::from_toml_str(&text, &origin)
+        let base = path.parent().unwrap_or(Path::new(""));
+        Self::from_toml_in(&text, &origin, base)
+    }
+
+    /// [`Scene::from_toml_str`] with the relative paths inside the scene
+    /// (particle files) taken from `base`. They are kept absolute, so a
+    /// run resumed from its checkpoint finds them from any folder.
+    pub fn from_toml_in(text: &str, origin: &str, base: &Path) -> Result<Scene, SceneError> {
+        let mut scene: Scene =
+            toml::from_str(text).map_err(|e| SceneError::parse(origin, text, &e))?;
+        for b in &mut scene.bodies {
+            if let Shape::Particles { file } = &mut b.shape {
+                let joined = base.join(&*file);
+                *file = std::path::absolute(&joined).unwrap_or(joined);
+            }
+        }
+        validate(&scene).map_err(|e| e.in_file(origin))?;
+        Ok(scene)
     }
 
     /// Serialise back to TOML (used by examples that build scenes in code).

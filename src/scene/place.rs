@@ -10,6 +10,8 @@
 use glam::DVec2;
 use std::f64::consts::PI;
 
+use super::outline::{self, Ring};
+use super::{particles_file, surface};
 use super::{Lattice, Scene, Shape};
 
 /// The particles of one body, in placement order.
@@ -23,6 +25,9 @@ pub struct PlacedBody {
     /// The spacing actually used (the scene's spacing rounded to fit the shape):
     /// sets `h = smoothing_ratio × spacing` and the penalty length `h0`.
     pub spacing: f64,
+    /// Each particle's initial velocity where the shape gives them (a
+    /// particles file with velocity columns); empty: the body's velocity.
+    pub velocities: Vec<DVec2>,
 }
 
 fn cells(len: f64, spacing: f64) -> usize {
@@ -39,7 +44,16 @@ pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
         .enumerate()
         .map(|(i, b)| {
             let rho0 = scene.materials[&b.material].density;
-            let mut placed = place(&b.shape, b.spacing, rho0);
+            let mut placed = match &b.shape {
+                Shape::Particles { file } => from_file(
+                    file,
+                    scene.dim(),
+                    b.spacing,
+                    scene.simulation.smoothing_ratio * b.spacing,
+                    rho0,
+                ),
+                shape => place(shape, b.spacing, rho0),
+            };
             if let Some(fraction) = b.jitter.filter(|&j| j > 0.0) {
                 jitter(&mut placed, &b.shape, fraction, b.seed.unwrap_or(i as u64));
             }
@@ -120,6 +134,55 @@ fn surface_distance(shape: &Shape, p: DVec2) -> f64 {
             *outer_radius,
             p.distance(DVec2::new(center[0], center[1])),
         ),
+        Shape::Polygon { vertices, holes } => {
+            let (outer, holes) = rings(vertices, holes);
+            let all: Vec<&Ring> = std::iter::once(&outer[..])
+                .chain(holes.iter().map(|h| &h[..]))
+                .collect();
+            let d = outline::distance_to_edges(&all, p);
+            let inside =
+                outline::contains(&outer, p) && !holes.iter().any(|h| outline::contains(h, p));
+            if inside {
+                d
+            } else {
+                -d
+            }
+        }
+        // No outline: a file's offsets are its own or found from its
+        // particles when placed (`from_file`).
+        Shape::Particles { .. } => 0.0,
+    }
+}
+
+/// A polygon's outline and holes as points.
+fn rings(vertices: &[Vec<f64>], holes: &[Vec<Vec<f64>>]) -> (Vec<DVec2>, Vec<Vec<DVec2>>) {
+    let ring = |v: &[Vec<f64>]| v.iter().map(|p| DVec2::new(p[0], p[1])).collect::<Vec<_>>();
+    (ring(vertices), holes.iter().map(|h| ring(h)).collect())
+}
+
+/// The particles of a file ([`particles_file`]), of density `rho0`, with
+/// the file's surface offsets or, without them, the offsets found from the
+/// particles at smoothing length `h` ([`surface::offsets`]); empty if the
+/// file cannot be read (validation has reported that). `spacing` is the
+/// body's.
+fn from_file(path: &std::path::Path, dim: usize, spacing: f64, h: f64, rho0: f64) -> PlacedBody {
+    let Ok(t) = particles_file::read(path, dim) else {
+        return PlacedBody {
+            spacing,
+            ..Default::default()
+        };
+    };
+    let offsets = if t.offset.is_empty() {
+        surface::offsets(&t.x, &t.volumes(rho0), h, dim)
+    } else {
+        t.offset.clone()
+    };
+    PlacedBody {
+        offsets,
+        masses: t.masses(rho0),
+        positions: t.x,
+        spacing,
+        velocities: t.v,
     }
 }
 
@@ -194,6 +257,41 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
             dx,
             rho0,
         ),
+        Shape::Polygon { vertices, holes } => {
+            // The square lattice fitted to the outline's bounding box, as a
+            // rectangle's: a rectangle drawn as a polygon places the same
+            // particles, bit for bit.
+            let (outer, inner) = rings(vertices, holes);
+            let (min, max) = outer
+                .iter()
+                .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(*p), hi.max(*p))
+                });
+            let (nx, ny) = (cells(max.x - min.x, dx), cells(max.y - min.y, dx));
+            if nx == 0 || ny == 0 {
+                return out;
+            }
+            let ddx = (max.x - min.x) / nx as f64;
+            let ddy = (max.y - min.y) / ny as f64;
+            out.spacing = (ddx * ddy).sqrt();
+            for j in 0..ny {
+                for i in 0..nx {
+                    let p = DVec2::new(
+                        min.x + (i as f64 + 0.5) * ddx,
+                        min.y + (j as f64 + 0.5) * ddy,
+                    );
+                    if outline::contains(&outer, p)
+                        && !inner.iter().any(|h| outline::contains(h, p))
+                    {
+                        out.positions.push(p);
+                        out.masses.push(rho0 * ddx * ddy);
+                        out.offsets.push(surface_distance(shape, p));
+                    }
+                }
+            }
+        }
+        // Read by `place_bodies`, which knows the scene's dimension.
+        Shape::Particles { .. } => {}
     }
     out
 }

@@ -106,6 +106,8 @@ struct Case {
     also: &'static [&'static str],
     /// A serde-level error: the message also gives the line and column.
     located: bool,
+    /// Files written beside the scene first: (name, text).
+    files: &'static [(&'static str, &'static str)],
 }
 
 const fn case(
@@ -120,6 +122,7 @@ const fn case(
         key,
         also: &[],
         located: false,
+        files: &[],
     }
 }
 
@@ -134,6 +137,10 @@ impl Case {
     }
     const fn also(mut self, also: &'static [&'static str]) -> Self {
         self.also = also;
+        self
+    }
+    const fn with_files(mut self, files: &'static [(&'static str, &'static str)]) -> Self {
+        self.files = files;
         self
     }
 }
@@ -212,6 +219,9 @@ fn check_cases(cases: &[Case]) {
                 continue;
             }
         };
+        for (name, text) in c.files {
+            std::fs::write(tmp.path().join(name), text).expect("write a file beside the scene");
+        }
         let path = write_scene(tmp.path(), c.name, &text);
         let file = path.display().to_string();
         let out = sphcontact(tmp.path(), &["check", &file]);
@@ -258,4 +268,5 @@ mod files;
 mod keys;
 mod placement;
 mod runs;
+mod shapes;
 mod values;

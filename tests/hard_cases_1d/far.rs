@@ -20,6 +20,11 @@ fn shifted(scene: &Scene, delta: f64) -> Scene {
                 shift(max);
             }
             Shape::Disk { center, .. } | Shape::Ring { center, .. } => shift(center),
+            Shape::Polygon { vertices, holes } => {
+                vertices.iter_mut().for_each(shift);
+                holes.iter_mut().flatten().for_each(shift);
+            }
+            Shape::Particles { .. } => panic!("the far-field scenes are built-in shapes"),
         }
     }
     for p in &mut s.probes {

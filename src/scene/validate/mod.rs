@@ -10,6 +10,9 @@ use super::{place_bodies, Interaction, Probe, Scene, Shape};
 use crate::error::SceneError;
 use crate::physics::material::{cfl_step, MaterialModel};
 
+mod shapes;
+use shapes::{validate_particles, validate_shape};
+
 type R = Result<(), SceneError>;
 
 fn positive(key: &str, v: f64) -> R {
@@ -147,6 +150,10 @@ pub fn validate(scene: &Scene) -> R {
             }
         }
         validate_shape(&b.shape, dim, &k("shape"))?;
+        if let Shape::Particles { file } = &b.shape {
+            let rho0 = scene.materials.get(&b.material).map_or(1.0, |m| m.density);
+            validate_particles(b, file, dim, rho0, &k)?;
+        }
     }
 
     let mut probe_names = HashSet::new();
@@ -310,64 +317,6 @@ fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
     Ok(())
 }
 
-fn validate_shape(shape: &Shape, dim: usize, key: &str) -> R {
-    let want = match shape {
-        Shape::Segment { .. } => 1,
-        _ => 2,
-    };
-    if want != dim {
-        return Err(SceneError::at(
-            format!("{key}.kind"),
-            format!(
-                "a {} is a {want}-D shape but the scene is {dim}-D",
-                shape.kind()
-            ),
-        ));
-    }
-    match shape {
-        Shape::Segment { from, to } => {
-            finite(key, &[*from, *to])?;
-            if to <= from {
-                return Err(SceneError::at(
-                    format!("{key}.to"),
-                    format!("must be greater than from (got from = {from}, to = {to})"),
-                ));
-            }
-        }
-        Shape::Rectangle { min, max } => {
-            dimension_of(&format!("{key}.min"), min, dim)?;
-            dimension_of(&format!("{key}.max"), max, dim)?;
-            if max[0] <= min[0] || max[1] <= min[1] {
-                return Err(SceneError::at(
-                    format!("{key}.max"),
-                    "must be greater than min on every axis",
-                ));
-            }
-        }
-        Shape::Disk { center, radius, .. } => {
-            dimension_of(&format!("{key}.center"), center, dim)?;
-            positive(&format!("{key}.radius"), *radius)?;
-        }
-        Shape::Ring {
-            center,
-            inner_radius,
-            outer_radius,
-            ..
-        } => {
-            dimension_of(&format!("{key}.center"), center, dim)?;
-            non_negative(&format!("{key}.inner_radius"), *inner_radius)?;
-            positive(&format!("{key}.outer_radius"), *outer_radius)?;
-            if outer_radius <= inner_radius {
-                return Err(SceneError::at(
-                    format!("{key}.outer_radius"),
-                    "must be greater than inner_radius",
-                ));
-            }
-        }
-    }
-    Ok(())
-}
-
 /// The rules that need the particles: empty shapes, overlapping bodies, and a
 /// fixed `dt` above the CFL step at t = 0.
 fn validate_placement(scene: &Scene) -> R {
@@ -466,6 +415,21 @@ fn estimated_particles(shape: &Shape, dx: f64) -> f64 {
             outer_radius,
             ..
         } => PI * (outer_radius * outer_radius - inner_radius * inner_radius) / (dx * dx),
+        Shape::Polygon { vertices, .. } => {
+            // The bounding box: an upper bound, cheap for any outline.
+            let (lo, hi) = vertices.iter().fold(
+                ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+                |(lo, hi), p| {
+                    (
+                        [lo[0].min(p[0]), lo[1].min(p[1])],
+                        [hi[0].max(p[0]), hi[1].max(p[1])],
+                    )
+                },
+            );
+            (hi[0] - lo[0]) * (hi[1] - lo[1]) / (dx * dx)
+        }
+        // Counted when read (the file is no larger than it is).
+        Shape::Particles { .. } => 0.0,
     }
 }
 
