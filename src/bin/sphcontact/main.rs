@@ -320,7 +320,23 @@ fn quiet_display_lookup() {
 #[cfg(not(unix))]
 fn quiet_display_lookup() {}
 
+/// Output piped into a reader that stops early (`sphcontact check … | head`)
+/// ends the process quietly, as it does any Unix filter, instead of
+/// panicking on the closed pipe: Rust ignores SIGPIPE by default.
+#[cfg(unix)]
+fn quiet_closed_pipe() {
+    // SAFETY: restoring the default action of a signal before any thread
+    // starts; no handler is installed.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+#[cfg(not(unix))]
+fn quiet_closed_pipe() {}
+
 fn main() -> ExitCode {
+    quiet_closed_pipe();
     quiet_display_lookup();
     let cli = Cli::parse();
     // The whole command on a pool worker, freed memory kept: the solver's
