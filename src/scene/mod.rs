@@ -271,6 +271,18 @@ pub enum Lattice {
     Polar,
 }
 
+/// How a polygon is filled.
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PolygonLattice {
+    /// The square lattice fitted to the outline's bounding box.
+    #[default]
+    Square,
+    /// Layers at depths `(k + ½) Δx` along the boundary
+    /// ([`outline::boundary_lattice`]).
+    Boundary,
+}
+
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Shape {
@@ -297,11 +309,14 @@ pub enum Shape {
     },
     /// A closed outline (`[[x, y], ...]`, the last vertex joined to the
     /// first, either orientation) with optional holes, filled on the square
-    /// lattice fitted to the outline's bounding box.
+    /// lattice fitted to the outline's bounding box or in layers that
+    /// follow the boundary ([`PolygonLattice`]).
     Polygon {
         vertices: Vec<Vec<f64>>,
         #[serde(default, skip_serializing_if = "Vec::is_empty")]
         holes: Vec<Vec<Vec<f64>>>,
+        #[serde(default)]
+        lattice: PolygonLattice,
     },
     /// Particles read from a CSV file ([`particles_file`]); a relative path
     /// is taken from the scene file's folder.

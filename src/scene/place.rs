@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 
 use super::outline::{self, Ring};
 use super::{particles_file, surface};
-use super::{Lattice, Scene, Shape};
+use super::{Lattice, PolygonLattice, Scene, Shape};
 
 /// The particles of one body, in placement order.
 #[derive(Debug, Clone, Default)]
@@ -134,7 +134,9 @@ fn surface_distance(shape: &Shape, p: DVec2) -> f64 {
             *outer_radius,
             p.distance(DVec2::new(center[0], center[1])),
         ),
-        Shape::Polygon { vertices, holes } => {
+        Shape::Polygon {
+            vertices, holes, ..
+        } => {
             let (outer, holes) = rings(vertices, holes);
             let all: Vec<&Ring> = std::iter::once(&outer[..])
                 .chain(holes.iter().map(|h| &h[..]))
@@ -257,7 +259,23 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
             dx,
             rho0,
         ),
-        Shape::Polygon { vertices, holes } => {
+        Shape::Polygon {
+            vertices,
+            holes,
+            lattice: PolygonLattice::Boundary,
+        } => {
+            let (outer, inner) = rings(vertices, holes);
+            for p in outline::boundary_lattice(&outer, &inner, dx) {
+                out.positions.push(p.x);
+                out.masses.push(rho0 * p.area);
+                out.offsets.push(surface_distance(shape, p.x).max(0.0));
+            }
+        }
+        Shape::Polygon {
+            vertices,
+            holes,
+            lattice: PolygonLattice::Square,
+        } => {
             // The square lattice fitted to the outline's bounding box, as a
             // rectangle's: a rectangle drawn as a polygon places the same
             // particles, bit for bit.

@@ -20,7 +20,9 @@ fn shifted(scene: &Scene, delta: f64) -> Scene {
                 shift(max);
             }
             Shape::Disk { center, .. } | Shape::Ring { center, .. } => shift(center),
-            Shape::Polygon { vertices, holes } => {
+            Shape::Polygon {
+                vertices, holes, ..
+            } => {
                 vertices.iter_mut().for_each(shift);
                 holes.iter_mut().flatten().for_each(shift);
             }

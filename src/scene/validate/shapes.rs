@@ -58,7 +58,9 @@ pub(super) fn validate_shape(shape: &Shape, dim: usize, key: &str) -> R {
                 ));
             }
         }
-        Shape::Polygon { vertices, holes } => validate_polygon(vertices, holes, key)?,
+        Shape::Polygon {
+            vertices, holes, ..
+        } => validate_polygon(vertices, holes, key)?,
         // Read with the body's other keys (`validate_particles`).
         Shape::Particles { .. } => {}
     }
