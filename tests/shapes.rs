@@ -9,6 +9,7 @@ use sphcontact::model::Model;
 use sphcontact::run::RunOutput;
 use sphcontact::scene::Backend;
 use sphcontact::validation::exact::{hertz_c_inertia, hertz_disks, HERTZ_C_JOHNSON};
+use sphcontact::Scene;
 
 /// Two steel blocks closing at 10 m/s; `$LEFT` and `$RIGHT` are their shapes.
 const BLOCKS: &str = r#"
@@ -49,7 +50,7 @@ at = [-0.0005, 0.0001]
 quantity = "velocity_x"
 "#;
 
-fn blocks(left: &str, right: &str) -> sphcontact::Scene {
+fn blocks(left: &str, right: &str) -> Scene {
     parse(&BLOCKS.replace("$LEFT", left).replace("$RIGHT", right))
 }
 
@@ -107,6 +108,26 @@ fn impact(out: &RunOutput) -> (f64, f64) {
     (peak, t1 - t0)
 }
 
+/// Run the built-in scene and the user's shapes' one, and hold the
+/// latter's peak force and contact time within `tol` of the former's;
+/// returns the second run.
+fn same_impact(builtin: (&str, &Scene), shapes: (&str, &Scene), tol: f64) -> RunOutput {
+    let (a, b) = (run(builtin.1), run(shapes.1));
+    let ((pa, ta), (pb, tb)) = (impact(&a), impact(&b));
+    println!(
+        "{}: peak {:.4} MN/m, contact {:.3} µs; {}: {:.4} MN/m, {:.3} µs",
+        builtin.0,
+        pa / 1e6,
+        ta * 1e6,
+        shapes.0,
+        pb / 1e6,
+        tb * 1e6
+    );
+    assert!((pb / pa - 1.0).abs() < tol, "peak force");
+    assert!((tb / ta - 1.0).abs() < tol, "contact time");
+    b
+}
+
 /// The paper's disk case (polar lattice, R/Δx = 25) with each disk read
 /// from a particles file holding the built-in disk's particles and
 /// volumes but no surface offsets: the solver finds the outer ring's
@@ -146,20 +167,11 @@ fn particles_files_run_the_paper_disks() {
         "outer ring: {outer} particles, offsets within {:.2} % of Δr/2",
         100.0 * worst
     );
-    let (a, b) = (run(&builtin), run(&files));
-    let ((pa, ta), (pb, tb)) = (impact(&a), impact(&b));
-    println!(
-        "built-in disks: peak {:.4} MN/m, contact {:.3} µs; from files: {:.4} MN/m, {:.3} µs",
-        pa / 1e6,
-        ta * 1e6,
-        pb / 1e6,
-        tb * 1e6
-    );
-    assert!((pb / pa - 1.0).abs() < 0.01, "peak force");
-    assert!((tb / ta - 1.0).abs() < 0.01, "contact time");
+    let b = same_impact(("built-in disks", &builtin), ("from files", &files), 0.01);
     let steel = material(&files, "steel");
     let soft = hertz_disks(&steel, 0.005, 10.0, HERTZ_C_JOHNSON);
     let stiff = hertz_disks(&steel, 0.005, 10.0, hertz_c_inertia(steel.nu));
+    let (pb, tb) = impact(&b);
     assert_in_hertz_bracket(pb, tb, &soft, &stiff, 0.1);
     assert_conserved(&files, &b);
 }
@@ -194,17 +206,7 @@ fn polygons_with_holes_run_as_the_builtin_rings() {
     // cells whose centres fall in them, under 1 % of the particles
     // (measured: 16 of 3,320, all outside the outer chords).
     assert!(differ * 100 < mr.len(), "{differ} particles apart");
-    let (a, b) = (run(&rings), run(&poly));
-    let ((pa, ta), (pb, tb)) = (impact(&a), impact(&b));
-    println!(
-        "built-in rings: peak {:.4} MN/m, contact {:.3} µs; polygons: {:.4} MN/m, {:.3} µs",
-        pa / 1e6,
-        ta * 1e6,
-        pb / 1e6,
-        tb * 1e6
-    );
-    assert!((pb / pa - 1.0).abs() < 0.01, "peak force");
-    assert!((tb / ta - 1.0).abs() < 0.01, "contact time");
+    let b = same_impact(("built-in rings", &rings), ("polygons", &poly), 0.01);
     assert_conserved(&poly, &b);
 }
 
@@ -328,16 +330,10 @@ fn a_circle_on_the_boundary_lattice_runs_as_the_polar_disk() {
         mp.len().abs_diff(mr.len()) * 50 < mr.len(),
         "particle counts"
     );
-    let (a, b) = (run(&polar), run(&poly));
-    let ((pa, ta), (pb, tb)) = (impact(&a), impact(&b));
-    println!(
-        "polar disks: peak {:.4} MN/m, contact {:.3} µs; boundary-lattice polygons: {:.4} MN/m, {:.3} µs",
-        pa / 1e6,
-        ta * 1e6,
-        pb / 1e6,
-        tb * 1e6
+    let b = same_impact(
+        ("polar disks", &polar),
+        ("boundary-lattice polygons", &poly),
+        0.01,
     );
-    assert!((pb / pa - 1.0).abs() < 0.01, "peak force");
-    assert!((tb / ta - 1.0).abs() < 0.01, "contact time");
     assert_conserved(&poly, &b);
 }
