@@ -23,6 +23,16 @@ fn polygons_and_particles_files() {
         .also(&["intersects itself", "edge 0", "edge 2"])
         .two_d(),
         case(
+            "polygon_repeating_a_vertex",
+            &[(
+                DISK_SHAPE,
+                "shape = { kind = \"polygon\", lattice = \"boundary\", vertices = [[0.0, 0.0002], [0.001, 0.0002], [0.001, 0.0002], [0.0, 0.001]] }",
+            )],
+            "bodies[1].shape.vertices[2]",
+        )
+        .also(&["repeats vertex 1"])
+        .two_d(),
+        case(
             "polygon_of_two_vertices",
             &[(
                 DISK_SHAPE,

@@ -84,6 +84,14 @@ fn validate_polygon(vertices: &[Vec<f64>], holes: &[Vec<Vec<f64>>], key: &str) -
             dimension_of(&format!("{k}[{i}]"), p, 2)?;
         }
         let r: Vec<DVec2> = v.iter().map(|p| DVec2::new(p[0], p[1])).collect();
+        // An edge of no length has no direction: the boundary lattice
+        // moves each edge along its normal.
+        if let Some(i) = (0..r.len()).find(|&i| r[i] == r[(i + 1) % r.len()]) {
+            return Err(SceneError::at(
+                format!("{k}[{}]", (i + 1) % r.len()),
+                format!("repeats vertex {i}: consecutive vertices must differ"),
+            ));
+        }
         if let Some((a, b)) = self_intersection(&r) {
             return Err(SceneError::at(
                 k,
