@@ -103,7 +103,10 @@ impl Record for ContactStats {
     fn put(&self, w: &mut Writer) {
         w.u64(self.pairs.len() as u64);
         for &(a, b, f, p) in &self.pairs {
-            vec![a, b].put(w);
+            // The two bodies as a list of two.
+            w.u64(2);
+            a.put(w);
+            b.put(w);
             f.put(w);
             p.put(w);
         }

@@ -49,15 +49,6 @@ pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     p.distance(a + t * d)
 }
 
-/// Distance from `p` to the nearest edge of any of `rings`.
-pub fn distance_to_edges(rings: &[&Ring], p: DVec2) -> f64 {
-    rings
-        .iter()
-        .flat_map(|r| edges(r))
-        .map(|(a, b)| segment_distance(p, a, b))
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// Orientation of the triple `(a, b, c)`: the sign of `(b − a) × (c − a)`.
 fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
     (b - a).perp_dot(c - a)
@@ -145,9 +136,19 @@ mod tests {
         assert!(contains(&sq, DVec2::new(0.5, 1.5)));
         assert!(!contains(&sq, DVec2::new(2.5, 1.0)));
         assert!(!contains(&sq, DVec2::new(-0.1, 1.0)));
-        assert_eq!(distance_to_edges(&[&sq], DVec2::new(0.5, 1.25)), 0.5);
+        let square = Polygon::new(
+            &[
+                vec![0.0, 0.0],
+                vec![2.0, 0.0],
+                vec![2.0, 2.0],
+                vec![0.0, 2.0],
+            ],
+            &[],
+        );
+        assert_eq!(square.area(), 4.0);
+        assert_eq!(square.distance(DVec2::new(0.5, 1.25)), 0.5);
         // Outside, beyond a corner: the distance to the corner.
-        let d = distance_to_edges(&[&sq], DVec2::new(3.0, 3.0));
+        let d = square.distance(DVec2::new(3.0, 3.0));
         assert!((d - 2f64.sqrt()).abs() < 1e-15);
         // A slanted edge: the distance from (0, 0) to x + y = 1 is 1/√2.
         let d = segment_distance(DVec2::ZERO, DVec2::new(1.0, 0.0), DVec2::new(0.0, 1.0));
@@ -184,6 +185,53 @@ mod tests {
     }
 }
 
+/// A polygon with holes, prepared once: its outline counter-clockwise
+/// and its holes clockwise (the material on every edge's left), for the
+/// inside test and the distance to its boundary.
+pub struct Polygon {
+    /// The outline first, then the holes.
+    rings: Vec<Vec<DVec2>>,
+}
+
+impl Polygon {
+    /// From a scene's `vertices` and `holes` (`[x, y]` each).
+    pub fn new(vertices: &[Vec<f64>], holes: &[Vec<Vec<f64>>]) -> Polygon {
+        let ring = |v: &[Vec<f64>], ccw: bool| {
+            let mut r: Vec<DVec2> = v.iter().map(|p| DVec2::new(p[0], p[1])).collect();
+            if (signed_area(&r) > 0.0) != ccw {
+                r.reverse();
+            }
+            r
+        };
+        let mut rings = vec![ring(vertices, true)];
+        rings.extend(holes.iter().map(|h| ring(h, false)));
+        Polygon { rings }
+    }
+
+    pub fn outline(&self) -> &Ring {
+        &self.rings[0]
+    }
+
+    /// Whether `p` lies inside the outline and inside no hole.
+    pub fn contains(&self, p: DVec2) -> bool {
+        contains(&self.rings[0], p) && !self.rings[1..].iter().any(|h| contains(h, p))
+    }
+
+    /// Distance from `p` to the nearest edge of the outline or a hole.
+    pub fn distance(&self, p: DVec2) -> f64 {
+        self.rings
+            .iter()
+            .flat_map(|r| edges(r))
+            .map(|(a, b)| segment_distance(p, a, b))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The material's area: the outline's less the holes'.
+    pub fn area(&self) -> f64 {
+        self.rings.iter().map(|r| signed_area(r)).sum()
+    }
+}
+
 /// One particle of a boundary-following lattice: its position, the area
 /// it stands for and its depth below the outline.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -205,27 +253,14 @@ pub struct LayerParticle {
 /// between two offsets of a polygon is exactly the middle curve's length
 /// times their distance); the areas are then scaled to the polygon's area
 /// so that the body's mass is exact.
-pub fn boundary_lattice(outer: &Ring, holes: &[Vec<DVec2>], dx: f64) -> Vec<LayerParticle> {
-    // The material on each edge's left: the outline counter-clockwise,
-    // the holes clockwise.
-    let oriented = |r: &Ring, ccw: bool| -> Vec<DVec2> {
-        let mut v = r.to_vec();
-        if (signed_area(&v) > 0.0) != ccw {
-            v.reverse();
-        }
-        v
-    };
-    let mut rings = vec![oriented(outer, true)];
-    rings.extend(holes.iter().map(|h| oriented(h, false)));
-    let all: Vec<&Ring> = rings.iter().map(|r| &r[..]).collect();
-    let inside = |p: DVec2| contains(&rings[0], p) && !rings[1..].iter().any(|h| contains(h, p));
-    let area = signed_area(&rings[0]) + rings[1..].iter().map(|h| signed_area(h)).sum::<f64>();
+pub fn boundary_lattice(poly: &Polygon, dx: f64) -> Vec<LayerParticle> {
+    let area = poly.area();
     let step = dx / 16.0;
     let mut out = Vec::new();
     for k in 0.. {
         let d = (k as f64 + 0.5) * dx;
         let mut layer = Vec::new();
-        for ring in &rings {
+        for ring in &poly.rings {
             // The raw offset curve: each vertex moved `d` inwards (where
             // its edges turn left, the mitre point where the two moved
             // edges meet; where they turn right, an arc of radius `d`
@@ -261,7 +296,7 @@ pub fn boundary_lattice(outer: &Ring, holes: &[Vec<DVec2>], dx: f64) -> Vec<Laye
                 }
             }
             for s in &mut samples {
-                s.1 = inside(s.0) && distance_to_edges(&all, s.0) >= d * (1.0 - 1e-9);
+                s.1 = poly.contains(s.0) && poly.distance(s.0) >= d * (1.0 - 1e-9);
             }
             layer.extend(walk(&samples, dx));
         }
@@ -346,23 +381,24 @@ fn walk(samples: &[(DVec2, bool)], dx: f64) -> Vec<(DVec2, f64)> {
         }
         let count = ((total / dx).round() as usize).max(1);
         let seg = total / count as f64;
-        let at = |s: f64| -> DVec2 {
-            let mut s = s;
-            for (k, &l) in lens.iter().enumerate() {
-                if s <= l || k == lens.len() - 1 {
-                    return run[k] + (run[k + 1] - run[k]) * (s / l).clamp(0.0, 1.0);
-                }
-                s -= l;
-            }
-            run[0]
-        };
+        // The arc lengths increase with j: one cursor along the run.
+        let (mut k, mut start) = (0, 0.0);
         for j in 0..count {
             let s = if closed {
                 j as f64 * seg
             } else {
                 (j as f64 + 0.5) * seg
             };
-            out.push((at(s), seg));
+            while k + 1 < lens.len() && s > start + lens[k] {
+                start += lens[k];
+                k += 1;
+            }
+            let t = if lens[k] > 0.0 {
+                ((s - start) / lens[k]).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            out.push((run[k] + (run[k + 1] - run[k]) * t, seg));
         }
     }
     out
@@ -395,11 +431,12 @@ mod lattice_tests {
             [0.0, 4.0],
         ]);
         let hole = ring(&[[0.5, 0.5], [0.5, 1.0], [1.0, 1.0], [1.0, 0.5]]);
-        let p = boundary_lattice(&l, std::slice::from_ref(&hole), dx);
+        let scene = |r: &[DVec2]| r.iter().map(|q| vec![q.x, q.y]).collect::<Vec<_>>();
+        let poly = Polygon::new(&scene(&l), &[scene(&hole)]);
+        let p = boundary_lattice(&poly, dx);
         let area = signed_area(&l) - signed_area(&hole).abs();
         let sum: f64 = p.iter().map(|q| q.area).sum();
         assert!((sum / area - 1.0).abs() < 1e-12);
-        let all = [&l[..], &hole[..]];
         let mut closest = f64::INFINITY;
         for (i, a) in p.iter().enumerate() {
             assert!(
@@ -407,7 +444,7 @@ mod lattice_tests {
                 "{} outside",
                 a.x
             );
-            let d = distance_to_edges(&all, a.x);
+            let d = poly.distance(a.x);
             assert!(
                 (d - a.depth).abs() < 1e-3 * dx,
                 "depth {} against {}",

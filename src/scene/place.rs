@@ -10,7 +10,7 @@
 use glam::DVec2;
 use std::f64::consts::PI;
 
-use super::outline::{self, Ring};
+use super::outline::{self, Polygon};
 use super::{particles_file, surface};
 use super::{Lattice, PolygonLattice, Scene, Shape};
 
@@ -102,64 +102,59 @@ fn jitter(placed: &mut PlacedBody, shape: &Shape, fraction: f64, seed: u64) {
     let mut rng = SplitMix64(seed);
     let amplitude = fraction * placed.spacing;
     let two_d = !matches!(shape, Shape::Segment { .. });
+    let surface = surface_distance(shape);
     for (p, o) in placed.positions.iter_mut().zip(placed.offsets.iter_mut()) {
         p.x += amplitude * rng.symmetric();
         if two_d {
             p.y += amplitude * rng.symmetric();
         }
-        *o = surface_distance(shape, *p).max(0.0);
+        *o = surface(*p).max(0.0);
     }
 }
 
-/// Signed distance of `p` to the boundary of `shape` (positive inside):
-/// the surface offset `o` of a particle centred at `p` (docs/method.md §8.3).
-/// The one rule for placement and jitter alike.
-fn surface_distance(shape: &Shape, p: DVec2) -> f64 {
+/// Signed distance to the boundary of `shape` (positive inside), as a
+/// function of the point: the surface offset `o` of a particle centred
+/// there (docs/method.md §8.3). The one rule for placement and jitter
+/// alike; a polygon's outline is prepared once, not for every particle.
+fn surface_distance(shape: &Shape) -> Box<dyn Fn(DVec2) -> f64 + '_> {
     match shape {
-        Shape::Segment { from, to } => (p.x - from).min(to - p.x),
-        Shape::Rectangle { min, max } => (p.x - min[0])
-            .min(max[0] - p.x)
-            .min(p.y - min[1])
-            .min(max[1] - p.y),
+        Shape::Segment { from, to } => Box::new(move |p| (p.x - from).min(to - p.x)),
+        Shape::Rectangle { min, max } => Box::new(move |p| {
+            (p.x - min[0])
+                .min(max[0] - p.x)
+                .min(p.y - min[1])
+                .min(max[1] - p.y)
+        }),
         Shape::Disk { center, radius, .. } => {
-            annulus_offset(0.0, *radius, p.distance(DVec2::new(center[0], center[1])))
+            let c = DVec2::new(center[0], center[1]);
+            Box::new(move |p| annulus_offset(0.0, *radius, p.distance(c)))
         }
         Shape::Ring {
             center,
             inner_radius,
             outer_radius,
             ..
-        } => annulus_offset(
-            *inner_radius,
-            *outer_radius,
-            p.distance(DVec2::new(center[0], center[1])),
-        ),
+        } => {
+            let c = DVec2::new(center[0], center[1]);
+            Box::new(move |p| annulus_offset(*inner_radius, *outer_radius, p.distance(c)))
+        }
         Shape::Polygon {
             vertices, holes, ..
         } => {
-            let (outer, holes) = rings(vertices, holes);
-            let all: Vec<&Ring> = std::iter::once(&outer[..])
-                .chain(holes.iter().map(|h| &h[..]))
-                .collect();
-            let d = outline::distance_to_edges(&all, p);
-            let inside =
-                outline::contains(&outer, p) && !holes.iter().any(|h| outline::contains(h, p));
-            if inside {
-                d
-            } else {
-                -d
-            }
+            let poly = Polygon::new(vertices, holes);
+            Box::new(move |p| {
+                let d = poly.distance(p);
+                if poly.contains(p) {
+                    d
+                } else {
+                    -d
+                }
+            })
         }
         // No outline: a file's offsets are its own or found from its
         // particles when placed (`from_file`).
-        Shape::Particles { .. } => 0.0,
+        Shape::Particles { .. } => Box::new(|_| 0.0),
     }
-}
-
-/// A polygon's outline and holes as points.
-fn rings(vertices: &[Vec<f64>], holes: &[Vec<Vec<f64>>]) -> (Vec<DVec2>, Vec<Vec<DVec2>>) {
-    let ring = |v: &[Vec<f64>]| v.iter().map(|p| DVec2::new(p[0], p[1])).collect::<Vec<_>>();
-    (ring(vertices), holes.iter().map(|h| ring(h)).collect())
 }
 
 /// The particles of a file ([`particles_file`]), of density `rho0`, with
@@ -206,6 +201,7 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
     };
     match shape {
         Shape::Segment { from, to } => {
+            let surface = surface_distance(shape);
             let n = cells(to - from, dx);
             if n == 0 {
                 return out;
@@ -216,11 +212,11 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
                 let x = from + (k as f64 + 0.5) * d;
                 out.positions.push(DVec2::new(x, 0.0));
                 out.masses.push(rho0 * d);
-                out.offsets
-                    .push(surface_distance(shape, DVec2::new(x, 0.0)));
+                out.offsets.push(surface(DVec2::new(x, 0.0)));
             }
         }
         Shape::Rectangle { min, max } => {
+            let surface = surface_distance(shape);
             let (nx, ny) = (cells(max[0] - min[0], dx), cells(max[1] - min[1], dx));
             if nx == 0 || ny == 0 {
                 return out;
@@ -236,7 +232,7 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
                     );
                     out.positions.push(p);
                     out.masses.push(rho0 * ddx * ddy);
-                    out.offsets.push(surface_distance(shape, p));
+                    out.offsets.push(surface(p));
                 }
             }
         }
@@ -264,11 +260,11 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
             holes,
             lattice: PolygonLattice::Boundary,
         } => {
-            let (outer, inner) = rings(vertices, holes);
-            for p in outline::boundary_lattice(&outer, &inner, dx) {
+            let poly = Polygon::new(vertices, holes);
+            for p in outline::boundary_lattice(&poly, dx) {
                 out.positions.push(p.x);
                 out.masses.push(rho0 * p.area);
-                out.offsets.push(surface_distance(shape, p.x).max(0.0));
+                out.offsets.push(poly.distance(p.x));
             }
         }
         Shape::Polygon {
@@ -279,8 +275,9 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
             // The square lattice fitted to the outline's bounding box, as a
             // rectangle's: a rectangle drawn as a polygon places the same
             // particles, bit for bit.
-            let (outer, inner) = rings(vertices, holes);
-            let (min, max) = outer
+            let poly = Polygon::new(vertices, holes);
+            let (min, max) = poly
+                .outline()
                 .iter()
                 .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), p| {
                     (lo.min(*p), hi.max(*p))
@@ -298,12 +295,10 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
                         min.x + (i as f64 + 0.5) * ddx,
                         min.y + (j as f64 + 0.5) * ddy,
                     );
-                    if outline::contains(&outer, p)
-                        && !inner.iter().any(|h| outline::contains(h, p))
-                    {
+                    if poly.contains(p) {
                         out.positions.push(p);
                         out.masses.push(rho0 * ddx * ddy);
-                        out.offsets.push(surface_distance(shape, p));
+                        out.offsets.push(poly.distance(p));
                     }
                 }
             }

@@ -18,15 +18,18 @@ use glam::DVec2;
 use crate::math::cells::CellList;
 use crate::physics::kernel;
 
+/// Steps of the table of `F` over `[0, 2h]`.
+const STEPS: usize = 400;
+
 /// `F(d)`, the kernel (`h`, `dim` 1 or 2) integrated over the half-space
-/// beyond a plane at distance `d` (0 ≤ d ≤ 2h) behind its centre.
-fn half_space_fraction(d: f64, h: f64, dim: usize) -> f64 {
-    // ½ + ∫_0^d L(s) ds, L the kernel integrated over the line (2-D) or
-    // point (1-D) at distance s from the centre. Simpson's rule on 200
-    // panels: the integrands are piecewise cubic, so the error is below
-    // 1e-9 of the total.
-    let simpson = |f: &dyn Fn(f64) -> f64, a: f64, b: f64| {
-        let n = 200;
+/// beyond a plane at distance `d` behind its centre, tabulated at
+/// `d_k = 2h k / STEPS` as `(d_k, F(d_k))`: `F = ½ + ∫_0^d L(s) ds`, `L`
+/// the kernel integrated over the line (2-D) or point (1-D) at distance
+/// `s` from the centre, summed interval by interval by Simpson's rule.
+/// The integrands are piecewise cubic, so the error is far below the
+/// estimate's own.
+fn fraction_table(h: f64, dim: usize) -> Vec<(f64, f64)> {
+    let simpson = |f: &dyn Fn(f64) -> f64, a: f64, b: f64, n: usize| {
         let step = (b - a) / n as f64;
         let mut sum = f(a) + f(b);
         for k in 1..n {
@@ -39,13 +42,38 @@ fn half_space_fraction(d: f64, h: f64, dim: usize) -> f64 {
             kernel::w(1, s, h)
         } else {
             let half = (4.0 * h * h - s * s).max(0.0).sqrt();
-            2.0 * simpson(&|y: f64| kernel::w(2, (s * s + y * y).sqrt(), h), 0.0, half)
+            2.0 * simpson(
+                &|y: f64| kernel::w(2, (s * s + y * y).sqrt(), h),
+                0.0,
+                half,
+                200,
+            )
         }
     };
-    0.5 + simpson(&line, 0.0, d.min(2.0 * h))
+    let step = 2.0 * h / STEPS as f64;
+    let mut table = Vec::with_capacity(STEPS + 1);
+    let mut f = 0.5;
+    table.push((0.0, f));
+    for k in 0..STEPS {
+        let a = k as f64 * step;
+        f += simpson(&line, a, a + step, 2);
+        table.push((a + step, f));
+    }
+    table
 }
 
-/// The offset `F⁻¹(ψ)`, by bisection on `[0, 2h]`.
+/// `F(d)` from the table, linear between its entries.
+fn fraction_at(table: &[(f64, f64)], d: f64) -> f64 {
+    let k = table
+        .partition_point(|&(dk, _)| dk < d)
+        .clamp(1, table.len() - 1);
+    let (d0, f0) = table[k - 1];
+    let (d1, f1) = table[k];
+    f0 + (f1 - f0) * (d - d0) / (d1 - d0)
+}
+
+/// The offset `F⁻¹(ψ)` from the table (linear between its entries): 0
+/// below `F(0) = ½`, `2h` above `F(2h)`.
 fn offset_of(psi: f64, table: &[(f64, f64)]) -> f64 {
     if psi <= table[0].1 {
         return 0.0;
@@ -54,8 +82,6 @@ fn offset_of(psi: f64, table: &[(f64, f64)]) -> f64 {
     if psi >= last.1 {
         return last.0;
     }
-    // The table is increasing in both columns: interpolate linearly
-    // between its two entries around ψ (F is smooth and the table fine).
     let k = table.partition_point(|&(_, f)| f < psi);
     let (d0, f0) = table[k - 1];
     let (d1, f1) = table[k];
@@ -91,20 +117,14 @@ fn lattice_face_fraction(s: f64, h: f64, dim: usize) -> f64 {
 /// spacing) is taken off `ψ`, so that a lattice's face particles come out
 /// half a spacing in.
 pub fn offsets(x: &[DVec2], vol: &[f64], h: f64, dim: usize) -> Vec<f64> {
-    // F tabulated on 400 steps of [0, 2h].
-    let table: Vec<(f64, f64)> = (0..=400)
-        .map(|k| {
-            let d = 2.0 * h * k as f64 / 400.0;
-            (d, half_space_fraction(d, h, dim))
-        })
-        .collect();
+    let table = fraction_table(h, dim);
     let mut sides: Vec<f64> = vol
         .iter()
         .map(|&v| if dim == 1 { v } else { v.sqrt() })
         .collect();
     sides.sort_by(f64::total_cmp);
     let s = sides[sides.len() / 2];
-    let bias = lattice_face_fraction(s, h, dim) - half_space_fraction(0.5 * s, h, dim);
+    let bias = lattice_face_fraction(s, h, dim) - fraction_at(&table, 0.5 * s);
     let cells = CellList::build(x, 2.0 * h);
     (0..x.len())
         .map(|i| {
@@ -127,8 +147,11 @@ mod tests {
     fn the_half_space_fraction_spans_half_to_one() {
         for dim in [1, 2] {
             let h = 1.3e-4;
-            assert!((half_space_fraction(0.0, h, dim) - 0.5).abs() < 1e-12);
-            assert!((half_space_fraction(2.0 * h, h, dim) - 1.0).abs() < 1e-9);
+            let table = fraction_table(h, dim);
+            assert_eq!(table[0], (0.0, 0.5));
+            assert!((table[STEPS].1 - 1.0).abs() < 1e-9);
+            assert!(table.windows(2).all(|w| w[1].1 > w[0].1), "increasing");
+            assert!((fraction_at(&table, 2.0 * h) - 1.0).abs() < 1e-9);
         }
     }
 
