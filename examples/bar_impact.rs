@@ -9,7 +9,7 @@ use sphcontact::physics::material::MaterialModel;
 use sphcontact::run::{run_scene, RunOptions};
 use sphcontact::scene::{
     default_cfl, default_smoothing_ratio, Backend, Body, ContactQuantity, Correction, Eos,
-    Integrator, Interaction, Material, Output, Probe, Scene, Shape, Simulation,
+    Geometry, Integrator, Interaction, Material, Output, Probe, Scene, Shape, Simulation,
 };
 use sphcontact::validation::exact::bar_impact;
 use std::collections::BTreeMap;
@@ -59,6 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             correction: Correction::Gradient,
             backend: Backend::Cpu,
             integrator: Integrator::Midpoint,
+            geometry: Geometry::Planar,
         },
         artificial_stress: None,
         artificial_viscosity: None,

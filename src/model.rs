@@ -73,6 +73,13 @@ pub struct Model {
     /// adds to the growth of the first state's: see [`Model::guards_energy`].
     pub energy_guard: bool,
     pub energy_floor: f64,
+    /// Bodies of revolution (docs/method.md §12): `x` is the radius, masses
+    /// are rings', and [`State::rho`] holds `η = 2π r ρ`.
+    pub axisymmetric: bool,
+    /// Each particle's area in the r–z plane as placed, `m / (2π r₀ ρ₀)`:
+    /// its reference volume in the kernel sums of a body of revolution
+    /// ([`Model::reference_volume`]). Empty in plane strain.
+    pub area0: Vec<f64>,
 }
 
 /// The energy guard's factor ([`Model::guards_energy`]).
@@ -89,6 +96,10 @@ pub struct State {
     pub step: u64,
     pub x: Vec<DVec2>,
     pub v: Vec<DVec2>,
+    /// The density the kernel sums weigh particles by, `V = m / rho`: the
+    /// density itself in plane strain, the mass per unit area of the r–z
+    /// plane `η = 2π r ρ` in a body of revolution ([`Model::density`]
+    /// gives the density).
     pub rho: Vec<f64>,
     /// Specific internal energy, J/kg.
     pub e: Vec<f64>,
@@ -172,6 +183,8 @@ impl Model {
             domain: [DVec2::ZERO; 2],
             energy_guard: false,
             energy_floor: 0.0,
+            axisymmetric: scene.axisymmetric(),
+            area0: Vec::new(),
         };
         let mut state = State {
             t: 0.0,
@@ -207,7 +220,13 @@ impl Model {
                 model.offset.push(p.offsets[k]);
                 state.x.push(p.positions[k]);
                 state.v.push(p.velocities.get(k).copied().unwrap_or(v0));
-                state.rho.push(material.rho0);
+                if model.axisymmetric {
+                    let ring = 2.0 * std::f64::consts::PI * p.positions[k].x;
+                    state.rho.push(material.rho0 * ring);
+                    model.area0.push(p.masses[k] / (material.rho0 * ring));
+                } else {
+                    state.rho.push(material.rho0);
+                }
             }
             model.plastic |= !b.rigid && material.y0.is_finite();
             model.history |= !b.rigid && material.has_history();
@@ -255,6 +274,30 @@ impl Model {
         (model, state)
     }
 
+    /// The density of particle i at position `x` from its state's
+    /// [`State::rho`]: itself in plane strain, `η / 2π r` in a body of
+    /// revolution.
+    #[inline]
+    pub fn density(&self, rho: f64, x: DVec2) -> f64 {
+        if self.axisymmetric {
+            rho / (2.0 * std::f64::consts::PI * x.x)
+        } else {
+            rho
+        }
+    }
+
+    /// `V⁰_j`, the volume particle j was made with, in the measure of the
+    /// kernel sums: `m_j / ρ₀` in plane strain, its area in the r–z plane
+    /// as placed in a body of revolution.
+    #[inline]
+    pub fn reference_volume(&self, j: usize) -> f64 {
+        if self.axisymmetric {
+            self.area0[j]
+        } else {
+            self.mass[j] / self.material(j).rho0
+        }
+    }
+
     /// The close-pair gate's spacing scale of each particle, squared:
     /// `κ_i² = (d_i / V0_i^(1/d))²`, `d_i` the distance to its nearest
     /// neighbour of its own body as placed and `V0_i = m_i/ρ0` its volume.
@@ -276,7 +319,7 @@ impl Model {
                         d2 = d2.min((x[j] - x[i]).length_squared());
                     }
                 });
-                let v0 = self.mass[i] / self.material(i).rho0;
+                let v0 = self.reference_volume(i);
                 let s2 = if self.dim == 1 { v0 * v0 } else { v0 };
                 // Within round-off of the volume's side is the lattice
                 // spacing itself.

@@ -61,18 +61,15 @@ pub fn resolve(scene: &Scene, model: &Model, st0: &State) -> Vec<Resolved> {
 
 /// Value of a particle quantity.
 pub fn particle_value(model: &Model, st: &State, i: usize, q: ParticleQuantity) -> f64 {
-    let p = || {
-        model
-            .material(i)
-            .pressure_of(st.rho[i], st.e[i], st.damage_of(i))
-    };
+    let rho = model.density(st.rho[i], st.x[i]);
+    let p = || model.material(i).pressure_of(rho, st.e[i], st.damage_of(i));
     let history = |a: &[f64]| a.get(i).copied().unwrap_or(0.0);
     match q {
         ParticleQuantity::PositionX => st.x[i].x,
         ParticleQuantity::PositionY => st.x[i].y,
         ParticleQuantity::VelocityX => st.v[i].x,
         ParticleQuantity::VelocityY => st.v[i].y,
-        ParticleQuantity::Density => st.rho[i],
+        ParticleQuantity::Density => rho,
         ParticleQuantity::Pressure => p(),
         ParticleQuantity::StressXx => st.s[i].xx - p(),
         ParticleQuantity::StressYy => st.s[i].yy - p(),
@@ -218,7 +215,7 @@ pub fn out_of_range(model: &Model, st: &State, i: usize) -> Option<(OutOfRange, 
     }
     let mat = model.material(i);
     let c2 = mat.c_l * mat.c_l;
-    let (e, rho) = (st.e[i], st.rho[i] / mat.rho0);
+    let (e, rho) = (st.e[i], model.density(st.rho[i], st.x[i]) / mat.rho0);
     if e < -1e-3 * c2 {
         Some((OutOfRange::NegativeEnergy, -e / (1e-3 * c2)))
     } else if e > 0.1 * c2 {
@@ -263,7 +260,7 @@ pub fn count_out_of_range(model: &Model, st: &State) -> OutOfRangeCount {
             if by > worst {
                 worst = by;
                 let value = match what {
-                    OutOfRange::Density => st.rho[i],
+                    OutOfRange::Density => model.density(st.rho[i], st.x[i]),
                     _ => st.e[i],
                 };
                 out.worst = Some((i, what, value));

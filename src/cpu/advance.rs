@@ -67,8 +67,8 @@ pub(super) fn dense(model: &Model, i: usize, rho: f64, damage: f64) -> bool {
     rho > low && rho < 10.0 * rho0
 }
 
-/// Whether particle i at `x`, `v`, `e`, `rho` passes the state check
-/// ([`CpuSolver::check`]).
+/// Whether particle i at `x`, `v`, `e`, `rho` (a state's
+/// [`State::rho`]) passes the state check ([`CpuSolver::check`]).
 #[inline]
 pub(super) fn sane(
     model: &Model,
@@ -82,7 +82,7 @@ pub(super) fn sane(
     x.is_finite()
         && v.is_finite()
         && e.is_finite()
-        && dense(model, i, rho, damage)
+        && dense(model, i, model.density(rho, x), damage)
         && model.in_domain(x)
 }
 
@@ -121,6 +121,7 @@ pub(super) fn return_with_history(
     out: &mut State,
 ) {
     let State {
+        x,
         rho,
         e,
         s,
@@ -143,7 +144,11 @@ pub(super) fn return_with_history(
             } else {
                 let mat = model.material(i);
                 let r = rate.get(i).copied().unwrap_or(0.0);
-                let (rho_i, e) = (*rho, e[i]);
+                // The density itself (in a body of revolution `rho` is η).
+                let ring = model
+                    .axisymmetric
+                    .then(|| 2.0 * std::f64::consts::PI * x[i].x);
+                let (rho_i, e) = (ring.map_or(*rho, |k| *rho / k), e[i]);
                 let (s_new, h) = strength::update(
                     mat,
                     *s,
@@ -154,7 +159,8 @@ pub(super) fn return_with_history(
                 );
                 *s = s_new;
                 if strength::failed(h.damage) {
-                    *rho = rho_i.max(mat.failed_density_floor(e));
+                    let floor = rho_i.max(mat.failed_density_floor(e));
+                    *rho = ring.map_or(floor, |k| floor * k);
                 }
                 h
             };

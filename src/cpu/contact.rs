@@ -12,6 +12,7 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
+use super::axis;
 use super::kinematics::{reference_volume, Boundary};
 use super::neighbours::{pair_inv_h, Neighbours};
 use crate::model::{ContactStats, Model, State};
@@ -265,6 +266,7 @@ fn normal_rates(
     model: &Model,
     st: &State,
     nb: &Neighbours,
+    mirrors: Option<&axis::Mirrors>,
     bd: &Boundary,
     v: &[DVec2],
 ) -> Vec<DVec2> {
@@ -280,6 +282,12 @@ fn normal_rates(
                 let j = b.j as usize;
                 let vol = reference_volume(model, j);
                 gdot -= hessian_times(model, p, j, st.x[p] - st.x[j], v[p] - v[j]) * vol;
+            }
+            for b in mirrors.and_then(|m| m.of(p)).unwrap_or(&[]) {
+                let j = b.j as usize;
+                let vol = reference_volume(model, j);
+                let (d, w) = (st.x[p] - axis::mirror(st.x[j]), v[p] - axis::mirror(v[j]));
+                gdot -= hessian_times(model, p, j, d, w) * vol;
             }
             let n = bd.normal[p];
             (gdot - n * n.dot(gdot)) / bd.grad_norm[p]
@@ -310,7 +318,10 @@ pub fn penalty_booked(
     book: Option<&[DVec2]>,
 ) -> ContactForces {
     let vb = book.unwrap_or(&st.v);
-    let ndot = normal_rates(model, st, nb, bd, vb);
+    let mirrors = model
+        .axisymmetric
+        .then(|| axis::Mirrors::find(model, &st.x, nb));
+    let ndot = normal_rates(model, st, nb, mirrors.as_ref(), bd, vb);
     let slot = |q: usize| {
         bd.list
             .binary_search(&(q as u32))
@@ -511,6 +522,16 @@ pub fn penalty_booked(
                     let hb = hessian_times(model, q, j, st.x[q] - st.x[j], b) * vol;
                     f += hb;
                     spread.push((nbr.j, -hb));
+                }
+                // The images across the axis of a body of revolution: j
+                // moves its image the mirror way.
+                for nbr in mirrors.as_ref().and_then(|m| m.of(q)).unwrap_or(&[]) {
+                    let j = nbr.j as usize;
+                    let vol = reference_volume(model, j);
+                    let d = st.x[q] - axis::mirror(st.x[j]);
+                    let hb = hessian_times(model, q, j, d, b) * vol;
+                    f += hb;
+                    spread.push((nbr.j, axis::mirror(-hb)));
                 }
             }
             Gathered {

@@ -23,6 +23,9 @@ pub struct StressPoint {
     pub r: Sym,
     /// Sound speed for the viscosity.
     pub c: f64,
+    /// The hoop stress's acceleration `σ_θθ / (r ρ)` of a body of
+    /// revolution (docs/method.md §12); 0 in plane strain.
+    pub hoop: f64,
 }
 
 /// What a pair contributes to both of its particles' momentum and energy
@@ -58,18 +61,52 @@ pub(in crate::cpu) fn pair_terms(
     b: &Nbr,
 ) -> PairTerms {
     let j = b.j as usize;
-    let (pi_, pj) = (&pts[i], &pts[j]);
+    let side = |k: usize| Side {
+        x: st.x[k],
+        v: st.v[k],
+        l: l[k],
+        gv: gv.get(k).copied().unwrap_or(Mat2::ZERO),
+        pt: pts[k],
+    };
+    pair_terms_of(model, st, surface, (i, &side(i)), (j, &side(j)), b.gw)
+}
+
+/// What a pair's terms read of one of its particles that its mirror
+/// image across the axis of a body of revolution has otherwise
+/// ([`super::axis`]); the rest is read by index.
+#[derive(Debug, Clone, Copy)]
+pub(in crate::cpu) struct Side {
+    pub(in crate::cpu) x: DVec2,
+    pub(in crate::cpu) v: DVec2,
+    pub(in crate::cpu) l: Mat2,
+    /// `∇v`, read only when the viscosity is reconstructed.
+    pub(in crate::cpu) gv: Mat2,
+    pub(in crate::cpu) pt: StressPoint,
+}
+
+/// [`pair_terms`] of particles `(i, a)` and `(j, b)`, each with its
+/// [`Side`], `gw = ∇_i W_ij` at their positions.
+#[inline]
+pub(in crate::cpu) fn pair_terms_of(
+    model: &Model,
+    st: &State,
+    surface: &[bool],
+    (i, a): (usize, &Side),
+    (j, b): (usize, &Side),
+    gw: DVec2,
+) -> PairTerms {
+    let (pi_, pj) = (&a.pt, &b.pt);
     let hij = 0.5 * (model.h[i] + model.h[j]);
-    let xij = st.x[i] - st.x[j];
-    let vij = st.v[i] - st.v[j];
-    let g = (l[i] + l[j]).scale(0.5).mul_vec(b.gw);
+    let xij = a.x - b.x;
+    let vij = a.v - b.v;
+    let g = (a.l + b.l).scale(0.5).mul_vec(gw);
     // The viscosity sees the reconstructed jump; the energy equation keeps
     // the true v_ij, so the viscous work is still exactly the heat booked
     // (energy conserved). Not at a surface: there ∇v is extrapolated from
     // one side only, and the face is where a contact loads the body
     // impulsively; full viscosity damps that start-up ringing.
     let vis = if model.av_reconstruct && !surface[i] && !surface[j] {
-        reconstructed_jump(vij, xij, &gv[i], &gv[j])
+        reconstructed_jump(vij, xij, &a.gv, &b.gv)
     } else {
         vij
     };
@@ -147,7 +184,7 @@ pub fn momentum_energy(
     surface: &[bool],
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>) {
-    (0..model.len())
+    let (mut dv, mut de): (Vec<DVec2>, Vec<f64>) = (0..model.len())
         .map(|i| {
             let (mut dv, mut de) = (DVec2::ZERO, 0.0);
             if model.rigid(i) {
@@ -161,5 +198,10 @@ pub fn momentum_energy(
             }
             (dv, de)
         })
-        .unzip()
+        .unzip();
+    if model.axisymmetric {
+        let mirrors = super::axis::Mirrors::find(model, &st.x, nb);
+        super::axis::add_forces(model, st, &mirrors, l, gv, surface, pts, &mut dv, &mut de);
+    }
+    (dv, de)
 }

@@ -7,6 +7,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 use std::borrow::Cow;
 
+use super::axis;
 use super::forces::StressPoint;
 use super::neighbours::Neighbours;
 use crate::math::{Mat2, Sym};
@@ -68,6 +69,8 @@ pub(in crate::cpu) trait Seen: Copy + Default + Send + Sync {
     /// the `seen` ones.
     fn vel<'a>(v: &'a [DVec2], seen: &[DVec2]) -> Cow<'a, [Self::Vel]>;
     fn v(vel: Self::Vel) -> DVec2;
+    /// The velocities of a particle's mirror image across the axis.
+    fn mirror(vel: Self::Vel) -> Self::Vel;
     fn add(&mut self, vj: Self::Vel, vi: Self::Vel, g: DVec2);
     fn sum(self) -> Option<Mat2>;
 }
@@ -80,6 +83,10 @@ impl Seen for () {
     #[inline]
     fn v(vel: DVec2) -> DVec2 {
         vel
+    }
+    #[inline]
+    fn mirror(vel: DVec2) -> DVec2 {
+        axis::mirror(vel)
     }
     #[inline]
     fn add(&mut self, _: DVec2, _: DVec2, _: DVec2) {}
@@ -96,6 +103,10 @@ impl Seen for Mat2 {
     #[inline]
     fn v(vel: [DVec2; 2]) -> DVec2 {
         vel[0]
+    }
+    #[inline]
+    fn mirror(vel: [DVec2; 2]) -> [DVec2; 2] {
+        vel.map(axis::mirror)
     }
     #[inline]
     fn add(&mut self, vj: [DVec2; 2], vi: [DVec2; 2], g: DVec2) {
@@ -121,21 +132,34 @@ struct Point {
 pub fn eos_and_stress(model: &Model, st: &State) -> Vec<StressPoint> {
     (0..model.len())
         .into_par_iter()
-        .map(|i| stress_point(model, i, st.rho[i], st.e[i], &st.s[i], st.damage_of(i)))
+        .map(|i| {
+            stress_point(
+                model,
+                i,
+                (st.rho[i], st.x[i]),
+                st.e[i],
+                &st.s[i],
+                st.damage_of(i),
+            )
+        })
         .collect()
 }
 
-/// Particle i's [`StressPoint`] at density `rho`, energy `e`, deviatoric
-/// stress `s` and damage `damage` (a failed particle carries no tension).
+/// Particle i's [`StressPoint`] at density `rho` (a state's
+/// [`State::rho`]) and position `x`, energy `e`, deviatoric stress `s`
+/// and damage `damage` (a failed particle carries no tension).
 #[inline]
 pub(crate) fn stress_point(
     model: &Model,
     i: usize,
-    rho: f64,
+    (rho, x): (f64, DVec2),
     e: f64,
     s: &Sym,
     damage: f64,
 ) -> StressPoint {
+    if model.axisymmetric {
+        return axis::stress_point(model, i, rho, x, e, s, damage);
+    }
     let mat = model.material(i);
     let p = mat.pressure_of(rho, e, damage);
     let c = mat.sound_speed_of(rho, e, damage);
@@ -149,6 +173,7 @@ pub(crate) fn stress_point(
         sr2: sigma.scale(1.0 / r2),
         r,
         c,
+        hoop: 0.0,
     }
 }
 
@@ -167,19 +192,28 @@ pub(crate) fn stress_point(
 /// ([`super::sweep::kinematics()`], equal to round-off).
 pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
     let vol = volumes(model, st);
-    let sums = (0..model.len())
+    let mut sums: Vec<Sums<()>> = (0..model.len())
         .map(|i| {
             let mut sum = Sums::<()>::default();
             for b in nb.of(model, &st.x, i) {
                 let j = b.j as usize;
                 let gi = b.gw * vol[j];
-                sum.m += Mat2::outer(gi, st.x[j] - st.x[i]);
-                sum.gsum += Mat2::outer(st.v[j] - st.v[i], gi);
+                let gm = if model.axisymmetric {
+                    b.gw * (model.mass[j] / st.rho[i])
+                } else {
+                    gi
+                };
+                sum.m += Mat2::outer(gm, st.x[j] - st.x[i]);
+                sum.gsum += Mat2::outer(st.v[j] - st.v[i], gm);
                 sum.gpsi -= gi;
             }
             sum
         })
         .collect();
+    if model.axisymmetric {
+        let mirrors = axis::Mirrors::find(model, &st.x, nb);
+        axis::add_kinematics(model, st, &mirrors, &vol, &st.v, &mut sums);
+    }
     finish(model, st, sums)
 }
 
@@ -261,15 +295,26 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
             out.drho.push(0.0);
             out.ds.push(Sym::default());
         } else {
+            // η = 2π r ρ obeys the plane's continuity equation: the hoop
+            // strain rate is in ρ alone (docs/method.md §12).
             out.drho.push(-st.rho[i] * p.gv.trace());
-            out.ds
-                .push(stress_rate(model.material(i).g, &st.s[i], &p.gv));
+            let g = model.material(i).g;
+            let ds = stress_rate(g, &st.s[i], &p.gv);
+            out.ds.push(if model.axisymmetric {
+                axis::with_hoop(g, ds, axis::hoop_rate(st, i))
+            } else {
+                ds
+            });
         }
         if model.av_reconstruct {
             out.gv.push(p.gv_seen.unwrap_or(p.gv));
         }
         if model.strain_rate {
-            out.rate.push(strength::equivalent_strain_rate(&p.gv));
+            out.rate.push(if model.axisymmetric && !model.rigid(i) {
+                strength::equivalent_strain_rate_3(&p.gv, axis::hoop_rate(st, i))
+            } else {
+                strength::equivalent_strain_rate(&p.gv)
+            });
         }
     }
     out
@@ -314,6 +359,14 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
     let mut normal = vec![DVec2::ZERO; n];
     let mut grad_norm = vec![0.0; n];
     let mut area = vec![0.0; n];
+    // In a body of revolution the images across the axis are neighbours
+    // too, and a particle's area is its ring's.
+    let mirrors = model
+        .axisymmetric
+        .then(|| axis::Mirrors::find(model, x, nb));
+    let images = |i: usize| -> &[super::neighbours::Nbr] {
+        mirrors.as_ref().and_then(|m| m.of(i)).unwrap_or(&[])
+    };
     let per: Vec<(DVec2, f64)> = list
         .par_iter()
         .map(|&i| {
@@ -321,7 +374,7 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
             let h = model.h[i];
             let mut sw = kernel::w(2, 0.0, h);
             let mut g = DVec2::ZERO;
-            for b in nb.of(model, x, i) {
+            for b in nb.of(model, x, i).chain(images(i).iter().copied()) {
                 let j = b.j as usize;
                 g -= b.gw * reference_volume(model, j);
                 if is_boundary[j] {
@@ -330,6 +383,8 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
             }
             let a = if model.dim == 1 {
                 1.0
+            } else if model.axisymmetric {
+                kernel::line_integral_2d(h) / sw * (2.0 * std::f64::consts::PI * x[i].x)
             } else {
                 kernel::line_integral_2d(h) / sw
             };
@@ -350,10 +405,10 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
     }
 }
 
-/// `V⁰_j = m_j/ρ₀_j`, the volume particle j was made with.
+/// `V⁰_j`, the volume particle j was made with ([`Model::reference_volume`]).
 #[inline]
 pub fn reference_volume(model: &Model, j: usize) -> f64 {
-    model.mass[j] / model.material(j).rho0
+    model.reference_volume(j)
 }
 
 /// Jaumann-rate hypoelastic deviatoric stress rate (docs/method.md §6):

@@ -101,7 +101,7 @@ impl CpuSolver {
         } else {
             walk.map(|(i, ((e, rho), s))| {
                 to_next(i, e, rho, s);
-                stress_point(model, i, *rho, *e, s, 0.0)
+                stress_point(model, i, (*rho, next.x[i]), *e, s, 0.0)
             })
             .collect()
         };
@@ -117,6 +117,10 @@ impl CpuSolver {
             &pts,
             &mut self.kept,
         );
+        let mirrors = model.axisymmetric.then(|| {
+            let m = axis::Mirrors::find(model, &next.x, nb);
+            axis::add_momentum(model, &next, &m, &k.l, &k.gv, &k.surface, &pts, &mut dv)
+        });
         let mut diag = Diagnostics {
             correction_fallback: k.fallback.len(),
             ..Default::default()
@@ -143,6 +147,9 @@ impl CpuSolver {
         let v_next = &half.v;
         stage::enter(Stage::Forces, Role::Energy);
         let mut de = sweep::energy_replay(model, nb, &self.kept, v_next);
+        if let Some(m) = &mirrors {
+            m.add_energy(model, &pts, v_next, &mut de);
+        }
         let (mut heat_rate, mut spring_rate) = (0.0, 0.0);
         if let Some(bd) = bd {
             stage::enter(Stage::Contact, Role::Book);

@@ -17,6 +17,7 @@
 //! leapfrog with one evaluation a step ([`CpuSolver::step`]).
 
 pub mod advance;
+pub mod axis;
 pub mod contact;
 #[cfg(test)]
 mod contact_tests;
@@ -422,7 +423,8 @@ impl CpuSolver {
     fn check(&self) -> Result<(), Instability> {
         let st = &self.state;
         let m = &self.model;
-        let dense = |i: usize| dense(m, i, st.rho[i], st.damage_of(i));
+        let density = |i: usize| m.density(st.rho[i], st.x[i]);
+        let dense = |i: usize| dense(m, i, density(i), st.damage_of(i));
         let bad = (0..m.len())
             .into_par_iter()
             .find_first(|&i| !sane(m, i, st.x[i], st.v[i], st.e[i], st.rho[i], st.damage_of(i)));
@@ -438,7 +440,7 @@ impl CpuSolver {
                 } else if !st.e[i].is_finite() {
                     ("internal energy".to_string(), st.e[i])
                 } else if !dense(i) {
-                    ("density".to_string(), st.rho[i])
+                    ("density".to_string(), density(i))
                 } else {
                     m.outside_domain(st.x[i])
                 };

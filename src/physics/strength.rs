@@ -48,6 +48,16 @@ pub fn equivalent_strain_rate(gv: &Mat2) -> f64 {
     ((2.0 / 3.0) * (a * a + b * b + c * c + 2.0 * dxy * dxy)).sqrt()
 }
 
+/// [`equivalent_strain_rate`] with the third normal rate `d_zz` (the hoop
+/// rate `v_r / r` of a body of revolution) instead of 0.
+#[inline]
+pub fn equivalent_strain_rate_3(gv: &Mat2, d_zz: f64) -> f64 {
+    let dxy = 0.5 * (gv.xy + gv.yx);
+    let tr3 = (gv.xx + gv.yy + d_zz) / 3.0;
+    let (a, b, c) = (gv.xx - tr3, gv.yy - tr3, d_zz - tr3);
+    ((2.0 / 3.0) * (a * a + b * b + c * c + 2.0 * dxy * dxy)).sqrt()
+}
+
 /// The stress update of one particle of material `mat`: the trial
 /// deviatoric stress `trial` returned onto the yield surface at the strain
 /// rate `rate` (1/s), from the history `h` at the start of the step; `rho`

@@ -69,6 +69,9 @@ pub struct Simulation {
     /// Time integration (docs/method.md §9; an addition to the contract).
     #[serde(default)]
     pub integrator: Integrator,
+    /// Plane strain or bodies of revolution (docs/method.md §12).
+    #[serde(default)]
+    pub geometry: Geometry,
 }
 
 pub fn default_cfl() -> f64 {
@@ -87,6 +90,18 @@ pub enum Interaction {
     Penalty,
     /// Plain SPH across bodies (the paper's "kerneling" baseline).
     Kernel,
+}
+
+/// What a 2-D scene's plane stands for (docs/method.md §12).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Geometry {
+    /// Plane strain: every quantity per unit thickness.
+    #[default]
+    Planar,
+    /// Bodies of revolution about the second axis: the first coordinate is
+    /// the radius `r >= 0`, the second the axis `z`; masses are rings'.
+    Axisymmetric,
 }
 
 /// Time integration (docs/method.md §9), both second order.
@@ -500,6 +515,11 @@ impl Scene {
 
     pub fn dim(&self) -> usize {
         self.simulation.dimension as usize
+    }
+
+    /// Whether the scene's bodies are bodies of revolution.
+    pub fn axisymmetric(&self) -> bool {
+        self.simulation.geometry == Geometry::Axisymmetric
     }
 
     pub fn viscosity(&self) -> ArtificialViscosity {

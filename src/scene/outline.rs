@@ -188,9 +188,13 @@ mod tests {
 /// A polygon with holes, prepared once: its outline counter-clockwise
 /// and its holes clockwise (the material on every edge's left), for the
 /// inside test and the distance to its boundary.
+#[derive(Debug, Clone)]
 pub struct Polygon {
     /// The outline first, then the holes.
     rings: Vec<Vec<DVec2>>,
+    /// Whether edges on the line `x = 0` are left out of the distance (the
+    /// axis of a body of revolution is no surface).
+    off_axis: bool,
 }
 
 impl Polygon {
@@ -205,7 +209,18 @@ impl Polygon {
         };
         let mut rings = vec![ring(vertices, true)];
         rings.extend(holes.iter().map(|h| ring(h, false)));
-        Polygon { rings }
+        Polygon {
+            rings,
+            off_axis: false,
+        }
+    }
+
+    /// This polygon with its edges on `x = 0` left out of
+    /// [`Polygon::distance`] when `axisymmetric`: the cross-section of a
+    /// body of revolution, whose axis is no surface.
+    pub fn off_axis(mut self, axisymmetric: bool) -> Polygon {
+        self.off_axis = axisymmetric;
+        self
     }
 
     pub fn outline(&self) -> &Ring {
@@ -217,11 +232,13 @@ impl Polygon {
         contains(&self.rings[0], p) && !self.rings[1..].iter().any(|h| contains(h, p))
     }
 
-    /// Distance from `p` to the nearest edge of the outline or a hole.
+    /// Distance from `p` to the nearest edge of the outline or a hole
+    /// (but one on the axis, [`Polygon::off_axis`]).
     pub fn distance(&self, p: DVec2) -> f64 {
         self.rings
             .iter()
             .flat_map(|r| edges(r))
+            .filter(|(a, b)| !(self.off_axis && a.x == 0.0 && b.x == 0.0))
             .map(|(a, b)| segment_distance(p, a, b))
             .fold(f64::INFINITY, f64::min)
     }

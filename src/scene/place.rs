@@ -44,18 +44,31 @@ pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
         .enumerate()
         .map(|(i, b)| {
             let rho0 = scene.materials[&b.material].density;
+            let axisymmetric = scene.axisymmetric();
             let mut placed = match &b.shape {
-                Shape::Particles { file } => from_file(
-                    file,
-                    scene.dim(),
-                    b.spacing,
-                    scene.simulation.smoothing_ratio * b.spacing,
-                    rho0,
-                ),
-                shape => place(shape, b.spacing, rho0),
+                Shape::Particles { file } => {
+                    return from_file(
+                        file,
+                        scene.dim(),
+                        b.spacing,
+                        scene.simulation.smoothing_ratio * b.spacing,
+                        rho0,
+                        axisymmetric,
+                    )
+                }
+                shape => place(shape, b.spacing, rho0, axisymmetric),
             };
             if let Some(fraction) = b.jitter.filter(|&j| j > 0.0) {
-                jitter(&mut placed, &b.shape, fraction, b.seed.unwrap_or(i as u64));
+                jitter(
+                    &mut placed,
+                    &b.shape,
+                    fraction,
+                    b.seed.unwrap_or(i as u64),
+                    axisymmetric,
+                );
+            }
+            if axisymmetric {
+                revolve(&mut placed);
             }
             placed
         })
@@ -98,11 +111,11 @@ impl SplitMix64 {
 ///
 /// `fraction < 0.5` (validated) keeps each particle inside its own cell, so
 /// the particle order along a segment is kept and no two particles meet.
-fn jitter(placed: &mut PlacedBody, shape: &Shape, fraction: f64, seed: u64) {
+fn jitter(placed: &mut PlacedBody, shape: &Shape, fraction: f64, seed: u64, axisymmetric: bool) {
     let mut rng = SplitMix64(seed);
     let amplitude = fraction * placed.spacing;
     let two_d = !matches!(shape, Shape::Segment { .. });
-    let surface = surface_distance(shape);
+    let surface = surface_distance(shape, axisymmetric);
     for (p, o) in placed.positions.iter_mut().zip(placed.offsets.iter_mut()) {
         p.x += amplitude * rng.symmetric();
         if two_d {
@@ -116,9 +129,14 @@ fn jitter(placed: &mut PlacedBody, shape: &Shape, fraction: f64, seed: u64) {
 /// function of the point: the surface offset `o` of a particle centred
 /// there (docs/method.md §8.3). The one rule for placement and jitter
 /// alike; a polygon's outline is prepared once, not for every particle.
-fn surface_distance(shape: &Shape) -> Box<dyn Fn(DVec2) -> f64 + '_> {
+/// In a body of revolution the axis is no surface: a side or edge lying on
+/// it is left out.
+fn surface_distance(shape: &Shape, axisymmetric: bool) -> Box<dyn Fn(DVec2) -> f64 + '_> {
     match shape {
         Shape::Segment { from, to } => Box::new(move |p| (p.x - from).min(to - p.x)),
+        Shape::Rectangle { min, max } if axisymmetric && min[0] == 0.0 => {
+            Box::new(move |p| (max[0] - p.x).min(p.y - min[1]).min(max[1] - p.y))
+        }
         Shape::Rectangle { min, max } => Box::new(move |p| {
             (p.x - min[0])
                 .min(max[0] - p.x)
@@ -141,7 +159,7 @@ fn surface_distance(shape: &Shape) -> Box<dyn Fn(DVec2) -> f64 + '_> {
         Shape::Polygon {
             vertices, holes, ..
         } => {
-            let poly = Polygon::new(vertices, holes);
+            let poly = Polygon::new(vertices, holes).off_axis(axisymmetric);
             Box::new(move |p| {
                 let d = poly.distance(p);
                 if poly.contains(p) {
@@ -162,17 +180,42 @@ fn surface_distance(shape: &Shape) -> Box<dyn Fn(DVec2) -> f64 + '_> {
 /// particles at smoothing length `h` ([`surface::offsets`]); empty if the
 /// file cannot be read (validation has reported that). `spacing` is the
 /// body's.
-fn from_file(path: &std::path::Path, dim: usize, spacing: f64, h: f64, rho0: f64) -> PlacedBody {
+/// In a body of revolution a file's volumes and masses are its rings'
+/// (m³, kg), and the offsets are found with the particles' mirror images
+/// across the axis, which is no surface.
+fn from_file(
+    path: &std::path::Path,
+    dim: usize,
+    spacing: f64,
+    h: f64,
+    rho0: f64,
+    axisymmetric: bool,
+) -> PlacedBody {
     let Ok(t) = particles_file::read(path, dim) else {
         return PlacedBody {
             spacing,
             ..Default::default()
         };
     };
-    let offsets = if t.offset.is_empty() {
-        surface::offsets(&t.x, &t.volumes(rho0), h, dim)
-    } else {
+    let offsets = if !t.offset.is_empty() {
         t.offset.clone()
+    } else if axisymmetric {
+        let n = t.x.len();
+        let mut x = t.x.clone();
+        let mut area: Vec<f64> = (t.volumes(rho0).iter().zip(&t.x))
+            .map(|(v, p)| v / (2.0 * PI * p.x))
+            .collect();
+        for k in 0..n {
+            if t.x[k].x < 2.0 * h {
+                x.push(DVec2::new(-t.x[k].x, t.x[k].y));
+                area.push(area[k]);
+            }
+        }
+        let mut o = surface::offsets(&x, &area, h, dim);
+        o.truncate(n);
+        o
+    } else {
+        surface::offsets(&t.x, &t.volumes(rho0), h, dim)
     };
     PlacedBody {
         offsets,
@@ -193,15 +236,36 @@ fn annulus_offset(r_in: f64, r_out: f64, r: f64) -> f64 {
     }
 }
 
-/// Place one shape with nominal spacing `dx` and density `rho0`.
-pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
+/// A body of revolution from its placed cross-section: the particles at
+/// `r > 0` (a shape across the axis is symmetric about it: the rest are
+/// their mirror images), each with the mass of its ring, `2π r` times its
+/// mass per unit thickness.
+fn revolve(placed: &mut PlacedBody) {
+    let keep: Vec<bool> = placed.positions.iter().map(|p| p.x > 0.0).collect();
+    fn pick<T>(v: &mut Vec<T>, keep: &[bool]) {
+        let mut k = keep.iter();
+        v.retain(|_| *k.next().unwrap_or(&true));
+    }
+    pick(&mut placed.positions, &keep);
+    pick(&mut placed.masses, &keep);
+    pick(&mut placed.offsets, &keep);
+    for (m, p) in placed.masses.iter_mut().zip(&placed.positions) {
+        *m *= 2.0 * PI * p.x;
+    }
+}
+
+/// Place one shape with nominal spacing `dx` and density `rho0`; in the
+/// plane of a body of revolution when `axisymmetric`: the axis is no surface, and a disk or ring centred on it on the polar
+/// lattice is placed on half rings whose particles lie off the axis. The
+/// masses are still per unit thickness ([`revolve`] makes them rings').
+fn place(shape: &Shape, dx: f64, rho0: f64, axisymmetric: bool) -> PlacedBody {
     let mut out = PlacedBody {
         spacing: dx,
         ..Default::default()
     };
     match shape {
         Shape::Segment { from, to } => {
-            let surface = surface_distance(shape);
+            let surface = surface_distance(shape, axisymmetric);
             let n = cells(to - from, dx);
             if n == 0 {
                 return out;
@@ -216,7 +280,7 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
             }
         }
         Shape::Rectangle { min, max } => {
-            let surface = surface_distance(shape);
+            let surface = surface_distance(shape, axisymmetric);
             let (nx, ny) = (cells(max[0] - min[0], dx), cells(max[1] - min[1], dx));
             if nx == 0 || ny == 0 {
                 return out;
@@ -240,7 +304,15 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
             center,
             radius,
             lattice,
-        } => annulus(&mut out, center, 0.0, *radius, *lattice, dx, rho0),
+        } => annulus(
+            &mut out,
+            center,
+            (0.0, *radius),
+            *lattice,
+            dx,
+            rho0,
+            axisymmetric && center[0] == 0.0,
+        ),
         Shape::Ring {
             center,
             inner_radius,
@@ -249,11 +321,11 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
         } => annulus(
             &mut out,
             center,
-            *inner_radius,
-            *outer_radius,
+            (*inner_radius, *outer_radius),
             *lattice,
             dx,
             rho0,
+            axisymmetric && center[0] == 0.0,
         ),
         Shape::Polygon {
             vertices,
@@ -261,10 +333,11 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
             lattice: PolygonLattice::Boundary,
         } => {
             let poly = Polygon::new(vertices, holes);
+            let surface = poly.clone().off_axis(axisymmetric);
             for p in outline::boundary_lattice(&poly, dx) {
                 out.positions.push(p.x);
                 out.masses.push(rho0 * p.area);
-                out.offsets.push(poly.distance(p.x));
+                out.offsets.push(surface.distance(p.x));
             }
         }
         Shape::Polygon {
@@ -276,6 +349,7 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
             // rectangle's: a rectangle drawn as a polygon places the same
             // particles, bit for bit.
             let poly = Polygon::new(vertices, holes);
+            let surface = poly.clone().off_axis(axisymmetric);
             let (min, max) = poly
                 .outline()
                 .iter()
@@ -298,7 +372,7 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
                     if poly.contains(p) {
                         out.positions.push(p);
                         out.masses.push(rho0 * ddx * ddy);
-                        out.offsets.push(poly.distance(p));
+                        out.offsets.push(surface.distance(p));
                     }
                 }
             }
@@ -309,15 +383,16 @@ pub fn place(shape: &Shape, dx: f64, rho0: f64) -> PlacedBody {
     out
 }
 
-/// A disk (`r_in = 0`) or a ring on the square or polar lattice.
+/// A disk (`r_in = 0`) or a ring (radii `(r_in, r_out)`) on the square or
+/// polar lattice; on the polar lattice's half rings `x > 0` when `half`.
 fn annulus(
     out: &mut PlacedBody,
     center: &[f64],
-    r_in: f64,
-    r_out: f64,
+    (r_in, r_out): (f64, f64),
     lattice: Lattice,
     dx: f64,
     rho0: f64,
+    half: bool,
 ) {
     let c = DVec2::new(center[0], center[1]);
     // (From the lattice's own radius, not |p − c|, which differs from it
@@ -350,8 +425,28 @@ fn annulus(
                 let r = r_in + (k as f64 + 0.5) * dr;
                 // docs/scenes.md: max(1, round(2π r_k K / radius)) for a disk; for a
                 // ring the same rule reads 2π r_k / dr.
-                let count = ((2.0 * PI * r / dr).round() as usize).max(1);
                 let ring_area = PI * ((r + 0.5 * dr).powi(2) - (r - 0.5 * dr).powi(2));
+                if half {
+                    // The same spacing along the half ring, the particles
+                    // at the middles of its arcs, the outermost about
+                    // dr/2 from the axis; the innermost half ring (arc
+                    // π dr/2) holds one particle, dr/2 from it (two would
+                    // sit 0.35 dr from it).
+                    let count = if k == 0 {
+                        1
+                    } else {
+                        (PI * r / dr).round() as usize
+                    };
+                    let m = rho0 * 0.5 * ring_area / count as f64;
+                    for q in 0..count {
+                        let th = PI * ((q as f64 + 0.5) / count as f64 - 0.5);
+                        out.positions.push(c + r * DVec2::new(th.cos(), th.sin()));
+                        out.masses.push(m);
+                        out.offsets.push(offset(r));
+                    }
+                    continue;
+                }
+                let count = ((2.0 * PI * r / dr).round() as usize).max(1);
                 let m = rho0 * ring_area / count as f64;
                 for q in 0..count {
                     let th = 2.0 * PI * q as f64 / count as f64;
@@ -377,6 +472,7 @@ mod tests {
             },
             5e-5,
             7850.0,
+            false,
         );
         assert_eq!(b.positions.len(), 100);
         assert!((b.positions[0].x - (-0.005 + 2.5e-5)).abs() < 1e-15);
@@ -396,10 +492,10 @@ mod tests {
             from: -0.005,
             to: 0.0,
         };
-        let regular = place(&shape, 5e-5, 7850.0);
+        let regular = place(&shape, 5e-5, 7850.0, false);
         let jittered = |seed| {
-            let mut b = place(&shape, 5e-5, 7850.0);
-            jitter(&mut b, &shape, 0.1, seed);
+            let mut b = place(&shape, 5e-5, 7850.0, false);
+            jitter(&mut b, &shape, 0.1, seed, false);
             b
         };
         let a = jittered(3);
@@ -431,9 +527,9 @@ mod tests {
             radius: 5e-3,
             lattice: Lattice::Square,
         };
-        let regular = place(&disk, 2.5e-4, 7850.0);
-        let mut b = place(&disk, 2.5e-4, 7850.0);
-        jitter(&mut b, &disk, 0.3, 1);
+        let regular = place(&disk, 2.5e-4, 7850.0, false);
+        let mut b = place(&disk, 2.5e-4, 7850.0, false);
+        jitter(&mut b, &disk, 0.3, 1, false);
         let moved = |f: fn(DVec2) -> f64| {
             b.positions
                 .iter()
@@ -455,6 +551,7 @@ mod tests {
                 },
                 2.5e-4,
                 7850.0,
+                false,
             );
             let m: f64 = b.masses.iter().sum();
             let exact = 7850.0 * PI * 25e-6;

@@ -142,3 +142,64 @@ fn polygons_and_particles_files() {
         .two_d(),
     ]);
 }
+
+const AXISYMMETRIC: (&str, &str) = (
+    "dimension = 2\nend_time",
+    "dimension = 2\ngeometry = \"axisymmetric\"\nend_time",
+);
+const PLATE_FROM_AXIS: (&str, &str) = (
+    "min = [-0.001, -0.001], max = [0.001, 0.0]",
+    "min = [0.0, -0.001], max = [0.001, 0.0]",
+);
+
+#[test]
+fn bodies_of_revolution() {
+    check_cases(&[
+        case(
+            "axisymmetric_body_at_negative_r",
+            &[AXISYMMETRIC],
+            "bodies[0].shape",
+        )
+        .also(&["r = -0.001", "radius"])
+        .two_d(),
+        case(
+            "axisymmetric_disk_across_the_axis_off_centre",
+            &[
+                AXISYMMETRIC,
+                PLATE_FROM_AXIS,
+                ("center = [0.0, 0.001]", "center = [0.0005, 0.001]"),
+            ],
+            "bodies[1].shape",
+        )
+        .also(&["without being centred on the axis"])
+        .two_d(),
+        case(
+            "axisymmetric_polygon_at_negative_r",
+            &[
+                AXISYMMETRIC,
+                PLATE_FROM_AXIS,
+                (
+                    DISK_SHAPE,
+                    "shape = { kind = \"polygon\", vertices = [[-0.0002, 0.0002], [0.001, 0.0002], [0.0, 0.001]] }",
+                ),
+            ],
+            "bodies[1].shape",
+        )
+        .also(&["vertex at r = -0.0002"])
+        .two_d(),
+        case(
+            "axisymmetric_particle_on_the_axis",
+            &[
+                AXISYMMETRIC,
+                PLATE_FROM_AXIS,
+                (DISK_SHAPE, "shape = { kind = \"particles\", file = \"axis.csv\" }"),
+            ],
+            "bodies[1].shape.file",
+        )
+        .also(&["particle 0", "data line 1", "r = 0"])
+        .with_files(&[("axis.csv", "x,y,volume\n0.0,0.0004,4e-8\n0.0002,0.0004,4e-8\n")])
+        .two_d(),
+        case("axisymmetric_in_1d", &[("dimension = 1", "dimension = 1\ngeometry = \"axisymmetric\"")], "simulation.geometry")
+            .also(&["dimension = 2"]),
+    ]);
+}

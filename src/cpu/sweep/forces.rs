@@ -30,7 +30,12 @@ pub fn momentum_energy(
     surface: &[bool],
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>) {
-    sums(model, st, nb, l, gv, surface, pts, lanes_serve(model), None)
+    let (mut dv, mut de) = sums(model, st, nb, l, gv, surface, pts, lanes_serve(model), None);
+    if model.axisymmetric {
+        let mirrors = crate::cpu::axis::Mirrors::find(model, &st.x, nb);
+        crate::cpu::axis::add_forces(model, st, &mirrors, l, gv, surface, pts, &mut dv, &mut de);
+    }
+    (dv, de)
 }
 
 /// A pair's energy vectors, kept by [`momentum_keeping`] in the pair's

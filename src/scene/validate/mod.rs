@@ -11,7 +11,7 @@ use crate::error::SceneError;
 use crate::physics::material::{cfl_step, MaterialModel};
 
 mod shapes;
-use shapes::{validate_particles, validate_shape};
+use shapes::{validate_particles, validate_revolution, validate_shape};
 
 type R = Result<(), SceneError>;
 
@@ -59,6 +59,12 @@ pub fn validate(scene: &Scene) -> R {
         return Err(SceneError::at(
             "simulation.dimension",
             format!("must be 1 or 2 (got {})", sim.dimension),
+        ));
+    }
+    if scene.axisymmetric() && dim != 2 {
+        return Err(SceneError::at(
+            "simulation.geometry",
+            format!("\"axisymmetric\" needs dimension = 2 (the r-z plane; got {dim})"),
         ));
     }
     positive("simulation.end_time", sim.end_time)?;
@@ -150,9 +156,12 @@ pub fn validate(scene: &Scene) -> R {
             }
         }
         validate_shape(&b.shape, dim, &k("shape"))?;
+        if scene.axisymmetric() {
+            validate_revolution(&b.shape, &k("shape"))?;
+        }
         if let Shape::Particles { file } = &b.shape {
             let rho0 = scene.materials.get(&b.material).map_or(1.0, |m| m.density);
-            validate_particles(b, file, dim, rho0, &k)?;
+            validate_particles(b, file, dim, rho0, scene.axisymmetric(), &k)?;
         }
     }
 

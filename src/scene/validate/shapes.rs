@@ -130,15 +130,32 @@ fn validate_polygon(vertices: &[Vec<f64>], holes: &[Vec<Vec<f64>>], key: &str) -
 /// spacing `V^(1/d)` (median) within 25 % of the body's `spacing` (which
 /// sets their `h`), velocities from the file or the body, not both, and
 /// no jitter (the file's positions are the user's).
+///
+/// In a body of revolution every particle lies at `r > 0` and its volume
+/// is its ring's: the spacing is that of the cross-section, `√(V/2πr)`.
 pub(super) fn validate_particles(
     b: &crate::scene::Body,
     file: &std::path::Path,
     dim: usize,
     rho0: f64,
+    axisymmetric: bool,
     k: &dyn Fn(&str) -> String,
 ) -> R {
     let t = crate::scene::particles_file::read(file, dim)
         .map_err(|e| SceneError::at(k("shape.file"), e))?;
+    if axisymmetric {
+        if let Some(i) = t.x.iter().position(|p| p.x <= 0.0 || p.x.is_nan()) {
+            return Err(SceneError::at(
+                k("shape.file"),
+                format!(
+                    "particle {} (data line {}) lies at r = {} m: in an axisymmetric scene the first column is the radius, and every particle lies at r > 0",
+                    i,
+                    i + 1,
+                    t.x[i].x
+                ),
+            ));
+        }
+    }
     if b.jitter.is_some_and(|j| j > 0.0) {
         return Err(SceneError::at(
             k("jitter"),
@@ -160,7 +177,12 @@ pub(super) fn validate_particles(
     let mut side: Vec<f64> = t
         .volumes(rho0)
         .iter()
-        .map(|&v| if dim == 1 { v } else { v.sqrt() })
+        .zip(&t.x)
+        .map(|(&v, p)| match (dim, axisymmetric) {
+            (1, _) => v,
+            (_, false) => v.sqrt(),
+            (_, true) => (v / (2.0 * std::f64::consts::PI * p.x)).sqrt(),
+        })
         .collect();
     {
         side.sort_by(f64::total_cmp);
@@ -176,4 +198,48 @@ pub(super) fn validate_particles(
         }
     }
     Ok(())
+}
+
+/// A body of revolution's cross-section lies at `r >= 0`: a rectangle or
+/// polygon on the axis's right, a disk or ring either there or centred on
+/// the axis (its other half is its mirror image, the same body).
+pub(super) fn validate_revolution(shape: &Shape, key: &str) -> R {
+    let refuse = |what: String| {
+        Err(SceneError::at(
+            key,
+            format!(
+                "{what}: in an axisymmetric scene the first coordinate is the radius, and a body lies at r >= 0 (a disk or ring may also be centred on the axis)"
+            ),
+        ))
+    };
+    match shape {
+        Shape::Rectangle { min, .. } if min[0] < 0.0 => {
+            refuse(format!("the rectangle reaches r = {}", min[0]))
+        }
+        Shape::Disk { center, radius, .. } if center[0] != 0.0 && center[0] - radius < 0.0 => {
+            refuse(format!(
+                "the disk reaches r = {} without being centred on the axis",
+                center[0] - radius
+            ))
+        }
+        Shape::Ring {
+            center,
+            outer_radius,
+            ..
+        } if center[0] != 0.0 && center[0] - outer_radius < 0.0 => refuse(format!(
+            "the ring reaches r = {} without being centred on the axis",
+            center[0] - outer_radius
+        )),
+        Shape::Polygon {
+            vertices, holes, ..
+        } => match vertices
+            .iter()
+            .chain(holes.iter().flatten())
+            .find(|p| p[0] < 0.0)
+        {
+            Some(p) => refuse(format!("the polygon has a vertex at r = {}", p[0])),
+            None => Ok(()),
+        },
+        _ => Ok(()),
+    }
 }

@@ -320,6 +320,79 @@ pub fn hertz_disk_on_wall(mat: &MaterialModel, radius: f64, speed: f64, c: f64) 
     h
 }
 
+// ---------------------------------------------------------------------------
+// 3-D Hertz impact of two elastic spheres (docs/method.md §12)
+// ---------------------------------------------------------------------------
+
+/// One body of a Hertz sphere impact: its radius, mass and contact modulus
+/// `E/(1 − ν²)`; a rigid flat wall has all three infinite.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzBody {
+    pub radius: f64,
+    pub mass: f64,
+    pub modulus: f64,
+}
+
+impl HertzBody {
+    /// A sphere of radius `radius` of the material `mat`.
+    pub fn sphere(mat: &MaterialModel, radius: f64) -> HertzBody {
+        HertzBody {
+            radius,
+            mass: mat.rho0 * 4.0 / 3.0 * PI * radius.powi(3),
+            modulus: plane_strain_modulus(mat),
+        }
+    }
+
+    /// A rigid flat wall.
+    pub const WALL: HertzBody = HertzBody {
+        radius: f64::INFINITY,
+        mass: f64::INFINITY,
+        modulus: f64::INFINITY,
+    };
+}
+
+/// Peak force, contact time and peak approach of a Hertz sphere impact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzSpheres {
+    /// N.
+    pub peak_force: f64,
+    /// s.
+    pub contact_time: f64,
+    /// m.
+    pub max_approach: f64,
+}
+
+/// The quasi-static Hertz impact of bodies `a` and `b` closing at
+/// `closing_speed` (Johnson 1985, §11.4): `F = (4/3) E* √R* δ^{3/2}` with
+/// `1/E* = 1/E'_a + 1/E'_b`, `1/R* = 1/R_a + 1/R_b`, `1/m* = 1/m_a +
+/// 1/m_b`. Energy gives the peak approach `δ_max = (15 m* V² / (16 E*
+/// √R*))^{2/5}` and the peak force; the contact time is `2 (δ_max/V)
+/// ∫₀¹ (1 − x^{5/2})^{−1/2} dx` (the integral 1.471638), computed by
+/// tanh–sinh quadrature.
+pub fn hertz_spheres(a: HertzBody, b: HertzBody, closing_speed: f64) -> HertzSpheres {
+    let inv = |x: f64, y: f64| 1.0 / (1.0 / x + 1.0 / y);
+    let (m, r, e) = (
+        inv(a.mass, b.mass),
+        inv(a.radius, b.radius),
+        inv(a.modulus, b.modulus),
+    );
+    let v = closing_speed;
+    let d = (15.0 * m * v * v / (16.0 * e * r.sqrt())).powf(0.4);
+    // x^{5/2} = sin²φ: dx/√(1 − x^{5/2}) = (4/5) sin^{−1/5}φ dφ, whose
+    // end-point singularity at φ = 0 tanh–sinh integrates.
+    let i = tanh_sinh(
+        &|phi: f64| 0.8 * phi.sin().powf(-0.2),
+        0.0,
+        FRAC_PI_2,
+        1e-13,
+    );
+    HertzSpheres {
+        peak_force: 4.0 / 3.0 * e * r.sqrt() * d.powf(1.5),
+        contact_time: 2.0 * d / v * i,
+        max_approach: d,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -496,5 +569,31 @@ mod tests {
         assert!(try_hertz_disks(&s, -5e-3, 10.0, 1.0).is_none());
         assert!(try_hertz_disks(&s, 5e-3, 1e12, 1.0).is_none());
         assert!(hertz_disks(&s, 5e-3, f64::NAN, 1.0).peak_force.is_nan());
+    }
+
+    /// The contact time's integral is `(2/5) B(2/5, 1/2)` = 1.471638...
+    /// (Γ(2/5) = 2.2181595437577, Γ(9/10) = 1.0686287021193), and two
+    /// identical spheres give Johnson's `t = 2.868 (m*²/(R* E*² V))^{1/5}`.
+    #[test]
+    fn hertz_spheres_by_hand() {
+        let integral = 0.4 * 2.218_159_543_757_688 * PI.sqrt() / 1.068_628_702_119_319;
+        let ball = HertzBody {
+            radius: 0.005,
+            mass: 0.004,
+            modulus: 2.2e11,
+        };
+        let h = hertz_spheres(ball, ball, 10.0);
+        let d = (15.0 * 0.002 * 100.0 / (16.0 * 1.1e11 * 0.0025f64.sqrt())).powf(0.4);
+        assert!((h.max_approach / d - 1.0).abs() < 1e-14);
+        assert!((h.contact_time / (2.0 * d / 10.0 * integral) - 1.0).abs() < 1e-10);
+        let scale = (0.002f64.powi(2) / (0.0025 * 1.1e11f64.powi(2) * 10.0)).powf(0.2);
+        assert!((h.contact_time / scale / 2.868_266 - 1.0).abs() < 1e-6);
+        let f = 4.0 / 3.0 * 1.1e11 * 0.0025f64.sqrt() * d.powf(1.5);
+        assert!((h.peak_force / f - 1.0).abs() < 1e-14);
+        // A sphere on a rigid wall at V is one of two spheres closing at 2V.
+        let wall = hertz_spheres(ball, HertzBody::WALL, 5.0);
+        let pair = hertz_spheres(ball, ball, 10.0);
+        assert!((wall.peak_force / pair.peak_force - 1.0).abs() < 1e-12);
+        assert!((wall.contact_time / pair.contact_time - 1.0).abs() < 1e-12);
     }
 }
