@@ -363,6 +363,7 @@ fn probe_value(k: u32) {
         case 12u: { val = h.y; }
         case 13u: { val = h.z; }
         case 14u: { val = h.w; }
+        case 15u: { val = si.w - p; }
         default: { val = r[i].y; }
     }
     ring[row_base() + 3u + NSLOTS + k] = val;

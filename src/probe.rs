@@ -74,6 +74,7 @@ pub fn particle_value(model: &Model, st: &State, i: usize, q: ParticleQuantity) 
         ParticleQuantity::StressXx => st.s[i].xx - p(),
         ParticleQuantity::StressYy => st.s[i].yy - p(),
         ParticleQuantity::StressXy => st.s[i].xy,
+        ParticleQuantity::StressZz => st.s[i].zz - p(),
         ParticleQuantity::VonMises => st.s[i].von_mises(),
         ParticleQuantity::InternalEnergy => st.e[i],
         ParticleQuantity::PlasticStrain => history(&st.eps_p),

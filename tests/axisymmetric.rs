@@ -188,6 +188,39 @@ fn a_bar_carries_a_pulse_at_the_bar_wave_speed() {
     }
 }
 
+/// A solid steel cylinder (radius 2 mm, 8 mm long) squeezed by a rigid
+/// sleeve closing at 1 m/s (scenes/axisymmetric/lame_cylinder.toml):
+/// Lamé's answer for a solid cylinder under a uniform radial load `p` is
+/// `σ_rr = σ_θθ = −p` at every radius, and with free ends `σ_zz = 0`. Over
+/// the last 5 µs (p about 2.6 GPa, the radial ringing of the sudden start
+/// averaged out), both stresses at a quarter, half and three quarters of
+/// the radius at mid-length are within 3 % of `−p`, `p` the contact force
+/// over the sleeve's area, and the axial stress within 5 % of `p` of 0.
+#[test]
+fn a_solid_cylinder_under_radial_load_follows_lame() {
+    let out = run(&load("scenes/axisymmetric/lame_cylinder.toml"));
+    let t = &out.history.times;
+    let window: Vec<usize> = (0..t.len()).filter(|&k| t[k] >= 1.5e-5).collect();
+    let mean = |name: &str| {
+        let c = column(&out, name);
+        window.iter().map(|&k| c[k]).sum::<f64>() / window.len() as f64
+    };
+    let area = 2.0 * std::f64::consts::PI * 0.002 * 0.008;
+    let p = mean("force") / area;
+    assert!(p > 2.0e9, "the sleeve loads the cylinder: {p:e} Pa");
+    for r in ["05", "10", "15"] {
+        for q in ["srr", "stt"] {
+            let name = format!("{q}_{r}");
+            let ratio = -mean(&name) / p;
+            println!("{name}: {ratio:.4} of -p");
+            assert!((ratio - 1.0).abs() < 0.03, "{name}: {ratio}");
+        }
+    }
+    let axial = mean("szz_10") / p;
+    println!("szz_10: {axial:.4} of p");
+    assert!(axial.abs() < 0.05, "axial stress {axial}");
+}
+
 /// Bodies of revolution run on the CPU path: `--backend gpu` refuses them
 /// (exit 2, naming the key), `auto` runs the CPU path with a warning.
 #[test]

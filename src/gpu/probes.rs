@@ -75,6 +75,7 @@ fn particle_code(q: ParticleQuantity) -> u32 {
         ParticleQuantity::Temperature => 12,
         ParticleQuantity::Damage => 13,
         ParticleQuantity::FailureTime => 14,
+        ParticleQuantity::StressZz => 15,
     }
 }
 

@@ -25,6 +25,7 @@ pub fn unit(probe: &Probe, dim: u32) -> &'static str {
             | ParticleQuantity::StressXx
             | ParticleQuantity::StressYy
             | ParticleQuantity::StressXy
+            | ParticleQuantity::StressZz
             | ParticleQuantity::VonMises => "Pa",
             ParticleQuantity::InternalEnergy => "J/kg",
             ParticleQuantity::PlasticStrain | ParticleQuantity::Damage => "1",

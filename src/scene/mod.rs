@@ -366,6 +366,9 @@ pub enum ParticleQuantity {
     StressXx,
     StressYy,
     StressXy,
+    /// The normal stress across the plane: `σ_zz` of plane strain, the
+    /// hoop stress `σ_θθ` of a body of revolution.
+    StressZz,
     VonMises,
     InternalEnergy,
     /// Equivalent plastic strain (a body whose material has a strength law
