@@ -11,6 +11,7 @@ fn scenes() -> Vec<Scene> {
         "scenes/hard",
         "scenes/penetration",
         "scenes/shapes",
+        "scenes/axisymmetric",
     ]
     .iter()
     .flat_map(|d| std::fs::read_dir(root.join(d)).expect("scene folder"))
