@@ -301,7 +301,13 @@ fn entries(p: u32, count: bool) -> Entries {
         own_heat = 0.0;
         eta = heat / sw;
     }
-    e.own = vec4<f32>(-n * (0.5 * pres * a), own_heat, f32(partner));
+    // The nominal force the probes report: what the pass applies along its
+    // normal, the dashpot and the spring as faded (cpu::contact, PassStat).
+    var applied = pres;
+    if (fade < 1.0 && !clipped) {
+        applied = max(z * w_rate + stiffness * delta * fade, 0.0);
+    }
+    e.own = vec4<f32>(-n * (0.5 * applied * a), own_heat, f32(partner));
     e.share = vec4<f32>(n * (dash / sw), eta, phi_dot);
     e.bar0 = bar0;
     e.bar1 = bar1;

@@ -163,7 +163,8 @@ struct Cand {
 #[derive(Debug, Clone, Copy)]
 struct PassStat {
     partner: u32,
-    /// `½ p A`, the pass's share of the pair force.
+    /// `½ p A`, the pass's share of the pair force, `p` the pressure it
+    /// applies along its normal (its spring faded as it acts).
     force: f64,
     pressure: f64,
     /// `¼ k δ² A`
@@ -456,10 +457,18 @@ pub fn penalty_booked(
                     eta: if rigid { heat / sw } else { 0.0 },
                     spring,
                 });
+                // What the pass applies along its normal: the dashpot and
+                // the spring as faded (the pressure law's own p where the
+                // pass does not fade).
+                let applied = if fade < 1.0 && !ps.clipped {
+                    (ps.z * ps.w_rate + ps.stiffness * ps.delta * fade).max(0.0)
+                } else {
+                    ps.p
+                };
                 out.stats.push(PassStat {
                     partner: bq,
-                    force: 0.5 * ps.p * a,
-                    pressure: ps.p,
+                    force: 0.5 * applied * a,
+                    pressure: applied,
                     // Finite: a pair with two rigid sides has no pressure.
                     stored: phi0 * fade,
                     heat,
