@@ -139,13 +139,7 @@ fn mirror_terms(
     surface: &[bool],
     pts: &[StressPoint],
 ) -> MirrorTerms {
-    let side = |k: usize| Side {
-        x: st.x[k],
-        v: st.v[k],
-        l: l[k],
-        gv: gv.get(k).copied().unwrap_or(Mat2::ZERO),
-        pt: pts[k],
-    };
+    let side = |k| Side::of(st, l, gv, pts, k);
     let image = |k: usize| {
         let s = side(k);
         Side {
@@ -184,32 +178,15 @@ fn mirror_terms(
         .collect()
 }
 
-/// Adds to the momentum and energy rates `dv`, `de` the terms of the
-/// mirror partners `mirrors` and the hoop terms: `dv_r −= σ_θθ / (r ρ)`
-/// and `de += σ_θθ v_r / (r ρ)`, the work of the one the heat of the
-/// other, so that they exchange no energy with the total.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn add_forces(
-    model: &Model,
-    st: &State,
-    mirrors: &Mirrors,
-    l: &[Mat2],
-    gv: &[Mat2],
-    surface: &[bool],
-    pts: &[StressPoint],
-    dv: &mut [DVec2],
-    de: &mut [f64],
-) {
-    let kept = add_momentum(model, st, mirrors, l, gv, surface, pts, dv);
-    kept.add_energy(model, pts, &st.v, de);
-}
-
 /// The mirror partners' energy vectors, kept by [`add_momentum`] for the
 /// energy rates at the velocities the leapfrog books its work at.
 pub(super) struct KeptMirrors(MirrorTerms);
 
 /// Adds the mirror partners' and the hoop's accelerations to `dv` and
-/// keeps what their energy rates need.
+/// keeps what their energy rates need ([`KeptMirrors::add_energy`]): the
+/// hoop acceleration `−σ_θθ / (r ρ)` along r, whose work the hoop heat
+/// `σ_θθ v_r / (r ρ)` books, so that they exchange no energy with the
+/// total.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn add_momentum(
     model: &Model,

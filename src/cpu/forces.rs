@@ -61,13 +61,7 @@ pub(in crate::cpu) fn pair_terms(
     b: &Nbr,
 ) -> PairTerms {
     let j = b.j as usize;
-    let side = |k: usize| Side {
-        x: st.x[k],
-        v: st.v[k],
-        l: l[k],
-        gv: gv.get(k).copied().unwrap_or(Mat2::ZERO),
-        pt: pts[k],
-    };
+    let side = |k| Side::of(st, l, gv, pts, k);
     pair_terms_of(model, st, surface, (i, &side(i)), (j, &side(j)), b.gw)
 }
 
@@ -82,6 +76,27 @@ pub(in crate::cpu) struct Side {
     /// `∇v`, read only when the viscosity is reconstructed.
     pub(in crate::cpu) gv: Mat2,
     pub(in crate::cpu) pt: StressPoint,
+}
+
+impl Side {
+    /// Particle k's side at `st`, with its `L`, `∇v` (empty: zero) and
+    /// stress point.
+    #[inline]
+    pub(in crate::cpu) fn of(
+        st: &State,
+        l: &[Mat2],
+        gv: &[Mat2],
+        pts: &[StressPoint],
+        k: usize,
+    ) -> Side {
+        Side {
+            x: st.x[k],
+            v: st.v[k],
+            l: l[k],
+            gv: gv.get(k).copied().unwrap_or(Mat2::ZERO),
+            pt: pts[k],
+        }
+    }
 }
 
 /// [`pair_terms`] of particles `(i, a)` and `(j, b)`, each with its
@@ -201,7 +216,8 @@ pub fn momentum_energy(
         .unzip();
     if model.axisymmetric {
         let mirrors = super::axis::Mirrors::find(model, &st.x, nb);
-        super::axis::add_forces(model, st, &mirrors, l, gv, surface, pts, &mut dv, &mut de);
+        super::axis::add_momentum(model, st, &mirrors, l, gv, surface, pts, &mut dv)
+            .add_energy(model, pts, &st.v, &mut de);
     }
     (dv, de)
 }
