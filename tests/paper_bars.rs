@@ -255,40 +255,53 @@ fn bar_onto_rigid_wall() {
     assert!(drift < 5e-3, "energy drift {drift:e}");
 }
 
-/// The lateral stress of uniaxial strain: behind the elastic wave of the
-/// steel bars' impact the `stress_zz` probe reads the other lateral
-/// stress, `stress_yy`, to round-off, and about `ν/(1 − ν)` of the axial
-/// stress (0.4240 for the bars' steel at small strain; the Mie–Grüneisen
-/// pressure stiffens with compression), on the backend of the thread.
+/// The lateral stress of uniaxial strain: in the steel bars' impact the
+/// `stress_zz` probe reads the other lateral stress, `stress_yy`, to
+/// round-off, and differs from the axial stress by the deviator's exact
+/// `σ_zz − σ_xx = 2G ln(ρ/ρ0)` (the hypoelastic law in uniaxial strain,
+/// whatever the EOS) at every row the wave has reached: to 1e-5 in f64,
+/// 1e-3 in f32 (whose density carries 1e-7 of itself, 1e-4 of the strain
+/// here). On the backend of the thread.
 fn lateral_stress_of_uniaxial_strain() {
     let mut scene = load("scenes/paper/bars_steel.toml");
     scene.simulation.end_time = 1.0e-6;
-    let text = scene.to_toml()
-        + "\n[[probes]]\nname = \"sxx\"\nkind = \"particle\"\nbody = \"left\"\nat = [-0.0025]\nquantity = \"stress_xx\"\n"
-        + "\n[[probes]]\nname = \"szz\"\nkind = \"particle\"\nbody = \"left\"\nat = [-0.0025]\nquantity = \"stress_zz\"\n"
-        + "\n[[probes]]\nname = \"syy\"\nkind = \"particle\"\nbody = \"left\"\nat = [-0.0025]\nquantity = \"stress_yy\"\n";
-    let scene = parse(&text);
-    let nu = material(&scene, "steel").nu;
-    let out = run(&scene);
-    let (sxx, szz) = (column(&out, "sxx"), column(&out, "szz"));
-    // The plateau: the wave has passed the probe (at 2.5 mm, 0.43 µs after
-    // contact) and the release from the free end (at 1.3 µs) has not.
-    let t = &out.history.times;
-    let k = (0..t.len())
-        .find(|&k| t[k] >= 0.8e-6)
-        .expect("a row at 0.8 µs");
-    assert!(sxx[k] < -1e8, "the bar is compressed: {:e}", sxx[k]);
-    let ratio = szz[k] / sxx[k];
-    assert!((ratio / (nu / (1.0 - nu)) - 1.0).abs() < 0.01, "{ratio}");
-    let round_off = if backend() == sphcontact::scene::Backend::Gpu {
-        1e-5
-    } else {
-        1e-12
+    let probe = |name: &str, quantity: &str| {
+        format!("\n[[probes]]\nname = \"{name}\"\nkind = \"particle\"\nbody = \"left\"\nat = [-0.0025]\nquantity = \"{quantity}\"\n")
     };
-    let syy = column(&out, "syy");
-    for (z, y) in szz.iter().zip(&syy) {
-        assert!((z - y).abs() <= round_off * sxx[k].abs(), "{z} against {y}");
+    let text = scene.to_toml()
+        + &probe("sxx", "stress_xx")
+        + &probe("syy", "stress_yy")
+        + &probe("szz", "stress_zz")
+        + &probe("rho", "density");
+    let scene = parse(&text);
+    let steel = material(&scene, "steel");
+    let out = run(&scene);
+    let (sxx, syy, szz, rho) = (
+        column(&out, "sxx"),
+        column(&out, "syy"),
+        column(&out, "szz"),
+        column(&out, "rho"),
+    );
+    let gpu = backend() == sphcontact::scene::Backend::Gpu;
+    let (round_off, tol) = if gpu { (1e-5, 1e-3) } else { (1e-12, 1e-5) };
+    let peak = sxx.iter().map(|s| s.abs()).fold(0.0, f64::max);
+    assert!(peak > 4e8, "the bar is compressed: {peak:e}");
+    let mut reached = 0;
+    for k in 0..sxx.len() {
+        assert!(
+            (szz[k] - syy[k]).abs() <= round_off * peak,
+            "{} against {}",
+            szz[k],
+            syy[k]
+        );
+        if sxx[k].abs() > 0.2 * peak {
+            reached += 1;
+            let exact = 2.0 * steel.g * (rho[k] / steel.rho0).ln();
+            let e = ((szz[k] - sxx[k]) - exact).abs() / exact.abs();
+            assert!(e < tol, "row {k}: {} against {exact}", szz[k] - sxx[k]);
+        }
     }
+    assert!(reached > 10, "{reached} rows behind the wave");
 }
 
 #[test]
