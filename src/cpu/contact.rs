@@ -267,7 +267,6 @@ fn normal_rates(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    mirrors: Option<&axis::Mirrors>,
     bd: &Boundary,
     v: &[DVec2],
 ) -> Vec<DVec2> {
@@ -284,7 +283,7 @@ fn normal_rates(
                 let vol = reference_volume(model, j);
                 gdot -= hessian_times(model, p, j, st.x[p] - st.x[j], v[p] - v[j]) * vol;
             }
-            for b in mirrors.and_then(|m| m.of(p)).unwrap_or(&[]) {
+            for (b, _) in nb.images_of(model, &st.x, p) {
                 let j = b.j as usize;
                 let vol = reference_volume(model, j);
                 let (d, w) = (st.x[p] - axis::mirror(st.x[j]), v[p] - axis::mirror(v[j]));
@@ -319,10 +318,7 @@ pub fn penalty_booked(
     book: Option<&[DVec2]>,
 ) -> ContactForces {
     let vb = book.unwrap_or(&st.v);
-    let mirrors = model
-        .axisymmetric
-        .then(|| axis::Mirrors::find(model, &st.x, nb));
-    let ndot = normal_rates(model, st, nb, mirrors.as_ref(), bd, vb);
+    let ndot = normal_rates(model, st, nb, bd, vb);
     let slot = |q: usize| {
         bd.list
             .binary_search(&(q as u32))
@@ -534,7 +530,7 @@ pub fn penalty_booked(
                 }
                 // The images across the axis of a body of revolution: j
                 // moves its image the mirror way.
-                for nbr in mirrors.as_ref().and_then(|m| m.of(q)).unwrap_or(&[]) {
+                for (nbr, _) in nb.images_of(model, &st.x, q) {
                     let j = nbr.j as usize;
                     let vol = reference_volume(model, j);
                     let d = st.x[q] - axis::mirror(st.x[j]);

@@ -215,9 +215,8 @@ pub fn momentum_energy(
         })
         .unzip();
     if model.axisymmetric {
-        let mirrors = super::axis::Mirrors::find(model, &st.x, nb);
-        super::axis::add_momentum(model, st, &mirrors, l, gv, surface, pts, &mut dv)
-            .add_energy(model, pts, &st.v, &mut de);
+        super::axis::add_momentum(model, st, nb, l, gv, surface, pts, &mut dv)
+            .add_energy(model, nb, pts, &st.v, &mut de);
     }
     (dv, de)
 }

@@ -148,32 +148,42 @@ pub fn eos_and_stress(model: &Model, st: &State) -> Vec<StressPoint> {
 /// Particle i's [`StressPoint`] at density `rho` (a state's
 /// [`State::rho`]) and position `x`, energy `e`, deviatoric stress `s`
 /// and damage `damage` (a failed particle carries no tension).
+///
+/// In a body of revolution `rho` is `η = 2π r ρ` (docs/method.md §12): the
+/// EOS takes `ρ = η / 2π r`, the momentum sums `σ/(η ρ)` (the divergence
+/// of `2π r σ` per unit `η`) and the artificial stress in the same
+/// measure, and the hoop acceleration is `σ_θθ / (r ρ)`; in plane strain
+/// `η = ρ` and there is no hoop term.
 #[inline]
 pub(crate) fn stress_point(
     model: &Model,
     i: usize,
-    (rho, x): (f64, DVec2),
+    (eta, x): (f64, DVec2),
     e: f64,
     s: &Sym,
     damage: f64,
 ) -> StressPoint {
-    if model.axisymmetric {
-        return axis::stress_point(model, i, rho, x, e, s, damage);
-    }
     let mat = model.material(i);
+    let rho = model.density(eta, x);
     let p = mat.pressure_of(rho, e, damage);
     let c = mat.sound_speed_of(rho, e, damage);
     let sigma = material::cauchy(p, s);
-    let r2 = rho * rho;
     let r = match model.artificial_stress {
+        Some(a) if model.axisymmetric => {
+            tension::artificial_stress(a.epsilon, &sigma, rho).scale(rho / eta)
+        }
         Some(a) => tension::artificial_stress(a.epsilon, &sigma, rho),
         None => Sym::default(),
     };
     StressPoint {
-        sr2: sigma.scale(1.0 / r2),
+        sr2: sigma.scale(1.0 / (eta * rho)),
         r,
         c,
-        hoop: 0.0,
+        hoop: if model.axisymmetric {
+            sigma.zz / (x.x * rho)
+        } else {
+            0.0
+        },
     }
 }
 
@@ -211,8 +221,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
         })
         .collect();
     if model.axisymmetric {
-        let mirrors = axis::Mirrors::find(model, &st.x, nb);
-        axis::add_kinematics(model, st, &mirrors, &vol, &st.v, &mut sums);
+        axis::add_kinematics(model, st, nb, &vol, &st.v, &mut sums);
     }
     finish(model, st, sums)
 }
@@ -361,12 +370,6 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
     let mut area = vec![0.0; n];
     // In a body of revolution the images across the axis are neighbours
     // too, and a particle's area is its ring's.
-    let mirrors = model
-        .axisymmetric
-        .then(|| axis::Mirrors::find(model, x, nb));
-    let images = |i: usize| -> &[super::neighbours::Nbr] {
-        mirrors.as_ref().and_then(|m| m.of(i)).unwrap_or(&[])
-    };
     let per: Vec<(DVec2, f64)> = list
         .par_iter()
         .map(|&i| {
@@ -374,7 +377,8 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
             let h = model.h[i];
             let mut sw = kernel::w(2, 0.0, h);
             let mut g = DVec2::ZERO;
-            for b in nb.of(model, x, i).chain(images(i).iter().copied()) {
+            let images = nb.images_of(model, x, i).map(|(b, _)| b);
+            for b in nb.of(model, x, i).chain(images) {
                 let j = b.j as usize;
                 g -= b.gw * reference_volume(model, j);
                 if is_boundary[j] {

@@ -117,10 +117,9 @@ impl CpuSolver {
             &pts,
             &mut self.kept,
         );
-        let mirrors = model.axisymmetric.then(|| {
-            let m = axis::Mirrors::find(model, &next.x, nb);
-            axis::add_momentum(model, &next, &m, &k.l, &k.gv, &k.surface, &pts, &mut dv)
-        });
+        let mirrors = model
+            .axisymmetric
+            .then(|| axis::add_momentum(model, &next, nb, &k.l, &k.gv, &k.surface, &pts, &mut dv));
         let mut diag = Diagnostics {
             correction_fallback: k.fallback.len(),
             ..Default::default()
@@ -148,7 +147,7 @@ impl CpuSolver {
         stage::enter(Stage::Forces, Role::Energy);
         let mut de = sweep::energy_replay(model, nb, &self.kept, v_next);
         if let Some(m) = &mirrors {
-            m.add_energy(model, &pts, v_next, &mut de);
+            m.add_energy(model, nb, &pts, v_next, &mut de);
         }
         let (mut heat_rate, mut spring_rate) = (0.0, 0.0);
         if let Some(bd) = bd {

@@ -235,6 +235,7 @@ impl CpuSolver {
         // The rows come back in the order they were indexed in, so this
         // only restores the segment ends (the partition is stable).
         s.nb.index_rows();
+        s.nb.index_images(&s.model);
         s.current = carried;
         s
     }

@@ -63,6 +63,15 @@ pub struct Neighbours {
     /// Particles per chunk of the sweep; near means in the same or an
     /// adjacent chunk.
     pub chunk: usize,
+    /// Bodies of revolution: each particle's candidate images across the
+    /// axis (docs/method.md §12), row i `image_start[i]..image_start[i + 1]`
+    /// of `images`: itself first, then the SPH candidates whose mirror
+    /// image lay within `2 h_ij + skin` of it at the build (an image is
+    /// never nearer than its particle, so they are all candidates). Empty
+    /// in plane strain. Derived from the rows and `x_ref`
+    /// ([`Neighbours::index_images`]), not saved.
+    pub image_start: Vec<u32>,
+    pub images: Vec<u32>,
 }
 
 impl Neighbours {
@@ -79,6 +88,73 @@ impl Neighbours {
         self.candidates(i)
             .iter()
             .filter_map(move |&j| pair(model, x, i, inv_hi, j))
+    }
+
+    /// The mirror images of particle i's partners across the axis
+    /// ([`Neighbours::images`]) that lie within `2 h_ij` at positions `x`,
+    /// with `W` and `∇_i W` at `x_i − x̄_j`, and each one's slot in the row.
+    #[inline]
+    pub fn images_of<'a>(
+        &'a self,
+        model: &'a Model,
+        x: &'a [DVec2],
+        i: usize,
+    ) -> impl Iterator<Item = (Nbr, usize)> + 'a {
+        let inv_hi = 1.0 / model.h[i];
+        self.image_candidates(i)
+            .iter()
+            .enumerate()
+            .filter_map(move |(slot, &j)| {
+                let inv_h = pair_inv_h(model.h[i], model.h[j as usize], inv_hi);
+                let d = x[i] - crate::cpu::axis::mirror(x[j as usize]);
+                kernel::w_grad(model.dim, d, d.length_squared(), inv_h)
+                    .map(|(w, gw)| (Nbr { j, w, gw }, slot))
+            })
+    }
+
+    /// Particle i's candidate images (empty in plane strain).
+    #[inline]
+    pub fn image_candidates(&self, i: usize) -> &[u32] {
+        match self.image_start.get(i..i + 2) {
+            Some(&[a, b]) => &self.images[a as usize..b as usize],
+            _ => &[],
+        }
+    }
+
+    /// The particles with candidate images, ascending.
+    pub fn image_rows(&self) -> impl Iterator<Item = usize> + '_ {
+        self.image_start
+            .windows(2)
+            .enumerate()
+            .filter(|(_, w)| w[1] > w[0])
+            .map(|(i, _)| i)
+    }
+
+    /// Builds the image rows of a body of revolution from the candidate
+    /// rows and the positions at the build (after [`Neighbours::index_rows`],
+    /// whose row order they keep); clears them in plane strain.
+    pub fn index_images(&mut self, model: &Model) {
+        let (mut start, mut images) = (Vec::new(), Vec::new());
+        if model.axisymmetric {
+            let x = &self.x_ref;
+            let h_max = model.h.iter().cloned().fold(0.0, f64::max);
+            start.push(0);
+            for i in 0..x.len() {
+                if x[i].x < model.h[i] + h_max + self.skin {
+                    let cands = std::iter::once(i as u32).chain(self.candidates(i).iter().copied());
+                    for j in cands {
+                        let reach = model.h[i] + model.h[j as usize] + self.skin;
+                        let d = x[i] - crate::cpu::axis::mirror(x[j as usize]);
+                        if d.length_squared() < reach * reach {
+                            images.push(j);
+                        }
+                    }
+                }
+                start.push(images.len() as u32);
+            }
+        }
+        self.image_start = start;
+        self.images = images;
     }
 
     /// Raw candidate SPH partners of `i` (a superset of [`Neighbours::of`]).
@@ -118,6 +194,8 @@ impl Neighbours {
             + size_of_val(&self.fwd_end[..])
             + size_of_val(&self.far_end[..])
             + size_of_val(&self.visited[..])
+            + size_of_val(&self.image_start[..])
+            + size_of_val(&self.images[..])
     }
 }
 
@@ -227,5 +305,6 @@ pub fn find_with_skin(model: &Model, x: &[DVec2], skin: f64) -> Neighbours {
         nb.cross.extend_from_slice(&cross);
     }
     nb.index_rows();
+    nb.index_images(model);
     nb
 }

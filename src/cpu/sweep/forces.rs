@@ -32,9 +32,8 @@ pub fn momentum_energy(
 ) -> (Vec<DVec2>, Vec<f64>) {
     let (mut dv, mut de) = sums(model, st, nb, l, gv, surface, pts, lanes_serve(model), None);
     if model.axisymmetric {
-        let mirrors = crate::cpu::axis::Mirrors::find(model, &st.x, nb);
-        crate::cpu::axis::add_momentum(model, st, &mirrors, l, gv, surface, pts, &mut dv)
-            .add_energy(model, pts, &st.v, &mut de);
+        crate::cpu::axis::add_momentum(model, st, nb, l, gv, surface, pts, &mut dv)
+            .add_energy(model, nb, pts, &st.v, &mut de);
     }
     (dv, de)
 }

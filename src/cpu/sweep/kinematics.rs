@@ -41,46 +41,38 @@ fn kinematics_in<S: Seen>(
     let vol = volumes(model, st);
     let vel = S::vel(&st.v, seen);
     let mut sums = vec![Sums::<S>::default(); model.len()];
-    if model.axisymmetric {
-        // Bodies of revolution weigh the gradients by mass (the areas
-        // weigh the colour gradient): crate::cpu::axis.
-        nb.sweep(model, &st.x, &mut sums, |i, b, si, sj| {
-            let j = b.j as usize;
-            let (vi, vj) = (vel[i], vel[j]);
-            let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
-            let gi = b.gw * (model.mass[j] / st.rho[i]);
-            si.m += Mat2::outer(gi, dx);
-            si.gsum += Mat2::outer(dv, gi);
-            si.gpsi -= b.gw * vol[j];
-            si.seen.add(vj, vi, gi);
-            if let Some(sj) = sj {
-                let gj = b.gw * (model.mass[i] / st.rho[j]);
-                sj.m += Mat2::outer(gj, dx);
-                sj.gsum += Mat2::outer(dv, gj);
-                sj.gpsi += b.gw * vol[i];
-                sj.seen.add(vj, vi, gj);
-            }
-        });
-        let mirrors = crate::cpu::axis::Mirrors::find(model, &st.x, nb);
-        crate::cpu::axis::add_kinematics(model, st, &mirrors, &vol, &vel, &mut sums);
-        return finish(model, st, sums);
-    }
+    // Bodies of revolution weigh the gradients by mass, `m_j / η_i`, and
+    // the colour gradient by area (crate::cpu::axis).
+    let axi = model.axisymmetric;
     nb.sweep(model, &st.x, &mut sums, |i, b, si, sj| {
         let j = b.j as usize;
         let (vi, vj) = (vel[i], vel[j]);
         let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
-        let gi = b.gw * vol[j];
+        let ci = b.gw * vol[j];
+        let gi = if axi {
+            b.gw * (model.mass[j] / st.rho[i])
+        } else {
+            ci
+        };
         si.m += Mat2::outer(gi, dx);
         si.gsum += Mat2::outer(dv, gi);
-        si.gpsi -= gi;
+        si.gpsi -= ci;
         si.seen.add(vj, vi, gi);
         if let Some(sj) = sj {
-            let gj = b.gw * vol[i];
+            let cj = b.gw * vol[i];
+            let gj = if axi {
+                b.gw * (model.mass[i] / st.rho[j])
+            } else {
+                cj
+            };
             sj.m += Mat2::outer(gj, dx);
             sj.gsum += Mat2::outer(dv, gj);
-            sj.gpsi += gj;
+            sj.gpsi += cj;
             sj.seen.add(vj, vi, gj);
         }
     });
+    if axi {
+        crate::cpu::axis::add_kinematics(model, st, nb, &vol, &vel, &mut sums);
+    }
     finish(model, st, sums)
 }
