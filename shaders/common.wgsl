@@ -53,6 +53,13 @@ override HISTORY: bool = false;
 override FAILURE: bool = false;
 // The strength or damage laws read the equivalent strain rate.
 override STRAIN_RATE: bool = false;
+// A body of revolution (docs/method.md §12): x is the radius r, y the
+// axis z. The state keeps the density itself (mu); the kernel sums weigh
+// neighbours by their ring's mass over eta_i = 2 pi r_i rho_i (kinematics)
+// and by their areas m/eta (colour gradient, viscosity, close-pair gate),
+// and a particle within reach of the axis adds its neighbours' mirror
+// images across it (and its own) to its sums (`axis_image`).
+override AXI: bool = false;
 
 const NONE: u32 = 0xffffffffu;
 const BIG: f32 = 3.0e38;
@@ -100,6 +107,12 @@ struct Params {
     // The most workgroups of a dispatch along x (the contact's indirect
     // dispatch has at most this many).
     surf_groups: u32,
+    // Bodies of revolution: the axis r = 0 in cells of the grid (a whole
+    // number, so a radius is formed from a particle's cell exactly).
+    axis_cell: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // Per-body constants (mirrored by `gpu::layout::BodyGpu`).
@@ -385,6 +398,29 @@ fn plastic_return(sn: vec4<f32>, b: Body) -> vec4<f32> {
         }
     }
     return sn;
+}
+
+// Mirror images across the axis of a body of revolution, (r, z) -> (-r, z):
+// of a vector, of a symmetric tensor (xx, yy, xy, zz) and of a 2x2 matrix
+// (xx, xy, yx, yy), P T P with P = diag(-1, 1).
+fn mirror_vec(a: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(-a.x, a.y);
+}
+
+fn mirror_sym(t: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(t.x, t.y, -t.z, t.w);
+}
+
+fn mirror_mat(m: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(m.x, -m.y, -m.z, m.w);
+}
+
+// The deviatoric stress rate with a body of revolution's hoop strain rate
+// d_tt = v_r / r added to the plane's (`stress_rate` with d_tt = 0): the
+// trace takes it and s_tt, kept as zz, follows it (axis::with_hoop).
+fn with_hoop(g: f32, ds: vec4<f32>, d_tt: f32) -> vec4<f32> {
+    let third = d_tt / 3.0;
+    return vec4<f32>(ds.x - 2.0 * g * third, ds.y - 2.0 * g * third, ds.z, ds.w + 4.0 * g * third);
 }
 
 // 2x2 matrices are vec4 (xx, xy, yx, yy).

@@ -325,8 +325,25 @@ fn pass2_at(q: u32) {
                 if (!pr.inside || pr.dist <= 0.0) {
                     continue;
                 }
-                f += hess_times(pr.d, pr.dist, pr.hij, b) * (bitcast<f32>(mj.x) / rho0);
+                let vol = spread_volume(mj, rho0);
+                f += hess_times(pr.d, pr.dist, pr.hij, b) * vol;
+                if (AXI) {
+                    // And against j's image, which j moves the mirror way
+                    // (spread.wgsl).
+                    let im = axis_image(wk, cd.rad, pr.d, pr.hij);
+                    if (im.inside) {
+                        f += hess_times(im.d, im.dist, im.hij, b) * vol;
+                    }
+                }
                 claim_spread(cd.j);
+            }
+        }
+        if (AXI) {
+            // Against its own image.
+            let im = axis_image(wk, wk.rad, vec2<f32>(0.0), hq);
+            if (im.inside) {
+                f += hess_times(im.d, im.dist, im.hij, b) * spread_volume(mq, rho0);
+                claim_spread(q);
             }
         }
     }

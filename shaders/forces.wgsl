@@ -48,6 +48,11 @@
 // Entry overlaps (contact.wgsl): a particle off the boundary at a base
 // state has none.
 @group(0) @binding(74) var<storage, read_write> centry: array<f32>;
+// Bodies of revolution: the hoop stress's acceleration (kinematics.wgsl),
+// and each particle's area as placed by original index (the contact
+// normal's reference volumes).
+@group(0) @binding(80) var<storage, read> hoop: array<f32>;
+@group(0) @binding(81) var<storage, read> area0: array<f32>;
 
 // Workgroups of the contact's indirect dispatch (surf_args[1..4]): one a
 // `WG` listed particles.
@@ -63,6 +68,25 @@ fn mu_of(j: u32) -> f32 {
         return dr[j].x;
     }
     return r[j].x;
+}
+
+// The density of the kernel sums of a particle of body `b` at radius `rj`:
+// rho, or eta = 2 pi r rho in a body of revolution.
+fn sum_density(b: Body, j: u32, rj: f32) -> f32 {
+    let rho = b.rho0 * (1.0 + mu_of(j));
+    if (AXI) {
+        return 2.0 * PI * rj * rho;
+    }
+    return rho;
+}
+
+// V0_j of the contact normal's colour gradient: m_j / rho0, its area as
+// placed in a body of revolution (Model::reference_volume).
+fn reference_volume(mj: vec4<u32>, rho0: f32) -> f32 {
+    if (AXI) {
+        return area0[mj.w];
+    }
+    return bitcast<f32>(mj.x) / rho0;
 }
 
 // Whether particle j has not failed.
@@ -122,18 +146,24 @@ struct Sums {
     gdot: vec2<f32>,
 }
 
-// Add the SPH pair (i, j) (inside the support) to the sums.
-fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) {
+// Add the SPH pair (i, j) (inside the support) to the sums; `img`: the
+// pair of i and j's mirror image across the axis (`axis_image`), which
+// has j's values mirrored, at radius `rj` (bodies of revolution).
+fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: ptr<function, Sums>) {
     let hij = pr.hij;
     let dist = pr.dist;
+    var vj = v[j];
+    if (img) {
+        vj = mirror_vec(vj);
+    }
     if (o.boundary && nbo[j].z > 0.0 && LEAP != 3u) {
         (*sums).sw += kernel_w(dist, hij);
     }
     if (o.boundary && dist > 0.0) {
-        // With contact on, j is of i's body: V0_j = m_j / rho0.
-        let v0 = bitcast<f32>(mj.x) / o.body.rho0;
+        // With contact on, j is of i's body.
+        let v0 = reference_volume(mj, o.body.rho0);
         (*sums).g0 -= pr.gw * v0;
-        (*sums).gdot -= hess_times(pr.d, dist, hij, o.v - v[j]) * v0;
+        (*sums).gdot -= hess_times(pr.d, dist, hij, o.v - vj) * v0;
     }
     if (o.rigid || dist <= 0.0) {
         return;
@@ -144,26 +174,39 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) 
         bj = bodies[mj.z];
     }
     let d = pr.d;
-    let g = mat_mul(0.5 * (o.l + lmat[j]), pr.gw);
-    let tj = sr2c[j];
-    let vij = o.v - v[j];
+    var lj = lmat[j];
+    var tj = sr2c[j];
+    if (img) {
+        lj = mirror_mat(lj);
+        tj = mirror_sym(tj);
+    }
+    let g = mat_mul(0.5 * (o.l + lj), pr.gw);
+    let vij = o.v - vj;
     // Monaghan viscosity, zero for receding pairs; it sees the
     // reconstructed jump, the energy sum keeps the true v_ij.
     var vis = vij;
     if (LEAP == 3u) {
-        vis = o.vs - vstar[j];
+        var vsj = vstar[j];
+        if (img) {
+            vsj = mirror_vec(vsj);
+        }
+        vis = o.vs - vsj;
     }
     // Not at a surface (h |grad psi| above the threshold): there grad v is
     // one-sided and a contact loads the face impulsively.
     if (RECON && !o.surface && nbo[j].z <= 0.0) {
-        vis = reconstructed_jump(vis, d, o.g, gradv[j]);
+        var gj = gradv[j];
+        if (img) {
+            gj = mirror_mat(gj);
+        }
+        vis = reconstructed_jump(vis, d, o.g, gj);
     }
     var pi = 0.0;
     let vx = dot(vis, d);
     if (vx < 0.0) {
         let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
         let cm = 0.5 * (o.t.w + tj.w);
-        let rhom = 0.5 * (o.rho + bj.rho0 * (1.0 + mu_of(j)));
+        let rhom = 0.5 * (o.rho + sum_density(bj, j, rj));
         pi = (-o.alpha * cm * muv + o.beta * muv * muv) / rhom;
     }
     var t = vec4<f32>(o.t.xyz + tj.xyz, 0.0);
@@ -180,7 +223,7 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) 
     if (ART_STRESS && o.intact) {
         var gate = 1.0;
         if (ART_CLOSE) {
-            let rho_j = bj.rho0 * (1.0 + mu_of(j));
+            let rho_j = sum_density(bj, j, rj);
             let vol = 0.5 * (o.vol + bitcast<f32>(mj.x) / rho_j);
             // kappa^2 <= 1 only shrinks the spacing: a gate shut at 1 is
             // shut, and most pairs read no kappa.
@@ -205,6 +248,19 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, sums: ptr<function, Sums>) 
     }
     if (LEAP != 2u) {
         (*sums).de -= mass_j * (dot(vij, sym_mul(o.t, g)) - 0.5 * pi * dot(vij, g) + art_work);
+    }
+}
+
+// The pair of i and the mirror image of its partner j (pair `pr`, j at
+// radius `rj`) across the axis of a body of revolution, where it is within
+// reach (nothing in plane strain).
+fn add_image(o: Own, wk: Walker, j: u32, mj: vec4<u32>, pr: Pair, rj: f32, sums: ptr<function, Sums>) {
+    if (!AXI) {
+        return;
+    }
+    let im = axis_image(wk, rj, pr.d, pr.hij);
+    if (im.inside) {
+        add_pair(o, j, mj, im, true, rj, sums);
     }
 }
 
@@ -249,7 +305,8 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if (RECON) {
         gi = gradv[i];
     }
-    let rho_i = body.rho0 * (1.0 + mu_of(i));
+    // rho_i, or eta_i in a body of revolution (`sum_density`).
+    let rho_i = sum_density(body, i, wk.rad);
     let ti = sr2c[i];
     var ri = vec4<f32>(0.0);
     if (ART_STRESS) {
@@ -299,7 +356,13 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             let k = row_place(rm, o);
             let j = sorted_at(k, cs);
             let mj = pinfo[j];
-            add_pair(own, j, mj, pair_at(pair_d(wk, j, cs), pair_h(hi, mj.z)), &sums);
+            let pr = pair_at(pair_d(wk, j, cs), pair_h(hi, mj.z));
+            var rj = 0.0;
+            if (AXI) {
+                rj = radius_of(j);
+            }
+            add_pair(own, j, mj, pr, false, rj, &sums);
+            add_image(own, wk, j, mj, pr, rj, &sums);
         }
     } else {
         for (var row = 0u; row < scan_rows(); row++) {
@@ -309,13 +372,28 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
                 let mj = pinfo[cd.j];
                 let pr = body_pair(wk, cd, mj.z, span, hi, bi);
                 if (pr.inside) {
-                    add_pair(own, cd.j, mj, pr, &sums);
+                    add_pair(own, cd.j, mj, pr, false, cd.rad, &sums);
+                    add_image(own, wk, cd.j, mj, pr, cd.rad, &sums);
                 }
             }
         }
     }
-    let acc = sums.acc;
-    let de = sums.de;
+    if (AXI) {
+        // The walker's own image.
+        add_image(own, wk, i, mi, Pair(vec2<f32>(0.0), 0.0, hi, vec2<f32>(0.0), true), wk.rad, &sums);
+    }
+    var acc = sums.acc;
+    var de = sums.de;
+    if (AXI && !rigid) {
+        // The hoop stress's acceleration along r and its work, booked as
+        // heat (axis::add_momentum): they exchange no energy with the
+        // total.
+        let hp = hoop[i];
+        acc.x -= hp;
+        if (LEAP != 2u) {
+            de += hp * own.v.x;
+        }
+    }
     if (boundary) {
         let gl = length(sums.g0);
         var nc = vec2<f32>(0.0);
@@ -352,6 +430,10 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             var a = 1.0;
             if (DIM != 1u) {
                 a = line_integral(hi) / sums.sw;
+            }
+            if (AXI) {
+                // A ring's.
+                a *= 2.0 * PI * wk.rad;
             }
             area[area_index(i, nbo[i].w)] = a;
         } else if (LEAP != 0u) {

@@ -46,6 +46,9 @@
 @group(0) @binding(78) var<storage, read_write> srate: array<f32>;
 // The neighbour mask (common.wgsl), for the forces pass.
 @group(0) @binding(9) var<storage, read_write> nmask: array<vec2<u32>>;
+// Bodies of revolution: the hoop stress's acceleration sigma_tt / (r rho)
+// of the evaluation, for the forces pass.
+@group(0) @binding(80) var<storage, read_write> hoop: array<f32>;
 // The contact's list of boundary particles and its length (contact.wgsl,
 // which says how they are used).
 @group(0) @binding(64) var<storage, read_write> surf: array<u32>;
@@ -119,19 +122,65 @@ fn predicted(j: u32) -> vec2<f32> {
     return v[j] + acc[j] * (0.5 * ctl.dt);
 }
 
+// What particle i's kinematic walk reads of itself.
+struct KinOwn {
+    vi: vec2<f32>,
+    vsi: vec2<f32>,
+    seen: bool,
+    rigid: bool,
+    // Bodies of revolution: 1 / eta_i, the kinematic sums' weight m_j / eta_i.
+    inv_eta: f32,
+}
+
+// Add the pair of gradient `gw` and separation `d` with a neighbour of mass
+// `mass`, volume `vol` (an area in a body of revolution) and velocities
+// `vj`, `vsj` (the state's and the predicted) to the sums.
+fn add_kin(o: KinOwn, gw: vec2<f32>, d: vec2<f32>, mass: f32, vol: f32, vj: vec2<f32>, vsj: vec2<f32>, ks: ptr<function, KinSums>) {
+    let gj = gw * vol;
+    // A body of revolution weighs the gradient sums by mass (docs/method.md
+    // §12): with areas a mode of the particles nearest the axis grows.
+    var gm = gj;
+    if (AXI) {
+        gm = gw * (mass * o.inv_eta);
+    }
+    (*ks).m += outer(gm, -d);
+    (*ks).gpsi -= gj;
+    // Rigid particles have no velocity gradient: their loop skips
+    // the velocity reads (a branch uniform over the whole loop).
+    if (!o.rigid) {
+        (*ks).gsum += outer(vj - o.vi, gm);
+        if (o.seen) {
+            (*ks).gseen += outer(vsj - o.vsi, gm);
+        }
+    }
+}
+
+// The mirror image of particle j (radius rj, mass and volume as `add_kin`)
+// in walker `wk`'s sums, where it is within reach.
+fn add_kin_image(o: KinOwn, wk: Walker, j: u32, rj: f32, d: vec2<f32>, hij: f32, mass: f32, vol: f32, ks: ptr<function, KinSums>) {
+    let im = axis_image(wk, rj, d, hij);
+    if (!im.inside) {
+        return;
+    }
+    var vsj = vec2<f32>(0.0);
+    if (o.seen) {
+        vsj = mirror_vec(predicted(j));
+    }
+    add_kin(o, im.gw, im.d, mass, vol / (2.0 * PI * rj), mirror_vec(v[j]), vsj, ks);
+}
+
 fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     let cs = consts();
     let wk = walker(i);
-    let vi = v[i];
     let seen = LEAP == 2u && RECON;
-    var vsi = vec2<f32>(0.0);
+    var o = KinOwn(v[i], vec2<f32>(0.0), seen, rigid, 0.0);
     if (seen) {
-        vsi = predicted(i);
+        o.vsi = predicted(i);
     }
-    var m = vec4<f32>(0.0);
-    var gpsi = vec2<f32>(0.0);
-    var gsum = vec4<f32>(0.0);
-    var gseen = vec4<f32>(0.0);
+    if (AXI) {
+        o.inv_eta = 1.0 / (2.0 * PI * wk.rad * rho0 * (1.0 + r[i].x));
+    }
+    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0));
     var mask = vec2<u32>(0u);
     // The ordinal of the row's first candidate.
     var first = 0u;
@@ -150,23 +199,36 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
             if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }
-            let gj = pr.gw * volume(j, mj, rho0);
-            m += outer(gj, -pr.d);
-            gpsi -= gj;
-            // Rigid particles have no velocity gradient: their loop skips
-            // the velocity reads (a branch uniform over the whole loop).
+            let mass = bitcast<f32>(mj.x);
+            let vol = volume(j, mj, rho0);
+            var vsj = vec2<f32>(0.0);
+            if (seen && !rigid) {
+                vsj = predicted(j);
+            }
+            var vj = vec2<f32>(0.0);
             if (!rigid) {
-                gsum += outer(v[j] - vi, gj);
-                if (seen) {
-                    gseen += outer(predicted(j) - vsi, gj);
-                }
+                vj = v[j];
+            }
+            if (AXI) {
+                // The area m_j / eta_j of j, and its image.
+                let area = vol / (2.0 * PI * cd.rad);
+                add_kin(o, pr.gw, pr.d, mass, area, vj, vsj, &ks);
+                add_kin_image(o, wk, j, cd.rad, pr.d, pr.hij, mass, vol, &ks);
+            } else {
+                add_kin(o, pr.gw, pr.d, mass, vol, vj, vsj, &ks);
             }
         }
+    }
+    if (AXI) {
+        // The walker's own image.
+        let mi = pinfo[i];
+        add_kin_image(o, wk, i, wk.rad, vec2<f32>(0.0), hi, bitcast<f32>(mi.x), volume(i, mi, rho0), &ks);
     }
     if (first > MASK_BITS) {
         mask.y |= MASK_FULL;
     }
-    return KinSums(m, gpsi, gsum, mask, gseen);
+    ks.mask = mask;
+    return ks;
 }
 
 // L_i from M_i, or the identity (counted) when M_i cannot be inverted.
@@ -212,12 +274,51 @@ fn surface_of(gpsi: vec2<f32>, hi: f32) -> vec3<f32> {
 
 // Equation of state at (mu, e, s) with damage `d`: sigma/rho^2 (tension
 // positive) and the sound speed into sr2c.
+// In a body of revolution the momentum sums take sigma/(eta rho), eta =
+// 2 pi r rho (the divergence of 2 pi r sigma per unit eta), and the hoop
+// stress's acceleration sigma_tt / (r rho) goes to `hoop` (CPU twin:
+// cpu::kinematics::stress_point).
 fn stress_point(i: u32, body: Body, mu: f32, e: f32, si: vec4<f32>, d: f32) {
     let p = pressure_of(body, mu, e, d);
     let c = sound_speed_of(body, mu, e, d);
     let sig = vec4<f32>(si.x - p, si.y - p, si.z, si.w - p);
     let rho = body.rho0 * (1.0 + mu);
+    if (AXI) {
+        let ri = radius_of(i);
+        sr2c[i] = vec4<f32>(sig.xyz / (rho * (2.0 * PI * ri * rho)), c);
+        hoop[i] = sig.w / (ri * rho);
+        return;
+    }
     sr2c[i] = vec4<f32>(sig.xyz / (rho * rho), c);
+}
+
+// The hoop strain rate v_r / r of particle i at velocity `vi` (0 in plane
+// strain).
+fn hoop_rate(i: u32, vi: vec2<f32>) -> f32 {
+    if (!AXI) {
+        return 0.0;
+    }
+    return vi.x / radius_of(i);
+}
+
+// The density rate d mu/dt at mu from the velocity gradient, with a body of
+// revolution's hoop strain rate `d_tt`: the CPU's eta = 2 pi r rho follows
+// the plane's continuity, rho itself takes the hoop rate too.
+fn density_rate(mu: f32, gv: vec4<f32>, d_tt: f32) -> f32 {
+    if (AXI) {
+        return -(1.0 + mu) * (gv.x + gv.w + d_tt);
+    }
+    return -(1.0 + mu) * (gv.x + gv.w);
+}
+
+// The deviatoric stress rate (`stress_rate`), with the hoop strain rate in
+// a body of revolution.
+fn deviator_rate(g: f32, si: vec4<f32>, gv: vec4<f32>, d_tt: f32) -> vec4<f32> {
+    let rate = stress_rate(g, si, gv);
+    if (AXI) {
+        return with_hoop(g, rate, d_tt);
+    }
+    return rate;
 }
 
 // Velocity gradient with the corrected kernel gradient (docs/method.md §6):
@@ -300,11 +401,12 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if (LEAP != 0u) {
         return;
     }
+    let d_tt = hoop_rate(i, v[i]);
     if (STRAIN_RATE) {
-        srate[i] = equivalent_rate(gv);
+        srate[i] = equivalent_rate(gv, d_tt);
     }
-    let dmu = -(1.0 + mu) * (gv.x + gv.w);
-    let rate = stress_rate(body.g, si, gv);
+    let dmu = density_rate(mu, gv, d_tt);
+    let rate = deviator_rate(body.g, si, gv, d_tt);
     if (!MID) {
         dr[i].x = dmu;
         ds[i] = rate;
@@ -348,14 +450,15 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         return;
     }
     let gv = velocity_gradient(ks.gsum, l);
-    var mu1 = mu + (-(1.0 + mu) * (gv.x + gv.w)) * dt;
-    var s1 = plastic_return(si + stress_rate(body.g, si, gv) * dt, body);
+    let d_tt = hoop_rate(i, v[i]);
+    var mu1 = mu + density_rate(mu, gv, d_tt) * dt;
+    var s1 = plastic_return(si + deviator_rate(body.g, si, gv, d_tt) * dt, body);
     let e1 = r[i].y + rdt[i].y * h;
     var d1 = 0.0;
     if (HISTORY) {
         var rate = 0.0;
         if (STRAIN_RATE) {
-            rate = equivalent_rate(gv);
+            rate = equivalent_rate(gv, d_tt);
         }
         let up = strength_update(pinfo[i].z, s1, rate, mu1, e1, hist_w[i], ctl.t_hi + ctl.t_lo + dt);
         s1 = up.s;

@@ -9,6 +9,19 @@
 // rule's advance passes: the stage that includes it declares nbo, cn, bt
 // and claim.
 
+// Bodies of revolution: each particle's area as placed, by original index.
+@group(0) @binding(81) var<storage, read> area0: array<f32>;
+
+// V0_j, the volume particle j was made with in the measure of the kernel
+// sums: m_j / rho0, its area as placed in a body of revolution
+// (Model::reference_volume).
+fn spread_volume(mj: vec4<u32>, rho0: f32) -> f32 {
+    if (AXI) {
+        return area0[mj.w];
+    }
+    return bitcast<f32>(mj.x) / rho0;
+}
+
 // Claim particle j for the spread (contact.wgsl, pass 2).
 fn claim_spread(j: u32) {
     let bit = 1u << (j & 31u);
@@ -50,9 +63,27 @@ fn spread_force(j: u32) -> vec2<f32> {
             let k = u32(nbo[p].w);
             let beta = bt[k];
             if (beta != 0.0) {
-                f -= hess_times(pr.d, pr.dist, pr.hij, perp(cn[k].xy) * beta);
+                let b = perp(cn[k].xy) * beta;
+                f -= hess_times(pr.d, pr.dist, pr.hij, b);
+                if (AXI) {
+                    // P's pull on j's image, mirrored: j against P's image
+                    // with P's pull mirrored.
+                    let im = axis_image(wk, cd.rad, pr.d, pr.hij);
+                    if (im.inside) {
+                        f -= hess_times(im.d, im.dist, im.hij, mirror_vec(b));
+                    }
+                }
             }
         }
     }
-    return f * (bitcast<f32>(mj.x) / body.rho0);
+    if (AXI && nbo[j].z > 0.0) {
+        // j's own normal turns with its own image.
+        let k = u32(nbo[j].w);
+        let beta = bt[k];
+        let im = axis_image(wk, wk.rad, vec2<f32>(0.0), body.h);
+        if (beta != 0.0 && im.inside) {
+            f -= hess_times(im.d, im.dist, im.hij, mirror_vec(perp(cn[k].xy) * beta));
+        }
+    }
+    return f * spread_volume(mj, body.rho0);
 }

@@ -45,8 +45,17 @@ const TRIAXIALITY_BOUND: f32 = 1.5;
 
 // sqrt(2/3 d':d') of a velocity gradient (xx, xy, yx, yy), plane strain
 // (physics::strength::equivalent_strain_rate).
-fn equivalent_rate(gv: vec4<f32>) -> f32 {
+fn equivalent_rate(gv: vec4<f32>, d_tt: f32) -> f32 {
     let dxy = 0.5 * (gv.y + gv.z);
+    if (AXI) {
+        // The third normal rate is the hoop rate d_tt
+        // (strength::equivalent_strain_rate_3).
+        let t3 = (gv.x + gv.w + d_tt) / 3.0;
+        let a = gv.x - t3;
+        let b = gv.w - t3;
+        let c = d_tt - t3;
+        return sqrt((2.0 / 3.0) * (a * a + b * b + c * c + 2.0 * dxy * dxy));
+    }
     let tr3 = (gv.x + gv.w) / 3.0;
     let a = gv.x - tr3;
     let b = gv.w - tr3;

@@ -117,18 +117,49 @@ fn consts() -> Consts {
     return Consts(params.n, params.cell, params.inv_cell);
 }
 
-// The walking particle: its index, reference, displacement and grid home.
+// The walking particle: its index, reference, displacement, grid home and
+// (bodies of revolution; else 0) radius.
 struct Walker {
     i: u32,
     a: vec4<f32>,
     un: vec2<f32>,
     hm: Home,
+    rad: f32,
 }
 
 fn walker(i: u32) -> Walker {
     let a = x0[i];
     let un = u[i];
-    return Walker(i, a, un, home_at(a, un));
+    return Walker(i, a, un, home_at(a, un), radius_at(a, un));
+}
+
+// The radius of a particle of a body of revolution with reference `a` and
+// displacement `un`: its whole cells from the axis (exact) and its place in
+// the cell (0 in plane strain).
+fn radius_at(a: vec4<f32>, un: vec2<f32>) -> f32 {
+    if (!AXI) {
+        return 0.0;
+    }
+    return (a.x - params.axis_cell) * params.cell + (a.z + un.x);
+}
+
+fn radius_of(j: u32) -> f32 {
+    return radius_at(x0[j], u[j]);
+}
+
+// The pair of walker `w` and the mirror image across the axis of a particle
+// at radius `rj` whose pair with w has separation `d` (its image's is
+// (r_i + r_j, d.y)), at smoothing length `hij`; not inside where the image
+// lies beyond the support (most pairs: the test needs no square root) or
+// in plane strain. An image is never nearer than its particle, so the
+// images within reach are those of the pairs within reach, and of the
+// walker itself (d = 0, rj = r_i).
+fn axis_image(w: Walker, rj: f32, d: vec2<f32>, hij: f32) -> Pair {
+    let dr = w.rad + rj;
+    if (!AXI || dr >= 2.0 * hij) {
+        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false);
+    }
+    return pair_at(vec2<f32>(dr, d.y), hij);
 }
 
 // Candidate j at place k of a row's range (a range that wraps past the
@@ -142,6 +173,8 @@ struct Cand {
     j: u32,
     cell: vec2<i32>,
     d: vec2<f32>,
+    // Its radius in a body of revolution (0 in plane strain).
+    rad: f32,
 }
 
 fn cand(w: Walker, k: u32, c: Consts) -> Cand {
@@ -149,7 +182,7 @@ fn cand(w: Walker, k: u32, c: Consts) -> Cand {
     let b = x0[j];
     let uj = u[j];
     let cell = home_in(b, uj, c.inv_cell).cell;
-    return Cand(j, cell, pair_diff(w, b, uj, c));
+    return Cand(j, cell, pair_diff(w, b, uj, c), radius_at(b, uj));
 }
 
 // The particle at place k of the sorted list, run on past `n` where a row

@@ -227,29 +227,3 @@ fn a_solid_cylinder_under_radial_load_follows_lame() {
     println!("szz_10: {axial:.4} of p");
     assert!(axial.abs() < 0.05, "axial stress {axial}");
 }
-
-/// Bodies of revolution run on the CPU path: `--backend gpu` refuses them
-/// (exit 2, naming the key), `auto` runs the CPU path with a warning.
-#[test]
-fn the_gpu_backend_refuses_bodies_of_revolution() {
-    let dir = std::env::temp_dir().join(format!("sphcontact-axi-gpu-{}", std::process::id()));
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_sphcontact"))
-        .args([
-            "run",
-            "scenes/axisymmetric/sphere_on_wall.toml",
-            "--backend",
-            "gpu",
-            "--quiet",
-            "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .expect("the binary runs");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{stderr}");
-    assert!(
-        stderr.contains("axisymmetric") && stderr.contains("--backend cpu"),
-        "{stderr}"
-    );
-    let _ = std::fs::remove_dir_all(&dir);
-}

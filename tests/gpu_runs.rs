@@ -161,6 +161,57 @@ fn disks_polar_gpu_matches_cpu() {
     compare_disks("scenes/paper/disks_polar.toml");
 }
 
+/// Bodies of revolution (docs/method.md §12): two steel spheres on both
+/// integrators, and a steel ball denting a plate that yields
+/// (Johnson–Cook): the peak contact force, the contact time and the final
+/// velocities (and the dent and its plastic strain) within 0.5 % of the
+/// CPU's, with the same steps, and the spheres' energy kept on the device
+/// as on the host.
+#[test]
+fn bodies_of_revolution_gpu_match_cpu() {
+    let peak = |o: &RunOutput| {
+        column(o, "contact_force")
+            .iter()
+            .cloned()
+            .fold(0.0, f64::max)
+    };
+    let dur = |o: &RunOutput| {
+        let (a, b) = contact_window(&o.history.times, &column(o, "contact_force"));
+        b - a
+    };
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        let Some((cpu, gpu)) = both("scenes/axisymmetric/spheres_hertz.toml", integrator) else {
+            return;
+        };
+        close("spheres: peak force", peak(&gpu), peak(&cpu), 5e-3);
+        close("spheres: contact time", dur(&gpu), dur(&cpu), 5e-3);
+        for name in ["velocity_lower", "velocity_upper", "energy_total"] {
+            close(name, last(&gpu, name), last(&cpu, name), 5e-3);
+        }
+        let e = column(&gpu, "energy_total");
+        let drift = e.iter().map(|x| (x / e[0] - 1.0).abs()).fold(0.0, f64::max);
+        assert!(
+            drift < 1e-3,
+            "spheres ({integrator}): the device's energy drifts by {drift:.2e}"
+        );
+    }
+    let Some((cpu, gpu)) = both(
+        "scenes/axisymmetric/ball_on_plate.toml",
+        Integrator::Midpoint,
+    ) else {
+        return;
+    };
+    close("ball: peak force", peak(&gpu), peak(&cpu), 5e-3);
+    for name in [
+        "ball_velocity",
+        "plate_velocity",
+        "dent",
+        "plastic_strain_dent",
+    ] {
+        close(name, last(&gpu, name), last(&cpu, name), 5e-3);
+    }
+}
+
 /// The penetration scene (a tungsten-alloy rod into a 4340 plate at
 /// 1,200 m/s) at a spacing of 0.2 mm (2,4xx particles) to 15 µs: both
 /// bodies harden and heat (Johnson–Cook strength), the plate's particles
@@ -270,6 +321,17 @@ fn gpu_histories_are_bitwise_repeatable() {
             "scenes/penetration/tungsten_rod_steel_plate.toml",
             None,
             Integrator::Leapfrog,
+        ),
+        // Bodies of revolution: the mirror images across the axis.
+        (
+            "scenes/axisymmetric/spheres_hertz.toml",
+            Some(1.2e-5),
+            Integrator::Leapfrog,
+        ),
+        (
+            "scenes/axisymmetric/ball_on_plate.toml",
+            Some(1.0e-5),
+            Integrator::Midpoint,
         ),
     ] {
         let mut scene = load(path);

@@ -196,7 +196,13 @@ impl GpuSolver {
         let frame = frame.unwrap_or_else(|| {
             let cell = h_max * CELL_OVER_H;
             let (lo, hi) = crate::math::bounds(&state.x);
-            let origin = lo - DVec2::splat(1.5 * cell);
+            let mut origin = lo - DVec2::splat(1.5 * cell);
+            if model.axisymmetric {
+                // The axis on a cell boundary: a radius is then the whole
+                // cells from it plus the offset in the cell (common.wgsl,
+                // `radius_at`), as exact as a pair difference.
+                origin.x = -2.0 * cell;
+            }
             Frame {
                 origin,
                 cell,
@@ -261,6 +267,14 @@ impl GpuSolver {
             energy_int: plan.energy.map_or(0, |e| e.1 as u32),
             energy_stored: plan.stored.map_or(NONE, |k| k as u32),
             surf_groups: maxd,
+            axis_cell: if model.axisymmetric {
+                (-origin.x / cell).round() as f32
+            } else {
+                0.0
+            },
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
         };
         let bodies: Vec<BodyGpu> = model
             .bodies
@@ -306,10 +320,13 @@ impl GpuSolver {
             .collect();
         let zeros2 = vec![[0f32; 2]; n];
         let v: Vec<[f32; 2]> = state.v.iter().map(|p| [p.x as f32, p.y as f32]).collect();
+        // The device keeps the density itself where the state of a body of
+        // revolution keeps eta = 2 pi r rho.
         let r: Vec<[f32; 2]> = (0..n)
             .map(|i| {
                 let rho0 = model.material(i).rho0;
-                [(state.rho[i] / rho0 - 1.0) as f32, state.e[i] as f32]
+                let rho = model.density(state.rho[i], state.x[i]);
+                [(rho / rho0 - 1.0) as f32, state.e[i] as f32]
             })
             .collect();
         let s: Vec<[f32; 4]> = state
@@ -429,6 +446,15 @@ impl GpuSolver {
             // made when every scale is 1 (ART_KAPPA off).
             let k2: Vec<f32> = model.close_scale.iter().map(|&k| k as f32).collect();
             make("kappa", 4 * nn, Some(bytemuck::cast_slice(&k2)))?;
+        }
+        if model.axisymmetric {
+            // Each particle's area as placed, by original index (the
+            // contact normals' reference volumes), and the hoop stress's
+            // acceleration sigma_tt / (r rho) of an evaluation
+            // (kinematics.wgsl to forces.wgsl).
+            let a0: Vec<f32> = model.area0.iter().map(|&a| a as f32).collect();
+            make("area0", 4 * nn, Some(bytemuck::cast_slice(&a0)))?;
+            make("hoop", 4 * nn, None)?;
         }
         if leapfrog {
             // The carried rates a_n and (_, de_n/dt), and the predicted

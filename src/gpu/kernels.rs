@@ -55,6 +55,7 @@ pub(super) fn make_kernels(
         ("HISTORY", model.history as u8 as f64),
         ("FAILURE", model.can_fail() as u8 as f64),
         ("STRAIN_RATE", model.strain_rate as u8 as f64),
+        ("AXI", model.axisymmetric as u8 as f64),
         ("WG", WG as f64),
         ("GUARD", plan.energy.is_some() as u8 as f64),
         ("RIGID", model.any_rigid as u8 as f64),

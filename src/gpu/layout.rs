@@ -50,6 +50,12 @@ pub struct Params {
     /// The most workgroups of a dispatch along x (the contact's indirect
     /// dispatch is sized to at most this many).
     pub surf_groups: u32,
+    /// Bodies of revolution: the axis `r = 0` in cells from the grid
+    /// origin, a whole number (0 in plane strain).
+    pub axis_cell: f32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 /// `Body` in common.wgsl: per-body constants.
@@ -176,7 +182,11 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 energy_kin,
                 energy_int,
                 energy_stored,
-                surf_groups
+                surf_groups,
+                axis_cell,
+                pad0,
+                pad1,
+                pad2
             ),
         ),
         (

@@ -423,9 +423,12 @@ pub struct StageOutputs {
     pub l: Vec<[f64; 4]>,
     pub normal: Vec<DVec2>,
     pub boundary: Vec<bool>,
-    /// `σ/ρ²` (xx, yy, xy) and the sound speed.
+    /// `σ/ρ²` (xx, yy, xy; `σ/(ηρ)` in a body of revolution) and the
+    /// sound speed.
     pub sr2: Vec<[f64; 3]>,
     pub c: Vec<f64>,
+    /// `dρ/dt` of the density itself (the device's state; a body of
+    /// revolution's CPU state keeps `η = 2π r ρ`).
     pub drho: Vec<f64>,
     pub ds: Vec<Sym>,
     /// SPH part of `dv/dt` and `de/dt` (the forces pass), before contact.

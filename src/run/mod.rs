@@ -107,17 +107,6 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    if scene.axisymmetric() {
-        return match backend {
-            Backend::Gpu => Err(RunError::Backend(
-                "backend gpu: the GPU path does not run bodies of revolution (simulation.geometry = \"axisymmetric\"); use --backend cpu".into(),
-            )),
-            Backend::Auto => Ok(cpu(Some(
-                "backend auto: the GPU path does not run bodies of revolution; running the CPU path".into(),
-            ))),
-            Backend::Cpu => Ok(cpu(None)),
-        };
-    }
     match backend {
         Backend::Cpu => Ok(cpu(None)),
         Backend::Gpu => match crate::gpu::shared_context() {

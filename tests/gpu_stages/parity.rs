@@ -61,3 +61,18 @@ fn stages_match_cpu_bars_steel_aluminium() {
 fn stages_match_cpu_kernel_mode() {
     check_stages("scenes/paper/disks_square_kernel.toml", 2e-6);
 }
+
+/// Two steel spheres as bodies of revolution at the height of their
+/// contact: the axis's mirror images in every sum, the hoop terms, the
+/// ring areas of the contact.
+#[test]
+fn stages_match_cpu_spheres_axisymmetric() {
+    check_stages("scenes/axisymmetric/spheres_hertz.toml", 8e-6);
+}
+
+/// A sphere of revolution on a rigid wall at the height of the impact: the
+/// rigid body's boundary and areas on the axis.
+#[test]
+fn stages_match_cpu_sphere_on_wall_axisymmetric() {
+    check_stages("scenes/axisymmetric/sphere_on_wall.toml", 8e-6);
+}
