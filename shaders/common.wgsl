@@ -400,6 +400,12 @@ fn plastic_return(sn: vec4<f32>, b: Body) -> vec4<f32> {
     return sn;
 }
 
+// The circumference 2 pi r of the circle at radius r: what a point of a
+// body of revolution's r-z plane stands for (crate::math::circumference).
+fn circumference(r: f32) -> f32 {
+    return 2.0 * PI * r;
+}
+
 // Mirror images across the axis of a body of revolution, (r, z) -> (-r, z):
 // of a vector, of a symmetric tensor (xx, yy, xy, zz) and of a 2x2 matrix
 // (xx, xy, yx, yy), P T P with P = diag(-1, 1).

@@ -75,7 +75,7 @@ fn mu_of(j: u32) -> f32 {
 fn sum_density(b: Body, j: u32, rj: f32) -> f32 {
     let rho = b.rho0 * (1.0 + mu_of(j));
     if (AXI) {
-        return 2.0 * PI * rj * rho;
+        return circumference(rj) * rho;
     }
     return rho;
 }
@@ -433,7 +433,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             }
             if (AXI) {
                 // A ring's.
-                a *= 2.0 * PI * wk.rad;
+                a *= circumference(wk.rad);
             }
             area[area_index(i, nbo[i].w)] = a;
         } else if (LEAP != 0u) {

@@ -108,13 +108,15 @@ fn volume(j: u32, mj: vec4<u32>, rho0_i: f32) -> f32 {
 // mask (common.wgsl; leapfrog only), and in a leapfrog step with the
 // reconstructed viscosity the velocity gradient sum of the predicted
 // velocities v + dt/2 a_n (`gseen`; vstar is written in this pass, so each
-// side's is formed here).
+// side's is formed here); with the walker's radius (bodies of revolution;
+// 0 in plane strain), which the stress point and the hoop rate read.
 struct KinSums {
     m: vec4<f32>,
     gpsi: vec2<f32>,
     gsum: vec4<f32>,
     mask: vec2<u32>,
     gseen: vec4<f32>,
+    rad: f32,
 }
 
 // The predicted velocity of particle j (a rigid one's a_n is zero).
@@ -166,7 +168,7 @@ fn add_kin_image(o: KinOwn, wk: Walker, j: u32, rj: f32, d: vec2<f32>, hij: f32,
     if (o.seen) {
         vsj = mirror_vec(predicted(j));
     }
-    add_kin(o, im.gw, im.d, mass, vol / (2.0 * PI * rj), mirror_vec(v[j]), vsj, ks);
+    add_kin(o, im.gw, im.d, mass, vol / circumference(rj), mirror_vec(v[j]), vsj, ks);
 }
 
 fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
@@ -178,9 +180,9 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
         o.vsi = predicted(i);
     }
     if (AXI) {
-        o.inv_eta = 1.0 / (2.0 * PI * wk.rad * rho0 * (1.0 + r[i].x));
+        o.inv_eta = 1.0 / (circumference(wk.rad) * rho0 * (1.0 + r[i].x));
     }
-    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0));
+    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0), wk.rad);
     var mask = vec2<u32>(0u);
     // The ordinal of the row's first candidate.
     var first = 0u;
@@ -211,7 +213,7 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
             }
             if (AXI) {
                 // The area m_j / eta_j of j, and its image.
-                let area = vol / (2.0 * PI * cd.rad);
+                let area = vol / circumference(cd.rad);
                 add_kin(o, pr.gw, pr.d, mass, area, vj, vsj, &ks);
                 add_kin_image(o, wk, j, cd.rad, pr.d, pr.hij, mass, vol, &ks);
             } else {
@@ -278,27 +280,27 @@ fn surface_of(gpsi: vec2<f32>, hi: f32) -> vec3<f32> {
 // 2 pi r rho (the divergence of 2 pi r sigma per unit eta), and the hoop
 // stress's acceleration sigma_tt / (r rho) goes to `hoop` (CPU twin:
 // cpu::kinematics::stress_point).
-fn stress_point(i: u32, body: Body, mu: f32, e: f32, si: vec4<f32>, d: f32) {
+// `ri` is the particle's radius (KinSums).
+fn stress_point(i: u32, ri: f32, body: Body, mu: f32, e: f32, si: vec4<f32>, d: f32) {
     let p = pressure_of(body, mu, e, d);
     let c = sound_speed_of(body, mu, e, d);
     let sig = vec4<f32>(si.x - p, si.y - p, si.z, si.w - p);
     let rho = body.rho0 * (1.0 + mu);
     if (AXI) {
-        let ri = radius_of(i);
-        sr2c[i] = vec4<f32>(sig.xyz / (rho * (2.0 * PI * ri * rho)), c);
+        sr2c[i] = vec4<f32>(sig.xyz / (rho * (circumference(ri) * rho)), c);
         hoop[i] = sig.w / (ri * rho);
         return;
     }
     sr2c[i] = vec4<f32>(sig.xyz / (rho * rho), c);
 }
 
-// The hoop strain rate v_r / r of particle i at velocity `vi` (0 in plane
-// strain).
-fn hoop_rate(i: u32, vi: vec2<f32>) -> f32 {
+// The hoop strain rate v_r / r of a particle at radius `ri` and velocity
+// `vi` (0 in plane strain).
+fn hoop_rate(ri: f32, vi: vec2<f32>) -> f32 {
     if (!AXI) {
         return 0.0;
     }
-    return vi.x / radius_of(i);
+    return vi.x / ri;
 }
 
 // The density rate d mu/dt at mu from the velocity gradient, with a body of
@@ -382,7 +384,7 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     list_surface(i, ks.gpsi, body.h);
     let mu = r[i].x;
     let si = s[i];
-    stress_point(i, body, mu, r[i].y, si, damage_of(i));
+    stress_point(i, ks.rad, body, mu, r[i].y, si, damage_of(i));
 
     if (rigid) {
         if (!MID && LEAP == 0u) {
@@ -401,7 +403,7 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if (LEAP != 0u) {
         return;
     }
-    let d_tt = hoop_rate(i, v[i]);
+    let d_tt = hoop_rate(ks.rad, v[i]);
     if (STRAIN_RATE) {
         srate[i] = equivalent_rate(gv, d_tt);
     }
@@ -442,7 +444,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         // A rigid body keeps its velocity and reference state.
         list_surface(i, ks.gpsi, hi);
         rdt[i].x = mu;
-        stress_point(i, body, mu, r[i].y, si, 0.0);
+        stress_point(i, ks.rad, body, mu, r[i].y, si, 0.0);
         vstar[i] = v[i];
         if (RECON) {
             gradv[i] = vec4<f32>(0.0);
@@ -450,7 +452,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         return;
     }
     let gv = velocity_gradient(ks.gsum, l);
-    let d_tt = hoop_rate(i, v[i]);
+    let d_tt = hoop_rate(ks.rad, v[i]);
     var mu1 = mu + density_rate(mu, gv, d_tt) * dt;
     var s1 = plastic_return(si + deviator_rate(body.g, si, gv, d_tt) * dt, body);
     let e1 = r[i].y + rdt[i].y * h;
@@ -469,7 +471,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     list_surface(i, ks.gpsi, hi);
     rdt[i].x = mu1;
     ds[i] = s1;
-    stress_point(i, body, mu1, e1, s1, d1);
+    stress_point(i, ks.rad, body, mu1, e1, s1, d1);
     vstar[i] = predicted(i);
     if (RECON) {
         gradv[i] = velocity_gradient(ks.gseen, l);

@@ -14,6 +14,14 @@ pub fn bounds<'a>(points: impl IntoIterator<Item = &'a DVec2>) -> (DVec2, DVec2)
     )
 }
 
+/// The circumference `2π r` of the circle at radius `r`: what a point of
+/// the r–z plane of a body of revolution stands for (a particle's ring
+/// mass is it times its mass per unit thickness, `η = 2π r ρ`).
+#[inline]
+pub fn circumference(r: f64) -> f64 {
+    2.0 * std::f64::consts::PI * r
+}
+
 /// A general 2×2 matrix, row-major names: `m[α][β]` = `aβ`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Mat2 {

@@ -220,12 +220,13 @@ impl Model {
                 model.offset.push(p.offsets[k]);
                 state.x.push(p.positions[k]);
                 state.v.push(p.velocities.get(k).copied().unwrap_or(v0));
+                state
+                    .rho
+                    .push(model.state_rho(material.rho0, p.positions[k]));
                 if model.axisymmetric {
-                    let ring = 2.0 * std::f64::consts::PI * p.positions[k].x;
-                    state.rho.push(material.rho0 * ring);
-                    model.area0.push(p.masses[k] / (material.rho0 * ring));
-                } else {
-                    state.rho.push(material.rho0);
+                    model
+                        .area0
+                        .push(p.masses[k] / state.rho[state.rho.len() - 1]);
                 }
             }
             model.plastic |= !b.rigid && material.y0.is_finite();
@@ -280,7 +281,19 @@ impl Model {
     #[inline]
     pub fn density(&self, rho: f64, x: DVec2) -> f64 {
         if self.axisymmetric {
-            rho / (2.0 * std::f64::consts::PI * x.x)
+            rho / crate::math::circumference(x.x)
+        } else {
+            rho
+        }
+    }
+
+    /// What [`State::rho`] holds for density `rho` at position `x` (the
+    /// inverse of [`Model::density`]): `rho` in plane strain, `η = 2π r ρ`
+    /// in a body of revolution.
+    #[inline]
+    pub fn state_rho(&self, rho: f64, x: DVec2) -> f64 {
+        if self.axisymmetric {
+            rho * crate::math::circumference(x.x)
         } else {
             rho
         }

@@ -145,10 +145,7 @@ pub(super) fn return_with_history(
                 let mat = model.material(i);
                 let r = rate.get(i).copied().unwrap_or(0.0);
                 // The density itself (in a body of revolution `rho` is η).
-                let ring = model
-                    .axisymmetric
-                    .then(|| 2.0 * std::f64::consts::PI * x[i].x);
-                let (rho_i, e) = (ring.map_or(*rho, |k| *rho / k), e[i]);
+                let (rho_i, e) = (model.density(*rho, x[i]), e[i]);
                 let (s_new, h) = strength::update(
                     mat,
                     *s,
@@ -160,7 +157,7 @@ pub(super) fn return_with_history(
                 *s = s_new;
                 if strength::failed(h.damage) {
                     let floor = rho_i.max(mat.failed_density_floor(e));
-                    *rho = ring.map_or(floor, |k| floor * k);
+                    *rho = model.state_rho(floor, x[i]);
                 }
                 h
             };

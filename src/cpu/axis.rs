@@ -14,7 +14,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::forces::{pair_terms_of, Side, StressPoint};
-use super::kinematics::{Seen, Sums};
+use super::kinematics::{gradient_weight, Seen, Sums};
 use super::neighbours::Neighbours;
 use super::sweep::forces::pair_vectors;
 use crate::math::{Mat2, Sym};
@@ -117,6 +117,23 @@ pub(super) fn add_momentum(
     KeptMirrors(kept)
 }
 
+/// [`add_momentum`] and its energy rates at the state's own velocities: a
+/// body of revolution's terms of an evaluation's rates (the leapfrog books
+/// the energy at other velocities).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn add_rates(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    l: &[Mat2],
+    gv: &[Mat2],
+    surface: &[bool],
+    pts: &[StressPoint],
+    (dv, de): (&mut [DVec2], &mut [f64]),
+) {
+    add_momentum(model, st, nb, l, gv, surface, pts, dv).add_energy(model, nb, pts, &st.v, de);
+}
+
 impl KeptMirrors {
     /// Adds the mirror partners' and the hoop's energy rates at the
     /// velocities `w` to `de`.
@@ -185,7 +202,7 @@ pub(super) fn add_kinematics<S: Seen>(
         for (b, _) in nb.images_of(model, &st.x, i) {
             let j = b.j as usize;
             let vj = S::mirror(vel[j]);
-            let gi = b.gw * (model.mass[j] / st.rho[i]);
+            let gi = b.gw * gradient_weight(model, st, vol, i, j);
             sum.m += Mat2::outer(gi, mirror(st.x[j]) - st.x[i]);
             sum.gsum += Mat2::outer(S::v(vj) - S::v(vel[i]), gi);
             sum.gpsi -= b.gw * vol[j];

@@ -13,7 +13,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::axis;
-use super::kinematics::{reference_volume, Boundary};
+use super::kinematics::Boundary;
 use super::neighbours::{pair_inv_h, Neighbours};
 use crate::model::{ContactStats, Model, State};
 use crate::physics::kernel;
@@ -278,16 +278,15 @@ fn normal_rates(
         .map(|&p| {
             let p = p as usize;
             let mut gdot = DVec2::ZERO;
-            for b in nb.of(model, &st.x, p) {
+            for (b, image) in nb.with_images(model, &st.x, p) {
                 let j = b.j as usize;
-                let vol = reference_volume(model, j);
-                gdot -= hessian_times(model, p, j, st.x[p] - st.x[j], v[p] - v[j]) * vol;
-            }
-            for (b, _) in nb.images_of(model, &st.x, p) {
-                let j = b.j as usize;
-                let vol = reference_volume(model, j);
-                let (d, w) = (st.x[p] - axis::mirror(st.x[j]), v[p] - axis::mirror(v[j]));
-                gdot -= hessian_times(model, p, j, d, w) * vol;
+                let vol = model.reference_volume(j);
+                let (xj, vj) = if image {
+                    (axis::mirror(st.x[j]), axis::mirror(v[j]))
+                } else {
+                    (st.x[j], v[j])
+                };
+                gdot -= hessian_times(model, p, j, st.x[p] - xj, v[p] - vj) * vol;
             }
             let n = bd.normal[p];
             (gdot - n * n.dot(gdot)) / bd.grad_norm[p]
@@ -521,22 +520,19 @@ pub fn penalty_booked(
                 // ∂Φ/∂g for g = ∇ψ: g moves with Q against each neighbour
                 // j by V_j ∇∇W, and with j the other way.
                 let b = (n_bar - nq * nq.dot(n_bar)) / bd.grad_norm[q];
-                for nbr in nb.of(model, &st.x, q) {
+                // In a body of revolution j moves its image across the
+                // axis the mirror way.
+                for (nbr, image) in nb.with_images(model, &st.x, q) {
                     let j = nbr.j as usize;
-                    let vol = reference_volume(model, j);
-                    let hb = hessian_times(model, q, j, st.x[q] - st.x[j], b) * vol;
+                    let vol = model.reference_volume(j);
+                    let xj = if image {
+                        axis::mirror(st.x[j])
+                    } else {
+                        st.x[j]
+                    };
+                    let hb = hessian_times(model, q, j, st.x[q] - xj, b) * vol;
                     f += hb;
-                    spread.push((nbr.j, -hb));
-                }
-                // The images across the axis of a body of revolution: j
-                // moves its image the mirror way.
-                for (nbr, _) in nb.images_of(model, &st.x, q) {
-                    let j = nbr.j as usize;
-                    let vol = reference_volume(model, j);
-                    let d = st.x[q] - axis::mirror(st.x[j]);
-                    let hb = hessian_times(model, q, j, d, b) * vol;
-                    f += hb;
-                    spread.push((nbr.j, axis::mirror(-hb)));
+                    spread.push((nbr.j, if image { axis::mirror(-hb) } else { -hb }));
                 }
             }
             Gathered {

@@ -215,8 +215,7 @@ pub fn momentum_energy(
         })
         .unzip();
     if model.axisymmetric {
-        super::axis::add_momentum(model, st, nb, l, gv, surface, pts, &mut dv)
-            .add_energy(model, nb, pts, &st.v, &mut de);
+        super::axis::add_rates(model, st, nb, l, gv, surface, pts, (&mut dv, &mut de));
     }
     (dv, de)
 }

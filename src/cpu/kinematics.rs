@@ -208,11 +208,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
             for b in nb.of(model, &st.x, i) {
                 let j = b.j as usize;
                 let gi = b.gw * vol[j];
-                let gm = if model.axisymmetric {
-                    b.gw * (model.mass[j] / st.rho[i])
-                } else {
-                    gi
-                };
+                let gm = b.gw * gradient_weight(model, st, &vol, i, j);
                 sum.m += Mat2::outer(gm, st.x[j] - st.x[i]);
                 sum.gsum += Mat2::outer(st.v[j] - st.v[i], gm);
                 sum.gpsi -= gi;
@@ -224,6 +220,24 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
         axis::add_kinematics(model, st, nb, &vol, &st.v, &mut sums);
     }
     finish(model, st, sums)
+}
+
+/// Neighbour j's weight in particle i's gradient sums (`M_i`, `∇v_i`):
+/// its volume `vol[j]`, in a body of revolution its mass over `η_i`
+/// (docs/method.md §12; the colour gradient keeps the volumes).
+#[inline]
+pub(in crate::cpu) fn gradient_weight(
+    model: &Model,
+    st: &State,
+    vol: &[f64],
+    i: usize,
+    j: usize,
+) -> f64 {
+    if model.axisymmetric {
+        model.mass[j] / st.rho[i]
+    } else {
+        vol[j]
+    }
 }
 
 /// Each particle's volume `V_j = m_j / ρ_j`.
@@ -377,10 +391,9 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
             let h = model.h[i];
             let mut sw = kernel::w(2, 0.0, h);
             let mut g = DVec2::ZERO;
-            let images = nb.images_of(model, x, i).map(|(b, _)| b);
-            for b in nb.of(model, x, i).chain(images) {
+            for (b, _) in nb.with_images(model, x, i) {
                 let j = b.j as usize;
-                g -= b.gw * reference_volume(model, j);
+                g -= b.gw * model.reference_volume(j);
                 if is_boundary[j] {
                     sw += b.w;
                 }
@@ -388,7 +401,7 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
             let a = if model.dim == 1 {
                 1.0
             } else if model.axisymmetric {
-                kernel::line_integral_2d(h) / sw * (2.0 * std::f64::consts::PI * x[i].x)
+                kernel::line_integral_2d(h) / sw * crate::math::circumference(x[i].x)
             } else {
                 kernel::line_integral_2d(h) / sw
             };
@@ -407,12 +420,6 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
         area,
         list,
     }
-}
-
-/// `V⁰_j`, the volume particle j was made with ([`Model::reference_volume`]).
-#[inline]
-pub fn reference_volume(model: &Model, j: usize) -> f64 {
-    model.reference_volume(j)
 }
 
 /// Jaumann-rate hypoelastic deviatoric stress rate (docs/method.md §6):

@@ -90,6 +90,21 @@ impl Neighbours {
             .filter_map(move |&j| pair(model, x, i, inv_hi, j))
     }
 
+    /// [`Neighbours::of`] and then [`Neighbours::images_of`]: each partner
+    /// of particle i with whether it is a mirror image across the axis
+    /// (none is in plane strain).
+    #[inline]
+    pub fn with_images<'a>(
+        &'a self,
+        model: &'a Model,
+        x: &'a [DVec2],
+        i: usize,
+    ) -> impl Iterator<Item = (Nbr, bool)> + 'a {
+        self.of(model, x, i)
+            .map(|b| (b, false))
+            .chain(self.images_of(model, x, i).map(|(b, _)| (b, true)))
+    }
+
     /// The mirror images of particle i's partners across the axis
     /// ([`Neighbours::images`]) that lie within `2 h_ij` at positions `x`,
     /// with `W` and `∇_i W` at `x_i − x̄_j`, and each one's slot in the row.

@@ -247,10 +247,8 @@ impl GpuSolver {
             );
             st.x[i] = self.origin + c * self.cell + off;
             st.v[i] = DVec2::new(v[k][0] as f64, v[k][1] as f64);
-            st.rho[i] = self.model.material(i).rho0 * (1.0 + r[k][0] as f64);
-            if self.model.axisymmetric {
-                st.rho[i] *= 2.0 * std::f64::consts::PI * st.x[i].x;
-            }
+            let rho = self.model.material(i).rho0 * (1.0 + r[k][0] as f64);
+            st.rho[i] = self.model.state_rho(rho, st.x[i]);
             st.e[i] = r[k][1] as f64;
             st.s[i] = sym_of(s[k]);
         }

@@ -7,6 +7,7 @@
 //! pair is `o_i + o_j`, which is what keeps square-lattice disks from touching
 //! along a flat facet.
 
+use crate::math::circumference;
 use glam::DVec2;
 use std::f64::consts::PI;
 
@@ -203,7 +204,7 @@ fn from_file(
         let n = t.x.len();
         let mut x = t.x.clone();
         let mut area: Vec<f64> = (t.volumes(rho0).iter().zip(&t.x))
-            .map(|(v, p)| v / (2.0 * PI * p.x))
+            .map(|(v, p)| v / circumference(p.x))
             .collect();
         for k in 0..n {
             if t.x[k].x < 2.0 * h {
@@ -250,14 +251,15 @@ fn revolve(placed: &mut PlacedBody) {
     pick(&mut placed.masses, &keep);
     pick(&mut placed.offsets, &keep);
     for (m, p) in placed.masses.iter_mut().zip(&placed.positions) {
-        *m *= 2.0 * PI * p.x;
+        *m *= circumference(p.x);
     }
 }
 
 /// Place one shape with nominal spacing `dx` and density `rho0`; in the
-/// plane of a body of revolution when `axisymmetric`: the axis is no surface, and a disk or ring centred on it on the polar
-/// lattice is placed on half rings whose particles lie off the axis. The
-/// masses are still per unit thickness ([`revolve`] makes them rings').
+/// plane of a body of revolution when `axisymmetric`: the axis is no
+/// surface, and a disk or ring centred on it on the polar lattice is placed
+/// on half rings whose particles lie off the axis. The masses are still per
+/// unit thickness ([`revolve`] makes them rings').
 fn place(shape: &Shape, dx: f64, rho0: f64, axisymmetric: bool) -> PlacedBody {
     let mut out = PlacedBody {
         spacing: dx,

@@ -32,8 +32,7 @@ pub fn momentum_energy(
 ) -> (Vec<DVec2>, Vec<f64>) {
     let (mut dv, mut de) = sums(model, st, nb, l, gv, surface, pts, lanes_serve(model), None);
     if model.axisymmetric {
-        crate::cpu::axis::add_momentum(model, st, nb, l, gv, surface, pts, &mut dv)
-            .add_energy(model, nb, pts, &st.v, &mut de);
+        crate::cpu::axis::add_rates(model, st, nb, l, gv, surface, pts, (&mut dv, &mut de));
     }
     (dv, de)
 }

@@ -4,7 +4,7 @@
 
 use glam::DVec2;
 
-use crate::cpu::kinematics::{finish, volumes, Kinematics, Seen, Sums};
+use crate::cpu::kinematics::{finish, gradient_weight, volumes, Kinematics, Seen, Sums};
 use crate::cpu::neighbours::Neighbours;
 use crate::math::Mat2;
 use crate::model::{Model, State};
@@ -41,37 +41,26 @@ fn kinematics_in<S: Seen>(
     let vol = volumes(model, st);
     let vel = S::vel(&st.v, seen);
     let mut sums = vec![Sums::<S>::default(); model.len()];
-    // Bodies of revolution weigh the gradients by mass, `m_j / η_i`, and
-    // the colour gradient by area (crate::cpu::axis).
-    let axi = model.axisymmetric;
     nb.sweep(model, &st.x, &mut sums, |i, b, si, sj| {
         let j = b.j as usize;
         let (vi, vj) = (vel[i], vel[j]);
         let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
         let ci = b.gw * vol[j];
-        let gi = if axi {
-            b.gw * (model.mass[j] / st.rho[i])
-        } else {
-            ci
-        };
+        let gi = b.gw * gradient_weight(model, st, &vol, i, j);
         si.m += Mat2::outer(gi, dx);
         si.gsum += Mat2::outer(dv, gi);
         si.gpsi -= ci;
         si.seen.add(vj, vi, gi);
         if let Some(sj) = sj {
             let cj = b.gw * vol[i];
-            let gj = if axi {
-                b.gw * (model.mass[i] / st.rho[j])
-            } else {
-                cj
-            };
+            let gj = b.gw * gradient_weight(model, st, &vol, j, i);
             sj.m += Mat2::outer(gj, dx);
             sj.gsum += Mat2::outer(dv, gj);
             sj.gpsi += cj;
             sj.seen.add(vj, vi, gj);
         }
     });
-    if axi {
+    if model.axisymmetric {
         crate::cpu::axis::add_kinematics(model, st, nb, &vol, &vel, &mut sums);
     }
     finish(model, st, sums)

@@ -181,7 +181,7 @@ pub(super) fn validate_particles(
         .map(|(&v, p)| match (dim, axisymmetric) {
             (1, _) => v,
             (_, false) => v.sqrt(),
-            (_, true) => (v / (2.0 * std::f64::consts::PI * p.x)).sqrt(),
+            (_, true) => (v / crate::math::circumference(p.x)).sqrt(),
         })
         .collect();
     {
