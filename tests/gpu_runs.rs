@@ -123,6 +123,20 @@ fn bars_steel_aluminium_gpu_matches_cpu() {
     );
 }
 
+/// The largest contact force of a run's history.
+fn peak_force(o: &RunOutput) -> f64 {
+    column(o, "contact_force")
+        .iter()
+        .cloned()
+        .fold(0.0, f64::max)
+}
+
+/// How long a run's contact lasts.
+fn contact_time(o: &RunOutput) -> f64 {
+    let (a, b) = contact_window(&o.history.times, &column(o, "contact_force"));
+    b - a
+}
+
 /// Disks: peak contact force, contact time, final velocities.
 fn compare_disks(path: &str) {
     for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
@@ -134,18 +148,13 @@ fn compare_disks_with(path: &str, integrator: Integrator) {
     let Some((cpu, gpu_out)) = both(path, integrator) else {
         return;
     };
-    let peak = |o: &RunOutput| {
-        column(o, "contact_force")
-            .iter()
-            .cloned()
-            .fold(0.0, f64::max)
-    };
-    close("peak force", peak(&gpu_out), peak(&cpu), 5e-3);
-    let dur = |o: &RunOutput| {
-        let (a, b) = contact_window(&o.history.times, &column(o, "contact_force"));
-        b - a
-    };
-    close("contact time", dur(&gpu_out), dur(&cpu), 5e-3);
+    close("peak force", peak_force(&gpu_out), peak_force(&cpu), 5e-3);
+    close(
+        "contact time",
+        contact_time(&gpu_out),
+        contact_time(&cpu),
+        5e-3,
+    );
     for name in ["velocity_left", "velocity_right"] {
         close(name, last(&gpu_out, name), last(&cpu, name), 5e-3);
     }
@@ -169,22 +178,22 @@ fn disks_polar_gpu_matches_cpu() {
 /// as on the host.
 #[test]
 fn bodies_of_revolution_gpu_match_cpu() {
-    let peak = |o: &RunOutput| {
-        column(o, "contact_force")
-            .iter()
-            .cloned()
-            .fold(0.0, f64::max)
-    };
-    let dur = |o: &RunOutput| {
-        let (a, b) = contact_window(&o.history.times, &column(o, "contact_force"));
-        b - a
-    };
     for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
         let Some((cpu, gpu)) = both("scenes/axisymmetric/spheres_hertz.toml", integrator) else {
             return;
         };
-        close("spheres: peak force", peak(&gpu), peak(&cpu), 5e-3);
-        close("spheres: contact time", dur(&gpu), dur(&cpu), 5e-3);
+        close(
+            "spheres: peak force",
+            peak_force(&gpu),
+            peak_force(&cpu),
+            5e-3,
+        );
+        close(
+            "spheres: contact time",
+            contact_time(&gpu),
+            contact_time(&cpu),
+            5e-3,
+        );
         for name in ["velocity_lower", "velocity_upper", "energy_total"] {
             close(name, last(&gpu, name), last(&cpu, name), 5e-3);
         }
@@ -201,7 +210,7 @@ fn bodies_of_revolution_gpu_match_cpu() {
     ) else {
         return;
     };
-    close("ball: peak force", peak(&gpu), peak(&cpu), 5e-3);
+    close("ball: peak force", peak_force(&gpu), peak_force(&cpu), 5e-3);
     for name in [
         "ball_velocity",
         "plate_velocity",
