@@ -164,18 +164,14 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
             black_box(sweep::kinematics(m, s, &i.nb));
         }),
         ("forces", |m, s, i| {
-            let k = &i.k;
-            black_box(sweep::momentum_energy(
-                m, s, &i.nb, &k.l, &k.gv, &k.surface, &i.pts,
-            ));
+            black_box(sweep::momentum_energy(m, s, &i.nb, &i.k, &i.pts));
         }),
         // The leapfrog's momentum pass (pair vectors kept, no energy
         // sums) and its energy replay from them.
         ("forces_keeping", |m, s, i| {
-            let k = &i.k;
             let mut kept = i.scratch.borrow_mut();
             black_box(sweep::momentum_keeping(
-                m, s, &i.nb, &k.l, &k.gv, &k.surface, &i.pts, &mut kept,
+                m, s, &i.nb, &i.k, &i.pts, &mut kept,
             ));
         }),
         ("energy_replay", |m, s, i| {
@@ -230,7 +226,7 @@ impl Inputs {
         let k = sweep::kinematics(model, state, &nb);
         let pts = cpu::eos_and_stress(model, state);
         let mut kept = Vec::new();
-        sweep::momentum_keeping(model, state, &nb, &k.l, &k.gv, &k.surface, &pts, &mut kept);
+        sweep::momentum_keeping(model, state, &nb, &k, &pts, &mut kept);
         Inputs {
             pts,
             k,

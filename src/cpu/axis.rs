@@ -14,7 +14,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::forces::{pair_terms_of, Side, StressPoint};
-use super::kinematics::{gradient_weight, Seen, Sums};
+use super::kinematics::{gradient_weight, Kinematics, Seen, Sums};
 use super::neighbours::Neighbours;
 use super::sweep::forces::pair_vectors;
 use crate::math::{Mat2, Sym};
@@ -55,18 +55,15 @@ pub(super) struct KeptMirrors(Vec<DVec2>);
 /// hoop acceleration `−σ_θθ / (r ρ)` along r, whose work the hoop heat
 /// `σ_θθ v_r / (r ρ)` books, so that they exchange no energy with the
 /// total.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn add_momentum(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    l: &[Mat2],
-    gv: &[Mat2],
-    surface: &[bool],
+    kin: &Kinematics,
     pts: &[StressPoint],
     dv: &mut [DVec2],
 ) -> KeptMirrors {
-    let side = |k| Side::of(st, l, gv, pts, k);
+    let side = |k| Side::of(st, &kin.l, &kin.gv, pts, k);
     let image = |k: usize| {
         let s = side(k);
         Side {
@@ -99,7 +96,7 @@ pub(super) fn add_momentum(
             for (b, slot) in nb.images_of(model, &st.x, i) {
                 let j = b.j as usize;
                 let im = image(j);
-                let p = pair_terms_of(model, st, surface, (i, &a), (j, &im), b.gw);
+                let p = pair_terms_of(model, st, &kin.surface, (i, &a), (j, &im), b.gw);
                 dvi += p.tg * model.mass[j];
                 row[slot] = pair_vectors(p.tg, a.pt.sr2.mul_vec(p.g), im.pt.sr2.mul_vec(p.g))[0];
             }
@@ -120,18 +117,15 @@ pub(super) fn add_momentum(
 /// [`add_momentum`] and its energy rates at the state's own velocities: a
 /// body of revolution's terms of an evaluation's rates (the leapfrog books
 /// the energy at other velocities).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn add_rates(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    l: &[Mat2],
-    gv: &[Mat2],
-    surface: &[bool],
+    kin: &Kinematics,
     pts: &[StressPoint],
     (dv, de): (&mut [DVec2], &mut [f64]),
 ) {
-    add_momentum(model, st, nb, l, gv, surface, pts, dv).add_energy(model, nb, pts, &st.v, de);
+    add_momentum(model, st, nb, kin, pts, dv).add_energy(model, nb, pts, &st.v, de);
 }
 
 impl KeptMirrors {

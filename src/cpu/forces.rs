@@ -5,6 +5,7 @@
 
 use glam::DVec2;
 
+use super::kinematics::Kinematics;
 use super::neighbours::{Nbr, Neighbours};
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
@@ -194,9 +195,7 @@ pub fn momentum_energy(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    l: &[Mat2],
-    gv: &[Mat2],
-    surface: &[bool],
+    kin: &Kinematics,
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>) {
     let (mut dv, mut de): (Vec<DVec2>, Vec<f64>) = (0..model.len())
@@ -206,7 +205,7 @@ pub fn momentum_energy(
                 return (dv, de);
             }
             for b in nb.of(model, &st.x, i) {
-                let p = pair_terms(model, st, l, gv, surface, pts, i, &b);
+                let p = pair_terms(model, st, &kin.l, &kin.gv, &kin.surface, pts, i, &b);
                 let mj = model.mass[b.j as usize];
                 dv += p.tg * mj;
                 de -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g)) - p.shared);
@@ -215,7 +214,7 @@ pub fn momentum_energy(
         })
         .unzip();
     if model.axisymmetric {
-        super::axis::add_rates(model, st, nb, l, gv, surface, pts, (&mut dv, &mut de));
+        super::axis::add_rates(model, st, nb, kin, pts, (&mut dv, &mut de));
     }
     (dv, de)
 }

@@ -107,19 +107,10 @@ impl CpuSolver {
         };
         // 3: the forces at n+1.
         stage::enter(Stage::Forces, Role::Next);
-        let mut dv = sweep::momentum_keeping(
-            model,
-            &next,
-            nb,
-            &k.l,
-            &k.gv,
-            &k.surface,
-            &pts,
-            &mut self.kept,
-        );
+        let mut dv = sweep::momentum_keeping(model, &next, nb, &k, &pts, &mut self.kept);
         let mirrors = model
             .axisymmetric
-            .then(|| axis::add_momentum(model, &next, nb, &k.l, &k.gv, &k.surface, &pts, &mut dv));
+            .then(|| axis::add_momentum(model, &next, nb, &k, &pts, &mut dv));
         let mut diag = Diagnostics {
             correction_fallback: k.fallback.len(),
             ..Default::default()

@@ -100,7 +100,7 @@ fn evaluate_at(
     let pts = eos_and_stress(model, st);
     let k = sweep::kinematics(model, st, nb);
     stage::enter(Stage::Forces, role);
-    let (mut dv, mut de) = sweep::momentum_energy(model, st, nb, &k.l, &k.gv, &k.surface, &pts);
+    let (mut dv, mut de) = sweep::momentum_energy(model, st, nb, &k, &pts);
     let mut diag = Diagnostics {
         cfl_dt: f64::INFINITY,
         correction_fallback: k.fallback.len(),

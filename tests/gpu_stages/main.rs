@@ -236,7 +236,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     }
 
     // The forces pass: momentum and energy before contact.
-    let (dv, de) = forces::momentum_energy(&model, &st, &nb, &a.l, &a.gv, &a.surface, &pts);
+    let (dv, de) = forces::momentum_energy(&model, &st, &nb, &a, &pts);
     let xs = |v: &[DVec2]| v.iter().map(|p| p.x).collect::<Vec<_>>();
     let ys = |v: &[DVec2]| v.iter().map(|p| p.y).collect::<Vec<_>>();
     assert_field(

@@ -6,10 +6,10 @@
 
 use glam::DVec2;
 
-use super::forces_lanes::sums_into;
+use super::forces_lanes::{sums_into, Inputs};
 use crate::cpu::forces::StressPoint;
+use crate::cpu::kinematics::Kinematics;
 use crate::cpu::neighbours::Neighbours;
-use crate::math::Mat2;
 use crate::model::{Model, State};
 /// The forces pass: `dv_i/dt` and `de_i/dt` from the SPH sums, each pair evaluated
 /// once ([`Neighbours::sweep`]); rigid particles get zero rates.
@@ -25,14 +25,12 @@ pub fn momentum_energy(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    l: &[Mat2],
-    gv: &[Mat2],
-    surface: &[bool],
+    kin: &Kinematics,
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>) {
-    let (mut dv, mut de) = sums(model, st, nb, l, gv, surface, pts, lanes_serve(model), None);
+    let (mut dv, mut de) = sums((model, st, nb, kin, pts), lanes_serve(model), None);
     if model.axisymmetric {
-        crate::cpu::axis::add_rates(model, st, nb, l, gv, surface, pts, (&mut dv, &mut de));
+        crate::cpu::axis::add_rates(model, st, nb, kin, pts, (&mut dv, &mut de));
     }
     (dv, de)
 }
@@ -49,20 +47,17 @@ pub type PairVectors = [DVec2; 2];
 /// `keep` instead. The leapfrog (`CpuSolver::step`) books the work of the
 /// forces on the velocity at the end of the step, which the momentum sums
 /// themselves give.
-#[allow(clippy::too_many_arguments)]
 pub fn momentum_keeping(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    l: &[Mat2],
-    gv: &[Mat2],
-    surface: &[bool],
+    kin: &Kinematics,
     pts: &[StressPoint],
     keep: &mut Vec<PairVectors>,
 ) -> Vec<DVec2> {
     keep.resize(nb.store_len(), [DVec2::ZERO; 2]);
     let lanes = lanes_serve(model);
-    sums(model, st, nb, l, gv, surface, pts, lanes, Some(keep)).0
+    sums((model, st, nb, kin, pts), lanes, Some(keep)).0
 }
 
 /// `de/dt` from the pairs kept by [`momentum_keeping`] with the work done
@@ -103,19 +98,12 @@ pub(in crate::cpu) fn lanes_serve(model: &Model) -> bool {
 /// [`momentum_energy`] by the lane code (`lanes`, [`lanes_serve`]) or by
 /// the one-pair code; with `keep`, the energy terms' vectors go there
 /// instead of into the sums ([`momentum_keeping`]).
-#[allow(clippy::too_many_arguments)]
 pub(in crate::cpu) fn sums(
-    model: &Model,
-    st: &State,
-    nb: &Neighbours,
-    l: &[Mat2],
-    gv: &[Mat2],
-    surface: &[bool],
-    pts: &[StressPoint],
+    args: Inputs<'_>,
     lanes: bool,
     keep: Option<&mut Vec<PairVectors>>,
 ) -> (Vec<DVec2>, Vec<f64>) {
-    let args = (model, st, nb, l, gv, surface, pts);
+    let nb = args.2;
     match keep {
         Some(keep) => sums_into(args, lanes, keep),
         // Zero-sized slots: the energy terms go into the sums.

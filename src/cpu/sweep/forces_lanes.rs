@@ -9,6 +9,7 @@ use glam::DVec2;
 use super::forces::{lanes_serve, pair_vectors, PairVectors};
 use super::Chunk;
 use crate::cpu::forces::{pair_terms, PairTerms, StressPoint};
+use crate::cpu::kinematics::Kinematics;
 use crate::cpu::neighbours::{Nbr, Neighbours};
 use crate::math::lanes::{columns, F4, LANES};
 use crate::math::Mat2;
@@ -86,24 +87,24 @@ impl EnergyTerms for PairVectors {
     }
 }
 
-/// The inputs of the momentum pass.
-type Inputs<'a> = (
+/// The inputs of the momentum pass: the state, its neighbour lists, its
+/// kinematics and its stress points.
+pub(in crate::cpu) type Inputs<'a> = (
     &'a Model,
     &'a State,
     &'a Neighbours,
-    &'a [Mat2],
-    &'a [Mat2],
-    &'a [bool],
+    &'a Kinematics,
     &'a [StressPoint],
 );
 
 /// [`sums`] with the energy terms going to `E` (one slot per visited
 /// candidate).
 pub(super) fn sums_into<E: EnergyTerms>(
-    (model, st, nb, l, gv, surface, pts): Inputs<'_>,
+    (model, st, nb, kin, pts): Inputs<'_>,
     lanes: bool,
     slots: &mut [E],
 ) -> (Vec<DVec2>, Vec<f64>) {
+    let (l, gv, surface) = (&kin.l[..], &kin.gv[..], &kin.surface[..]);
     let mut acc = vec![(DVec2::ZERO, 0.0); model.len()];
     if lanes {
         assert!(lanes_serve(model), "the lane code serves this scene");

@@ -187,13 +187,9 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         let nb = find_with_skin(&model, &st.x, skin);
         let k = kinematics(&model, st, &nb);
         let pts = eos_and_stress(&model, st);
-        let args = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
-        let one = sums(
-            args.0, args.1, args.2, args.3, args.4, args.5, args.6, false, None,
-        );
-        let four = sums(
-            args.0, args.1, args.2, args.3, args.4, args.5, args.6, true, None,
-        );
+        let args = (&model, st, &nb, &k, &pts[..]);
+        let one = sums(args, false, None);
+        let four = sums(args, true, None);
         let bits = |v: &DVec2| (v.x.to_bits(), v.y.to_bits());
         for i in 0..model.len() {
             assert_eq!(bits(&one.0[i]), bits(&four.0[i]), "dv of {i}");
@@ -209,10 +205,7 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             rigid.bodies[1].rigid = true;
             rigid.any_rigid = true;
             let k = kinematics(&rigid, st, &nb);
-            let args = (&rigid, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
-            let sums = sums(
-                args.0, args.1, args.2, args.3, args.4, args.5, args.6, false, None,
-            );
+            let sums = sums((&rigid, st, &nb, &k, &pts), false, None);
             gathers_match(&rigid, st, &nb, &sums);
         }
     }
@@ -253,8 +246,7 @@ fn gathers_match(model: &Model, st: &State, nb: &Neighbours, sums: &(Vec<DVec2>,
         close("∇v", &flat(&k.gv), &flat(&plain.gv));
     }
     let pts = eos_and_stress(model, st);
-    let (dv, de) =
-        crate::cpu::forces::momentum_energy(model, st, nb, &k.l, &k.gv, &k.surface, &pts);
+    let (dv, de) = crate::cpu::forces::momentum_energy(model, st, nb, &k, &pts);
     close("dv/dt", &xy(&sums.0), &xy(&dv));
     close("de/dt", &sums.1, &de);
     if model.any_rigid {
@@ -318,9 +310,9 @@ fn lanes_match_one_pair_code_in_1d() {
         let nb = find_with_skin(&model, &st.x, skin);
         let k = kinematics(&model, &st, &nb);
         let pts = eos_and_stress(&model, &st);
-        let a = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
-        let one = sums(a.0, a.1, a.2, a.3, a.4, a.5, a.6, false, None);
-        let four = sums(a.0, a.1, a.2, a.3, a.4, a.5, a.6, true, None);
+        let a = (&model, &st, &nb, &k, &pts[..]);
+        let one = sums(a, false, None);
+        let four = sums(a, true, None);
         for i in 0..model.len() {
             assert_eq!(
                 one.0[i].x.to_bits(),
@@ -369,22 +361,12 @@ fn kept_pair_vectors_replay_the_energy_sums() {
     let nb = find_with_skin(&model, &st.x, skin);
     let k = kinematics(&model, &st, &nb);
     let pts = eos_and_stress(&model, &st);
-    let args = (&model, &st, &nb, &k.l, &k.gv, &k.surface, &pts);
-    let (dv, de) = momentum_energy(args.0, args.1, args.2, args.3, args.4, args.5, args.6);
+    let args = (&model, &st, &nb, &k, &pts[..]);
+    let (dv, de) = momentum_energy(args.0, args.1, args.2, args.3, args.4);
     let mut kept = [Vec::new(), Vec::new()];
     for (lanes, kept) in [true, false].into_iter().zip(&mut kept) {
         kept.resize(nb.store_len(), [DVec2::ZERO; 2]);
-        let (kdv, _) = sums(
-            args.0,
-            args.1,
-            args.2,
-            args.3,
-            args.4,
-            args.5,
-            args.6,
-            lanes,
-            Some(kept),
-        );
+        let (kdv, _) = sums(args, lanes, Some(kept));
         for i in 0..model.len() {
             assert_eq!(kdv[i].x.to_bits(), dv[i].x.to_bits(), "dv.x of {i}");
             assert_eq!(kdv[i].y.to_bits(), dv[i].y.to_bits(), "dv.y of {i}");
@@ -440,7 +422,7 @@ fn lanes_are_the_same_on_any_thread_count() {
             .num_threads(threads)
             .build()
             .expect("a thread pool");
-        pool.install(|| sums(model, st, &nb, &k.l, &k.gv, &k.surface, &pts, true, None))
+        pool.install(|| sums((model, st, &nb, &k, &pts), true, None))
     };
     let (one, three) = (on(1), on(3));
     for i in 0..model.len() {
