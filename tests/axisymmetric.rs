@@ -5,6 +5,7 @@
 
 mod common;
 use common::*;
+use glam::DVec2;
 use sphcontact::run::RunOutput;
 use sphcontact::validation::exact::{hertz_spheres, HertzBody};
 use sphcontact::Scene;
@@ -248,11 +249,11 @@ fn a_solid_cylinder_under_radial_load_follows_lame() {
 fn a_taylor_bar_with_linear_hardening_meets_the_finite_element_answer() {
     let scene = load("scenes/axisymmetric/taylor_bar_bilinear.toml");
     let out = run(&scene);
-    let half = 0.5 * scene.bodies[0].spacing;
-    let rod = out.model.bodies[0].range.clone();
-    let x = &out.state.x[rod];
-    let length = x.iter().map(|p| p.y).fold(f64::MIN, f64::max) + half;
-    let radius = x.iter().map(|p| p.x).fold(f64::MIN, f64::max) + half;
+    // The rod's outermost particle centres, each way, plus Δx/2.
+    let rod = &out.state.x[out.model.bodies[0].range.clone()];
+    let far = rod.iter().fold(DVec2::splat(f64::MIN), |a, p| a.max(*p))
+        + DVec2::splat(0.5 * scene.bodies[0].spacing);
+    let (radius, length) = (far.x, far.y);
     println!(
         "Taylor bar at {:.0} µs: length {:.3} mm, face radius {:.3} mm",
         out.state.t * 1e6,
