@@ -431,13 +431,13 @@ fn annulus(
                 if half {
                     // The same spacing along the half ring, the particles
                     // at the middles of its arcs, the outermost about
-                    // dr/2 from the axis; the innermost half ring (arc
-                    // π dr/2) holds one particle, dr/2 from it (two would
-                    // sit 0.35 dr from it).
-                    let count = if k == 0 {
+                    // dr/2 from the axis; a disk's innermost half ring
+                    // (arc π dr/2) holds one particle, dr/2 from it (two
+                    // would sit 0.35 dr from it).
+                    let count = if k == 0 && r_in == 0.0 {
                         1
                     } else {
-                        (PI * r / dr).round() as usize
+                        ((PI * r / dr).round() as usize).max(1)
                     };
                     let m = rho0 * 0.5 * ring_area / count as f64;
                     for q in 0..count {
@@ -566,5 +566,39 @@ mod tests {
             assert!((m / exact - 1.0).abs() < tol, "{lattice:?}: {m} vs {exact}");
             assert!(b.offsets.iter().all(|&o| o > 0.0 && o <= 5e-3));
         }
+    }
+
+    /// A ring centred on the axis of a body of revolution (a hollow
+    /// sphere): every half ring, the innermost too, is filled at the
+    /// lattice's spacing, and the masses are the shell's (a disk's
+    /// innermost half ring alone holds a single particle).
+    #[test]
+    fn hollow_sphere_half_rings_are_filled() {
+        let (r_in, r_out, dx) = (0.08, 0.1, 2e-3);
+        let b = place(
+            &Shape::Ring {
+                center: vec![0.0, 0.0],
+                inner_radius: r_in,
+                outer_radius: r_out,
+                lattice: Lattice::Polar,
+            },
+            dx,
+            1845.0,
+            true,
+        );
+        for k in 0..10 {
+            let r = r_in + (k as f64 + 0.5) * dx;
+            let ring: Vec<DVec2> = b
+                .positions
+                .iter()
+                .copied()
+                .filter(|p| (p.length() - r).abs() < 1e-9)
+                .collect();
+            assert_eq!(ring.len(), (PI * r / dx).round() as usize, "ring {k}");
+            assert!(ring.iter().all(|p| p.x > 0.0));
+        }
+        let m: f64 = b.masses.iter().sum();
+        let half = 1845.0 * 0.5 * PI * (r_out * r_out - r_in * r_in);
+        assert!((m / half - 1.0).abs() < 1e-12, "{m} vs {half}");
     }
 }
