@@ -46,6 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         shape: Shape::Segment { from, to },
         jitter: None,
         seed: None,
+        velocity_field: None,
     };
     let scene = Scene {
         title: Some("steel striker onto a long aluminium bar".into()),

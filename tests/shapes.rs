@@ -396,3 +396,64 @@ fn a_segment_from_a_file_with_offsets_is_the_segment() {
         );
     }
 }
+
+/// A radial velocity field (docs/scenes.md, "Bodies"): every particle of
+/// an imploding shell, in the plane and as a body of revolution, moves at
+/// the body's velocity plus `speed (radius/r)^exponent` along the
+/// direction from the centre; bad keys are refused naming them.
+#[test]
+fn a_radial_velocity_field_is_the_incompressible_flow() {
+    let shell = |geometry: &str, exponent: u32, extra: &str| {
+        format!(
+            r#"
+[simulation]
+dimension = 2
+{geometry}
+end_time = 1.0e-6
+[materials.be]
+density = 1845.0
+shear_modulus = 151.0e9
+eos = {{ kind = "linear", c0 = 7998.0 }}
+[[bodies]]
+name = "shell"
+material = "be"
+spacing = 2.0e-3
+velocity = [0.0, 3.0]
+shape = {{ kind = "ring", center = [0.0, 0.01], inner_radius = 0.08, outer_radius = 0.1, lattice = "polar" }}
+velocity_field = {{ kind = "radial", center = [0.0, 0.01], speed = -490.3, radius = 0.08, exponent = {exponent}{extra} }}
+"#
+        )
+    };
+    for (geometry, exponent) in [("", 1), ("geometry = \"axisymmetric\"", 2)] {
+        let scene = parse(&shell(geometry, exponent, ""));
+        let (_, state) = Model::new(&scene);
+        for (x, v) in state.x.iter().zip(&state.v) {
+            let d = *x - glam::DVec2::new(0.0, 0.01);
+            let r = d.length();
+            let want =
+                glam::DVec2::new(0.0, 3.0) + d / r * (-490.3 * (0.08 / r).powi(exponent as i32));
+            assert!((*v - want).length() < 1e-12, "{geometry}: {v} at {x}");
+        }
+    }
+    let refused = |text: String, key: &str| {
+        let e = Scene::from_toml_str(&text, "s.toml").expect_err("refused");
+        assert!(e.to_string().contains(key), "{e}");
+    };
+    refused(
+        shell("", 1, "").replace("exponent = 1", "exponent = -1"),
+        "velocity_field.exponent",
+    );
+    refused(
+        shell("", 1, "").replace("radius = 0.08, exponent", "radius = 0.0, exponent"),
+        "velocity_field.radius",
+    );
+    refused(
+        shell("", 1, "").replace("center = [0.0, 0.01], speed", "center = [0.0], speed"),
+        "velocity_field.center",
+    );
+    refused(shell("", 1, ", swirl = 1.0"), "swirl");
+    refused(
+        shell("", 1, "").replace("velocity = [0.0, 3.0]", "rigid = true"),
+        "velocity_field",
+    );
+}

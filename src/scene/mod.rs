@@ -276,6 +276,47 @@ pub struct Body {
     /// and every backend.
     #[serde(default)]
     pub seed: Option<u64>,
+    /// A velocity field added to `velocity` particle by particle (an
+    /// imploding or expanding shell, say).
+    #[serde(default)]
+    pub velocity_field: Option<VelocityField>,
+}
+
+/// An initial velocity that varies over a body.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum VelocityField {
+    /// Along the direction from `center`, `speed (radius/r)^exponent` at
+    /// distance `r` (negative: inward). Exponent 1 is the incompressible
+    /// flow of a cylinder in the plane; 2 that of a sphere, drawn as a body
+    /// of revolution centred on the axis.
+    Radial {
+        center: Vec<f64>,
+        speed: f64,
+        radius: f64,
+        #[serde(default)]
+        exponent: f64,
+    },
+}
+
+impl VelocityField {
+    /// The field's velocity at `x`; `None` at the centre, where a radial
+    /// field has no direction.
+    pub fn at(&self, x: glam::DVec2) -> Option<glam::DVec2> {
+        match self {
+            VelocityField::Radial {
+                center,
+                speed,
+                radius,
+                exponent,
+            } => {
+                let c = glam::DVec2::new(center[0], center.get(1).copied().unwrap_or(0.0));
+                let d = x - c;
+                let r = d.length();
+                (r > 0.0).then(|| d / r * (*speed * (radius / r).powf(*exponent)))
+            }
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]

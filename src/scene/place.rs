@@ -47,33 +47,51 @@ pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
             let rho0 = scene.materials[&b.material].density;
             let axisymmetric = scene.axisymmetric();
             let mut placed = match &b.shape {
-                Shape::Particles { file } => {
-                    return from_file(
-                        file,
-                        scene.dim(),
-                        b.spacing,
-                        scene.simulation.smoothing_ratio * b.spacing,
-                        rho0,
-                        axisymmetric,
-                    )
-                }
-                shape => place(shape, b.spacing, rho0, axisymmetric),
-            };
-            if let Some(fraction) = b.jitter.filter(|&j| j > 0.0) {
-                jitter(
-                    &mut placed,
-                    &b.shape,
-                    fraction,
-                    b.seed.unwrap_or(i as u64),
+                Shape::Particles { file } => from_file(
+                    file,
+                    scene.dim(),
+                    b.spacing,
+                    scene.simulation.smoothing_ratio * b.spacing,
+                    rho0,
                     axisymmetric,
-                );
-            }
-            if axisymmetric {
-                revolve(&mut placed);
+                ),
+                shape => {
+                    let mut placed = place(shape, b.spacing, rho0, axisymmetric);
+                    if let Some(fraction) = b.jitter.filter(|&j| j > 0.0) {
+                        jitter(
+                            &mut placed,
+                            shape,
+                            fraction,
+                            b.seed.unwrap_or(i as u64),
+                            axisymmetric,
+                        );
+                    }
+                    if axisymmetric {
+                        revolve(&mut placed);
+                    }
+                    placed
+                }
+            };
+            if let Some(field) = &b.velocity_field {
+                apply_field(&mut placed, b.velocity.as_deref(), field);
             }
             placed
         })
         .collect()
+}
+
+/// Each particle's velocity: the body's uniform one plus `field` at the
+/// particle (validation has refused a particle at a radial field's
+/// centre; one there would get the uniform part alone).
+fn apply_field(placed: &mut PlacedBody, uniform: Option<&[f64]>, field: &super::VelocityField) {
+    let u = uniform.map_or(DVec2::ZERO, |v| {
+        DVec2::new(v[0], v.get(1).copied().unwrap_or(0.0))
+    });
+    placed.velocities = placed
+        .positions
+        .iter()
+        .map(|&x| u + field.at(x).unwrap_or(DVec2::ZERO))
+        .collect();
 }
 
 /// SplitMix64 (Steele, Lea & Flood 2014): a tiny deterministic generator,

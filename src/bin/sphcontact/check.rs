@@ -44,6 +44,19 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
             b.velocity0.y,
             if b.rigid { ", rigid" } else { "" }
         );
+        if let Some(sphcontact::scene::VelocityField::Radial {
+            center,
+            speed,
+            radius,
+            exponent,
+        }) = &sb.velocity_field
+        {
+            println!(
+                "            plus a radial velocity field {speed} m/s × ({radius} m / r)^{exponent} from ({}, {})",
+                center[0],
+                center.get(1).copied().unwrap_or(0.0)
+            );
+        }
         if let Some(j) = sb.jitter.filter(|&j| j > 0.0) {
             println!(
                 "            jitter ±{j} Δx per coordinate (seed {}), mass from the nominal cells",

@@ -139,6 +139,26 @@ pub fn validate(scene: &Scene) -> R {
         if let Some(v) = &b.velocity {
             dimension_of(&k("velocity"), v, dim)?;
         }
+        if let Some(super::VelocityField::Radial {
+            center,
+            speed,
+            radius,
+            exponent,
+        }) = &b.velocity_field
+        {
+            let f = |x: &str| k(&format!("velocity_field.{x}"));
+            dimension_of(&f("center"), center, dim)?;
+            finite(&f("center"), center)?;
+            finite(&f("speed"), &[*speed])?;
+            positive(&f("radius"), *radius)?;
+            non_negative(&f("exponent"), *exponent)?;
+            if b.rigid {
+                return Err(SceneError::at(
+                    k("velocity_field"),
+                    "a rigid body moves as one: give its velocity, not a field",
+                ));
+            }
+        }
         if b.rigid && sim.interaction == Interaction::Kernel {
             return Err(SceneError::at(
                 k("rigid"),
@@ -355,6 +375,17 @@ fn validate_placement(scene: &Scene) -> R {
                 ),
             ));
         }
+        if let Some(field) = &scene.bodies[i].velocity_field {
+            if let Some(x) = p.positions.iter().find(|&&x| field.at(x).is_none()) {
+                return Err(SceneError::at(
+                    format!("bodies[{i}].velocity_field.center"),
+                    format!(
+                        "a particle lies at the centre ({}, {}), where a radial field has no direction",
+                        x.x, x.y
+                    ),
+                ));
+            }
+        }
     }
 
     // Overlap: any two particles of different bodies closer than half their
@@ -451,10 +482,15 @@ pub fn cfl_step_at_start(scene: &Scene, placed: &[super::PlacedBody]) -> f64 {
             continue;
         }
         let mat = MaterialModel::new(&scene.materials[&b.material]);
-        let v = b
+        let uniform = b
             .velocity
             .as_ref()
             .map_or(0.0, |v| v.iter().map(|x| x * x).sum::<f64>().sqrt());
+        let v = p
+            .velocities
+            .iter()
+            .map(|v| v.length())
+            .fold(uniform, f64::max);
         let h = scene.simulation.smoothing_ratio * p.spacing;
         dt = dt.min(cfl_step(scene.simulation.cfl, h, mat.c_l, v));
     }

@@ -168,6 +168,12 @@ pub(super) fn validate_particles(
             "the particles file gives each particle's velocity: drop the body's velocity or the file's columns",
         ));
     }
+    if !t.v.is_empty() && b.velocity_field.is_some() {
+        return Err(SceneError::at(
+            k("velocity_field"),
+            "the particles file gives each particle's velocity: drop the field or the file's columns",
+        ));
+    }
     if !t.v.is_empty() && b.rigid {
         return Err(SceneError::at(
             k("rigid"),
