@@ -155,7 +155,7 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
     type Stage = fn(&Model, &State, &Inputs);
     let stages: [(&str, Stage); 8] = [
         ("neighbours", |m, s, _| {
-            black_box(neighbours::find_with_skin(m, &s.x, skin(m)));
+            black_box(neighbours::find_with_skin(m, s.frame(), skin(m)));
         }),
         ("eos", |m, s, _| {
             black_box(cpu::eos_and_stress(m, s));
@@ -222,7 +222,7 @@ struct Inputs {
 
 impl Inputs {
     fn new(model: &Model, state: &State) -> Self {
-        let nb = neighbours::find_with_skin(model, &state.x, skin(model));
+        let nb = neighbours::find_with_skin(model, state.frame(), skin(model));
         let k = sweep::kinematics(model, state, &nb);
         let pts = cpu::eos_and_stress(model, state);
         let mut kept = Vec::new();

@@ -61,6 +61,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             backend: Backend::Cpu,
             integrator: Integrator::Midpoint,
             geometry: Geometry::Planar,
+            support: None,
         },
         artificial_stress: None,
         artificial_viscosity: None,

@@ -19,7 +19,7 @@ use sphcontact::validation::disk_scene;
 /// The stored energy at `st` with the boundary set `surface`, and the
 /// contact areas `area` where given (else their own).
 fn phi(model: &Model, st: &State, surface: &[bool], area: Option<&[f64]>) -> f64 {
-    let nb = neighbours::find(model, &st.x);
+    let nb = neighbours::find(model, st.frame());
     let mut bd = kinematics::boundary(model, &st.x, &nb, surface.to_vec());
     if let Some(a) = area {
         bd.area = a.to_vec();
@@ -82,7 +82,7 @@ fn main() {
         let t = st.t;
         let mut rates = [0.0; 3];
         if !plain && (diag.contact.stored > 0.0 || booked != 0.0) {
-            let nb = neighbours::find(model, &st.x);
+            let nb = neighbours::find(model, st.frame());
             let surface = kinematics::kinematics(model, st, &nb).surface;
             let area = kinematics::boundary(model, &st.x, &nb, surface.clone()).area;
             let eps = 1e-3 * diag.cfl_dt;

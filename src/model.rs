@@ -6,6 +6,7 @@ use std::ops::Range;
 
 use crate::physics::material::MaterialModel;
 use crate::physics::strength::History;
+use crate::physics::support::Metric;
 use crate::scene::{
     place_bodies, ArtPairs, ArtificialStress, Correction, Integrator, Interaction, Scene,
 };
@@ -80,6 +81,10 @@ pub struct Model {
     /// its reference volume in the kernel sums of a body of revolution
     /// ([`Model::reference_volume`]). Empty in plane strain.
     pub area0: Vec<f64>,
+    /// Supports that follow the deformation (docs/method.md, "Supports
+    /// that follow the deformation"): [`State::metric`] holds each
+    /// particle's.
+    pub adaptive: bool,
 }
 
 /// The energy guard's factor ([`Model::guards_energy`]).
@@ -128,9 +133,37 @@ pub struct State {
     /// failed it), negative while it holds; empty unless
     /// [`Model::history`].
     pub failed_at: Vec<f64>,
+    /// Each particle's support metric ([`Metric`]) where supports adapt
+    /// ([`Model::adaptive`]); empty otherwise.
+    pub metric: Vec<Metric>,
+}
+
+/// What the kernel of a pair is made of: the positions, and each
+/// particle's support metric where supports adapt (empty: the bodies'
+/// round supports of radius `2h`).
+#[derive(Debug, Clone, Copy)]
+pub struct Frame<'a> {
+    pub x: &'a [DVec2],
+    pub metric: &'a [Metric],
+}
+
+impl<'a> Frame<'a> {
+    /// Round supports at positions `x`.
+    pub fn round(x: &'a [DVec2]) -> Frame<'a> {
+        Frame { x, metric: &[] }
+    }
 }
 
 impl State {
+    /// The state's positions and supports.
+    #[inline]
+    pub fn frame(&self) -> Frame<'_> {
+        Frame {
+            x: &self.x,
+            metric: &self.metric,
+        }
+    }
+
     /// Particle i's plastic history (the state must carry one).
     #[inline]
     pub fn history(&self, i: usize) -> History {
@@ -184,6 +217,7 @@ impl Model {
             energy_guard: false,
             energy_floor: 0.0,
             axisymmetric: scene.axisymmetric(),
+            adaptive: sim.adaptive(),
             area0: Vec::new(),
         };
         let mut state = State {
@@ -201,6 +235,7 @@ impl Model {
             temperature: Vec::new(),
             damage: Vec::new(),
             failed_at: Vec::new(),
+            metric: Vec::new(),
         };
         for (bi, (b, p)) in scene.bodies.iter().zip(&placed).enumerate() {
             let material = MaterialModel::new(&scene.materials[&b.material]);
@@ -242,6 +277,9 @@ impl Model {
                 range: start..model.mass.len(),
                 velocity0: v0,
             });
+        }
+        if model.adaptive {
+            state.metric = model.h.iter().map(|&h| Metric::round(h)).collect();
         }
         model.domain = Model::domain_of(&model, &state, sim.end_time);
         model.energy_guard = Model::guards_energy(&model);

@@ -226,6 +226,25 @@ fn gpu_resume_of_bodies_of_revolution_gives_the_same_bytes() {
     });
 }
 
+/// Supports that adapt (docs/method.md, "Supports that follow the
+/// deformation"): the coarse computational Taylor bar (16 across, its
+/// face spreading on the wall from the start), on both integrators: the
+/// supports' metrics and the lists' reference supports resume to the
+/// same bytes.
+#[test]
+fn cpu_resume_with_adaptive_supports_gives_the_same_bytes() {
+    let mut scene = load("scenes/axisymmetric/taylor_bar_bilinear.toml");
+    scene.simulation.support = Some(sphcontact::scene::Support::Adaptive);
+    for b in scene.bodies.iter_mut() {
+        b.spacing = 2.0e-4;
+    }
+    scene.simulation.end_time = 1.2e-5;
+    scene.output.history_interval = Some(1.0e-7);
+    scene.output.snapshot_interval = Some(3.0e-6);
+    resume_matches_of(scene.clone(), Backend::Cpu);
+    resume_matches_of(leapfrog(scene), Backend::Cpu);
+}
+
 /// Two spheres as bodies of revolution, R/Δx = 10, closing at 80 m/s.
 fn coarse_spheres() -> Scene {
     let mut scene = load("scenes/axisymmetric/spheres_hertz.toml");

@@ -54,13 +54,13 @@ shape = { kind = "rectangle", min = [0.0, 0.0], max = [0.004, 0.002] }
 #[test]
 fn kernel_gradient_is_antisymmetric() {
     let (model, st) = scene(2, DISK, "gradient");
-    let nb = neighbours::find(&model, &st.x);
+    let nb = neighbours::find(&model, st.frame());
     let mut checked = 0;
     for i in 0..model.len() {
-        for b in nb.of(&model, &st.x, i) {
+        for b in nb.of(&model, st.frame(), i) {
             let j = b.j as usize;
             let back = nb
-                .of(&model, &st.x, j)
+                .of(&model, st.frame(), j)
                 .find(|c| c.j as usize == i)
                 .expect("symmetric lists");
             assert_eq!(b.gw, -back.gw, "pair ({i}, {j})");
@@ -86,7 +86,7 @@ fn corrected_gradient_reproduces_linear_fields() {
         for i in 0..model.len() {
             st.v[i] = a.mul_vec(st.x[i]) + DVec2::new(4.0, -2.0);
         }
-        let nb = neighbours::find(&model, &st.x);
+        let nb = neighbours::find(&model, st.frame());
         let pa = kinematics::kinematics(&model, &st, &nb);
         assert!(pa.fallback.is_empty());
         let mut worst: f64 = 0.0;
@@ -126,7 +126,7 @@ shape = { kind = "segment", from = -0.001, to = 0.002 }
     for i in 0..model.len() {
         st.v[i] = DVec2::new(-7.0 * st.x[i].x + 1.0, 0.0);
     }
-    let nb = neighbours::find(&model, &st.x);
+    let nb = neighbours::find(&model, st.frame());
     let pa = kinematics::kinematics(&model, &st, &nb);
     for i in 0..model.len() {
         let g = pa.gv[i];
@@ -140,7 +140,7 @@ fn normal_errors_deg(
     st: &State,
     truth: impl Fn(DVec2) -> Option<DVec2>,
 ) -> (usize, f64, f64) {
-    let nb = neighbours::find(model, &st.x);
+    let nb = neighbours::find(model, st.frame());
     let pa = kinematics::kinematics(model, st, &nb);
     let bd = kinematics::boundary(model, &st.x, &nb, pa.surface.clone());
     let mut worst: f64 = 0.0;

@@ -108,7 +108,7 @@ fn drive(c: f64, tq: f64, t0: f64, l: Mat2, dt: f64, steps: usize) -> Driven {
         for i in 0..n {
             st.v[i] = l.mul_vec(st.x[i]);
         }
-        let nb = neighbours::find(&model, &st.x);
+        let nb = neighbours::find(&model, st.frame());
         let k = kinematics::kinematics(&model, &st, &nb);
         let mut qs = Vec::with_capacity(n);
         for i in 0..n {
@@ -299,7 +299,7 @@ fn jaumann_simple_shear_rotates() {
         for i in 0..n {
             st.v[i] = l.mul_vec(st.x[i]);
         }
-        let nb = neighbours::find(&model, &st.x);
+        let nb = neighbours::find(&model, st.frame());
         let k = kinematics::kinematics(&model, &st, &nb);
         let s0 = st.s.clone();
         for i in 0..n {

@@ -154,6 +154,22 @@ impl Record for DVec2 {
     }
 }
 
+impl Record for crate::physics::support::Metric {
+    const MIN: usize = 24;
+    fn put(&self, w: &mut Writer) {
+        w.f64(self.xx);
+        w.f64(self.xy);
+        w.f64(self.yy);
+    }
+    fn get(r: &mut Reader) -> Result<Self, String> {
+        Ok(crate::physics::support::Metric {
+            xx: r.f64()?,
+            xy: r.f64()?,
+            yy: r.f64()?,
+        })
+    }
+}
+
 /// A list: its length, then its items.
 impl<T: Record> Record for Vec<T> {
     const MIN: usize = 8;

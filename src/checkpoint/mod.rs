@@ -41,11 +41,13 @@ use crate::scene::{Backend, Scene};
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\n";
-/// Version 6: the failure times of a state with a plastic history.
+/// Version 7: the supports' metrics of a state whose supports adapt, and
+/// the lists' reaches. (Version 6: the failure times of a state with a
+/// plastic history.)
 /// (Version 5: a scene without `[artificial_stress]` runs the default
 /// close-pair form, so a version 4 checkpoint resumed would change its
 /// physics.)
-const VERSION: u64 = 6;
+const VERSION: u64 = 7;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]

@@ -59,6 +59,7 @@ impl Record for State {
         self.temperature.put(w);
         self.damage.put(w);
         self.failed_at.put(w);
+        self.metric.put(w);
     }
     fn get(r: &mut Reader) -> Result<Self, String> {
         Ok(State {
@@ -79,6 +80,7 @@ impl Record for State {
             temperature: Record::get(r)?,
             damage: Record::get(r)?,
             failed_at: Record::get(r)?,
+            metric: Record::get(r)?,
         })
     }
 }
@@ -92,7 +94,8 @@ record!(
         cross_start,
         cross,
         skin,
-        x_ref
+        x_ref,
+        support_ref
     }..Default::default()
 );
 

@@ -7,9 +7,10 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::Rates;
-use crate::math::Sym;
+use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
 use crate::physics::strength;
+use crate::physics::support::Metric;
 
 /// `out = base + k · rates` (positions move with `vel`), with the radial
 /// return applied to the new deviatoric stress: perfect plasticity, or,
@@ -51,6 +52,30 @@ pub(super) fn advance(
     out.heat = base.heat + r.heat_rate * k;
     out.spring_work = base.spring_work + r.spring_rate * k;
     out.entry.clone_from(&base.entry);
+}
+
+/// Each particle's support at the end of a step of `dt` from `from`,
+/// carried with the velocity gradient `lv` of the evaluation that moved
+/// the positions ([`Metric::carried`], docs/method.md, "Supports that
+/// follow the deformation"); a rigid particle keeps its own. Nothing
+/// with round supports (`from` empty).
+pub(super) fn carry_supports(
+    model: &Model,
+    from: &[Metric],
+    lv: &[Mat2],
+    dt: f64,
+    out: &mut Vec<Metric>,
+) {
+    out.clear();
+    out.extend_from_slice(from);
+    out.par_iter_mut()
+        .zip(lv.par_iter())
+        .enumerate()
+        .for_each(|(i, (q, l))| {
+            if !model.rigid(i) {
+                *q = q.carried(l, dt, model.h[i], model.dim);
+            }
+        });
 }
 
 /// Whether particle i's density is inside `[0.1, 10] ρ0`, or, for a

@@ -93,10 +93,10 @@ pub(super) fn add_momentum(
         .map(|(i, row)| {
             let a = side(i);
             let mut dvi = DVec2::ZERO;
-            for (b, slot) in nb.images_of(model, &st.x, i) {
+            for (b, slot) in nb.images_of(model, st.frame(), i) {
                 let j = b.j as usize;
                 let im = image(j);
-                let p = pair_terms_of(model, st, &kin.surface, (i, &a), (j, &im), b.gw);
+                let p = pair_terms_of(model, st, &kin.surface, (i, &a), (j, &im), &b);
                 dvi += p.tg * model.mass[j];
                 row[slot] = pair_vectors(p.tg, a.pt.sr2.mul_vec(p.g), im.pt.sr2.mul_vec(p.g))[0];
             }
@@ -193,7 +193,7 @@ pub(super) fn add_kinematics<S: Seen>(
 ) {
     for i in nb.image_rows() {
         let sum = &mut sums[i];
-        for (b, _) in nb.images_of(model, &st.x, i) {
+        for (b, _) in nb.images_of(model, st.frame(), i) {
             let j = b.j as usize;
             let vj = S::mirror(vel[j]);
             let gi = b.gw * gradient_weight(model, st, vol, i, j);

@@ -278,7 +278,7 @@ fn normal_rates(
         .map(|&p| {
             let p = p as usize;
             let mut gdot = DVec2::ZERO;
-            for (b, image) in nb.with_images(model, &st.x, p) {
+            for (b, image) in nb.round_with_images(model, &st.x, p) {
                 let j = b.j as usize;
                 let vol = model.reference_volume(j);
                 let (xj, vj) = if image {
@@ -522,7 +522,7 @@ pub fn penalty_booked(
                 let b = (n_bar - nq * nq.dot(n_bar)) / bd.grad_norm[q];
                 // In a body of revolution j moves its image across the
                 // axis the mirror way.
-                for (nbr, image) in nb.with_images(model, &st.x, q) {
+                for (nbr, image) in nb.round_with_images(model, &st.x, q) {
                     let j = nbr.j as usize;
                     let vol = model.reference_volume(j);
                     let xj = if image {

@@ -33,7 +33,7 @@ fn pressed(lattice: &str, overlap: f64) -> (Model, State) {
 
 /// The stored energy at `x`, with the boundary set and areas held.
 fn stored(model: &Model, st: &State, surface: &[bool], area: &[f64]) -> f64 {
-    let nb = neighbours::find(model, &st.x);
+    let nb = neighbours::find(model, st.frame());
     let mut bd = kinematics::boundary(model, &st.x, &nb, surface.to_vec());
     bd.area = area.to_vec();
     penalty(model, st, &nb, &bd).stats.stored
@@ -70,7 +70,7 @@ fn two_particles_gap_and_force_by_hand() {
     let k = m / dx;
     assert!((spring_stiffness(0.5 * dx, dx, m, 0.5 * dx, dx, m) / k - 1.0).abs() < 1e-15);
 
-    let nb = neighbours::find(&model, &st.x);
+    let nb = neighbours::find(&model, st.frame());
     let surface = kinematics::kinematics(&model, &st, &nb).surface;
     let bd = kinematics::boundary(&model, &st.x, &nb, surface);
     // The four ends are the boundary; in 1-D the area is 1.
@@ -120,7 +120,7 @@ fn two_particles_gap_and_force_by_hand() {
 #[test]
 fn entry_overlaps_store_nothing_and_only_shrink() {
     let (model, mut st) = pressed("square", 0.2);
-    let nb = neighbours::find(&model, &st.x);
+    let nb = neighbours::find(&model, st.frame());
     let surface = kinematics::kinematics(&model, &st, &nb).surface;
     let bd = kinematics::boundary(&model, &st.x, &nb, surface);
     let full = penalty(&model, &st, &nb, &bd);
@@ -162,7 +162,7 @@ fn entry_overlaps_store_nothing_and_only_shrink() {
 #[test]
 fn a_deep_overlap_yields() {
     let (model, st) = pressed("square", 0.7);
-    let nb = neighbours::find(&model, &st.x);
+    let nb = neighbours::find(&model, st.frame());
     let surface = kinematics::kinematics(&model, &st, &nb).surface;
     let bd = kinematics::boundary(&model, &st.x, &nb, surface);
     let c = penalty(&model, &st, &nb, &bd);
@@ -195,7 +195,7 @@ fn spring_force_is_the_stored_energys_gradient() {
     // overlaps: the spring measured from them is a gradient too.
     for (lattice, entries) in [("polar", false), ("square", false), ("square", true)] {
         let (model, mut st) = pressed(lattice, 0.2);
-        let nb = neighbours::find(&model, &st.x);
+        let nb = neighbours::find(&model, st.frame());
         let k = kinematics::kinematics(&model, &st, &nb);
         let surface = k.surface.clone();
         let bd = kinematics::boundary(&model, &st.x, &nb, surface.clone());

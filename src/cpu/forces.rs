@@ -63,7 +63,7 @@ pub(in crate::cpu) fn pair_terms(
 ) -> PairTerms {
     let j = b.j as usize;
     let side = |k| Side::of(st, l, gv, pts, k);
-    pair_terms_of(model, st, surface, (i, &side(i)), (j, &side(j)), b.gw)
+    pair_terms_of(model, st, surface, (i, &side(i)), (j, &side(j)), b)
 }
 
 /// What a pair's terms read of one of its particles that its mirror
@@ -101,7 +101,8 @@ impl Side {
 }
 
 /// [`pair_terms`] of particles `(i, a)` and `(j, b)`, each with its
-/// [`Side`], `gw = ∇_i W_ij` at their positions.
+/// [`Side`], and their kernel `nb` (`∇_i W_ij` and `q²` at their
+/// positions).
 #[inline]
 pub(in crate::cpu) fn pair_terms_of(
     model: &Model,
@@ -109,11 +110,20 @@ pub(in crate::cpu) fn pair_terms_of(
     surface: &[bool],
     (i, a): (usize, &Side),
     (j, b): (usize, &Side),
-    gw: DVec2,
+    nb: &Nbr,
 ) -> PairTerms {
     let (pi_, pj) = (&a.pt, &b.pt);
-    let hij = 0.5 * (model.h[i] + model.h[j]);
+    let gw = nb.gw;
+    let h0 = 0.5 * (model.h[i] + model.h[j]);
     let xij = a.x - b.x;
+    // The pair's smoothing length along x_ij: h_ij, or where supports
+    // adapt `r/q` (docs/method.md, "Supports that follow the
+    // deformation").
+    let hij = if model.adaptive {
+        along(xij.length_squared(), nb.q2, h0)
+    } else {
+        h0
+    };
     let vij = a.v - b.v;
     let g = (a.l + b.l).scale(0.5).mul_vec(gw);
     // The viscosity sees the reconstructed jump; the energy equation keeps
@@ -164,12 +174,23 @@ pub(in crate::cpu) fn pair_terms_of(
                 let vol = 0.5 * (model.mass[i] / st.rho[i] + model.mass[j] / st.rho[j]);
                 let ks = &model.close_scale;
                 let k2 = if ks.is_empty() { 1.0 } else { ks[i].min(ks[j]) };
-                close_gate(r2, vol, k2, model.dim)
+                if model.adaptive {
+                    // In the pair's metric: its distance q against the
+                    // spacing its volume has there.
+                    close_gate(nb.q2, vol * nb.scale, k2, model.dim)
+                } else {
+                    close_gate(r2, vol, k2, model.dim)
+                }
             }
         };
         if rs.xx + rs.yy < 0.0 && gate > 0.0 {
             let dp = 0.5 * (model.spacing_of(i) + model.spacing_of(j));
-            let rf = rs.scale(art_weight(r2, dp, hij, a.n) * gate);
+            let w = if model.adaptive {
+                art_weight(nb.q2, dp / h0, 1.0, a.n)
+            } else {
+                art_weight(r2, dp, hij, a.n)
+            };
+            let rf = rs.scale(w * gate);
             t = t.add_scaled(&rf, 1.0);
             art_work = 0.5 * vij.dot(rf.mul_vec(g));
         }
@@ -179,6 +200,17 @@ pub(in crate::cpu) fn pair_terms_of(
         g,
         vij,
         shared: 0.5 * pi * vij.dot(g) - art_work,
+    }
+}
+
+/// The smoothing length along a pair at squared distance `r2` and
+/// squared metric distance `q2` (`r/q`), `h0` for coincident particles.
+#[inline]
+pub(in crate::cpu) fn along(r2: f64, q2: f64, h0: f64) -> f64 {
+    if q2 > 0.0 {
+        (r2 / q2).sqrt()
+    } else {
+        h0
     }
 }
 
@@ -204,7 +236,7 @@ pub fn momentum_energy(
             if model.rigid(i) {
                 return (dv, de);
             }
-            for b in nb.of(model, &st.x, i) {
+            for b in nb.of(model, st.frame(), i) {
                 let p = pair_terms(model, st, &kin.l, &kin.gv, &kin.surface, pts, i, &b);
                 let mj = model.mass[b.j as usize];
                 dv += p.tg * mj;

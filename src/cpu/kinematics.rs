@@ -35,6 +35,10 @@ pub struct Kinematics {
     /// reconstructs velocities with it (`Model::av_reconstruct`); empty
     /// otherwise.
     pub gv: Vec<Mat2>,
+    /// The state's velocity gradient, where supports adapt (they are
+    /// carried with it, [`super::advance::carry_supports`]); empty
+    /// otherwise.
+    pub lv: Vec<Mat2>,
     /// Continuity `dρ/dt = −ρ tr(∇v)` (the difference form of docs/method.md §4
     /// with the corrected gradient).
     pub drho: Vec<f64>,
@@ -205,7 +209,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
     let mut sums: Vec<Sums<()>> = (0..model.len())
         .map(|i| {
             let mut sum = Sums::<()>::default();
-            for b in nb.of(model, &st.x, i) {
+            for b in nb.of(model, st.frame(), i) {
                 let j = b.j as usize;
                 let gi = b.gw * vol[j];
                 let gm = b.gw * gradient_weight(model, st, &vol, i, j);
@@ -219,7 +223,33 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
     if model.axisymmetric {
         axis::add_kinematics(model, st, nb, &vol, &st.v, &mut sums);
     }
+    round_colour(model, st, nb, &vol, &mut sums);
     finish(model, st, sums)
+}
+
+/// Where supports adapt, each particle's colour gradient with the round
+/// supports of the bodies' `h` instead of its own, images included: the
+/// surface set it decides is then a function of the positions alone, as
+/// the contact's normals are, and does not switch as the supports turn
+/// (docs/method.md, "Supports that follow the deformation"). Nothing with
+/// round supports.
+pub(in crate::cpu) fn round_colour<S: Seen>(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    vol: &[f64],
+    sums: &mut [Sums<S>],
+) {
+    if !model.adaptive {
+        return;
+    }
+    sums.par_iter_mut().enumerate().for_each(|(i, sum)| {
+        let mut g = DVec2::ZERO;
+        for (b, _) in nb.round_with_images(model, &st.x, i) {
+            g -= b.gw * vol[b.j as usize];
+        }
+        sum.gpsi = g;
+    });
 }
 
 /// Neighbour j's weight in particle i's gradient sums (`M_i`, `∇v_i`):
@@ -302,6 +332,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
         grad_psi: Vec::with_capacity(n),
         surface: Vec::with_capacity(n),
         gv: Vec::with_capacity(if model.av_reconstruct { n } else { 0 }),
+        lv: Vec::with_capacity(if model.adaptive { n } else { 0 }),
         drho: Vec::with_capacity(n),
         ds: Vec::with_capacity(n),
         rate: Vec::with_capacity(if model.strain_rate { n } else { 0 }),
@@ -331,6 +362,9 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
         }
         if model.av_reconstruct {
             out.gv.push(p.gv_seen.unwrap_or(p.gv));
+        }
+        if model.adaptive {
+            out.lv.push(p.gv);
         }
         if model.strain_rate {
             out.rate.push(if model.axisymmetric && !model.rigid(i) {
@@ -391,7 +425,7 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
             let h = model.h[i];
             let mut sw = kernel::w(2, 0.0, h);
             let mut g = DVec2::ZERO;
-            for (b, _) in nb.with_images(model, x, i) {
+            for (b, _) in nb.round_with_images(model, x, i) {
                 let j = b.j as usize;
                 g -= b.gw * model.reference_volume(j);
                 if is_boundary[j] {
@@ -475,7 +509,7 @@ shape = { kind = "rectangle", min = [0.0, 0.0], max = [3.0, 3.0] }
                 .find(|&i| st.x[i] == DVec2::new(x, y))
                 .unwrap_or_else(|| panic!("a particle at ({x}, {y})"))
         };
-        let nb = neighbours::find(&model, &st.x);
+        let nb = neighbours::find(&model, st.frame());
         let k = kinematics(&model, &st, &nb);
         let bd = boundary(&model, &st.x, &nb, k.surface.clone());
         let close = |a: DVec2, b: DVec2| (a - b).length() < 1e-12;

@@ -59,13 +59,17 @@ impl CpuSolver {
             });
         half.rho.copy_from_slice(&st.rho);
         half.s.copy_from_slice(&st.s);
+        // The step's sums take the supports it starts with; they are
+        // carried to n+1 at its end.
+        half.metric.clone_from(&st.metric);
+        next.metric.clone_from(&st.metric);
         half.heat = st.heat + kn.heat_rate * h;
         half.spring_work = st.spring_work + kn.spring_rate * h;
         Self::refresh_lists(
             model,
             &mut self.nb,
             &mut self.list_builds,
-            &half.x,
+            half.frame(),
             Role::Drifted,
         );
         let nb = &self.nb;
@@ -74,7 +78,8 @@ impl CpuSolver {
         // velocities, in the same walk. (A ∇v at n+½ with velocities at n+1
         // mixes two levels: a jump O(Δt) where it should be O(Δx²), which
         // makes the step first order.)
-        let k = sweep::kinematics_seen(model, &half, nb, &next.v);
+        let mut k = sweep::kinematics_seen(model, &half, nb, &next.v);
+        let lv = std::mem::take(&mut k.lv);
         next.x.copy_from_slice(&half.x);
         // ρ and s at n+1, the predicted energy of 3, and the EOS at them
         // (eos_and_stress: in the same walk, or, with a plastic history,
@@ -156,6 +161,7 @@ impl CpuSolver {
             diag.contact = c.stats;
         }
         std::mem::swap(&mut next.v, &mut half.v);
+        carry_supports(model, &st.metric, &lv, dt, &mut next.metric);
         stage::enter(Stage::Advance, Role::Finish);
         // The next step's reduction is fused into this walk.
         stage::enter(Stage::Reduce, Role::Step);
@@ -173,7 +179,8 @@ impl CpuSolver {
                     return (f64::INFINITY, sane(model, i, x, v, *e, rho, 0.0));
                 }
                 *e = half.e[i] + de[i] * h;
-                let dt = material::cfl_step(model.cfl, model.h[i], pts[i].c, v.length());
+                let hs = support_h(model, &next.metric, i);
+                let dt = material::cfl_step(model.cfl, hs, pts[i].c, v.length());
                 (
                     dt,
                     sane(
@@ -206,6 +213,7 @@ impl CpuSolver {
                 heat_rate,
                 spring_rate,
                 entry: Vec::new(),
+                lv: Vec::new(),
             },
             diag,
         ));

@@ -32,8 +32,9 @@ pub mod sweep;
 
 pub use kinematics::eos_and_stress;
 pub use reduce::cfl_step;
+use reduce::support_h;
 
-use advance::{advance, dense, plastic_return, return_with_history, sane};
+use advance::{advance, carry_supports, dense, plastic_return, return_with_history, sane};
 use kinematics::stress_point;
 
 use glam::DVec2;
@@ -41,7 +42,7 @@ use rayon::prelude::*;
 
 use crate::error::Instability;
 use crate::math::Sym;
-use crate::model::{Diagnostics, Model, State};
+use crate::model::{Diagnostics, Frame, Model, State};
 use crate::physics::material;
 use crate::scene::Integrator;
 use crate::stage::{self, Role, Stage};
@@ -69,11 +70,15 @@ pub struct Rates {
     /// (`(particle, overlap)`, [`contact::write_entries`]); empty without
     /// contact and in the leapfrog's carried rates.
     pub entry: Vec<(u32, f64)>,
+    /// The velocity gradient the supports are carried with
+    /// ([`Kinematics::lv`](kinematics::Kinematics::lv)); empty with round
+    /// supports and in the leapfrog's carried rates.
+    pub lv: Vec<crate::math::Mat2>,
 }
 
 /// One full evaluation of the rates at `st`, neighbour lists built for it.
 pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
-    let nb = neighbours::find(model, &st.x);
+    let nb = neighbours::find(model, st.frame());
     evaluate_with(model, st, &nb)
 }
 
@@ -111,6 +116,7 @@ fn evaluate_at(
         ds,
         surface,
         rate,
+        lv,
         ..
     } = k;
     let mut heat_rate = 0.0;
@@ -149,6 +155,7 @@ fn evaluate_at(
             heat_rate,
             spring_rate,
             entry,
+            lv,
         },
         diag,
     )
@@ -161,7 +168,7 @@ fn evaluate_at(
 /// In kernel mode the SPH sums run across bodies, so faces in contact with
 /// another body are not surface there.
 pub fn surface(model: &Model, st: &State) -> (Vec<DVec2>, Vec<bool>) {
-    let nb = neighbours::find(model, &st.x);
+    let nb = neighbours::find(model, st.frame());
     let a = sweep::kinematics(model, st, &nb);
     let bd = kinematics::boundary(model, &st.x, &nb, a.surface);
     (bd.normal, bd.is_boundary)
@@ -263,18 +270,18 @@ impl CpuSolver {
         self.energy_limit
     }
 
-    /// Make the candidate lists valid for positions `x`.
+    /// Make the candidate lists valid for the positions and supports `f`.
     fn refresh_lists(
         model: &Model,
         nb: &mut neighbours::Neighbours,
         builds: &mut u64,
-        x: &[DVec2],
+        f: Frame,
         role: Role,
     ) {
         stage::enter(Stage::Neighbours, role);
-        if !nb.still_valid(x) {
+        if !nb.still_valid(f) {
             let h_max = model.h.iter().cloned().fold(0.0, f64::max);
-            *nb = neighbours::find_with_skin(model, x, SKIN_FRACTION * 2.0 * h_max);
+            *nb = neighbours::find_with_skin(model, f, SKIN_FRACTION * 2.0 * h_max);
             *builds += 1;
         }
     }
@@ -286,7 +293,7 @@ impl CpuSolver {
                 &self.model,
                 &mut self.nb,
                 &mut self.list_builds,
-                &self.state.x,
+                self.state.frame(),
                 Role::Base,
             );
             let (r, d) = evaluate_with(&self.model, &self.state, &self.nb);
@@ -355,12 +362,21 @@ impl CpuSolver {
             0.5 * dt,
             &mut half,
         );
+        // The midpoint's sums take the step's supports.
+        half.metric.clone_from(&self.state.metric);
         let lists = (&mut self.nb, &mut self.list_builds);
-        Self::refresh_lists(&self.model, lists.0, lists.1, &half.x, Role::Mid);
+        Self::refresh_lists(&self.model, lists.0, lists.1, half.frame(), Role::Mid);
         let (k2, _) = evaluate_at(&self.model, &half, &self.nb, Role::Mid);
         let mut next = std::mem::take(&mut self.spare);
         stage::enter(Stage::Advance, Role::FullStep);
         advance(&self.model, &self.state, &half.v, &k2, dt, &mut next);
+        carry_supports(
+            &self.model,
+            &self.state.metric,
+            &k2.lv,
+            dt,
+            &mut next.metric,
+        );
         next.t = self.state.t + dt;
         next.step = self.state.step + 1;
         self.scratch = half;

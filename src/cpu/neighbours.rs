@@ -11,15 +11,22 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::math::cells::CellList;
-use crate::model::Model;
+use crate::model::{Frame, Model};
 use crate::physics::kernel;
+use crate::physics::support::Metric;
 
-/// One neighbour of particle i: `j`, `W_ij` and `∇_i W_ij` (with `h_ij`).
+/// One neighbour of particle i: `j`, `W_ij`, `∇_i W_ij` and `q²`, the
+/// squared distance in units of the pair's smoothing length (`r²/h_ij²`
+/// with round supports); where supports adapt, `scale` is the pair
+/// metric's `√det Q` (a volume in its units is the volume times it; 0
+/// with round supports).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Nbr {
     pub j: u32,
     pub w: f64,
     pub gw: DVec2,
+    pub q2: f64,
+    pub scale: f64,
 }
 
 /// Candidate neighbours in compressed rows: every particle within
@@ -72,6 +79,12 @@ pub struct Neighbours {
     /// ([`Neighbours::index_images`]), not saved.
     pub image_start: Vec<u32>,
     pub images: Vec<u32>,
+    /// Where supports adapt, each particle's support at the build: a row
+    /// holds the partners that can enter the pair's support before any
+    /// support grows by [`REACH_MARGIN`] in some direction or any particle
+    /// moves half the skin ([`Neighbours::still_valid`]). Empty with
+    /// round supports.
+    pub support_ref: Vec<Metric>,
 }
 
 impl Neighbours {
@@ -81,13 +94,13 @@ impl Neighbours {
     pub fn of<'a>(
         &'a self,
         model: &'a Model,
-        x: &'a [DVec2],
+        f: Frame<'a>,
         i: usize,
     ) -> impl Iterator<Item = Nbr> + 'a {
         let inv_hi = 1.0 / model.h[i];
         self.candidates(i)
             .iter()
-            .filter_map(move |&j| pair(model, x, i, inv_hi, j))
+            .filter_map(move |&j| pair(model, f, i, inv_hi, j))
     }
 
     /// [`Neighbours::of`] and then [`Neighbours::images_of`]: each partner
@@ -97,12 +110,12 @@ impl Neighbours {
     pub fn with_images<'a>(
         &'a self,
         model: &'a Model,
-        x: &'a [DVec2],
+        f: Frame<'a>,
         i: usize,
     ) -> impl Iterator<Item = (Nbr, bool)> + 'a {
-        self.of(model, x, i)
+        self.of(model, f, i)
             .map(|b| (b, false))
-            .chain(self.images_of(model, x, i).map(|(b, _)| (b, true)))
+            .chain(self.images_of(model, f, i).map(|(b, _)| (b, true)))
     }
 
     /// The mirror images of particle i's partners across the axis
@@ -112,7 +125,7 @@ impl Neighbours {
     pub fn images_of<'a>(
         &'a self,
         model: &'a Model,
-        x: &'a [DVec2],
+        f: Frame<'a>,
         i: usize,
     ) -> impl Iterator<Item = (Nbr, usize)> + 'a {
         let inv_hi = 1.0 / model.h[i];
@@ -120,11 +133,46 @@ impl Neighbours {
             .iter()
             .enumerate()
             .filter_map(move |(slot, &j)| {
-                let inv_h = pair_inv_h(model.h[i], model.h[j as usize], inv_hi);
-                let d = x[i] - crate::cpu::axis::mirror(x[j as usize]);
-                kernel::w_grad(model.dim, d, d.length_squared(), inv_h)
-                    .map(|(w, gw)| (Nbr { j, w, gw }, slot))
+                let d = f.x[i] - crate::cpu::axis::mirror(f.x[j as usize]);
+                let k = if f.metric.is_empty() {
+                    let inv_h = pair_inv_h(model.h[i], model.h[j as usize], inv_hi);
+                    kernel::w_grad_q(model.dim, d, d.length_squared(), inv_h)
+                        .map(|(w, gw, q2)| (w, gw, q2, 0.0))
+                } else {
+                    // The image's support is the particle's, mirrored.
+                    let qj = f.metric[j as usize].mirror();
+                    kernel::w_grad_pair(model.dim, d, &f.metric[i], &qj)
+                };
+                k.map(|(w, gw, q2, scale)| {
+                    (
+                        Nbr {
+                            j,
+                            w,
+                            gw,
+                            q2,
+                            scale,
+                        },
+                        slot,
+                    )
+                })
             })
+    }
+
+    /// [`Neighbours::with_images`] with the round supports of the bodies'
+    /// `h` whatever the scene's supports: the contact's boundary set,
+    /// normals and areas, which are functions of the positions alone
+    /// (docs/method.md, "Supports that follow the deformation").
+    #[inline]
+    pub fn round_with_images<'a>(
+        &'a self,
+        model: &'a Model,
+        x: &'a [DVec2],
+        i: usize,
+    ) -> impl Iterator<Item = (Nbr, bool)> + 'a {
+        let f = Frame::round(x);
+        self.of(model, f, i)
+            .map(|b| (b, false))
+            .chain(self.images_of(model, f, i).map(|(b, _)| (b, true)))
     }
 
     /// Particle i's candidate images (empty in plane strain).
@@ -153,14 +201,30 @@ impl Neighbours {
         if model.axisymmetric {
             let x = &self.x_ref;
             let h_max = model.h.iter().cloned().fold(0.0, f64::max);
+            // As the rows (a mirror image's support is its particle's,
+            // mirrored).
+            let q = &self.support_ref;
+            let adaptive = !q.is_empty();
+            let reach = if adaptive {
+                adaptive_reach(model, q, self.skin)
+            } else {
+                2.0 * h_max + self.skin
+            };
             start.push(0);
             for i in 0..x.len() {
-                if x[i].x < model.h[i] + h_max + self.skin {
+                // An image lies at least x_i from the particle.
+                if x[i].x < reach {
                     let cands = std::iter::once(i as u32).chain(self.candidates(i).iter().copied());
                     for j in cands {
-                        let reach = model.h[i] + model.h[j as usize] + self.skin;
-                        let d = x[i] - crate::cpu::axis::mirror(x[j as usize]);
-                        if d.length_squared() < reach * reach {
+                        let j_ = j as usize;
+                        let round = model.h[i] + model.h[j_] + self.skin;
+                        let d = x[i] - crate::cpu::axis::mirror(x[j_]);
+                        let near = if adaptive {
+                            near_adaptive(d, &q[i], &q[j_].mirror(), round, self.skin)
+                        } else {
+                            d.length_squared() < round * round
+                        };
+                        if near {
                             images.push(j);
                         }
                     }
@@ -188,14 +252,19 @@ impl Neighbours {
 
     /// Whether the lists still hold every pair at positions `x`: no particle
     /// moved more than half the skin since the build.
-    pub fn still_valid(&self, x: &[DVec2]) -> bool {
-        if self.x_ref.len() != x.len() {
+    pub fn still_valid(&self, f: Frame) -> bool {
+        if self.x_ref.len() != f.x.len() || self.support_ref.len() != f.metric.len() {
             return false;
         }
         let lim2 = 0.25 * self.skin * self.skin;
-        x.par_iter()
+        let grown = 1.0 / (REACH_MARGIN * REACH_MARGIN);
+        f.x.par_iter()
             .zip(self.x_ref.par_iter())
             .all(|(a, b)| (*a - *b).length_squared() <= lim2)
+            && f.metric
+                .par_iter()
+                .zip(self.support_ref.par_iter())
+                .all(|(q, p)| q.least_ratio(p) >= grown)
     }
 
     /// Bytes the lists hold.
@@ -211,16 +280,30 @@ impl Neighbours {
             + size_of_val(&self.visited[..])
             + size_of_val(&self.image_start[..])
             + size_of_val(&self.images[..])
+            + size_of_val(&self.support_ref[..])
     }
 }
 
-/// Candidate `j` of particle `i` if it lies within `2 h_ij` at positions
-/// `x`, with `W_ij` and `∇_i W_ij`; `inv_hi = 1/h_i`.
+/// Candidate `j` of particle `i` if it lies within the pair's support in
+/// the frame `f` (within `2 h_ij` with round supports), with `W_ij`,
+/// `∇_i W_ij` and `q²`; `inv_hi = 1/h_i`.
 #[inline]
-pub(super) fn pair(model: &Model, x: &[DVec2], i: usize, inv_hi: f64, j: u32) -> Option<Nbr> {
-    let inv_h = pair_inv_h(model.h[i], model.h[j as usize], inv_hi);
-    let d = x[i] - x[j as usize];
-    kernel::w_grad(model.dim, d, d.length_squared(), inv_h).map(|(w, gw)| Nbr { j, w, gw })
+pub(super) fn pair(model: &Model, f: Frame, i: usize, inv_hi: f64, j: u32) -> Option<Nbr> {
+    let d = f.x[i] - f.x[j as usize];
+    let k = if f.metric.is_empty() {
+        let inv_h = pair_inv_h(model.h[i], model.h[j as usize], inv_hi);
+        kernel::w_grad_q(model.dim, d, d.length_squared(), inv_h)
+            .map(|(w, gw, q2)| (w, gw, q2, 0.0))
+    } else {
+        kernel::w_grad_pair(model.dim, d, &f.metric[i], &f.metric[j as usize])
+    };
+    k.map(|(w, gw, q2, scale)| Nbr {
+        j,
+        w,
+        gw,
+        q2,
+        scale,
+    })
 }
 
 /// `1/h_ij` of a pair, `h_ij = (h_i + h_j)/2`, with `inv_hi = 1/h_i`: one
@@ -243,24 +326,75 @@ pub fn mean_neighbours(model: &Model, x: &[DVec2]) -> f64 {
         return 0.0;
     }
     // Lists without a skin hold exactly the pairs within `2 h_ij`.
-    let nb = find(model, x);
+    let nb = find(model, Frame::round(x));
     (nb.list.len() + nb.cross.len()) as f64 / x.len() as f64
 }
 
-/// Exact lists (no skin) at positions `x`.
-pub fn find(model: &Model, x: &[DVec2]) -> Neighbours {
-    find_with_skin(model, x, 0.0)
+/// Lists without a skin in the frame `f` (with round supports: exactly
+/// the pairs within `2 h_ij`).
+pub fn find(model: &Model, f: Frame) -> Neighbours {
+    find_with_skin(model, f, 0.0)
+}
+
+/// How much a support may grow along any direction before the lists
+/// built for it are rebuilt: 10 %.
+pub const REACH_MARGIN: f64 = 1.1;
+
+/// Whether particles `i` and `j` of one body, at separation `d` and with
+/// supports `qi`, `qj` at the build, go into each other's rows where
+/// supports adapt: within the round supports' `h_i + h_j` plus the skin
+/// (the contact's boundary set and normals), or near enough to enter the
+/// pair's support before the lists lapse. While no support grows by more
+/// than [`REACH_MARGIN`] along any direction the pair's metric stays above
+/// the build's over `REACH_MARGIN²`, so a pair in its support then has
+/// `|d'|_Q < 2 REACH_MARGIN` in the build's metric `Q`, and `d'` lies
+/// within half a skin of each particle's move from `d`.
+#[inline]
+fn near_adaptive(d: DVec2, qi: &Metric, qj: &Metric, round: f64, skin: f64) -> bool {
+    if d.length_squared() < round * round {
+        return true;
+    }
+    let q = qi.mean(qj);
+    let reach = 2.0 * REACH_MARGIN + skin * q.largest().sqrt();
+    q.quad(d) < reach * reach
+}
+
+/// The farthest two particles go into each other's rows where supports
+/// adapt ([`near_adaptive`]): the largest major semi-axis times
+/// `2 REACH_MARGIN`, plus the skin stretched by the largest aspect
+/// ratio, or the round supports' reach.
+fn adaptive_reach(model: &Model, metric: &[Metric], skin: f64) -> f64 {
+    let (major, aspect) = metric
+        .par_iter()
+        .map(|q| {
+            let (lo, hi) = q.axes();
+            (hi, hi / lo)
+        })
+        .reduce(|| (0.0, 1.0), |a, b| (a.0.max(b.0), a.1.max(b.1)));
+    let h_max = model.h.iter().cloned().fold(0.0, f64::max);
+    (2.0 * REACH_MARGIN * major + skin * aspect).max(2.0 * h_max + skin)
 }
 
 /// Particles per block of the parallel list build: large enough that the
 /// per-block vectors amortise, small enough to balance two to many cores.
 pub(in crate::cpu) const BLOCK: usize = 2048;
 
-/// Build the candidate lists of every particle: all particles within
-/// `2 h_ij + skin`, SPH partners and other-body candidates apart.
-pub fn find_with_skin(model: &Model, x: &[DVec2], skin: f64) -> Neighbours {
+/// Build the candidate lists of every particle in the frame `f`: all
+/// particles within `2 h_ij + skin` (where supports adapt, the SPH
+/// partners within twice the smaller of the two particles' reaches plus
+/// the skin), SPH partners and other-body candidates apart.
+pub fn find_with_skin(model: &Model, f: Frame, skin: f64) -> Neighbours {
+    let x = f.x;
+    let adaptive = !f.metric.is_empty();
     let h_max = model.h.iter().cloned().fold(0.0, f64::max);
-    let cells = CellList::build(x, 2.0 * h_max + skin);
+    let cells = CellList::build(
+        x,
+        if adaptive {
+            adaptive_reach(model, f.metric, skin)
+        } else {
+            2.0 * h_max + skin
+        },
+    );
     let dim = model.dim;
     let split = model.contact;
     let n = x.len();
@@ -281,11 +415,18 @@ pub fn find_with_skin(model: &Model, x: &[DVec2], skin: f64) -> Neighbours {
                     if j == i {
                         return;
                     }
-                    let reach = model.h[i] + model.h[j] + skin;
-                    if (x[i] - x[j]).length_squared() >= reach * reach {
+                    let cross_body = split && model.body[i] != model.body[j];
+                    let round = model.h[i] + model.h[j] + skin;
+                    let d = x[i] - x[j];
+                    let near = if adaptive && !cross_body {
+                        near_adaptive(d, &f.metric[i], &f.metric[j], round, skin)
+                    } else {
+                        d.length_squared() < round * round
+                    };
+                    if !near {
                         return;
                     }
-                    if split && model.body[i] != model.body[j] {
+                    if cross_body {
                         cross.push(j as u32);
                     } else {
                         own.push(j as u32);
@@ -304,6 +445,7 @@ pub fn find_with_skin(model: &Model, x: &[DVec2], skin: f64) -> Neighbours {
         cross: Vec::with_capacity(blocks.iter().map(|b| b.2.len()).sum()),
         skin,
         x_ref: x.to_vec(),
+        support_ref: f.metric.to_vec(),
         ..Default::default()
     };
     nb.start.push(0);

@@ -1,7 +1,7 @@
 //! Tests of the neighbours stage (`neighbours.rs`).
 
 use super::neighbours::*;
-use crate::model::Model;
+use crate::model::{Frame, Model};
 use crate::scene::Scene;
 use glam::DVec2;
 
@@ -60,11 +60,11 @@ fn cell_list_equals_brute_force() {
         let b = (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
         *p += DVec2::new(a, b) * 0.08;
     }
-    let nb = find(&model, &state.x);
+    let nb = find(&model, state.frame());
     let n = state.x.len();
     let mut pairs_found = 0;
     for i in 0..n {
-        let mut fast: Vec<u32> = nb.of(&model, &state.x, i).map(|b| b.j).collect();
+        let mut fast: Vec<u32> = nb.of(&model, state.frame(), i).map(|b| b.j).collect();
         fast.extend_from_slice(nb.cross_of(i));
         fast.sort();
         let mut slow = Vec::new();
@@ -88,11 +88,11 @@ fn cell_list_equals_brute_force() {
     // With a skin: the candidates are a superset, and the true pairs
     // filtered from them are the same pairs with the same kernel values
     // (in another order: the cells are larger).
-    let skinned = find_with_skin(&model, &state.x, 0.3 * model.h[0]);
+    let skinned = find_with_skin(&model, state.frame(), 0.3 * model.h[0]);
     assert!(skinned.list.len() > nb.list.len());
     for i in 0..n {
-        let mut a: Vec<Nbr> = nb.of(&model, &state.x, i).collect();
-        let mut b: Vec<Nbr> = skinned.of(&model, &state.x, i).collect();
+        let mut a: Vec<Nbr> = nb.of(&model, state.frame(), i).collect();
+        let mut b: Vec<Nbr> = skinned.of(&model, state.frame(), i).collect();
         a.sort_by_key(|p| p.j);
         b.sort_by_key(|p| p.j);
         assert_eq!(a, b, "particle {i}");
@@ -113,14 +113,14 @@ shape = { kind = "rectangle", min = [0.0, 0.0], max = [1.0, 1.0] }
 "#,
     );
     let skin = 0.04;
-    let nb = find_with_skin(&model, &state.x, skin);
+    let nb = find_with_skin(&model, state.frame(), skin);
     let mut x = state.x.clone();
     x[7].x += 0.49 * skin;
-    assert!(nb.still_valid(&x));
+    assert!(nb.still_valid(Frame::round(&x)));
     x[7].x += 0.02 * skin;
-    assert!(!nb.still_valid(&x));
+    assert!(!nb.still_valid(Frame::round(&x)));
     // Without a skin the lists hold only at the build positions.
-    let exact = find(&model, &state.x);
-    assert!(exact.still_valid(&state.x));
-    assert!(!exact.still_valid(&x));
+    let exact = find(&model, state.frame());
+    assert!(exact.still_valid(state.frame()));
+    assert!(!exact.still_valid(Frame::round(&x)));
 }

@@ -7,6 +7,7 @@ use rayon::prelude::*;
 use super::forces::StressPoint;
 use crate::model::{Model, State};
 use crate::physics::material;
+use crate::physics::support::Metric;
 
 /// The CFL step (docs/method.md §9): `C min_i h_i / (c_i + |v_i|)` over deformable
 /// particles, with the sound speeds of `pts`.
@@ -14,8 +15,21 @@ pub fn cfl_step(model: &Model, st: &State, pts: &[StressPoint]) -> f64 {
     (0..model.len())
         .into_par_iter()
         .filter(|&i| !model.rigid(i))
-        .map(|i| material::cfl_step(model.cfl, model.h[i], pts[i].c, st.v[i].length()))
+        .map(|i| {
+            let h = support_h(model, &st.metric, i);
+            material::cfl_step(model.cfl, h, pts[i].c, st.v[i].length())
+        })
         .reduce(|| f64::INFINITY, f64::min)
+}
+
+/// The smoothing length the CFL step takes for particle i: its `h`, or,
+/// where supports adapt, its support's minor semi-axis.
+#[inline]
+pub(super) fn support_h(model: &Model, metric: &[Metric], i: usize) -> f64 {
+    match metric.get(i) {
+        Some(q) => q.axes().0,
+        None => model.h[i],
+    }
 }
 
 #[cfg(test)]

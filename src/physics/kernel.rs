@@ -74,6 +74,17 @@ where
 /// `∂W/∂r / r` is a polynomial.
 #[inline]
 pub fn w_grad(dim: usize, d: glam::DVec2, r2: f64, inv_h: f64) -> Option<(f64, glam::DVec2)> {
+    w_grad_q(dim, d, r2, inv_h).map(|(w, g, _)| (w, g))
+}
+
+/// [`w_grad`] with `q² = r²/h²` as well.
+#[inline]
+pub fn w_grad_q(
+    dim: usize,
+    d: glam::DVec2,
+    r2: f64,
+    inv_h: f64,
+) -> Option<(f64, glam::DVec2, f64)> {
     let q2 = r2 * inv_h * inv_h;
     if q2 >= 4.0 {
         return None;
@@ -96,7 +107,45 @@ pub fn w_grad(dim: usize, d: glam::DVec2, r2: f64, inv_h: f64) -> Option<(f64, g
     } else {
         -0.75 * t * t / q.max(1.0)
     };
-    Some((a * f, d * (a * inv_h * inv_h * g_q)))
+    Some((a * f, d * (a * inv_h * inv_h * g_q), q2))
+}
+
+/// `W`, `∇_i W` and `q²` for the separation `d = x_i − x_j` of two
+/// particles with support metrics `qi` and `qj` ([`crate::physics::support`]),
+/// or `None` beyond the support, and the normalisation `√det Q` of the
+/// pair's metric. The pair's kernel is the spline in the
+/// mean metric `Q = ½ (Q_i + Q_j)` (the round kernels' `1/h²` averaged):
+/// `q² = dᵀ Q d`, `W = α_d √det Q f(q)`, `∇_i W = α_d √det Q (f'(q)/q) Q d`.
+/// It is the same from either particle, and swapping them flips the
+/// gradient; two round metrics of one `h` give [`w_grad`]'s kernel.
+#[inline]
+pub fn w_grad_pair(
+    dim: usize,
+    d: glam::DVec2,
+    qi: &crate::physics::support::Metric,
+    qj: &crate::physics::support::Metric,
+) -> Option<(f64, glam::DVec2, f64, f64)> {
+    let m = qi.mean(qj);
+    let qd = m.apply(d);
+    let q2 = d.dot(qd);
+    if q2 >= 4.0 {
+        return None;
+    }
+    let q = q2.sqrt();
+    let a = alpha_inv(dim, 1.0) * m.scale(dim);
+    let t = 2.0 - q;
+    let inner = q < 1.0;
+    let f = if inner {
+        1.0 - 1.5 * q2 + 0.75 * q2 * q
+    } else {
+        0.25 * t * t * t
+    };
+    let g_q = if inner {
+        -3.0 + 2.25 * q
+    } else {
+        -0.75 * t * t / q.max(1.0)
+    };
+    Some((a * f, qd * (a * g_q), q2, m.scale(dim)))
 }
 
 /// The Hessian of `W` for the separation `d` (`r2 = |d|²`) at smoothing
@@ -138,6 +187,47 @@ pub fn grad_lanes(dim: usize, q2: F4, inv_h: F4) -> F4 {
     a * inv_h * inv_h * g_q
 }
 
+/// The metric part of [`w_grad_pair`] for four partners `js` of particle
+/// `i`, one to a lane, at separations `(dx, dy)`: `q²`, the vector `Q d`
+/// the gradient lies along, and the kernel's normalisation `√det Q` of
+/// the pair's mean metric `Q`. The same operations in the same order
+/// (bit-identical).
+#[inline(always)]
+pub fn pair_metric_lanes(
+    dim: usize,
+    metric: &[crate::physics::support::Metric],
+    i: usize,
+    js: &[usize; 4],
+    dx: F4,
+    dy: F4,
+) -> (F4, F4, F4, F4) {
+    let qi = &metric[i];
+    let mxx = 0.5 * (qi.xx + F4::gather(|k| metric[js[k]].xx));
+    let mxy = 0.5 * (qi.xy + F4::gather(|k| metric[js[k]].xy));
+    let myy = 0.5 * (qi.yy + F4::gather(|k| metric[js[k]].yy));
+    let (qdx, qdy) = (mxx * dx + mxy * dy, mxy * dx + myy * dy);
+    let q2 = dx * qdx + dy * qdy;
+    let scale = if dim == 1 {
+        mxx.sqrt()
+    } else {
+        (mxx * myy - mxy * mxy).sqrt()
+    };
+    (q2, qdx, qdy, scale)
+}
+
+/// The factor of [`w_grad_pair`]'s gradient for four pairs, `α_d s
+/// (f'(q)/q)` with `s` their normalisations ([`pair_metric_lanes`]), so
+/// that `∇_i W` is `Q d` times it (bit-identical).
+#[inline(always)]
+pub fn grad_pair_lanes(dim: usize, q2: F4, scale: F4) -> F4 {
+    let q = q2.sqrt();
+    let a = alpha_inv(dim, 1.0) * scale;
+    let t = 2.0 - q;
+    let inner = q.lt(F4::splat(1.0));
+    let g_q = inner.select(-3.0 + 2.25 * q, -0.75 * t * t / q.max(F4::splat(1.0)));
+    a * g_q
+}
+
 /// The cubic spline's shape `f(q)` (`W = α_d f`) inside the support
 /// (`q < 2`), from `q` and `q²`.
 #[inline]
@@ -170,6 +260,73 @@ pub fn line_integral_2d(h: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::support::Metric;
+
+    /// The pair kernel of two support metrics: with two round metrics of
+    /// one `h` it is the round kernel; its gradient is the derivative of
+    /// `W` in `x_i` (central differences, an anisotropic pair, inside and
+    /// outside `q = 1`); swapping the particles flips it; and its support
+    /// is the mean metric's ellipse, which reaches beyond the smaller of
+    /// the two particles' own.
+    #[test]
+    fn pair_kernel_of_two_metrics() {
+        let h = 1.2e-3;
+        let round = Metric::round(h);
+        for d in [
+            glam::DVec2::new(4e-4, -7e-4),
+            glam::DVec2::new(1.5e-3, 1e-3),
+        ] {
+            for dim in [1, 2] {
+                let d = if dim == 1 {
+                    glam::DVec2::new(d.x, 0.0)
+                } else {
+                    d
+                };
+                let (w0, g0) = w_grad(dim, d, d.length_squared(), 1.0 / h).expect("inside");
+                let (w, g, _, _) = w_grad_pair(dim, d, &round, &round).expect("inside");
+                assert!((w / w0 - 1.0).abs() < 1e-14, "{w} against {w0}");
+                assert!((g - g0).length() < 1e-14 * g0.length(), "{g} against {g0}");
+            }
+        }
+        // Stretched along (0.8, 0.6) and squeezed across, and a rounder one.
+        let qi = Metric {
+            xx: 0.5e6,
+            xy: -0.2e6,
+            yy: 0.9e6,
+        };
+        let qj = Metric {
+            xx: 0.6e6,
+            xy: 0.0,
+            yy: 0.7e6,
+        };
+        for d in [
+            glam::DVec2::new(4e-4, 3e-4),
+            glam::DVec2::new(-1.2e-3, 1.5e-3),
+            glam::DVec2::new(2.0e-3, 0.5e-3),
+        ] {
+            let (_, g, q2, _) = w_grad_pair(2, d, &qi, &qj).expect("inside");
+            assert!(q2 < 4.0);
+            let e = 1e-9;
+            let w = |d: glam::DVec2| w_grad_pair(2, d, &qi, &qj).map_or(0.0, |t| t.0);
+            let fd = glam::DVec2::new(
+                (w(d + glam::DVec2::X * e) - w(d - glam::DVec2::X * e)) / (2.0 * e),
+                (w(d + glam::DVec2::Y * e) - w(d - glam::DVec2::Y * e)) / (2.0 * e),
+            );
+            assert!(
+                (g - fd).length() < 1e-6 * g.length(),
+                "{g} against {fd} at {d}"
+            );
+            let (_, gj, _, _) = w_grad_pair(2, -d, &qj, &qi).expect("inside");
+            assert_eq!(gj, -g);
+        }
+        let between = glam::DVec2::new(0.0, 2.2e-3);
+        assert!(qi.quad(between) >= 4.0 && qj.quad(between) < 4.0);
+        assert!(qi.mean(&qj).quad(between) < 4.0);
+        assert!(w_grad_pair(2, between, &qi, &qj).is_some());
+        let far = glam::DVec2::new(0.0, 2.3e-3);
+        assert!(qi.mean(&qj).quad(far) >= 4.0 && qj.quad(far) < 4.0);
+        assert!(w_grad_pair(2, far, &qi, &qj).is_none());
+    }
 
     /// The Hessian is the derivative of `w_grad`'s gradient, checked by
     /// central differences inside and outside `q = 1` in 1-D and 2-D.

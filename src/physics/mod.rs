@@ -9,5 +9,6 @@ pub mod kernel;
 pub mod material;
 pub mod penalty;
 pub mod strength;
+pub mod support;
 pub mod tension;
 pub mod viscosity;

@@ -72,6 +72,11 @@ pub struct Simulation {
     /// Plane strain or bodies of revolution (docs/method.md §12).
     #[serde(default)]
     pub geometry: Geometry,
+    /// Round supports of fixed `h`, or supports that follow the
+    /// deformation (docs/method.md, "Supports that follow the
+    /// deformation"); absent: fixed.
+    #[serde(default)]
+    pub support: Option<Support>,
 }
 
 pub fn default_cfl() -> f64 {
@@ -102,6 +107,25 @@ pub enum Geometry {
     /// Bodies of revolution about the second axis: the first coordinate is
     /// the radius `r >= 0`, the second the axis `z`; masses are rings'.
     Axisymmetric,
+}
+
+/// The shape of each particle's kernel support (docs/method.md,
+/// "Supports that follow the deformation").
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Support {
+    /// A disk of radius `2h`, `h = smoothing_ratio × Δx`, for the whole run.
+    Fixed,
+    /// An ellipse carried with the material's deformation, within bounds.
+    Adaptive,
+}
+
+impl Simulation {
+    /// Whether supports adapt (as the scene says; fixed where it says
+    /// nothing).
+    pub fn adaptive(&self) -> bool {
+        self.support == Some(Support::Adaptive)
+    }
 }
 
 /// Time integration (docs/method.md §9), both second order.

@@ -113,10 +113,10 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
 
     // Cell list: the same neighbour set for every particle. A pair may only
     // differ if it sits at the cut-off 2 h_ij to f32 precision.
-    let nb = neighbours::find(&model, &st.x);
+    let nb = neighbours::find(&model, st.frame());
     let mut pairs = 0;
     for i in 0..n {
-        let mut cpu_set: Vec<u32> = nb.of(&model, &st.x, i).map(|b| b.j).collect();
+        let mut cpu_set: Vec<u32> = nb.of(&model, st.frame(), i).map(|b| b.j).collect();
         cpu_set.extend_from_slice(nb.cross_of(i));
         cpu_set.sort_unstable();
         pairs += cpu_set.len();

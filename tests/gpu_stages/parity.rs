@@ -44,7 +44,7 @@ fn stages_match_cpu_with_yielded_springs() {
             st.x[i] += shift;
         }
     }
-    let nb = neighbours::find(&model, &st.x);
+    let nb = neighbours::find(&model, st.frame());
     let surface = kinematics::kinematics(&model, &st, &nb).surface;
     let bd = kinematics::boundary(&model, &st.x, &nb, surface);
     let c = contact::penalty(&model, &st, &nb, &bd);

@@ -21,7 +21,7 @@ fn leapfrog_steps_match_cpu() {
     model.integrator = Integrator::Leapfrog;
     let mut cpu = CpuSolver::new(model.clone(), st.clone());
     let mut g = GpuSolver::new(ctx, model.clone(), &st, &[], 1.0).expect("fits the adapter");
-    let nb = neighbours::find(&model, &st.x);
+    let nb = neighbours::find(&model, st.frame());
     let k = kinematics::kinematics(&model, &st, &nb);
     let bd = kinematics::boundary(&model, &st.x, &nb, k.surface.clone());
     let cf = contact::penalty(&model, &st, &nb, &bd);

@@ -18,6 +18,18 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
         "set-up      {}-D, interaction {:?}, correction {:?}, smoothing ratio {}",
         sim.dimension, sim.interaction, sim.correction, sim.smoothing_ratio
     );
+    println!(
+        "support     {}",
+        if model.adaptive {
+            format!(
+                "adaptive: carried with the deformation, semi-axes between h/{} and {} h",
+                sphcontact::physics::support::SQUEEZE_MAX,
+                sphcontact::physics::support::STRETCH_MAX
+            )
+        } else {
+            "fixed: round, radius 2h".to_string()
+        }
+    );
     let av = scene.viscosity();
     println!(
         "viscosity   alpha {}, beta {}, {}",

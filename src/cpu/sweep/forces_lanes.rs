@@ -112,7 +112,7 @@ pub(super) fn sums_into<E: EnergyTerms>(
         let art = art_rows(model, st, pts);
         nb.sweep_chunks_store(
             model,
-            &st.x,
+            st.frame(),
             &mut acc,
             slots,
             |i, c, ai, piece, base, slots| {
@@ -135,7 +135,7 @@ pub(super) fn sums_into<E: EnergyTerms>(
         return acc.into_iter().unzip();
     }
     let terms = |i, b: &Nbr| pair_terms(model, st, l, gv, surface, pts, i, b);
-    nb.sweep_store(model, &st.x, &mut acc, slots, |i, b, ai, aj, slot| {
+    nb.sweep_store(model, st.frame(), &mut acc, slots, |i, b, ai, aj, slot| {
         let j = b.j as usize;
         // Rigid particles keep zero rates; a far pair has no j side here.
         let aj = aj.filter(|_| !model.rigid(j));
@@ -289,9 +289,18 @@ fn lane_terms(
     let [sixx, sixy, siyy, ci] = me.sc;
     let [rhoi, hi, mi, suri] = me.rhm;
 
-    let hij = 0.5 * (hi + hj);
+    let h0 = 0.5 * (hi + hj);
     let xx = xix - xjx;
     let xy = xiy - xjy;
+    // As `pair_terms_of`: where supports adapt, the smoothing length
+    // along the pair.
+    let hij = match c.scale {
+        None => h0,
+        Some(_) => {
+            let r2 = xx * xx + xy * xy;
+            F4::splat(0.0).lt(c.q2).select((r2 / c.q2).sqrt(), h0)
+        }
+    };
     let vx = vix - vjx;
     let vy = viy - vjy;
     let (gwx, gwy) = (c.gwx, c.gwy);
@@ -353,11 +362,16 @@ fn lane_terms(
                 ArtPairs::All => None,
                 ArtPairs::Close => {
                     let vol = (mi / rhoi + mj / rhoj) * 0.5;
-                    let mut gate = close_gate_lanes(r2, vol, F4::splat(1.0), model.dim);
+                    // Where supports adapt, in the pair's metric.
+                    let (u, vol) = match c.scale {
+                        None => (r2, vol),
+                        Some(scale) => (c.q2, vol * scale),
+                    };
+                    let mut gate = close_gate_lanes(u, vol, F4::splat(1.0), model.dim);
                     let ks = &model.close_scale;
                     if !ks.is_empty() && F4::splat(0.0).lt(gate).bits() != 0 {
                         let k2 = F4::gather(|k| ks[c.j[k] as usize]).min(F4::splat(ks[i]));
-                        gate = close_gate_lanes(r2, vol, k2, model.dim);
+                        gate = close_gate_lanes(u, vol, k2, model.dim);
                     }
                     Some(gate)
                 }
@@ -377,7 +391,10 @@ fn lane_terms(
                 }
                 if on.bits() != 0 {
                     let dp = 0.5 * (spi + spj);
-                    let mut fnn = art_weight_lanes(r2, dp, hij, a.n);
+                    let mut fnn = match c.scale {
+                        None => art_weight_lanes(r2, dp, hij, a.n),
+                        Some(_) => art_weight_lanes(c.q2, dp / h0, F4::splat(1.0), a.n),
+                    };
                     if let Some(gate) = gate {
                         fnn = fnn * gate;
                     }

@@ -4,7 +4,9 @@
 
 use glam::DVec2;
 
-use crate::cpu::kinematics::{finish, gradient_weight, volumes, Kinematics, Seen, Sums};
+use crate::cpu::kinematics::{
+    finish, gradient_weight, round_colour, volumes, Kinematics, Seen, Sums,
+};
 use crate::cpu::neighbours::Neighbours;
 use crate::math::Mat2;
 use crate::model::{Model, State};
@@ -41,7 +43,7 @@ fn kinematics_in<S: Seen>(
     let vol = volumes(model, st);
     let vel = S::vel(&st.v, seen);
     let mut sums = vec![Sums::<S>::default(); model.len()];
-    nb.sweep(model, &st.x, &mut sums, |i, b, si, sj| {
+    nb.sweep(model, st.frame(), &mut sums, |i, b, si, sj| {
         let j = b.j as usize;
         let (vi, vj) = (vel[i], vel[j]);
         let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
@@ -63,5 +65,6 @@ fn kinematics_in<S: Seen>(
     if model.axisymmetric {
         crate::cpu::axis::add_kinematics(model, st, nb, &vol, &vel, &mut sums);
     }
+    round_colour(model, st, nb, &vol, &mut sums);
     finish(model, st, sums)
 }

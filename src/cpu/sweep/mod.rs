@@ -7,12 +7,11 @@
 //! [`super::kinematics`] and [`super::forces`], which read like their
 //! shaders, are the twins they are tested against (`tests.rs`).
 
-use glam::DVec2;
 use rayon::prelude::*;
 
 use super::neighbours::{pair, Nbr, Neighbours, BLOCK};
 use crate::math::lanes::{F4, LANES};
-use crate::model::Model;
+use crate::model::{Frame, Model};
 use crate::physics::kernel;
 
 pub mod forces;
@@ -36,6 +35,11 @@ pub struct Chunk {
     /// `∇_i W_ij` (`W_ij` itself is not computed).
     pub gwx: F4,
     pub gwy: F4,
+    /// `q²`, the squared distance in units of the pair's smoothing length.
+    pub q2: F4,
+    /// Where supports adapt, the pair's kernel normalisation `½ (√det Q_i
+    /// + √det Q_j)` (`√Q_xx` in 1-D); `None` with round supports.
+    pub scale: Option<F4>,
 }
 
 /// Particles per chunk of the pair sweep over the rows `start`/`list`: the
@@ -154,14 +158,14 @@ impl Neighbours {
     /// odd ones, so two tasks never share an entry. Each entry then receives
     /// its terms in an order fixed by the lists and the chunk size alone,
     /// whatever the thread count.
-    pub fn sweep<T, P>(&self, model: &Model, x: &[DVec2], acc: &mut [T], pair_fn: P)
+    pub fn sweep<T, P>(&self, model: &Model, f: Frame, acc: &mut [T], pair_fn: P)
     where
         T: Send + Default,
         P: Fn(usize, &Nbr, &mut T, Option<&mut T>) + Sync,
     {
         // A store of zero-sized slots: no memory, and no work once inlined.
         let mut none = self.no_store();
-        self.sweep_store(model, x, acc, &mut none, |i, b, ai, aj, _| {
+        self.sweep_store(model, f, acc, &mut none, |i, b, ai, aj, _| {
             pair_fn(i, b, ai, aj)
         });
     }
@@ -174,7 +178,7 @@ impl Neighbours {
     pub fn sweep_store<T, S, P>(
         &self,
         model: &Model,
-        x: &[DVec2],
+        f: Frame,
         acc: &mut [T],
         store: &mut [S],
         pair_fn: P,
@@ -185,9 +189,9 @@ impl Neighbours {
     {
         self.rows_store(acc, store, |i, ai, piece, base, slots| {
             let inv_hi = 1.0 / model.h[i];
-            let (s, f, e) = self.row_ends(i);
-            for (q, &j) in self.list[s..f].iter().enumerate() {
-                match pair(model, x, i, inv_hi, j) {
+            let (s, fe, e) = self.row_ends(i);
+            for (q, &j) in self.list[s..fe].iter().enumerate() {
+                match pair(model, f, i, inv_hi, j) {
                     // j is at most one chunk on: inside this task's piece.
                     Some(b) => pair_fn(
                         i,
@@ -199,9 +203,9 @@ impl Neighbours {
                     None => slots[q] = S::default(),
                 }
             }
-            for (q, &j) in self.list[f..e].iter().enumerate() {
-                let slot = &mut slots[f - s + q];
-                match pair(model, x, i, inv_hi, j) {
+            for (q, &j) in self.list[fe..e].iter().enumerate() {
+                let slot = &mut slots[fe - s + q];
+                match pair(model, f, i, inv_hi, j) {
                     Some(b) => pair_fn(i, &b, ai, None, slot),
                     None => *slot = S::default(),
                 }
@@ -260,13 +264,13 @@ impl Neighbours {
     /// (a row buffer of pairs cost the momentum pass a fifth of its time).
     /// The kinematic pass stays on [`Neighbours::sweep`]: its terms are
     /// few, and in lanes, with or without a buffer, it ran 16–44 % slower.
-    pub fn sweep_chunks<T, R>(&self, model: &Model, x: &[DVec2], acc: &mut [T], chunk: R)
+    pub fn sweep_chunks<T, R>(&self, model: &Model, f: Frame, acc: &mut [T], chunk: R)
     where
         T: Send + Default,
         R: Fn(usize, &Chunk, &mut T, &mut [T], usize) + Sync,
     {
         let mut none = self.no_store();
-        self.sweep_chunks_store(model, x, acc, &mut none, |i, c, ai, piece, base, _| {
+        self.sweep_chunks_store(model, f, acc, &mut none, |i, c, ai, piece, base, _| {
             chunk(i, c, ai, piece, base)
         });
     }
@@ -277,7 +281,7 @@ impl Neighbours {
     pub fn sweep_chunks_store<T, S, R>(
         &self,
         model: &Model,
-        x: &[DVec2],
+        f: Frame,
         acc: &mut [T],
         store: &mut [S],
         chunk: R,
@@ -286,15 +290,16 @@ impl Neighbours {
         S: Send + Default,
         R: Fn(usize, &Chunk, &mut T, &mut [T], usize, &mut [S]) + Sync,
     {
+        let x = f.x;
         let h = &model.h[..x.len()];
         let top = x.len().saturating_sub(1);
         self.rows_store(acc, store, |i, ai, piece, base, slots| {
             let (hi, xi) = (h[i], x[i]);
             let inv_hi = 1.0 / hi;
-            let (s, f, e) = self.row_ends(i);
+            let (s, fe, e) = self.row_ends(i);
             for (near, at, cands) in [
-                (true, 0, &self.list[s..f]),
-                (false, f - s, &self.list[f..e]),
+                (true, 0, &self.list[s..fe]),
+                (false, fe - s, &self.list[fe..e]),
             ] {
                 for (m, c) in cands.chunks(LANES).enumerate() {
                     let at = at + m * LANES;
@@ -302,18 +307,27 @@ impl Neighbours {
                     let last = c.len() - 1;
                     let j: [u32; LANES] = std::array::from_fn(|k| c[k.min(last)]);
                     let js = j.map(|j| (j as usize).min(top));
-                    let hj = F4::gather(|k| h[js[k]]);
-                    // As `pair`: h_ij's inverse by division only across
-                    // bodies of different spacing.
-                    let same = hj.eq(F4::splat(hi));
-                    let inv_h = if same.bits() == 0b1111 {
-                        F4::splat(inv_hi)
-                    } else {
-                        same.select(F4::splat(inv_hi), 2.0 / (hi + hj))
-                    };
                     let dx = xi.x - F4::gather(|k| x[js[k]].x);
                     let dy = xi.y - F4::gather(|k| x[js[k]].y);
-                    let q2 = (dx * dx + dy * dy) * inv_h * inv_h;
+                    let (q2, gwx, gwy, scale) = if f.metric.is_empty() {
+                        let hj = F4::gather(|k| h[js[k]]);
+                        // As `pair`: h_ij's inverse by division only
+                        // across bodies of different spacing.
+                        let same = hj.eq(F4::splat(hi));
+                        let inv_h = if same.bits() == 0b1111 {
+                            F4::splat(inv_hi)
+                        } else {
+                            same.select(F4::splat(inv_hi), 2.0 / (hi + hj))
+                        };
+                        let q2 = (dx * dx + dy * dy) * inv_h * inv_h;
+                        let g = kernel::grad_lanes(model.dim, q2, inv_h);
+                        (q2, dx * g, dy * g, None)
+                    } else {
+                        let (q2, qdx, qdy, scale) =
+                            kernel::pair_metric_lanes(model.dim, f.metric, i, &js, dx, dy);
+                        let g = kernel::grad_pair_lanes(model.dim, q2, scale);
+                        (q2, qdx * g, qdy * g, Some(scale))
+                    };
                     // `!(q2 >= 4)` as in `w_grad`: a NaN position still
                     // reaches the sums (and the instability check).
                     let inside = !q2.ge(F4::splat(4.0)).bits() & ((1 << c.len()) - 1);
@@ -321,13 +335,14 @@ impl Neighbours {
                         slots.iter_mut().for_each(|s| *s = S::default());
                         continue;
                     }
-                    let g = kernel::grad_lanes(model.dim, q2, inv_h);
                     let ch = Chunk {
                         j,
                         inside,
                         near,
-                        gwx: dx * g,
-                        gwy: dy * g,
+                        gwx,
+                        gwy,
+                        q2,
+                        scale,
                     };
                     chunk(i, &ch, ai, piece, base, slots);
                 }

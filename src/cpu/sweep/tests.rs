@@ -9,7 +9,7 @@ use crate::cpu::neighbours::{find_with_skin, Neighbours};
 use crate::cpu::neighbours_tests::two_bodies;
 use crate::cpu::{eos_and_stress, SKIN_FRACTION};
 use crate::math::Sym;
-use crate::model::{Model, State};
+use crate::model::{Frame, Model, State};
 use crate::scene::ArtPairs;
 use glam::DVec2;
 
@@ -25,12 +25,13 @@ fn sweep_equals_gather() {
     // neither, so a term added to the wrong side shows.
     type Acc = (f64, DVec2, f64);
     let gather: Vec<Acc> = {
-        let nb = find_with_skin(&model, x, 0.05);
+        let nb = find_with_skin(&model, Frame::round(x), 0.05);
         (0..n)
             .map(|i| {
-                nb.of(&model, x, i).fold((0.0, DVec2::ZERO, 0.0), |a, b| {
-                    (a.0 + b.w, a.1 + b.gw, a.2 + b.j as f64 * b.w)
-                })
+                nb.of(&model, Frame::round(x), i)
+                    .fold((0.0, DVec2::ZERO, 0.0), |a, b| {
+                        (a.0 + b.w, a.1 + b.gw, a.2 + b.j as f64 * b.w)
+                    })
             })
             .collect()
     };
@@ -38,7 +39,7 @@ fn sweep_equals_gather() {
         let mut acc = vec![(0.0, DVec2::ZERO, 0.0); n];
         nb.sweep(
             &model,
-            x,
+            Frame::round(x),
             &mut acc,
             |i, b, ai: &mut Acc, aj: Option<&mut Acc>| {
                 ai.0 += b.w;
@@ -54,7 +55,7 @@ fn sweep_equals_gather() {
         acc
     };
     for chunk in [Some(8), Some(64), None] {
-        let mut nb = find_with_skin(&model, x, 0.05);
+        let mut nb = find_with_skin(&model, Frame::round(x), 0.05);
         let plain = nb.clone();
         // The lists come indexed with the default chunk.
         let far = |nb: &Neighbours| -> usize {
@@ -184,7 +185,7 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             }
         }
         let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-        let nb = find_with_skin(&model, &st.x, skin);
+        let nb = find_with_skin(&model, st.frame(), skin);
         let k = kinematics(&model, st, &nb);
         let pts = eos_and_stress(&model, st);
         let args = (&model, st, &nb, &k, &pts[..]);
@@ -208,6 +209,80 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             let sums = sums((&rigid, st, &nb, &k, &pts), false, None);
             gathers_match(&rigid, st, &nb, &sums);
         }
+    }
+}
+
+/// Where supports adapt (docs/method.md, "Supports that follow the
+/// deformation"), the sweeps sum what the plain gathers sum and the lane
+/// code gives the one-pair code's sums bit for bit, on the stirred disks
+/// with every particle's support an ellipse of its own (semi-axes from
+/// 0.6 h to 2.5 h, turned every way), with and without the artificial
+/// stress in both forms.
+#[test]
+fn adaptive_sweeps_match_gathers_and_lanes_one_pair_code() {
+    use crate::physics::support::Metric;
+    let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
+    let (mut model, mut st) = (bench.model().clone(), bench.state().clone());
+    let rho0 = st.rho[0];
+    for i in 0..st.x.len() {
+        let (a, b) = (
+            (i as f64 * 0.618_033_988_7).fract(),
+            (i as f64 * 0.414_213_562_3).fract(),
+        );
+        st.v[i] += DVec2::new(
+            (a * std::f64::consts::TAU).cos(),
+            (a * std::f64::consts::TAU).sin(),
+        ) * 0.3;
+        st.rho[i] *= 1.0 + 2e-3 * (b - 0.5);
+        st.s[i] = Sym {
+            xx: 2e-3 * rho0 * (a - 0.5),
+            yy: -1e-3 * rho0 * (b - 0.5),
+            xy: 1.5e-3 * rho0 * (a + b - 1.0),
+            zz: 1e-3 * rho0 * (b - a),
+        };
+        let h = model.h[i];
+        let e = DVec2::new(
+            (b * std::f64::consts::TAU).cos(),
+            (b * std::f64::consts::TAU).sin(),
+        );
+        st.metric.push(Metric::with_axes(
+            h * (0.6 + 0.4 * a),
+            h * (1.0 + 1.5 * b),
+            e,
+        ));
+    }
+    model.adaptive = true;
+    let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
+    let nb = find_with_skin(&model, st.frame(), skin);
+    assert_eq!(nb.support_ref.len(), model.len());
+    for (reconstruct, art) in [
+        (true, None),
+        (false, Some((0.3, 4.0, ArtPairs::All))),
+        (true, Some((0.3, 4.0, ArtPairs::Close))),
+    ] {
+        model.av_reconstruct = reconstruct;
+        model.artificial_stress = art.map(as_of);
+        let k = kinematics(&model, &st, &nb);
+        let pts = eos_and_stress(&model, &st);
+        let args = (&model, &st, &nb, &k, &pts[..]);
+        let one = sums(args, false, None);
+        let four = sums(args, true, None);
+        for i in 0..model.len() {
+            assert_eq!(one.0[i].x.to_bits(), four.0[i].x.to_bits(), "dv of {i}");
+            assert_eq!(one.0[i].y.to_bits(), four.0[i].y.to_bits(), "dv of {i}");
+            assert_eq!(one.1[i].to_bits(), four.1[i].to_bits(), "de of {i}");
+        }
+        gathers_match(&model, &st, &nb, &one);
+        // The supports change the sums: the same state with round ones
+        // gives other forces.
+        let (mut round, mut flat) = (model.clone(), st.clone());
+        (round.adaptive, flat.metric) = (false, Vec::new());
+        let nbr = find_with_skin(&round, flat.frame(), skin);
+        let kr = kinematics(&round, &flat, &nbr);
+        let r = sums((&round, &flat, &nbr, &kr, &pts[..]), true, None);
+        let moved =
+            (0..model.len()).filter(|&i| (r.0[i] - one.0[i]).length() > 1e-3 * one.0[i].length());
+        assert!(moved.count() > model.len() / 2);
     }
 }
 
@@ -307,7 +382,7 @@ fn lanes_match_one_pair_code_in_1d() {
     ] {
         model.artificial_stress = art.map(as_of);
         let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-        let nb = find_with_skin(&model, &st.x, skin);
+        let nb = find_with_skin(&model, st.frame(), skin);
         let k = kinematics(&model, &st, &nb);
         let pts = eos_and_stress(&model, &st);
         let a = (&model, &st, &nb, &k, &pts[..]);
@@ -358,7 +433,7 @@ fn kept_pair_vectors_replay_the_energy_sums() {
         *v += DVec2::new(a.cos(), a.sin()) * 0.3;
     }
     let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-    let nb = find_with_skin(&model, &st.x, skin);
+    let nb = find_with_skin(&model, st.frame(), skin);
     let k = kinematics(&model, &st, &nb);
     let pts = eos_and_stress(&model, &st);
     let args = (&model, &st, &nb, &k, &pts[..]);
@@ -414,7 +489,7 @@ fn lanes_are_the_same_on_any_thread_count() {
     let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
     let (model, st) = (bench.model(), bench.state());
     let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-    let nb = find_with_skin(model, &st.x, skin);
+    let nb = find_with_skin(model, st.frame(), skin);
     let k = kinematics(model, st, &nb);
     let pts = eos_and_stress(model, st);
     let on = |threads: usize| {

@@ -1,0 +1,283 @@
+//! Adaptive support (docs/method.md, "Supports that follow the
+//! deformation"): each particle's kernel is an ellipse, the set of
+//! separations `d` with `dᵀ Q d < 4`, `Q` the particle's metric (the
+//! inverse square of its smoothing tensor; `I/h²` for the round kernel of
+//! smoothing length `h`). The metric is carried with the material: over
+//! a step whose velocity gradient is `L` a line element `d` becomes
+//! `(I + Δt L) d`, and `Q` becomes `(I + Δt L)⁻ᵀ Q (I + Δt L)⁻¹`, so that
+//! a particle keeps the neighbours it had however its neighbourhood is
+//! stretched or squeezed, within bounds on the semi-axes.
+
+use glam::DVec2;
+
+use crate::math::Mat2;
+
+/// A symmetric positive-definite 2×2 metric `Q` (m⁻²).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Metric {
+    pub xx: f64,
+    pub xy: f64,
+    pub yy: f64,
+}
+
+/// How far the semi-axes may leave the placed `h`: the major up to
+/// `STRETCH_MAX h`, the minor down to `h / SQUEEZE_MAX`.
+pub const STRETCH_MAX: f64 = 4.0;
+pub const SQUEEZE_MAX: f64 = 2.0;
+
+impl Metric {
+    /// The round kernel of smoothing length `h`.
+    #[inline]
+    pub fn round(h: f64) -> Metric {
+        let k = 1.0 / (h * h);
+        Metric {
+            xx: k,
+            xy: 0.0,
+            yy: k,
+        }
+    }
+
+    /// The pair's metric: the mean of the two (the round kernels' `1/h²`
+    /// averaged).
+    #[inline]
+    pub fn mean(&self, o: &Metric) -> Metric {
+        Metric {
+            xx: 0.5 * (self.xx + o.xx),
+            xy: 0.5 * (self.xy + o.xy),
+            yy: 0.5 * (self.yy + o.yy),
+        }
+    }
+
+    /// The mirror image across the axis `x = 0` (bodies of revolution).
+    #[inline]
+    pub fn mirror(&self) -> Metric {
+        Metric {
+            xy: -self.xy,
+            ..*self
+        }
+    }
+
+    /// `Q d`.
+    #[inline]
+    pub fn apply(&self, d: DVec2) -> DVec2 {
+        DVec2::new(self.xx * d.x + self.xy * d.y, self.xy * d.x + self.yy * d.y)
+    }
+
+    /// `dᵀ Q d`: the squared distance in units of the smoothing length.
+    #[inline]
+    pub fn quad(&self, d: DVec2) -> f64 {
+        d.dot(self.apply(d))
+    }
+
+    #[inline]
+    pub fn det(&self) -> f64 {
+        self.xx * self.yy - self.xy * self.xy
+    }
+
+    /// The kernel's normalisation factor `√det Q` (2-D) or `√Q_xx` (1-D):
+    /// `1/h^d` of a round kernel.
+    #[inline]
+    pub fn scale(&self, dim: usize) -> f64 {
+        if dim == 1 {
+            self.xx.sqrt()
+        } else {
+            self.det().sqrt()
+        }
+    }
+
+    /// The eigenvalues `(λ_large, λ_small)` and the unit eigenvector of
+    /// the large one.
+    #[inline]
+    fn eigen(&self) -> (f64, f64, DVec2) {
+        let m = 0.5 * (self.xx + self.yy);
+        let d = 0.5 * (self.xx - self.yy);
+        let rad = (d * d + self.xy * self.xy).sqrt();
+        let (a, b) = (m + rad, m - rad);
+        // The eigenvector of `a`: (xy, a − xx) or (a − yy, xy), whichever
+        // is longer (both vanish only where Q is round).
+        let u = DVec2::new(self.xy, a - self.xx);
+        let w = DVec2::new(a - self.yy, self.xy);
+        let e = if u.length_squared() >= w.length_squared() {
+            u
+        } else {
+            w
+        };
+        let e = e.try_normalize().unwrap_or(DVec2::X);
+        (a, b, e)
+    }
+
+    /// The smallest `λ` with `Q − λ P` singular, `P` another metric: how
+    /// far `Q` has shrunk from `P` along its worst direction (`dᵀ Q d ≥ λ
+    /// dᵀ P d` for every `d`; 1 for equal metrics, below 1 where some
+    /// semi-axis has grown past `P`'s along it).
+    #[inline]
+    pub fn least_ratio(&self, p: &Metric) -> f64 {
+        // det(Q − λP) = det P λ² − b λ + det Q.
+        let a = p.det();
+        let b = self.xx * p.yy + self.yy * p.xx - 2.0 * self.xy * p.xy;
+        let c = self.det();
+        let disc = (b * b - 4.0 * a * c).max(0.0);
+        // The smaller root, in the form that does not cancel.
+        2.0 * c / (b + disc.sqrt())
+    }
+
+    /// The largest eigenvalue (the inverse square of the minor semi-axis).
+    #[inline]
+    pub fn largest(&self) -> f64 {
+        self.eigen().0
+    }
+
+    /// The semi-axes `(h_minor, h_major)` of the smoothing ellipse.
+    #[inline]
+    pub fn axes(&self) -> (f64, f64) {
+        let (a, b, _) = self.eigen();
+        (1.0 / a.sqrt(), 1.0 / b.max(f64::MIN_POSITIVE).sqrt())
+    }
+
+    /// The ellipse with semi-axes `minor` along the unit vector `e` and
+    /// `major` across it.
+    pub fn with_axes(minor: f64, major: f64, e: DVec2) -> Metric {
+        Metric::from_eigen(1.0 / (minor * minor), 1.0 / (major * major), e)
+    }
+
+    /// The metric with eigenvalues `a` (along `e`) and `b`.
+    #[inline]
+    fn from_eigen(a: f64, b: f64, e: DVec2) -> Metric {
+        let k = a - b;
+        Metric {
+            xx: b + k * e.x * e.x,
+            xy: k * e.x * e.y,
+            yy: b + k * e.y * e.y,
+        }
+    }
+
+    /// Carried over a step: `(I + Δt L)⁻ᵀ Q (I + Δt L)⁻¹`, `L` the
+    /// velocity gradient (`L_αβ = ∂v_α/∂x_β`), then held to the bounds
+    /// around the placed smoothing length `h0` ([`Metric::bounded`]). In
+    /// 1-D only `Q_xx` moves.
+    pub fn carried(&self, l: &Mat2, dt: f64, h0: f64, dim: usize) -> Metric {
+        let a = Mat2 {
+            xx: 1.0 + dt * l.xx,
+            xy: dt * l.xy,
+            yx: dt * l.yx,
+            yy: 1.0 + dt * l.yy,
+        };
+        if dim == 1 {
+            let k = self.xx / (a.xx * a.xx);
+            return Metric { xx: k, ..*self }.bounded(h0, dim);
+        }
+        let Some(inv) = a.inverse(0.0) else {
+            return *self;
+        };
+        // B = A⁻¹; Q' = Bᵀ Q B.
+        let (b11, b12, b21, b22) = (inv.xx, inv.xy, inv.yx, inv.yy);
+        // Q B, column by column.
+        let qb11 = self.xx * b11 + self.xy * b21;
+        let qb21 = self.xy * b11 + self.yy * b21;
+        let qb12 = self.xx * b12 + self.xy * b22;
+        let qb22 = self.xy * b12 + self.yy * b22;
+        Metric {
+            xx: b11 * qb11 + b21 * qb21,
+            xy: b11 * qb12 + b21 * qb22,
+            yy: b12 * qb12 + b22 * qb22,
+        }
+        .bounded(h0, dim)
+    }
+
+    /// Held to the bounds: semi-axes within `[h0/SQUEEZE_MAX,
+    /// STRETCH_MAX h0]`. Unchanged (bit for bit) inside them.
+    pub fn bounded(&self, h0: f64, dim: usize) -> Metric {
+        let (lo, hi) = (1.0 / (STRETCH_MAX * h0).powi(2), (SQUEEZE_MAX / h0).powi(2));
+        if dim == 1 {
+            return Metric {
+                xx: self.xx.clamp(lo, hi),
+                ..*self
+            };
+        }
+        let (a, b, e) = self.eigen();
+        if a <= hi && b >= lo {
+            return *self;
+        }
+        Metric::from_eigen(a.clamp(lo, hi), b.clamp(lo, hi), e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A round metric is `1/h²`; its semi-axes are `h`.
+    #[test]
+    fn round_metric() {
+        let q = Metric::round(2.0);
+        assert_eq!(q.quad(DVec2::new(2.0, 0.0)), 1.0);
+        assert_eq!(q.axes(), (2.0, 2.0));
+        assert_eq!(q.scale(2), 0.25);
+    }
+
+    /// Carried through a uniform stretch, a rotation and a shear, the
+    /// ellipse is the image of the round kernel: every material line
+    /// element keeps its length in the metric.
+    #[test]
+    fn the_metric_follows_the_material() {
+        let h = 1.2e-3;
+        let q0 = Metric::round(h);
+        for l in [
+            Mat2 {
+                xx: 1e4,
+                xy: 0.0,
+                yx: 0.0,
+                yy: -5e3,
+            },
+            Mat2 {
+                xx: 0.0,
+                xy: 3e4,
+                yx: -3e4,
+                yy: 0.0,
+            },
+            Mat2 {
+                xx: 0.0,
+                xy: 2e4,
+                yx: 0.0,
+                yy: 0.0,
+            },
+        ] {
+            let dt = 1e-6;
+            let q = q0.carried(&l, dt, h, 2);
+            for d in [DVec2::new(1e-3, 0.0), DVec2::new(3e-4, -7e-4)] {
+                let moved = d + DVec2::new(l.xx * d.x + l.xy * d.y, l.yx * d.x + l.yy * d.y) * dt;
+                let (a, b) = (q.quad(moved), q0.quad(d));
+                assert!((a / b - 1.0).abs() < 1e-12, "{l:?}: {a} against {b}");
+            }
+        }
+    }
+
+    /// The least ratio of two metrics: 1 for equal ones, the growth of a
+    /// semi-axis (as `1/growth²`) for an ellipse stretched along it,
+    /// whatever the directions.
+    #[test]
+    fn least_ratio_of_two_metrics() {
+        let e = DVec2::new(0.6, 0.8);
+        let p = Metric::with_axes(0.5, 2.0, e);
+        assert!((p.least_ratio(&p) - 1.0).abs() < 1e-12);
+        let q = Metric::with_axes(0.5, 2.4, e);
+        assert!((q.least_ratio(&p) - 1.0 / 1.44).abs() < 1e-12);
+        let turned = Metric::with_axes(0.5, 2.0, DVec2::new(-0.8, 0.6));
+        // Turned a quarter: the minor axis now lies along the old major.
+        assert!((p.least_ratio(&turned) - 1.0 / 16.0).abs() < 1e-12);
+        assert!((Metric::round(1.0).least_ratio(&Metric::round(2.0)) - 4.0).abs() < 1e-12);
+    }
+
+    /// Past the bounds the semi-axes are held, along the same axes.
+    #[test]
+    fn bounded_semi_axes() {
+        let h = 1.0;
+        let e = DVec2::new(0.6, 0.8);
+        let q = Metric::from_eigen(100.0, 1e-4, e).bounded(h, 2);
+        let (lo, hi) = q.axes();
+        assert!((lo - h / SQUEEZE_MAX).abs() < 1e-12 && (hi - STRETCH_MAX * h).abs() < 1e-12);
+        assert!((q.quad(e) - (SQUEEZE_MAX / h).powi(2)).abs() < 1e-9);
+        let inside = Metric::from_eigen(2.0, 0.5, e);
+        assert_eq!(inside.bounded(h, 2), inside);
+    }
+}
