@@ -29,6 +29,32 @@
 @group(0) @binding(76) var<storage, read> hist: array<vec4<f32>>;
 @group(0) @binding(77) var<storage, read_write> hist_w: array<vec4<f32>>;
 @group(0) @binding(78) var<storage, read> srate: array<f32>;
+// Supports that adapt: each particle's metric, carried at a step's end
+// with the velocity gradient of the evaluation that moved the positions
+// (kinematics.wgsl).
+@group(0) @binding(83) var<storage, read_write> metric_w: array<vec4<f32>>;
+@group(0) @binding(84) var<storage, read> lgrad: array<vec4<f32>>;
+
+// Where supports adapt, the slot of the next step's largest major
+// semi-axis (common.wgsl), cleared by a pass before the step's end.
+fn clear_next_top(i: u32) {
+    if (ADAPT && i == 0u) {
+        atomicStore(&ctl.h_top[(ctl.step + 1u) & 1u], 0u);
+    }
+}
+
+// Particle i's support at the step's end (cpu::advance::carry_supports):
+// carried with the velocity gradient of the evaluation that moved the
+// positions (a rigid one keeps its own), and counted in the next step's
+// largest major semi-axis.
+fn carry_support(i: u32, rigid: bool, h0: f32, dt: f32) {
+    var q = metric_w[i];
+    if (!rigid) {
+        q = metric_carried(q, lgrad[i], dt, h0);
+        metric_w[i] = q;
+    }
+    atomicMax(&ctl.h_top[(ctl.step + 1u) & 1u], bitcast<u32>(metric_axes(q).y));
+}
 
 fn finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
@@ -60,6 +86,7 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (ctl.dt == 0.0) {
         return;
     }
+    clear_next_top(i);
     let k = 0.5 * ctl.dt;
     let mi = pinfo[i];
     let b = bodies[mi.z];
@@ -118,6 +145,9 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     let b = bodies[mi.z];
     let un = u_w[i] + vm[i] * dt;
     u_w[i] = un;
+    if (ADAPT) {
+        carry_support(i, b.rigid != 0u, b.h, dt);
+    }
     if (b.rigid != 0u) {
         return;
     }
@@ -209,6 +239,7 @@ fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     var un = u_w[i];
     let dt = ctl.dt;
     if (dt != 0.0) {
+        clear_next_top(i);
         let h = 0.5 * dt;
         // The contact's rates are those of the last step's boundary
         // particles: others hold what the buffer held in between.
@@ -246,8 +277,12 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     }
     let q = rdt[i];
     var e = r_w[i].y;
-    if (bodies[pinfo[i].z].rigid == 0u) {
+    let b = bodies[pinfo[i].z];
+    if (b.rigid == 0u) {
         e = e + q.y * (0.5 * ctl.dt);
+    }
+    if (ADAPT) {
+        carry_support(i, b.rigid != 0u, b.h, ctl.dt);
     }
     r_w[i] = vec2<f32>(q.x, e);
     check(i, u_w[i], v_w[i], vec2<f32>(q.x, e));

@@ -60,6 +60,13 @@ override STRAIN_RATE: bool = false;
 // and a particle within reach of the axis adds its neighbours' mirror
 // images across it (and its own) to its sums (`axis_image`).
 override AXI: bool = false;
+// Supports that follow the deformation (docs/method.md, "Supports that
+// follow the deformation"): each particle's metric Q in `metric`, a pair's
+// kernel in their mean metric; the surface set and the contact's normals
+// keep the round supports of the bodies' h. ADAPT_ROWS is the most rows
+// (cells either side) a walk's stencil reaches.
+override ADAPT: bool = false;
+override ADAPT_ROWS: u32 = 2u;
 
 const NONE: u32 = 0xffffffffu;
 const BIG: f32 = 3.0e38;
@@ -110,7 +117,8 @@ struct Params {
     // Bodies of revolution: the axis r = 0 in cells of the grid (a whole
     // number, so a radius is formed from a particle's cell exactly).
     axis_cell: f32,
-    pad0: u32,
+    // The margin, in cells, of a walk's reach where supports adapt.
+    reach_margin: f32,
     pad1: u32,
     pad2: u32,
 }
@@ -154,6 +162,16 @@ struct Control {
     // The contact list's peak length past three quarters full
     // (kinematics.wgsl, list_surface).
     list_peak: atomic<u32>,
+    // Supports that adapt: the largest major semi-axis of a step's
+    // supports, as the bits of a positive f32, by the step's parity: a
+    // step's walks read their own (`step_h_top`), its advance raises the
+    // next step's with each particle's new support (advance.wgsl).
+    h_top: array<atomic<u32>, 2>,
+}
+
+// The largest major semi-axis of this step's supports.
+fn step_h_top() -> f32 {
+    return bitcast<f32>(atomicLoad(&ctl.h_top[ctl.step & 1u]));
 }
 
 // A pass of a zero-length step (past the stop, or after a failure) that
@@ -310,6 +328,102 @@ fn kernel_hess(r: f32, h: f32) -> vec2<f32> {
 fn hess_times(d: vec2<f32>, r: f32, h: f32, b: vec2<f32>) -> vec2<f32> {
     let st = kernel_hess(r, h);
     return b * st.x + d * (st.y * dot(d, b));
+}
+
+// Support metrics (physics::support::Metric) are vec4 (xx, xy, yy, 0).
+fn metric_apply(q: vec4<f32>, d: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(q.x * d.x + q.y * d.y, q.y * d.x + q.z * d.y);
+}
+
+// The kernel's normalisation factor sqrt(det Q) (sqrt(Q_xx) in 1-D).
+fn metric_scale(q: vec4<f32>) -> f32 {
+    if (DIM == 1u) {
+        return sqrt(q.x);
+    }
+    return sqrt(q.x * q.z - q.y * q.y);
+}
+
+// The eigenvalues (large, small) of a metric and the unit eigenvector of
+// the large one (Metric::eigen).
+struct Eigen {
+    a: f32,
+    b: f32,
+    e: vec2<f32>,
+}
+
+fn metric_eigen(q: vec4<f32>) -> Eigen {
+    let m = 0.5 * (q.x + q.z);
+    let d = 0.5 * (q.x - q.z);
+    let rad = sqrt(d * d + q.y * q.y);
+    let a = m + rad;
+    let b = m - rad;
+    let p = vec2<f32>(q.y, a - q.x);
+    let w = vec2<f32>(a - q.z, q.y);
+    var e = p;
+    if (dot(w, w) > dot(p, p)) {
+        e = w;
+    }
+    let len = length(e);
+    if (len > 0.0) {
+        e = e / len;
+    } else {
+        e = vec2<f32>(1.0, 0.0);
+    }
+    return Eigen(a, b, e);
+}
+
+// The semi-axes (minor, major) of a support.
+fn metric_axes(q: vec4<f32>) -> vec2<f32> {
+    let g = metric_eigen(q);
+    return vec2<f32>(1.0 / sqrt(g.a), 1.0 / sqrt(max(g.b, 1e-37)));
+}
+
+// The bounds of a support's semi-axes around the placed h
+// (physics::support::STRETCH_MAX, SQUEEZE_MAX).
+const STRETCH_MAX: f32 = 4.0;
+const SQUEEZE_MAX: f32 = 2.0;
+
+// The metric held to the bounds: unchanged inside them, else its
+// eigenvalues clamped along the same axes (Metric::bounded).
+fn metric_bounded(q: vec4<f32>, h0: f32) -> vec4<f32> {
+    let lo = 1.0 / ((STRETCH_MAX * h0) * (STRETCH_MAX * h0));
+    let hi = (SQUEEZE_MAX / h0) * (SQUEEZE_MAX / h0);
+    if (DIM == 1u) {
+        return vec4<f32>(clamp(q.x, lo, hi), q.y, q.z, 0.0);
+    }
+    let g = metric_eigen(q);
+    if (g.a <= hi && g.b >= lo) {
+        return q;
+    }
+    let a = clamp(g.a, lo, hi);
+    let b = clamp(g.b, lo, hi);
+    let k = a - b;
+    return vec4<f32>(b + k * g.e.x * g.e.x, k * g.e.x * g.e.y, b + k * g.e.y * g.e.y, 0.0);
+}
+
+// The metric carried over a step of dt with the velocity gradient l
+// (xx, xy, yx, yy): (I + dt l)^-T Q (I + dt l)^-1, then bounded
+// (Metric::carried).
+fn metric_carried(q: vec4<f32>, l: vec4<f32>, dt: f32, h0: f32) -> vec4<f32> {
+    let a = vec4<f32>(1.0 + dt * l.x, dt * l.y, dt * l.z, 1.0 + dt * l.w);
+    if (DIM == 1u) {
+        return metric_bounded(vec4<f32>(q.x / (a.x * a.x), q.y, q.z, 0.0), h0);
+    }
+    let det = a.x * a.w - a.y * a.z;
+    if (det == 0.0) {
+        return q;
+    }
+    let inv = 1.0 / det;
+    let b11 = a.w * inv;
+    let b12 = -a.y * inv;
+    let b21 = -a.z * inv;
+    let b22 = a.x * inv;
+    let qb11 = q.x * b11 + q.y * b21;
+    let qb21 = q.y * b11 + q.z * b21;
+    let qb12 = q.x * b12 + q.y * b22;
+    let qb22 = q.y * b12 + q.z * b22;
+    let c = vec4<f32>(b11 * qb11 + b21 * qb21, b11 * qb12 + b21 * qb22, b12 * qb12 + b22 * qb22, 0.0);
+    return metric_bounded(c, h0);
 }
 
 // The left-hand perpendicular: a boundary normal's tangent.

@@ -150,20 +150,38 @@ struct Sums {
 // pair of i and j's mirror image across the axis (`axis_image`), which
 // has j's values mirrored, at radius `rj` (bodies of revolution).
 fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: ptr<function, Sums>) {
+    add_boundary(o, j, mj, pr, img, sums);
+    add_sph(o, j, mj, pr, img, rj, sums);
+}
+
+// A boundary particle's contact area and normal terms of a pair with the
+// round supports of the bodies' h (`add_pair`).
+fn add_boundary(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, sums: ptr<function, Sums>) {
+    let hij = pr.hij;
+    let dist = pr.dist;
+    if (o.boundary && nbo[j].z > 0.0 && LEAP != 3u) {
+        (*sums).sw += kernel_w(dist, hij);
+    }
+    if (o.boundary && dist > 0.0) {
+        var vj = v[j];
+        if (img) {
+            vj = mirror_vec(vj);
+        }
+        // With contact on, j is of i's body.
+        let v0 = reference_volume(mj, o.body.rho0);
+        (*sums).g0 -= pr.gw * v0;
+        (*sums).gdot -= hess_times(pr.d, dist, hij, o.v - vj) * v0;
+    }
+}
+
+// The momentum and energy terms of a pair (`add_pair`); where supports
+// adapt, `pr` is the pair in its mean metric.
+fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: ptr<function, Sums>) {
     let hij = pr.hij;
     let dist = pr.dist;
     var vj = v[j];
     if (img) {
         vj = mirror_vec(vj);
-    }
-    if (o.boundary && nbo[j].z > 0.0 && LEAP != 3u) {
-        (*sums).sw += kernel_w(dist, hij);
-    }
-    if (o.boundary && dist > 0.0) {
-        // With contact on, j is of i's body.
-        let v0 = reference_volume(mj, o.body.rho0);
-        (*sums).g0 -= pr.gw * v0;
-        (*sums).gdot -= hess_times(pr.d, dist, hij, o.v - vj) * v0;
     }
     if (o.rigid || dist <= 0.0) {
         return;
@@ -226,17 +244,30 @@ fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: p
             let rho_j = sum_density(bj, j, rj);
             let vol = 0.5 * (o.vol + bitcast<f32>(mj.x) / rho_j);
             // kappa^2 <= 1 only shrinks the spacing: a gate shut at 1 is
-            // shut, and most pairs read no kappa.
-            gate = close_gate(dist * dist, vol, 1.0);
+            // shut, and most pairs read no kappa. Where supports adapt, in
+            // the pair's metric.
+            var u2 = dist * dist;
+            var vs = vol;
+            if (ADAPT) {
+                u2 = pr.q2;
+                vs = vol * pr.scale;
+            }
+            gate = close_gate(u2, vs, 1.0);
             if (ART_KAPPA && gate > 0.0) {
-                gate = close_gate(dist * dist, vol, min(o.k2, kappa[mj.w]));
+                gate = close_gate(u2, vs, min(o.k2, kappa[mj.w]));
             }
         }
         if (gate > 0.0) {
             let rs = o.art + art_of(tj);
             if (rs.x + rs.y < 0.0 && intact(j)) {
                 let dp = 0.5 * (o.body.spacing + bj.spacing);
-                let rf = rs * (art_weight(dist, dp, hij) * gate);
+                var aw = 0.0;
+                if (ADAPT) {
+                    aw = art_weight(sqrt(pr.q2), dp / (0.5 * (o.hi + bj.h)), 1.0);
+                } else {
+                    aw = art_weight(dist, dp, hij);
+                }
+                let rf = rs * (aw * gate);
                 t += rf;
                 art_work = 0.5 * dot(vij, sym_mul(rf, g));
             }
@@ -261,6 +292,57 @@ fn add_image(o: Own, wk: Walker, j: u32, mj: vec4<u32>, pr: Pair, rj: f32, sums:
     let im = axis_image(wk, rj, pr.d, pr.hij);
     if (im.inside) {
         add_pair(o, j, mj, im, true, rj, sums);
+    }
+}
+
+// The walk of `forces` where supports adapt: each candidate's pair in its
+// mean metric (and in a body of revolution the pair with its image, whose
+// metric is mirrored) to the momentum and energy sums, its round pair and
+// round image to the boundary's sums; then the walker's own images. CPU
+// twins: cpu::forces::momentum_energy, cpu::kinematics::boundary.
+fn adaptive_forces(own: Own, wk: Walker, i: u32, mi: vec4<u32>, cs: Consts, sums: ptr<function, Sums>) {
+    let bi = mi.z;
+    let hi = own.hi;
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span_in(wk.hm, row, wk.reach);
+        for (var k = span.start; k < span.end; k++) {
+            let cd = cand(wk, k, cs);
+            let j = cd.j;
+            let mj = pinfo[j];
+            if (j == i || !in_row(cd.cell, span) || (CONTACT && mj.z != bi)) {
+                continue;
+            }
+            let round = body_pair(wk, cd, mj.z, span, hi, bi);
+            if (round.inside) {
+                add_boundary(own, j, mj, round, false, sums);
+                if (AXI) {
+                    let ri = axis_image(wk, cd.rad, round.d, round.hij);
+                    if (ri.inside) {
+                        add_boundary(own, j, mj, ri, true, sums);
+                    }
+                }
+            }
+            let pr = sph_pair(wk, cd, mj.z, span, hi, bi);
+            if (pr.inside) {
+                add_sph(own, j, mj, pr, false, cd.rad, sums);
+            }
+            if (AXI) {
+                let img = axis_image_metric(wk, cd.rad, cd.d, metric[j], hi);
+                if (img.inside) {
+                    add_sph(own, j, mj, img, true, cd.rad, sums);
+                }
+            }
+        }
+    }
+    if (AXI) {
+        let own_round = axis_image(wk, wk.rad, vec2<f32>(0.0), hi);
+        if (own_round.inside) {
+            add_boundary(own, i, mi, own_round, true, sums);
+        }
+        let own_img = axis_image_metric(wk, wk.rad, vec2<f32>(0.0), wk.q, hi);
+        if (own_img.inside) {
+            add_sph(own, i, mi, own_img, true, wk.rad, sums);
+        }
     }
 }
 
@@ -300,7 +382,10 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         return;
     }
     let cs = consts();
-    let wk = walker(i);
+    var wk = walker(i);
+    if (ADAPT) {
+        wk = adaptive_walker(i);
+    }
     var gi = vec4<f32>(0.0);
     if (RECON) {
         gi = gradv[i];
@@ -342,10 +427,14 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
 
     var sums = Sums(vec2<f32>(0.0), 0.0, kernel_w(0.0, hi), vec2<f32>(0.0), vec2<f32>(0.0));
     var mask = vec2<u32>(0u, MASK_FULL);
-    if (LEAP != 0u) {
+    // Where supports adapt the walk's rows are the walker's own
+    // (`adaptive_forces`), which the masks' row map does not follow.
+    if (LEAP != 0u && !ADAPT) {
         mask = nmask[i];
     }
-    if ((mask.y & MASK_FULL) == 0u) {
+    if (ADAPT) {
+        adaptive_forces(own, wk, i, mi, cs, &sums);
+    } else if ((mask.y & MASK_FULL) == 0u) {
         // The pairs the kinematics pass found, in walk order (walk.wgsl).
         let rm = row_map(wk.hm);
         loop {
@@ -378,9 +467,9 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             }
         }
     }
-    if (AXI) {
+    if (AXI && !ADAPT) {
         // The walker's own image.
-        add_image(own, wk, i, mi, Pair(vec2<f32>(0.0), 0.0, hi, vec2<f32>(0.0), true), wk.rad, &sums);
+        add_image(own, wk, i, mi, Pair(vec2<f32>(0.0), 0.0, hi, vec2<f32>(0.0), true, 0.0, 0.0), wk.rad, &sums);
     }
     var acc = sums.acc;
     var de = sums.de;

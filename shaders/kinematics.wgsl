@@ -49,6 +49,9 @@
 // Bodies of revolution: the hoop stress's acceleration sigma_tt / (r rho)
 // of the evaluation, for the forces pass.
 @group(0) @binding(80) var<storage, read_write> hoop: array<f32>;
+// Supports that adapt: the state's velocity gradient, which the step's
+// end carries the supports with (advance.wgsl).
+@group(0) @binding(84) var<storage, read_write> lgrad: array<vec4<f32>>;
 // The contact's list of boundary particles and its length (contact.wgsl,
 // which says how they are used).
 @group(0) @binding(64) var<storage, read_write> surf: array<u32>;
@@ -172,6 +175,9 @@ fn add_kin_image(o: KinOwn, wk: Walker, j: u32, rj: f32, d: vec2<f32>, hij: f32,
 }
 
 fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
+    if (ADAPT) {
+        return adaptive_walk(i, hi, bi, rigid, rho0);
+    }
     let cs = consts();
     let wk = walker(i);
     let seen = LEAP == 2u && RECON;
@@ -231,6 +237,119 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     }
     ks.mask = mask;
     return ks;
+}
+
+// `kinematic_walk` where supports adapt (docs/method.md, "Supports that
+// follow the deformation"): the gradient sums take the pairs in their mean
+// metric, the colour gradient the round pairs of the bodies' h, and in a
+// body of revolution each candidate's image either way (a metric's image
+// is its particle's mirrored). A candidate goes into the mask when any of
+// the three is a pair. CPU twins: cpu::kinematics::kinematics and
+// round_colour.
+fn adaptive_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
+    let cs = consts();
+    let wk = adaptive_walker(i);
+    let seen = LEAP == 2u && RECON;
+    var o = KinOwn(v[i], vec2<f32>(0.0), seen, rigid, 0.0);
+    if (seen) {
+        o.vsi = predicted(i);
+    }
+    if (AXI) {
+        o.inv_eta = 1.0 / (circumference(wk.rad) * rho0 * (1.0 + r[i].x));
+    }
+    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0), wk.rad);
+    var mask = vec2<u32>(0u);
+    var first = 0u;
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span_in(wk.hm, row, wk.reach);
+        let off = first - span.start;
+        first += span.end - span.start;
+        for (var k = span.start; k < span.end; k++) {
+            let cd = cand(wk, k, cs);
+            let j = cd.j;
+            let mj = pinfo[j];
+            let pr = sph_pair(wk, cd, mj.z, span, hi, bi);
+            let round = body_pair(wk, cd, mj.z, span, hi, bi);
+            let valid = j != i && in_row(cd.cell, span) && !(CONTACT && mj.z != bi);
+            var img = Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0);
+            if (AXI && valid) {
+                img = axis_image_metric(wk, cd.rad, cd.d, metric[j], hi);
+            }
+            let any = pr.inside || round.inside || img.inside;
+            if (LEAP != 0u && any && k + off < MASK_BITS) {
+                mask = mask_set(mask, k + off);
+            }
+            if (!any) {
+                continue;
+            }
+            let mass = bitcast<f32>(mj.x);
+            let vol = volume(j, mj, rho0);
+            add_adaptive(o, wk, j, cd.rad, mass, vol, pr, round, img, &ks);
+        }
+    }
+    if (AXI) {
+        // The walker's own image, both ways.
+        let mi = pinfo[i];
+        let own = Pair(vec2<f32>(0.0), 0.0, hi, vec2<f32>(0.0), true, 0.0, 0.0);
+        let img = axis_image_metric(wk, wk.rad, vec2<f32>(0.0), wk.q, hi);
+        add_adaptive(o, wk, i, wk.rad, bitcast<f32>(mi.x), volume(i, mi, rho0), Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0), own, img, &ks);
+    }
+    if (first > MASK_BITS) {
+        mask.y |= MASK_FULL;
+    }
+    ks.mask = mask;
+    return ks;
+}
+
+// A candidate's terms in an adaptive walk: the metric pair `pr` and, in a
+// body of revolution, the metric pair with its image `img` to the gradient
+// sums; the round pair `round` and its image to the colour gradient.
+// `round` with zero distance stands for the walker's own image.
+fn add_adaptive(o: KinOwn, wk: Walker, j: u32, rj: f32, mass: f32, vol: f32, pr: Pair, round: Pair, img: Pair, ks: ptr<function, KinSums>) {
+    var area = vol;
+    if (AXI) {
+        area = vol / circumference(rj);
+    }
+    if (round.inside) {
+        if (round.dist > 0.0) {
+            (*ks).gpsi -= round.gw * area;
+        }
+        if (AXI) {
+            let ri = axis_image(wk, rj, round.d, round.hij);
+            if (ri.inside) {
+                (*ks).gpsi -= ri.gw * area;
+            }
+        }
+    }
+    var vsj = vec2<f32>(0.0);
+    var vj = vec2<f32>(0.0);
+    if (!o.rigid) {
+        vj = v[j];
+        if (o.seen) {
+            vsj = predicted(j);
+        }
+    }
+    if (pr.inside && pr.dist > 0.0) {
+        add_grad(o, pr.gw, pr.d, mass, area, vj, vsj, ks);
+    }
+    if (img.inside) {
+        add_grad(o, img.gw, img.d, mass, area, mirror_vec(vj), mirror_vec(vsj), ks);
+    }
+}
+
+// `add_kin` without the colour gradient.
+fn add_grad(o: KinOwn, gw: vec2<f32>, d: vec2<f32>, mass: f32, vol: f32, vj: vec2<f32>, vsj: vec2<f32>, ks: ptr<function, KinSums>) {
+    var gm = gw * vol;
+    if (AXI) {
+        gm = gw * (mass * o.inv_eta);
+    }
+    (*ks).m += outer(gm, -d);
+    if (!o.rigid) {
+        (*ks).gsum += outer(vj - o.vi, gm);
+        if (o.seen) {
+            (*ks).gseen += outer(vsj - o.vsi, gm);
+        }
+    }
 }
 
 // L_i from M_i, or the identity (counted) when M_i cannot be inverted.
@@ -400,6 +519,9 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if (RECON) {
         gradv[i] = gv;
     }
+    if (ADAPT) {
+        lgrad[i] = gv;
+    }
     if (LEAP != 0u) {
         return;
     }
@@ -452,6 +574,9 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         return;
     }
     let gv = velocity_gradient(ks.gsum, l);
+    if (ADAPT) {
+        lgrad[i] = gv;
+    }
     let d_tt = hoop_rate(ks.rad, v[i]);
     var mu1 = mu + density_rate(mu, gv, d_tt) * dt;
     var s1 = plastic_return(si + deviator_rate(body.g, si, gv, d_tt) * dt, body);

@@ -76,7 +76,12 @@ fn observe(i: u32) -> Obs {
     let rigid = b.rigid != 0u;
     var cfl = BIG;
     if (!rigid) {
-        cfl = params.cfl * b.h / (sr2c[i].w + length(vi));
+        // Where supports adapt, the support's minor semi-axis for h.
+        var h = b.h;
+        if (ADAPT) {
+            h = metric_axes(metric[i]).x;
+        }
+        cfl = params.cfl * h / (sr2c[i].w + length(vi));
     }
     return Obs(bitcast<f32>(mi.x), mi.z, rigid, vi, r[i].y, cfl);
 }

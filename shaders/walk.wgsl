@@ -13,8 +13,21 @@ fn bucket_of(c: vec2<i32>) -> u32 {
 
 // Cells are a hair larger than the largest h, so a pair within 2 h_ij is at
 // most REACH = 2 cells apart along each axis: a particle's candidates lie in
-// the 5 x 5 cells around its own (5 cells in 1-D).
+// the 5 x 5 cells around its own (5 cells in 1-D). Where supports adapt
+// (ADAPT) a walk's stencil reaches ADAPT_ROWS cells either side, each
+// walker's rows and columns clipped to its own reach (`Walker::reach`).
 const REACH: i32 = 2;
+
+// Supports that adapt: each particle's metric (common.wgsl).
+@group(0) @binding(82) var<storage, read> metric: array<vec4<f32>>;
+
+// The cells either side a walk's stencil spans.
+fn stencil() -> i32 {
+    if (ADAPT) {
+        return i32(ADAPT_ROWS);
+    }
+    return REACH;
+}
 
 // Where a particle is in the grid: its cell, and its place inside the cell
 // in units of the cell, in [0, 1) along each axis. The cell list and every
@@ -48,7 +61,7 @@ fn scan_rows() -> u32 {
     if (DIM == 1u) {
         return 1u;
     }
-    return 5u;
+    return u32(2 * stencil() + 1);
 }
 
 // One row of a particle's stencil: the row `cy`, its columns `lo..=hi` (the
@@ -68,7 +81,13 @@ struct RowSpan {
 }
 
 fn row_span(hm: Home, row: u32) -> RowSpan {
-    var dy = i32(row) - REACH;
+    return row_span_in(hm, row, params.reach);
+}
+
+// `row_span` of a support `reach` cells in radius.
+fn row_span_in(hm: Home, row: u32, reach: f32) -> RowSpan {
+    let rows = stencil();
+    var dy = i32(row) - rows;
     // The distance in cells from the particle to the row's band.
     var gap = 0.0;
     if (DIM == 1u) {
@@ -79,13 +98,13 @@ fn row_span(hm: Home, row: u32) -> RowSpan {
         gap = hm.frac.y - f32(dy + 1);
     }
     let cy = hm.cell.y + dy;
-    if (gap >= params.reach) {
+    if (gap >= reach) {
         return RowSpan(cy, 1, 0, 0u, 0u);
     }
     // The columns a disk of radius `reach` reaches in this row.
-    let w = sqrt(params.reach * params.reach - gap * gap);
-    let lo = max(-REACH, i32(floor(hm.frac.x - w)));
-    let hi = min(REACH, i32(floor(hm.frac.x + w)));
+    let w = sqrt(reach * reach - gap * gap);
+    let lo = max(-rows, i32(floor(hm.frac.x - w)));
+    let hi = min(rows, i32(floor(hm.frac.x + w)));
     let b = bucket_of(vec2<i32>(hm.cell.x + lo, cy));
     let e = b + u32(hi - lo + 1);
     var end = 0u;
@@ -118,19 +137,42 @@ fn consts() -> Consts {
 }
 
 // The walking particle: its index, reference, displacement, grid home and
-// (bodies of revolution; else 0) radius.
+// (bodies of revolution; else 0) radius; where supports adapt its metric
+// and the radius in cells its walk reaches (else the round support's).
 struct Walker {
     i: u32,
     a: vec4<f32>,
     un: vec2<f32>,
     hm: Home,
     rad: f32,
+    q: vec4<f32>,
+    reach: f32,
 }
 
 fn walker(i: u32) -> Walker {
     let a = x0[i];
     let un = u[i];
-    return Walker(i, a, un, home_at(a, un), radius_at(a, un));
+    return Walker(i, a, un, home_at(a, un), radius_at(a, un), vec4<f32>(0.0), params.reach);
+}
+
+// The walker of the SPH sums where supports adapt: its metric, and the
+// reach of the pairs in their mean metric (the round walks of the contact
+// keep `walker`'s).
+fn adaptive_walker(i: u32) -> Walker {
+    var w = walker(i);
+    w.q = metric[i];
+    w.reach = max(adaptive_reach(w.q) * params.inv_cell + params.reach_margin, params.reach);
+    return w;
+}
+
+// How far apart a particle of metric `q` and any other can be and lie in
+// their mean metric's support, dᵀ (Q_i + Q_j) d < 8, when no major
+// semi-axis exceeds the step's largest (`step_h_top`): sqrt(8 / (1/a_i^2 +
+// 1/top^2)), a_i the particle's own (cpu::neighbours, near_adaptive).
+fn adaptive_reach(q: vec4<f32>) -> f32 {
+    let a = metric_axes(q).y;
+    let top = max(step_h_top(), a);
+    return sqrt(8.0 / (1.0 / (a * a) + 1.0 / (top * top)));
 }
 
 // The radius of a particle of a body of revolution with reference `a` and
@@ -157,9 +199,19 @@ fn radius_of(j: u32) -> f32 {
 fn axis_image(w: Walker, rj: f32, d: vec2<f32>, hij: f32) -> Pair {
     let dr = w.rad + rj;
     if (!AXI || dr >= 2.0 * hij) {
-        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false);
+        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0);
     }
     return pair_at(vec2<f32>(dr, d.y), hij);
+}
+
+// `axis_image` where supports adapt: the pair of the walker and the image
+// of a particle of metric `qj`, whose own metric is `qj` mirrored; `h0`
+// the round support's h.
+fn axis_image_metric(w: Walker, rj: f32, d: vec2<f32>, qj: vec4<f32>, h0: f32) -> Pair {
+    if (!AXI) {
+        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0);
+    }
+    return pair_metric(vec2<f32>(w.rad + rj, d.y), w.q, vec4<f32>(qj.x, -qj.y, qj.z, 0.0), h0);
 }
 
 // Candidate j at place k of a row's range (a range that wraps past the
@@ -206,6 +258,10 @@ struct Pair {
     hij: f32,
     gw: vec2<f32>,
     inside: bool,
+    // Where supports adapt, q^2 in the pair's metric and its sqrt(det Q);
+    // hij is then the smoothing length along the pair, r/q.
+    q2: f32,
+    scale: f32,
 }
 
 // The SPH pair of walker `w` (particle i, body bi, smoothing length hi) and
@@ -215,9 +271,22 @@ struct Pair {
 // force. Every SPH sum scans its neighbours through this filter.
 fn body_pair(w: Walker, cd: Cand, bj: u32, span: RowSpan, hi: f32, bi: u32) -> Pair {
     if (cd.j == w.i || !in_row(cd.cell, span) || (CONTACT && bj != bi)) {
-        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false);
+        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0);
     }
     return pair_at(cd.d, pair_h(hi, bj));
+}
+
+// `body_pair` of the SPH sums: where supports adapt, the pair in its mean
+// metric (`pair_metric`; the walker from `adaptive_walker`). The surface
+// set and the contact keep `body_pair`'s round supports.
+fn sph_pair(w: Walker, cd: Cand, bj: u32, span: RowSpan, hi: f32, bi: u32) -> Pair {
+    if (!ADAPT) {
+        return body_pair(w, cd, bj, span, hi, bi);
+    }
+    if (cd.j == w.i || !in_row(cd.cell, span) || (CONTACT && bj != bi)) {
+        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0);
+    }
+    return pair_metric(cd.d, w.q, metric[cd.j], pair_h(hi, bj));
 }
 
 // h_ij of a pair with i's h `hi` and j of body `bj`. With contact on, SPH
@@ -238,7 +307,38 @@ fn pair_at(d: vec2<f32>, hij: f32) -> Pair {
     if (inside && dist > 0.0) {
         gw = d * (kernel_dw(dist, hij) / dist);
     }
-    return Pair(d, dist, hij, gw, inside);
+    return Pair(d, dist, hij, gw, inside, 0.0, 0.0);
+}
+
+// The SPH pair of separation `d` whose particles have metrics `qi`, `qj`
+// (supports that adapt): the spline in their mean metric Q, q^2 = d.Qd,
+// grad_i W = alpha sqrt(det Q) (f'(q)/q) Q d (physics::kernel::w_grad_pair);
+// `h0` the round support's h, the smoothing length along a pair at zero
+// distance.
+fn pair_metric(d: vec2<f32>, qi: vec4<f32>, qj: vec4<f32>, h0: f32) -> Pair {
+    let m = 0.5 * (qi + qj);
+    let qd = metric_apply(m, d);
+    let q2 = dot(d, qd);
+    let dist = length(d);
+    if (q2 >= 4.0) {
+        return Pair(d, dist, 0.0, vec2<f32>(0.0), false, q2, 0.0);
+    }
+    let sc = metric_scale(m);
+    var hij = h0;
+    var gw = vec2<f32>(0.0);
+    if (q2 > 0.0) {
+        let q = sqrt(q2);
+        hij = dist / q;
+        var g = 0.0;
+        if (q < 1.0) {
+            g = -3.0 + 2.25 * q;
+        } else {
+            let t = 2.0 - q;
+            g = -0.75 * t * t / q;
+        }
+        gw = qd * (kernel_alpha(1.0) * sc * g);
+    }
+    return Pair(d, dist, hij, gw, true, q2, sc);
 }
 
 // The neighbour mask (leapfrog only, LEAP != 0): the kinematic walk

@@ -272,7 +272,7 @@ impl GpuSolver {
             } else {
                 0.0
             },
-            pad0: 0,
+            reach_margin: REACH_MARGIN as f32,
             pad1: 0,
             pad2: 0,
         };
@@ -299,10 +299,20 @@ impl GpuSolver {
                 }
             })
             .collect();
+        // Where supports adapt, the step's largest major semi-axis, in the
+        // slot of the step's parity (common.wgsl, `step_h_top`).
+        let mut h_top = [0u32; 2];
+        h_top[(state.step & 1) as usize] = state
+            .metric
+            .iter()
+            .map(|q| q.axes().1 as f32)
+            .fold(0.0f32, f32::max)
+            .to_bits();
         let control = Control {
             fail_step: NONE,
             fail_code: NONE,
             energy_limit: -1.0,
+            h_top,
             ..Default::default()
         };
 
@@ -485,6 +495,18 @@ impl GpuSolver {
         }
         if model.av_reconstruct {
             make("gradv", 16 * nn, None)?;
+        }
+        if model.adaptive {
+            // Each particle's support (f32), and the velocity gradient
+            // the step's end carries it with (kinematics.wgsl to
+            // advance.wgsl).
+            let q: Vec<[f32; 4]> = state
+                .metric
+                .iter()
+                .map(|q| [q.xx as f32, q.xy as f32, q.yy as f32, 0.0])
+                .collect();
+            make("metric", 16 * nn, Some(bytemuck::cast_slice(&q)))?;
+            make("lgrad", 16 * nn, None)?;
         }
         if contact {
             // Per particle: (dashpot heat booked, spring work of its passes).

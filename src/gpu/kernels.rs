@@ -56,6 +56,8 @@ pub(super) fn make_kernels(
         ("FAILURE", model.can_fail() as u8 as f64),
         ("STRAIN_RATE", model.strain_rate as u8 as f64),
         ("AXI", model.axisymmetric as u8 as f64),
+        ("ADAPT", model.adaptive as u8 as f64),
+        ("ADAPT_ROWS", adaptive_rows() as f64),
         ("WG", WG as f64),
         ("GUARD", plan.energy.is_some() as u8 as f64),
         ("RIGID", model.any_rigid as u8 as f64),
@@ -331,11 +333,16 @@ pub(super) fn make_kernels(
         permute_each: {
             let arrays = if leapfrog {
                 leap_arrays(model)
-            } else if model.history {
-                // The midpoint rule's `permute` has no room for it.
-                vec![("hist", 16)]
             } else {
-                Vec::new()
+                // The midpoint rule's `permute` has no room for these.
+                let mut a = Vec::new();
+                if model.history {
+                    a.push(("hist", 16));
+                }
+                if model.adaptive {
+                    a.push(("metric", 16));
+                }
+                a
             };
             arrays
                 .into_iter()

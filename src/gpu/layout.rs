@@ -53,7 +53,9 @@ pub struct Params {
     /// Bodies of revolution: the axis `r = 0` in cells from the grid
     /// origin, a whole number (0 in plane strain).
     pub axis_cell: f32,
-    pub pad0: u32,
+    /// The margin, in cells, of a walk's reach where supports adapt
+    /// (walk.wgsl, `walker`): the f32 rounding of a particle's place.
+    pub reach_margin: f32,
     pub pad1: u32,
     pub pad2: u32,
 }
@@ -130,6 +132,9 @@ pub struct Control {
     /// the host last looked, where more than three quarters full
     /// (kinematics.wgsl, list_surface).
     pub list_peak: u32,
+    /// Supports that adapt: the bits of the largest major semi-axis of a
+    /// step's supports, by the step's parity (common.wgsl).
+    pub h_top: [u32; 2],
 }
 
 /// Shared structs declared outside common.wgsl, in the files of the stages
@@ -184,7 +189,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 energy_stored,
                 surf_groups,
                 axis_cell,
-                pad0,
+                reach_margin,
                 pad1,
                 pad2
             ),
@@ -222,7 +227,8 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 fallback_max,
                 multi_partner,
                 energy_limit,
-                list_peak
+                list_peak,
+                h_top
             ),
         ),
     ]

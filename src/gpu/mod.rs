@@ -136,6 +136,9 @@ fn leap_arrays(model: &Model) -> Vec<(&'static str, u64)> {
     if model.history {
         a.push(("hist", 16));
     }
+    if model.adaptive {
+        a.push(("metric", 16));
+    }
     if model.contact {
         a.extend([
             ("qheat", 8),
@@ -183,9 +186,18 @@ const WRITER_ALIASES: &[(&str, &str)] = &[
     ("bstart_w", "bstart"),
     ("blist_w", "blist"),
     ("hist_w", "hist"),
+    ("metric_w", "metric"),
 ];
 /// Cell size over the largest smoothing length (see `GpuSolver::with_options`).
 const CELL_OVER_H: f64 = 1.002;
+
+/// The cells either side a walk reaches where supports adapt (walk.wgsl,
+/// `ADAPT_ROWS`): a pair lies within `√(8 / (1/a_i² + 1/a_j²))` of each
+/// particle, at most twice the largest major semi-axis, `2 STRETCH_MAX
+/// h`, and a row band reaches one cell past the support's radius.
+fn adaptive_rows() -> u32 {
+    (2.0 * crate::physics::support::STRETCH_MAX / CELL_OVER_H).ceil() as u32 + 1
+}
 /// Margin, in cells, of a particle's support radius in the row stencil.
 const REACH_MARGIN: f64 = 1e-3;
 /// Bytes of the control block.

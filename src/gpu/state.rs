@@ -196,6 +196,9 @@ impl GpuSolver {
         if self.model.history {
             names.push(("hist", 16 * n));
         }
+        if self.model.adaptive {
+            names.push(("metric", 16 * n));
+        }
         names
     }
 
@@ -276,6 +279,17 @@ impl GpuSolver {
                     st.damage[i],
                     st.failed_at[i],
                 ] = self.history_of(i, h[k]);
+            }
+        }
+        if self.model.adaptive {
+            let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index("metric")].as_ref());
+            st.metric = vec![Default::default(); n];
+            for k in 0..n {
+                st.metric[meta[k][3] as usize] = crate::physics::support::Metric {
+                    xx: q[k][0] as f64,
+                    xy: q[k][1] as f64,
+                    yy: q[k][2] as f64,
+                };
             }
         }
         (st, ctl)

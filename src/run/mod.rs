@@ -107,17 +107,6 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    if scene.simulation.adaptive() {
-        // Supports that follow the deformation have no GPU twin yet.
-        return match backend {
-            Backend::Gpu => Err(RunError::Backend(
-                "backend gpu: supports that adapt (simulation.support = \"adaptive\") run on the CPU path only; use --backend cpu (or auto), or support = \"fixed\" on the GPU".into(),
-            )),
-            _ => Ok(cpu((backend == Backend::Auto).then(|| {
-                "backend auto: supports that adapt run on the CPU path only; running it".to_string()
-            }))),
-        };
-    }
     match backend {
         Backend::Cpu => Ok(cpu(None)),
         Backend::Gpu => match crate::gpu::shared_context() {

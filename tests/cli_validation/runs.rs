@@ -74,12 +74,11 @@ fn no_adapter_gpu_refuses_and_auto_falls_back() {
     assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
 }
 
-/// A scene whose supports adapt runs on the CPU path: `--backend gpu`
-/// refuses it with a clear message (whether or not there is an adapter),
-/// `auto` runs it on the CPU with one warning line, and `check` names the
+/// A scene whose supports adapt runs on either path (`--backend cpu`, and
+/// `--backend gpu` on whatever adapter there is), and `check` names the
 /// supports.
 #[test]
-fn adaptive_supports_run_on_the_cpu_path() {
+fn adaptive_supports_run_on_both_paths() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_1D.replacen("dimension = 1", "dimension = 1\nsupport = \"adaptive\"", 1);
     let scene = write_scene(tmp.path(), "adaptive", &text);
@@ -96,13 +95,25 @@ fn adaptive_supports_run_on_the_cpu_path() {
         ];
         (sphcontact(tmp.path(), &args), out_dir)
     };
-    let (out, _) = run("gpu");
-    refused(&out, &["support", "CPU path", "--backend cpu"]);
-    let (out, dir) = run("auto");
-    let warning = the_warning(&out);
-    assert!(warning.contains("CPU path"), "{warning}");
-    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
+    let backends: &[&str] = if sphcontact::gpu::shared_context().is_ok() {
+        &["cpu", "gpu"]
+    } else {
+        &["cpu"]
+    };
+    for &b in backends {
+        let (out, dir) = run(b);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{b}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+        assert!(
+            summary.contains(&format!("\"backend\": \"{b}\"")),
+            "{summary}"
+        );
+    }
     let out = sphcontact(tmp.path(), &["check", scene.to_str().unwrap()]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("support     adaptive"), "{stdout}");
