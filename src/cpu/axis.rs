@@ -199,8 +199,17 @@ pub(super) fn add_kinematics<S: Seen>(
             let gi = b.gw * gradient_weight(model, st, vol, i, j);
             sum.m += Mat2::outer(gi, mirror(st.x[j]) - st.x[i]);
             sum.gsum += Mat2::outer(S::v(vj) - S::v(vel[i]), gi);
-            sum.gpsi -= b.gw * vol[j];
+            if !model.adaptive {
+                sum.gpsi -= b.gw * vol[j];
+            }
             sum.seen.add(vj, vel[i], gi);
+        }
+        if model.adaptive {
+            // The colour gradient keeps the round supports
+            // (kinematics::round_colour).
+            for (b, _) in nb.images_of(model, crate::model::Frame::round(&st.x), i) {
+                sum.gpsi -= b.gw * vol[b.j as usize];
+            }
         }
     }
 }

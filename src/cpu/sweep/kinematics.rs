@@ -4,9 +4,7 @@
 
 use glam::DVec2;
 
-use crate::cpu::kinematics::{
-    finish, gradient_weight, round_colour, volumes, Kinematics, Seen, Sums,
-};
+use crate::cpu::kinematics::{finish, gradient_weight, volumes, Kinematics, Seen, Sums};
 use crate::cpu::neighbours::Neighbours;
 use crate::math::Mat2;
 use crate::model::{Model, State};
@@ -43,6 +41,40 @@ fn kinematics_in<S: Seen>(
     let vol = volumes(model, st);
     let vel = S::vel(&st.v, seen);
     let mut sums = vec![Sums::<S>::default(); model.len()];
+    if model.adaptive {
+        // The gradient sums over the pairs of the supports, the colour
+        // gradient over the round pairs (kinematics::round_colour), in
+        // one walk.
+        nb.sweep_two(model, st.frame(), &mut sums, |i, m, r, si, mut sj| {
+            let j = match (m, r) {
+                (Some(b), _) | (_, Some(b)) => b.j as usize,
+                _ => return,
+            };
+            if let Some(r) = r {
+                si.gpsi -= r.gw * vol[j];
+            }
+            if let (Some(r), Some(sj)) = (r, sj.as_deref_mut()) {
+                sj.gpsi += r.gw * vol[i];
+            }
+            let Some(b) = m else { return };
+            let (vi, vj) = (vel[i], vel[j]);
+            let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
+            let gi = b.gw * gradient_weight(model, st, &vol, i, j);
+            si.m += Mat2::outer(gi, dx);
+            si.gsum += Mat2::outer(dv, gi);
+            si.seen.add(vj, vi, gi);
+            if let Some(sj) = sj {
+                let gj = b.gw * gradient_weight(model, st, &vol, j, i);
+                sj.m += Mat2::outer(gj, dx);
+                sj.gsum += Mat2::outer(dv, gj);
+                sj.seen.add(vj, vi, gj);
+            }
+        });
+        if model.axisymmetric {
+            crate::cpu::axis::add_kinematics(model, st, nb, &vol, &vel, &mut sums);
+        }
+        return finish(model, st, sums);
+    }
     nb.sweep(model, st.frame(), &mut sums, |i, b, si, sj| {
         let j = b.j as usize;
         let (vi, vj) = (vel[i], vel[j]);
@@ -65,6 +97,5 @@ fn kinematics_in<S: Seen>(
     if model.axisymmetric {
         crate::cpu::axis::add_kinematics(model, st, nb, &vol, &vel, &mut sums);
     }
-    round_colour(model, st, nb, &vol, &mut sums);
     finish(model, st, sums)
 }

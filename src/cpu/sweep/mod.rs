@@ -170,6 +170,42 @@ impl Neighbours {
         });
     }
 
+    /// [`Neighbours::sweep`] of the two pairs each candidate makes where
+    /// supports adapt: in the frame `f` and with the round supports of
+    /// the bodies' `h`. `pair_fn(i, metric, round, acc_i, acc_j)` for each
+    /// candidate that is a pair either way (`None` for the way it is not).
+    pub fn sweep_two<T, P>(&self, model: &Model, f: Frame, acc: &mut [T], pair_fn: P)
+    where
+        T: Send + Default,
+        P: Fn(usize, Option<&Nbr>, Option<&Nbr>, &mut T, Option<&mut T>) + Sync,
+    {
+        let round = Frame::round(f.x);
+        let mut none = self.no_store();
+        self.rows_store(acc, &mut none, |i, ai, piece, base, _| {
+            let inv_hi = 1.0 / model.h[i];
+            let (s, fe, e) = self.row_ends(i);
+            for &j in &self.list[s..fe] {
+                let (m, r) = (
+                    pair(model, f, i, inv_hi, j),
+                    pair(model, round, i, inv_hi, j),
+                );
+                if m.is_some() || r.is_some() {
+                    let aj = Some(&mut piece[j as usize - base]);
+                    pair_fn(i, m.as_ref(), r.as_ref(), ai, aj);
+                }
+            }
+            for &j in &self.list[fe..e] {
+                let (m, r) = (
+                    pair(model, f, i, inv_hi, j),
+                    pair(model, round, i, inv_hi, j),
+                );
+                if m.is_some() || r.is_some() {
+                    pair_fn(i, m.as_ref(), r.as_ref(), ai, None);
+                }
+            }
+        });
+    }
+
     /// [`Neighbours::sweep`] that also hands the pair function the pair's
     /// slot of `store` (one per visited candidate, laid out by
     /// [`Neighbours::visited`]); the slots of candidates outside the support
