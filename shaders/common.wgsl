@@ -99,7 +99,8 @@ struct Params {
     nprobes: u32,
     cell: f32,
     red_groups: u32,
-    min_det: f32,
+    // The square of the smallest singular value the correction accepts.
+    min_sv2: f32,
     // A particle's support radius in cells, with a margin for f32 rounding
     // (`row_span`).
     reach: f32,

@@ -360,8 +360,11 @@ fn correction(m_in: vec4<f32>) -> vec4<f32> {
         if (DIM == 1u) {
             m.w = 1.0;
         }
+        // Both singular values at least the floor (kernel::well_conditioned).
         let det = m.x * m.w - m.y * m.z;
-        if (abs(det) > params.min_det) {
+        let f = dot(m, m);
+        let disc = sqrt(max(f * f - 4.0 * det * det, 0.0));
+        if (2.0 * det * det >= params.min_sv2 * (f + disc) && det != 0.0) {
             let q = 1.0 / det;
             l = vec4<f32>(m.w * q, -m.y * q, -m.z * q, m.x * q);
         } else {

@@ -12,7 +12,7 @@ use super::forces::StressPoint;
 use super::neighbours::Neighbours;
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
-use crate::physics::kernel::{self, CORRECTION_MIN_DET};
+use crate::physics::kernel;
 use crate::physics::{material, strength, tension};
 use crate::scene::Correction;
 
@@ -302,7 +302,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
                         // 1-D: L is the scalar 1/M_xx; keep the unused yy entry neutral.
                         m.yy = 1.0;
                     }
-                    match m.inverse(CORRECTION_MIN_DET) {
+                    match kernel::correction_inverse(&m) {
                         Some(l) => (l, true),
                         None => (Mat2::IDENTITY, false),
                     }

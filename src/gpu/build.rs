@@ -256,7 +256,7 @@ impl GpuSolver {
             nprobes: plan.particles.len() as u32,
             cell: cell as f32,
             red_groups,
-            min_det: CORRECTION_MIN_DET as f32,
+            min_sv2: (CORRECTION_MIN_SINGULAR * CORRECTION_MIN_SINGULAR) as f32,
             reach,
             domain: {
                 let [lo, hi] = model.domain;

@@ -33,7 +33,7 @@ pub struct Params {
     pub nprobes: u32,
     pub cell: f32,
     pub red_groups: u32,
-    pub min_det: f32,
+    pub min_sv2: f32,
     /// A particle's support radius in cells, with a margin for f32
     /// rounding (`row_span` in common.wgsl).
     pub reach: f32,
@@ -181,7 +181,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 nprobes,
                 cell,
                 red_groups,
-                min_det,
+                min_sv2,
                 reach,
                 domain,
                 energy_kin,

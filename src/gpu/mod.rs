@@ -106,7 +106,7 @@ use glam::DVec2;
 use crate::error::Instability;
 use crate::math::Sym;
 use crate::model::{Model, State};
-use crate::physics::kernel::CORRECTION_MIN_DET;
+use crate::physics::kernel::CORRECTION_MIN_SINGULAR;
 use crate::probe::Resolved;
 use crate::scene::{ArtPairs, Correction, Integrator};
 use crate::stage::{self, Role, Scheduled, Stage};

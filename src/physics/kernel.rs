@@ -4,10 +4,37 @@ use std::ops::{Div, Mul};
 
 use crate::math::lanes::F4;
 
-/// Smallest `|det M|` accepted for the corrected gradient's matrix `M`
-/// (dimensionless: ≈ I inside a body, ≈ ½ at a face, ≈ ¼ at a corner);
-/// below it a particle falls back to `L = I`.
-pub const CORRECTION_MIN_DET: f64 = 1e-3;
+/// Smallest singular value of the corrected gradient's matrix `M`
+/// accepted (dimensionless: 1 inside a body, ≈ ½ at a face, 0.24–0.29 at
+/// a lattice's corner, 0.3–0.44 in a strip two particles thick, for
+/// smoothing ratios 1.2–1.5); below it a particle falls back to `L = I`.
+/// It bounds `|L| = 1/σ_min` by 10: a chain or zig-zag of debris whose
+/// `M` is nearly singular in one direction cannot stiffen its pairs
+/// beyond what the step resolves (docs/method.md §5).
+pub const CORRECTION_MIN_SINGULAR: f64 = 0.1;
+
+/// `M⁻¹`, or `None` where `M`'s smallest singular value is below
+/// [`CORRECTION_MIN_SINGULAR`] (or `M` is not finite).
+#[inline]
+pub fn correction_inverse(m: &crate::math::Mat2) -> Option<crate::math::Mat2> {
+    if well_conditioned(m, CORRECTION_MIN_SINGULAR) {
+        m.inverse(0.0)
+    } else {
+        None
+    }
+}
+
+/// Whether the 2×2 matrix `m` has both singular values at least `floor`:
+/// with `F = |m|²` (Frobenius) and `D = det m`, `σ_min² = 2D² / (F +
+/// √(F² − 4D²))`, a form without the cancellation of `(F − √…)/2`.
+#[inline]
+pub fn well_conditioned(m: &crate::math::Mat2, floor: f64) -> bool {
+    let f = m.xx * m.xx + m.xy * m.xy + m.yx * m.yx + m.yy * m.yy;
+    let d = m.det();
+    let disc = (f * f - 4.0 * d * d).max(0.0).sqrt();
+    // NaN compares false: a non-finite M falls back.
+    2.0 * d * d >= floor * floor * (f + disc) && f.is_finite()
+}
 
 /// Normalisation `α_d` of the cubic spline in `dim` dimensions.
 #[inline]
@@ -260,7 +287,91 @@ pub fn line_integral_2d(h: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Mat2;
     use crate::physics::support::Metric;
+
+    /// `M_i` of particle `i` among `pts` (unit spacing and volume).
+    fn m_of(pts: &[glam::DVec2], i: usize, h: f64) -> Mat2 {
+        let mut m = Mat2::default();
+        for (j, &xj) in pts.iter().enumerate() {
+            let d = xj - pts[i];
+            let r = d.length();
+            if j == i || r >= 2.0 * h {
+                continue;
+            }
+            let g = -d * (dw(2, r, h) / r);
+            m.xx += g.x * d.x;
+            m.xy += g.x * d.y;
+            m.yx += g.y * d.x;
+            m.yy += g.y * d.y;
+        }
+        m
+    }
+
+    /// The correction's guard against the singular values found by
+    /// brute force (the smaller of |M u| over unit u): a regular lattice's
+    /// faces, corners and a strip two particles thick keep their
+    /// correction at smoothing ratios 1.2 to 1.5, and bit for bit (`L` is
+    /// `M⁻¹` as before); a zig-zag chain of four, whose determinant alone
+    /// passes 1e-3, and a single row fall back.
+    #[test]
+    fn the_correction_guards_the_smallest_singular_value() {
+        let lattice = |nx: i32, ny: i32| -> Vec<glam::DVec2> {
+            (0..nx)
+                .flat_map(|x| (0..ny).map(move |y| glam::DVec2::new(x as f64, y as f64)))
+                .collect()
+        };
+        let at = |pts: &[glam::DVec2], x: f64, y: f64| {
+            pts.iter()
+                .position(|p| *p == glam::DVec2::new(x, y))
+                .unwrap()
+        };
+        let sigma_min = |m: &Mat2| {
+            (0..20000)
+                .map(|k| {
+                    let a = k as f64 * std::f64::consts::PI / 20000.0;
+                    m.mul_vec(glam::DVec2::new(a.cos(), a.sin())).length()
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        for ratio in [1.2, 1.5] {
+            let block = lattice(12, 12);
+            let strip = lattice(25, 2);
+            let row = lattice(25, 1);
+            let zig: Vec<glam::DVec2> = (0..4)
+                .map(|k| glam::DVec2::new(k as f64, 0.3 * (k % 2) as f64))
+                .collect();
+            let cases = [
+                ("corner", &block, at(&block, 0.0, 0.0), true),
+                ("face", &block, at(&block, 0.0, 5.0), true),
+                ("next to a corner", &block, at(&block, 1.0, 0.0), true),
+                ("inside", &block, at(&block, 5.0, 5.0), true),
+                ("strip of two", &strip, at(&strip, 12.0, 0.0), true),
+                ("row", &row, at(&row, 12.0, 0.0), false),
+                ("zig-zag end", &zig, 0, false),
+                ("zig-zag middle", &zig, 1, false),
+            ];
+            for (name, pts, i, keeps) in cases {
+                let m = m_of(pts, i, ratio);
+                let s = sigma_min(&m);
+                let ok = correction_inverse(&m);
+                assert_eq!(ok.is_some(), keeps, "{name} at ratio {ratio}: σ_min {s}");
+                assert!(
+                    s < 1e-12 || well_conditioned(&m, 0.999 * s),
+                    "{name}: σ_min {s} just below"
+                );
+                assert!(
+                    !well_conditioned(&m, 1.001 * s + 1e-12),
+                    "{name}: σ_min {s} just above"
+                );
+                if let Some(l) = ok {
+                    assert_eq!(l, m.inverse(0.0).unwrap(), "{name}: L is M⁻¹");
+                }
+            }
+            // The zig-zag's middle passes the old determinant floor.
+            assert!(m_of(&zig, 1, ratio).det().abs() > 1e-3);
+        }
+    }
 
     /// The pair kernel of two support metrics: with two round metrics of
     /// one `h` it is the round kernel; its gradient is the derivative of
