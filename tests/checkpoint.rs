@@ -137,6 +137,7 @@ fn resume_matches_within(scene: Scene, backend: Backend, latest: f64) {
         "particles",
         "energy_initial",
         "energy_final",
+        "energy",
         "momentum_initial",
         "momentum_final",
         "bodies",

@@ -318,6 +318,8 @@ pub struct Summary {
     /// in 1-D, per unit thickness in 2-D): the energy the discrete contact
     /// lost, which `energy_final` does not count. 0 without contact.
     pub energy_spring_loss: f64,
+    /// The energy ledger term by term (docs/scenes.md, "summary.json").
+    pub energy: EnergyLedger,
     pub bodies: Vec<BodySummary>,
     /// The particles whose final state is outside the solid range
     /// (`probe::out_of_range`).
@@ -333,6 +335,45 @@ pub struct Summary {
     /// "completed" or "failed".
     pub status: String,
     pub error: Option<String>,
+}
+
+/// Where the energy of a run went (J per unit area in 1-D, per unit
+/// thickness in 2-D): what the bodies hold at the end, by kind, the heat
+/// the contact's dashpot booked into it, the work the discrete penalty
+/// spring lost, and what is left unaccounted: the time integration's error.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct EnergyLedger {
+    /// Total energy at the start (kinetic + internal + stored spring).
+    pub initial: f64,
+    /// Kinetic energy at the end, rigid bodies included.
+    pub kinetic: f64,
+    /// Internal energy of the deformable bodies at the end: elastic
+    /// energy, plastic work, and the heat of the viscosity, the artificial
+    /// stress and the dashpot.
+    pub internal: f64,
+    /// Energy stored in the penalty springs at the end.
+    pub spring: f64,
+    /// Heat the contact's dashpot dissipated (part of `internal`).
+    pub dashpot_heat: f64,
+    /// Work the penalty springs absorbed and did not store
+    /// (`energy_spring_loss`).
+    pub spring_loss: f64,
+    /// `kinetic + internal + spring + spring_loss − initial`.
+    pub residual: f64,
+}
+
+impl EnergyLedger {
+    pub fn new(initial: f64, end: &crate::probe::Energies, spring_loss: f64) -> Self {
+        EnergyLedger {
+            initial,
+            kinetic: end.kinetic,
+            internal: end.internal,
+            spring: end.stored,
+            dashpot_heat: end.contact_heat,
+            spring_loss,
+            residual: end.total() + spring_loss - initial,
+        }
+    }
 }
 
 impl Summary {

@@ -398,6 +398,8 @@ fn run_from(
         },
         ..Default::default()
     };
+    let end_energy = probe::energies(model, st, &final_diag);
+    let spring_loss = st.spring_work - (stored.1 - stored.0);
     let out_of_range = crate::output::OutOfRangeSummary::of(model, st);
     if let Some(line) = out_of_range.line() {
         eprintln!("warning: {line}");
@@ -423,8 +425,9 @@ fn run_from(
         momentum_initial: vec_of(p0, dim),
         momentum_final: vec_of(probe::momentum(model, st), dim),
         energy_initial: e0,
-        energy_final: probe::energies(model, st, &final_diag).total(),
-        energy_spring_loss: st.spring_work - (stored.1 - stored.0),
+        energy_final: end_energy.total(),
+        energy_spring_loss: spring_loss,
+        energy: crate::output::EnergyLedger::new(e0, &end_energy, spring_loss),
         bodies: (0..model.bodies.len())
             .map(|b| {
                 let (m, mv, _, _) = probe::body_means(model, st, b);

@@ -127,6 +127,21 @@ pub fn assert_conserved(scene: &Scene, out: &RunOutput) {
     // The ledger closes: what the bodies hold plus what the discrete
     // penalty spring lost (reported, and bounded by the tests that make
     // contact) is what they started with, up to the time integration.
+    let l = &s.energy;
+    let held = l.kinetic + l.internal + l.spring;
+    assert!(
+        (held - s.energy_final).abs() <= 1e-12 * s.energy_final.abs().max(1e-300)
+            && l.initial == s.energy_initial
+            && l.spring_loss == s.energy_spring_loss
+            && (l.residual - s.energy_balance() * s.energy_initial).abs()
+                <= 1e-9 * s.energy_initial.abs().max(1e-300),
+        "the ledger's terms do not add up: {l:?} against {s:?}"
+    );
+    assert!(
+        l.dashpot_heat >= 0.0,
+        "the dashpot made energy: {:e}",
+        l.dashpot_heat
+    );
     if s.energy_initial > 0.0 {
         let drift = s.energy_balance().abs();
         assert!(drift < 5e-3, "energy drift {drift:e}");
