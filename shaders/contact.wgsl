@@ -113,13 +113,29 @@ fn own_at(p: u32) -> u32 {
 // weight when q is not a contact candidate of p (docs/method.md §8.2). Both
 // passes call it with the same arguments in the same order, so both see
 // the same weight.
-fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32) -> vec2<f32> {
+// gp, gq are the two particles' |grad psi0| (cn.z): the weight is ramped
+// by how far each stands above the boundary threshold.
+// CPU twin: cpu::contact::is_candidate, surface_ramp.
+fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32, gp: f32, gq: f32) -> vec2<f32> {
     let hpq = 0.5 * (hp + hq);
     let dist = length(d);
     if (dist >= 2.0 * hpq || dot(np, nq) >= 0.0 || max(dot(np, d), -dot(nq, d)) > op + oq + hpq) {
         return vec2<f32>(-1.0, 0.0);
     }
-    return vec2<f32>(kernel_w(dist, hpq), kernel_dw(dist, hpq) / dist);
+    var r = 1.0;
+    if (DIM != 1u) {
+        r = surface_ramp(hp * gp) * surface_ramp(hq * gq);
+        if (r <= 0.0) {
+            return vec2<f32>(-1.0, 0.0);
+        }
+    }
+    return vec2<f32>(kernel_w(dist, hpq), kernel_dw(dist, hpq) / dist) * r;
+}
+
+// 0 at the boundary threshold, 1 from 1.5 times it (cpu::contact::surface_ramp).
+fn surface_ramp(hg: f32) -> f32 {
+    let t = params.boundary_threshold;
+    return clamp((hg - t) / (0.5 * t), 0.0, 1.0);
 }
 
 // Penalty spring stiffness: the two surface layers (thickness o, at least
@@ -278,10 +294,11 @@ fn pass2_at(q: u32) {
             if (mp.z == bq || nbo[p].z <= 0.0) {
                 continue;
             }
-            let np = cn[place(p)].xy;
+            let cp = cn[place(p)];
+            let np = cp.xy;
             let op = bitcast<f32>(mp.y);
             let hp = bodies[mp.z].h;
-            let wg = candidate(np, nq, cd.d, op, oq, hp, hq);
+            let wg = candidate(np, nq, cd.d, op, oq, hp, hq, cp.z, cnq.z);
             let w = wg.x;
             if (w < 0.0) {
                 continue;

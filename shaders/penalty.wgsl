@@ -86,8 +86,9 @@ fn entries(p: u32, count: bool) -> Entries {
             let oq = bitcast<f32>(mq.y);
             // x_q - x_p.
             let d = -cd.d;
-            let nq = cn[place(q)].xy;
-            let w = candidate(np, nq, d, op, oq, hp, bodies[mq.z].h).x;
+            let cq = cn[place(q)];
+            let nq = cq.xy;
+            let w = candidate(np, nq, d, op, oq, hp, bodies[mq.z].h, cnp.z, cq.z).x;
             if (w < 0.0) {
                 continue;
             }
@@ -254,7 +255,7 @@ fn entries(p: u32, count: bool) -> Entries {
                 let cnq = cn[place(q)];
                 let nq = cnq.xy;
                 let hq = bodies[mq.z].h;
-                let wg = candidate(np, nq, d, op, oq, hp, hq);
+                let wg = candidate(np, nq, d, op, oq, hp, hq, cnp.z, cnq.z);
                 if (wg.x < 0.0) {
                     continue;
                 }

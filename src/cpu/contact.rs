@@ -48,8 +48,32 @@ pub fn is_candidate(
     if (-np.dot(d)).max(nq.dot(d)) > reach {
         return None;
     }
-    kernel::w_grad(model.dim, d, d.length_squared(), 1.0 / hpq)
+    let (w, gw) = kernel::w_grad(model.dim, d, d.length_squared(), 1.0 / hpq)?;
+    if model.dim == 1 {
+        return Some((w, gw));
+    }
+    let r = surface_ramp(model.h[p] * bd.grad_norm[p], model.boundary_threshold)
+        * surface_ramp(model.h[q] * bd.grad_norm[q], model.boundary_threshold);
+    if r <= 0.0 {
+        return None;
+    }
+    Some((w * r, gw * r))
 }
+
+/// How fully a boundary particle with `h |∇ψ⁰|` = `hg` takes part in the
+/// contact (docs/method.md §8.2): 0 at the boundary threshold, rising
+/// linearly to 1 at 1.5 times it. A particle joining the surface set, or a
+/// candidate entering a pass, then moves the interpolated partner surface
+/// gradually instead of at once, which made the springs' stored energy
+/// jump without work (3.5 % of the energy in a penetration at 400 m/s).
+/// The ramp's own derivative is not in the spring's gradient.
+#[inline]
+pub fn surface_ramp(hg: f64, threshold: f64) -> f64 {
+    ((hg - threshold) / (SURFACE_RAMP * threshold)).clamp(0.0, 1.0)
+}
+
+/// Width of [`surface_ramp`] as a fraction of the boundary threshold.
+pub const SURFACE_RAMP: f64 = 0.5;
 
 /// What P's pass hands to the partner body `body`.
 #[derive(Debug, Clone, Copy)]
