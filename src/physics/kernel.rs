@@ -118,10 +118,17 @@ pub fn w_grad_q(
     }
     let q = q2.sqrt();
     let a = alpha_inv(dim, inv_h);
-    // f(q) and (df/dq)/q. Both branches are computed and one is selected:
-    // whether a neighbour lies inside q = 1 is a coin toss the branch
-    // predictor loses, and the select compiles to blends. The outer form's
-    // division is by max(q, 1), the same value wherever it is selected.
+    let (f, g_q) = spline(q, q2);
+    Some((a * f, d * (a * inv_h * inv_h * g_q), q2))
+}
+
+/// The spline `f(q)` and `(df/dq)/q` at `q` (`q2 = q²`, `q < 2`). Both
+/// branches are computed and one is selected: whether a neighbour lies
+/// inside q = 1 is a coin toss the branch predictor loses, and the select
+/// compiles to blends. The outer form's division is by max(q, 1), the same
+/// value wherever it is selected.
+#[inline]
+fn spline(q: f64, q2: f64) -> (f64, f64) {
     let t = 2.0 - q;
     let inner = q < 1.0;
     let f = if inner {
@@ -134,7 +141,7 @@ pub fn w_grad_q(
     } else {
         -0.75 * t * t / q.max(1.0)
     };
-    Some((a * f, d * (a * inv_h * inv_h * g_q), q2))
+    (f, g_q)
 }
 
 /// `W`, `∇_i W` and `q²` for the separation `d = x_i − x_j` of two
@@ -160,18 +167,7 @@ pub fn w_grad_pair(
     }
     let q = q2.sqrt();
     let a = alpha_inv(dim, 1.0) * m.scale(dim);
-    let t = 2.0 - q;
-    let inner = q < 1.0;
-    let f = if inner {
-        1.0 - 1.5 * q2 + 0.75 * q2 * q
-    } else {
-        0.25 * t * t * t
-    };
-    let g_q = if inner {
-        -3.0 + 2.25 * q
-    } else {
-        -0.75 * t * t / q.max(1.0)
-    };
+    let (f, g_q) = spline(q, q2);
     Some((a * f, qd * (a * g_q), q2, m.scale(dim)))
 }
 
