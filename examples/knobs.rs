@@ -27,6 +27,7 @@ fn apply(scene: &mut Scene, alpha: f64, beta: f64) -> Result<(), String> {
         alpha,
         beta,
         reconstruct: var("KNOB_NORECON").is_none(),
+        hourglass: 0.0,
     });
     if let Some(h) = var("KNOB_H") {
         scene.simulation.smoothing_ratio = h.parse().map_err(|_| "KNOB_H")?;

@@ -21,6 +21,9 @@ override ART_KAPPA: bool = false;
 // Limited reconstruction of the velocity jump in the viscosity (the forces pass reads
 // the velocity gradient the kinematics pass stores).
 override RECON: bool = false;
+// The hourglass control's coefficient (docs/method.md, "Hourglass
+// control"), 0 off; it also reads the stored velocity gradient.
+override HG: f32 = 0.0;
 override WG: u32 = 64u;
 // The energy guard (Model::guards_energy) runs in the reductions.
 override GUARD: bool = false;

@@ -210,6 +210,8 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
         }
         vis = o.vs - vsj;
     }
+    // The velocities the forces see (the hourglass control's).
+    let vf = vis;
     // Not at a surface (h |grad psi| above the threshold): there grad v is
     // one-sided and a contact loads the face impulsively.
     if (RECON && !o.surface && nbo[j].z <= 0.0) {
@@ -273,13 +275,52 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
             }
         }
     }
+    var hg = Hourglass(vec2<f32>(0.0), vec2<f32>(0.0));
+    if (HG > 0.0) {
+        var gj = gradv[j];
+        if (img) {
+            gj = mirror_mat(gj);
+        }
+        hg = hourglass(o, vf, d, pr.gw, gj, tj.w, bj.h, sum_density(bj, j, rj));
+    }
     let mass_j = bitcast<f32>(mj.x);
     if (LEAP != 3u) {
-        (*sums).acc += sym_mul(t, g) * mass_j;
+        (*sums).acc += (sym_mul(t, g) + hg.xi + hg.xj) * mass_j;
     }
     if (LEAP != 2u) {
-        (*sums).de -= mass_j * (dot(vij, sym_mul(o.t, g)) - 0.5 * pi * dot(vij, g) + art_work);
+        (*sums).de -= mass_j * (dot(vij, sym_mul(o.t, g) + hg.xi) - 0.5 * pi * dot(vij, g) + art_work);
     }
+}
+
+// A pair's hourglass terms per unit m_i m_j: i's family's force on i
+// (`xi`, heat -m_j v_ij.xi to i) and j's family's (`xj`, heat -m_i
+// v_ij.xj to j, which j's own walk books).
+struct Hourglass {
+    xi: vec2<f32>,
+    xj: vec2<f32>,
+}
+
+// The hourglass control of the pair (i, j) at the velocities the forces
+// see, `vf = v_i - v_j`, `d = x_i - x_j`, the kernel gradient `gw`, j's
+// velocity gradient, sound speed, h and density (eta in a body of
+// revolution). CPU twin: cpu::forces::hourglass.
+fn hourglass(o: Own, vf: vec2<f32>, d: vec2<f32>, gw: vec2<f32>, gj: vec4<f32>, cj: f32, hj: f32, rho_j: f32) -> Hourglass {
+    let r2 = dot(d, d);
+    if (r2 <= 0.0) {
+        return Hourglass(vec2<f32>(0.0), vec2<f32>(0.0));
+    }
+    let w = -dot(gw, d) / r2;
+    let di = mat_mul(o.g, d) - vf;
+    let dj = vf - mat_mul(gj, d);
+    let k = HG * w;
+    // V_j/m_j: 1/rho_j; in a body of revolution 1/eta_i.
+    var vi = rho_j;
+    var vj = o.rho;
+    if (AXI) {
+        vi = o.rho;
+        vj = rho_j;
+    }
+    return Hourglass(di * (k * o.t.w * o.hi / vi), dj * (-k * cj * hj / vj));
 }
 
 // The pair of i and the mirror image of its partner j (pair `pr`, j at
@@ -387,7 +428,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         wk = adaptive_walker(i);
     }
     var gi = vec4<f32>(0.0);
-    if (RECON) {
+    if (RECON || HG > 0.0) {
         gi = gradv[i];
     }
     // rho_i, or eta_i in a body of revolution (`sum_density`).

@@ -61,6 +61,8 @@
 // particles more than three quarters full: the host makes it longer and
 // the run goes on.
 const LIST_FULL: u32 = 7u;
+// kernel::FIT_MIN_SINGULAR, squared.
+const FIT_MIN_SV2: f32 = 1.0e-6;
 
 // Particle i's surface (normal, boundary flag) into nbo and, with contact,
 // a boundary particle's place on the list of boundary particles in nbo.w
@@ -180,7 +182,7 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     }
     let cs = consts();
     let wk = walker(i);
-    let seen = LEAP == 2u && RECON;
+    let seen = LEAP == 2u && (RECON || HG > 0.0);
     var o = KinOwn(v[i], vec2<f32>(0.0), seen, rigid, 0.0);
     if (seen) {
         o.vsi = predicted(i);
@@ -249,7 +251,7 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
 fn adaptive_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     let cs = consts();
     let wk = adaptive_walker(i);
-    let seen = LEAP == 2u && RECON;
+    let seen = LEAP == 2u && (RECON || HG > 0.0);
     var o = KinOwn(v[i], vec2<f32>(0.0), seen, rigid, 0.0);
     if (seen) {
         o.vsi = predicted(i);
@@ -372,6 +374,33 @@ fn correction(m_in: vec4<f32>) -> vec4<f32> {
         }
     }
     return l;
+}
+
+// The inverse the stored velocity gradient takes: the correction `l`, or
+// where the hourglass control is on and the correction fell back, the
+// least-squares fit's (CPU twin: kernel::fit_inverse).
+fn fit_of(m_in: vec4<f32>, l: vec4<f32>) -> vec4<f32> {
+    if (HG <= 0.0 || !CORRECTED) {
+        return l;
+    }
+    var m = m_in;
+    if (DIM == 1u) {
+        m.w = 1.0;
+    }
+    let det = m.x * m.w - m.y * m.z;
+    let f = dot(m, m);
+    let disc = sqrt(max(f * f - 4.0 * det * det, 0.0));
+    if (2.0 * det * det >= params.min_sv2 * (f + disc) && det != 0.0) {
+        return l;
+    }
+    if (2.0 * det * det >= FIT_MIN_SV2 * (f + disc) && det != 0.0) {
+        let q = 1.0 / det;
+        return vec4<f32>(m.w * q, -m.y * q, -m.z * q, m.x * q);
+    }
+    if (f > 0.0) {
+        return vec4<f32>(m.x, m.z, m.y, m.w) / f;
+    }
+    return vec4<f32>(0.0);
 }
 
 // Particle i's damage in the state evaluated (0 where nothing can fail).
@@ -513,14 +542,14 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
             dr[i] = vec2<f32>(0.0);
             ds[i] = vec4<f32>(0.0);
         }
-        if (RECON) {
+        if (RECON || HG > 0.0) {
             gradv[i] = vec4<f32>(0.0);
         }
         return;
     }
     let gv = velocity_gradient(ks.gsum, l);
-    if (RECON) {
-        gradv[i] = gv;
+    if (RECON || HG > 0.0) {
+        gradv[i] = velocity_gradient(ks.gsum, fit_of(ks.m, l));
     }
     if (ADAPT) {
         lgrad[i] = gv;
@@ -571,7 +600,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         rdt[i].x = mu;
         stress_point(i, ks.rad, body, mu, r[i].y, si, 0.0);
         vstar[i] = v[i];
-        if (RECON) {
+        if (RECON || HG > 0.0) {
             gradv[i] = vec4<f32>(0.0);
         }
         return;
@@ -601,7 +630,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     ds[i] = s1;
     stress_point(i, ks.rad, body, mu1, e1, s1, d1);
     vstar[i] = predicted(i);
-    if (RECON) {
-        gradv[i] = velocity_gradient(ks.gseen, l);
+    if (RECON || HG > 0.0) {
+        gradv[i] = velocity_gradient(ks.gseen, fit_of(ks.m, l));
     }
 }

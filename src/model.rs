@@ -36,6 +36,9 @@ pub struct Model {
     pub beta: f64,
     /// Limited reconstruction of the velocity jump in the viscosity.
     pub av_reconstruct: bool,
+    /// The hourglass control's coefficient (0: off; docs/method.md,
+    /// "Hourglass control").
+    pub hourglass: f64,
     /// The artificial stress, unless the scene switches it off
     /// (`epsilon = 0`); a scene without the section gets
     /// [`ArtificialStress::DEFAULT`].
@@ -199,6 +202,7 @@ impl Model {
             alpha: av.alpha,
             beta: av.beta,
             av_reconstruct: av.reconstruct,
+            hourglass: av.hourglass,
             artificial_stress: Some(scene.artificial_stress.unwrap_or(ArtificialStress::DEFAULT))
                 .filter(|a| a.epsilon > 0.0),
             close_scale: Vec::new(),
@@ -485,6 +489,13 @@ impl Model {
     }
 
     #[inline]
+    /// Whether the kinematics pass keeps each particle's velocity
+    /// gradient for the forces pass: the viscosity's reconstruction or
+    /// the hourglass control reads it.
+    pub fn keeps_gradient(&self) -> bool {
+        self.av_reconstruct || self.hourglass > 0.0
+    }
+
     pub fn material(&self, i: usize) -> &MaterialModel {
         &self.bodies[self.body[i] as usize].material
     }

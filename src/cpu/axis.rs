@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use super::forces::{pair_terms_of, Side, StressPoint};
 use super::kinematics::{gradient_weight, Kinematics, Seen, Sums};
 use super::neighbours::Neighbours;
-use super::sweep::forces::pair_vectors;
+use super::sweep::forces::vectors_of;
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
 
@@ -98,7 +98,7 @@ pub(super) fn add_momentum(
                 let im = image(j);
                 let p = pair_terms_of(model, st, &kin.surface, (i, &a), (j, &im), &b);
                 dvi += p.tg * model.mass[j];
-                row[slot] = pair_vectors(p.tg, a.pt.sr2.mul_vec(p.g), im.pt.sr2.mul_vec(p.g))[0];
+                row[slot] = vectors_of(&p, &a.pt.sr2, &im.pt.sr2)[0];
             }
             (i, dvi)
         })

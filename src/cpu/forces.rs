@@ -41,6 +41,10 @@ pub(in crate::cpu) struct PairTerms {
     /// `½ Π_ij v_ij·G_ij − ½ (R_i + R_j) f^n : (v_ij ⊗ G_ij)`, the part of
     /// either particle's energy term that is the pair's own.
     pub(in crate::cpu) shared: f64,
+    /// The hourglass control's terms per unit of both masses: `[X_i, X_j]`,
+    /// its force on i being `m_i m_j (X_i + X_j)` (in `tg`) and its heat
+    /// `−m_j v_ij·X_i` on i and `−m_i v_ij·X_j` on j; zero when off.
+    pub(in crate::cpu) hg: [DVec2; 2],
 }
 
 /// The momentum and energy terms of the pair `(i, b.j)`.
@@ -195,12 +199,59 @@ pub(in crate::cpu) fn pair_terms_of(
             art_work = 0.5 * vij.dot(rf.mul_vec(g));
         }
     }
+    let hg = if model.hourglass > 0.0 {
+        hourglass(model, st, (i, a), (j, b), gw)
+    } else {
+        [DVec2::ZERO; 2]
+    };
     PairTerms {
-        tg: t.mul_vec(g),
+        tg: t.mul_vec(g) + hg[0] + hg[1],
         g,
         vij,
         shared: 0.5 * pi * vij.dot(g) - art_work,
+        hg,
     }
+}
+
+/// The hourglass control of a pair (docs/method.md): each particle's
+/// neighbourhood resists the part of its neighbours' velocities that its
+/// own velocity gradient does not explain. Particle i's family puts
+/// `c_ij δ_i` on i and `−c_ij δ_i` on j, with `δ_i = v_j − v_i − ∇v_i x_ji`
+/// and `c_ij = α m_i c_i h_i V_j w_ij`, `w_ij = ∇_i W_ij·x_ji / r²` the
+/// weight the corrected gradient fits `∇v_i` with by least squares. The
+/// fit's residuals are orthogonal to every linear field, so the family
+/// exerts no net force or torque and its power is `−Σ_j c_ij |δ_i|²`:
+/// heat, never negative, booked to i. Returned per unit `m_i m_j`:
+/// `[c_ij δ_i, −c_ji δ_j] / (m_i m_j)`.
+#[inline]
+fn hourglass(
+    model: &Model,
+    st: &State,
+    (i, a): (usize, &Side),
+    (j, b): (usize, &Side),
+    gw: DVec2,
+) -> [DVec2; 2] {
+    let xji = b.x - a.x;
+    let r2 = xji.length_squared();
+    if r2 <= 0.0 {
+        return [DVec2::ZERO; 2];
+    }
+    let w = gw.dot(xji) / r2;
+    let vji = b.v - a.v;
+    let di = vji - a.gv.mul_vec(xji);
+    let dj = -vji + b.gv.mul_vec(xji);
+    let k = model.hourglass * w;
+    // V_j / m_j: 1/ρ_j; in a body of revolution j's weight in i's fit is
+    // m_j / η_i (kinematics::gradient_weight), so 1/η_i.
+    let (vi, vj) = if model.axisymmetric {
+        (st.rho[i], st.rho[j])
+    } else {
+        (st.rho[j], st.rho[i])
+    };
+    [
+        di * (k * a.pt.c * model.h[i] / vi),
+        dj * (-k * b.pt.c * model.h[j] / vj),
+    ]
 }
 
 /// The smoothing length along a pair at squared distance `r2` and
@@ -240,7 +291,7 @@ pub fn momentum_energy(
                 let p = pair_terms(model, st, &kin.l, &kin.gv, &kin.surface, pts, i, &b);
                 let mj = model.mass[b.j as usize];
                 dv += p.tg * mj;
-                de -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g)) - p.shared);
+                de -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g) + p.hg[0]) - p.shared);
             }
             (dv, de)
         })

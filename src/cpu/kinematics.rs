@@ -32,8 +32,10 @@ pub struct Kinematics {
     /// Corrected velocity gradient `∇v_i` (zero on rigid particles) of the
     /// velocities the viscosity sees (the state's, or the leapfrog's
     /// predicted ones, [`super::sweep::kinematics_seen`]), kept only when the viscosity
-    /// reconstructs velocities with it (`Model::av_reconstruct`); empty
-    /// otherwise.
+    /// reconstructs velocities with it (`Model::av_reconstruct`) or the
+    /// hourglass control is on (`Model::hourglass`); empty otherwise.
+    /// Where the correction falls back and the hourglass control is on,
+    /// the least-squares fit instead (`kernel::fit_inverse`).
     pub gv: Vec<Mat2>,
     /// The state's velocity gradient, where supports adapt (they are
     /// carried with it, [`super::advance::carry_supports`]); empty
@@ -129,6 +131,9 @@ struct Point {
     gv: Mat2,
     /// `∇v` of the velocities the viscosity sees, when not the state's.
     gv_seen: Option<Mat2>,
+    /// The least-squares `∇v` (of the seen velocities) where the
+    /// correction fell back and the hourglass control is on.
+    fit: Option<Mat2>,
 }
 
 /// Per-particle inputs of the momentum pass: `σ/ρ²`, artificial stress and
@@ -315,12 +320,19 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
                         seen.sum().map(|g| g.mul_transpose(&l)),
                     )
                 };
+                // Where the correction falls back, the hourglass control
+                // still needs the least-squares fit (kernel::fit_inverse).
+                let fit = (!ok && model.hourglass > 0.0 && !model.rigid(i)).then(|| {
+                    let lf = kernel::fit_inverse(&m);
+                    seen.sum().unwrap_or(gsum).mul_transpose(&lf)
+                });
                 Point {
                     l,
                     ok,
                     gpsi,
                     gv,
                     gv_seen,
+                    fit,
                 }
             },
         )
@@ -331,7 +343,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
         fallback: Vec::new(),
         grad_psi: Vec::with_capacity(n),
         surface: Vec::with_capacity(n),
-        gv: Vec::with_capacity(if model.av_reconstruct { n } else { 0 }),
+        gv: Vec::with_capacity(if model.keeps_gradient() { n } else { 0 }),
         lv: Vec::with_capacity(if model.adaptive { n } else { 0 }),
         drho: Vec::with_capacity(n),
         ds: Vec::with_capacity(n),
@@ -360,8 +372,8 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
                 ds
             });
         }
-        if model.av_reconstruct {
-            out.gv.push(p.gv_seen.unwrap_or(p.gv));
+        if model.keeps_gradient() {
+            out.gv.push(p.fit.or(p.gv_seen).unwrap_or(p.gv));
         }
         if model.adaptive {
             out.lv.push(p.gv);

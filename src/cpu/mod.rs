@@ -22,6 +22,8 @@ pub mod contact;
 #[cfg(test)]
 mod contact_tests;
 pub mod forces;
+#[cfg(test)]
+mod hourglass_tests;
 pub mod kinematics;
 mod leapfrog;
 pub mod neighbours;

@@ -44,7 +44,7 @@ pub(super) fn bucket_count(n: usize) -> u32 {
 /// entries on the list of boundary particles instead (`cown_e`, `cshare_e`;
 /// contact.wgsl).
 fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
-    let own_home = if model.av_reconstruct {
+    let own_home = if model.keeps_gradient() {
         Some("gradv")
     } else {
         None
@@ -493,7 +493,7 @@ impl GpuSolver {
         for name in ["lmat", "nbo", "sr2c"] {
             make(name, 16 * nn, None)?;
         }
-        if model.av_reconstruct {
+        if model.keeps_gradient() {
             make("gradv", 16 * nn, None)?;
         }
         if model.adaptive {

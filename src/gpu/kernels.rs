@@ -52,6 +52,7 @@ pub(super) fn make_kernels(
         ),
         ("ART_KAPPA", !model.close_scale.is_empty() as u8 as f64),
         ("RECON", model.av_reconstruct as u8 as f64),
+        ("HG", model.hourglass),
         ("HISTORY", model.history as u8 as f64),
         ("FAILURE", model.can_fail() as u8 as f64),
         ("STRAIN_RATE", model.strain_rate as u8 as f64),

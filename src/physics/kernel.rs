@@ -24,6 +24,38 @@ pub fn correction_inverse(m: &crate::math::Mat2) -> Option<crate::math::Mat2> {
     }
 }
 
+/// Smallest singular value of `M` below which [`fit_inverse`] takes
+/// the rank-one pseudo-inverse.
+pub const FIT_MIN_SINGULAR: f64 = 1e-3;
+
+/// The inverse the least-squares fit of a linear field to the neighbours
+/// takes (the hourglass control's `∇v`, docs/method.md): `M⁻¹` where the
+/// smallest singular value is at least [`FIT_MIN_SINGULAR`], else the
+/// rank-one pseudo-inverse `Mᵀ/|M|²` (zero for `M = 0`). Unlike
+/// [`correction_inverse`] it never falls back to `I`: the fit's residuals
+/// stay orthogonal to the fitted field, which is what makes the hourglass
+/// control's work heat.
+#[inline]
+pub fn fit_inverse(m: &crate::math::Mat2) -> crate::math::Mat2 {
+    use crate::math::Mat2;
+    if well_conditioned(m, FIT_MIN_SINGULAR) {
+        if let Some(l) = m.inverse(0.0) {
+            return l;
+        }
+    }
+    let f = m.xx * m.xx + m.xy * m.xy + m.yx * m.yx + m.yy * m.yy;
+    if f > 0.0 && f.is_finite() {
+        Mat2 {
+            xx: m.xx / f,
+            xy: m.yx / f,
+            yx: m.xy / f,
+            yy: m.yy / f,
+        }
+    } else {
+        Mat2::ZERO
+    }
+}
+
 /// Whether the 2×2 matrix `m` has both singular values at least `floor`:
 /// with `F = |m|²` (Frobenius) and `D = det m`, `σ_min² = 2D² / (F +
 /// √(F² − 4D²))`, a form without the cancellation of `(F − √…)/2`.

@@ -235,6 +235,12 @@ pub struct ArtificialViscosity {
     /// fronts, not on smooth compression. Default on.
     #[serde(default = "default_true")]
     pub reconstruct: bool,
+    /// Hourglass control's coefficient (docs/method.md, "Hourglass
+    /// control"): a viscosity on the part of each neighbour's velocity
+    /// that the particle's velocity gradient does not explain. 0 (the
+    /// default) is off.
+    #[serde(default)]
+    pub hourglass: f64,
 }
 fn default_true() -> bool {
     true
@@ -252,6 +258,7 @@ impl Default for ArtificialViscosity {
             alpha: default_av_alpha(),
             beta: default_av_beta(),
             reconstruct: true,
+            hourglass: 0.0,
         }
     }
 }

@@ -89,10 +89,22 @@ pub(in crate::cpu) fn pair_vectors(tg: DVec2, sig: DVec2, sjg: DVec2) -> PairVec
     [xi, tg - xi]
 }
 
+/// The [`PairVectors`] of the one-pair terms `p` of particles with
+/// `σ/ρ²` `si` and `sj`, the hourglass control's parts included.
+#[inline]
+pub(in crate::cpu) fn vectors_of(
+    p: &crate::cpu::forces::PairTerms,
+    si: &crate::math::Sym,
+    sj: &crate::math::Sym,
+) -> PairVectors {
+    let [hi, hj] = p.hg;
+    pair_vectors(p.tg, si.mul_vec(p.g) + hi, sj.mul_vec(p.g) + hj)
+}
+
 /// Whether the lane code serves the scene: it does not do the rigid
 /// bodies' zero rates.
 pub(in crate::cpu) fn lanes_serve(model: &Model) -> bool {
-    !model.any_rigid
+    !model.any_rigid && model.hourglass == 0.0
 }
 
 /// [`momentum_energy`] by the lane code (`lanes`, [`lanes_serve`]) or by

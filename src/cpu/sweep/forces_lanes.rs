@@ -6,7 +6,7 @@
 
 use glam::DVec2;
 
-use super::forces::{lanes_serve, pair_vectors, PairVectors};
+use super::forces::{lanes_serve, vectors_of, PairVectors};
 use super::Chunk;
 use crate::cpu::forces::{pair_terms, PairTerms, StressPoint};
 use crate::cpu::kinematics::Kinematics;
@@ -56,10 +56,10 @@ impl EnergyTerms for () {
         ej: Option<&mut f64>,
     ) {
         if let Some(ei) = ei {
-            *ei -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g)) - p.shared);
+            *ei -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g) + p.hg[0]) - p.shared);
         }
         if let Some(ej) = ej {
-            *ej -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g)) - p.shared);
+            *ej -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g) + p.hg[1]) - p.shared);
         }
     }
 }
@@ -83,7 +83,7 @@ impl EnergyTerms for PairVectors {
         _: Option<&mut f64>,
         _: Option<&mut f64>,
     ) {
-        *slot = pair_vectors(p.tg, pts[i].sr2.mul_vec(p.g), pts[j].sr2.mul_vec(p.g));
+        *slot = vectors_of(p, &pts[i].sr2, &pts[j].sr2);
     }
 }
 

@@ -25,7 +25,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
 /// state's, in the same walk: the reconstruction then removes exactly the
 /// linear part of the jump the viscosity sees.
 pub fn kinematics_seen(model: &Model, st: &State, nb: &Neighbours, seen: &[DVec2]) -> Kinematics {
-    if model.av_reconstruct {
+    if model.keeps_gradient() {
         kinematics_in::<Mat2>(model, st, nb, seen)
     } else {
         kinematics(model, st, nb)

@@ -76,6 +76,7 @@ pub fn validate(scene: &Scene) -> R {
     if let Some(av) = &scene.artificial_viscosity {
         non_negative("artificial_viscosity.alpha", av.alpha)?;
         non_negative("artificial_viscosity.beta", av.beta)?;
+        non_negative("artificial_viscosity.hourglass", av.hourglass)?;
     }
     if let Some(st) = &scene.artificial_stress {
         non_negative("artificial_stress.epsilon", st.epsilon)?;
