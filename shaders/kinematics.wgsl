@@ -52,6 +52,8 @@
 // Supports that adapt: the state's velocity gradient, which the step's
 // end carries the supports with (advance.wgsl).
 @group(0) @binding(84) var<storage, read_write> lgrad: array<vec4<f32>>;
+// The base pass's debris, a bit a particle (`walk_and_correct`).
+@group(0) @binding(86) var<storage, read_write> debris_bits: array<atomic<u32>>;
 // The contact's list of boundary particles and its length (contact.wgsl,
 // which says how they are used).
 @group(0) @binding(64) var<storage, read_write> surf: array<u32>;
@@ -356,24 +358,34 @@ fn add_grad(o: KinOwn, gw: vec2<f32>, d: vec2<f32>, mass: f32, vol: f32, vj: vec
 
 // L_i from M_i, or the identity (counted) when M_i cannot be inverted.
 fn correction(m_in: vec4<f32>) -> vec4<f32> {
-    var m = m_in;
     var l = vec4<f32>(1.0, 0.0, 0.0, 1.0);
     if (CORRECTED) {
-        if (DIM == 1u) {
-            m.w = 1.0;
-        }
-        // Both singular values at least the floor (kernel::well_conditioned).
-        let det = m.x * m.w - m.y * m.z;
-        let f = dot(m, m);
-        let disc = sqrt(max(f * f - 4.0 * det * det, 0.0));
-        if (2.0 * det * det >= params.min_sv2 * (f + disc) && det != 0.0) {
-            let q = 1.0 / det;
+        let m = dim_fixed(m_in);
+        if (conditioned(m, params.min_sv2)) {
+            let q = 1.0 / (m.x * m.w - m.y * m.z);
             l = vec4<f32>(m.w * q, -m.y * q, -m.z * q, m.x * q);
         } else {
             atomicAdd(&ctl.fallback_now, 1u);
         }
     }
     return l;
+}
+
+// M with 1-D's unused yy entry neutral.
+fn dim_fixed(m_in: vec4<f32>) -> vec4<f32> {
+    var m = m_in;
+    if (DIM == 1u) {
+        m.w = 1.0;
+    }
+    return m;
+}
+
+// Both singular values of m at least sqrt(floor2) (kernel::well_conditioned).
+fn conditioned(m: vec4<f32>, floor2: f32) -> bool {
+    let det = m.x * m.w - m.y * m.z;
+    let f = dot(m, m);
+    let disc = sqrt(max(f * f - 4.0 * det * det, 0.0));
+    return 2.0 * det * det >= floor2 * (f + disc) && det != 0.0;
 }
 
 // The inverse the stored velocity gradient takes: the correction `l`, or
@@ -383,20 +395,15 @@ fn fit_of(m_in: vec4<f32>, l: vec4<f32>) -> vec4<f32> {
     if (HG <= 0.0 || !CORRECTED) {
         return l;
     }
-    var m = m_in;
-    if (DIM == 1u) {
-        m.w = 1.0;
-    }
-    let det = m.x * m.w - m.y * m.z;
-    let f = dot(m, m);
-    let disc = sqrt(max(f * f - 4.0 * det * det, 0.0));
-    if (2.0 * det * det >= params.min_sv2 * (f + disc) && det != 0.0) {
+    let m = dim_fixed(m_in);
+    if (conditioned(m, params.min_sv2)) {
         return l;
     }
-    if (2.0 * det * det >= FIT_MIN_SV2 * (f + disc) && det != 0.0) {
-        let q = 1.0 / det;
+    if (conditioned(m, FIT_MIN_SV2)) {
+        let q = 1.0 / (m.x * m.w - m.y * m.z);
         return vec4<f32>(m.w * q, -m.y * q, -m.z * q, m.x * q);
     }
+    let f = dot(m, m);
     if (f > 0.0) {
         return vec4<f32>(m.x, m.z, m.y, m.w) / f;
     }
@@ -432,10 +439,18 @@ fn surface_of(gpsi: vec2<f32>, hi: f32) -> vec3<f32> {
 // stress's acceleration sigma_tt / (r rho) goes to `hoop` (CPU twin:
 // cpu::kinematics::stress_point).
 // `ri` is the particle's radius (KinSums).
-fn stress_point(i: u32, ri: f32, body: Body, mu: f32, e: f32, si: vec4<f32>, d: f32) {
-    let p = pressure_of(body, mu, e, d);
-    let c = sound_speed_of(body, mu, e, d);
-    let sig = vec4<f32>(si.x - p, si.y - p, si.z, si.w - p);
+// A debris particle (`debris`, its correction fell back) carries no
+// deviatoric stress and no tension (CPU twin: cpu::kinematics::debris_point).
+fn stress_point(i: u32, ri: f32, body: Body, mu: f32, e: f32, si: vec4<f32>, d: f32, debris: bool) {
+    var p = pressure_of(body, mu, e, d);
+    var c = sound_speed_of(body, mu, e, d);
+    var sd = si;
+    if (debris) {
+        p = max(eos_pressure(body, mu, e), 0.0);
+        c = speed_with_shear(body, mu, e, 0.0);
+        sd = vec4<f32>(0.0);
+    }
+    let sig = vec4<f32>(sd.x - p, sd.y - p, sd.z, sd.w - p);
     let rho = body.rho0 * (1.0 + mu);
     if (AXI) {
         sr2c[i] = vec4<f32>(sig.xyz / (rho * (circumference(ri) * rho)), c);
@@ -506,6 +521,12 @@ struct Walked {
     rigid: bool,
     ks: KinSums,
     l: vec4<f32>,
+    // The correction fell back (`shear_of`).
+    fell_back: bool,
+    // Debris (`stress_point`): at the midpoint the base state's, so that
+    // no particle turns to or from debris inside a step (CPU twin:
+    // cpu::Rates::debris).
+    debris: bool,
 }
 
 fn walk_and_correct(i: u32) -> Walked {
@@ -518,7 +539,29 @@ fn walk_and_correct(i: u32) -> Walked {
     if (LEAP != 0u) {
         nmask[i] = ks.mask;
     }
-    return Walked(body, rigid, ks, l);
+    let fell_back = CORRECTED && !rigid && !conditioned(dim_fixed(ks.m), params.min_sv2);
+    var debris = fell_back;
+    if (CORRECTED && LEAP == 0u) {
+        let w = i / 32u;
+        let bit = 1u << (i % 32u);
+        if (MID) {
+            debris = (atomicLoad(&debris_bits[w]) & bit) != 0u;
+        } else if (fell_back) {
+            atomicOr(&debris_bits[w], bit);
+        } else {
+            atomicAnd(&debris_bits[w], ~bit);
+        }
+    }
+    return Walked(body, rigid, ks, l, fell_back, debris);
+}
+
+// The shear modulus of the deviatoric stress rate: 0 for debris, whose
+// deviatoric stress only turns with the spin while it is so.
+fn shear_of(wk: Walked) -> f32 {
+    if (wk.fell_back) {
+        return 0.0;
+    }
+    return wk.body.g;
 }
 
 @compute @workgroup_size(WG)
@@ -535,7 +578,7 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     list_surface(i, ks.gpsi, body.h);
     let mu = r[i].x;
     let si = s[i];
-    stress_point(i, ks.rad, body, mu, r[i].y, si, damage_of(i));
+    stress_point(i, ks.rad, body, mu, r[i].y, si, damage_of(i), wk.debris);
 
     if (rigid) {
         if (!MID && LEAP == 0u) {
@@ -562,7 +605,7 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
         srate[i] = equivalent_rate(gv, d_tt);
     }
     let dmu = density_rate(mu, gv, d_tt);
-    let rate = deviator_rate(body.g, si, gv, d_tt);
+    let rate = deviator_rate(shear_of(wk), si, gv, d_tt);
     if (!MID) {
         dr[i].x = dmu;
         ds[i] = rate;
@@ -598,7 +641,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         // A rigid body keeps its velocity and reference state.
         list_surface(i, ks.gpsi, hi);
         rdt[i].x = mu;
-        stress_point(i, ks.rad, body, mu, r[i].y, si, 0.0);
+        stress_point(i, ks.rad, body, mu, r[i].y, si, 0.0, false);
         vstar[i] = v[i];
         if (RECON || HG > 0.0) {
             gradv[i] = vec4<f32>(0.0);
@@ -611,7 +654,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     }
     let d_tt = hoop_rate(ks.rad, v[i]);
     var mu1 = mu + density_rate(mu, gv, d_tt) * dt;
-    var s1 = plastic_return(si + deviator_rate(body.g, si, gv, d_tt) * dt, body);
+    var s1 = plastic_return(si + deviator_rate(shear_of(wk), si, gv, d_tt) * dt, body);
     let e1 = r[i].y + rdt[i].y * h;
     var d1 = 0.0;
     if (HISTORY) {
@@ -628,7 +671,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     list_surface(i, ks.gpsi, hi);
     rdt[i].x = mu1;
     ds[i] = s1;
-    stress_point(i, ks.rad, body, mu1, e1, s1, d1);
+    stress_point(i, ks.rad, body, mu1, e1, s1, d1, wk.debris);
     vstar[i] = predicted(i);
     if (RECON || HG > 0.0) {
         gradv[i] = velocity_gradient(ks.gseen, fit_of(ks.m, l));

@@ -154,6 +154,28 @@ pub fn eos_and_stress(model: &Model, st: &State) -> Vec<StressPoint> {
         .collect()
 }
 
+/// [`eos_and_stress`] with the particles of `debris` (a kinematics pass's
+/// [`Kinematics::fallback`]) as debris ([`debris_point`]).
+pub fn eos_and_stress_with(model: &Model, st: &State, debris: &[u32]) -> Vec<StressPoint> {
+    let mut pts = eos_and_stress(model, st);
+    for i in debris.iter().map(|&i| i as usize) {
+        if !model.rigid(i) {
+            pts[i] = debris_point(model, i, (st.rho[i], st.x[i]), st.e[i]);
+        }
+    }
+    pts
+}
+
+/// The [`StressPoint`] of a debris particle (docs/method.md, "Debris"):
+/// one whose neighbourhood cannot support a corrected gradient (the
+/// correction fell back) carries, while it is so, no deviatoric stress
+/// and no tension, as a failed particle does; its pressure in
+/// compression stays, so it still cannot pass through its neighbours.
+#[inline]
+pub(crate) fn debris_point(model: &Model, i: usize, at: (f64, DVec2), e: f64) -> StressPoint {
+    stress_point(model, i, at, e, &Sym::default(), strength::FAILED)
+}
+
 /// Particle i's [`StressPoint`] at density `rho` (a state's
 /// [`State::rho`]) and position `x`, energy `e`, deviatoric stress `s`
 /// and damage `damage` (a failed particle carries no tension).
@@ -176,6 +198,19 @@ pub(crate) fn stress_point(
     let rho = model.density(eta, x);
     let p = mat.pressure_of(rho, e, damage);
     let c = mat.sound_speed_of(rho, e, damage);
+    point_of(model, (eta, x), rho, (p, c), s)
+}
+
+/// The [`StressPoint`] of pressure `p`, sound speed `c` and deviatoric
+/// stress `s` at `η`, `x` and density `rho`.
+#[inline]
+fn point_of(
+    model: &Model,
+    (eta, x): (f64, DVec2),
+    rho: f64,
+    (p, c): (f64, f64),
+    s: &Sym,
+) -> StressPoint {
     let sigma = material::cauchy(p, s);
     let r = match model.artificial_stress {
         Some(a) if model.axisymmetric => {
@@ -193,6 +228,21 @@ pub(crate) fn stress_point(
         } else {
             0.0
         },
+    }
+}
+
+impl Kinematics {
+    /// Whether each particle is debris ([`debris_point`]): on the
+    /// fallback list and not rigid; empty when none is.
+    pub fn debris_flags(&self, model: &Model) -> Vec<bool> {
+        let mut flags = Vec::new();
+        if let Some(&last) = self.fallback.iter().max() {
+            flags.resize(last as usize + 1, false);
+            for &i in &self.fallback {
+                flags[i as usize] = !model.rigid(i as usize);
+            }
+        }
+        flags
     }
 }
 
@@ -364,7 +414,9 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
             // η = 2π r ρ obeys the plane's continuity equation: the hoop
             // strain rate is in ρ alone (docs/method.md §12).
             out.drho.push(-st.rho[i] * p.gv.trace());
-            let g = model.material(i).g;
+            // Debris keeps its deviatoric stress, frozen (docs/method.md,
+            // "Debris").
+            let g = if p.ok { model.material(i).g } else { 0.0 };
             let ds = stress_rate(g, &st.s[i], &p.gv);
             out.ds.push(if model.axisymmetric {
                 axis::with_hoop(g, ds, axis::hoop_rate(st, i))

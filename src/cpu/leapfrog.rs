@@ -102,11 +102,17 @@ impl CpuSolver {
         let pts: Vec<StressPoint> = if model.history {
             walk.for_each(|(i, ((e, rho), s))| to_next(i, e, rho, s));
             return_with_history(model, st, &k.rate, st.t + dt, &mut next);
-            eos_and_stress(model, &next)
+            eos_and_stress_with(model, &next, &k.fallback)
         } else {
+            let debris = k.debris_flags(model);
             walk.map(|(i, ((e, rho), s))| {
                 to_next(i, e, rho, s);
-                stress_point(model, i, (*rho, next.x[i]), *e, s, 0.0)
+                let at = (*rho, next.x[i]);
+                if debris.get(i).copied().unwrap_or(false) {
+                    kinematics::debris_point(model, i, at, *e)
+                } else {
+                    stress_point(model, i, at, *e, s, 0.0)
+                }
             })
             .collect()
         };
@@ -214,6 +220,7 @@ impl CpuSolver {
                 spring_rate,
                 entry: Vec::new(),
                 lv: Vec::new(),
+                debris: Vec::new(),
             },
             diag,
         ));

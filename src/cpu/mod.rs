@@ -21,6 +21,8 @@ pub mod axis;
 pub mod contact;
 #[cfg(test)]
 mod contact_tests;
+#[cfg(test)]
+mod debris_tests;
 pub mod forces;
 #[cfg(test)]
 mod hourglass_tests;
@@ -32,7 +34,7 @@ pub(crate) mod neighbours_tests;
 pub mod reduce;
 pub mod sweep;
 
-pub use kinematics::eos_and_stress;
+pub use kinematics::{eos_and_stress, eos_and_stress_with};
 pub use reduce::cfl_step;
 use reduce::support_h;
 
@@ -76,6 +78,13 @@ pub struct Rates {
     /// ([`Kinematics::lv`](kinematics::Kinematics::lv)); empty with round
     /// supports and in the leapfrog's carried rates.
     pub lv: Vec<crate::math::Mat2>,
+    /// The debris of the evaluated state (its kinematic pass's fallback
+    /// list): the midpoint rule's second evaluation takes the first's, so
+    /// that no particle turns to or from debris inside a step (its
+    /// acceleration would change between the two evaluations, and the
+    /// rule's booking turn that into energy). Empty in the leapfrog's
+    /// carried rates.
+    pub debris: Vec<u32>,
 }
 
 /// One full evaluation of the rates at `st`, neighbour lists built for it.
@@ -91,21 +100,25 @@ pub fn evaluate_with(
     st: &State,
     nb: &neighbours::Neighbours,
 ) -> (Rates, Diagnostics) {
-    evaluate_at(model, st, nb, Role::Base)
+    evaluate_at(model, st, nb, Role::Base, None)
 }
 
 /// [`evaluate_with`] in the role `role` of the step's schedule
 /// ([`crate::stage::MIDPOINT`]): at the midpoint the CFL step is not
 /// taken (`cfl_dt` is infinite), as the step's own is the base state's.
+///
+/// `debris`: the particles to treat as debris instead of the evaluation's
+/// own fallback list (the midpoint's, [`Rates::debris`]).
 fn evaluate_at(
     model: &Model,
     st: &State,
     nb: &neighbours::Neighbours,
     role: Role,
+    debris: Option<&[u32]>,
 ) -> (Rates, Diagnostics) {
     stage::enter(Stage::Kinematics, role);
-    let pts = eos_and_stress(model, st);
     let k = sweep::kinematics(model, st, nb);
+    let pts = eos_and_stress_with(model, st, debris.unwrap_or(&k.fallback));
     stage::enter(Stage::Forces, role);
     let (mut dv, mut de) = sweep::momentum_energy(model, st, nb, &k, &pts);
     let mut diag = Diagnostics {
@@ -119,6 +132,7 @@ fn evaluate_at(
         surface,
         rate,
         lv,
+        fallback,
         ..
     } = k;
     let mut heat_rate = 0.0;
@@ -158,6 +172,7 @@ fn evaluate_at(
             spring_rate,
             entry,
             lv,
+            debris: fallback,
         },
         diag,
     )
@@ -368,7 +383,7 @@ impl CpuSolver {
         half.metric.clone_from(&self.state.metric);
         let lists = (&mut self.nb, &mut self.list_builds);
         Self::refresh_lists(&self.model, lists.0, lists.1, half.frame(), Role::Mid);
-        let (k2, _) = evaluate_at(&self.model, &half, &self.nb, Role::Mid);
+        let (k2, _) = evaluate_at(&self.model, &half, &self.nb, Role::Mid, Some(&k1.debris));
         let mut next = std::mem::take(&mut self.spare);
         stage::enter(Stage::Advance, Role::FullStep);
         advance(&self.model, &self.state, &half.v, &k2, dt, &mut next);

@@ -466,6 +466,11 @@ impl GpuSolver {
             make("area0", 4 * nn, Some(bytemuck::cast_slice(&a0)))?;
             make("hoop", 4 * nn, None)?;
         }
+        if model.correction == Correction::Gradient && !leapfrog {
+            // The base pass's debris, a bit a particle, for the midpoint
+            // pass (kinematics.wgsl, walk_and_correct).
+            make("debris_bits", 4 * nn.div_ceil(32), None)?;
+        }
         if leapfrog {
             // The carried rates a_n and (_, de_n/dt), and the predicted
             // velocity (common.wgsl, LEAP); buffers wgpu zeroes.

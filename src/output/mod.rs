@@ -248,6 +248,43 @@ pub struct WorstParticle {
     pub value: f64,
 }
 
+/// How many particles were debris: the most at any one evaluation of the
+/// run, and at its final state, by body.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct DebrisSummary {
+    pub max: usize,
+    pub count: usize,
+    pub bodies: Vec<BodyCount>,
+}
+
+impl DebrisSummary {
+    /// `max` over the run, and the final state's debris (one neighbour
+    /// search and one kinematic pass, on the CPU path).
+    pub fn of(model: &crate::model::Model, st: &crate::model::State, max: usize) -> Self {
+        let nb = crate::cpu::neighbours::find(model, st.frame());
+        let k = crate::cpu::kinematics::kinematics(model, st, &nb);
+        let mut per_body = vec![0usize; model.bodies.len()];
+        for i in k.fallback.iter().map(|&i| i as usize) {
+            if !model.rigid(i) {
+                per_body[model.body[i] as usize] += 1;
+            }
+        }
+        DebrisSummary {
+            max,
+            count: per_body.iter().sum(),
+            bodies: model
+                .bodies
+                .iter()
+                .zip(per_body)
+                .map(|(b, count)| BodyCount {
+                    name: b.name.clone(),
+                    count,
+                })
+                .collect(),
+        }
+    }
+}
+
 impl OutOfRangeSummary {
     pub fn of(model: &crate::model::Model, st: &crate::model::State) -> Self {
         let c = crate::probe::count_out_of_range(model, st);
@@ -324,6 +361,10 @@ pub struct Summary {
     /// The particles whose final state is outside the solid range
     /// (`probe::out_of_range`).
     pub out_of_range: OutOfRangeSummary,
+    /// Debris (docs/method.md, "Debris"): particles whose neighbourhood
+    /// cannot support a corrected gradient, which carry no deviatoric
+    /// stress and no tension while they are so.
+    pub debris: DebrisSummary,
     /// Snapshots written (0 without `output.snapshot_interval`), their
     /// bytes on disk and the wall seconds they took (inside
     /// `wall_seconds`): the boundary set or the device readback, and the

@@ -63,6 +63,7 @@ impl Stepper for CpuStepper<'_> {
             if !self.fed {
                 let (model, st, diag) = self.solver.observe();
                 self.max_fallback = self.max_fallback.max(diag.correction_fallback);
+                rec.progress.debris = Some(diag.correction_fallback);
                 self.stored0.get_or_insert(diag.contact.stored);
                 rec.feed(t, probe::evaluate(self.probes, model, st, diag))?;
                 self.fed = true;

@@ -407,9 +407,10 @@ fn run_from(
     }
     if max_fallback > 0 {
         warnings.push(format!(
-            "up to {max_fallback} particle(s) at a time had too few neighbours for the corrected gradient and used L = I"
+            "up to {max_fallback} particle(s) at a time were debris: too few neighbours for the corrected gradient, so L = I and no deviatoric stress or tension"
         ));
     }
+    let debris = crate::output::DebrisSummary::of(model, st, max_fallback as usize);
     let summary = Summary {
         scene: label,
         dimension: dim,
@@ -441,6 +442,7 @@ fn run_from(
             })
             .collect(),
         out_of_range,
+        debris,
         snapshots,
         snapshot_bytes,
         snapshot_seconds,

@@ -217,6 +217,9 @@ pub(super) struct Progress {
     /// Particles outside the solid range (`probe::out_of_range`) when last
     /// counted: every few steps on the CPU, at each snapshot on the GPU.
     pub(super) out_of_range: Option<usize>,
+    /// Debris particles (docs/method.md, "Debris") at the last evaluation
+    /// (the CPU path's count; the device keeps only its maximum).
+    pub(super) debris: Option<usize>,
     /// Simulated time this process started from (that of the checkpoint
     /// when resuming): the wall time so far covers only what came after.
     pub(super) t0: f64,
@@ -245,6 +248,7 @@ impl Progress {
             last_line: Instant::now(),
             snapshots: None,
             out_of_range: None,
+            debris: None,
             t0,
         };
         if opts.silent {
@@ -277,6 +281,9 @@ impl Progress {
             .map_or(String::new(), |k| format!(", snapshots written: {k}"));
         if let Some(k) = self.out_of_range.filter(|&k| k > 0) {
             tail += &format!(", {k} particle(s) outside the solid range");
+        }
+        if let Some(k) = self.debris.filter(|&k| k > 0) {
+            tail += &format!(", {k} debris");
         }
         if let Some(bar) = &self.bar {
             bar.set_position((frac * 1000.0) as u64);

@@ -198,7 +198,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
         at(Stage::Kinematics, "boundary normals")
     );
 
-    let pts = cpu::eos_and_stress(&model, &st);
+    let pts = cpu::eos_and_stress_with(&model, &st, &a.fallback);
     for (k, name) in ["σ/ρ².xx", "σ/ρ².yy", "σ/ρ².xy"].iter().enumerate() {
         let c: Vec<f64> = pts
             .iter()
