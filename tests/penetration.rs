@@ -28,14 +28,7 @@ fn slow_shot_keeps_its_energy_with(hourglass: Option<f64>) {
     scene.bodies[0].velocity = Some(vec![0.0, -400.0]);
     scene.output.snapshot_interval = None;
     if let Some(alpha) = hourglass {
-        scene.artificial_stress = Some(sphcontact::scene::ArtificialStress {
-            epsilon: 0.0,
-            ..sphcontact::scene::ArtificialStress::DEFAULT
-        });
-        scene
-            .artificial_viscosity
-            .get_or_insert_with(Default::default)
-            .hourglass = alpha;
+        with_hourglass_control(&mut scene, alpha);
     }
     let out = run(&scene);
     assert_eq!(out.summary.status, "completed");

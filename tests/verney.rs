@@ -64,14 +64,7 @@ fn verney(geometry: &str, across: u32, tol: f64, energy: f64) -> f64 {
 fn shell_with_hourglass(geometry: &str, across: u32, alpha: f64) -> Scene {
     let mut scene = load(&format!("scenes/hard/verney_{geometry}.toml"));
     scene.bodies[0].spacing = 0.02 / across as f64;
-    scene.artificial_stress = Some(sphcontact::scene::ArtificialStress {
-        epsilon: 0.0,
-        ..sphcontact::scene::ArtificialStress::DEFAULT
-    });
-    scene
-        .artificial_viscosity
-        .get_or_insert_with(Default::default)
-        .hourglass = alpha;
+    with_hourglass_control(&mut scene, alpha);
     scene
 }
 

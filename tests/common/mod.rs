@@ -17,6 +17,19 @@ pub fn load(path: &str) -> Scene {
     Scene::from_file(&root.join(path)).expect("a valid scene")
 }
 
+/// `scene` with the hourglass control at `alpha` in place of the
+/// artificial stress (docs/method.md, "Hourglass control").
+pub fn with_hourglass_control(scene: &mut Scene, alpha: f64) {
+    scene.artificial_stress = Some(sphcontact::scene::ArtificialStress {
+        epsilon: 0.0,
+        ..sphcontact::scene::ArtificialStress::DEFAULT
+    });
+    scene
+        .artificial_viscosity
+        .get_or_insert_with(Default::default)
+        .hourglass = alpha;
+}
+
 pub fn parse(text: &str) -> Scene {
     Scene::from_toml_str(text, "test scene").expect("a valid scene")
 }

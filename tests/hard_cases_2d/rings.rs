@@ -190,16 +190,7 @@ fn rings_with_artificial_stress(end: Option<f64>, hold: Hold) {
     match hold {
         Hold::Classic => {}
         Hold::Default => scene.artificial_stress = None,
-        Hold::Hourglass => {
-            scene.artificial_stress = Some(sphcontact::scene::ArtificialStress {
-                epsilon: 0.0,
-                ..sphcontact::scene::ArtificialStress::DEFAULT
-            });
-            scene
-                .artificial_viscosity
-                .get_or_insert_with(Default::default)
-                .hourglass = 1.0;
-        }
+        Hold::Hourglass => with_hourglass_control(&mut scene, 1.0),
     }
     if let Some(end) = end {
         scene.simulation.end_time = end;
