@@ -357,11 +357,13 @@ fn add_grad(o: KinOwn, gw: vec2<f32>, d: vec2<f32>, mass: f32, vol: f32, vj: vec
 }
 
 // L_i from M_i, or the identity (counted) when M_i cannot be inverted.
-fn correction(m_in: vec4<f32>) -> vec4<f32> {
+// `ok`: `conditioned(dim_fixed(m_in), params.min_sv2)`, which the caller
+// also needs (debris).
+fn correction(m_in: vec4<f32>, ok: bool) -> vec4<f32> {
     var l = vec4<f32>(1.0, 0.0, 0.0, 1.0);
     if (CORRECTED) {
         let m = dim_fixed(m_in);
-        if (conditioned(m, params.min_sv2)) {
+        if (ok) {
             let q = 1.0 / (m.x * m.w - m.y * m.z);
             l = vec4<f32>(m.w * q, -m.y * q, -m.z * q, m.x * q);
         } else {
@@ -534,12 +536,13 @@ fn walk_and_correct(i: u32) -> Walked {
     let body = bodies[bi];
     let rigid = body.rigid != 0u;
     let ks = kinematic_walk(i, body.h, bi, rigid, body.rho0);
-    let l = correction(ks.m);
+    let ok = !CORRECTED || conditioned(dim_fixed(ks.m), params.min_sv2);
+    let l = correction(ks.m, ok);
     lmat[i] = l;
     if (LEAP != 0u) {
         nmask[i] = ks.mask;
     }
-    let fell_back = CORRECTED && !rigid && !conditioned(dim_fixed(ks.m), params.min_sv2);
+    let fell_back = !ok && !rigid;
     var debris = fell_back;
     if (CORRECTED && LEAP == 0u) {
         let w = i / 32u;
