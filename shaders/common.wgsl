@@ -46,6 +46,11 @@ override MID: bool = false;
 // vstar); 3 the step's booking at v_{n+1} (the energy sums and the
 // contact's heat). CPU twin: cpu::CpuSolver::leapfrog.
 override LEAP: u32 = 0u;
+// The hourglass control of a leapfrog step's force passes sees
+// v_{n+1/2} (vhalf, gradh), not the predicted velocity: a damping at the
+// predicted velocity is stable only to gamma dt < 1, at v_{n+1/2} to 2
+// (docs/method.md, "Hourglass control"). CPU twin: Kinematics::hv.
+override HG_HALF: bool = HG > 0.0 && LEAP >= 2u;
 // The state carries a plastic history (physics::strength): per particle
 // (eps_p, T - T_room, D, failure time) in `hist`; the radial return is the
 // strength update's (strength.wgsl).

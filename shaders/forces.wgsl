@@ -53,6 +53,10 @@
 // normal's reference volumes).
 @group(0) @binding(80) var<storage, read> hoop: array<f32>;
 @group(0) @binding(81) var<storage, read> area0: array<f32>;
+// The leapfrog step with the hourglass control: the velocity v_{n+1/2}
+// the control sees and its gradient (kinematics.wgsl, kinematics_leap).
+@group(0) @binding(87) var<storage, read> vhalf: array<vec2<f32>>;
+@group(0) @binding(88) var<storage, read> gradh: array<vec4<f32>>;
 
 // Workgroups of the contact's indirect dispatch (surf_args[1..4]): one a
 // `WG` listed particles.
@@ -123,6 +127,9 @@ struct Own {
     v: vec2<f32>,
     vs: vec2<f32>,
     g: vec4<f32>,
+    // The velocity and gradient the hourglass control sees (`hg_seen`).
+    vh: vec2<f32>,
+    gh: vec4<f32>,
     rho: f32,
     // m_i / rho_i and kappa_i^2, for the close-pair gate.
     vol: f32,
@@ -210,8 +217,16 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
         }
         vis = o.vs - vsj;
     }
-    // The velocities the forces see (the hourglass control's).
-    let vf = vis;
+    // The velocities the hourglass control sees: the forces' in an
+    // evaluation, v_{n+1/2} in a leapfrog step (`hg_seen`).
+    var vf = vis;
+    if (HG_HALF) {
+        var vhj = vhalf[j];
+        if (img) {
+            vhj = mirror_vec(vhj);
+        }
+        vf = o.vh - vhj;
+    }
     // Not at a surface (h |grad psi| above the threshold): there grad v is
     // one-sided and a contact loads the face impulsively.
     if (RECON && !o.surface && nbo[j].z <= 0.0) {
@@ -278,6 +293,9 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
     var hg = Hourglass(vec2<f32>(0.0), vec2<f32>(0.0));
     if (HG > 0.0) {
         var gj = gradv[j];
+        if (HG_HALF) {
+            gj = gradh[j];
+        }
         if (img) {
             gj = mirror_mat(gj);
         }
@@ -310,7 +328,7 @@ fn hourglass(o: Own, vf: vec2<f32>, d: vec2<f32>, gw: vec2<f32>, gj: vec4<f32>, 
         return Hourglass(vec2<f32>(0.0), vec2<f32>(0.0));
     }
     let w = -dot(gw, d) / r2;
-    let di = mat_mul(o.g, d) - vf;
+    let di = mat_mul(o.gh, d) - vf;
     let dj = vf - mat_mul(gj, d);
     let k = HG * w;
     // V_j/m_j: 1/rho_j; in a body of revolution 1/eta_i.
@@ -446,6 +464,12 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if (LEAP == 3u) {
         vsi = vstar[i];
     }
+    var vhi = v[i];
+    var ghi = gi;
+    if (HG_HALF) {
+        vhi = vhalf[i];
+        ghi = gradh[i];
+    }
     let own = Own(
         body,
         hi,
@@ -457,6 +481,8 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         v[i],
         vsi,
         gi,
+        vhi,
+        ghi,
         rho_i,
         bitcast<f32>(mi.x) / rho_i,
         k2i,

@@ -54,6 +54,11 @@
 @group(0) @binding(84) var<storage, read_write> lgrad: array<vec4<f32>>;
 // The base pass's debris, a bit a particle (`walk_and_correct`).
 @group(0) @binding(86) var<storage, read_write> debris_bits: array<atomic<u32>>;
+// The leapfrog step with the hourglass control: the velocity v_{n+1/2}
+// the control sees and its gradient (the fit where the correction falls
+// back), for the force passes (the state's `v` is kicked in place there).
+@group(0) @binding(87) var<storage, read_write> vhalf: array<vec2<f32>>;
+@group(0) @binding(88) var<storage, read_write> gradh: array<vec4<f32>>;
 // The contact's list of boundary particles and its length (contact.wgsl,
 // which says how they are used).
 @group(0) @binding(64) var<storage, read_write> surf: array<u32>;
@@ -184,7 +189,7 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     }
     let cs = consts();
     let wk = walker(i);
-    let seen = LEAP == 2u && (RECON || HG > 0.0);
+    let seen = LEAP == 2u && RECON;
     var o = KinOwn(v[i], vec2<f32>(0.0), seen, rigid, 0.0);
     if (seen) {
         o.vsi = predicted(i);
@@ -253,7 +258,7 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
 fn adaptive_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     let cs = consts();
     let wk = adaptive_walker(i);
-    let seen = LEAP == 2u && (RECON || HG > 0.0);
+    let seen = LEAP == 2u && RECON;
     var o = KinOwn(v[i], vec2<f32>(0.0), seen, rigid, 0.0);
     if (seen) {
         o.vsi = predicted(i);
@@ -649,6 +654,10 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         if (RECON || HG > 0.0) {
             gradv[i] = vec4<f32>(0.0);
         }
+        if (HG > 0.0) {
+            vhalf[i] = v[i];
+            gradh[i] = vec4<f32>(0.0);
+        }
         return;
     }
     let gv = velocity_gradient(ks.gsum, l);
@@ -676,7 +685,13 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     ds[i] = s1;
     stress_point(i, ks.rad, body, mu1, e1, s1, d1, wk.debris);
     vstar[i] = predicted(i);
-    if (RECON || HG > 0.0) {
-        gradv[i] = velocity_gradient(ks.gseen, fit_of(ks.m, l));
+    // The reconstruction's gradient of the predicted velocities (plain
+    // where the correction falls back); the hourglass control's of v_{n+1/2}.
+    if (RECON) {
+        gradv[i] = velocity_gradient(ks.gseen, l);
+    }
+    if (HG > 0.0) {
+        vhalf[i] = v[i];
+        gradh[i] = velocity_gradient(ks.gsum, fit_of(ks.m, l));
     }
 }

@@ -63,7 +63,7 @@ pub(super) fn add_momentum(
     pts: &[StressPoint],
     dv: &mut [DVec2],
 ) -> KeptMirrors {
-    let side = |k| Side::of(st, &kin.l, &kin.gv, pts, k);
+    let side = |k| Side::of(st, kin, pts, k);
     let image = |k: usize| {
         let s = side(k);
         Side {
@@ -71,6 +71,8 @@ pub(super) fn add_momentum(
             v: mirror(s.v),
             l: mirror_mat(&s.l),
             gv: mirror_mat(&s.gv),
+            vh: mirror(s.vh),
+            gh: mirror_mat(&s.gh),
             pt: StressPoint {
                 sr2: mirror_sym(&s.pt.sr2),
                 r: mirror_sym(&s.pt.r),

@@ -58,16 +58,14 @@ pub(in crate::cpu) struct PairTerms {
 pub(in crate::cpu) fn pair_terms(
     model: &Model,
     st: &State,
-    l: &[Mat2],
-    gv: &[Mat2],
-    surface: &[bool],
+    kin: &Kinematics,
     pts: &[StressPoint],
     i: usize,
     b: &Nbr,
 ) -> PairTerms {
     let j = b.j as usize;
-    let side = |k| Side::of(st, l, gv, pts, k);
-    pair_terms_of(model, st, surface, (i, &side(i)), (j, &side(j)), b)
+    let side = |k| Side::of(st, kin, pts, k);
+    pair_terms_of(model, st, &kin.surface, (i, &side(i)), (j, &side(j)), b)
 }
 
 /// What a pair's terms read of one of its particles that its mirror
@@ -80,25 +78,26 @@ pub(in crate::cpu) struct Side {
     pub(in crate::cpu) l: Mat2,
     /// `∇v`, read only when the viscosity is reconstructed.
     pub(in crate::cpu) gv: Mat2,
+    /// The velocity and `∇v` the hourglass control sees
+    /// ([`Kinematics::hv`]).
+    pub(in crate::cpu) vh: DVec2,
+    pub(in crate::cpu) gh: Mat2,
     pub(in crate::cpu) pt: StressPoint,
 }
 
 impl Side {
-    /// Particle k's side at `st`, with its `L`, `∇v` (empty: zero) and
+    /// Particle k's side at `st`, with its `L`, `∇v` (none kept: zero) and
     /// stress point.
     #[inline]
-    pub(in crate::cpu) fn of(
-        st: &State,
-        l: &[Mat2],
-        gv: &[Mat2],
-        pts: &[StressPoint],
-        k: usize,
-    ) -> Side {
+    pub(in crate::cpu) fn of(st: &State, kin: &Kinematics, pts: &[StressPoint], k: usize) -> Side {
+        let gv = kin.gv.get(k).copied().unwrap_or(Mat2::ZERO);
         Side {
             x: st.x[k],
             v: st.v[k],
-            l: l[k],
-            gv: gv.get(k).copied().unwrap_or(Mat2::ZERO),
+            l: kin.l[k],
+            gv,
+            vh: kin.hv.get(k).copied().unwrap_or(st.v[k]),
+            gh: kin.hgrad.get(k).copied().unwrap_or(gv),
             pt: pts[k],
         }
     }
@@ -237,9 +236,9 @@ fn hourglass(
         return [DVec2::ZERO; 2];
     }
     let w = gw.dot(xji) / r2;
-    let vji = b.v - a.v;
-    let di = vji - a.gv.mul_vec(xji);
-    let dj = -vji + b.gv.mul_vec(xji);
+    let vji = b.vh - a.vh;
+    let di = vji - a.gh.mul_vec(xji);
+    let dj = -vji + b.gh.mul_vec(xji);
     let k = model.hourglass * w;
     // V_j / m_j: 1/ρ_j; in a body of revolution j's weight in i's fit is
     // m_j / η_i (kinematics::gradient_weight), so 1/η_i.
@@ -288,7 +287,7 @@ pub fn momentum_energy(
                 return (dv, de);
             }
             for b in nb.of(model, st.frame(), i) {
-                let p = pair_terms(model, st, &kin.l, &kin.gv, &kin.surface, pts, i, &b);
+                let p = pair_terms(model, st, kin, pts, i, &b);
                 let mj = model.mass[b.j as usize];
                 dv += p.tg * mj;
                 de -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g) + p.hg[0]) - p.shared);

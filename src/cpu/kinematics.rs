@@ -37,6 +37,14 @@ pub struct Kinematics {
     /// Where the correction falls back and the hourglass control is on,
     /// the least-squares fit instead (`kernel::fit_inverse`).
     pub gv: Vec<Mat2>,
+    /// The velocities the hourglass control sees and their gradient (the
+    /// least-squares fit where the correction falls back), when they are
+    /// not those of [`Kinematics::gv`]: in the leapfrog's step the state's
+    /// `v_{n+½}` of the kinematic walk, where the viscosity sees the
+    /// predicted velocities (docs/method.md, "Hourglass control"). Empty
+    /// otherwise: the control then sees the state's velocities and `gv`.
+    pub hv: Vec<DVec2>,
+    pub hgrad: Vec<Mat2>,
     /// The state's velocity gradient, where supports adapt (they are
     /// carried with it, [`super::advance::carry_supports`]); empty
     /// otherwise.
@@ -134,6 +142,9 @@ struct Point {
     /// The least-squares `∇v` (of the seen velocities) where the
     /// correction fell back and the hourglass control is on.
     fit: Option<Mat2>,
+    /// The hourglass control's `∇v` of the state's velocities, where the
+    /// viscosity sees others (the leapfrog).
+    hgrad: Option<Mat2>,
 }
 
 /// Per-particle inputs of the momentum pass: `σ/ρ²`, artificial stress and
@@ -372,10 +383,17 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
                 };
                 // Where the correction falls back, the hourglass control
                 // still needs the least-squares fit (kernel::fit_inverse).
-                let fit = (!ok && model.hourglass > 0.0 && !model.rigid(i)).then(|| {
-                    let lf = kernel::fit_inverse(&m);
-                    seen.sum().unwrap_or(gsum).mul_transpose(&lf)
-                });
+                // It sees the state's velocities; with others seen (the
+                // leapfrog) the viscosity keeps their plain gradient.
+                let hg = model.hourglass > 0.0;
+                let fit_of = |g: Mat2| {
+                    (!ok && !model.rigid(i)).then(|| g.mul_transpose(&kernel::fit_inverse(&m)))
+                };
+                let (fit, hgrad) = match seen.sum() {
+                    Some(_) if hg => (None, Some(fit_of(gsum).unwrap_or(gv))),
+                    None if hg => (fit_of(gsum), None),
+                    _ => (None, None),
+                };
                 Point {
                     l,
                     ok,
@@ -383,6 +401,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
                     gv,
                     gv_seen,
                     fit,
+                    hgrad,
                 }
             },
         )
@@ -394,6 +413,8 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
         grad_psi: Vec::with_capacity(n),
         surface: Vec::with_capacity(n),
         gv: Vec::with_capacity(if model.keeps_gradient() { n } else { 0 }),
+        hv: Vec::new(),
+        hgrad: Vec::new(),
         lv: Vec::with_capacity(if model.adaptive { n } else { 0 }),
         drho: Vec::with_capacity(n),
         ds: Vec::with_capacity(n),
@@ -427,6 +448,9 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
         if model.keeps_gradient() {
             out.gv.push(p.fit.or(p.gv_seen).unwrap_or(p.gv));
         }
+        if let Some(g) = p.hgrad {
+            out.hgrad.push(g);
+        }
         if model.adaptive {
             out.lv.push(p.gv);
         }
@@ -437,6 +461,9 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
                 strength::equivalent_strain_rate(&p.gv)
             });
         }
+    }
+    if !out.hgrad.is_empty() {
+        out.hv.clone_from(&st.v);
     }
     out
 }

@@ -18,7 +18,9 @@ impl CpuSolver {
     ///    dashpot see the predicted `v_{n+½} + ½Δt a_n`, the EOS the
     ///    predicted `e_{n+½} + ½Δt ė_n`, the viscosity's reconstruction the
     ///    gradient of the predicted velocities (taken in the walk of 2,
-    ///    [`sweep::kinematics_seen`]);
+    ///    [`sweep::kinematics_seen`]); the hourglass control sees `v_{n+½}`
+    ///    and the walk's gradient of it (`Kinematics::hv`), which keeps it
+    ///    stable to twice the damping rate;
     /// 4. `v_{n+1} = v_{n+½} + ½Δt a_{n+1}`; then the energy sums with the
     ///    pair terms of 3 but the work done on `v_{n+1}`
     ///    ([`sweep::energy_replay`]), and `e_{n+1} = e_{n+½} + ½Δt ė_{n+1}`.

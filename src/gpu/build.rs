@@ -501,6 +501,12 @@ impl GpuSolver {
         if model.keeps_gradient() {
             make("gradv", 16 * nn, None)?;
         }
+        if leapfrog && model.hourglass > 0.0 {
+            // The velocity v_{n+1/2} the hourglass control sees in a step
+            // and its gradient (common.wgsl, HG_HALF).
+            make("vhalf", 8 * nn, None)?;
+            make("gradh", 16 * nn, None)?;
+        }
         if model.adaptive {
             // Each particle's support (f32), and the velocity gradient
             // the step's end carries it with (kinematics.wgsl to

@@ -134,7 +134,7 @@ pub(super) fn sums_into<E: EnergyTerms>(
         );
         return acc.into_iter().unzip();
     }
-    let terms = |i, b: &Nbr| pair_terms(model, st, l, gv, surface, pts, i, b);
+    let terms = |i, b: &Nbr| pair_terms(model, st, kin, pts, i, b);
     nb.sweep_store(model, st.frame(), &mut acc, slots, |i, b, ai, aj, slot| {
         let j = b.j as usize;
         // Rigid particles keep zero rates; a far pair has no j side here.
