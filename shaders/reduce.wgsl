@@ -323,16 +323,21 @@ fn cfl_step(cfl_min: f32) {
 
 // The energy guard (Model::guards_energy): `e`, the total energy (kinetic
 // + internal + stored penalty) of the state this step starts from. The
-// first state sets the limit; past it, the step gets zero length (the
-// advances leave the state as it is) and the failure is recorded against
-// this state: code 6, the host names the particle.
+// first state sets the limit; out of the band (Model::energy_outside) the
+// step gets zero length (the advances leave the state as it is) and the
+// failure is recorded against this state: code 6, the host names the
+// particle.
 fn energy_guard(e: f32) {
     if (ctl.energy_limit < 0.0) {
         // As Model::energy_limit.
         ctl.energy_limit = params.energy_growth * e + params.energy_floor;
         return;
     }
-    if (e > ctl.energy_limit && atomicLoad(&ctl.fail_step) == NONE) {
+    // As Model::energy_lower.
+    let e0 = (ctl.energy_limit - params.energy_floor) / params.energy_growth;
+    let lower = (2.0 - params.energy_growth) * e0 - params.energy_floor;
+    let outside = e > ctl.energy_limit || e < lower;
+    if (outside && atomicLoad(&ctl.fail_step) == NONE) {
         atomicMin(&ctl.fail_step, ctl.step);
         atomicMin(&ctl.fail_code, 6u);
         ctl.dt = 0.0;

@@ -398,7 +398,11 @@ impl Model {
     /// (docs/method.md §4; the discrete spring loses a little), so energy grown
     /// by half was made by the time integration going unstable: the run
     /// stops instead of finishing with answers that look right and energy
-    /// many times the start's. Both solvers check each state at the start
+    /// many times the start's. Energy lost by half is as sure a sign: a
+    /// blow-up that drives particles to large negative internal energies
+    /// (an unstable damping, for one) can leave the total far below the
+    /// start while the motion looks tame, so the guard is a band,
+    /// [`Model::energy_lower`] below. Both solvers check each state at the start
     /// of the step that leaves it, with the evaluation they make there
     /// anyway. Not watched when a rigid body moves (it does work on what it
     /// pushes).
@@ -414,19 +418,44 @@ impl Model {
         ENERGY_GROWTH * e0 + self.energy_floor
     }
 
-    /// The quantity of an energy-guard message (both backends) under
-    /// `limit`; its value is the total energy.
-    pub fn energy_quantity(&self, limit: f64) -> String {
+    /// The guard's lower bound for the upper `limit`: the initial total
+    /// less as much as the upper bound allows it to grow, `(2 − G) e0 −
+    /// floor` (half the initial, less the floor).
+    pub fn energy_lower(&self, limit: f64) -> f64 {
         let e0 = (limit - self.energy_floor) / ENERGY_GROWTH;
-        format!("total energy (over {ENERGY_GROWTH} times the initial {e0:.4e})")
+        (2.0 - ENERGY_GROWTH) * e0 - self.energy_floor
     }
 
-    /// The particle an energy-guard message names: the deformable one with
-    /// the most specific energy `½ v² + e` (where the growth shows first).
-    pub fn most_energetic(&self, state: &State) -> usize {
+    /// Whether the total energy `e` has left the guard's band under the
+    /// upper `limit`.
+    pub fn energy_outside(&self, limit: f64, e: f64) -> bool {
+        e > limit || e < self.energy_lower(limit)
+    }
+
+    /// The quantity of an energy-guard message (both backends) under
+    /// `limit`, for the total energy `e` that left the band.
+    pub fn energy_quantity(&self, limit: f64, e: f64) -> String {
+        let e0 = (limit - self.energy_floor) / ENERGY_GROWTH;
+        if e < self.energy_lower(limit) {
+            let low = 2.0 - ENERGY_GROWTH;
+            format!("total energy (below {low} times the initial {e0:.4e})")
+        } else {
+            format!("total energy (over {ENERGY_GROWTH} times the initial {e0:.4e})")
+        }
+    }
+
+    /// The particle an energy-guard message names for the total `e` under
+    /// `limit`: the deformable one with the most specific energy `½ v² +
+    /// e` (where a growth shows first), or the least where energy was lost.
+    pub fn guarded_particle(&self, state: &State, limit: f64, e: f64) -> usize {
+        let sign = if e < self.energy_lower(limit) {
+            -1.0
+        } else {
+            1.0
+        };
         (0..self.len())
             .filter(|&i| !self.rigid(i))
-            .map(|i| (i, 0.5 * state.v[i].length_squared() + state.e[i]))
+            .map(|i| (i, sign * (0.5 * state.v[i].length_squared() + state.e[i])))
             .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a })
             .0
     }

@@ -229,10 +229,10 @@ fn check_prints_the_domain() {
     assert!(line.contains(&want), "{line:?} against {want:?}");
 }
 
-/// The energy guard's rule (`Model::guards_energy`): 1.5 times the total
+/// The energy guard's rule (`Model::guards_energy`): a band from 0.5 to 1.5 times the total
 /// energy of the first state, exactly ½ m v² for the paper's bars
 /// (7850 kg/m³ × 10 mm × (10 m/s)² / 2 = 3925 J/m², no penalty energy
-/// stored at the touching start), plus the floor 1e-10 Σ m c_L² (0.267 J/m²
+/// stored at the touching start), give or take the floor 1e-10 Σ m c_L² (0.267 J/m²
 /// for the bars: 78.5 kg/m² × (5835.7 m/s)²), set when that state is
 /// evaluated; not watched when a rigid body moves (it does work on what it
 /// pushes); the floor alone for bodies at rest.
@@ -252,6 +252,12 @@ fn energy_guard_is_one_and_a_half_times_the_initial_energy() {
     assert!(
         (limit / (1.5 * 3925.0 + floor) - 1.0).abs() < 1e-6,
         "{limit}"
+    );
+    // The band's lower bound: half the initial, less the floor.
+    let lower = Model::new(&scene).0.energy_lower(limit);
+    assert!(
+        (lower / (0.5 * 3925.0 - floor) - 1.0).abs() < 1e-6,
+        "{lower}"
     );
 
     scene.bodies[1].rigid = true;

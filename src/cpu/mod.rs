@@ -356,9 +356,9 @@ impl CpuSolver {
             let diag = &self.current.as_ref().expect("evaluated above").1;
             let e = crate::probe::energies(&self.model, &self.state, diag).total();
             let limit = *self.energy_limit.get_or_insert(self.model.energy_limit(e));
-            if e > limit {
-                let i = self.model.most_energetic(&self.state);
-                return Err(self.instability(i, &self.model.energy_quantity(limit), e));
+            if self.model.energy_outside(limit, e) {
+                let i = self.model.guarded_particle(&self.state, limit, e);
+                return Err(self.instability(i, &self.model.energy_quantity(limit, e), e));
             }
         }
         let (k1, _) = self.current.take().expect("evaluated above");

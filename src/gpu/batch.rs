@@ -286,10 +286,8 @@ impl GpuSolver {
         let (quantity, value) = if q == 4 {
             ("time step".to_string(), row[2] as f64)
         } else if guard {
-            (
-                self.model.energy_quantity(ctl.energy_limit as f64),
-                self.plan.guarded_energy(row),
-            )
+            let e = self.plan.guarded_energy(row);
+            (self.model.energy_quantity(ctl.energy_limit as f64, e), e)
         } else {
             let st = self.download();
             let named = |name: &str, v: f64| (name.to_string(), v);
@@ -303,7 +301,9 @@ impl GpuSolver {
         };
         let id = match q {
             4 => 0,
-            6 => self.model.most_energetic(&self.download()),
+            6 => self
+                .model
+                .guarded_particle(&self.download(), ctl.energy_limit as f64, value),
             _ => id,
         };
         let (body, particle) = self.model.locate(id.min(self.n - 1));

@@ -213,6 +213,46 @@ fn stiff_disks_stop_with_a_message_or_hold() {
     }
 }
 
+/// The rubber rings with the hourglass control at α_hg = 1 on the
+/// leapfrog, past the leapfrog's stability with the control (docs/method.md,
+/// "Hourglass control"): a local blow-up drives some forty particles to
+/// large negative internal energies while the rings' motion looks tame,
+/// and the total falls below half the start's. The energy guard's lower
+/// bound stops the run on both backends at the same step (1057, 157 µs;
+/// without it the run went on to the end with the total at −236 % of the
+/// start).
+#[test]
+fn rings_past_the_leapfrogs_hourglass_limit_stop_on_lost_energy() {
+    let mut scene = load("scenes/hard/rubber_rings.toml");
+    with_hourglass_control(&mut scene, 1.0);
+    scene.simulation.integrator = sphcontact::scene::Integrator::Leapfrog;
+    scene.simulation.end_time = 2.0e-4;
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("scene.toml");
+    std::fs::write(&path, scene.to_toml()).unwrap();
+    let mut steps = Vec::new();
+    for backend in edge_backends() {
+        let out_dir = tmp.path().join(backend);
+        let out = Command::new(BIN)
+            .args(["run", "--quiet", "--backend", backend, "--out"])
+            .arg(&out_dir)
+            .arg(&path)
+            .output()
+            .expect("the binary runs");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{backend}:\n{stderr}");
+        let (line, msg, _) = failed_run(&out_dir, &stderr);
+        println!("{backend}: {line}");
+        assert!(
+            msg.quantity
+                .starts_with("total energy (below 0.5 times the initial"),
+            "{backend}: {line}"
+        );
+        steps.push(msg.step);
+    }
+    assert!(steps.iter().all(|&s| s == steps[0]), "steps {steps:?}");
+}
+
 /// The same two scenes at the default CFL number (0.3) and viscosity, on
 /// the CPU path: the completed branch of `run_at_the_edge` holds, so its
 /// checks are live (measured: bars energy balance 1e-3, disks within the
