@@ -174,6 +174,43 @@ fn leapfrog_records_on_both_backends() {
     assert_eq!(recs[0]["work"]["walks"], 3, "{}", recs[0]);
 }
 
+/// `--hourglass` times the disks with the control on: the record and the
+/// table say so (the GPU runs it too).
+#[test]
+fn hourglass_records_say_so() {
+    let args = ["--particles", "1000", "--steps", "2", "--hourglass", "0.7"];
+    let out = bench(
+        &[&["--backend", "cpu"][..], &args, &["--json"]].concat(),
+        &[],
+    );
+    let recs = records(&out);
+    check_record(&recs[0], "cpu", 2.0);
+    assert_eq!(recs[0]["hourglass"], 0.7);
+    let (rows, _) = cpu_rows(&bench(&[&["--backend", "cpu"][..], &args].concat(), &[]));
+    assert!(rows[0].contains("midpoint, hourglass 0.7"), "{}", rows[0]);
+    let out = bench(
+        &[
+            "--backend",
+            "cpu",
+            "--particles",
+            "1000",
+            "--steps",
+            "2",
+            "--json",
+        ],
+        &[],
+    );
+    assert_eq!(records(&out)[0]["hourglass"], 0.0);
+    if common::gpu().is_none() {
+        return;
+    }
+    let out = bench(
+        &[&["--backend", "gpu"][..], &args, &["--json"]].concat(),
+        &[],
+    );
+    check_record(&records(&out)[0], "gpu", 2.0);
+}
+
 #[test]
 fn table_lists_every_size() {
     let out = bench(
@@ -200,6 +237,11 @@ fn bad_arguments_exit_2() {
         (vec!["--particles", "99"], "--particles"),
         (vec!["--particles", "1000", "--steps", "0"], "--steps"),
         (vec!["--particles", "1000", "--repeat", "0"], "--repeat"),
+        (vec!["--particles", "1000", "--hourglass=-1"], "--hourglass"),
+        (
+            vec!["--particles", "1000", "--hourglass", "NaN"],
+            "--hourglass",
+        ),
         (vec!["--particles", "many"], "--particles"),
         (vec!["--backend", "tpu"], "--backend"),
     ] {

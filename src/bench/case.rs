@@ -104,6 +104,17 @@ impl DiskCase {
         self
     }
 
+    /// The same case with the hourglass control at `alpha` (on top of the
+    /// disks' artificial stress).
+    pub fn with_hourglass(mut self, alpha: f64) -> Self {
+        self.scene
+            .artificial_viscosity
+            .get_or_insert_with(Default::default)
+            .hourglass = alpha;
+        self.model.hourglass = alpha;
+        self
+    }
+
     /// The step a timed run stops at, from the step `onset` that ended
     /// the approach and the step size `dt` there.
     pub(super) fn window_end(dt: f64, onset: u64) -> u64 {

@@ -125,12 +125,20 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             "--repeat must be at least 1 (got 0)".into(),
         ));
     }
+    if !(opts.hourglass.is_finite() && opts.hourglass >= 0.0) {
+        return Err(BenchError::Input(format!(
+            "--hourglass must be a finite number >= 0 (got {})",
+            opts.hourglass
+        )));
+    }
     let (cpu, gpu) = backends(opts.backend, opts.verbose)?;
     let threads = rayon::current_num_threads();
     let cpu_adapter = format!("cpu: {} ({threads} threads)", cpu_name());
     let mut records = Vec::new();
     for &n in &opts.particles {
-        let case = DiskCase::new(n)?.with_integrator(opts.integrator);
+        let case = DiskCase::new(n)?
+            .with_integrator(opts.integrator)
+            .with_hourglass(opts.hourglass);
         let particles = case.particles();
         let record = |backend: &str, adapter: &str, steps: u64, walls: Vec<f64>| {
             let rate = |wall: f64| (steps * particles as u64) as f64 / wall.max(1e-12);
@@ -142,6 +150,7 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
                 adapter: adapter.into(),
                 threads: None,
                 integrator: opts.integrator.to_string(),
+                hourglass: opts.hourglass,
                 requested_particles: n,
                 particles,
                 r_over_dx: case.r_over_dx,

@@ -126,6 +126,8 @@ pub struct BenchOptions {
     pub stages: bool,
     /// Time integration of the timed steps.
     pub integrator: Integrator,
+    /// The hourglass control's coefficient in the disks (0: off).
+    pub hourglass: f64,
     /// Progress lines on stderr.
     pub verbose: bool,
 }
@@ -153,6 +155,8 @@ pub struct Record {
     pub threads: Option<usize>,
     /// `midpoint` (two evaluations a step) or `leapfrog` (one).
     pub integrator: String,
+    /// The hourglass control's coefficient α_hg (0: off).
+    pub hourglass: f64,
     pub requested_particles: usize,
     pub particles: usize,
     /// Disk radius over particle spacing that gives `particles`.

@@ -74,6 +74,15 @@ fn rate_cell(r: &Record) -> String {
     }
 }
 
+/// The integrator, and the hourglass control where it is on.
+fn integrator_cell(r: &Record) -> String {
+    if r.hourglass > 0.0 {
+        format!("{}, hourglass {}", r.integrator, r.hourglass)
+    } else {
+        r.integrator.clone()
+    }
+}
+
 /// The records as a Markdown table, the GPU/CPU ratios and, where timed,
 /// the GPU stages.
 pub fn table(records: &[Record]) -> String {
@@ -97,7 +106,7 @@ pub fn table(records: &[Record]) -> String {
             "| {} | {} | {} | {} | {:.2} | {:.1} | {} | {:.3} | {} | {} | {:.0} B ({}) | {} |\n",
             r.backend,
             r.adapter,
-            r.integrator,
+            integrator_cell(r),
             r.particles,
             r.r_over_dx,
             r.mean_neighbours,

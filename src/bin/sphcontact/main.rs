@@ -223,6 +223,11 @@ struct BenchArgs {
     /// step) or leapfrog (one).
     #[arg(long, value_enum, default_value = "midpoint")]
     integrator: IntegratorArg,
+    /// The hourglass control's coefficient α_hg in the disks, on top of
+    /// their artificial stress, to time what it costs (0, the default: off;
+    /// docs/method.md, "Hourglass control").
+    #[arg(long, default_value_t = 0.0)]
+    hourglass: f64,
     /// A JSON list of the records on stdout instead of the table.
     #[arg(long)]
     json: bool,
@@ -257,6 +262,7 @@ fn bench_cmd(args: BenchArgs) -> ExitCode {
         repeat: args.repeat,
         stages: args.stages,
         integrator: integrator_of(args.integrator),
+        hourglass: args.hourglass,
         verbose: true,
     };
     match bench::bench(&opts) {
