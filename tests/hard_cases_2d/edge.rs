@@ -1,6 +1,7 @@
 //! The paper's cases at the edge of stability: a clear stop or a good answer.
 
 use super::*;
+use std::process::Output;
 
 const BIN: &str = env!("CARGO_BIN_EXE_sphcontact");
 
@@ -26,16 +27,8 @@ fn run_at_the_edge(
     answers: impl Fn(&[String], &[Vec<f64>]),
 ) -> Outcome {
     let tmp = tempfile::tempdir().unwrap();
-    let path = tmp.path().join("scene.toml");
-    std::fs::write(&path, scene.to_toml()).unwrap();
     let out_dir = tmp.path().join("out");
-    let out = Command::new(BIN)
-        .args(["run", "--quiet", "--backend", backend, "--out"])
-        .arg(&out_dir)
-        .arg(&path)
-        .output()
-        .expect("the binary runs");
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let (out, stderr) = run_cli(scene, backend, &out_dir);
     assert!(!stderr.contains("panicked"), "a panic:\n{stderr}");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
@@ -106,6 +99,22 @@ fn run_at_the_edge(
         }
         other => panic!("exit status {other:?}:\n{stderr}"),
     }
+}
+
+/// `sphcontact run --quiet` of `scene` on `backend` into `out_dir` (its
+/// scene file beside it), with its stderr.
+fn run_cli(scene: &sphcontact::Scene, backend: &str, out_dir: &Path) -> (Output, String) {
+    std::fs::create_dir_all(out_dir).unwrap();
+    let path = out_dir.with_extension("toml");
+    std::fs::write(&path, scene.to_toml()).unwrap();
+    let out = Command::new(BIN)
+        .args(["run", "--quiet", "--backend", backend, "--out"])
+        .arg(out_dir)
+        .arg(&path)
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    (out, stderr)
 }
 
 /// The bars' main answers (docs/method.md §10, case 1) if the run holds: the
@@ -228,18 +237,10 @@ fn rings_past_the_leapfrogs_hourglass_limit_stop_on_lost_energy() {
     scene.simulation.integrator = sphcontact::scene::Integrator::Leapfrog;
     scene.simulation.end_time = 2.0e-4;
     let tmp = tempfile::tempdir().unwrap();
-    let path = tmp.path().join("scene.toml");
-    std::fs::write(&path, scene.to_toml()).unwrap();
     let mut steps = Vec::new();
     for backend in edge_backends() {
         let out_dir = tmp.path().join(backend);
-        let out = Command::new(BIN)
-            .args(["run", "--quiet", "--backend", backend, "--out"])
-            .arg(&out_dir)
-            .arg(&path)
-            .output()
-            .expect("the binary runs");
-        let stderr = String::from_utf8_lossy(&out.stderr);
+        let (out, stderr) = run_cli(&scene, backend, &out_dir);
         assert_eq!(out.status.code(), Some(1), "{backend}:\n{stderr}");
         let (line, msg, _) = failed_run(&out_dir, &stderr);
         println!("{backend}: {line}");
