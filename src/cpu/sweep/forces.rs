@@ -102,9 +102,9 @@ pub(in crate::cpu) fn vectors_of(
 }
 
 /// Whether the lane code serves the scene: it does not do the rigid
-/// bodies' zero rates.
+/// bodies' zero rates (it does the hourglass control).
 pub(in crate::cpu) fn lanes_serve(model: &Model) -> bool {
-    !model.any_rigid && model.hourglass == 0.0
+    !model.any_rigid
 }
 
 /// [`momentum_energy`] by the lane code (`lanes`, [`lanes_serve`]) or by

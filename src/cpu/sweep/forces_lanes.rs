@@ -110,13 +110,14 @@ pub(super) fn sums_into<E: EnergyTerms>(
         assert!(lanes_serve(model), "the lane code serves this scene");
         let rec = partners(model, st, l, gv, surface, pts);
         let art = art_rows(model, st, pts);
+        let hg = hg_rows(model, st, kin);
         nb.sweep_chunks_store(
             model,
             st.frame(),
             &mut acc,
             slots,
             |i, c, ai, piece, base, slots| {
-                let t = lane_terms(&rec, art.as_ref(), model, i, c);
+                let t = lane_terms(&rec, art.as_ref(), hg.as_ref(), model, i, c);
                 for (k, slot) in slots.iter_mut().enumerate() {
                     if c.inside & (1 << k) == 0 {
                         *slot = E::default();
@@ -261,6 +262,32 @@ fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
     })
 }
 
+/// What the lane code reads of the hourglass control: each particle's
+/// velocity and velocity gradient as the control sees them
+/// (`forces::Side::vh`, `gh`), when it is on.
+struct HgRows {
+    v: Vec<[f64; 4]>,
+    g: Vec<[f64; 4]>,
+}
+
+/// The [`HgRows`] of one momentum pass (none with the control off).
+fn hg_rows(model: &Model, st: &State, kin: &Kinematics) -> Option<HgRows> {
+    use rayon::prelude::*;
+    if model.hourglass <= 0.0 {
+        return None;
+    }
+    let (v, g) = (0..model.len())
+        .into_par_iter()
+        .map(|i| {
+            let gv = kin.gv.get(i).copied().unwrap_or(Mat2::ZERO);
+            let vh = kin.hv.get(i).copied().unwrap_or(st.v[i]);
+            let gh = kin.hgrad.get(i).copied().unwrap_or(gv);
+            ([vh.x, vh.y, 0.0, 0.0], [gh.xx, gh.xy, gh.yx, gh.yy])
+        })
+        .unzip();
+    Some(HgRows { v, g })
+}
+
 /// [`pair_terms`] and the sums' updates for up to four pairs of row i at
 /// once, with no rigid particle; `art` holds the artificial stress's
 /// rows ([`art_rows`]) when the scene has it. Operation for
@@ -273,6 +300,7 @@ fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
 fn lane_terms(
     rec: &[Partner],
     art: Option<&ArtRows>,
+    hg: Option<&HgRows>,
     model: &Model,
     i: usize,
     c: &Chunk,
@@ -415,8 +443,42 @@ fn lane_terms(
         shared = shared - w;
     }
     // σ_i/ρ_i² G and σ_j/ρ_j² G.
-    let (sigx, sigy) = (sixx * gx + sixy * gy, sixy * gx + siyy * gy);
-    let (sjgx, sjgy) = (sjxx * gx + sjxy * gy, sjxy * gx + sjyy * gy);
+    let (mut sigx, mut sigy) = (sixx * gx + sixy * gy, sixy * gx + siyy * gy);
+    let (mut sjgx, mut sjgy) = (sjxx * gx + sjxy * gy, sjxy * gx + sjyy * gy);
+    let (mut tgx, mut tgy) = (tgx, tgy);
+    if let Some(hg) = hg {
+        // The hourglass control (forces::hourglass), its parts added where
+        // the one-pair code adds them: to t G, and to each side's σ/ρ² G
+        // in its energy term and pair vectors.
+        let [vhjx, vhjy, _, _] = columns(c.j.map(|j| &hg.v[j as usize]));
+        let [gjxx, gjxy, gjyx, gjyy] = columns(c.j.map(|j| &hg.g[j as usize]));
+        let [vhix, vhiy, _, _] = hg.v[i];
+        let [gixx, gixy, giyx, giyy] = hg.g[i];
+        // x_ji = −x_ij, exactly.
+        let (zx, zy) = (F4::splat(0.0) - xx, F4::splat(0.0) - xy);
+        let r2 = zx * zx + zy * zy;
+        let w = (gwx * zx + gwy * zy) / r2;
+        let (vjix, vjiy) = (vhjx - vhix, vhjy - vhiy);
+        let dix = vjix - (gixx * zx + gixy * zy);
+        let diy = vjiy - (giyx * zx + giyy * zy);
+        let djx = (gjxx * zx + gjxy * zy) - vjix;
+        let djy = (gjyx * zx + gjyy * zy) - vjiy;
+        let (rho_i, rho_j) = if model.axisymmetric {
+            (F4::splat(rhoi), rhoj)
+        } else {
+            (rhoj, F4::splat(rhoi))
+        };
+        let fi = model.hourglass * w * ci * hi / rho_i;
+        let fj = -model.hourglass * w * cj * hj / rho_j;
+        let on = F4::splat(0.0).lt(r2);
+        let zero = F4::splat(0.0);
+        let (h0x, h0y) = (on.select(dix * fi, zero), on.select(diy * fi, zero));
+        let (h1x, h1y) = (on.select(djx * fj, zero), on.select(djy * fj, zero));
+        tgx = tgx + h0x + h1x;
+        tgy = tgy + h0y + h1y;
+        (sigx, sigy) = (sigx + h0x, sigy + h0y);
+        (sjgx, sjgy) = (sjgx + h1x, sjgy + h1y);
+    }
     let ei = vx * sigx + vy * sigy;
     let ej = vx * sjgx + vy * sjgy;
     // pair_vectors, lane by lane.

@@ -153,16 +153,69 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
     failed.damage = (0..st.x.len())
         .map(|i| if i % 7 == 3 { 1.0 } else { 0.4 })
         .collect();
-    for (reconstruct, h_ratio, art, damaged) in [
-        (true, 1.0, None, false),
-        (false, 1.0, None, false),
-        (true, 1.15, None, false),
-        (true, 1.0, Some((0.3, 4.0, ArtPairs::All)), false),
-        (false, 1.15, Some((0.2, 3.5, ArtPairs::All)), false),
-        (true, 1.0, Some((0.3, 4.0, ArtPairs::Close)), false),
-        (false, 1.15, Some((0.2, 3.5, ArtPairs::Close)), false),
-        (true, 1.0, Some((0.3, 4.0, ArtPairs::All)), true),
-        (false, 1.0, Some((0.3, 4.0, ArtPairs::Close)), true),
+    // The leapfrog's kinematics (hourglass, "seen"): the viscosity's
+    // gradient of other velocities, the control's of the state's.
+    let seen_v: Vec<DVec2> =
+        st.v.iter()
+            .enumerate()
+            .map(|(i, v)| *v + DVec2::new(0.1, -0.2) * (i as f64 * 0.271_828).fract())
+            .collect();
+    for (reconstruct, h_ratio, art, damaged, (hourglass, seen)) in [
+        (true, 1.0, None, false, (0.0, false)),
+        (false, 1.0, None, false, (0.0, false)),
+        (true, 1.15, None, false, (0.0, false)),
+        (
+            true,
+            1.0,
+            Some((0.3, 4.0, ArtPairs::All)),
+            false,
+            (0.0, false),
+        ),
+        (
+            false,
+            1.15,
+            Some((0.2, 3.5, ArtPairs::All)),
+            false,
+            (0.0, false),
+        ),
+        (
+            true,
+            1.0,
+            Some((0.3, 4.0, ArtPairs::Close)),
+            false,
+            (0.0, false),
+        ),
+        (
+            false,
+            1.15,
+            Some((0.2, 3.5, ArtPairs::Close)),
+            false,
+            (0.0, false),
+        ),
+        (
+            true,
+            1.0,
+            Some((0.3, 4.0, ArtPairs::All)),
+            true,
+            (0.0, false),
+        ),
+        (
+            false,
+            1.0,
+            Some((0.3, 4.0, ArtPairs::Close)),
+            true,
+            (0.0, false),
+        ),
+        (true, 1.0, None, false, (0.7, false)),
+        (false, 1.15, None, false, (1.0, false)),
+        (
+            true,
+            1.0,
+            Some((0.3, 4.0, ArtPairs::Close)),
+            true,
+            (0.7, false),
+        ),
+        (true, 1.0, None, false, (0.7, true)),
     ] {
         let st = if damaged { &failed } else { &st };
         let mut model = base.clone();
@@ -178,6 +231,7 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             assert!(n > model.len() / 4 && n < model.len(), "{n} in tension");
         }
         model.av_reconstruct = reconstruct;
+        model.hourglass = hourglass;
         model.contact = h_ratio == 1.0;
         for i in 0..model.len() {
             if model.body[i] == 1 {
@@ -186,7 +240,13 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         }
         let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
         let nb = find_with_skin(&model, st.frame(), skin);
-        let k = kinematics(&model, st, &nb);
+        let k = if seen {
+            let k = kinematics_seen(&model, st, &nb, &seen_v);
+            assert!(!k.hv.is_empty() && !k.hgrad.is_empty());
+            k
+        } else {
+            kinematics(&model, st, &nb)
+        };
         let pts = eos_and_stress(&model, st);
         let args = (&model, st, &nb, &k, &pts[..]);
         let one = sums(args, false, None);
@@ -198,8 +258,20 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         }
         // The sums are not trivially equal: the pass does work.
         assert!(one.0.iter().filter(|a| a.length() > 0.0).count() > model.len() / 2);
+        if hourglass > 0.0 {
+            // ... and the control's part of it.
+            let mut off = model.clone();
+            off.hourglass = 0.0;
+            let none = sums((&off, st, &nb, &k, &pts[..]), true, None);
+            let moved = (0..model.len()).filter(|&i| none.0[i] != four.0[i]).count();
+            assert!(moved > model.len() / 2, "the control moved {moved}");
+        }
+        if seen {
+            // The gather below takes the state's own kinematics.
+            continue;
+        }
         gathers_match(&model, st, &nb, &one);
-        if art.is_none() && !damaged {
+        if art.is_none() && !damaged && hourglass == 0.0 {
             // One disk rigid: the one-pair code's zero rates against the
             // gather's.
             let mut rigid = model.clone();
