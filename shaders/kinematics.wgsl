@@ -651,7 +651,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         rdt[i].x = mu;
         stress_point(i, ks.rad, body, mu, r[i].y, si, 0.0, false);
         vstar[i] = v[i];
-        if (RECON || HG > 0.0) {
+        if (RECON) {
             gradv[i] = vec4<f32>(0.0);
         }
         if (HG > 0.0) {

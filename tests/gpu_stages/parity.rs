@@ -131,10 +131,7 @@ fn hourglass_parity(path: &str, t: f64) {
     av.hourglass = 1.0;
     let (model, mut st) = state_of(&scene, t);
     assert!(model.hourglass == 1.0 && model.av_reconstruct);
-    for (i, v) in st.v.iter_mut().enumerate() {
-        let a = (i as f64 * 0.618_033_988_7).fract() * std::f64::consts::TAU;
-        *v += DVec2::new(a.cos(), a.sin()) * 0.05 * v.length().max(1.0);
-    }
+    stir(&mut st);
     check_state(model, st, true);
 }
 

@@ -36,12 +36,7 @@ fn leapfrog_steps(path: &str, t: f64, hourglass: f64) {
     model.integrator = Integrator::Leapfrog;
     model.hourglass = hourglass;
     if hourglass > 0.0 {
-        // A stirred field, where the control's terms are a large part of
-        // the forces (as in the stage test).
-        for (i, v) in st.v.iter_mut().enumerate() {
-            let a = (i as f64 * 0.618_033_988_7).fract() * std::f64::consts::TAU;
-            *v += DVec2::new(a.cos(), a.sin()) * 0.05 * v.length().max(1.0);
-        }
+        stir(&mut st);
     }
     let mut cpu = CpuSolver::new(model.clone(), st.clone());
     let mut g = GpuSolver::new(ctx, model.clone(), &st, &[], 1.0).expect("fits the adapter");
