@@ -152,11 +152,15 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         return;
     }
     var vn = v_w[i];
+    var rn = r_w[i];
     if (any(spread != vec2<f32>(0.0))) {
+        let w0 = vn;
         vn += spread * (dt / bitcast<f32>(mi.x));
         v_w[i] = vn;
+        // The compatible energy of this last kick (common.wgsl).
+        rn.y += compatible_energy(w0, vn, vm[i]);
+        r_w[i] = rn;
     }
-    var rn = r_w[i];
     if (HISTORY) {
         let up = strength_update(mi.z, s_w[i], rate_of(i), rn.x, rn.y, hist_w[i], ctl.t_hi + ctl.t_lo + dt);
         s_w[i] = up.s;

@@ -203,6 +203,16 @@ fn area_index(i: u32, place: f32) -> u32 {
     return i;
 }
 
+// The midpoint rule's compatible energy (docs/method.md §9; CPU twin:
+// cpu::advance::compatible_energy): the specific internal energy to book
+// with a kick of the base velocity from w0 to w1 by rates evaluated at the
+// midpoint velocity vm. Booked at each of a step's kicks (the forces, the
+// contact's pass 2, the spread), whose terms sum to the twin's over the
+// whole step: -(v_{n+1} - v_n).(vbar - vm), vbar = (v_n + v_{n+1})/2.
+fn compatible_energy(w0: vec2<f32>, w1: vec2<f32>, vm: vec2<f32>) -> f32 {
+    return -dot(w1 - w0, 0.5 * (w0 + w1) - vm);
+}
+
 // Global invocation index of a 2-D dispatch of `WG`-wide workgroups
 // (dispatches past 65,535 workgroups wrap into y).
 fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {

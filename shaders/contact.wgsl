@@ -391,8 +391,10 @@ fn pass2_at(q: u32) {
             dv[q] += total / m;
             dr[q].y += booked / m;
         } else if (ctl.dt != 0.0) {
-            dv[q] += total * (ctl.dt / m);
-            dr[q].y += booked * (ctl.dt / m);
+            let w0 = dv[q];
+            let w1 = w0 + total * (ctl.dt / m);
+            dv[q] = w1;
+            dr[q].y += booked * (ctl.dt / m) + compatible_energy(w0, w1, v[q]);
         }
     }
     if (MID && ctl.dt != 0.0) {

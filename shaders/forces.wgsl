@@ -578,8 +578,10 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             }
         }
     } else if (!rigid && ctl.dt != 0.0) {
-        dv[i] = dv[i] + acc * ctl.dt;
-        dr[i].y = dr[i].y + de * ctl.dt;
+        let w0 = dv[i];
+        let w1 = w0 + acc * ctl.dt;
+        dv[i] = w1;
+        dr[i].y = dr[i].y + de * ctl.dt + compatible_energy(w0, w1, own.v);
     }
     if (CONTACT) {
         if (boundary) {

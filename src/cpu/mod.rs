@@ -377,6 +377,7 @@ impl CpuSolver {
             &self.state.v,
             &k1,
             0.5 * dt,
+            false,
             &mut half,
         );
         // The midpoint's sums take the step's supports.
@@ -386,7 +387,7 @@ impl CpuSolver {
         let (k2, _) = evaluate_at(&self.model, &half, &self.nb, Role::Mid, Some(&k1.debris));
         let mut next = std::mem::take(&mut self.spare);
         stage::enter(Stage::Advance, Role::FullStep);
-        advance(&self.model, &self.state, &half.v, &k2, dt, &mut next);
+        advance(&self.model, &self.state, &half.v, &k2, dt, true, &mut next);
         carry_supports(
             &self.model,
             &self.state.metric,
