@@ -24,7 +24,7 @@ override RECON: bool = false;
 // The hourglass control's coefficient (docs/method.md, "Hourglass
 // control"), 0 off; it also reads the stored velocity gradient.
 override HG: f32 = 0.0;
-override WG: u32 = 64u;
+override WG: u32 = 128u;
 // The energy guard (Model::guards_energy) runs in the reductions.
 override GUARD: bool = false;
 // Whether the scene has a rigid body: only then does a contact pass hand
