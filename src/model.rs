@@ -418,12 +418,17 @@ impl Model {
         ENERGY_GROWTH * e0 + self.energy_floor
     }
 
+    /// The initial total energy the upper `limit` was set from
+    /// ([`Model::energy_limit`] inverted).
+    fn energy_initial(&self, limit: f64) -> f64 {
+        (limit - self.energy_floor) / ENERGY_GROWTH
+    }
+
     /// The guard's lower bound for the upper `limit`: the initial total
     /// less as much as the upper bound allows it to grow, `(2 − G) e0 −
     /// floor` (half the initial, less the floor).
     pub fn energy_lower(&self, limit: f64) -> f64 {
-        let e0 = (limit - self.energy_floor) / ENERGY_GROWTH;
-        (2.0 - ENERGY_GROWTH) * e0 - self.energy_floor
+        (2.0 - ENERGY_GROWTH) * self.energy_initial(limit) - self.energy_floor
     }
 
     /// Whether the total energy `e` has left the guard's band under the
@@ -435,7 +440,7 @@ impl Model {
     /// The quantity of an energy-guard message (both backends) under
     /// `limit`, for the total energy `e` that left the band.
     pub fn energy_quantity(&self, limit: f64, e: f64) -> String {
-        let e0 = (limit - self.energy_floor) / ENERGY_GROWTH;
+        let e0 = self.energy_initial(limit);
         if e < self.energy_lower(limit) {
             let low = 2.0 - ENERGY_GROWTH;
             format!("total energy (below {low} times the initial {e0:.4e})")

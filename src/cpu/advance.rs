@@ -74,7 +74,7 @@ pub(super) fn advance(
 /// holds over the step, and the energy a chattering particle's rates give
 /// its motion taken from its own internal energy.
 #[inline]
-pub(crate) fn compatible_energy(vn: DVec2, vm: DVec2, vn1: DVec2) -> f64 {
+fn compatible_energy(vn: DVec2, vm: DVec2, vn1: DVec2) -> f64 {
     -(vn1 - vn).dot((vn + vn1) * 0.5 - vm)
 }
 
