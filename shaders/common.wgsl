@@ -148,7 +148,9 @@ struct Body {
     rigid: u32,
     linear: u32,
     elastic: u32,
-    pad0: u32,
+    // The fewest same-body neighbours a particle keeps its correction
+    // with (model::BodyInfo::debris_neighbours).
+    debris_n: u32,
     pad1: u32,
     pad2: u32,
 }

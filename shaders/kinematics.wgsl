@@ -129,6 +129,9 @@ struct KinSums {
     mask: vec2<u32>,
     gseen: vec4<f32>,
     rad: f32,
+    // Same-body partners in the gradient sums, images included (the debris
+    // floor, Body::debris_n).
+    n: u32,
 }
 
 // The predicted velocity of particle j (a rigid one's a_n is zero).
@@ -158,6 +161,7 @@ fn add_kin(o: KinOwn, gw: vec2<f32>, d: vec2<f32>, mass: f32, vol: f32, vj: vec2
         gm = gw * (mass * o.inv_eta);
     }
     (*ks).m += outer(gm, -d);
+    (*ks).n += select(0u, 1u, dot(d, d) > 0.0);
     (*ks).gpsi -= gj;
     // Rigid particles have no velocity gradient: their loop skips
     // the velocity reads (a branch uniform over the whole loop).
@@ -197,7 +201,7 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     if (AXI) {
         o.inv_eta = 1.0 / (circumference(wk.rad) * rho0 * (1.0 + r[i].x));
     }
-    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0), wk.rad);
+    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0), wk.rad, 0u);
     var mask = vec2<u32>(0u);
     // The ordinal of the row's first candidate.
     var first = 0u;
@@ -266,7 +270,7 @@ fn adaptive_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     if (AXI) {
         o.inv_eta = 1.0 / (circumference(wk.rad) * rho0 * (1.0 + r[i].x));
     }
-    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0), wk.rad);
+    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0), wk.rad, 0u);
     var mask = vec2<u32>(0u);
     var first = 0u;
     for (var row = 0u; row < scan_rows(); row++) {
@@ -353,6 +357,7 @@ fn add_grad(o: KinOwn, gw: vec2<f32>, d: vec2<f32>, mass: f32, vol: f32, vj: vec
         gm = gw * (mass * o.inv_eta);
     }
     (*ks).m += outer(gm, -d);
+    (*ks).n += select(0u, 1u, dot(d, d) > 0.0);
     if (!o.rigid) {
         (*ks).gsum += outer(vj - o.vi, gm);
         if (o.seen) {
@@ -541,7 +546,9 @@ fn walk_and_correct(i: u32) -> Walked {
     let body = bodies[bi];
     let rigid = body.rigid != 0u;
     let ks = kinematic_walk(i, body.h, bi, rigid, body.rho0);
-    let ok = !CORRECTED || conditioned(dim_fixed(ks.m), params.min_sv2);
+    // Too few neighbours is debris however well M looks (CPU twin:
+    // cpu::kinematics::finish).
+    let ok = !CORRECTED || (conditioned(dim_fixed(ks.m), params.min_sv2) && ks.n >= body.debris_n);
     let l = correction(ks.m, ok);
     lmat[i] = l;
     if (LEAP != 0u) {

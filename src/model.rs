@@ -21,6 +21,12 @@ pub struct BodyInfo {
     pub spacing: f64,
     pub range: Range<usize>,
     pub velocity0: DVec2,
+    /// Fewest same-body neighbours a particle of the body keeps its
+    /// corrected gradient with (docs/method.md, "Debris"): the floor of
+    /// [`crate::physics::kernel::debris_neighbours`], lowered to the fewest
+    /// any of its particles has as placed (a polygon's acute tip); 0
+    /// where the gradient is not corrected, in 1-D and for a rigid body.
+    pub debris_neighbours: u32,
 }
 
 /// Everything constant during a run.
@@ -280,10 +286,23 @@ impl Model {
                 spacing: p.spacing,
                 range: start..model.mass.len(),
                 velocity0: v0,
+                debris_neighbours: 0,
             });
         }
         if model.adaptive {
             state.metric = model.h.iter().map(|&h| Metric::round(h)).collect();
+        }
+        let floor = match sim.correction {
+            Correction::Gradient => {
+                crate::physics::kernel::debris_neighbours(model.dim, sim.smoothing_ratio)
+            }
+            _ => 0,
+        };
+        if floor > 0 {
+            let fewest = model.fewest_neighbours(&state.x);
+            for (b, n) in model.bodies.iter_mut().zip(fewest) {
+                b.debris_neighbours = if b.rigid { 0 } else { floor.min(n) };
+            }
         }
         model.domain = Model::domain_of(&model, &state, sim.end_time);
         model.energy_guard = Model::guards_energy(&model);
@@ -351,6 +370,30 @@ impl Model {
         } else {
             self.mass[j] / self.material(j).rho0
         }
+    }
+
+    /// The fewest same-body neighbours (within `2h`, no mirror images) any
+    /// particle of each body has at positions `x` (0 for an empty body).
+    pub fn fewest_neighbours(&self, x: &[DVec2]) -> Vec<u32> {
+        use rayon::prelude::*;
+        let reach = 2.0 * self.h.iter().cloned().fold(0.0, f64::max);
+        let cells = crate::math::cells::CellList::build(x, reach);
+        let counts: Vec<u32> = (0..self.len())
+            .into_par_iter()
+            .map(|i| {
+                let mut n = 0;
+                let r2 = 4.0 * self.h[i] * self.h[i];
+                cells.for_each_near(x[i], self.dim, |j| {
+                    let d2 = (x[j] - x[i]).length_squared();
+                    n += u32::from(j != i && self.body[j] == self.body[i] && d2 > 0.0 && d2 < r2);
+                });
+                n
+            })
+            .collect();
+        self.bodies
+            .iter()
+            .map(|b| counts[b.range.clone()].iter().copied().min().unwrap_or(0))
+            .collect()
     }
 
     /// The close-pair gate's spacing scale of each particle, squared:

@@ -201,6 +201,7 @@ pub(super) fn add_kinematics<S: Seen>(
             let gi = b.gw * gradient_weight(model, st, vol, i, j);
             sum.m += Mat2::outer(gi, mirror(st.x[j]) - st.x[i]);
             sum.gsum += Mat2::outer(S::v(vj) - S::v(vel[i]), gi);
+            sum.n += u32::from(b.q2 > 0.0);
             if !model.adaptive {
                 sum.gpsi -= b.gw * vol[j];
             }

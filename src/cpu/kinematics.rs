@@ -71,6 +71,9 @@ pub(in crate::cpu) struct Sums<S> {
     /// `(∇ψ)_i`.
     pub(in crate::cpu) gpsi: DVec2,
     pub(in crate::cpu) seen: S,
+    /// Same-body partners in the gradient sums, images included (the
+    /// debris floor, [`Model::debris_neighbours`]).
+    pub(in crate::cpu) n: u32,
 }
 
 /// The kinematic walk's velocities and sum for the velocity gradient of the
@@ -282,6 +285,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
                 sum.m += Mat2::outer(gm, st.x[j] - st.x[i]);
                 sum.gsum += Mat2::outer(st.v[j] - st.v[i], gm);
                 sum.gpsi -= gi;
+                sum.n += u32::from(b.q2 > 0.0);
             }
             sum
         })
@@ -359,6 +363,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
                     gsum,
                     gpsi,
                     seen,
+                    n,
                 },
             )| {
                 let (l, ok) = if !corrected {
@@ -368,9 +373,14 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
                         // 1-D: L is the scalar 1/M_xx; keep the unused yy entry neutral.
                         m.yy = 1.0;
                     }
+                    // Too few neighbours is debris however well M looks: a
+                    // compact cluster of a few particles passes the
+                    // conditioning test (docs/method.md, "Debris").
                     match kernel::correction_inverse(&m) {
-                        Some(l) => (l, true),
-                        None => (Mat2::IDENTITY, false),
+                        Some(l) if n >= model.bodies[model.body[i] as usize].debris_neighbours => {
+                            (l, true)
+                        }
+                        _ => (Mat2::IDENTITY, false),
                     }
                 };
                 let (gv, gv_seen) = if model.rigid(i) {

@@ -295,6 +295,7 @@ impl GpuSolver {
                     rigid: b.rigid as u32,
                     linear: m.linear as u32,
                     elastic: (!m.y0.is_finite()) as u32,
+                    debris_n: b.debris_neighbours,
                     ..Default::default()
                 }
             })

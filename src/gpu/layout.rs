@@ -77,7 +77,9 @@ pub struct BodyGpu {
     pub rigid: u32,
     pub linear: u32,
     pub elastic: u32,
-    pub pad0: u32,
+    /// The fewest same-body neighbours a particle keeps its correction
+    /// with ([`crate::model::BodyInfo::debris_neighbours`]).
+    pub debris_n: u32,
     pub pad1: u32,
     pub pad2: u32,
 }
@@ -199,7 +201,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
             size_of::<BodyGpu>(),
             offsets!(
                 BodyGpu, rho0, k, s, gamma0, g, y0, z, modulus, spacing, h, rigid, linear, elastic,
-                pad0, pad1, pad2
+                debris_n, pad1, pad2
             ),
         ),
         (

@@ -13,6 +13,29 @@ use crate::math::lanes::F4;
 /// beyond what the step resolves (docs/method.md §5).
 pub const CORRECTION_MIN_SINGULAR: f64 = 0.1;
 
+/// Fewest same-body neighbours (partners within `2 h`, mirror images
+/// across the axis included) a particle of a 2-D body keeps its corrected
+/// gradient with, for the smoothing ratio `ratio = h/Δx`: two fewer than a
+/// square lattice's corner has (7 at the default 1.2, so 5). No face,
+/// corner or strip two particles thick of a lattice falls below it, while
+/// a cluster of up to five particles torn off a body does, however
+/// compact (docs/method.md, "Debris"). 0 (no floor) in 1-D.
+pub fn debris_neighbours(dim: usize, ratio: f64) -> u32 {
+    if dim != 2 || !(ratio.is_finite() && ratio > 0.0) {
+        return 0;
+    }
+    // Beyond 64 the floor (thousands) means no correction anywhere; the
+    // bound keeps the count's loop short for any input.
+    let ratio = ratio.min(64.0);
+    let r2 = 4.0 * ratio * ratio;
+    let reach = (2.0 * ratio).ceil() as i64;
+    let corner = (0..=reach)
+        .flat_map(|i| (0..=reach).map(move |j| (i, j)))
+        .filter(|&(i, j)| (i, j) != (0, 0) && ((i * i + j * j) as f64) < r2)
+        .count() as u32;
+    corner.saturating_sub(2)
+}
+
 /// `M⁻¹`, or `None` where `M`'s smallest singular value is below
 /// [`CORRECTION_MIN_SINGULAR`] (or `M` is not finite).
 #[inline]
@@ -317,6 +340,19 @@ mod tests {
     use super::*;
     use crate::math::Mat2;
     use crate::physics::support::Metric;
+
+    /// The floor is a square lattice's corner count less two: 3, 7, 8 and
+    /// 14 corner neighbours at h/Δx = 1, 1.2, 1.5 and 2.
+    #[test]
+    fn debris_floor_follows_the_corner() {
+        let floors: Vec<u32> = [1.0, 1.2, 1.5, 2.0]
+            .iter()
+            .map(|&r| debris_neighbours(2, r))
+            .collect();
+        assert_eq!(floors, [1, 5, 6, 12]);
+        assert_eq!(debris_neighbours(1, 1.2), 0);
+        assert!(debris_neighbours(2, 1e30) > 10_000);
+    }
 
     /// `M_i` of particle `i` among `pts` (unit spacing and volume).
     fn m_of(pts: &[glam::DVec2], i: usize, h: f64) -> Mat2 {

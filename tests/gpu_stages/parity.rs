@@ -146,10 +146,12 @@ fn stages_match_cpu_with_hourglass_control_axisymmetric() {
 }
 
 /// Three particles of the right disk torn off into a straight chain in
-/// the empty corner above the contact, in tension (1 % below their
-/// reference density) and with a deviatoric stress: their correction
-/// falls back, so on both backends they are debris (docs/method.md,
-/// "Debris") and carry neither.
+/// the empty corner above the contact, and five into a compact cross
+/// below it (arms 0.8 Δx: an `M` the conditioning test accepts, four
+/// neighbours each), in tension (1 % below their reference density) and
+/// with a deviatoric stress: the chain's correction falls back and the
+/// cross has too few neighbours, so on both backends they are debris
+/// (docs/method.md, "Debris") and carry neither.
 #[test]
 fn stages_match_cpu_with_debris() {
     if gpu().is_none() {
@@ -159,12 +161,16 @@ fn stages_match_cpu_with_debris() {
     let dx = model.bodies[1].spacing;
     let top = st.x.iter().map(|x| x.y).fold(f64::MIN, f64::max);
     let right = st.x.iter().map(|x| x.x).fold(f64::MIN, f64::max);
-    let chain: Vec<usize> = (0..model.len())
+    let torn: Vec<usize> = (0..model.len())
         .filter(|&i| model.body[i] == 1)
-        .take(3)
+        .take(8)
         .collect();
-    for (k, &i) in chain.iter().enumerate() {
-        st.x[i] = DVec2::new(right - (3.0 + k as f64) * dx, top - 2.0 * dx);
+    let cross = [(0.0, 0.0), (0.8, 0.0), (-0.8, 0.0), (0.0, 0.8), (0.0, -0.8)];
+    for (k, &i) in torn.iter().enumerate() {
+        st.x[i] = match cross.get(k.wrapping_sub(3)) {
+            Some(&(a, b)) => DVec2::new(right + (a - 3.0) * dx, top + (b - 6.0) * dx),
+            None => DVec2::new(right - (3.0 + k as f64) * dx, top - 2.0 * dx),
+        };
         st.rho[i] *= 0.99;
         st.s[i] = Sym {
             xx: 1e8,
@@ -176,7 +182,7 @@ fn stages_match_cpu_with_debris() {
     let nb = neighbours::find(&model, st.frame());
     let k = kinematics::kinematics(&model, &st, &nb);
     let pts = cpu::eos_and_stress_with(&model, &st, &k.fallback);
-    for &i in &chain {
+    for &i in &torn {
         assert!(k.fallback.contains(&(i as u32)), "{i} is debris");
         assert_eq!(pts[i].sr2, Sym::default(), "debris {i} carries no stress");
     }

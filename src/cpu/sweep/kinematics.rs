@@ -60,14 +60,17 @@ fn kinematics_in<S: Seen>(
             let (vi, vj) = (vel[i], vel[j]);
             let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
             let gi = b.gw * gradient_weight(model, st, &vol, i, j);
+            let near = u32::from(b.q2 > 0.0);
             si.m += Mat2::outer(gi, dx);
             si.gsum += Mat2::outer(dv, gi);
             si.seen.add(vj, vi, gi);
+            si.n += near;
             if let Some(sj) = sj {
                 let gj = b.gw * gradient_weight(model, st, &vol, j, i);
                 sj.m += Mat2::outer(gj, dx);
                 sj.gsum += Mat2::outer(dv, gj);
                 sj.seen.add(vj, vi, gj);
+                sj.n += near;
             }
         });
         if model.axisymmetric {
@@ -81,10 +84,12 @@ fn kinematics_in<S: Seen>(
         let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
         let ci = b.gw * vol[j];
         let gi = b.gw * gradient_weight(model, st, &vol, i, j);
+        let near = u32::from(b.q2 > 0.0);
         si.m += Mat2::outer(gi, dx);
         si.gsum += Mat2::outer(dv, gi);
         si.gpsi -= ci;
         si.seen.add(vj, vi, gi);
+        si.n += near;
         if let Some(sj) = sj {
             let cj = b.gw * vol[i];
             let gj = b.gw * gradient_weight(model, st, &vol, j, i);
@@ -92,6 +97,7 @@ fn kinematics_in<S: Seen>(
             sj.gsum += Mat2::outer(dv, gj);
             sj.gpsi += cj;
             sj.seen.add(vj, vi, gj);
+            sj.n += near;
         }
     });
     if model.axisymmetric {
