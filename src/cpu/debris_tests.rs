@@ -8,6 +8,32 @@ use super::{eos_and_stress, eos_and_stress_with, evaluate, neighbours};
 use crate::bench::{CpuBench, DiskCase};
 use crate::math::Sym;
 
+/// The first particles of the first disk moved to `at` (offsets in Δx
+/// from a point ten spacings above the bodies' top), moving together at
+/// (3, −2) m/s, 1 % below their density and with a deviatoric stress:
+/// torn off, in tension. Their indices.
+fn tear_off(
+    model: &crate::model::Model,
+    st: &mut crate::model::State,
+    at: &[(f64, f64)],
+) -> Vec<usize> {
+    let dx = model.bodies[0].spacing;
+    let top = st.x.iter().map(|x| x.y).fold(f64::MIN, f64::max);
+    let torn: Vec<usize> = model.bodies[0].range.clone().take(at.len()).collect();
+    for (&i, &(a, b)) in torn.iter().zip(at) {
+        st.x[i] = DVec2::new(a * dx, top + (10.0 + b) * dx);
+        st.v[i] = DVec2::new(3.0, -2.0);
+        st.rho[i] *= 0.99;
+        st.s[i] = Sym {
+            xx: 1e8,
+            yy: -1e8,
+            xy: 5e7,
+            zz: 0.0,
+        };
+    }
+    torn
+}
+
 /// Three particles of a disk torn off into a straight chain, in tension
 /// and with a deviatoric stress, moving together: they are debris, have
 /// no stress, and fly on ballistically (no acceleration, no heating),
@@ -17,24 +43,7 @@ use crate::math::Sym;
 fn a_torn_off_chain_flies_ballistically() {
     let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
     let (model, mut st) = (bench.model().clone(), bench.state().clone());
-    let dx = model.bodies[0].spacing;
-    let top = st.x.iter().map(|x| x.y).fold(f64::MIN, f64::max);
-    let chain: Vec<usize> = (0..model.len())
-        .filter(|&i| model.body[i] == 0)
-        .take(3)
-        .collect();
-    let s = Sym {
-        xx: 1e8,
-        yy: -1e8,
-        xy: 5e7,
-        zz: 0.0,
-    };
-    for (k, &i) in chain.iter().enumerate() {
-        st.x[i] = DVec2::new((k as f64 - 1.0) * dx, top + 10.0 * dx);
-        st.v[i] = DVec2::new(3.0, -2.0);
-        st.rho[i] *= 0.99;
-        st.s[i] = s;
-    }
+    let chain = tear_off(&model, &mut st, &[(-1.0, 0.0), (0.0, 0.0), (1.0, 0.0)]);
     let nb = neighbours::find(&model, st.frame());
     let k = kinematics(&model, &st, &nb);
     let plain = eos_and_stress(&model, &st);
@@ -62,24 +71,8 @@ fn a_compact_cluster_is_debris() {
     let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
     let (mut model, mut st) = (bench.model().clone(), bench.state().clone());
     assert_eq!(model.bodies[0].debris_neighbours, 5);
-    let dx = model.bodies[0].spacing;
-    let top = st.x.iter().map(|x| x.y).fold(f64::MIN, f64::max);
-    let cluster: Vec<usize> = (0..model.len())
-        .filter(|&i| model.body[i] == 0)
-        .take(5)
-        .collect();
     let at = [(0.0, 0.0), (0.8, 0.0), (-0.8, 0.0), (0.0, 0.8), (0.0, -0.8)];
-    for (&i, &(a, b)) in cluster.iter().zip(&at) {
-        st.x[i] = DVec2::new(a * dx, top + 10.0 * dx + b * dx);
-        st.v[i] = DVec2::new(3.0, -2.0);
-        st.rho[i] *= 0.99;
-        st.s[i] = Sym {
-            xx: 1e8,
-            yy: -1e8,
-            xy: 5e7,
-            zz: 0.0,
-        };
-    }
+    let cluster = tear_off(&model, &mut st, &at);
     let nb = neighbours::find(&model, st.frame());
     let k = kinematics(&model, &st, &nb);
     let (rates, _) = evaluate(&model, &st);
