@@ -464,7 +464,8 @@ fn eos_pressure(b: Body, mu: f32, e: f32) -> f32 {
         let c0 = b.k * (2.0 * sm + 3.0 * sm * sm);
         ph = mu * (b.k + mu * (b0 + mu * c0));
     }
-    return (1.0 - 0.5 * b.gamma0 * mu) * ph + b.gamma0 * b.rho0 * (1.0 + mu) * e;
+    // The thermal part from e >= 0 only (MaterialModel::pressure).
+    return (1.0 - 0.5 * b.gamma0 * mu) * ph + b.gamma0 * b.rho0 * (1.0 + mu) * max(e, 0.0);
 }
 
 // A failed particle's damage (physics::strength::FAILED).
@@ -505,7 +506,7 @@ fn speed_with_shear(b: Body, mu: f32, e: f32, g: f32) -> f32 {
         let c0 = b.k * (2.0 * sm + 3.0 * sm * sm);
         let ph = mu * (b.k + mu * (b0 + mu * c0));
         let dph = b.k + mu * (2.0 * b0 + 3.0 * mu * c0);
-        let d = ((1.0 - 0.5 * b.gamma0 * mu) * dph - 0.5 * b.gamma0 * ph) / b.rho0 + b.gamma0 * e;
+        let d = ((1.0 - 0.5 * b.gamma0 * mu) * dph - 0.5 * b.gamma0 * ph) / b.rho0 + b.gamma0 * max(e, 0.0);
         dpdrho = max(dpdrho, d);
     }
     let rho = b.rho0 * (1.0 + mu);

@@ -113,7 +113,11 @@ impl MaterialModel {
         self.rho0 * (1.0 + mu)
     }
 
-    /// Pressure `p(ρ, e)` (docs/method.md §6), compression positive.
+    /// Pressure `p(ρ, e)` (docs/method.md §6), compression positive. The
+    /// Grüneisen term takes `e` at least 0: no adiabatic path from the
+    /// reference state lowers the internal energy below it, so a negative
+    /// `e` is a numerical deficit, and as a tension `Γρe` it would feed the
+    /// motion that drew it (a stretched lip's ringing).
     #[inline]
     pub fn pressure(&self, rho: f64, e: f64) -> f64 {
         let mu = rho / self.rho0 - 1.0;
@@ -129,7 +133,7 @@ impl MaterialModel {
         } else {
             a0 * mu
         };
-        (1.0 - 0.5 * self.gamma0 * mu) * ph + self.gamma0 * rho * e
+        (1.0 - 0.5 * self.gamma0 * mu) * ph + self.gamma0 * rho * e.max(0.0)
     }
 
     /// Longitudinal sound speed at the current state, for the time step and
@@ -153,7 +157,7 @@ impl MaterialModel {
             let ph = mu * (a0 + mu * (b0 + mu * c0p));
             let dph = a0 + mu * (2.0 * b0 + 3.0 * mu * c0p);
             let d = ((1.0 - 0.5 * self.gamma0 * mu) * dph - 0.5 * self.gamma0 * ph) / self.rho0
-                + self.gamma0 * e;
+                + self.gamma0 * e.max(0.0);
             dpdrho = dpdrho.max(d);
         }
         ((rho * dpdrho + 4.0 * g / 3.0) / rho).sqrt()
@@ -292,5 +296,35 @@ mod tests {
             s.pressure(1.1 * s.rho0, 0.0) > s.k * 0.1,
             "Hugoniot stiffens"
         );
+    }
+
+    /// On the shock Hugoniot of `U_s = c0 + s u_p` the pressure is
+    /// `ρ0 c0² μ(1 + μ)/(1 − (s − 1)μ)²` at the Rankine–Hugoniot energy
+    /// `e_H = p_H μ / (2ρ0(1 + μ))`; the SPH form's cubic is that
+    /// expansion to third order in μ, so the two differ by `O(μ⁴)`.
+    #[test]
+    fn eos_lies_on_the_hugoniot() {
+        let s = MaterialModel::new(&steel());
+        for mu in [0.005, 0.02, 0.05, 0.1] {
+            let exact = s.rho0 * s.c0 * s.c0 * mu * (1.0 + mu) / (1.0 - (s.s - 1.0) * mu).powi(2);
+            let e_h = exact * mu / (2.0 * s.rho0 * (1.0 + mu));
+            let p = s.pressure(s.rho0 * (1.0 + mu), e_h);
+            // The remainder starts at a0 (4(s−1)³ + 3(s−1)²) μ⁴: under
+            // 2 a0 μ⁴ for s − 1 < 0.5 and μ ≤ 0.1.
+            let bound = 2.0 * s.k * mu.powi(4) + 1e-12 * exact;
+            assert!((p - exact).abs() < bound, "mu {mu}: {p} against {exact}");
+        }
+    }
+
+    /// A negative internal energy (a numerical deficit: no adiabatic path
+    /// from the reference lowers it) adds no tension and no softening.
+    #[test]
+    fn negative_energy_adds_no_thermal_tension() {
+        let s = MaterialModel::new(&steel());
+        for rho in [0.8 * s.rho0, s.rho0, 1.3 * s.rho0] {
+            assert_eq!(s.pressure(rho, -4e8), s.pressure(rho, 0.0));
+            assert_eq!(s.sound_speed(rho, -4e8), s.sound_speed(rho, 0.0));
+            assert!(s.pressure(rho, 1e5) > s.pressure(rho, 0.0));
+        }
     }
 }
