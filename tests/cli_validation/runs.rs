@@ -119,6 +119,24 @@ fn adaptive_supports_run_on_both_paths() {
     assert!(stdout.contains("support     adaptive"), "{stdout}");
 }
 
+/// `check` says whether the hourglass control runs and at what coefficient.
+#[test]
+fn check_names_the_hourglass_control() {
+    let tmp = tempfile::tempdir().unwrap();
+    let off = write_scene(tmp.path(), "off", BASE_1D);
+    let text = format!("{BASE_1D}\n[artificial_viscosity]\nhourglass = 0.5\n");
+    let on = write_scene(tmp.path(), "on", &text);
+    for (scene, line) in [
+        (off, "hourglass control off"),
+        (on, "hourglass control 0.5"),
+    ] {
+        let out = sphcontact(tmp.path(), &["check", scene.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(0));
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(stdout.contains(line), "{stdout}");
+    }
+}
+
 /// The leapfrog (scene key or `--integrator`) runs on both paths, and the
 /// summary names it.
 #[test]

@@ -32,13 +32,18 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
     );
     let av = scene.viscosity();
     println!(
-        "viscosity   alpha {}, beta {}, {}",
+        "viscosity   alpha {}, beta {}, {}; hourglass control {}",
         av.alpha,
         av.beta,
         if av.reconstruct {
             "on the reconstructed velocity jump (plain at surfaces)"
         } else {
             "plain Monaghan"
+        },
+        if av.hourglass > 0.0 {
+            av.hourglass.to_string()
+        } else {
+            "off".to_string()
         }
     );
     println!("particles   {}", model.len());
