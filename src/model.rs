@@ -298,8 +298,18 @@ impl Model {
             }
             _ => 0,
         };
+        let close = model
+            .artificial_stress
+            .is_some_and(|a| a.pairs == ArtPairs::Close);
+        // One walk of the placed particles serves both the debris floor and
+        // the close-pair gate's scales.
+        let placed = if floor > 0 || close {
+            model.placed_neighbourhoods(&state.x)
+        } else {
+            Vec::new()
+        };
         if floor > 0 {
-            let fewest = model.fewest_neighbours(&state.x);
+            let fewest = model.fewest_neighbours(&placed);
             for (b, n) in model.bodies.iter_mut().zip(fewest) {
                 b.debris_neighbours = if b.rigid { 0 } else { floor.min(n) };
             }
@@ -311,11 +321,8 @@ impl Model {
                 .filter(|&i| !model.rigid(i))
                 .map(|i| model.mass[i] * model.material(i).c_l.powi(2))
                 .sum::<f64>();
-        if model
-            .artificial_stress
-            .is_some_and(|a| a.pairs == ArtPairs::Close)
-        {
-            let k2 = model.close_scales(&state.x);
+        if close {
+            let k2 = model.close_scales_of(&placed);
             // All 1 (a square lattice): the gate needs none of them.
             if k2.iter().any(|&k| k < 1.0) {
                 model.close_scale = k2;
@@ -372,27 +379,43 @@ impl Model {
         }
     }
 
-    /// The fewest same-body neighbours (within `2h`, no mirror images) any
-    /// particle of each body has at positions `x` (0 for an empty body).
-    pub fn fewest_neighbours(&self, x: &[DVec2]) -> Vec<u32> {
+    /// For each particle at positions `x`, from one walk of its own body's
+    /// neighbours (no mirror images): the squared distance to the nearest
+    /// one and how many lie within `2h` (coincident ones excluded).
+    fn placed_neighbourhoods(&self, x: &[DVec2]) -> Vec<(f64, u32)> {
         use rayon::prelude::*;
         let reach = 2.0 * self.h.iter().cloned().fold(0.0, f64::max);
         let cells = crate::math::cells::CellList::build(x, reach);
-        let counts: Vec<u32> = (0..self.len())
+        (0..self.len())
             .into_par_iter()
             .map(|i| {
-                let mut n = 0;
+                let (mut nearest, mut n) = (f64::INFINITY, 0);
                 let r2 = 4.0 * self.h[i] * self.h[i];
                 cells.for_each_near(x[i], self.dim, |j| {
-                    let d2 = (x[j] - x[i]).length_squared();
-                    n += u32::from(j != i && self.body[j] == self.body[i] && d2 > 0.0 && d2 < r2);
+                    if j != i && self.body[j] == self.body[i] {
+                        let d2 = (x[j] - x[i]).length_squared();
+                        nearest = nearest.min(d2);
+                        n += u32::from(d2 > 0.0 && d2 < r2);
+                    }
                 });
-                n
+                (nearest, n)
             })
-            .collect();
+            .collect()
+    }
+
+    /// The fewest same-body neighbours (within `2h`, no mirror images) any
+    /// particle of each body has in the walk's `placed` (0 for an empty
+    /// body).
+    fn fewest_neighbours(&self, placed: &[(f64, u32)]) -> Vec<u32> {
         self.bodies
             .iter()
-            .map(|b| counts[b.range.clone()].iter().copied().min().unwrap_or(0))
+            .map(|b| {
+                placed[b.range.clone()]
+                    .iter()
+                    .map(|p| p.1)
+                    .min()
+                    .unwrap_or(0)
+            })
             .collect()
     }
 
@@ -405,18 +428,15 @@ impl Model {
     /// stays shut on the lattice as placed. Within 1e-9 of 1 or above it
     /// (and alone in its body) is 1.
     pub fn close_scales(&self, x: &[DVec2]) -> Vec<f64> {
-        use rayon::prelude::*;
-        let reach = 2.0 * self.h.iter().cloned().fold(0.0, f64::max);
-        let cells = crate::math::cells::CellList::build(x, reach);
-        (0..self.len())
-            .into_par_iter()
-            .map(|i| {
-                let mut d2 = f64::INFINITY;
-                cells.for_each_near(x[i], self.dim, |j| {
-                    if j != i && self.body[j] == self.body[i] {
-                        d2 = d2.min((x[j] - x[i]).length_squared());
-                    }
-                });
+        self.close_scales_of(&self.placed_neighbourhoods(x))
+    }
+
+    /// [`Model::close_scales`] from the walk's `placed`.
+    fn close_scales_of(&self, placed: &[(f64, u32)]) -> Vec<f64> {
+        placed
+            .iter()
+            .enumerate()
+            .map(|(i, &(d2, _))| {
                 let v0 = self.reference_volume(i);
                 let s2 = if self.dim == 1 { v0 * v0 } else { v0 };
                 // Within round-off of the volume's side is the lattice

@@ -56,8 +56,9 @@ pub fn acoustic_hel(mat: &MaterialModel) -> f64 {
 /// (stress `sigma_a`, engineering strain `eps_a`, energy `e_a`) through a
 /// single jump, with deviatoric stress `s_xx`: the Rankine–Hugoniot energy
 /// jump `e − e_a = (σ + σ_a)(ε − ε_a)/(2ρ0)` together with
-/// `σ = −p(ρ, e) + s_xx`. The EOS is linear in `e`
-/// (`p = p(ρ, 0) + Γ0 ρ e`, docs/method.md §6), so the pair solves in closed form.
+/// `σ = −p(ρ, e) + s_xx`. The EOS is linear in `e` where `e ≥ 0`
+/// (`p = p(ρ, 0) + Γ0 ρ e`, docs/method.md §6), which a compressive jump
+/// from rest keeps, so the pair solves in closed form.
 fn jump_state(
     mat: &MaterialModel,
     rho: f64,
