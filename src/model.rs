@@ -58,7 +58,10 @@ pub struct Model {
     pub mass: Vec<f64>,
     pub h: Vec<f64>,
     pub body: Vec<u32>,
-    /// Surface offset `o` of each particle (docs/method.md §8.3).
+    /// Surface offset `o` of each particle (docs/method.md §8.3): as
+    /// placed, half a spacing where that is deeper than
+    /// [`FRESH_DEPTH`](crate::physics::penalty::FRESH_DEPTH) spacings
+    /// ([`surface_offset`](crate::physics::penalty::surface_offset)).
     pub offset: Vec<f64>,
     /// `true` when the penalty contact runs: penalty mode and two or more bodies.
     pub contact: bool,
@@ -262,7 +265,10 @@ impl Model {
                 model.mass.push(p.masses[k]);
                 model.h.push(h);
                 model.body.push(bi as u32);
-                model.offset.push(p.offsets[k]);
+                model.offset.push(crate::physics::penalty::surface_offset(
+                    p.offsets[k],
+                    p.spacing,
+                ));
                 state.x.push(p.positions[k]);
                 state.v.push(p.velocities.get(k).copied().unwrap_or(v0));
                 state
