@@ -2,7 +2,7 @@
 
 use crate::model::{Model, State};
 use crate::probe::{self, Resolved};
-use crate::scene::{Integrator, Scene};
+use crate::scene::{Integrator, Scene, Support};
 use crate::validation::{disk_scene, DISKS_CONTACT_TIME};
 
 use super::{BenchError, CONTACT_WINDOW, END_TIME, MAX_PARTICLES, MIN_PARTICLES};
@@ -101,6 +101,16 @@ impl DiskCase {
     pub fn with_integrator(mut self, i: Integrator) -> Self {
         self.scene.simulation.integrator = i;
         self.model.integrator = i;
+        self
+    }
+
+    /// The same case with the kernel supports `support` (the disks as
+    /// placed, the model and probes made anew).
+    pub fn with_support(mut self, support: Support) -> Self {
+        self.scene.simulation.support = Some(support);
+        let (model, state) = Model::new(&self.scene);
+        self.probes = probe::resolve(&self.scene, &model, &state);
+        (self.model, self.state) = (model, state);
         self
     }
 

@@ -7,7 +7,7 @@ use std::time::Duration;
 use crate::cpu::neighbours;
 use crate::gpu::GpuContext;
 use crate::run::{choose_backend, RunOptions};
-use crate::scene::Backend;
+use crate::scene::{Backend, Support};
 use crate::validation::disk_scene;
 
 use super::case::{check_particles, DiskCase};
@@ -105,6 +105,14 @@ fn backends(
 }
 
 /// Run the benchmark: one record per backend and size.
+/// How a record names the supports.
+fn support_name(s: Support) -> &'static str {
+    match s {
+        Support::Fixed => "fixed",
+        Support::Adaptive => "adaptive",
+    }
+}
+
 pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
     if opts.particles.is_empty() {
         return Err(BenchError::Input(
@@ -137,6 +145,7 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
     let mut records = Vec::new();
     for &n in &opts.particles {
         let case = DiskCase::new(n)?
+            .with_support(opts.support)
             .with_integrator(opts.integrator)
             .with_hourglass(opts.hourglass);
         let particles = case.particles();
@@ -151,6 +160,7 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
                 threads: None,
                 integrator: opts.integrator.to_string(),
                 hourglass: opts.hourglass,
+                support: support_name(opts.support).into(),
                 requested_particles: n,
                 particles,
                 r_over_dx: case.r_over_dx,

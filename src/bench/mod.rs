@@ -44,7 +44,7 @@ use serde::Serialize;
 
 use crate::gpu::profile::StepProfile;
 use crate::gpu::work::StepWork;
-use crate::scene::Integrator;
+use crate::scene::{Integrator, Support};
 
 /// Fewer particles than this make too small a disk to say anything about
 /// throughput (R/Δx ≈ 4).
@@ -128,6 +128,9 @@ pub struct BenchOptions {
     pub integrator: Integrator,
     /// The hourglass control's coefficient in the disks (0: off).
     pub hourglass: f64,
+    /// The disks' kernel supports (docs/method.md, "Supports that follow
+    /// the deformation").
+    pub support: Support,
     /// Progress lines on stderr.
     pub verbose: bool,
 }
@@ -157,6 +160,8 @@ pub struct Record {
     pub integrator: String,
     /// The hourglass control's coefficient α_hg (0: off).
     pub hourglass: f64,
+    /// The kernel supports: `fixed` or `adaptive`.
+    pub support: String,
     pub requested_particles: usize,
     pub particles: usize,
     /// Disk radius over particle spacing that gives `particles`.

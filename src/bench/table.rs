@@ -74,13 +74,17 @@ fn rate_cell(r: &Record) -> String {
     }
 }
 
-/// The integrator, and the hourglass control where it is on.
+/// The integrator, the hourglass control where it is on and the supports
+/// where they adapt.
 fn integrator_cell(r: &Record) -> String {
+    let mut s = r.integrator.clone();
     if r.hourglass > 0.0 {
-        format!("{}, hourglass {}", r.integrator, r.hourglass)
-    } else {
-        r.integrator.clone()
+        s += &format!(", hourglass {}", r.hourglass);
     }
+    if r.support != "fixed" {
+        s += &format!(", {} supports", r.support);
+    }
+    s
 }
 
 /// The records as a Markdown table, the GPU/CPU ratios and, where timed,

@@ -37,6 +37,12 @@ enum IntegratorArg {
     Leapfrog,
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum SupportArg {
+    Fixed,
+    Adaptive,
+}
+
 fn integrator_of(i: IntegratorArg) -> Integrator {
     match i {
         IntegratorArg::Midpoint => Integrator::Midpoint,
@@ -228,6 +234,12 @@ struct BenchArgs {
     /// docs/method.md, "Hourglass control").
     #[arg(long, default_value_t = 0.0)]
     hourglass: f64,
+    /// The disks' kernel supports: fixed (round, the default) or adaptive
+    /// (carried with the deformation), to time what adapting costs where
+    /// nothing stretches (docs/method.md, "Supports that follow the
+    /// deformation").
+    #[arg(long, value_enum, default_value = "fixed")]
+    support: SupportArg,
     /// A JSON list of the records on stdout instead of the table.
     #[arg(long)]
     json: bool,
@@ -263,6 +275,10 @@ fn bench_cmd(args: BenchArgs) -> ExitCode {
         stages: args.stages,
         integrator: integrator_of(args.integrator),
         hourglass: args.hourglass,
+        support: match args.support {
+            SupportArg::Fixed => sphcontact::scene::Support::Fixed,
+            SupportArg::Adaptive => sphcontact::scene::Support::Adaptive,
+        },
         verbose: true,
     };
     match bench::bench(&opts) {
