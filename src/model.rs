@@ -59,9 +59,8 @@ pub struct Model {
     pub h: Vec<f64>,
     pub body: Vec<u32>,
     /// Surface offset `o` of each particle (docs/method.md §8.3): as
-    /// placed, half a spacing where that is deeper than
-    /// [`FRESH_DEPTH`](crate::physics::penalty::FRESH_DEPTH) spacings
-    /// ([`surface_offset`](crate::physics::penalty::surface_offset)).
+    /// placed, half a spacing where that is deeper than a body's outer
+    /// layer can be ([`surface_offset`](crate::physics::penalty::surface_offset)).
     pub offset: Vec<f64>,
     /// `true` when the penalty contact runs: penalty mode and two or more bodies.
     pub contact: bool,
@@ -265,10 +264,9 @@ impl Model {
                 model.mass.push(p.masses[k]);
                 model.h.push(h);
                 model.body.push(bi as u32);
-                model.offset.push(crate::physics::penalty::surface_offset(
-                    p.offsets[k],
-                    p.spacing,
-                ));
+                // As placed; deep particles off the boundary get a fresh
+                // surface's below, once the boundary is known.
+                model.offset.push(p.offsets[k]);
                 state.x.push(p.positions[k]);
                 state.v.push(p.velocities.get(k).copied().unwrap_or(v0));
                 state
@@ -307,13 +305,25 @@ impl Model {
         let close = model
             .artificial_stress
             .is_some_and(|a| a.pairs == ArtPairs::Close);
-        // One walk of the placed particles serves both the debris floor and
-        // the close-pair gate's scales.
-        let placed = if floor > 0 || close {
+        // One walk of the placed particles serves the debris floor, the
+        // close-pair gate's scales and the contact's surface offsets.
+        let placed = if floor > 0 || close || model.contact {
             model.placed_neighbourhoods(&state.x)
         } else {
             Vec::new()
         };
+        if model.contact {
+            for (i, p) in placed.iter().enumerate() {
+                let b = model.body[i] as usize;
+                model.offset[i] = crate::physics::penalty::surface_offset(
+                    model.offset[i],
+                    model.bodies[b].spacing,
+                    scene.bodies[b].jitter.unwrap_or(0.0),
+                    model.dim,
+                    p.2 > model.boundary_threshold,
+                );
+            }
+        }
         if floor > 0 {
             let fewest = model.fewest_neighbours(&placed);
             for (b, n) in model.bodies.iter_mut().zip(fewest) {
@@ -387,8 +397,11 @@ impl Model {
 
     /// For each particle at positions `x`, from one walk of its own body's
     /// neighbours (no mirror images): the squared distance to the nearest
-    /// one and how many lie within `2h` (coincident ones excluded).
-    fn placed_neighbourhoods(&self, x: &[DVec2]) -> Vec<(f64, u32)> {
+    /// one, how many lie within `2h` (coincident ones excluded), and
+    /// `h |∇ψ⁰|`, the colour gradient with the reference volumes that the
+    /// boundary test reads (docs/method.md §8.1; without the images of a
+    /// body of revolution, so that particles by the axis read as boundary).
+    fn placed_neighbourhoods(&self, x: &[DVec2]) -> Vec<(f64, u32, f64)> {
         use rayon::prelude::*;
         let reach = 2.0 * self.h.iter().cloned().fold(0.0, f64::max);
         let cells = crate::math::cells::CellList::build(x, reach);
@@ -396,15 +409,23 @@ impl Model {
             .into_par_iter()
             .map(|i| {
                 let (mut nearest, mut n) = (f64::INFINITY, 0);
+                let mut g = DVec2::ZERO;
                 let r2 = 4.0 * self.h[i] * self.h[i];
                 cells.for_each_near(x[i], self.dim, |j| {
                     if j != i && self.body[j] == self.body[i] {
-                        let d2 = (x[j] - x[i]).length_squared();
+                        let d = x[i] - x[j];
+                        let d2 = d.length_squared();
                         nearest = nearest.min(d2);
                         n += u32::from(d2 > 0.0 && d2 < r2);
+                        let inv_h = 2.0 / (self.h[i] + self.h[j]);
+                        if let Some((_, gw)) =
+                            crate::physics::kernel::w_grad(self.dim, d, d2, inv_h)
+                        {
+                            g -= gw * self.reference_volume(j);
+                        }
                     }
                 });
-                (nearest, n)
+                (nearest, n, self.h[i] * g.length())
             })
             .collect()
     }
@@ -412,7 +433,7 @@ impl Model {
     /// The fewest same-body neighbours (within `2h`, no mirror images) any
     /// particle of each body has in the walk's `placed` (0 for an empty
     /// body).
-    fn fewest_neighbours(&self, placed: &[(f64, u32)]) -> Vec<u32> {
+    fn fewest_neighbours(&self, placed: &[(f64, u32, f64)]) -> Vec<u32> {
         self.bodies
             .iter()
             .map(|b| {
@@ -438,11 +459,11 @@ impl Model {
     }
 
     /// [`Model::close_scales`] from the walk's `placed`.
-    fn close_scales_of(&self, placed: &[(f64, u32)]) -> Vec<f64> {
+    fn close_scales_of(&self, placed: &[(f64, u32, f64)]) -> Vec<f64> {
         placed
             .iter()
             .enumerate()
-            .map(|(i, &(d2, _))| {
+            .map(|(i, &(d2, _, _))| {
                 let v0 = self.reference_volume(i);
                 let s2 = if self.dim == 1 { v0 * v0 } else { v0 };
                 // Within round-off of the volume's side is the lattice
@@ -657,6 +678,47 @@ mod tests {
             "the test scene",
         )
         .expect("a valid scene")
+    }
+
+    /// Every particle the solver finds on the boundary as placed keeps the
+    /// surface offset its placement gave it, on the square and polar
+    /// lattices, jittered or not: the fresh surfaces' half spacing goes
+    /// only to particles deeper than any outer layer, and to some of them
+    /// in each body.
+    #[test]
+    fn boundary_particles_keep_their_placed_offsets() {
+        for (lattice, jitter) in [
+            ("square", 0.0),
+            ("polar", 0.0),
+            ("square", 0.3),
+            ("square", 0.45),
+        ] {
+            let sc = scene(lattice, jitter);
+            let placed: Vec<f64> = place_bodies(&sc)
+                .iter()
+                .flat_map(|p| p.offsets.iter().copied())
+                .collect();
+            let (m, st) = Model::new(&sc);
+            let (_, boundary) = crate::cpu::surface(&m, &st);
+            let mut fresh = vec![0; m.bodies.len()];
+            for i in 0..m.len() {
+                if boundary[i] {
+                    assert_eq!(
+                        m.offset[i],
+                        placed[i],
+                        "{lattice} {jitter}: particle {i} placed {}",
+                        placed[i] / m.spacing_of(i)
+                    );
+                } else if m.offset[i] != placed[i] {
+                    assert_eq!(m.offset[i], 0.5 * m.spacing_of(i));
+                    fresh[m.body[i] as usize] += 1;
+                }
+            }
+            assert!(
+                fresh.iter().all(|&n| n > 100),
+                "{lattice} {jitter}: {fresh:?}"
+            );
+        }
     }
 
     /// The close-pair scales: 1 on the square lattice; on a jittered one

@@ -239,29 +239,35 @@ pub fn spring_stiffness(o_a: f64, dx_a: f64, m_a: f64, o_b: f64, dx_b: f64, m_b:
 
 /// The surface offset a particle carries (`Model::offset`), from the one
 /// its placement gives (`placed`: the distance from its centre to its
-/// shape's boundary) and its body's spacing.
+/// shape's boundary), its body's spacing and its placement jitter (a
+/// fraction of the spacing, 0 without) in `dim` dimensions, and whether
+/// it is on the boundary as placed.
 ///
-/// A particle placed deeper than [`FRESH_DEPTH`] spacings is interior on
-/// every lattice (the outer layer of a square lattice around a curve lies
-/// within one spacing of it), and its distance to the shape as placed says
-/// nothing of a surface: if the flow exposes it (a crater's wall, a
-/// crack) its surface is a fresh one, half a spacing out as on a
-/// conforming face. Left at its depth, a crater wall's surface points sat
+/// A particle off the boundary and placed deeper than [`FRESH_DEPTH`]
+/// spacings, or than one spacing plus the most the jitter can move it
+/// inward (`jitter √d`), is interior on every lattice (the outer layer of a
+/// lattice lies within one spacing of the boundary: a neighbour one
+/// spacing away is outside), and its distance to the shape as placed says
+/// nothing of a surface: if the flow exposes it (a crater's wall, a crack)
+/// its surface is a fresh one, half a spacing out as on a conforming face.
+/// A particle on the boundary keeps its offset however deep (a heavily
+/// jittered body's surface has gaps that put deeper particles on it). Left at its depth, a crater wall's surface points sat
 /// up to 5.5 spacings in front of its particles (Δx = 0.2 mm, 1,200 m/s,
 /// 5 µs): the interpolated surface ran ahead of the wall, and the weights'
 /// derivatives, which carry the offsets, made the springs' forces on it
 /// many times the rest.
 #[inline]
-pub fn surface_offset(placed: f64, spacing: f64) -> f64 {
-    if placed > FRESH_DEPTH * spacing {
+pub fn surface_offset(placed: f64, spacing: f64, jitter: f64, dim: usize, boundary: bool) -> f64 {
+    let outer = FRESH_DEPTH.max(1.0 + jitter * (dim as f64).sqrt());
+    if !boundary && placed > outer * spacing {
         0.5 * spacing
     } else {
         placed
     }
 }
 
-/// The depth, in spacings, below which a particle keeps the surface offset
-/// of its placement ([`surface_offset`]).
+/// The depth, in spacings, below which a particle of an unjittered body
+/// keeps the surface offset of its placement ([`surface_offset`]).
 pub const FRESH_DEPTH: f64 = 1.25;
 
 /// The gap below which two surfaces count as touching: `1e-5 Δx`.
@@ -331,16 +337,26 @@ mod tests {
 
     /// The surface offset: as placed up to 1.25 spacings deep (a
     /// conforming face's half spacing, a square lattice's 0 to 1 around a
-    /// curve), half a spacing deeper.
+    /// curve), half a spacing deeper; a jittered body's outer layer may sit
+    /// `jitter √d` spacings further in.
     #[test]
     fn surface_offset_cases() {
         let dx = 2.0e-4;
         for o in [0.0, 0.1 * dx, 0.5 * dx, dx, 1.25 * dx] {
-            assert_eq!(surface_offset(o, dx), o);
+            assert_eq!(surface_offset(o, dx, 0.0, 2, false), o);
+            assert_eq!(surface_offset(o, dx, 0.1, 2, false), o);
         }
         for o in [1.25 * dx * (1.0 + 1e-12), 1.5 * dx, 5.5 * dx] {
-            assert_eq!(surface_offset(o, dx), 0.5 * dx);
+            assert_eq!(surface_offset(o, dx, 0.0, 2, false), 0.5 * dx);
         }
+        // Jitter 0.4 in 2-D: the outer layer reaches 1 + 0.4 √2 = 1.566.
+        assert_eq!(surface_offset(1.5 * dx, dx, 0.4, 2, false), 1.5 * dx);
+        assert_eq!(surface_offset(1.6 * dx, dx, 0.4, 2, false), 0.5 * dx);
+        // On the boundary as placed, kept however deep.
+        assert_eq!(surface_offset(5.5 * dx, dx, 0.0, 2, true), 5.5 * dx);
+        // In 1-D, 1 + 0.4.
+        assert_eq!(surface_offset(1.35 * dx, dx, 0.4, 1, false), 1.35 * dx);
+        assert_eq!(surface_offset(1.45 * dx, dx, 0.4, 1, false), 0.5 * dx);
     }
 
     /// The entry rule's cases, exactly.
