@@ -104,7 +104,6 @@ fn backends(
     }
 }
 
-/// Run the benchmark: one record per backend and size.
 /// How a record names the supports.
 fn support_name(s: Support) -> &'static str {
     match s {
@@ -113,6 +112,7 @@ fn support_name(s: Support) -> &'static str {
     }
 }
 
+/// Run the benchmark: one record per backend and size.
 pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
     if opts.particles.is_empty() {
         return Err(BenchError::Input(
