@@ -307,25 +307,25 @@ impl Model {
             .is_some_and(|a| a.pairs == ArtPairs::Close);
         // One walk of the placed particles serves the debris floor, the
         // close-pair gate's scales and the contact's surface offsets.
-        let placed = if floor > 0 || close || model.contact {
+        let hoods = if floor > 0 || close || model.contact {
             model.placed_neighbourhoods(&state.x)
         } else {
             Vec::new()
         };
         if model.contact {
-            for (i, p) in placed.iter().enumerate() {
+            for (i, n) in hoods.iter().enumerate() {
                 let b = model.body[i] as usize;
                 model.offset[i] = crate::physics::penalty::surface_offset(
                     model.offset[i],
                     model.bodies[b].spacing,
                     scene.bodies[b].jitter.unwrap_or(0.0),
                     model.dim,
-                    p.2 > model.boundary_threshold,
+                    n.hg > model.boundary_threshold,
                 );
             }
         }
         if floor > 0 {
-            let fewest = model.fewest_neighbours(&placed);
+            let fewest = model.fewest_neighbours(&hoods);
             for (b, n) in model.bodies.iter_mut().zip(fewest) {
                 b.debris_neighbours = if b.rigid { 0 } else { floor.min(n) };
             }
@@ -338,7 +338,7 @@ impl Model {
                 .map(|i| model.mass[i] * model.material(i).c_l.powi(2))
                 .sum::<f64>();
         if close {
-            let k2 = model.close_scales_of(&placed);
+            let k2 = model.close_scales_of(&hoods);
             // All 1 (a square lattice): the gate needs none of them.
             if k2.iter().any(|&k| k < 1.0) {
                 model.close_scale = k2;
@@ -401,7 +401,7 @@ impl Model {
     /// `h |∇ψ⁰|`, the colour gradient with the reference volumes that the
     /// boundary test reads (docs/method.md §8.1; without the images of a
     /// body of revolution, so that particles by the axis read as boundary).
-    fn placed_neighbourhoods(&self, x: &[DVec2]) -> Vec<(f64, u32, f64)> {
+    fn placed_neighbourhoods(&self, x: &[DVec2]) -> Vec<Neighbourhood> {
         use rayon::prelude::*;
         let reach = 2.0 * self.h.iter().cloned().fold(0.0, f64::max);
         let cells = crate::math::cells::CellList::build(x, reach);
@@ -425,21 +425,25 @@ impl Model {
                         }
                     }
                 });
-                (nearest, n, self.h[i] * g.length())
+                Neighbourhood {
+                    nearest2: nearest,
+                    count: n,
+                    hg: self.h[i] * g.length(),
+                }
             })
             .collect()
     }
 
     /// The fewest same-body neighbours (within `2h`, no mirror images) any
-    /// particle of each body has in the walk's `placed` (0 for an empty
+    /// particle of each body has in the walk's `hoods` (0 for an empty
     /// body).
-    fn fewest_neighbours(&self, placed: &[(f64, u32, f64)]) -> Vec<u32> {
+    fn fewest_neighbours(&self, hoods: &[Neighbourhood]) -> Vec<u32> {
         self.bodies
             .iter()
             .map(|b| {
-                placed[b.range.clone()]
+                hoods[b.range.clone()]
                     .iter()
-                    .map(|p| p.1)
+                    .map(|n| n.count)
                     .min()
                     .unwrap_or(0)
             })
@@ -458,12 +462,12 @@ impl Model {
         self.close_scales_of(&self.placed_neighbourhoods(x))
     }
 
-    /// [`Model::close_scales`] from the walk's `placed`.
-    fn close_scales_of(&self, placed: &[(f64, u32, f64)]) -> Vec<f64> {
-        placed
+    /// [`Model::close_scales`] from the walk's `hoods`.
+    fn close_scales_of(&self, hoods: &[Neighbourhood]) -> Vec<f64> {
+        hoods
             .iter()
             .enumerate()
-            .map(|(i, &(d2, _, _))| {
+            .map(|(i, &Neighbourhood { nearest2: d2, .. })| {
                 let v0 = self.reference_volume(i);
                 let s2 = if self.dim == 1 { v0 * v0 } else { v0 };
                 // Within round-off of the volume's side is the lattice
@@ -756,6 +760,17 @@ mod tests {
         let (m, _) = Model::new(&off);
         assert!(m.artificial_stress.is_none() && m.close_scale.is_empty());
     }
+}
+
+/// A particle's own-body neighbourhood as placed ([`Model::placed_neighbourhoods`]).
+#[derive(Debug, Clone, Copy)]
+struct Neighbourhood {
+    /// Squared distance to the nearest neighbour.
+    nearest2: f64,
+    /// Neighbours within `2h`, coincident ones excluded.
+    count: u32,
+    /// `h |∇ψ⁰|`, what the boundary test reads.
+    hg: f64,
 }
 
 /// What an evaluation tells about the state it was made at, beyond the rates.
