@@ -18,6 +18,11 @@ override ART_STRESS: bool = false;
 override ART_CLOSE: bool = false;
 // Some particle's kappa^2 is below 1 (the kappa buffer exists).
 override ART_KAPPA: bool = false;
+// A pair takes the artificial stress only while its work is heat
+// (tension::heat_share).
+override ART_HEAT: bool = false;
+// physics::tension::HEAT_RAMP.
+override HEAT_RAMP: f32 = 0.1;
 // Limited reconstruction of the velocity jump in the viscosity (the forces pass reads
 // the velocity gradient the kinematics pass stores).
 override RECON: bool = false;

@@ -217,6 +217,9 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
         }
         vis = o.vs - vsj;
     }
+    // The velocities the momentum saw (the predicted ones in a leapfrog
+    // step): the artificial stress's heat gate reads these in both passes.
+    let vm = vis;
     // The velocities the hourglass control sees: the forces' in an
     // evaluation, v_{n+1/2} in a leapfrog step (`hg_seen`).
     var vf = vis;
@@ -284,7 +287,18 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
                 } else {
                     aw = art_weight(dist, dp, hij);
                 }
-                let rf = rs * (aw * gate);
+                var rf = rs * (aw * gate);
+                // Where its work may only be heat, the share of it that is,
+                // read at the momentum's velocities (tension::heat_share).
+                if (ART_HEAT) {
+                    let rg = sym_mul(rf, g);
+                    let norm = length(vm) * length(rg);
+                    var share = 0.0;
+                    if (norm > 0.0) {
+                        share = clamp(-dot(vm, rg) / (norm * HEAT_RAMP), 0.0, 1.0);
+                    }
+                    rf *= share;
+                }
                 t += rf;
                 art_work = 0.5 * dot(vij, sym_mul(rf, g));
             }

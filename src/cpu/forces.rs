@@ -12,8 +12,9 @@ use crate::model::{Model, State};
 use crate::physics::strength;
 use crate::scene::ArtPairs;
 
-use crate::physics::tension::{art_weight, close_gate};
+use crate::physics::tension::{art_weight, close_gate, heat_share};
 use crate::physics::viscosity::{reconstructed_jump, viscosity_pi};
+use crate::scene::ArtWork;
 
 /// Per-particle inputs of the momentum pass, computed once per evaluation.
 #[derive(Debug, Clone, Copy, Default)]
@@ -193,7 +194,13 @@ pub(in crate::cpu) fn pair_terms_of(
             } else {
                 art_weight(r2, dp, hij, a.n)
             };
-            let rf = rs.scale(w * gate);
+            let mut rf = rs.scale(w * gate);
+            // Where its work may only be heat, the share of it that is
+            // (docs/method.md, "Only heat").
+            if a.work == ArtWork::Heat {
+                let rg = rf.mul_vec(g);
+                rf = rf.scale(heat_share(vij.dot(rg), vij.length() * rg.length()));
+            }
             t = t.add_scaled(&rf, 1.0);
             art_work = 0.5 * vij.dot(rf.mul_vec(g));
         }

@@ -51,6 +51,13 @@ pub(super) fn make_kernels(
                 .is_some_and(|a| a.pairs == ArtPairs::Close) as u8 as f64,
         ),
         ("ART_KAPPA", !model.close_scale.is_empty() as u8 as f64),
+        (
+            "ART_HEAT",
+            model
+                .artificial_stress
+                .is_some_and(|a| a.work == ArtWork::Heat) as u8 as f64,
+        ),
+        ("HEAT_RAMP", crate::physics::tension::HEAT_RAMP),
         ("RECON", model.av_reconstruct as u8 as f64),
         ("HG", model.hourglass),
         ("HISTORY", model.history as u8 as f64),

@@ -108,7 +108,7 @@ use crate::math::Sym;
 use crate::model::{Model, State};
 use crate::physics::kernel::CORRECTION_MIN_SINGULAR;
 use crate::probe::Resolved;
-use crate::scene::{ArtPairs, Correction, Integrator};
+use crate::scene::{ArtPairs, ArtWork, Correction, Integrator};
 use crate::stage::{self, Role, Scheduled, Stage};
 pub use context::GpuContext;
 use context::Pipeline;

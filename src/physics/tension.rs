@@ -90,6 +90,35 @@ pub fn close_gate_lanes(r2: F4, vol: F4, k2: F4, dim: usize) -> F4 {
         .max(F4::splat(0.0))
 }
 
+/// Where a pair's artificial stress may only heat (`work = "heat"`,
+/// docs/method.md, "Only heat"): the share of the term it takes, from `vr =
+/// v_ij · (R f^n γ) G_ij` (twice the term's work on the pair, heat where
+/// negative) and `norm = |v_ij| |(R f^n γ) G_ij|`. None while the work
+/// would take heat; all of it once the pair closes along the term's
+/// force at a cosine of `HEAT_RAMP`; linear between, so that a pair moving
+/// across the force does not switch it on and off from step to step.
+#[inline]
+pub fn heat_share(vr: f64, norm: f64) -> f64 {
+    if norm > 0.0 {
+        ((0.0 - vr) / (norm * HEAT_RAMP)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// The cosine between a pair's velocity and the artificial stress's force
+/// at which [`heat_share`] gives the whole term.
+pub const HEAT_RAMP: f64 = 0.1;
+
+/// [`heat_share`] for four pairs, one to a lane (bit-identical).
+#[inline(always)]
+pub fn heat_share_lanes(vr: F4, norm: F4) -> F4 {
+    let share = ((F4::splat(0.0) - vr) / (norm * HEAT_RAMP))
+        .min(F4::splat(1.0))
+        .max(F4::splat(0.0));
+    F4::splat(0.0).lt(norm).select(share, F4::splat(0.0))
+}
+
 /// [`art_weight`] for four pairs, one to a lane: the same operations in
 /// the same order (bit-identical); lanes outside the support hold values
 /// for the caller to drop.

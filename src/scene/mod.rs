@@ -180,7 +180,8 @@ impl std::fmt::Display for Backend {
 ///
 /// A scene without the section gets [`ArtificialStress::DEFAULT`], the
 /// close-pair form; a section without `pairs` is the classic form on
-/// every pair; `epsilon = 0` switches the term off.
+/// every pair; `epsilon = 0` switches the term off; `work = "heat"` lets a
+/// pair take it only while its work there is heat.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ArtificialStress {
@@ -190,6 +191,8 @@ pub struct ArtificialStress {
     pub n: f64,
     #[serde(default)]
     pub pairs: ArtPairs,
+    #[serde(default)]
+    pub work: ArtWork,
 }
 fn default_as_epsilon() -> f64 {
     0.3
@@ -205,7 +208,23 @@ impl ArtificialStress {
         epsilon: 0.3,
         n: 4.0,
         pairs: ArtPairs::Close,
+        work: ArtWork::Either,
     };
+}
+
+/// Which way the artificial stress's work on a pair may go (docs/method.md,
+/// "Only heat").
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ArtWork {
+    /// Every pair the form selects takes it; its work, of either sign, is
+    /// booked as heat.
+    #[default]
+    Either,
+    /// The pair takes the term only while its work there is heat (`≥ 0`),
+    /// fully once the pair approaches along the term's force at more than
+    /// [`crate::physics::tension::HEAT_RAMP`] of the direction's cosine.
+    Heat,
 }
 
 /// Which pairs the artificial stress acts on.

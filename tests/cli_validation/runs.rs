@@ -137,6 +137,40 @@ fn check_names_the_hourglass_control() {
     }
 }
 
+/// `check` says which artificial stress runs and where its work may only
+/// be heat; a bad `work` is a clear error.
+#[test]
+fn check_names_the_artificial_stress() {
+    let tmp = tempfile::tempdir().unwrap();
+    let default = write_scene(tmp.path(), "default", BASE_1D);
+    let heat = format!("{BASE_1D}\n[artificial_stress]\nwork = \"heat\"\n");
+    let heat = write_scene(tmp.path(), "heat", &heat);
+    let off = format!("{BASE_1D}\n[artificial_stress]\nepsilon = 0\n");
+    let off = write_scene(tmp.path(), "off", &off);
+    for (scene, line) in [
+        (
+            default,
+            "artificial stress epsilon 0.3, n 4, close pairs; its work of either sign",
+        ),
+        (
+            heat,
+            "artificial stress epsilon 0.3, n 4, every pair in tension; only heat",
+        ),
+        (off, "no artificial stress"),
+    ] {
+        let out = sphcontact(tmp.path(), &["check", scene.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(0));
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(stdout.contains(line), "{stdout}");
+    }
+    let bad = format!("{BASE_1D}\n[artificial_stress]\nwork = \"cold\"\n");
+    let bad = write_scene(tmp.path(), "bad", &bad);
+    let out = sphcontact(tmp.path(), &["check", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("work"), "{stderr}");
+}
+
 /// The leapfrog (scene key or `--integrator`) runs on both paths, and the
 /// summary names it.
 #[test]

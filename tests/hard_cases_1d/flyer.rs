@@ -104,6 +104,7 @@ fn elastic_target_holds_its_tension() {
             epsilon,
             n: 4.0,
             pairs,
+            ..ArtificialStress::DEFAULT
         });
         flyer_tension(&s)
     };

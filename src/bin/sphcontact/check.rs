@@ -5,7 +5,7 @@ use std::path::Path;
 use sphcontact::model::Model;
 use sphcontact::physics::material::series;
 use sphcontact::run::{history_times, output_dir, RunOptions};
-use sphcontact::scene::{validate::cfl_step_at_start, Integrator, Scene};
+use sphcontact::scene::{validate::cfl_step_at_start, ArtPairs, ArtWork, Integrator, Scene};
 
 pub(crate) fn check(path: &Path, scene: &Scene) {
     let (model, _) = Model::new(scene);
@@ -44,6 +44,25 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
             av.hourglass.to_string()
         } else {
             "off".to_string()
+        }
+    );
+    println!(
+        "tension     {}",
+        match model.artificial_stress {
+            None => "no artificial stress".to_string(),
+            Some(a) => format!(
+                "artificial stress epsilon {}, n {}, {}; {}",
+                a.epsilon,
+                a.n,
+                match a.pairs {
+                    ArtPairs::All => "every pair in tension",
+                    ArtPairs::Close => "close pairs",
+                },
+                match a.work {
+                    ArtWork::Heat => "only heat",
+                    ArtWork::Either => "its work of either sign",
+                }
+            ),
         }
     );
     println!("particles   {}", model.len());

@@ -15,8 +15,8 @@ use crate::math::lanes::{columns, F4, LANES};
 use crate::math::Mat2;
 use crate::model::{Model, State};
 use crate::physics::strength;
-use crate::physics::tension::{art_weight_lanes, close_gate_lanes};
-use crate::scene::ArtPairs;
+use crate::physics::tension::{art_weight_lanes, close_gate_lanes, heat_share_lanes};
+use crate::scene::{ArtPairs, ArtWork};
 
 /// Where a pass's energy terms go: into the particles' sums (`()`, no
 /// memory) or into the pair's slot ([`PairVectors`]).
@@ -426,7 +426,16 @@ fn lane_terms(
                     if let Some(gate) = gate {
                         fnn = fnn * gate;
                     }
-                    let (rfxx, rfxy, rfyy) = (sxx * fnn, sxy * fnn, syy * fnn);
+                    let (mut rfxx, mut rfxy, mut rfyy) = (sxx * fnn, sxy * fnn, syy * fnn);
+                    // Where its work may only be heat, the share of it that
+                    // is (forces::pair_terms_of).
+                    if a.work == ArtWork::Heat {
+                        let (rgx, rgy) = (rfxx * gx + rfxy * gy, rfxy * gx + rfyy * gy);
+                        let vr = vx * rgx + vy * rgy;
+                        let norm = (vx * vx + vy * vy).sqrt() * (rgx * rgx + rgy * rgy).sqrt();
+                        let share = heat_share_lanes(vr, norm);
+                        (rfxx, rfxy, rfyy) = (rfxx * share, rfxy * share, rfyy * share);
+                    }
                     txx = on.select(txx + rfxx, txx);
                     tyy = on.select(tyy + rfyy, tyy);
                     txy = on.select(txy + rfxy, txy);

@@ -457,8 +457,18 @@ fn lanes_match_one_pair_code_in_1d() {
     );
 }
 
+/// The artificial stress of a case; those with `n = 3.5` may only heat.
 fn as_of((epsilon, n, pairs): (f64, f64, ArtPairs)) -> crate::scene::ArtificialStress {
-    crate::scene::ArtificialStress { epsilon, n, pairs }
+    crate::scene::ArtificialStress {
+        epsilon,
+        n,
+        pairs,
+        work: if n == 3.5 {
+            crate::scene::ArtWork::Heat
+        } else {
+            crate::scene::ArtWork::Either
+        },
+    }
 }
 
 /// The leapfrog's momentum pass gives `momentum_energy`'s `dv/dt` bit
@@ -547,5 +557,72 @@ fn lanes_are_the_same_on_any_thread_count() {
         assert_eq!(one.0[i].x.to_bits(), three.0[i].x.to_bits(), "dv.x of {i}");
         assert_eq!(one.0[i].y.to_bits(), three.0[i].y.to_bits(), "dv.y of {i}");
         assert_eq!(one.1[i].to_bits(), three.1[i].to_bits(), "de of {i}");
+    }
+}
+
+/// With `work = "heat"` the artificial stress only heats: on the stirred
+/// disks (every sign pattern of principal stress, approaching and
+/// receding pairs) no pair's share of its work is below zero, in either
+/// form, while with `work = "either"` many are, so the gate has pairs to
+/// shut. The viscosity is off, so a pair's energy term is the artificial
+/// stress's alone.
+#[test]
+fn artificial_stress_with_heat_work_only_heats() {
+    use crate::cpu::forces::pair_terms;
+    use crate::scene::ArtWork;
+    let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
+    let (mut model, mut st) = (bench.model().clone(), bench.state().clone());
+    let rho0 = st.rho[0];
+    for i in 0..st.x.len() {
+        let a = (i as f64 * 0.618_033_988_7).fract();
+        let b = (i as f64 * 0.414_213_562_3).fract() - 0.5;
+        let turn = a * std::f64::consts::TAU;
+        st.v[i] += DVec2::new(turn.cos(), turn.sin()) * 0.3;
+        st.rho[i] *= 1.0 - 4e-3 * a;
+        st.s[i] = Sym {
+            xx: 2e-3 * rho0 * b,
+            yy: -1e-3 * rho0 * a,
+            xy: 1.5e-3 * rho0 * (a + b),
+            zz: 1e-3 * rho0 * (b - a),
+        };
+    }
+    model.alpha = 0.0;
+    model.beta = 0.0;
+    model.hourglass = 0.0;
+    let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
+    let nb = find_with_skin(&model, st.frame(), skin);
+    for pairs in [ArtPairs::All, ArtPairs::Close] {
+        let mut shares = |work| {
+            model.artificial_stress = Some(crate::scene::ArtificialStress {
+                epsilon: 0.3,
+                n: 4.0,
+                pairs,
+                work,
+            });
+            let k = kinematics(&model, &st, &nb);
+            let pts = eos_and_stress(&model, &st);
+            let (mut acted, mut least) = (0, f64::INFINITY);
+            for i in 0..model.len() {
+                for b in nb.of(&model, st.frame(), i) {
+                    let heat = pair_terms(&model, &st, &k, &pts, i, &b).shared;
+                    if heat != 0.0 {
+                        acted += 1;
+                        least = least.min(heat);
+                    }
+                }
+            }
+            (acted, least)
+        };
+        let (heat_pairs, heat_least) = shares(ArtWork::Heat);
+        let (either_pairs, either_least) = shares(ArtWork::Either);
+        assert!(heat_pairs > 100, "{pairs:?}: {heat_pairs} pairs heated");
+        assert!(
+            heat_least >= 0.0,
+            "{pairs:?}: a pair cooled by {heat_least:e}"
+        );
+        assert!(
+            either_least < 0.0 && either_pairs > heat_pairs + 100,
+            "{pairs:?}: either {either_pairs} pairs, least {either_least:e}; heat {heat_pairs}"
+        );
     }
 }
