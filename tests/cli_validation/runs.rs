@@ -119,6 +119,14 @@ fn adaptive_supports_run_on_both_paths() {
     assert!(stdout.contains("support     adaptive"), "{stdout}");
 }
 
+/// `sphcontact check` on `scene` succeeds and prints `line`.
+fn check_says(dir: &Path, scene: &Path, line: &str) {
+    let out = sphcontact(dir, &["check", scene.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains(line), "{stdout}");
+}
+
 /// `check` says whether the hourglass control runs and at what coefficient.
 #[test]
 fn check_names_the_hourglass_control() {
@@ -130,10 +138,7 @@ fn check_names_the_hourglass_control() {
         (off, "hourglass control off"),
         (on, "hourglass control 0.5"),
     ] {
-        let out = sphcontact(tmp.path(), &["check", scene.to_str().unwrap()]);
-        assert_eq!(out.status.code(), Some(0));
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        assert!(stdout.contains(line), "{stdout}");
+        check_says(tmp.path(), &scene, line);
     }
 }
 
@@ -158,10 +163,7 @@ fn check_names_the_artificial_stress() {
         ),
         (off, "no artificial stress"),
     ] {
-        let out = sphcontact(tmp.path(), &["check", scene.to_str().unwrap()]);
-        assert_eq!(out.status.code(), Some(0));
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        assert!(stdout.contains(line), "{stdout}");
+        check_says(tmp.path(), &scene, line);
     }
     let bad = format!("{BASE_1D}\n[artificial_stress]\nwork = \"cold\"\n");
     let bad = write_scene(tmp.path(), "bad", &bad);

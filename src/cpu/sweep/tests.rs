@@ -264,25 +264,9 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
 #[test]
 fn adaptive_sweeps_match_gathers_and_lanes_one_pair_code() {
     use crate::physics::support::Metric;
-    let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
-    let (mut model, mut st) = (bench.model().clone(), bench.state().clone());
-    let rho0 = st.rho[0];
+    let (mut model, mut st) = stirred_disks();
     for i in 0..st.x.len() {
-        let (a, b) = (
-            (i as f64 * 0.618_033_988_7).fract(),
-            (i as f64 * 0.414_213_562_3).fract(),
-        );
-        st.v[i] += DVec2::new(
-            (a * std::f64::consts::TAU).cos(),
-            (a * std::f64::consts::TAU).sin(),
-        ) * 0.3;
-        st.rho[i] *= 1.0 + 2e-3 * (b - 0.5);
-        st.s[i] = Sym {
-            xx: 2e-3 * rho0 * (a - 0.5),
-            yy: -1e-3 * rho0 * (b - 0.5),
-            xy: 1.5e-3 * rho0 * (a + b - 1.0),
-            zz: 1e-3 * rho0 * (b - a),
-        };
+        let (a, b) = stir(i);
         let h = model.h[i];
         let e = DVec2::new(
             (b * std::f64::consts::TAU).cos(),
@@ -570,22 +554,7 @@ fn lanes_are_the_same_on_any_thread_count() {
 fn artificial_stress_with_heat_work_only_heats() {
     use crate::cpu::forces::pair_terms;
     use crate::scene::ArtWork;
-    let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
-    let (mut model, mut st) = (bench.model().clone(), bench.state().clone());
-    let rho0 = st.rho[0];
-    for i in 0..st.x.len() {
-        let a = (i as f64 * 0.618_033_988_7).fract();
-        let b = (i as f64 * 0.414_213_562_3).fract() - 0.5;
-        let turn = a * std::f64::consts::TAU;
-        st.v[i] += DVec2::new(turn.cos(), turn.sin()) * 0.3;
-        st.rho[i] *= 1.0 - 4e-3 * a;
-        st.s[i] = Sym {
-            xx: 2e-3 * rho0 * b,
-            yy: -1e-3 * rho0 * a,
-            xy: 1.5e-3 * rho0 * (a + b),
-            zz: 1e-3 * rho0 * (b - a),
-        };
-    }
+    let (mut model, st) = stirred_disks();
     model.alpha = 0.0;
     model.beta = 0.0;
     model.hourglass = 0.0;
@@ -625,4 +594,36 @@ fn artificial_stress_with_heat_work_only_heats() {
             "{pairs:?}: either {either_pairs} pairs, least {either_least:e}; heat {heat_pairs}"
         );
     }
+}
+
+/// Particle i's two stirring fractions.
+fn stir(i: usize) -> (f64, f64) {
+    (
+        (i as f64 * 0.618_033_988_7).fract(),
+        (i as f64 * 0.414_213_562_3).fract(),
+    )
+}
+
+/// The paper's disks in contact (3,000 particles) with velocities,
+/// densities and deviators stirred so that pairs approach and recede and
+/// the principal stresses take every sign pattern.
+fn stirred_disks() -> (Model, State) {
+    let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
+    let (model, mut st) = (bench.model().clone(), bench.state().clone());
+    let rho0 = st.rho[0];
+    for i in 0..st.x.len() {
+        let (a, b) = stir(i);
+        st.v[i] += DVec2::new(
+            (a * std::f64::consts::TAU).cos(),
+            (a * std::f64::consts::TAU).sin(),
+        ) * 0.3;
+        st.rho[i] *= 1.0 + 2e-3 * (b - 0.5);
+        st.s[i] = Sym {
+            xx: 2e-3 * rho0 * (a - 0.5),
+            yy: -1e-3 * rho0 * (b - 0.5),
+            xy: 1.5e-3 * rho0 * (a + b - 1.0),
+            zz: 1e-3 * rho0 * (b - a),
+        };
+    }
+    (model, st)
 }
