@@ -23,6 +23,13 @@ override ART_KAPPA: bool = false;
 override ART_HEAT: bool = false;
 // physics::tension::HEAT_RAMP.
 override HEAT_RAMP: f32 = 0.1;
+// A pair with a particle that flows plastically takes the artificial
+// stress as ART_HEAT does (`work = "plastic"`, Model::flowing); the
+// kinematics pass marks such a particle by the sign of its sound speed
+// in sr2c.w (negative: flows).
+override ART_FLOW: bool = false;
+// model::YIELD_TOL.
+override YIELD_TOL: f32 = 1e-5;
 // Limited reconstruction of the velocity jump in the viscosity (the forces pass reads
 // the velocity gradient the kinematics pass stores).
 override RECON: bool = false;

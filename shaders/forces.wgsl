@@ -138,6 +138,8 @@ struct Own {
     art: vec4<f32>,
     // Not failed: a failed particle takes no part in the artificial stress.
     intact: bool,
+    // Flows plastically (ART_FLOW; `t.w` holds the sound speed itself).
+    flows: bool,
     alpha: f32,
     beta: f32,
 }
@@ -201,6 +203,11 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
     let d = pr.d;
     var lj = lmat[j];
     var tj = sr2c[j];
+    var flows_j = false;
+    if (ART_FLOW) {
+        flows_j = tj.w < 0.0;
+        tj.w = abs(tj.w);
+    }
     if (img) {
         lj = mirror_mat(lj);
         tj = mirror_sym(tj);
@@ -288,9 +295,10 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
                     aw = art_weight(dist, dp, hij);
                 }
                 var rf = rs * (aw * gate);
-                // Where its work may only be heat, the share of it that is,
-                // read at the momentum's velocities (tension::heat_share).
-                if (ART_HEAT) {
+                // Where its work may only be heat (everywhere, or at a pair
+                // that flows plastically), the share of it that is, read at
+                // the momentum's velocities (tension::heat_share).
+                if (ART_HEAT || (ART_FLOW && (o.flows || flows_j))) {
                     let rg = sym_mul(rf, g);
                     let norm = length(vm) * length(rg);
                     var share = 0.0;
@@ -465,7 +473,12 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     }
     // rho_i, or eta_i in a body of revolution (`sum_density`).
     let rho_i = sum_density(body, i, wk.rad);
-    let ti = sr2c[i];
+    var ti = sr2c[i];
+    var flows_i = false;
+    if (ART_FLOW) {
+        flows_i = ti.w < 0.0;
+        ti.w = abs(ti.w);
+    }
     var ri = vec4<f32>(0.0);
     if (ART_STRESS) {
         ri = art_of(ti);
@@ -502,6 +515,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         k2i,
         ri,
         intact(i),
+        flows_i,
         params.alpha,
         params.beta,
     );

@@ -444,8 +444,23 @@ fn surface_of(gpsi: vec2<f32>, hi: f32) -> vec3<f32> {
     return vec3<f32>(normal, boundary);
 }
 
+// Whether particle i, of deviatoric stress `si`, flows plastically where
+// the artificial stress is keyed on it (ART_FLOW; CPU twin:
+// Model::flowing): it has plastic strain where the state carries it, else
+// its stress is on the yield surface.
+fn flows(i: u32, body: Body, si: vec4<f32>) -> bool {
+    if (!ART_FLOW) {
+        return false;
+    }
+    if (HISTORY) {
+        return hist_w[i].x > 0.0;
+    }
+    return body.elastic == 0u && von_mises(si) >= (1.0 - YIELD_TOL) * body.y0;
+}
+
 // Equation of state at (mu, e, s) with damage `d`: sigma/rho^2 (tension
-// positive) and the sound speed into sr2c.
+// positive) and the sound speed into sr2c, negative where the particle
+// flows (ART_FLOW).
 // In a body of revolution the momentum sums take sigma/(eta rho), eta =
 // 2 pi r rho (the divergence of 2 pi r sigma per unit eta), and the hoop
 // stress's acceleration sigma_tt / (r rho) goes to `hoop` (CPU twin:
@@ -464,6 +479,9 @@ fn stress_point(i: u32, ri: f32, body: Body, mu: f32, e: f32, si: vec4<f32>, d: 
     }
     let sig = vec4<f32>(sd.x - p, sd.y - p, sd.z, sd.w - p);
     let rho = body.rho0 * (1.0 + mu);
+    if (flows(i, body, si)) {
+        c = -c;
+    }
     if (AXI) {
         sr2c[i] = vec4<f32>(sig.xyz / (rho * (circumference(ri) * rho)), c);
         hoop[i] = sig.w / (ri * rho);

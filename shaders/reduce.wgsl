@@ -81,7 +81,7 @@ fn observe(i: u32) -> Obs {
         if (ADAPT) {
             h = metric_axes(metric[i]).x;
         }
-        cfl = params.cfl * h / (sr2c[i].w + length(vi));
+        cfl = params.cfl * h / (abs(sr2c[i].w) + length(vi));
     }
     return Obs(bitcast<f32>(mi.x), mi.z, rigid, vi, r[i].y, cfl);
 }

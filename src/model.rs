@@ -29,6 +29,11 @@ pub struct BodyInfo {
     pub debris_neighbours: u32,
 }
 
+/// How far below the yield stress a von Mises stress still counts as on
+/// the yield surface ([`Model::flowing`]): above the f32 round-off of the
+/// GPU path's return (about 1e-7), far below any elastic approach to it.
+pub const YIELD_TOL: f64 = 1e-5;
+
 /// Everything constant during a run.
 #[derive(Debug, Clone)]
 pub struct Model {
@@ -626,6 +631,23 @@ impl Model {
 
     pub fn material(&self, i: usize) -> &MaterialModel {
         &self.bodies[self.body[i] as usize].material
+    }
+
+    /// Whether particle i flows plastically in `st`, for the artificial
+    /// stress's `work = "plastic"` (docs/method.md, "Only heat"): it has
+    /// plastic strain where the state carries it ([`Model::history`]), or
+    /// else its deviatoric stress is on the yield surface (von Mises within
+    /// [`YIELD_TOL`] of `y0`: the radial return leaves it there to
+    /// round-off). A particle below yield never flows.
+    #[inline]
+    pub fn flowing(&self, st: &State, i: usize) -> bool {
+        if !self.plastic {
+            return false;
+        }
+        if self.history {
+            return st.eps_p[i] > 0.0;
+        }
+        st.s[i].von_mises() >= (1.0 - YIELD_TOL) * self.material(i).y0
     }
 
     /// The initial spacing `Δp` of particle i's body.

@@ -360,6 +360,31 @@ fn plasticity_caps_von_mises() {
     }
 }
 
+/// The artificial stress keyed on plastic flow (`work = "plastic"`) keys
+/// nothing below yield: the bars with a yield stress they never reach run
+/// as the elastic bars do with the term's work of either sign, to the bit.
+#[test]
+fn below_yield_the_plastic_key_changes_nothing() {
+    use sphcontact::scene::{ArtWork, ArtificialStress};
+    let bars = |yield_stress: Option<f64>, work: ArtWork| {
+        let mut scene = load("scenes/paper/bars_steel.toml");
+        scene.simulation.end_time = 1.5e-6;
+        scene.materials.get_mut("steel").unwrap().yield_stress = yield_stress;
+        scene.bodies[0].velocity = Some(vec![10.0]);
+        scene.bodies[1].velocity = Some(vec![-10.0]);
+        scene.artificial_stress = Some(ArtificialStress {
+            work,
+            ..ArtificialStress::DEFAULT
+        });
+        run(&scene).history.rows
+    };
+    assert_eq!(
+        bars(Some(600e6), ArtWork::Plastic),
+        bars(None, ArtWork::Either),
+        "below yield nothing changes"
+    );
+}
+
 // The same physics on the GPU backend (f32 on the device).
 
 #[test]

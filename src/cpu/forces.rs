@@ -195,9 +195,15 @@ pub(in crate::cpu) fn pair_terms_of(
                 art_weight(r2, dp, hij, a.n)
             };
             let mut rf = rs.scale(w * gate);
-            // Where its work may only be heat, the share of it that is
+            // Where its work may only be heat (everywhere, or at a pair
+            // that flows plastically), the share of it that is
             // (docs/method.md, "Only heat").
-            if a.work == ArtWork::Heat {
+            let heat = match a.work {
+                ArtWork::Heat => true,
+                ArtWork::Either => false,
+                ArtWork::Plastic => model.flowing(st, i) || model.flowing(st, j),
+            };
+            if heat {
                 let rg = rf.mul_vec(g);
                 rf = rf.scale(heat_share(vij.dot(rg), vij.length() * rg.length()));
             }

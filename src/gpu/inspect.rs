@@ -379,6 +379,7 @@ impl GpuSolver {
             boundary: vec![false; n],
             sr2: vec![[0.0; 3]; n],
             c: vec![0.0; n],
+            flows: vec![false; n],
             drho: vec![0.0; n],
             ds: vec![Sym::default(); n],
             dv_sph: vec![DVec2::ZERO; n],
@@ -426,7 +427,9 @@ impl GpuSolver {
             };
             out.normal[i] = DVec2::new(nk[0] as f64, nk[1] as f64);
             out.sr2[i] = [sr2c[k][0] as f64, sr2c[k][1] as f64, sr2c[k][2] as f64];
-            out.c[i] = sr2c[k][3] as f64;
+            // The sign marks a particle that flows (kinematics.wgsl, flows).
+            out.c[i] = (sr2c[k][3] as f64).abs();
+            out.flows[i] = sr2c[k][3] < 0.0;
             out.drho[i] = self.model.material(i).rho0 * dr1[k][0] as f64;
             out.ds[i] = sym_of(ds[k]);
             out.dv_sph[i] = v2(dv1[k]);

@@ -180,8 +180,8 @@ impl std::fmt::Display for Backend {
 ///
 /// A scene without the section gets [`ArtificialStress::DEFAULT`], the
 /// close-pair form; a section without `pairs` is the classic form on
-/// every pair; `epsilon = 0` switches the term off; `work = "heat"` lets a
-/// pair take it only while its work there is heat.
+/// every pair; `epsilon = 0` switches the term off; `work` says where its
+/// work may only be heat ([`ArtWork`]).
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ArtificialStress {
@@ -225,6 +225,11 @@ pub enum ArtWork {
     /// fully once the pair approaches along the term's force at more than
     /// [`crate::physics::tension::HEAT_RAMP`] of the direction's cosine.
     Heat,
+    /// A pair with a particle that flows plastically
+    /// ([`crate::model::Model::flowing`]) takes it as with
+    /// [`ArtWork::Heat`], every other pair as with [`ArtWork::Either`]:
+    /// where nothing yields, the term is `Either`'s to the bit.
+    Plastic,
 }
 
 /// Which pairs the artificial stress acts on.

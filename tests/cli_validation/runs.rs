@@ -152,6 +152,12 @@ fn check_names_the_artificial_stress() {
     let heat = write_scene(tmp.path(), "heat", &heat);
     let off = format!("{BASE_1D}\n[artificial_stress]\nepsilon = 0\n");
     let off = write_scene(tmp.path(), "off", &off);
+    let plastic =
+        format!("{BASE_1D}\n[artificial_stress]\npairs = \"close\"\nwork = \"plastic\"\n");
+    let yielding = write_scene(tmp.path(), "yielding", &plastic);
+    let elastic = plastic.replacen("yield_stress = 600.0e6\n", "", 1);
+    assert_ne!(elastic, plastic);
+    let elastic = write_scene(tmp.path(), "elastic", &elastic);
     for (scene, line) in [
         (
             default,
@@ -162,6 +168,14 @@ fn check_names_the_artificial_stress() {
             "artificial stress epsilon 0.3, n 4, every pair in tension; only heat",
         ),
         (off, "no artificial stress"),
+        (
+            elastic,
+            "close pairs; its work of either sign (nothing yields)",
+        ),
+        (
+            yielding,
+            "close pairs; only heat where it flows plastically",
+        ),
     ] {
         check_says(tmp.path(), &scene, line);
     }

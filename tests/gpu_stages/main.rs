@@ -219,6 +219,26 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
         1e-5,
         &none,
     );
+    // Who flows for the artificial stress: the same particles, but for
+    // one whose von Mises stress sits at the threshold to f32 precision.
+    let keyed = model.plastic
+        && model
+            .artificial_stress
+            .is_some_and(|a| a.work == sphcontact::scene::ArtWork::Plastic);
+    for i in 0..n {
+        let cpu_flows = keyed && model.flowing(&st, i);
+        if cpu_flows != out.flows[i] {
+            let y0 = model.material(i).y0;
+            let at_threshold = !model.history
+                && (st.s[i].von_mises() / y0 - (1.0 - sphcontact::model::YIELD_TOL)).abs() < 1e-6;
+            assert!(
+                at_threshold,
+                "{}: particle {i}: cpu {cpu_flows} gpu {}",
+                at(Stage::Kinematics, "flows plastically"),
+                out.flows[i]
+            );
+        }
+    }
 
     // The device's density rate is of ρ itself; a body of revolution's
     // CPU state keeps η = 2π r ρ: dρ/dt = (dη/dt)/2πr − ρ v_r/r.

@@ -1,6 +1,7 @@
 //! Every stage against its CPU twin on the paper's scenes.
 
 use super::*;
+use sphcontact::scene::{ArtPairs, ArtWork, ArtificialStress};
 
 #[test]
 fn stages_match_cpu_disks_square() {
@@ -143,6 +144,39 @@ fn stages_match_cpu_with_hourglass_control() {
 #[test]
 fn stages_match_cpu_with_hourglass_control_axisymmetric() {
     hourglass_parity("scenes/axisymmetric/spheres_hertz.toml", 8e-6);
+}
+
+/// The artificial stress keyed on plastic flow (`work = "plastic"`): the
+/// disks' steel given a yield stress that a tenth of the
+/// elastic run's particles exceed, so that the contact zone flows and the
+/// rest does not; every pair in tension takes the term (the
+/// classic form) and the velocities are stirred, so that the flowing
+/// pairs' heat shares are a large part of it.
+#[test]
+fn stages_match_cpu_with_plastic_flow() {
+    if gpu().is_none() {
+        return;
+    }
+    let path = "scenes/paper/disks_square.toml";
+    let (_, elastic) = state_during_contact(path, 3e-6);
+    let mut vm: Vec<f64> = elastic.s.iter().map(|s| s.von_mises()).collect();
+    vm.sort_by(f64::total_cmp);
+    let mut scene = load(path);
+    scene.materials.get_mut("steel").unwrap().yield_stress = Some(vm[vm.len() * 9 / 10]);
+    scene.artificial_stress = Some(ArtificialStress {
+        pairs: ArtPairs::All,
+        work: ArtWork::Plastic,
+        ..ArtificialStress::DEFAULT
+    });
+    let (model, mut st) = state_of(&scene, 3e-6);
+    let flowing = (0..model.len()).filter(|&i| model.flowing(&st, i)).count();
+    assert!(
+        flowing > 20 && flowing < model.len() / 2,
+        "{flowing} of {} particles flow",
+        model.len()
+    );
+    stir(&mut st);
+    check_state(model, st, true);
 }
 
 /// Three particles of the right disk torn off into a straight chain in

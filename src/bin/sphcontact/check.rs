@@ -61,6 +61,8 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
                 match a.work {
                     ArtWork::Heat => "only heat",
                     ArtWork::Either => "its work of either sign",
+                    ArtWork::Plastic if model.plastic => "only heat where it flows plastically",
+                    ArtWork::Plastic => "its work of either sign (nothing yields)",
                 }
             ),
         }

@@ -235,6 +235,9 @@ struct ArtRows {
     /// 1 for a particle that has not failed, 0 for one that has (which
     /// takes no part in the term); empty while no particle has failed.
     intact: Vec<f64>,
+    /// Whether each particle flows plastically ([`Model::flowing`]) where
+    /// `work = "plastic"` can find one; empty otherwise.
+    flows: Vec<bool>,
 }
 
 /// The [`ArtRows`] of one momentum pass, when the scene has the
@@ -255,11 +258,29 @@ fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
     } else {
         Vec::new()
     };
+    let flows = if art_plastic(model) {
+        (0..model.len())
+            .into_par_iter()
+            .map(|i| model.flowing(st, i))
+            .collect()
+    } else {
+        Vec::new()
+    };
     Some(ArtRows {
         rows,
         tension,
         intact,
+        flows,
     })
+}
+
+/// Whether some pair's artificial stress may be keyed on plastic flow
+/// (`work = "plastic"` in a scene with a yield stress).
+fn art_plastic(model: &Model) -> bool {
+    model.plastic
+        && model
+            .artificial_stress
+            .is_some_and(|a| a.work == ArtWork::Plastic)
 }
 
 /// What the lane code reads of the hourglass control: each particle's
@@ -429,11 +450,27 @@ fn lane_terms(
                     let (mut rfxx, mut rfxy, mut rfyy) = (sxx * fnn, sxy * fnn, syy * fnn);
                     // Where its work may only be heat, the share of it that
                     // is (forces::pair_terms_of).
-                    if a.work == ArtWork::Heat {
+                    // 1 in the lanes whose pair may only heat (every lane
+                    // with "heat", those with a particle that flows with
+                    // "plastic"), 0 in the others; none: no lane.
+                    let keyed = match a.work {
+                        ArtWork::Heat => Some(F4::splat(1.0)),
+                        ArtWork::Either => None,
+                        ArtWork::Plastic if art.flows.is_empty() => None,
+                        ArtWork::Plastic => {
+                            let fl = F4::gather(|k| {
+                                (art.flows[i] || art.flows[c.j[k] as usize]) as u8 as f64
+                            });
+                            (F4::splat(0.0).lt(fl).bits() != 0).then_some(fl)
+                        }
+                    };
+                    if let Some(fl) = keyed {
                         let (rgx, rgy) = (rfxx * gx + rfxy * gy, rfxy * gx + rfyy * gy);
                         let vr = vx * rgx + vy * rgy;
                         let norm = (vx * vx + vy * vy).sqrt() * (rgx * rgx + rgy * rgy).sqrt();
-                        let share = heat_share_lanes(vr, norm);
+                        let share = F4::splat(0.0)
+                            .lt(fl)
+                            .select(heat_share_lanes(vr, norm), F4::splat(1.0));
                         (rfxx, rfxy, rfyy) = (rfxx * share, rfxy * share, rfyy * share);
                     }
                     txx = on.select(txx + rfxx, txx);

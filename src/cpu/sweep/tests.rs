@@ -170,6 +170,8 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         (false, 1.15, Some((0.2, 3.5, ArtPairs::Close)), false),
         (true, 1.0, Some((0.3, 4.0, ArtPairs::All)), true),
         (false, 1.0, Some((0.3, 4.0, ArtPairs::Close)), true),
+        (false, 1.15, Some((0.2, 3.0, ArtPairs::All)), false),
+        (true, 1.0, Some((0.3, 3.0, ArtPairs::Close)), true),
     ]
     .map(|(r, h, a, d)| (r, h, a, d, (0.0, false)));
     // The hourglass control: (α_hg, the leapfrog's kinematics).
@@ -200,6 +202,18 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         if art.is_some() {
             let n = tensile(&model, st);
             assert!(n > model.len() / 4 && n < model.len(), "{n} in tension");
+        }
+        if art.is_some_and(|a| a.1 == 3.0) {
+            // A yield stress at the median von Mises stress: half the
+            // particles flow.
+            let mut vm: Vec<f64> = st.s.iter().map(|s| s.von_mises()).collect();
+            vm.sort_by(f64::total_cmp);
+            for b in &mut model.bodies {
+                b.material.y0 = vm[vm.len() / 2];
+            }
+            model.plastic = true;
+            let n = (0..model.len()).filter(|&i| model.flowing(st, i)).count();
+            assert!(n > model.len() / 4 && n < model.len() * 3 / 4, "{n} flow");
         }
         model.av_reconstruct = reconstruct;
         model.hourglass = hourglass;
@@ -441,16 +455,18 @@ fn lanes_match_one_pair_code_in_1d() {
     );
 }
 
-/// The artificial stress of a case; those with `n = 3.5` may only heat.
+/// The artificial stress of a case; those with `n = 3.5` may only heat,
+/// those with `n = 3` only where they flow.
 fn as_of((epsilon, n, pairs): (f64, f64, ArtPairs)) -> crate::scene::ArtificialStress {
+    use crate::scene::ArtWork;
     crate::scene::ArtificialStress {
         epsilon,
         n,
         pairs,
-        work: if n == 3.5 {
-            crate::scene::ArtWork::Heat
-        } else {
-            crate::scene::ArtWork::Either
+        work: match n {
+            3.5 => ArtWork::Heat,
+            3.0 => ArtWork::Plastic,
+            _ => ArtWork::Either,
         },
     }
 }
@@ -594,6 +610,68 @@ fn artificial_stress_with_heat_work_only_heats() {
             "{pairs:?}: either {either_pairs} pairs, least {either_least:e}; heat {heat_pairs}"
         );
     }
+}
+
+/// With `work = "plastic"` a pair with a particle that flows
+/// takes the term as with `work = "heat"` and every other pair as with
+/// `"either"`, to the bit: the stirred disks given a yield stress at their
+/// median von Mises stress, so that about half the particles flow.
+#[test]
+fn artificial_stress_keyed_on_plastic_flow() {
+    use crate::cpu::forces::pair_terms;
+    use crate::scene::ArtWork;
+    let (mut model, st) = stirred_disks();
+    model.alpha = 0.0;
+    model.beta = 0.0;
+    model.hourglass = 0.0;
+    let mut vm: Vec<f64> = st.s.iter().map(|s| s.von_mises()).collect();
+    vm.sort_by(f64::total_cmp);
+    for b in &mut model.bodies {
+        b.material.y0 = vm[vm.len() / 2];
+    }
+    model.plastic = true;
+    let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
+    let nb = find_with_skin(&model, st.frame(), skin);
+    let mut terms = |work| {
+        model.artificial_stress = Some(crate::scene::ArtificialStress {
+            work,
+            pairs: ArtPairs::All,
+            ..crate::scene::ArtificialStress::DEFAULT
+        });
+        let k = kinematics(&model, &st, &nb);
+        let pts = eos_and_stress(&model, &st);
+        let mut out = Vec::new();
+        for i in 0..model.len() {
+            for b in nb.of(&model, st.frame(), i) {
+                let p = pair_terms(&model, &st, &k, &pts, i, &b);
+                out.push((i, b.j as usize, p.tg, p.shared));
+            }
+        }
+        out
+    };
+    let (plastic, heat, either) = (
+        terms(ArtWork::Plastic),
+        terms(ArtWork::Heat),
+        terms(ArtWork::Either),
+    );
+    let (mut keyed, mut cooling_kept) = (0, 0);
+    for ((p, h), e) in plastic.iter().zip(&heat).zip(&either) {
+        let (i, j) = (p.0, p.1);
+        let flows = model.flowing(&st, i) || model.flowing(&st, j);
+        let want = if flows { h } else { e };
+        assert_eq!(
+            (p.2.x.to_bits(), p.2.y.to_bits(), p.3.to_bits()),
+            (want.2.x.to_bits(), want.2.y.to_bits(), want.3.to_bits()),
+            "pair {i} {j} (flows {flows})"
+        );
+        keyed += (flows && h.3 != e.3) as usize;
+        // `shared` is the pair's heat here: one that cools is kept.
+        cooling_kept += (!flows && e.3 < 0.0) as usize;
+    }
+    assert!(
+        keyed > 100 && cooling_kept > 100,
+        "{keyed} pairs keyed, {cooling_kept} cooling pairs kept"
+    );
 }
 
 /// Particle i's two stirring fractions.
