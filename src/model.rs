@@ -633,6 +633,16 @@ impl Model {
         &self.bodies[self.body[i] as usize].material
     }
 
+    /// Whether some pair's artificial stress is keyed on plastic flow:
+    /// `work = "plastic"` in a scene with a yield stress
+    /// ([`Model::flowing`]; the GPU's `ART_FLOW`).
+    pub fn art_keyed_on_flow(&self) -> bool {
+        self.plastic
+            && self
+                .artificial_stress
+                .is_some_and(|a| a.work == crate::scene::ArtWork::Plastic)
+    }
+
     /// Whether particle i flows plastically in `st`, for the artificial
     /// stress's `work = "plastic"` (docs/method.md, "Only heat"): it has
     /// plastic strain where the state carries it ([`Model::history`]), or

@@ -314,17 +314,23 @@ fn lateral_stress_of_uniaxial_strain_gpu() {
     on_gpu(lateral_stress_of_uniaxial_strain);
 }
 
+/// The paper's steel bars meeting at `v` each for 1.5 µs, with the yield
+/// stress `yield_stress` (`None`: elastic).
+fn steel_bars(yield_stress: Option<f64>, v: f64) -> sphcontact::Scene {
+    let mut scene = load("scenes/paper/bars_steel.toml");
+    scene.simulation.end_time = 1.5e-6;
+    scene.materials.get_mut("steel").unwrap().yield_stress = yield_stress;
+    scene.bodies[0].velocity = Some(vec![v]);
+    scene.bodies[1].velocity = Some(vec![-v]);
+    scene
+}
+
 /// Perfect plasticity (docs/method.md §6): below yield the run is identical to the
 /// elastic one; above it the radial return holds von Mises at Y0 exactly.
 #[test]
 fn plasticity_caps_von_mises() {
     let with_vm = |yield_stress: Option<f64>, v: f64| {
-        let mut scene = load("scenes/paper/bars_steel.toml");
-        scene.simulation.end_time = 1.5e-6;
-        scene.materials.get_mut("steel").unwrap().yield_stress = yield_stress;
-        scene.bodies[0].velocity = Some(vec![v]);
-        scene.bodies[1].velocity = Some(vec![-v]);
-        let text = scene.to_toml()
+        let text = steel_bars(yield_stress, v).to_toml()
             + "\n[[probes]]\nname = \"vm_a\"\nkind = \"particle\"\nbody = \"left\"\nat = [-0.0001]\nquantity = \"von_mises\"\n"
             + "\n[[probes]]\nname = \"vm_b\"\nkind = \"particle\"\nbody = \"left\"\nat = [-0.0025]\nquantity = \"von_mises\"\n";
         let scene = parse(&text);
@@ -367,11 +373,7 @@ fn plasticity_caps_von_mises() {
 fn below_yield_the_plastic_key_changes_nothing() {
     use sphcontact::scene::{ArtWork, ArtificialStress};
     let bars = |yield_stress: Option<f64>, work: ArtWork| {
-        let mut scene = load("scenes/paper/bars_steel.toml");
-        scene.simulation.end_time = 1.5e-6;
-        scene.materials.get_mut("steel").unwrap().yield_stress = yield_stress;
-        scene.bodies[0].velocity = Some(vec![10.0]);
-        scene.bodies[1].velocity = Some(vec![-10.0]);
+        let mut scene = steel_bars(yield_stress, 10.0);
         scene.artificial_stress = Some(ArtificialStress {
             work,
             ..ArtificialStress::DEFAULT

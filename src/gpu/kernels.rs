@@ -58,13 +58,7 @@ pub(super) fn make_kernels(
                 .is_some_and(|a| a.work == ArtWork::Heat) as u8 as f64,
         ),
         ("HEAT_RAMP", crate::physics::tension::HEAT_RAMP),
-        (
-            "ART_FLOW",
-            (model.plastic
-                && model
-                    .artificial_stress
-                    .is_some_and(|a| a.work == ArtWork::Plastic)) as u8 as f64,
-        ),
+        ("ART_FLOW", model.art_keyed_on_flow() as u8 as f64),
         ("YIELD_TOL", crate::model::YIELD_TOL),
         ("RECON", model.av_reconstruct as u8 as f64),
         ("HG", model.hourglass),

@@ -258,7 +258,7 @@ fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
     } else {
         Vec::new()
     };
-    let flows = if art_plastic(model) {
+    let flows = if model.art_keyed_on_flow() {
         (0..model.len())
             .into_par_iter()
             .map(|i| model.flowing(st, i))
@@ -272,15 +272,6 @@ fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
         intact,
         flows,
     })
-}
-
-/// Whether some pair's artificial stress may be keyed on plastic flow
-/// (`work = "plastic"` in a scene with a yield stress).
-fn art_plastic(model: &Model) -> bool {
-    model.plastic
-        && model
-            .artificial_stress
-            .is_some_and(|a| a.work == ArtWork::Plastic)
 }
 
 /// What the lane code reads of the hourglass control: each particle's

@@ -204,14 +204,7 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             assert!(n > model.len() / 4 && n < model.len(), "{n} in tension");
         }
         if art.is_some_and(|a| a.1 == 3.0) {
-            // A yield stress at the median von Mises stress: half the
-            // particles flow.
-            let mut vm: Vec<f64> = st.s.iter().map(|s| s.von_mises()).collect();
-            vm.sort_by(f64::total_cmp);
-            for b in &mut model.bodies {
-                b.material.y0 = vm[vm.len() / 2];
-            }
-            model.plastic = true;
+            yield_at_median(&mut model, st);
             let n = (0..model.len()).filter(|&i| model.flowing(st, i)).count();
             assert!(n > model.len() / 4 && n < model.len() * 3 / 4, "{n} flow");
         }
@@ -568,14 +561,8 @@ fn lanes_are_the_same_on_any_thread_count() {
 /// stress's alone.
 #[test]
 fn artificial_stress_with_heat_work_only_heats() {
-    use crate::cpu::forces::pair_terms;
     use crate::scene::ArtWork;
-    let (mut model, st) = stirred_disks();
-    model.alpha = 0.0;
-    model.beta = 0.0;
-    model.hourglass = 0.0;
-    let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-    let nb = find_with_skin(&model, st.frame(), skin);
+    let (mut model, st, nb) = inviscid_stirred_disks();
     for pairs in [ArtPairs::All, ArtPairs::Close] {
         let mut shares = |work| {
             model.artificial_stress = Some(crate::scene::ArtificialStress {
@@ -584,16 +571,11 @@ fn artificial_stress_with_heat_work_only_heats() {
                 pairs,
                 work,
             });
-            let k = kinematics(&model, &st, &nb);
-            let pts = eos_and_stress(&model, &st);
             let (mut acted, mut least) = (0, f64::INFINITY);
-            for i in 0..model.len() {
-                for b in nb.of(&model, st.frame(), i) {
-                    let heat = pair_terms(&model, &st, &k, &pts, i, &b).shared;
-                    if heat != 0.0 {
-                        acted += 1;
-                        least = least.min(heat);
-                    }
+            for (_, _, t) in every_pair_terms(&model, &st, &nb) {
+                if t.shared != 0.0 {
+                    acted += 1;
+                    least = least.min(t.shared);
                 }
             }
             (acted, least)
@@ -618,36 +600,19 @@ fn artificial_stress_with_heat_work_only_heats() {
 /// median von Mises stress, so that about half the particles flow.
 #[test]
 fn artificial_stress_keyed_on_plastic_flow() {
-    use crate::cpu::forces::pair_terms;
     use crate::scene::ArtWork;
-    let (mut model, st) = stirred_disks();
-    model.alpha = 0.0;
-    model.beta = 0.0;
-    model.hourglass = 0.0;
-    let mut vm: Vec<f64> = st.s.iter().map(|s| s.von_mises()).collect();
-    vm.sort_by(f64::total_cmp);
-    for b in &mut model.bodies {
-        b.material.y0 = vm[vm.len() / 2];
-    }
-    model.plastic = true;
-    let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
-    let nb = find_with_skin(&model, st.frame(), skin);
+    let (mut model, st, nb) = inviscid_stirred_disks();
+    yield_at_median(&mut model, &st);
     let mut terms = |work| {
         model.artificial_stress = Some(crate::scene::ArtificialStress {
             work,
             pairs: ArtPairs::All,
             ..crate::scene::ArtificialStress::DEFAULT
         });
-        let k = kinematics(&model, &st, &nb);
-        let pts = eos_and_stress(&model, &st);
-        let mut out = Vec::new();
-        for i in 0..model.len() {
-            for b in nb.of(&model, st.frame(), i) {
-                let p = pair_terms(&model, &st, &k, &pts, i, &b);
-                out.push((i, b.j as usize, p.tg, p.shared));
-            }
-        }
-        out
+        every_pair_terms(&model, &st, &nb)
+            .into_iter()
+            .map(|(i, j, t)| (i, j, t.tg, t.shared))
+            .collect::<Vec<_>>()
     };
     let (plastic, heat, either) = (
         terms(ArtWork::Plastic),
@@ -672,6 +637,48 @@ fn artificial_stress_keyed_on_plastic_flow() {
         keyed > 100 && cooling_kept > 100,
         "{keyed} pairs keyed, {cooling_kept} cooling pairs kept"
     );
+}
+
+/// [`stirred_disks`] without the viscosity and the hourglass control, so
+/// that a pair's energy term is the artificial stress's alone, and their
+/// neighbours.
+fn inviscid_stirred_disks() -> (Model, State, Neighbours) {
+    let (mut model, st) = stirred_disks();
+    model.alpha = 0.0;
+    model.beta = 0.0;
+    model.hourglass = 0.0;
+    let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
+    let nb = find_with_skin(&model, st.frame(), skin);
+    (model, st, nb)
+}
+
+/// Every pair's terms (particle, neighbour, terms), in walk order.
+fn every_pair_terms(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+) -> Vec<(usize, usize, crate::cpu::forces::PairTerms)> {
+    let k = kinematics(model, st, nb);
+    let pts = eos_and_stress(model, st);
+    let mut out = Vec::new();
+    for i in 0..model.len() {
+        for b in nb.of(model, st.frame(), i) {
+            let t = crate::cpu::forces::pair_terms(model, st, &k, &pts, i, &b);
+            out.push((i, b.j as usize, t));
+        }
+    }
+    out
+}
+
+/// Every body given a yield stress at the median von Mises stress of
+/// `st`, so that about half the particles flow ([`Model::flowing`]).
+fn yield_at_median(model: &mut Model, st: &State) {
+    let mut vm: Vec<f64> = st.s.iter().map(|s| s.von_mises()).collect();
+    vm.sort_by(f64::total_cmp);
+    for b in &mut model.bodies {
+        b.material.y0 = vm[vm.len() / 2];
+    }
+    model.plastic = true;
 }
 
 /// Particle i's two stirring fractions.
