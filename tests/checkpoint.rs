@@ -188,13 +188,18 @@ fn cpu_resume_keeps_the_failures() {
 }
 
 /// The device's plastic histories travel in its checkpoint, under both
-/// integrators.
+/// integrators (the leapfrog's run minutes on a software adapter; its
+/// carried rates are resumed in the default suite by
+/// `gpu_leapfrog_resume_gives_the_same_bytes`).
 #[test]
 fn gpu_resume_keeps_the_failures() {
-    on_gpu(|| {
-        resume_keeps_the_failures(Backend::Gpu, Integrator::Midpoint);
-        resume_keeps_the_failures(Backend::Gpu, Integrator::Leapfrog);
-    });
+    on_gpu(|| resume_keeps_the_failures(Backend::Gpu, Integrator::Midpoint));
+}
+
+#[test]
+#[ignore]
+fn gpu_leapfrog_resume_keeps_the_failures() {
+    on_gpu(|| resume_keeps_the_failures(Backend::Gpu, Integrator::Leapfrog));
 }
 
 #[test]
@@ -224,14 +229,17 @@ fn cpu_resume_of_bodies_of_revolution_gives_the_same_bytes() {
 
 /// The coarse spheres of revolution on the GPU path: its state keeps the
 /// density itself, converted to and from the host's `η` only at upload
-/// and download, so the saved buffers resume to the same bytes.
+/// and download, so the saved buffers resume to the same bytes (the
+/// leapfrog's run below, minutes on a software adapter).
 #[test]
 fn gpu_resume_of_bodies_of_revolution_gives_the_same_bytes() {
-    on_gpu(|| {
-        let scene = coarse_spheres();
-        resume_matches_of(scene.clone(), Backend::Gpu);
-        resume_matches_of(leapfrog(scene), Backend::Gpu);
-    });
+    on_gpu(|| resume_matches_of(coarse_spheres(), Backend::Gpu));
+}
+
+#[test]
+#[ignore]
+fn gpu_leapfrog_resume_of_bodies_of_revolution_gives_the_same_bytes() {
+    on_gpu(|| resume_matches_of(leapfrog(coarse_spheres()), Backend::Gpu));
 }
 
 /// The computational Taylor bar at 10 across with supports that adapt, to

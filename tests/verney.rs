@@ -198,6 +198,19 @@ fn shell_whose_artificial_stress_works(across: u32, work: ArtWork) -> Scene {
 }
 
 #[test]
+fn cylinder_whose_artificial_stress_only_heats_at_10_through() {
+    verney_of(
+        &shell_whose_artificial_stress_only_heats(10),
+        "cylinder",
+        10,
+        0.04,
+        1e-4,
+    );
+}
+
+/// The same at 20 through, within 1 % (two minutes on two cores).
+#[test]
+#[ignore]
 fn cylinder_whose_artificial_stress_only_heats_stops_within_1_percent_at_20_through() {
     verney_of(
         &shell_whose_artificial_stress_only_heats(20),
@@ -209,7 +222,13 @@ fn cylinder_whose_artificial_stress_only_heats_stops_within_1_percent_at_20_thro
 }
 
 /// The same at 10 through on the GPU path (f32), against the CPU's stop.
+/// Minutes on a software adapter; the default suite keeps the device's
+/// share that only heats in the stage test
+/// (`stages_match_cpu_with_plastic_flow`, where every flowing pair takes
+/// it) and a whole shell on the device in
+/// [`cylinder_with_hourglass_control_at_10_through_gpu`].
 #[test]
+#[ignore]
 fn cylinder_whose_artificial_stress_only_heats_at_10_through_gpu() {
     let scene = shell_whose_artificial_stress_only_heats(10);
     let cpu = verney_of(&scene, "cylinder", 10, 0.04, 1e-4);

@@ -242,7 +242,10 @@ fn target_spalls_at_the_plane_gpu() {
     on_gpu(spalls_at_the_plane);
 }
 
+/// Minutes on a software adapter; the device's leapfrog keeps its spall
+/// in the midpoint run above and its step in the stage tests.
 #[test]
+#[ignore]
 fn target_spalls_at_the_plane_gpu_leapfrog() {
     on_leapfrog(|| on_gpu(spalls_at_the_plane));
 }
