@@ -163,8 +163,10 @@ struct Body {
     // The fewest same-body neighbours a particle keeps its correction
     // with (model::BodyInfo::debris_neighbours).
     debris_n: u32,
-    pad1: u32,
-    pad2: u32,
+    // The hourglass control's coefficient on the body's families (HG is
+    // the largest), and 1 where its particles carry the artificial stress.
+    hg: f32,
+    art: u32,
 }
 
 // Time and run status (mirrored by `gpu::layout::Control`).

@@ -285,7 +285,10 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
             }
         }
         if (gate > 0.0) {
-            let rs = o.art + art_of(tj);
+            var rs = o.art;
+            if (bj.art != 0u) {
+                rs += art_of(tj);
+            }
             if (rs.x + rs.y < 0.0 && intact(j)) {
                 let dp = 0.5 * (o.body.spacing + bj.spacing);
                 var aw = 0.0;
@@ -321,7 +324,7 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
         if (img) {
             gj = mirror_mat(gj);
         }
-        hg = hourglass(o, vf, d, pr.gw, gj, tj.w, bj.h, sum_density(bj, j, rj));
+        hg = hourglass(o, bj, vf, d, pr.gw, gj, tj.w, bj.h, sum_density(bj, j, rj));
     }
     let mass_j = bitcast<f32>(mj.x);
     if (LEAP != 3u) {
@@ -344,7 +347,7 @@ struct Hourglass {
 // see, `vf = v_i - v_j`, `d = x_i - x_j`, the kernel gradient `gw`, j's
 // velocity gradient, sound speed, h and density (eta in a body of
 // revolution). CPU twin: cpu::forces::hourglass.
-fn hourglass(o: Own, vf: vec2<f32>, d: vec2<f32>, gw: vec2<f32>, gj: vec4<f32>, cj: f32, hj: f32, rho_j: f32) -> Hourglass {
+fn hourglass(o: Own, bj: Body, vf: vec2<f32>, d: vec2<f32>, gw: vec2<f32>, gj: vec4<f32>, cj: f32, hj: f32, rho_j: f32) -> Hourglass {
     let r2 = dot(d, d);
     if (r2 <= 0.0) {
         return Hourglass(vec2<f32>(0.0), vec2<f32>(0.0));
@@ -352,7 +355,9 @@ fn hourglass(o: Own, vf: vec2<f32>, d: vec2<f32>, gw: vec2<f32>, gj: vec4<f32>, 
     let w = -dot(gw, d) / r2;
     let di = mat_mul(o.gh, d) - vf;
     let dj = vf - mat_mul(gj, d);
-    let k = HG * w;
+    // Each family at its body's coefficient.
+    let ki = o.body.hg * w;
+    let kj = bj.hg * w;
     // V_j/m_j: 1/rho_j; in a body of revolution 1/eta_i.
     var vi = rho_j;
     var vj = o.rho;
@@ -360,7 +365,7 @@ fn hourglass(o: Own, vf: vec2<f32>, d: vec2<f32>, gw: vec2<f32>, gj: vec4<f32>, 
         vi = o.rho;
         vj = rho_j;
     }
-    return Hourglass(di * (k * o.t.w * o.hi / vi), dj * (-k * cj * hj / vj));
+    return Hourglass(di * (ki * o.t.w * o.hi / vi), dj * (-kj * cj * hj / vj));
 }
 
 // The pair of i and the mirror image of its partner j (pair `pr`, j at
@@ -480,7 +485,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         ti.w = abs(ti.w);
     }
     var ri = vec4<f32>(0.0);
-    if (ART_STRESS) {
+    if (ART_STRESS && body.art != 0u) {
         ri = art_of(ti);
     }
     var k2i = 1.0;

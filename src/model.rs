@@ -8,7 +8,8 @@ use crate::physics::material::MaterialModel;
 use crate::physics::strength::History;
 use crate::physics::support::Metric;
 use crate::scene::{
-    place_bodies, ArtPairs, ArtificialStress, Correction, Integrator, Interaction, Scene,
+    place_bodies, ArtPairs, ArtPlastic, ArtificialStress, Correction, Integrator, Interaction,
+    Scene,
 };
 
 /// One body: its material, its particles (a contiguous range) and flags.
@@ -27,6 +28,13 @@ pub struct BodyInfo {
     /// any of its particles has as placed (a polygon's acute tip); 0
     /// where the gradient is not corrected, in 1-D and for a rigid body.
     pub debris_neighbours: u32,
+    /// Whether the body's particles carry the artificial stress `R_i`
+    /// (all do, but a body that can yield takes the hourglass control in
+    /// its place under `plastic = "hourglass"`: [`crate::scene::ArtPlastic`]).
+    pub art: bool,
+    /// The hourglass control's coefficient on the body's families of
+    /// pairs (0: none; [`Model::hourglass`] is the largest).
+    pub hourglass: f64,
 }
 
 /// How far below the yield stress a von Mises stress still counts as on
@@ -47,8 +55,9 @@ pub struct Model {
     pub beta: f64,
     /// Limited reconstruction of the velocity jump in the viscosity.
     pub av_reconstruct: bool,
-    /// The hourglass control's coefficient (0: off; docs/method.md,
-    /// "Hourglass control").
+    /// The hourglass control's largest coefficient over the bodies (0:
+    /// off; docs/method.md, "Hourglass control"); each body's is
+    /// [`BodyInfo::hourglass`].
     pub hourglass: f64,
     /// The artificial stress, unless the scene switches it off
     /// (`epsilon = 0`); a scene without the section gets
@@ -205,6 +214,7 @@ impl Model {
         let av = scene.viscosity();
         let cs = scene.contact_settings();
         let n: usize = placed.iter().map(|p| p.positions.len()).sum();
+        let art = scene.artificial_stress.unwrap_or(ArtificialStress::DEFAULT);
         let mut model = Model {
             dim: scene.dim(),
             interaction: sim.interaction,
@@ -216,8 +226,7 @@ impl Model {
             beta: av.beta,
             av_reconstruct: av.reconstruct,
             hourglass: av.hourglass,
-            artificial_stress: Some(scene.artificial_stress.unwrap_or(ArtificialStress::DEFAULT))
-                .filter(|a| a.epsilon > 0.0),
+            artificial_stress: Some(art).filter(|a| a.epsilon > 0.0),
             close_scale: Vec::new(),
             boundary_threshold: cs.boundary_threshold,
             bodies: Vec::with_capacity(placed.len()),
@@ -288,6 +297,9 @@ impl Model {
             model.strain_rate |=
                 !b.rigid && (material.strength.is_some() || material.failure.is_some());
             model.any_rigid |= b.rigid;
+            // A body that can yield takes the hourglass control in place of
+            // the artificial stress where the scene says so.
+            let keyed = !b.rigid && material.y0.is_finite() && art.plastic == ArtPlastic::Hourglass;
             model.bodies.push(BodyInfo {
                 name: b.name.clone(),
                 material,
@@ -296,7 +308,17 @@ impl Model {
                 range: start..model.mass.len(),
                 velocity0: v0,
                 debris_neighbours: 0,
+                art: !keyed,
+                hourglass: if keyed {
+                    art.plastic_hourglass
+                } else {
+                    av.hourglass
+                },
             });
+        }
+        model.hourglass = model.bodies.iter().map(|b| b.hourglass).fold(0.0, f64::max);
+        if model.bodies.iter().all(|b| !b.art) {
+            model.artificial_stress = None;
         }
         if model.adaptive {
             state.metric = model.h.iter().map(|&h| Metric::round(h)).collect();
@@ -627,6 +649,28 @@ impl Model {
     /// the hourglass control reads it.
     pub fn keeps_gradient(&self) -> bool {
         self.av_reconstruct || self.hourglass > 0.0
+    }
+
+    /// Every body's hourglass coefficient set to `alpha` (as a scene's
+    /// `[artificial_viscosity] hourglass` does).
+    pub fn set_hourglass(&mut self, alpha: f64) {
+        for b in &mut self.bodies {
+            b.hourglass = alpha;
+        }
+        self.hourglass = alpha;
+    }
+
+    /// Whether particle i carries the artificial stress ([`BodyInfo::art`]).
+    #[inline]
+    pub fn takes_art(&self, i: usize) -> bool {
+        self.artificial_stress.is_some() && self.bodies[self.body[i] as usize].art
+    }
+
+    /// The hourglass control's coefficient on particle i's family of
+    /// pairs ([`BodyInfo::hourglass`]).
+    #[inline]
+    pub fn hourglass_of(&self, i: usize) -> f64 {
+        self.bodies[self.body[i] as usize].hourglass
     }
 
     pub fn material(&self, i: usize) -> &MaterialModel {

@@ -11,7 +11,7 @@
 mod common;
 use common::*;
 use sphcontact::run::RunOutput;
-use sphcontact::scene::{ArtWork, ArtificialStress, Support};
+use sphcontact::scene::{ArtPlastic, ArtWork, ArtificialStress, Support};
 use sphcontact::Scene;
 
 /// The shell's scene at `across` particles through the wall, supports
@@ -171,6 +171,26 @@ fn cylinder_with_hourglass_control_stops_within_1_percent_at_20_through_leapfrog
         let scene = shell_with_hourglass("cylinder", 20, 0.3);
         verney_of(&scene, "cylinder", 20, 0.01, 1e-4);
     });
+}
+
+/// The shell's only body can yield, so `plastic = "hourglass"` is the
+/// hourglass control at `plastic_hourglass` alone: the same history, to
+/// the bit, as the scene with the term switched off and the control at
+/// 0.3 (its first 50 µs at 10 through).
+#[test]
+fn hourglass_in_place_of_the_term_is_the_control_alone_in_the_shell() {
+    let mut keyed = load("scenes/hard/verney_cylinder.toml");
+    keyed.bodies[0].spacing = 2.0e-3;
+    keyed.simulation.end_time = 5.0e-5;
+    let mut alone = keyed.clone();
+    keyed.artificial_stress = Some(ArtificialStress {
+        plastic: ArtPlastic::Hourglass,
+        ..ArtificialStress::DEFAULT
+    });
+    with_hourglass_control(&mut alone, 0.3);
+    let (k, a) = (run(&keyed), run(&alone));
+    assert!(k.history.rows.len() > 10);
+    assert!(k.history.rows == a.history.rows, "the histories differ");
 }
 
 /// The cylinder with round supports and the close-pair artificial stress

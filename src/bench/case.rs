@@ -121,7 +121,7 @@ impl DiskCase {
             .artificial_viscosity
             .get_or_insert_with(Default::default)
             .hourglass = alpha;
-        self.model.hourglass = alpha;
+        self.model.set_hourglass(alpha);
         self
     }
 

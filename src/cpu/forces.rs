@@ -229,7 +229,8 @@ pub(in crate::cpu) fn pair_terms_of(
 /// neighbourhood resists the part of its neighbours' velocities that its
 /// own velocity gradient does not explain. Particle i's family puts
 /// `c_ij δ_i` on i and `−c_ij δ_i` on j, with `δ_i = v_j − v_i − ∇v_i x_ji`
-/// and `c_ij = α m_i c_i h_i V_j w_ij`, `w_ij = ∇_i W_ij·x_ji / r²` the
+/// and `c_ij = α_i m_i c_i h_i V_j w_ij` (`α_i` the coefficient of i's
+/// body), `w_ij = ∇_i W_ij·x_ji / r²` the
 /// weight the corrected gradient fits `∇v_i` with by least squares. The
 /// fit's residuals are orthogonal to every linear field, so the family
 /// exerts no net force or torque and its power is `−Σ_j c_ij |δ_i|²`:
@@ -252,7 +253,7 @@ fn hourglass(
     let vji = b.vh - a.vh;
     let di = vji - a.gh.mul_vec(xji);
     let dj = -vji + b.gh.mul_vec(xji);
-    let k = model.hourglass * w;
+    let (ki, kj) = (model.hourglass_of(i) * w, model.hourglass_of(j) * w);
     // V_j / m_j: 1/ρ_j; in a body of revolution j's weight in i's fit is
     // m_j / η_i (kinematics::gradient_weight), so 1/η_i.
     let (vi, vj) = if model.axisymmetric {
@@ -261,8 +262,8 @@ fn hourglass(
         (st.rho[j], st.rho[i])
     };
     [
-        di * (k * a.pt.c * model.h[i] / vi),
-        dj * (-k * b.pt.c * model.h[j] / vj),
+        di * (ki * a.pt.c * model.h[i] / vi),
+        dj * (-kj * b.pt.c * model.h[j] / vj),
     ]
 }
 

@@ -28,8 +28,16 @@ fn disks(stir: impl Fn(usize, DVec2) -> DVec2) -> (Model, State) {
 /// The control's own part of the rates: the rates with it less those
 /// without, from the solver's sweep and from the plain gather.
 fn control_part(model: &Model, st: &State, alpha: f64) -> [(Vec<DVec2>, Vec<f64>); 2] {
+    control_part_of(model, st, [alpha; 2])
+}
+
+/// [`control_part`] with each disk's families at its own coefficient.
+fn control_part_of(model: &Model, st: &State, alpha: [f64; 2]) -> [(Vec<DVec2>, Vec<f64>); 2] {
     let mut on = model.clone();
-    on.hourglass = alpha;
+    on.set_hourglass(alpha[0].max(alpha[1]));
+    for (b, a) in on.bodies.iter_mut().zip(alpha) {
+        b.hourglass = a;
+    }
     let (with, _) = evaluate(&on, st);
     let (without, _) = evaluate(model, st);
     let sweep = (
@@ -65,30 +73,40 @@ fn hourglass_control_conserves_and_only_heats() {
         DVec2::new(a.cos(), a.sin()) * (0.5 + b)
     });
     let m = &model.mass;
-    for (dv, de) in control_part(&model, &st, 1.0) {
-        // Scales: the control's force and power on the particles.
-        let f: f64 = (0..m.len()).map(|i| m[i] * dv[i].length()).sum();
-        let p: f64 = (0..m.len()).map(|i| m[i] * de[i].abs()).sum();
-        assert!(f > 0.0 && p > 0.0, "the control acts: {f} {p}");
-        let force: DVec2 = (0..m.len()).map(|i| dv[i] * m[i]).sum();
-        let torque: f64 = (0..m.len()).map(|i| m[i] * st.x[i].perp_dot(dv[i])).sum();
-        let r = st.x.iter().map(|x| x.length()).fold(0.0, f64::max);
-        assert!(force.length() < 1e-12 * f, "net force {force} of {f}");
-        assert!(
-            torque.abs() < 1e-12 * f * r,
-            "net torque {torque} of {}",
-            f * r
-        );
-        // Its work on the velocities is the heat it books, to round-off.
-        let work: f64 = (0..m.len()).map(|i| m[i] * st.v[i].dot(dv[i])).sum();
-        let heat: f64 = (0..m.len()).map(|i| m[i] * de[i]).sum();
-        assert!(
-            heat > 0.0 && (work + heat).abs() < 1e-10 * p,
-            "work {work}, heat {heat}"
-        );
-        // Every particle's heat is its own neighbourhood's, never negative.
-        for i in 0..m.len() {
-            assert!(m[i] * de[i] > -1e-12 * p, "heat {} at {i}", m[i] * de[i]);
+    // Both disks' families, then the first's alone (a body that takes the
+    // control in place of the artificial stress beside one that does not).
+    let one = model.bodies[1].range.clone();
+    for alpha in [[1.0, 1.0], [1.0, 0.0]] {
+        for (dv, de) in control_part_of(&model, &st, alpha) {
+            if alpha[1] == 0.0 {
+                // The disks share no pair (contact couples them): the second
+                // feels nothing.
+                assert!(one.clone().all(|i| dv[i] == DVec2::ZERO && de[i] == 0.0));
+            }
+            // Scales: the control's force and power on the particles.
+            let f: f64 = (0..m.len()).map(|i| m[i] * dv[i].length()).sum();
+            let p: f64 = (0..m.len()).map(|i| m[i] * de[i].abs()).sum();
+            assert!(f > 0.0 && p > 0.0, "the control acts: {f} {p}");
+            let force: DVec2 = (0..m.len()).map(|i| dv[i] * m[i]).sum();
+            let torque: f64 = (0..m.len()).map(|i| m[i] * st.x[i].perp_dot(dv[i])).sum();
+            let r = st.x.iter().map(|x| x.length()).fold(0.0, f64::max);
+            assert!(force.length() < 1e-12 * f, "net force {force} of {f}");
+            assert!(
+                torque.abs() < 1e-12 * f * r,
+                "net torque {torque} of {}",
+                f * r
+            );
+            // Its work on the velocities is the heat it books, to round-off.
+            let work: f64 = (0..m.len()).map(|i| m[i] * st.v[i].dot(dv[i])).sum();
+            let heat: f64 = (0..m.len()).map(|i| m[i] * de[i]).sum();
+            assert!(
+                heat > 0.0 && (work + heat).abs() < 1e-10 * p,
+                "work {work}, heat {heat}"
+            );
+            // Every particle's heat is its own neighbourhood's, never negative.
+            for i in 0..m.len() {
+                assert!(m[i] * de[i] > -1e-12 * p, "heat {} at {i}", m[i] * de[i]);
+            }
         }
     }
     // The sweep and the gather agree to round-off.

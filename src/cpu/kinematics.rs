@@ -212,21 +212,23 @@ pub(crate) fn stress_point(
     let rho = model.density(eta, x);
     let p = mat.pressure_of(rho, e, damage);
     let c = mat.sound_speed_of(rho, e, damage);
-    point_of(model, (eta, x), rho, (p, c), s)
+    point_of(model, model.takes_art(i), (eta, x), rho, (p, c), s)
 }
 
 /// The [`StressPoint`] of pressure `p`, sound speed `c` and deviatoric
-/// stress `s` at `η`, `x` and density `rho`.
+/// stress `s` at `η`, `x` and density `rho`, with its artificial stress if
+/// `art`.
 #[inline]
 fn point_of(
     model: &Model,
+    art: bool,
     (eta, x): (f64, DVec2),
     rho: f64,
     (p, c): (f64, f64),
     s: &Sym,
 ) -> StressPoint {
     let sigma = material::cauchy(p, s);
-    let r = match model.artificial_stress {
+    let r = match model.artificial_stress.filter(|_| art) {
         Some(a) if model.axisymmetric => {
             tension::artificial_stress(a.epsilon, &sigma, rho).scale(rho / eta)
         }

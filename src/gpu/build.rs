@@ -296,7 +296,8 @@ impl GpuSolver {
                     linear: m.linear as u32,
                     elastic: (!m.y0.is_finite()) as u32,
                     debris_n: b.debris_neighbours,
-                    ..Default::default()
+                    hg: b.hourglass as f32,
+                    art: b.art as u32,
                 }
             })
             .collect();

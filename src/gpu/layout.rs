@@ -80,8 +80,12 @@ pub struct BodyGpu {
     /// The fewest same-body neighbours a particle keeps its correction
     /// with ([`crate::model::BodyInfo::debris_neighbours`]).
     pub debris_n: u32,
-    pub pad1: u32,
-    pub pad2: u32,
+    /// The hourglass control's coefficient on the body's families
+    /// ([`crate::model::BodyInfo::hourglass`]).
+    pub hg: f32,
+    /// 1 where the body's particles carry the artificial stress
+    /// ([`crate::model::BodyInfo::art`]).
+    pub art: u32,
 }
 
 /// `Plastic` in strength.wgsl: per-body constants of the strength and
@@ -201,7 +205,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
             size_of::<BodyGpu>(),
             offsets!(
                 BodyGpu, rho0, k, s, gamma0, g, y0, z, modulus, spacing, h, rigid, linear, elastic,
-                debris_n, pad1, pad2
+                debris_n, hg, art
             ),
         ),
         (

@@ -181,7 +181,8 @@ impl std::fmt::Display for Backend {
 /// A scene without the section gets [`ArtificialStress::DEFAULT`], the
 /// close-pair form; a section without `pairs` is the classic form on
 /// every pair; `epsilon = 0` switches the term off; `work` says where its
-/// work may only be heat ([`ArtWork`]).
+/// work may only be heat ([`ArtWork`]); `plastic` what a body whose
+/// material can yield takes ([`ArtPlastic`]).
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ArtificialStress {
@@ -193,12 +194,21 @@ pub struct ArtificialStress {
     pub pairs: ArtPairs,
     #[serde(default)]
     pub work: ArtWork,
+    #[serde(default)]
+    pub plastic: ArtPlastic,
+    /// The hourglass control's coefficient in a body that takes it in
+    /// place of the term ([`ArtPlastic::Hourglass`]).
+    #[serde(default = "default_as_plastic_hourglass")]
+    pub plastic_hourglass: f64,
 }
 fn default_as_epsilon() -> f64 {
     0.3
 }
 fn default_as_n() -> f64 {
     4.0
+}
+fn default_as_plastic_hourglass() -> f64 {
+    ArtificialStress::DEFAULT.plastic_hourglass
 }
 
 impl ArtificialStress {
@@ -209,7 +219,25 @@ impl ArtificialStress {
         n: 4.0,
         pairs: ArtPairs::Close,
         work: ArtWork::Either,
+        plastic: ArtPlastic::Stress,
+        plastic_hourglass: 0.3,
     };
+}
+
+/// What the particles of a deformable body whose material can yield (a
+/// yield stress or a strength law) take against the tensile instability
+/// (docs/method.md, "Hourglass control in place of the term").
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ArtPlastic {
+    /// The artificial stress, as every other body.
+    #[default]
+    Stress,
+    /// No artificial stress of their own (`R_i = 0`), and the hourglass
+    /// control at `plastic_hourglass` on their families of pairs, whose
+    /// work is heat: plastic flow has no tension to hold, and the term's
+    /// one-signed work there drains internal energy into motion.
+    Hourglass,
 }
 
 /// Which way the artificial stress's work on a pair may go (docs/method.md,

@@ -142,8 +142,9 @@ fn check_names_the_hourglass_control() {
     }
 }
 
-/// `check` says which artificial stress runs and where its work may only
-/// be heat; a bad `work` is a clear error.
+/// `check` says which artificial stress runs, where its work may only be
+/// heat and which bodies take the hourglass control in its place; a bad
+/// `work` is a clear error.
 #[test]
 fn check_names_the_artificial_stress() {
     let tmp = tempfile::tempdir().unwrap();
@@ -179,6 +180,29 @@ fn check_names_the_artificial_stress() {
     ] {
         check_says(tmp.path(), &scene, line);
     }
+    // The hourglass control in place of the term where a body can yield:
+    // both bars can, so no artificial stress runs; without a yield
+    // stress the key changes nothing.
+    let keyed = format!(
+        "{BASE_1D}\n[artificial_stress]\nplastic = \"hourglass\"\nplastic_hourglass = 0.5\n"
+    );
+    let keyed_elastic = keyed.replacen("yield_stress = 600.0e6\n", "", 1);
+    let keyed = write_scene(tmp.path(), "keyed", &keyed);
+    check_says(
+        tmp.path(),
+        &keyed,
+        "plastic     left, right: the hourglass control 0.5 in place of the artificial stress",
+    );
+    check_says(tmp.path(), &keyed, "no artificial stress");
+    let keyed_elastic = write_scene(tmp.path(), "keyed_elastic", &keyed_elastic);
+    let out = sphcontact(tmp.path(), &["check", keyed_elastic.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("every pair in tension; its work of either sign")
+            && !stdout.contains("in place of"),
+        "{stdout}"
+    );
     let bad = format!("{BASE_1D}\n[artificial_stress]\nwork = \"cold\"\n");
     let bad = write_scene(tmp.path(), "bad", &bad);
     let out = sphcontact(tmp.path(), &["check", bad.to_str().unwrap()]);

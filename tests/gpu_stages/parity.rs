@@ -1,7 +1,7 @@
 //! Every stage against its CPU twin on the paper's scenes.
 
 use super::*;
-use sphcontact::scene::{ArtPairs, ArtWork, ArtificialStress};
+use sphcontact::scene::{ArtPairs, ArtPlastic, ArtWork, ArtificialStress};
 
 #[test]
 fn stages_match_cpu_disks_square() {
@@ -174,6 +174,42 @@ fn stages_match_cpu_with_plastic_flow() {
         flowing > 20 && flowing < model.len() / 2,
         "{flowing} of {} particles flow",
         model.len()
+    );
+    stir(&mut st);
+    check_state(model, st, true);
+}
+
+/// The hourglass control in place of the artificial stress in a body that
+/// can yield (`plastic = "hourglass"`): the paper's disks meeting through
+/// the SPH sums (kernel mode, so pairs cross between them), the right one
+/// given a yield stress; its particles carry no artificial stress and
+/// its families the control at 0.7, the left disk's the classic term and
+/// the control at 0.2; velocities stirred.
+#[test]
+fn stages_match_cpu_with_hourglass_in_place_of_the_term() {
+    if gpu().is_none() {
+        return;
+    }
+    let mut scene = load("scenes/paper/disks_square_kernel.toml");
+    let mut yielding = scene.materials["steel"].clone();
+    yielding.yield_stress = Some(1.0e9);
+    scene.materials.insert("yielding".into(), yielding);
+    scene.bodies[1].material = "yielding".into();
+    scene.artificial_stress = Some(ArtificialStress {
+        pairs: ArtPairs::All,
+        plastic: ArtPlastic::Hourglass,
+        plastic_hourglass: 0.7,
+        ..ArtificialStress::DEFAULT
+    });
+    scene
+        .artificial_viscosity
+        .get_or_insert_with(Default::default)
+        .hourglass = 0.2;
+    let (model, mut st) = state_of(&scene, 3e-6);
+    assert!(model.bodies[0].art && !model.bodies[1].art);
+    assert_eq!(
+        (model.bodies[0].hourglass, model.bodies[1].hourglass),
+        (0.2, 0.7)
     );
     stir(&mut st);
     check_state(model, st, true);

@@ -34,7 +34,7 @@ fn leapfrog_steps(path: &str, t: f64, hourglass: f64) {
     let Some(ctx) = gpu() else { return };
     let (mut model, mut st) = state_during_contact(path, t);
     model.integrator = Integrator::Leapfrog;
-    model.hourglass = hourglass;
+    model.set_hourglass(hourglass);
     if hourglass > 0.0 {
         stir(&mut st);
     }

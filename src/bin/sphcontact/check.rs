@@ -67,6 +67,20 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
             ),
         }
     );
+    // Bodies that can yield and take the hourglass control in place of
+    // the artificial stress (`plastic = "hourglass"`).
+    let keyed: Vec<&sphcontact::model::BodyInfo> = model.bodies.iter().filter(|b| !b.art).collect();
+    if let Some(b) = keyed.first() {
+        println!(
+            "plastic     {}: the hourglass control {} in place of the artificial stress",
+            keyed
+                .iter()
+                .map(|b| b.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+            b.hourglass
+        );
+    }
     println!("particles   {}", model.len());
     for (bi, (b, sb)) in model.bodies.iter().zip(&scene.bodies).enumerate() {
         let m = &b.material;

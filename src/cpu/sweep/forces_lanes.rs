@@ -276,7 +276,7 @@ fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
 
 /// What the lane code reads of the hourglass control: each particle's
 /// velocity and velocity gradient as the control sees them
-/// (`forces::Side::vh`, `gh`), when it is on.
+/// (`forces::Side::vh`, `gh`), and minus its coefficient, when it is on.
 struct HgRows {
     v: Vec<[f64; 4]>,
     g: Vec<[f64; 4]>,
@@ -294,7 +294,10 @@ fn hg_rows(model: &Model, st: &State, kin: &Kinematics) -> Option<HgRows> {
             let gv = kin.gv.get(i).copied().unwrap_or(Mat2::ZERO);
             let vh = kin.hv.get(i).copied().unwrap_or(st.v[i]);
             let gh = kin.hgrad.get(i).copied().unwrap_or(gv);
-            ([vh.x, vh.y, 0.0, 0.0], [gh.xx, gh.xy, gh.yx, gh.yy])
+            (
+                [vh.x, vh.y, -model.hourglass_of(i), 0.0],
+                [gh.xx, gh.xy, gh.yx, gh.yy],
+            )
         })
         .unzip();
     Some(HgRows { v, g })
@@ -487,9 +490,10 @@ fn lane_terms(
         // The hourglass control (forces::hourglass), its parts added where
         // the one-pair code adds them: to t G, and to each side's σ/ρ² G
         // in its energy term and pair vectors.
-        let [vhjx, vhjy, _, _] = columns(c.j.map(|j| &hg.v[j as usize]));
+        // −α_j rides in the velocity row (the one-pair code's −k).
+        let [vhjx, vhjy, naj, _] = columns(c.j.map(|j| &hg.v[j as usize]));
         let [gjxx, gjxy, gjyx, gjyy] = columns(c.j.map(|j| &hg.g[j as usize]));
-        let [vhix, vhiy, _, _] = hg.v[i];
+        let [vhix, vhiy, nai, _] = hg.v[i];
         let [gixx, gixy, giyx, giyy] = hg.g[i];
         // x_ji = −x_ij, exactly.
         let (zx, zy) = (F4::splat(0.0) - xx, F4::splat(0.0) - xy);
@@ -505,8 +509,8 @@ fn lane_terms(
         } else {
             (rhoj, F4::splat(rhoi))
         };
-        let fi = model.hourglass * w * ci * hi / rho_i;
-        let fj = -model.hourglass * w * cj * hj / rho_j;
+        let fi = -nai * w * ci * hi / rho_i;
+        let fj = naj * w * cj * hj / rho_j;
         let on = F4::splat(0.0).lt(r2);
         let zero = F4::splat(0.0);
         let (h0x, h0y) = (on.select(dix * fi, zero), on.select(diy * fi, zero));

@@ -173,21 +173,37 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         (false, 1.15, Some((0.2, 3.0, ArtPairs::All)), false),
         (true, 1.0, Some((0.3, 3.0, ArtPairs::Close)), true),
     ]
-    .map(|(r, h, a, d)| (r, h, a, d, (0.0, false)));
-    // The hourglass control: (α_hg, the leapfrog's kinematics).
+    .map(|(r, h, a, d)| (r, h, a, d, (0.0, false, false)));
+    // The hourglass control: (α_hg, the leapfrog's kinematics, keyed:
+    // the first disk takes it in place of the artificial stress and the
+    // second the term without it, `plastic = "hourglass"`).
     let with_control = [
-        (true, 1.0, None, false, (0.7, false)),
-        (false, 1.15, None, false, (1.0, false)),
+        (true, 1.0, None, false, (0.7, false, false)),
+        (false, 1.15, None, false, (1.0, false, false)),
         (
             true,
             1.0,
             Some((0.3, 4.0, ArtPairs::Close)),
             true,
-            (0.7, false),
+            (0.7, false, false),
         ),
-        (true, 1.0, None, false, (0.7, true)),
+        (true, 1.0, None, false, (0.7, true, false)),
+        (
+            false,
+            1.15,
+            Some((0.3, 4.0, ArtPairs::All)),
+            false,
+            (0.5, false, true),
+        ),
+        (
+            true,
+            1.0,
+            Some((0.3, 4.0, ArtPairs::Close)),
+            true,
+            (0.5, true, true),
+        ),
     ];
-    for (reconstruct, h_ratio, art, damaged, (hourglass, seen)) in
+    for (reconstruct, h_ratio, art, damaged, (hourglass, seen, keyed)) in
         without_control.into_iter().chain(with_control)
     {
         let st = if damaged { &failed } else { &st };
@@ -209,7 +225,11 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             assert!(n > model.len() / 4 && n < model.len() * 3 / 4, "{n} flow");
         }
         model.av_reconstruct = reconstruct;
-        model.hourglass = hourglass;
+        model.set_hourglass(hourglass);
+        if keyed {
+            model.bodies[0].art = false;
+            model.bodies[1].hourglass = 0.0;
+        }
         model.contact = h_ratio == 1.0;
         for i in 0..model.len() {
             if model.body[i] == 1 {
@@ -226,6 +246,18 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             kinematics(&model, st, &nb)
         };
         let pts = eos_and_stress(&model, st);
+        if keyed {
+            // The first disk carries no artificial stress, the second does.
+            let tension = |b: usize| {
+                model.bodies[b]
+                    .range
+                    .clone()
+                    .filter(|&i| pts[i].r.xx + pts[i].r.yy < 0.0)
+                    .count()
+            };
+            assert_eq!(tension(0), 0);
+            assert!(tension(1) > model.bodies[1].range.len() / 4);
+        }
         let args = (&model, st, &nb, &k, &pts[..]);
         let one = sums(args, false, None);
         let four = sums(args, true, None);
@@ -239,10 +271,16 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         if hourglass > 0.0 {
             // ... and the control's part of it.
             let mut off = model.clone();
-            off.hourglass = 0.0;
+            off.set_hourglass(0.0);
             let none = sums((&off, st, &nb, &k, &pts[..]), true, None);
             let moved = (0..model.len()).filter(|&i| none.0[i] != four.0[i]).count();
-            assert!(moved > model.len() / 2, "the control moved {moved}");
+            // Keyed, the first disk's families alone.
+            let with = if keyed {
+                model.bodies[0].range.len()
+            } else {
+                model.len()
+            };
+            assert!(moved > with / 2, "the control moved {moved}");
         }
         if seen {
             // The gather below takes the state's own kinematics.
@@ -461,6 +499,7 @@ fn as_of((epsilon, n, pairs): (f64, f64, ArtPairs)) -> crate::scene::ArtificialS
             3.0 => ArtWork::Plastic,
             _ => ArtWork::Either,
         },
+        ..crate::scene::ArtificialStress::DEFAULT
     }
 }
 
@@ -570,6 +609,7 @@ fn artificial_stress_with_heat_work_only_heats() {
                 n: 4.0,
                 pairs,
                 work,
+                ..crate::scene::ArtificialStress::DEFAULT
             });
             let (mut acted, mut least) = (0, f64::INFINITY);
             for (_, _, t) in every_pair_terms(&model, &st, &nb) {
@@ -646,7 +686,7 @@ fn inviscid_stirred_disks() -> (Model, State, Neighbours) {
     let (mut model, st) = stirred_disks();
     model.alpha = 0.0;
     model.beta = 0.0;
-    model.hourglass = 0.0;
+    model.set_hourglass(0.0);
     let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
     let nb = find_with_skin(&model, st.frame(), skin);
     (model, st, nb)

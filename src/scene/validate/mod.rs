@@ -81,6 +81,7 @@ pub fn validate(scene: &Scene) -> R {
     if let Some(st) = &scene.artificial_stress {
         non_negative("artificial_stress.epsilon", st.epsilon)?;
         positive("artificial_stress.n", st.n)?;
+        non_negative("artificial_stress.plastic_hourglass", st.plastic_hourglass)?;
     }
     if let Some(c) = &scene.contact {
         positive("contact.boundary_threshold", c.boundary_threshold)?;
