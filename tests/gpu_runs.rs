@@ -185,13 +185,21 @@ fn disks_on_the_other_integrators_gpu_match_cpu() {
 /// CPU's, with the same steps, and the spheres' energy kept on the device
 /// as on the host.
 ///
-/// The spheres on the leapfrog are [`spheres_gpu_match_cpu_leapfrog`]
-/// (minutes on a software adapter).
+/// The spheres on the leapfrog are [`spheres_gpu_match_cpu_leapfrog`],
+/// the ball [`ball_on_plate_gpu_matches_cpu`] (minutes on a software
+/// adapter).
 #[test]
 fn bodies_of_revolution_gpu_match_cpu() {
-    if !spheres_gpu_match_cpu(Integrator::Midpoint) {
-        return;
-    }
+    spheres_gpu_match_cpu(Integrator::Midpoint);
+}
+
+/// The ball denting the plate of [`bodies_of_revolution_gpu_match_cpu`]
+/// (minutes on a software adapter; the default suite keeps its first 5 µs
+/// in [`gpu_histories_are_bitwise_repeatable`] and plastic flow in a body
+/// of revolution in the stage tests).
+#[test]
+#[ignore]
+fn ball_on_plate_gpu_matches_cpu() {
     let Some((cpu, gpu)) = both(
         "scenes/axisymmetric/ball_on_plate.toml",
         Integrator::Midpoint,
@@ -218,10 +226,10 @@ fn spheres_gpu_match_cpu_leapfrog() {
 }
 
 /// The two spheres of [`bodies_of_revolution_gpu_match_cpu`] on one
-/// integrator; false without an adapter.
-fn spheres_gpu_match_cpu(integrator: Integrator) -> bool {
+/// integrator.
+fn spheres_gpu_match_cpu(integrator: Integrator) {
     let Some((cpu, gpu)) = both("scenes/axisymmetric/spheres_hertz.toml", integrator) else {
-        return false;
+        return;
     };
     close(
         "spheres: peak force",
@@ -246,7 +254,6 @@ fn spheres_gpu_match_cpu(integrator: Integrator) -> bool {
         drift < 1e-3,
         "spheres ({integrator}): the device's energy drifts by {drift:.2e}"
     );
-    true
 }
 
 /// The penetration scene (a tungsten-alloy rod into a 4340 plate at
