@@ -225,7 +225,8 @@ impl Model {
             alpha: av.alpha,
             beta: av.beta,
             av_reconstruct: av.reconstruct,
-            hourglass: av.hourglass,
+            // The bodies' largest, once they are known.
+            hourglass: 0.0,
             artificial_stress: Some(art).filter(|a| a.epsilon > 0.0),
             close_scale: Vec::new(),
             boundary_threshold: cs.boundary_threshold,
@@ -292,14 +293,15 @@ impl Model {
                         .push(p.masses[k] / state.rho[state.rho.len() - 1]);
                 }
             }
-            model.plastic |= !b.rigid && material.y0.is_finite();
+            let yields = !b.rigid && material.y0.is_finite();
+            model.plastic |= yields;
             model.history |= !b.rigid && material.has_history();
             model.strain_rate |=
                 !b.rigid && (material.strength.is_some() || material.failure.is_some());
             model.any_rigid |= b.rigid;
             // A body that can yield takes the hourglass control in place of
             // the artificial stress where the scene says so.
-            let keyed = !b.rigid && material.y0.is_finite() && art.plastic == ArtPlastic::Hourglass;
+            let keyed = yields && art.plastic == ArtPlastic::Hourglass;
             model.bodies.push(BodyInfo {
                 name: b.name.clone(),
                 material,
