@@ -399,7 +399,11 @@ fn equal_steel_bars_kernel_mode_does_not_separate_gpu() {
     on_gpu(equal_steel_bars_kernel_mode_does_not_separate);
 }
 
+/// Held to the CPU's run (which meets the targets) to 0.5 % in
+/// tests/gpu_runs.rs; this run of the targets on the device is nearly a
+/// minute on a software adapter.
 #[test]
+#[ignore]
 fn steel_against_aluminium_gpu() {
     on_gpu(steel_against_aluminium);
 }

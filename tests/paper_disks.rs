@@ -120,7 +120,11 @@ fn disks_square_lattice_gpu() {
     on_gpu(disks_square_lattice);
 }
 
+/// The polar disks' GPU run is held to the CPU's (which meets the
+/// bracket) in tests/gpu_runs.rs, to 0.5 %; this run of the bracket on the
+/// device is a minute and more on a software adapter.
 #[test]
+#[ignore]
 fn disks_polar_lattice_gpu() {
     on_gpu(disks_polar_lattice);
 }

@@ -156,6 +156,17 @@ fn sphere_stops_at_40_mm_at_20_through_gpu() {
 /// (GPU the same to 1e-5, energy 2e-6), 20 through +0.68 % (leapfrog
 /// +0.67 %, energy 5e-9), 40 through +0.02 % (leapfrog, 178 s, not here).
 #[test]
+fn cylinder_with_hourglass_control_at_10_through() {
+    let scene = shell_with_hourglass("cylinder", 10, 0.3);
+    verney_of(&scene, "cylinder", 10, 0.04, 1e-4);
+}
+
+/// [`cylinder_with_hourglass_control_at_10_through`] on both backends
+/// (minutes on a software adapter; the control's device code is held to
+/// the CPU's in the stage tests and over a whole run by the rubber rings
+/// with the control, tests/hard_cases_2d/).
+#[test]
+#[ignore]
 fn cylinder_with_hourglass_control_at_10_through_gpu() {
     let scene = shell_with_hourglass("cylinder", 10, 0.3);
     let cpu = verney_of(&scene, "cylinder", 10, 0.04, 1e-4);

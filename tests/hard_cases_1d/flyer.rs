@@ -127,7 +127,11 @@ fn elastic_target_holds_its_tension_leapfrog() {
     });
 }
 
+/// A minute and a half on a software adapter; the device's close-pair
+/// term is held to the CPU's in the stage tests and over whole runs by
+/// the rubber rings' and the spalling target's GPU runs.
 #[test]
+#[ignore]
 fn elastic_target_holds_its_tension_gpu() {
     on_gpu(|| {
         holds(&flyer_tension(&load(

@@ -402,7 +402,11 @@ fn rubber_rings_rebound_intact_by_default_gpu() {
 }
 
 /// GPU: to 330 µs, just past the separation (300 µs), without the period.
+/// The classic form differs from the default only in the gate, which the
+/// default's GPU run above and the stage tests take on the device
+/// (a minute and a half on a software adapter).
 #[test]
+#[ignore]
 fn rubber_rings_rebound_intact_with_artificial_stress_gpu() {
     on_gpu(|| rings_with_artificial_stress(Some(3.3e-4), Hold::Classic));
 }
