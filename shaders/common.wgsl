@@ -140,7 +140,8 @@ struct Params {
     axis_cell: f32,
     // The margin, in cells, of a walk's reach where supports adapt.
     reach_margin: f32,
-    pad1: u32,
+    // The energy guard's slot of the internal energy held below zero.
+    energy_owed: u32,
     pad2: u32,
 }
 

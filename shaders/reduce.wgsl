@@ -91,6 +91,13 @@ fn observe(i: u32) -> Obs {
 fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
     let code = SLOT_CODE[sl];
     let a = SLOT_A[sl];
+    if (code == 10u) {
+        // The internal energy held below zero (the energy guard's).
+        if (o.rigid) {
+            return 0.0;
+        }
+        return o.m * min(o.e, 0.0);
+    }
     if (code <= 5u) {
         if (a != NONE && o.body != a) {
             return 0.0;
@@ -260,11 +267,13 @@ fn reduce_final(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgrou
     // The energy guard's total: the same sums, in the same order, as the
     // slots' own workgroups write to the ring.
     var e = 0.0;
+    var owed = 0.0;
     if (GUARD) {
         e = slot_total(lid, params.energy_kin) + slot_total(lid, params.energy_int);
         if (params.energy_stored != NONE) {
             e += slot_total(lid, params.energy_stored);
         }
+        owed = slot_total(lid, params.energy_owed);
     }
     for (var k = lid; k < params.nprobes; k += RED) {
         probe_value(k);
@@ -272,7 +281,7 @@ fn reduce_final(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgrou
     if (lid == 0u) {
         cfl_step(cfl_min);
         if (GUARD) {
-            energy_guard(e);
+            energy_guard(e, owed);
         }
     }
 }
@@ -322,12 +331,14 @@ fn cfl_step(cfl_min: f32) {
 }
 
 // The energy guard (Model::guards_energy): `e`, the total energy (kinetic
-// + internal + stored penalty) of the state this step starts from. The
+// + internal + stored penalty) of the state this step starts from, and
+// `owed`, the internal energy its particles hold below zero
+// (Model::energy_owed_bound). The
 // first state sets the limit; out of the band (Model::energy_outside) the
 // step gets zero length (the advances leave the state as it is) and the
 // failure is recorded against this state: code 6, the host names the
 // particle.
-fn energy_guard(e: f32) {
+fn energy_guard(e: f32, owed: f32) {
     if (ctl.energy_limit < 0.0) {
         // As Model::energy_limit.
         ctl.energy_limit = params.energy_growth * e + params.energy_floor;
@@ -336,7 +347,8 @@ fn energy_guard(e: f32) {
     // As Model::energy_lower.
     let e0 = (ctl.energy_limit - params.energy_floor) / params.energy_growth;
     let lower = (2.0 - params.energy_growth) * e0 - params.energy_floor;
-    let outside = e > ctl.energy_limit || e < lower;
+    let owed_bound = -((params.energy_growth - 1.0) * e0 + params.energy_floor);
+    let outside = e > ctl.energy_limit || e < lower || owed < owed_bound;
     if (outside && atomicLoad(&ctl.fail_step) == NONE) {
         atomicMin(&ctl.fail_step, ctl.step);
         atomicMin(&ctl.fail_code, 6u);

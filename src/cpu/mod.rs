@@ -356,9 +356,11 @@ impl CpuSolver {
             let diag = &self.current.as_ref().expect("evaluated above").1;
             let e = crate::probe::energies(&self.model, &self.state, diag).total();
             let limit = *self.energy_limit.get_or_insert(self.model.energy_limit(e));
-            if self.model.energy_outside(limit, e) {
+            let owed = self.model.energy_owed(&self.state);
+            if self.model.energy_outside(limit, e, owed) {
                 let i = self.model.guarded_particle(&self.state, limit, e);
-                return Err(self.instability(i, &self.model.energy_quantity(limit, e), e));
+                let (q, value) = self.model.energy_quantity(limit, e, owed);
+                return Err(self.instability(i, &q, value));
             }
         }
         let (k1, _) = self.current.take().expect("evaluated above");

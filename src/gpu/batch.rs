@@ -286,8 +286,8 @@ impl GpuSolver {
         let (quantity, value) = if q == 4 {
             ("time step".to_string(), row[2] as f64)
         } else if guard {
-            let e = self.plan.guarded_energy(row);
-            (self.model.energy_quantity(ctl.energy_limit as f64, e), e)
+            let (e, owed) = (self.plan.guarded_energy(row), self.plan.guarded_owed(row));
+            self.model.energy_quantity(ctl.energy_limit as f64, e, owed)
         } else {
             let st = self.download();
             let named = |name: &str, v: f64| (name.to_string(), v);
@@ -301,9 +301,11 @@ impl GpuSolver {
         };
         let id = match q {
             4 => 0,
-            6 => self
-                .model
-                .guarded_particle(&self.download(), ctl.energy_limit as f64, value),
+            6 => self.model.guarded_particle(
+                &self.download(),
+                ctl.energy_limit as f64,
+                self.plan.guarded_energy(row),
+            ),
             _ => id,
         };
         let (body, particle) = self.model.locate(id.min(self.n - 1));

@@ -273,7 +273,7 @@ impl GpuSolver {
                 0.0
             },
             reach_margin: REACH_MARGIN as f32,
-            pad1: 0,
+            energy_owed: plan.energy.map_or(0, |e| e.2 as u32),
             pad2: 0,
         };
         let bodies: Vec<BodyGpu> = model

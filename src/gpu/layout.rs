@@ -56,7 +56,9 @@ pub struct Params {
     /// The margin, in cells, of a walk's reach where supports adapt
     /// (walk.wgsl, `walker`): the f32 rounding of a particle's place.
     pub reach_margin: f32,
-    pub pad1: u32,
+    /// The ring-row slot of the internal energy held below zero, which
+    /// the energy guard reads too ([`crate::model::Model::energy_owed_bound`]).
+    pub energy_owed: u32,
     pub pad2: u32,
 }
 
@@ -196,7 +198,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 surf_groups,
                 axis_cell,
                 reach_margin,
-                pad1,
+                energy_owed,
                 pad2
             ),
         ),

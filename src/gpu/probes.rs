@@ -27,6 +27,7 @@ mod code {
     pub const PAIR_PMAX: u32 = 7;
     pub const STORED: u32 = 8;
     pub const HEAT: u32 = 9;
+    pub const OWED: u32 = 10;
 }
 
 /// How a probe value is made from a ring row.
@@ -52,8 +53,9 @@ pub struct ProbePlan {
     /// The slot of the stored penalty energy (always present with contact).
     pub stored: Option<usize>,
     /// The slots of the kinetic and the internal energy the energy guard
-    /// reads with the stored one (present when the run is guarded).
-    pub energy: Option<(usize, usize)>,
+    /// reads with the stored one, and of the internal energy held below
+    /// zero (present when the run is guarded).
+    pub energy: Option<(usize, usize, usize)>,
 }
 
 fn particle_code(q: ParticleQuantity) -> u32 {
@@ -90,6 +92,7 @@ impl ProbePlan {
             plan.energy = Some((
                 plan.slot([code::KINETIC, NONE, NONE, 0]),
                 plan.slot([code::INTERNAL, NONE, NONE, 0]),
+                plan.slot([code::OWED, NONE, NONE, 0]),
             ));
         }
         for p in probes {
@@ -237,9 +240,15 @@ impl ProbePlan {
     /// The total energy in a row (the energy guard's value, as an `energy`
     /// probe of quantity `total` reads it; 0 without the guard).
     pub fn guarded_energy(&self, row: &[f32]) -> f64 {
-        self.energy.map_or(0.0, |(k, i)| {
+        self.energy.map_or(0.0, |(k, i, _)| {
             self.value(&Expr::Total(k, i, self.stored), row)
         })
+    }
+
+    /// The internal energy held below zero in a row (the energy guard's;
+    /// 0 without the guard).
+    pub fn guarded_owed(&self, row: &[f32]) -> f64 {
+        self.energy.map_or(0.0, |(_, _, o)| row[3 + o] as f64)
     }
 
     /// The stored penalty energy in a row (0 without contact).
