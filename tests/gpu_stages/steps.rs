@@ -40,12 +40,18 @@ fn leapfrog_steps_match_cpu_in_plastic_flow() {
     if gpu().is_none() {
         return;
     }
+    let (model, st) = coarse_penetration_at_5_us();
+    leapfrog_steps_from(model, st, 0.0);
+}
+
+/// The penetration scene at a spacing of 0.2 mm, 5 µs into the plate on
+/// the CPU path.
+fn coarse_penetration_at_5_us() -> (Model, State) {
     let mut scene = load("scenes/penetration/tungsten_rod_steel_plate.toml");
     for b in &mut scene.bodies {
         b.spacing = 2.0e-4;
     }
-    let (model, st) = state_of(&scene, 5e-6);
-    leapfrog_steps_from(model, st, 0.0);
+    state_of(&scene, 5e-6)
 }
 
 fn leapfrog_steps(path: &str, t: f64, hourglass: f64) {
@@ -146,16 +152,7 @@ fn stages_match_cpu_penetration() {
     if gpu().is_none() {
         return;
     }
-    let mut scene = load("scenes/penetration/tungsten_rod_steel_plate.toml");
-    for b in &mut scene.bodies {
-        b.spacing = 2.0e-4;
-    }
-    let (model, st) = Model::new(&scene);
-    let mut cpu = CpuSolver::new(model, st);
-    while cpu.state.t < 5e-6 {
-        cpu.step(5e-6 - cpu.state.t).expect("a stable CPU run");
-    }
-    let (model, st) = (cpu.model.clone(), cpu.state.clone());
+    let (model, st) = coarse_penetration_at_5_us();
     let failed = st.damage.iter().filter(|&&d| strength::failed(d)).count();
     let yielded = st.eps_p.iter().filter(|&&e| e > 0.0).count();
     println!("{failed} failed, {yielded} yielded of {}", model.len());
