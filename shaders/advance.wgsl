@@ -263,14 +263,6 @@ fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     atomicAdd(&bstart_w[bucket_of(home_at(x0[i], un).cell)], 1u);
 }
 
-// The leapfrog's compatible energy: a half kick by a over h books its
-// work at one end, the kinetic energy changes by it at the mean velocity
-// (CPU twin: cpu::leapfrog::kick_energy).
-fn kick_energy(a: vec2<f32>, h: f32) -> f32 {
-    let k = a * h;
-    return -0.5 * dot(k, k);
-}
-
 // The density at n+1 (kinematics_leap left it in rdt.x), e_{n+1} = e_{n+1/2} +
 // dt/2 de_{n+1}, and the checks of the new state. The step's last walk is
 // done, so it also zeroes the cell list's counts for the next step's

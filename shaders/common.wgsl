@@ -588,3 +588,12 @@ fn mat_mul(m: vec4<f32>, g: vec2<f32>) -> vec2<f32> {
 fn outer(a: vec2<f32>, b: vec2<f32>) -> vec4<f32> {
     return vec4<f32>(a.x * b.x, a.x * b.y, a.y * b.x, a.y * b.y);
 }
+
+// The leapfrog's compatible energy: a half kick by a over h books its
+// work at one end, the kinetic energy changes by it at the mean velocity
+// (advance.wgsl books it, kinematics.wgsl's prediction takes it back;
+// CPU twin: cpu::leapfrog::kick_energy).
+fn kick_energy(a: vec2<f32>, h: f32) -> f32 {
+    let k = a * h;
+    return -0.5 * dot(k, k);
+}

@@ -694,9 +694,8 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     var s1 = plastic_return(si + deviator_rate(shear_of(wk), si, gv, d_tt) * dt, body);
     // The predicted energy takes back the first half kick's compatible
     // term, as the second (to come) is expected to return it
-    // (advance.wgsl, kick_energy; CPU twin: cpu::leapfrog).
-    let kick = acc[i] * h;
-    let e1 = r[i].y + rdt[i].y * h + 0.5 * dot(kick, kick);
+    // (common.wgsl, kick_energy; CPU twin: cpu::leapfrog).
+    let e1 = r[i].y + rdt[i].y * h - kick_energy(acc[i], h);
     var d1 = 0.0;
     if (HISTORY) {
         var rate = 0.0;

@@ -347,6 +347,7 @@ fn energy_guard(e: f32, owed: f32) {
     // As Model::energy_lower.
     let e0 = (ctl.energy_limit - params.energy_floor) / params.energy_growth;
     let lower = (2.0 - params.energy_growth) * e0 - params.energy_floor;
+    // As Model::energy_owed_bound.
     let owed_bound = -((params.energy_growth - 1.0) * e0 + params.energy_floor);
     let outside = e > ctl.energy_limit || e < lower || owed < owed_bound;
     if (outside && atomicLoad(&ctl.fail_step) == NONE) {
