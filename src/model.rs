@@ -425,11 +425,13 @@ impl Model {
     }
 
     /// For each particle at positions `x`, from one walk of its own body's
-    /// neighbours (no mirror images): the squared distance to the nearest
-    /// one, how many lie within `2h` (coincident ones excluded), and
+    /// neighbours: the squared distance to the nearest
+    /// one and how many lie within `2h` (coincident ones and mirror images
+    /// excluded), and
     /// `h |∇ψ⁰|`, the colour gradient with the reference volumes that the
-    /// boundary test reads (docs/method.md §8.1; without the images of a
-    /// body of revolution, so that particles by the axis read as boundary).
+    /// boundary test reads (docs/method.md §8.1; in a body of revolution
+    /// with the images across the axis, as the solver's test has them, so
+    /// that the axis reads as no surface).
     fn placed_neighbourhoods(&self, x: &[DVec2]) -> Vec<Neighbourhood> {
         use rayon::prelude::*;
         let reach = 2.0 * self.h.iter().cloned().fold(0.0, f64::max);
@@ -441,17 +443,31 @@ impl Model {
                 let mut g = DVec2::ZERO;
                 let r2 = 4.0 * self.h[i] * self.h[i];
                 cells.for_each_near(x[i], self.dim, |j| {
-                    if j != i && self.body[j] == self.body[i] {
-                        let d = x[i] - x[j];
+                    if self.body[j] != self.body[i] {
+                        return;
+                    }
+                    let inv_h = 2.0 / (self.h[i] + self.h[j]);
+                    let mut add = |d: DVec2| {
                         let d2 = d.length_squared();
-                        nearest = nearest.min(d2);
-                        n += u32::from(d2 > 0.0 && d2 < r2);
-                        let inv_h = 2.0 / (self.h[i] + self.h[j]);
                         if let Some((_, gw)) =
                             crate::physics::kernel::w_grad(self.dim, d, d2, inv_h)
                         {
                             g -= gw * self.reference_volume(j);
                         }
+                    };
+                    // A body of revolution's images across the axis fill
+                    // the neighbourhood as they do in the solver's boundary
+                    // test (an image is never nearer than its particle, so
+                    // the cells around x_i hold every one within reach).
+                    if self.axisymmetric {
+                        add(x[i] - crate::cpu::axis::mirror(x[j]));
+                    }
+                    if j != i {
+                        let d = x[i] - x[j];
+                        let d2 = d.length_squared();
+                        nearest = nearest.min(d2);
+                        n += u32::from(d2 > 0.0 && d2 < r2);
+                        add(d);
                     }
                 });
                 Neighbourhood {
@@ -835,6 +851,62 @@ mod tests {
                 "{lattice} {jitter}: {fresh:?}"
             );
         }
+    }
+
+    /// In a body of revolution the axis is no surface: a rod's and a
+    /// sphere's particles along it, placed as deep as their distance to
+    /// the face or the pole, are off the solver's boundary (which counts
+    /// the images across the axis) and carry a fresh surface's half
+    /// spacing, while every boundary particle keeps its placed offset.
+    /// Kept at their depth, the axis particles of a Taylor rod entered the
+    /// contact with surface points spacings in front of them as the face
+    /// spread (the face's centre pressed through the wall).
+    #[test]
+    fn the_axis_of_a_body_of_revolution_is_no_surface() {
+        let sc = Scene::from_toml_str(
+            r#"
+            [simulation]
+            dimension = 2
+            geometry = "axisymmetric"
+            end_time = 1.0e-6
+            interaction = "penalty"
+            [materials.steel]
+            density = 7850.0
+            shear_modulus = 77.0e9
+            eos = { kind = "linear", c0 = 4580.0 }
+            [[bodies]]
+            name = "rod"
+            material = "steel"
+            spacing = 1.0e-4
+            shape = { kind = "rectangle", min = [0.0, 0.0], max = [1.6e-3, 3.0e-3] }
+            [[bodies]]
+            name = "ball"
+            material = "steel"
+            spacing = 1.0e-4
+            shape = { kind = "disk", center = [0.0, 5.0e-3], radius = 1.5e-3, lattice = "polar" }
+            "#,
+            "the test scene",
+        )
+        .expect("a valid scene");
+        let placed: Vec<f64> = place_bodies(&sc)
+            .iter()
+            .flat_map(|p| p.offsets.iter().copied())
+            .collect();
+        let (m, st) = Model::new(&sc);
+        let (_, boundary) = crate::cpu::surface(&m, &st);
+        let mut fresh_on_axis = vec![0; m.bodies.len()];
+        for i in 0..m.len() {
+            let dx = m.spacing_of(i);
+            if boundary[i] {
+                assert_eq!(m.offset[i], placed[i], "particle {i}");
+            } else if placed[i] > 1.25 * dx {
+                assert_eq!(m.offset[i], 0.5 * dx, "particle {i} at {}", st.x[i]);
+                fresh_on_axis[m.body[i] as usize] += usize::from(st.x[i].x < dx);
+            }
+        }
+        // The rod's axis column below its top's outer layers, the ball's
+        // inside its poles'.
+        assert!(fresh_on_axis.iter().all(|&n| n >= 10), "{fresh_on_axis:?}");
     }
 
     /// The close-pair scales: 1 on the square lattice; on a jittered one
