@@ -244,7 +244,9 @@ fn a_solid_cylinder_under_radial_load_follows_lame() {
 /// radius of 7.11 to 7.22 mm and the rod a length of 21.43 mm
 /// (docs/method.md §12 gives the sources): the length within 2 % of
 /// 21.43 mm and the radius within 5 % of 7.11 mm, the rod's outline taken
-/// at its outermost particles' centres plus Δx/2.
+/// at its outermost particles' centres plus Δx/2; the particle on the axis
+/// at the impact face within the finite-element range of plastic strain
+/// (2–4), its centre never within a quarter spacing of the wall.
 #[test]
 #[ignore]
 fn a_taylor_bar_with_linear_hardening_meets_the_finite_element_answer() {
@@ -278,4 +280,18 @@ fn taylor_bar(coarsen: u32) {
     );
     assert!((length / 21.43e-3 - 1.0).abs() < 0.02, "length {length}");
     assert!((radius / 7.11e-3 - 1.0).abs() < 0.05, "radius {radius}");
+    // The particle on the axis at the impact face: its plastic strain in
+    // the finite-element range (about 3), and its centre never pressed
+    // within a quarter spacing of the wall (it rests half a spacing off).
+    let eps = *column(&out, "plastic_strain_face").last().unwrap();
+    let lowest = column(&out, "face_centre")
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    let dx = scene.bodies[0].spacing;
+    println!(
+        "face's axis particle: plastic strain {eps:.3}, lowest {:.3} spacings off the wall",
+        lowest / dx
+    );
+    assert!((2.0..=4.0).contains(&eps), "plastic strain {eps}");
+    assert!(lowest > 0.25 * dx, "the face's centre at {lowest} m");
 }
