@@ -425,9 +425,8 @@ impl Model {
     }
 
     /// For each particle at positions `x`, from one walk of its own body's
-    /// neighbours: the squared distance to the nearest
-    /// one and how many lie within `2h` (coincident ones and mirror images
-    /// excluded), and
+    /// neighbours: the squared distance to the nearest one and how many lie
+    /// within `2h` (coincident ones and mirror images excluded), and
     /// `h |∇ψ⁰|`, the colour gradient with the reference volumes that the
     /// boundary test reads (docs/method.md §8.1; in a body of revolution
     /// with the images across the axis, as the solver's test has them, so
