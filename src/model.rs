@@ -454,12 +454,13 @@ impl Model {
                             g -= gw * self.reference_volume(j);
                         }
                     };
-                    // A body of revolution's images across the axis fill
-                    // the neighbourhood as they do in the solver's boundary
-                    // test (an image is never nearer than its particle, so
-                    // the cells around x_i hold every one within reach).
+                    // A body of revolution's images across the axis `r = 0`
+                    // fill the neighbourhood as they do in the solver's
+                    // boundary test (an image is never nearer than its
+                    // particle, so the cells around x_i hold every one
+                    // within reach).
                     if self.axisymmetric {
-                        add(x[i] - crate::cpu::axis::mirror(x[j]));
+                        add(x[i] - DVec2::new(-x[j].x, x[j].y));
                     }
                     if j != i {
                         let d = x[i] - x[j];
@@ -811,6 +812,19 @@ mod tests {
         .expect("a valid scene")
     }
 
+    /// Each particle's surface offset as placed, the model and state the
+    /// scene builds, and which particles the solver's test puts on the
+    /// boundary.
+    fn placed_offsets(sc: &Scene) -> (Vec<f64>, Model, State, Vec<bool>) {
+        let placed = place_bodies(sc)
+            .iter()
+            .flat_map(|p| p.offsets.iter().copied())
+            .collect();
+        let (m, st) = Model::new(sc);
+        let (_, boundary) = crate::cpu::surface(&m, &st);
+        (placed, m, st, boundary)
+    }
+
     /// Every particle the solver finds on the boundary as placed keeps the
     /// surface offset its placement gave it, on the square and polar
     /// lattices, jittered or not: the fresh surfaces' half spacing goes
@@ -824,13 +838,7 @@ mod tests {
             ("square", 0.3),
             ("square", 0.45),
         ] {
-            let sc = scene(lattice, jitter);
-            let placed: Vec<f64> = place_bodies(&sc)
-                .iter()
-                .flat_map(|p| p.offsets.iter().copied())
-                .collect();
-            let (m, st) = Model::new(&sc);
-            let (_, boundary) = crate::cpu::surface(&m, &st);
+            let (placed, m, _, boundary) = placed_offsets(&scene(lattice, jitter));
             let mut fresh = vec![0; m.bodies.len()];
             for i in 0..m.len() {
                 if boundary[i] {
@@ -887,18 +895,13 @@ mod tests {
             "the test scene",
         )
         .expect("a valid scene");
-        let placed: Vec<f64> = place_bodies(&sc)
-            .iter()
-            .flat_map(|p| p.offsets.iter().copied())
-            .collect();
-        let (m, st) = Model::new(&sc);
-        let (_, boundary) = crate::cpu::surface(&m, &st);
+        let (placed, m, st, boundary) = placed_offsets(&sc);
         let mut fresh_on_axis = vec![0; m.bodies.len()];
         for i in 0..m.len() {
             let dx = m.spacing_of(i);
             if boundary[i] {
                 assert_eq!(m.offset[i], placed[i], "particle {i}");
-            } else if placed[i] > 1.25 * dx {
+            } else if placed[i] > crate::physics::penalty::FRESH_DEPTH * dx {
                 assert_eq!(m.offset[i], 0.5 * dx, "particle {i} at {}", st.x[i]);
                 fresh_on_axis[m.body[i] as usize] += usize::from(st.x[i].x < dx);
             }
