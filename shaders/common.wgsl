@@ -87,6 +87,10 @@ override AXI: bool = false;
 // (cells either side) a walk's stencil reaches.
 override ADAPT: bool = false;
 override ADAPT_ROWS: u32 = 2u;
+// Supports carried with their own copy of the step's velocity gradient
+// (`lgrad`); off where the viscosity's (`gradv`) is that gradient
+// (Model::kept_gradient_is_the_steps) and the advance reads it instead.
+override LGRAD: bool = true;
 
 const NONE: u32 = 0xffffffffu;
 const BIG: f32 = 3.0e38;

@@ -627,7 +627,7 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if (RECON || HG > 0.0) {
         gradv[i] = velocity_gradient(ks.gsum, fit_of(ks.m, l));
     }
-    if (ADAPT) {
+    if (ADAPT && LGRAD) {
         lgrad[i] = gv;
     }
     if (LEAP != 0u) {
@@ -686,7 +686,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         return;
     }
     let gv = velocity_gradient(ks.gsum, l);
-    if (ADAPT) {
+    if (ADAPT && LGRAD) {
         lgrad[i] = gv;
     }
     let d_tt = hoop_rate(ks.rad, v[i]);

@@ -703,6 +703,16 @@ impl Model {
         self.av_reconstruct || self.hourglass > 0.0
     }
 
+    /// Whether the gradient kept for the viscosity is the step's own
+    /// velocity gradient, bit for bit, so that adaptive supports are
+    /// carried with it and the GPU keeps no second copy: in the midpoint
+    /// rule (the leapfrog's is of the predicted velocities) without the
+    /// hourglass control (whose fit replaces the correction where it
+    /// falls back).
+    pub fn kept_gradient_is_the_steps(&self) -> bool {
+        self.av_reconstruct && self.hourglass == 0.0 && self.integrator == Integrator::Midpoint
+    }
+
     /// Every body's hourglass coefficient set to `alpha` (as a scene's
     /// `[artificial_viscosity] hourglass` does).
     pub fn set_hourglass(&mut self, alpha: f64) {

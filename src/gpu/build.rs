@@ -512,14 +512,16 @@ impl GpuSolver {
         if model.adaptive {
             // Each particle's support (f32), and the velocity gradient
             // the step's end carries it with (kinematics.wgsl to
-            // advance.wgsl).
+            // advance.wgsl) unless the viscosity's is that one.
             let q: Vec<[f32; 4]> = state
                 .metric
                 .iter()
                 .map(|q| [q.xx as f32, q.xy as f32, q.yy as f32, 0.0])
                 .collect();
             make("metric", 16 * nn, Some(bytemuck::cast_slice(&q)))?;
-            make("lgrad", 16 * nn, None)?;
+            if !model.kept_gradient_is_the_steps() {
+                make("lgrad", 16 * nn, None)?;
+            }
         }
         if contact {
             // Per particle: (dashpot heat booked, spring work of its passes).

@@ -67,6 +67,7 @@ pub(super) fn make_kernels(
         ("STRAIN_RATE", model.strain_rate as u8 as f64),
         ("AXI", model.axisymmetric as u8 as f64),
         ("ADAPT", model.adaptive as u8 as f64),
+        ("LGRAD", !model.kept_gradient_is_the_steps() as u8 as f64),
         ("ADAPT_ROWS", adaptive_rows() as f64),
         ("WG", WG as f64),
         ("GUARD", plan.energy.is_some() as u8 as f64),
@@ -336,6 +337,16 @@ pub(super) fn make_kernels(
                     ("r_w", "r"),
                     ("s_w", "s"),
                     ("u", "um"),
+                    // The supports are carried with the viscosity's
+                    // gradient where it is the step's (`LGRAD`).
+                    (
+                        "lgrad",
+                        if model.kept_gradient_is_the_steps() {
+                            "gradv"
+                        } else {
+                            "lgrad"
+                        },
+                    ),
                 ],
             )?)
         },
