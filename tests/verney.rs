@@ -99,13 +99,45 @@ fn cylinder_stops_at_40_mm_at_10_through_leapfrog() {
 }
 
 /// The sphere on the GPU path (f32): the same checks, and the stop within
-/// 0.1 % of the CPU path's.
+/// 0.1 % of the CPU path's (four minutes on two cores with a software
+/// adapter; the default suite runs the collapse's first 40 µs,
+/// [`sphere_collapses_on_the_gpu_as_on_the_cpu`]).
 #[test]
+#[ignore]
 fn sphere_stops_at_40_mm_at_10_through_gpu() {
     let cpu = verney("sphere", 10, 0.05, 1e-4);
     on_gpu(|| {
         let gpu = verney("sphere", 10, 0.05, 1e-4);
         assert!((gpu / cpu - 1.0).abs() < 1e-3, "gpu {gpu}, cpu {cpu}");
+    });
+}
+
+/// The sphere's first 40 µs of its 99 (the inner radius from 80 to
+/// 57.5 mm) on the GPU path: its inner radius within 1e-4 of the distance
+/// it has moved of the CPU path's (measured: the same to 0.1 µm), the
+/// total energy held to 1e-4 on both, none out of range.
+#[test]
+fn sphere_collapses_on_the_gpu_as_on_the_cpu() {
+    let mut scene = shell("sphere", 10);
+    scene.simulation.end_time = 4.0e-5;
+    let dx = scene.bodies[0].spacing;
+    let inner = |out: &RunOutput| {
+        assert_eq!(out.summary.status, "completed", "{:?}", out.summary.error);
+        assert_eq!(out.summary.out_of_range.count, 0);
+        let e = out.summary.energy_final / out.summary.energy_initial - 1.0;
+        assert!(e.abs() < 1e-4, "energy {e:+e}");
+        stop_radius(out, true, dx)
+    };
+    let cpu = inner(&run(&scene));
+    println!("sphere at 40 µs, CPU: inner radius {:.4} mm", cpu * 1e3);
+    assert!(cpu < 0.06, "the shell has only come in to {cpu}");
+    on_gpu(|| {
+        let gpu = inner(&run(&scene));
+        println!("sphere at 40 µs, GPU: inner radius {:.4} mm", gpu * 1e3);
+        assert!(
+            (gpu - cpu).abs() < 1e-4 * (0.08 - cpu),
+            "gpu {gpu}, cpu {cpu}"
+        );
     });
 }
 
