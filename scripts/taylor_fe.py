@@ -21,7 +21,8 @@ it is not part of the test suite (it needs numpy). Run, for example:
 
 It prints each episode of the face centre moving up at more than 10 m/s
 (when, how fast, how far off the wall), when it is off the wall, and the
-rod's length and largest radius at the end.
+rod's length, its largest radius and the plastic strain of the element at
+the face's centre at the end.
 """
 import argparse
 
@@ -35,7 +36,8 @@ YIELD, TANGENT = 0.4e9, 0.1e9
 def run(across, axisymmetric=True, plastic=True, end=12e-6, held=False,
         hourglass=0.1, q_quad=1.5, q_lin=0.06, cfl=0.3):
     """Integrate to `end`; returns rows of (t, z and v_z of the face's axis
-    node, rod length, largest radius)."""
+    node, rod length, largest radius, plastic strain of the element at the
+    axis and the face)."""
     along = int(round(across * LENGTH / RADIUS))
     plastic_modulus = YOUNG * TANGENT / (YOUNG - TANGENT)
     bulk = YOUNG / (3 * (1 - 2 * POISSON))
@@ -150,7 +152,8 @@ def run(across, axisymmetric=True, plastic=True, end=12e-6, held=False,
         t += dt
         step += 1
         if step % 5 == 0:
-            rows.append((t, x[centre, 1], v[centre, 1], x[:, 1].max() - x[:, 1].min(), x[:, 0].max()))
+            rows.append((t, x[centre, 1], v[centre, 1], x[:, 1].max() - x[:, 1].min(), x[:, 0].max(),
+                         eps_p[0]))
     return np.array(rows)
 
 
@@ -177,7 +180,8 @@ def main():
         print(f"off the wall from {t[off[0]]:.2f} to {t[off[-1]]:.2f} us, highest {z.max():.4f} mm")
     else:
         print("face centre stays on the wall")
-    print(f"at {t[-1]:.2f} us: length {h[-1, 3] * 1e3:.3f} mm, largest radius {h[-1, 4] * 1e3:.3f} mm")
+    print(f"at {t[-1]:.2f} us: length {h[-1, 3] * 1e3:.3f} mm, largest radius {h[-1, 4] * 1e3:.3f} mm,"
+          f" plastic strain at the face's centre {h[-1, 5]:.2f}")
 
 
 if __name__ == "__main__":
