@@ -70,20 +70,26 @@ fn shell_with_hourglass(geometry: &str, across: u32, alpha: f64) -> Scene {
 
 /// [`verney`] of the shell `scene`.
 fn verney_of(scene: &Scene, geometry: &str, across: u32, tol: f64, energy: f64) -> f64 {
-    let dx = scene.bodies[0].spacing;
-    let out = run(scene);
-    assert_eq!(out.summary.status, "completed", "{:?}", out.summary.error);
-    let a = stop_radius(&out, geometry == "sphere", dx);
-    let e = out.summary.energy_final / out.summary.energy_initial - 1.0;
+    let (a, e) = shell_run(scene, geometry == "sphere", energy);
     println!(
         "{geometry}, {across} through: stops at {:.3} mm ({:+.2} %), energy {e:+.2e}",
         a * 1e3,
         (a / 0.04 - 1.0) * 100.0
     );
     assert!((a / 0.04 - 1.0).abs() < tol, "stops at {a}");
+    a
+}
+
+/// A shell's run on this thread's backend, checked: it completes, holds
+/// its total energy to `energy` and no particle ends outside the solid
+/// range. Returns the smallest inner radius and the energy's change.
+fn shell_run(scene: &Scene, sphere: bool, energy: f64) -> (f64, f64) {
+    let out = run(scene);
+    assert_eq!(out.summary.status, "completed", "{:?}", out.summary.error);
+    let e = out.summary.energy_final / out.summary.energy_initial - 1.0;
     assert!(e.abs() < energy, "energy {e:+e}");
     assert_eq!(out.summary.out_of_range.count, 0);
-    a
+    (stop_radius(&out, sphere, scene.bodies[0].spacing), e)
 }
 
 #[test]
@@ -120,19 +126,11 @@ fn sphere_stops_at_40_mm_at_10_through_gpu() {
 fn sphere_collapses_on_the_gpu_as_on_the_cpu() {
     let mut scene = shell("sphere", 10);
     scene.simulation.end_time = 4.0e-5;
-    let dx = scene.bodies[0].spacing;
-    let inner = |out: &RunOutput| {
-        assert_eq!(out.summary.status, "completed", "{:?}", out.summary.error);
-        assert_eq!(out.summary.out_of_range.count, 0);
-        let e = out.summary.energy_final / out.summary.energy_initial - 1.0;
-        assert!(e.abs() < 1e-4, "energy {e:+e}");
-        stop_radius(out, true, dx)
-    };
-    let cpu = inner(&run(&scene));
+    let cpu = shell_run(&scene, true, 1e-4).0;
     println!("sphere at 40 µs, CPU: inner radius {:.4} mm", cpu * 1e3);
     assert!(cpu < 0.06, "the shell has only come in to {cpu}");
     on_gpu(|| {
-        let gpu = inner(&run(&scene));
+        let gpu = shell_run(&scene, true, 1e-4).0;
         println!("sphere at 40 µs, GPU: inner radius {:.4} mm", gpu * 1e3);
         assert!(
             (gpu - cpu).abs() < 1e-4 * (0.08 - cpu),

@@ -35,6 +35,14 @@ pub(super) fn make_kernels(
     let contact = model.contact;
     let leapfrog = model.integrator == Integrator::Leapfrog;
     let surf_args = buffers.get("surf_args").cloned();
+    // The velocity gradient adaptive supports are carried with at a
+    // step's end: the viscosity's where it is the step's own
+    // (`Model::kept_gradient_is_the_steps`), else a copy (`LGRAD`).
+    let support_gradient = if model.kept_gradient_is_the_steps() {
+        "gradv"
+    } else {
+        "lgrad"
+    };
     let constants: Vec<(&str, f64)> = vec![
         ("DIM", model.dim as f64),
         ("CONTACT", contact as u8 as f64),
@@ -67,7 +75,7 @@ pub(super) fn make_kernels(
         ("STRAIN_RATE", model.strain_rate as u8 as f64),
         ("AXI", model.axisymmetric as u8 as f64),
         ("ADAPT", model.adaptive as u8 as f64),
-        ("LGRAD", !model.kept_gradient_is_the_steps() as u8 as f64),
+        ("LGRAD", (support_gradient == "lgrad") as u8 as f64),
         ("ADAPT_ROWS", adaptive_rows() as f64),
         ("WG", WG as f64),
         ("GUARD", plan.energy.is_some() as u8 as f64),
@@ -337,16 +345,7 @@ pub(super) fn make_kernels(
                     ("r_w", "r"),
                     ("s_w", "s"),
                     ("u", "um"),
-                    // The supports are carried with the viscosity's
-                    // gradient where it is the step's (`LGRAD`).
-                    (
-                        "lgrad",
-                        if model.kept_gradient_is_the_steps() {
-                            "gradv"
-                        } else {
-                            "lgrad"
-                        },
-                    ),
+                    ("lgrad", support_gradient),
                 ],
             )?)
         },
