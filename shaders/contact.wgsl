@@ -29,7 +29,8 @@
 // rule and the leapfrog's first evaluation and booking at the particle, in
 // pass scratch no later pass of the evaluation reads (gpu::contact_homes),
 // and in the leapfrog's force passes (LEAP = 2), before the energy walk has
-// read that scratch, on the list too (`own_at`).
+// read that scratch, and in the midpoint's second evaluation where the
+// supports' gradient is kept in it, on the list too (`on_list`).
 
 @group(0) @binding(5) var<storage, read> v: array<vec2<f32>>;
 @group(0) @binding(13) var<storage, read_write> nbo: array<vec4<f32>>;
@@ -100,9 +101,17 @@ fn place(p: u32) -> u32 {
     return u32(nbo[p].w);
 }
 
+// Whether the `own` and `share` entries go on the list: in the leapfrog's
+// force passes, and in the midpoint's second evaluation where its pass
+// scratch (`gradv`) carries the supports' gradient on to the step's end
+// (`LGRAD` off).
+fn on_list() -> bool {
+    return LEAP == 2u || (MID && ADAPT && !LGRAD);
+}
+
 // Where boundary particle p's `own` and `share` entries are (the header).
 fn own_at(p: u32) -> u32 {
-    if (LEAP == 2u) {
+    if (on_list()) {
         return place(p);
     }
     return p;
@@ -239,8 +248,12 @@ fn pass1_at(p: u32) {
         store_energy(p, e.stored);
         return;
     }
-    cown[own_at(p)] = e.own;
-    cshare[own_at(p)] = e.share;
+    // Only boundary particles have a place on the list, and only their
+    // entries are read (pass2_at).
+    if (!on_list() || nbo[p].z > 0.0) {
+        cown[own_at(p)] = e.own;
+        cshare[own_at(p)] = e.share;
+    }
     if (nbo[p].z > 0.0) {
         let k = place(p);
         cbar0[k] = e.bar0;

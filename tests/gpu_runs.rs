@@ -347,6 +347,34 @@ fn penetration_gpu_matches_cpu_with(integrator: Integrator) {
     }
 }
 
+/// The coarse penetration with supports that adapt, to 3 µs: the supports
+/// are carried at each step's end with the second evaluation's velocity
+/// gradient, which the device keeps in the contact passes' scratch, so the
+/// contact's entries of that evaluation live on the list instead
+/// (contact.wgsl, on_list). The step counts (the CFL step follows the
+/// minor semi-axes), the velocities and the mean plastic strains against
+/// the CPU within 0.5 %.
+#[test]
+fn adaptive_penetration_gpu_matches_cpu() {
+    let mut scene = coarse_penetration(Integrator::Midpoint);
+    scene.simulation.end_time = 3.0e-6;
+    scene.simulation.support = Some(sphcontact::scene::Support::Adaptive);
+    let Some((cpu, gpu)) = both_scene("coarse penetration, adaptive", &scene) else {
+        return;
+    };
+    let steps = |out: &RunOutput| out.summary.steps as f64;
+    close("steps", steps(&gpu), steps(&cpu), 5e-3);
+    close_at_end(&gpu, &cpu, ["velocity_rod", "velocity_plate"]);
+    for b in [0, 1] {
+        close(
+            &format!("mean plastic strain, body {b}"),
+            body_mean(&gpu, b, &gpu.state.eps_p),
+            body_mean(&cpu, b, &cpu.state.eps_p),
+            5e-3,
+        );
+    }
+}
+
 /// Same scene, same adapter: byte-identical `history.csv`. The disks run
 /// through first contact and several reorderings of the particles; the
 /// coarse penetration through plastic flow and failure; the bars (1-D)

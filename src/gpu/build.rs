@@ -31,7 +31,11 @@ pub(super) fn bucket_count(n: usize) -> u32 {
 /// kernel binds one of them together with the contact buffer it hosts (the
 /// reorder uses `lmat` and `cown` as scratch, at the start of a step, as
 /// two different buffers). So `cshare` lives in `lmat`, and `cown` in
-/// `gradv` when the scene has it: 16 or 32 bytes a particle less.
+/// `gradv` when the scene has it: 16 or 32 bytes a particle less. Where
+/// adaptive supports are carried with `gradv` (kernels.rs,
+/// `support_gradient`), it is live until the step's end, and the midpoint
+/// rule's second evaluation keeps both entries on the list (`cown_e`,
+/// `cshare_e`, as the leapfrog's force passes do).
 /// In the same way the stored spring energy (an observation) goes to
 /// `sr2c.x` (`σ_xx/ρ²`, dead after the forces pass; the reductions read only its
 /// sound speed `w`), written by the particle's own thread in contact pass 1,
@@ -495,6 +499,14 @@ impl GpuSolver {
             // buffers.
             for name in ["um", "vm", "rm", "sm"] {
                 make(name, if name == "sm" { 16 } else { 8 } * nn, None)?;
+            }
+            if contact && model.adaptive && model.kept_gradient_is_the_steps() {
+                // The second evaluation's entries, on the list: its pass
+                // scratch (`gradv`) carries the supports' gradient on to
+                // the step's end (contact.wgsl, on_list).
+                for name in ["cown_e", "cshare_e"] {
+                    make(name, 16 * surf_cap as u64, None)?;
+                }
             }
         }
         for name in ["lmat", "nbo", "sr2c"] {

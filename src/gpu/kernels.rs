@@ -38,7 +38,7 @@ pub(super) fn make_kernels(
     // The velocity gradient adaptive supports are carried with at a
     // step's end: the viscosity's where it is the step's own
     // (`Model::kept_gradient_is_the_steps`), else a copy (`LGRAD`).
-    let support_gradient = if model.kept_gradient_is_the_steps() {
+    let support_gradient = if model.adaptive && model.kept_gradient_is_the_steps() {
         "gradv"
     } else {
         "lgrad"
@@ -219,6 +219,20 @@ pub(super) fn make_kernels(
             (Var::Mid, _) => (mid_constants.as_slice(), mid_aliases),
         };
         let eval_kernel = |stage, entry| kernel_in(consts, stage, entry, Size::Particles, al);
+        // The second evaluation's contact entries go on the list where its
+        // pass scratch carries the supports' gradient (contact.wgsl, on_list).
+        let listed: Vec<(&str, &str)> = al
+            .iter()
+            .copied()
+            .chain([("cown", "cown_e"), ("cshare", "cshare_e")])
+            .collect();
+        let contact_al = if var == Var::Mid && support_gradient == "gradv" {
+            listed.as_slice()
+        } else {
+            al
+        };
+        let contact_kernel =
+            |entry| kernel_in(consts, "contact", entry, Size::Particles, contact_al);
         evals.push(Eval {
             cells: eval_kernel("neighbours", "grid_cells")?,
             scatter: eval_kernel("neighbours", "grid_scatter")?,
@@ -226,8 +240,8 @@ pub(super) fn make_kernels(
             forces: eval_kernel("forces", "forces")?.walking(Walk::All),
             contact: if contact {
                 Some(ContactKernels {
-                    pass1: eval_kernel("contact", "contact_pass1")?.walking(Walk::Boundary),
-                    pass2: eval_kernel("contact", "contact_pass2")?.walking(Walk::Boundary),
+                    pass1: contact_kernel("contact_pass1")?.walking(Walk::Boundary),
+                    pass2: contact_kernel("contact_pass2")?.walking(Walk::Boundary),
                     spread: match var {
                         Var::Base => Some(eval_kernel("contact", "contact_spread")?),
                         Var::Mid => None,
