@@ -75,6 +75,9 @@ pub enum RunError {
     Unstable(Instability),
     #[error("{0}")]
     Backend(String),
+    /// The device failed during the run (lost, or an error it reported).
+    #[error("{0}")]
+    Device(String),
     #[error("{path}: {source}")]
     Io {
         path: String,
@@ -88,7 +91,7 @@ impl RunError {
     pub fn exit_code(&self) -> i32 {
         match self {
             RunError::Scene(_) | RunError::Backend(_) => 2,
-            RunError::Unstable(_) | RunError::Io { .. } => 1,
+            RunError::Unstable(_) | RunError::Device(_) | RunError::Io { .. } => 1,
         }
     }
 

@@ -504,3 +504,90 @@ fn bad_resumes_are_refused() {
     std::fs::write(&ck, &bytes[..k]).unwrap();
     refused(&["run", "--resume", d], "damaged");
 }
+
+/// A device lost mid-run (destroyed after the first checkpoint, as a
+/// driver reset would lose it: `SPHCONTACT_GPU_LOSE_AT`) stops the run
+/// with exit status 1 and a message that names the loss and the kept
+/// checkpoint; the history written so far and the checkpoint stay, no
+/// summary claims the run, and the run resumed from that checkpoint on a
+/// fresh device writes the uninterrupted run's history, byte for byte.
+#[test]
+fn gpu_lost_mid_run_exits_1_and_resumes_from_the_checkpoint() {
+    if gpu().is_none() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/paper/bars_steel.toml");
+    let run = |out: &Path, extra: &[&str], env: &[(&str, &str)]| {
+        Command::new(BIN)
+            .arg("run")
+            .arg(&scene)
+            .args(["--backend", "gpu", "--quiet", "--out"])
+            .arg(out)
+            .args(extra)
+            .env_remove("RUST_BACKTRACE")
+            .envs(env.iter().copied())
+            .output()
+            .expect("the sphcontact binary runs")
+    };
+    let whole = tmp.path().join("whole");
+    let out = run(&whole, &[], &[]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    // The scene ends at 4 us; a checkpoint from 1 us, the device lost at
+    // the first state past it.
+    let lost = tmp.path().join("lost");
+    let out = run(
+        &lost,
+        &["--checkpoint-every", "1e-6"],
+        &[("SPHCONTACT_GPU_LOSE_AT", "1e-6")],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains("the GPU failed after t = "), "{stderr}");
+    assert!(stderr.contains("lost"), "{stderr}");
+    assert!(stderr.contains("the last checkpoint is kept"), "{stderr}");
+    assert!(stderr.contains("--resume"), "{stderr}");
+    assert!(
+        !lost.join("summary.json").exists(),
+        "a summary of a lost run"
+    );
+    let saved = sphcontact::checkpoint::Checkpoint::read(&lost).expect("the checkpoint kept");
+    let t = saved.time();
+    assert!((1.0e-6..4.0e-6).contains(&t), "checkpoint at {t:e} s");
+    // The history up to the last state the device delivered: at least to
+    // the checkpoint, and a prefix of the whole run's.
+    let (h, hw) = (
+        read(lost.join("history.csv")),
+        read(whole.join("history.csv")),
+    );
+    let rows = String::from_utf8_lossy(&h).lines().count();
+    assert!(rows as f64 > t / 1.0e-8, "{rows} history rows kept");
+    assert!(
+        hw.starts_with(&h),
+        "the kept history is the whole run's start"
+    );
+
+    let out = Command::new(BIN)
+        .args(["run", "--quiet", "--resume"])
+        .arg(&lost)
+        .env_remove("RUST_BACKTRACE")
+        .output()
+        .expect("the sphcontact binary runs");
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        read(lost.join("history.csv")) == hw,
+        "the resumed history differs from the uninterrupted run's"
+    );
+}

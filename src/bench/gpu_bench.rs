@@ -102,6 +102,11 @@ impl GpuBench {
 
     /// The contact force of a batch's states, which should be `steps`.
     fn observe(&mut self, batch: crate::gpu::Batch, steps: u64) -> Result<(), BenchError> {
+        if let Some(f) = self.solver.fault() {
+            return Err(BenchError::Failed(format!(
+                "the GPU benchmark run failed: {f}"
+            )));
+        }
         if let Some(f) = batch.failure {
             return Err(BenchError::Failed(format!(
                 "the GPU benchmark run failed: {f}"

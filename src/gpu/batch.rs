@@ -212,7 +212,7 @@ impl GpuSolver {
         });
         self.ctx.queue.submit([enc.finish()]);
         let ticks = stamps.map(|(read, bytes)| {
-            bytemuck::cast_slice::<u8, u64>(&map_read(dev, &read, bytes)).to_vec()
+            bytemuck::cast_slice::<u8, u64>(&map_read(&self.ctx, &read, bytes)).to_vec()
         });
         (self.finish_batch(), ticks)
     }
@@ -220,8 +220,11 @@ impl GpuSolver {
     /// The batch's states from the control block and the ring, once the
     /// submission that copied them to the staging buffer is done.
     pub(super) fn finish_batch(&mut self) -> Batch {
-        let dev = &self.ctx.device;
-        let data = map_read(dev, &self.staging, self.staging.size());
+        let data = map_read(&self.ctx, &self.staging, self.staging.size());
+        if self.ctx.fault().is_some() {
+            // Nothing came back: no states (the run stops on the fault).
+            return Batch::default();
+        }
         let ctl: Control = bytemuck::pod_read_unaligned(&data[..CTL_BYTES as usize]);
         let ring: &[f32] = bytemuck::cast_slice(&data[CTL_BYTES as usize..]);
         let width = self.plan.row_width();
@@ -267,6 +270,19 @@ impl GpuSolver {
             batch.failure = Some(self.instability(&ctl, row(ctl.fail_step as u64)));
         }
         batch
+    }
+
+    /// The device's fault (an error it reported, or its loss), after which
+    /// nothing it hands back is a state: the run stops on it.
+    pub fn fault(&self) -> Option<String> {
+        self.ctx.fault()
+    }
+
+    /// Destroy the device, as a driver reset would lose it: every later
+    /// use of it in this process fails (`SPHCONTACT_GPU_LOSE_AT`, the
+    /// tests of a run that loses its device).
+    pub fn lose_device(&self) {
+        self.ctx.device.destroy();
     }
 
     /// The last step the device took (for sizing the next batch).

@@ -391,9 +391,22 @@ impl GpuSolver {
                 m.min(limits.max_storage_buffer_binding_size)
             });
         let max_buffer = limits.max_buffer_size;
+        // The device memory the solver may take, if limited, and what
+        // limits it.
+        let budget = match (opts.max_device_bytes, ctx.memory_budget) {
+            (Some(a), Some(b)) if b < a => Some((b, "SPHCONTACT_GPU_MEMORY")),
+            (Some(a), _) => Some((a, "the solver's device-memory limit")),
+            (None, Some(b)) => Some((b, "SPHCONTACT_GPU_MEMORY")),
+            (None, None) => None,
+        };
         let mut buffers = HashMap::new();
         let mut device_bytes = 0u64;
+        // Out-of-memory errors while the buffers are made, for the build
+        // to report (a device past its budget refuses a buffer).
+        let oom = dev.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         // A device buffer for storage and copies, and any `extra` use.
+        // Past the budget the buffers are only counted, for the error to
+        // say how much the scene needs.
         let mut make_as = |name: &'static str,
                            size: u64,
                            data: Option<&[u8]>,
@@ -401,12 +414,24 @@ impl GpuSolver {
          -> Result<(), String> {
             let size = size.max(16).next_multiple_of(4);
             if size > max_binding || size > max_buffer {
+                let (limit, which) = if max_binding <= max_buffer {
+                    (
+                        max_binding,
+                        "storage binding (max_storage_buffer_binding_size)",
+                    )
+                } else {
+                    (max_buffer, "buffer (max_buffer_size)")
+                };
                 return Err(format!(
                     "the scene does not fit this adapter: its {n} particles need a {size}-byte \
-                     device buffer '{name}', and the adapter allows {} bytes per binding and {} per \
-                     buffer; use fewer particles or --backend cpu",
-                    max_binding, max_buffer
+                     device buffer '{name}', and the adapter allows {limit} bytes a {which}; at \
+                     most {} particles fit; use fewer particles or --backend cpu",
+                    particles_within(limit)
                 ));
+            }
+            device_bytes += size;
+            if budget.is_some_and(|b| device_bytes > b.0) {
+                return Ok(());
             }
             let usage = wgpu::BufferUsages::STORAGE
                 | wgpu::BufferUsages::COPY_SRC
@@ -421,7 +446,6 @@ impl GpuSolver {
             if let Some(d) = data {
                 ctx.queue.write_buffer(&buf, 0, d);
             }
-            device_bytes += size;
             buffers.insert(name, buf);
             Ok(())
         };
@@ -604,6 +628,23 @@ impl GpuSolver {
                 Some(bytemuck::cast_slice(&[0u32, 0, 1, 1])),
                 wgpu::BufferUsages::INDIRECT,
             )?;
+        }
+        let per_particle = device_bytes as f64 / n.max(1) as f64;
+        if let Some((b, what)) = budget.filter(|b| device_bytes > b.0) {
+            return Err(format!(
+                "the scene does not fit the device memory the solver may take: its {n} particles \
+                 need {device_bytes} bytes of device buffers ({per_particle:.1} a particle), and \
+                 {what} allows {b}; about {} particles fit; use fewer particles or --backend cpu",
+                (b as f64 / per_particle).floor() as u64
+            ));
+        }
+        if let Some(e) = pollster::block_on(oom.pop()) {
+            return Err(format!(
+                "the scene does not fit this adapter's memory: its {n} particles need \
+                 {device_bytes} bytes of device buffers ({per_particle:.1} a particle), and the \
+                 device refused them ({e}); use fewer particles (SPHCONTACT_GPU_MEMORY set to \
+                 the device's free memory gives the count that fits) or --backend cpu"
+            ));
         }
         if let Some(home) = mask_home(&model) {
             buffers.insert("nmask", buffers[home].clone());

@@ -25,8 +25,49 @@ pub struct GpuContext {
     /// profiling real steps): requested where the adapter has them, which
     /// costs nothing until a query is written.
     pub timestamps: bool,
+    /// The most device memory a solver may take, where it is limited
+    /// (`SPHCONTACT_GPU_MEMORY`, bytes).
+    pub memory_budget: Option<u64>,
+    /// The first error the device reported outside an error scope, or its
+    /// loss: the run stops on it (exit status 1) instead of reading back
+    /// what the device no longer computes.
+    fault: Arc<Mutex<Option<String>>>,
     modules: Mutex<HashMap<String, Arc<(wgpu::ShaderModule, shaders::Reflected)>>>,
     pipelines: Mutex<HashMap<PipelineKey, Arc<Pipeline>>>,
+}
+
+/// The environment's limit on what the solver requests, in bytes: `None`
+/// where unset, an error naming the variable where it is not a positive
+/// whole number.
+fn byte_limit(var: &str) -> Result<Option<u64>, String> {
+    match std::env::var(var) {
+        Err(_) => Ok(None),
+        Ok(text) => match text.trim().parse::<u64>() {
+            Ok(b) if b > 0 => Ok(Some(b)),
+            _ => Err(format!(
+                "{var} must be a whole number of bytes > 0 (got '{text}')"
+            )),
+        },
+    }
+}
+
+/// The limits the solver requests: the adapter's, with the largest buffer
+/// and storage binding lowered to `SPHCONTACT_GPU_MAX_BUFFER` bytes where
+/// it is set (a smaller device's limits on any device: tests, or a device
+/// shared with other work).
+fn requested_limits(adapter: &wgpu::Limits) -> Result<wgpu::Limits, String> {
+    let mut limits = adapter.clone();
+    if let Some(b) = byte_limit("SPHCONTACT_GPU_MAX_BUFFER")? {
+        limits.max_buffer_size = limits.max_buffer_size.min(b);
+        limits.max_storage_buffer_binding_size = limits.max_storage_buffer_binding_size.min(b);
+    }
+    Ok(limits)
+}
+
+/// Keep the first fault the device reports.
+fn record(fault: &Mutex<Option<String>>, what: String) {
+    let mut f = fault.lock().unwrap_or_else(|e| e.into_inner());
+    f.get_or_insert(what);
 }
 
 impl GpuContext {
@@ -39,6 +80,13 @@ impl GpuContext {
         if std::env::var_os("WGPU_BACKEND").is_none() {
             desc.backends = wgpu::Backends::PRIMARY;
         }
+        // Where the driver reports a memory budget (Vulkan's
+        // VK_EXT_memory_budget), a buffer past it is an out-of-memory
+        // error the solver's build reports, not an overcommitted device.
+        desc.memory_budget_thresholds = wgpu::MemoryBudgetThresholds {
+            for_resource_creation: Some(95),
+            for_device_loss: None,
+        };
         let instance = wgpu::Instance::new(desc);
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
@@ -48,7 +96,8 @@ impl GpuContext {
         }))
         .map_err(|e| format!("no GPU adapter: {e}"))?;
         let info = adapter.get_info();
-        let limits = adapter.limits();
+        let limits = requested_limits(&adapter.limits())?;
+        let memory_budget = byte_limit("SPHCONTACT_GPU_MEMORY")?;
         let stamps = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
@@ -66,15 +115,45 @@ impl GpuContext {
             trace: Default::default(),
         }))
         .map_err(|e| format!("GPU adapter {}: no device: {e}", info.name))?;
+        // A fault is kept for the run to report, not raised as a panic
+        // inside the device's callbacks.
+        let fault = Arc::new(Mutex::new(None));
+        let f = fault.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            record(&f, format!("the device reported an error: {e}"))
+        }));
+        let f = fault.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            let why = if message.is_empty() {
+                String::new()
+            } else {
+                format!(": {message}")
+            };
+            record(&f, format!("the device was lost ({reason:?}){why}"))
+        });
         Ok(Self {
             device,
             queue,
             info,
             limits,
+            memory_budget,
+            fault,
             timestamps,
             modules: Mutex::new(HashMap::new()),
             pipelines: Mutex::new(HashMap::new()),
         })
+    }
+
+    /// The device's first fault (an error outside an error scope, or its
+    /// loss), if it has had one.
+    pub fn fault(&self) -> Option<String> {
+        self.fault.lock().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+
+    /// Keep `what` as the device's fault unless it already has one (a
+    /// readback that failed).
+    pub(super) fn record_fault(&self, what: String) {
+        record(&self.fault, what);
     }
 
     /// A software rasteriser (lavapipe, llvmpipe, WARP) rather than a GPU.

@@ -353,7 +353,7 @@ impl GpuSolver {
         });
         enc.copy_buffer_to_buffer(&dump, 0, &stage, 0, 4 * 128 * nn);
         self.ctx.queue.submit([enc.finish()]);
-        let dump_data = map_read(dev, &stage, 4 * 128 * nn);
+        let dump_data = map_read(&self.ctx, &stage, 4 * 128 * nn);
         let dump_u: &[u32] = bytemuck::cast_slice(&dump_data);
 
         let meta: &[[u32; 4]] = bytemuck::cast_slice(&first[0]);

@@ -162,8 +162,31 @@ fn sym_of(a: [f32; 4]) -> Sym {
 /// 16 bytes, a particle) and the bucket starts. A check before building
 /// (the bench skips a size with it); `new` itself checks every buffer.
 pub fn fits(ctx: &GpuContext, n: usize) -> bool {
-    let need = (16 * n as u64).max(4 * (bucket_count(n) as u64 + 1));
-    need <= ctx.limits.max_storage_buffer_binding_size && need <= ctx.limits.max_buffer_size
+    widest_buffer(n)
+        <= ctx
+            .limits
+            .max_storage_buffer_binding_size
+            .min(ctx.limits.max_buffer_size)
+}
+
+/// The largest buffer the solver makes for `n` particles: a `vec4<f32>`
+/// a particle, or the bucket starts.
+fn widest_buffer(n: usize) -> u64 {
+    (16 * n as u64).max(4 * (bucket_count(n) as u64 + 1))
+}
+
+/// The most particles whose widest buffer fits in `limit` bytes.
+pub(crate) fn particles_within(limit: u64) -> usize {
+    let (mut lo, mut hi) = (0usize, (limit / 16) as usize);
+    while lo < hi {
+        let mid = hi - (hi - lo) / 2;
+        if widest_buffer(mid) <= limit {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    lo
 }
 
 /// The process-wide GPU context (opened once; pipelines compiled once),
@@ -476,6 +499,9 @@ pub struct StageOutputs {
 pub struct GpuOptions {
     pub max_workgroups_per_dimension: Option<u32>,
     pub max_binding_size: Option<u64>,
+    /// The most device memory the solver may take, in bytes (with the
+    /// context's `memory_budget`, the smaller).
+    pub max_device_bytes: Option<u64>,
     /// Places on the contact's list of boundary particles to start with,
     /// in place of `surf_capacity`'s (tests: a list that grows).
     pub surf_capacity: Option<u32>,

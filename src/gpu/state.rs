@@ -1,6 +1,8 @@
 //! The device state read back and written: downloads, snapshots, and the
 //! raw buffers a checkpoint holds.
 
+use std::sync::Mutex;
+
 use super::*;
 
 impl GpuSolver {
@@ -25,7 +27,7 @@ impl GpuSolver {
             off += bytes.next_multiple_of(4);
         }
         self.ctx.queue.submit([enc.finish()]);
-        let data = map_read(dev, &stage, total.max(4));
+        let data = map_read(&self.ctx, &stage, total.max(4));
         let mut out = Vec::new();
         let mut off = 0usize;
         for (_, bytes) in names {
@@ -305,17 +307,33 @@ impl GpuSolver {
 }
 
 /// Map a MAP_READ buffer and copy out its first `size` bytes.
-pub(super) fn map_read(dev: &wgpu::Device, buf: &wgpu::Buffer, size: u64) -> Vec<u8> {
+pub(super) fn map_read(ctx: &GpuContext, buf: &wgpu::Buffer, size: u64) -> Vec<u8> {
+    // A device that failed hands back zeros and keeps the fault, which the
+    // run checks before it reads what came back (GpuSolver::fault).
+    let failed = Arc::new(Mutex::new(None));
     let slice = buf.slice(0..size);
-    slice.map_async(wgpu::MapMode::Read, |r| {
-        r.expect("mapping a readback buffer");
+    let f = failed.clone();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        if let Err(e) = r {
+            *f.lock().unwrap_or_else(|p| p.into_inner()) = Some(e.to_string());
+        }
     });
-    dev.poll(wgpu::PollType::wait_indefinitely())
-        .expect("the device finishes its work");
-    let data = slice
-        .get_mapped_range()
-        .expect("mapped range of a mapped buffer")
-        .to_vec();
+    if let Err(e) = ctx.device.poll(wgpu::PollType::wait_indefinitely()) {
+        ctx.record_fault(format!("the device did not finish its work: {e}"));
+    }
+    if let Some(e) = failed.lock().unwrap_or_else(|p| p.into_inner()).take() {
+        ctx.record_fault(format!("a readback failed: {e}"));
+    }
+    if ctx.fault().is_some() {
+        return vec![0; size as usize];
+    }
+    let data = match slice.get_mapped_range() {
+        Ok(range) => range.to_vec(),
+        Err(e) => {
+            ctx.record_fault(format!("a readback failed: {e}"));
+            return vec![0; size as usize];
+        }
+    };
     buf.unmap();
     data
 }

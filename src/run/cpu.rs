@@ -126,10 +126,10 @@ impl Stepper for CpuStepper<'_> {
         rec.checkpoint(t, stored0, self.max_fallback as u32, saved)
     }
 
-    fn finish(mut self, failure: Option<Instability>) -> Outcome {
+    fn finish(mut self, failure: Option<Instability>) -> Result<Outcome, RunError> {
         let stored1 = self.solver.diagnostics().contact.stored;
         let CpuSolver { model, state, .. } = self.solver;
-        Outcome {
+        Ok(Outcome {
             model,
             state,
             stored: (self.stored0.unwrap_or(0.0), stored1),
@@ -137,6 +137,6 @@ impl Stepper for CpuStepper<'_> {
             max_fallback: self.max_fallback as u32,
             adapter: None,
             warnings: Vec::new(),
-        }
+        })
     }
 }

@@ -29,6 +29,38 @@ pub(super) struct GpuStepper {
     /// stop).
     dt_est: f64,
     seconds_per_step: f64,
+    /// Where the device is to be lost on purpose (`SPHCONTACT_GPU_LOSE_AT`,
+    /// simulated seconds): the tests of a run that loses its device.
+    lose_at: Option<f64>,
+}
+
+/// The simulated time `SPHCONTACT_GPU_LOSE_AT` names, if set: after the
+/// first batch that reaches it the device is destroyed, as a driver reset
+/// would lose it (tests of a failing device).
+fn lose_at() -> Result<Option<f64>, RunError> {
+    const VAR: &str = "SPHCONTACT_GPU_LOSE_AT";
+    match std::env::var(VAR) {
+        Err(_) => Ok(None),
+        Ok(text) => match text.trim().parse::<f64>() {
+            Ok(t) if t.is_finite() && t >= 0.0 => Ok(Some(t)),
+            _ => Err(RunError::Backend(format!(
+                "{VAR} must be a time >= 0 in seconds (got '{text}')"
+            ))),
+        },
+    }
+}
+
+impl GpuStepper {
+    /// `Err` if the device has failed: nothing it hands back is a state.
+    fn check_device(&self) -> Result<(), RunError> {
+        match self.solver.fault() {
+            None => Ok(()),
+            Some(f) => Err(RunError::Device(format!(
+                "the GPU failed after t = {:.6e} s ({} steps): {f}",
+                self.t_last, self.steps
+            ))),
+        }
+    }
 }
 
 impl GpuStepper {
@@ -41,6 +73,7 @@ impl GpuStepper {
         resume: Option<(SolverState, Ledger)>,
     ) -> Result<Self, RunError> {
         let adapter = ctx.adapter_name();
+        let lose_at = lose_at()?;
         // A resumed solver is made from the initial state (which fixes the
         // grid's frame and every constant) before its buffers are
         // overwritten.
@@ -66,6 +99,7 @@ impl GpuStepper {
             steps: 0,
             dt_est: 0.0,
             seconds_per_step: 0.0,
+            lose_at,
         })
     }
 }
@@ -77,6 +111,10 @@ impl Stepper for GpuStepper {
             self.stop = Some(stop);
         }
         loop {
+            if self.lose_at.is_some_and(|t| self.t_last >= t) {
+                self.lose_at = None;
+                self.solver.lose_device();
+            }
             // Enough steps to reach the stop at the estimated step size,
             // plus the zero-length step that observes the state there; or,
             // with a checkpoint due before the stop, to reach its time (a
@@ -95,6 +133,7 @@ impl Stepper for GpuStepper {
             let started = Instant::now();
             let encoded = (want as u32).clamp(1, crate::gpu::RING_LEN - 2);
             let batch = self.solver.run_batch(encoded);
+            self.check_device()?;
             self.seconds_per_step = started.elapsed().as_secs_f64() / encoded as f64;
             let count = batch.states.len();
             let mut longest: f64 = 0.0;
@@ -140,6 +179,7 @@ impl Stepper for GpuStepper {
     fn snapshot(&mut self, rec: &mut Recorder, t: f64) -> Result<(), RunError> {
         let prepared = Instant::now();
         let (state, normal, boundary) = self.solver.snapshot();
+        self.check_device()?;
         let fields = Fields {
             model: &self.solver.model,
             state: &state,
@@ -157,6 +197,8 @@ impl Stepper for GpuStepper {
             t_last: self.t_last,
             stored_last: self.stored.1,
         };
+        // A failed device's readback must not replace the last checkpoint.
+        self.check_device()?;
         // (The device keeps its own count of correction fallbacks, in the
         // saved control block.)
         let fallback = 0;
@@ -169,8 +211,9 @@ impl Stepper for GpuStepper {
         )
     }
 
-    fn finish(self, failure: Option<Instability>) -> Outcome {
+    fn finish(self, failure: Option<Instability>) -> Result<Outcome, RunError> {
         let (mut state, ctl) = self.solver.download_with_control();
+        self.check_device()?;
         if failure.is_none() {
             state.t = self.end;
         }
@@ -181,7 +224,7 @@ impl Stepper for GpuStepper {
                 "{multi} contact evaluation(s) met two partner bodies at one particle; the GPU path pairs each particle with the first"
             ));
         }
-        Outcome {
+        Ok(Outcome {
             model: self.solver.into_model(),
             state,
             stored: (self.stored.0.unwrap_or(0.0), self.stored.1),
@@ -189,6 +232,6 @@ impl Stepper for GpuStepper {
             max_fallback: ctl.fallback_max,
             adapter: Some(self.adapter),
             warnings,
-        }
+        })
     }
 }

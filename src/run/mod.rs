@@ -355,8 +355,27 @@ fn run_from(
         Some(ctx) => drive(
             GpuStepper::new(ctx, model, state, &probes, rec.end, resume)?,
             &mut rec,
-        )?,
-        None => drive(CpuStepper::new(model, state, &probes, resume), &mut rec)?,
+        ),
+        None => drive(CpuStepper::new(model, state, &probes, resume), &mut rec),
+    };
+    let out = match out {
+        Ok(out) => out,
+        Err(RunError::Device(why)) => {
+            // What was written stays: the history up to the last state the
+            // device delivered, and the last checkpoint.
+            rec.progress.finish();
+            rec.history.flush()?;
+            let kept = match &rec.checkpoints {
+                Some(c) if c.dir.join(crate::checkpoint::FILE).exists() => format!(
+                    "the last checkpoint is kept: `sphcontact run --resume {}` continues from it",
+                    c.dir.display()
+                ),
+                Some(_) => "no checkpoint was due yet".to_string(),
+                None => "the run wrote no checkpoints (--checkpoint-every)".to_string(),
+            };
+            return Err(RunError::Device(format!("{why}; {kept}")));
+        }
+        Err(e) => return Err(e),
     };
     rec.progress.finish();
     rec.history.flush()?;

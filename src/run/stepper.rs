@@ -32,7 +32,7 @@ pub(super) trait Stepper {
     /// The checkpoint of the current state.
     fn checkpoint(&mut self, rec: &mut Recorder) -> Result<(), RunError>;
     /// What the run hands back for the summary.
-    fn finish(self, failure: Option<Instability>) -> Outcome;
+    fn finish(self, failure: Option<Instability>) -> Result<Outcome, RunError>;
 }
 
 /// The run loop of both backends: from stop to stop (the snapshot times,
@@ -68,5 +68,5 @@ pub(super) fn drive(mut s: impl Stepper, rec: &mut Recorder) -> Result<Outcome, 
         }
         rec.report(s.time(), s.steps());
     }
-    Ok(s.finish(failure))
+    s.finish(failure)
 }

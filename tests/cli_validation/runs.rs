@@ -385,3 +385,57 @@ fn validate_writes_figures_csv_and_json() {
     let bad = sphcontact(dir.path(), &["validate", "--bar-particles", "3"]);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+/// Limits lowered on what the solver requests (a smaller device's, on any
+/// device): a scene past the largest buffer or past the device memory the
+/// solver may take stops before its first step with exit status 2, naming
+/// the limit and the particle count that fits; a bad limit is refused.
+#[test]
+fn gpu_limits_refuse_a_scene_that_does_not_fit() {
+    if sphcontact::gpu::shared_context().is_err() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/paper/disks_polar.toml");
+    let out_dir = tmp.path().join("out");
+    let run = |env: &[(&str, &str)]| {
+        let args = [
+            "run",
+            scene.to_str().unwrap(),
+            "--backend",
+            "gpu",
+            "--quiet",
+            "--out",
+            out_dir.to_str().unwrap(),
+        ];
+        sphcontact_env(tmp.path(), &args, env)
+    };
+    // 16,000 bytes hold a vec4 for each of 1,000 particles.
+    let out = run(&[("SPHCONTACT_GPU_MAX_BUFFER", "16000")]);
+    refused(
+        &out,
+        &[
+            "does not fit this adapter",
+            "16000 bytes a storage binding (max_storage_buffer_binding_size)",
+            "at most 1000 particles fit",
+        ],
+    );
+    let history = std::fs::read_to_string(out_dir.join("history.csv")).unwrap_or_default();
+    assert!(history.lines().count() <= 1, "rows written: {history}");
+    let out = run(&[("SPHCONTACT_GPU_MEMORY", "100000")]);
+    refused(
+        &out,
+        &[
+            "does not fit the device memory the solver may take",
+            "SPHCONTACT_GPU_MEMORY allows 100000",
+            "particles fit",
+        ],
+    );
+    for (var, value) in [
+        ("SPHCONTACT_GPU_MEMORY", "lots"),
+        ("SPHCONTACT_GPU_MAX_BUFFER", "0"),
+        ("SPHCONTACT_GPU_LOSE_AT", "soon"),
+    ] {
+        refused(&run(&[(var, value)]), &[var]);
+    }
+}

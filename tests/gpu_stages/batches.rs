@@ -166,6 +166,52 @@ fn too_large_for_the_adapter_is_a_clear_error() {
     .expect("refused");
     assert!(err.contains("does not fit this adapter"), "{err}");
     assert!(err.contains("4096"), "{err}");
+    // A vec4 a particle: 4096 bytes hold 256 (and the bucket starts of
+    // 256 buckets, 1028 bytes).
+    assert!(err.contains("max_storage_buffer_binding_size"), "{err}");
+    assert!(err.contains("at most 256 particles fit"), "{err}");
+}
+
+/// A scene larger than the device memory the solver may take is refused
+/// before anything is allocated past it, with what it needs and how many
+/// particles fit; at exactly what it needs it is built.
+#[test]
+fn past_the_memory_limit_is_a_clear_error() {
+    let Some(ctx) = gpu() else { return };
+    let (model, st) = state_during_contact("scenes/paper/disks_polar.toml", 0.0);
+    let n = model.len();
+    let build = |limit: Option<u64>| {
+        GpuSolver::with_options(
+            ctx.clone(),
+            model.clone(),
+            &st,
+            &[],
+            1.0,
+            sphcontact::gpu::GpuOptions {
+                max_device_bytes: limit,
+                ..Default::default()
+            },
+        )
+    };
+    let need = build(None).expect("fits").device_bytes();
+    build(Some(need)).expect("fits in exactly what it needs");
+    let err = build(Some(need - 1)).err().expect("refused");
+    println!("{err}");
+    assert!(
+        err.contains(&format!("its {n} particles need {need} bytes")),
+        "{err}"
+    );
+    assert!(err.contains(&format!("allows {}", need - 1)), "{err}");
+    assert!(
+        err.contains(&format!("about {} particles fit", n - 1)),
+        "{err}"
+    );
+    let err = build(Some(need / 2)).err().expect("refused");
+    let fit = (need / 2) as f64 / (need as f64 / n as f64);
+    assert!(
+        err.contains(&format!("about {} particles fit", fit.floor())),
+        "{err}"
+    );
 }
 
 /// Bodies far apart (half a metre, a thousand cells) cost no large grid: the
