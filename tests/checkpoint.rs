@@ -522,7 +522,7 @@ fn gpu_lost_mid_run_exits_1_and_resumes_from_the_checkpoint() {
         Command::new(BIN)
             .arg("run")
             .arg(&scene)
-            .args(["--backend", "gpu", "--quiet", "--out"])
+            .args(["--backend", "gpu", "--end-time", "2e-6", "--quiet", "--out"])
             .arg(out)
             .args(extra)
             .env_remove("RUST_BACKTRACE")
@@ -539,13 +539,13 @@ fn gpu_lost_mid_run_exits_1_and_resumes_from_the_checkpoint() {
         String::from_utf8_lossy(&out.stderr)
     );
 
-    // The scene ends at 4 us; a checkpoint from 1 us, the device lost at
-    // the first state past it.
+    // To 2 us (the bars in contact), a checkpoint from 0.5 us, the device
+    // lost at the first state past it.
     let lost = tmp.path().join("lost");
     let out = run(
         &lost,
-        &["--checkpoint-every", "1e-6"],
-        &[("SPHCONTACT_GPU_LOSE_AT", "1e-6")],
+        &["--checkpoint-every", "5e-7"],
+        &[("SPHCONTACT_GPU_LOSE_AT", "5e-7")],
     );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
@@ -560,7 +560,7 @@ fn gpu_lost_mid_run_exits_1_and_resumes_from_the_checkpoint() {
     );
     let saved = sphcontact::checkpoint::Checkpoint::read(&lost).expect("the checkpoint kept");
     let t = saved.time();
-    assert!((1.0e-6..4.0e-6).contains(&t), "checkpoint at {t:e} s");
+    assert!((5.0e-7..2.0e-6).contains(&t), "checkpoint at {t:e} s");
     // The history up to the last state the device delivered: at least to
     // the checkpoint, and a prefix of the whole run's.
     let (h, hw) = (
