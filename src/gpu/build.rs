@@ -524,7 +524,7 @@ impl GpuSolver {
             for name in ["um", "vm", "rm", "sm"] {
                 make(name, if name == "sm" { 16 } else { 8 } * nn, None)?;
             }
-            if contact && model.adaptive && model.kept_gradient_is_the_steps() {
+            if contact && supports_carried_by_gradv(&model) {
                 // The second evaluation's entries, on the list: its pass
                 // scratch (`gradv`) carries the supports' gradient on to
                 // the step's end (contact.wgsl, on_list).
@@ -555,7 +555,7 @@ impl GpuSolver {
                 .map(|q| [q.xx as f32, q.xy as f32, q.yy as f32, 0.0])
                 .collect();
             make("metric", 16 * nn, Some(bytemuck::cast_slice(&q)))?;
-            if !model.kept_gradient_is_the_steps() {
+            if !supports_carried_by_gradv(&model) {
                 make("lgrad", 16 * nn, None)?;
             }
         }

@@ -40,15 +40,7 @@ pub struct GpuContext {
 /// where unset, an error naming the variable where it is not a positive
 /// whole number.
 fn byte_limit(var: &str) -> Result<Option<u64>, String> {
-    match std::env::var(var) {
-        Err(_) => Ok(None),
-        Ok(text) => match text.trim().parse::<u64>() {
-            Ok(b) if b > 0 => Ok(Some(b)),
-            _ => Err(format!(
-                "{var} must be a whole number of bytes > 0 (got '{text}')"
-            )),
-        },
-    }
+    super::env_value(var, |&b: &u64| b > 0, "a whole number of bytes > 0")
 }
 
 /// The limits the solver requests: the adapter's, with the largest buffer

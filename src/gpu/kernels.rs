@@ -36,9 +36,8 @@ pub(super) fn make_kernels(
     let leapfrog = model.integrator == Integrator::Leapfrog;
     let surf_args = buffers.get("surf_args").cloned();
     // The velocity gradient adaptive supports are carried with at a
-    // step's end: the viscosity's where it is the step's own
-    // (`Model::kept_gradient_is_the_steps`), else a copy (`LGRAD`).
-    let support_gradient = if model.adaptive && model.kept_gradient_is_the_steps() {
+    // step's end (`supports_carried_by_gradv`).
+    let support_gradient = if supports_carried_by_gradv(model) {
         "gradv"
     } else {
         "lgrad"

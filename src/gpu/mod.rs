@@ -169,6 +169,32 @@ pub fn fits(ctx: &GpuContext, n: usize) -> bool {
             .min(ctx.limits.max_buffer_size)
 }
 
+/// Whether adaptive supports are carried at a step's end with the
+/// viscosity's kept gradient (`gradv`), where it is the step's own
+/// (`Model::kept_gradient_is_the_steps`), instead of a copy (`lgrad`,
+/// override constant `LGRAD`). The contact's second evaluation then keeps
+/// its entries on the list (contact.wgsl, `on_list`).
+fn supports_carried_by_gradv(model: &Model) -> bool {
+    model.adaptive && model.kept_gradient_is_the_steps()
+}
+
+/// The value of environment variable `var` parsed as a `T` for which
+/// `valid` holds: `None` where unset, an error naming the variable and
+/// `what` it must be otherwise.
+pub(crate) fn env_value<T: std::str::FromStr>(
+    var: &str,
+    valid: impl Fn(&T) -> bool,
+    what: &str,
+) -> Result<Option<T>, String> {
+    match std::env::var(var) {
+        Err(_) => Ok(None),
+        Ok(text) => match text.trim().parse::<T>() {
+            Ok(v) if valid(&v) => Ok(Some(v)),
+            _ => Err(format!("{var} must be {what} (got '{text}')")),
+        },
+    }
+}
+
 /// The largest buffer the solver makes for `n` particles: a `vec4<f32>`
 /// a particle, or the bucket starts.
 fn widest_buffer(n: usize) -> u64 {

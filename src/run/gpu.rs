@@ -38,16 +38,12 @@ pub(super) struct GpuStepper {
 /// first batch that reaches it the device is destroyed, as a driver reset
 /// would lose it (tests of a failing device).
 fn lose_at() -> Result<Option<f64>, RunError> {
-    const VAR: &str = "SPHCONTACT_GPU_LOSE_AT";
-    match std::env::var(VAR) {
-        Err(_) => Ok(None),
-        Ok(text) => match text.trim().parse::<f64>() {
-            Ok(t) if t.is_finite() && t >= 0.0 => Ok(Some(t)),
-            _ => Err(RunError::Backend(format!(
-                "{VAR} must be a time >= 0 in seconds (got '{text}')"
-            ))),
-        },
-    }
+    crate::gpu::env_value(
+        "SPHCONTACT_GPU_LOSE_AT",
+        |t: &f64| t.is_finite() && *t >= 0.0,
+        "a time >= 0 in seconds",
+    )
+    .map_err(RunError::Backend)
 }
 
 impl GpuStepper {
@@ -61,9 +57,7 @@ impl GpuStepper {
             ))),
         }
     }
-}
 
-impl GpuStepper {
     pub(super) fn new(
         ctx: Arc<GpuContext>,
         model: Model,
