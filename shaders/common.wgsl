@@ -37,6 +37,9 @@ override RECON: bool = false;
 // control"), 0 off; it also reads the stored velocity gradient.
 override HG: f32 = 0.0;
 override WG: u32 = 128u;
+// Whether some artificial term books heat (Model::dissipates): the forces
+// pass then sums the ledger's artificial dissipation (forces.wgsl, dheat).
+override DISS: bool = false;
 // The energy guard (Model::guards_energy) runs in the reductions.
 override GUARD: bool = false;
 // Whether the scene has a rigid body: only then does a contact pass hand

@@ -57,6 +57,13 @@
 // the control sees and its gradient (kinematics.wgsl, kinematics_leap).
 @group(0) @binding(87) var<storage, read> vhalf: array<vec2<f32>>;
 @group(0) @binding(88) var<storage, read> gradh: array<vec4<f32>>;
+// The artificial dissipation (DISS), per workgroup of particles: the
+// work booked into the internal energies, a compensated sum (x + y), and
+// in the leapfrog the rate of its last energy pass (z), whose second half
+// the next step's energy pass books. A fixed-order tree per workgroup, no
+// atomics; the host sums the workgroups in f64. CPU twin: State::dissipation.
+@group(0) @binding(89) var<storage, read_write> dheat: array<vec4<f32>>;
+var<workgroup> shd: array<f32, 256>;
 
 // Workgroups of the contact's indirect dispatch (surf_args[1..4]): one a
 // `WG` listed particles.
@@ -153,6 +160,8 @@ struct Sums {
     // The colour gradient with reference volumes, and its rate.
     g0: vec2<f32>,
     gdot: vec2<f32>,
+    // The artificial terms' share of `de` (DISS).
+    dd: f32,
 }
 
 // Add the SPH pair (i, j) (inside the support) to the sums; `img`: the
@@ -265,6 +274,7 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
     // It holds intact material together against the tensile instability;
     // a failed particle is bonded to nothing.
     var art_work = 0.0;
+    var rfg = vec2<f32>(0.0);
     if (ART_STRESS && o.intact) {
         var gate = 1.0;
         if (ART_CLOSE) {
@@ -311,7 +321,8 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
                     rf *= share;
                 }
                 t += rf;
-                art_work = 0.5 * dot(vij, sym_mul(rf, g));
+                rfg = sym_mul(rf, g);
+                art_work = 0.5 * dot(vij, rfg);
             }
         }
     }
@@ -332,6 +343,10 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
     }
     if (LEAP != 2u) {
         (*sums).de -= mass_j * (dot(vij, sym_mul(o.t, g) + hg.xi) - 0.5 * pi * dot(vij, g) + art_work);
+        if (DISS) {
+            // The artificial part of i's energy vector (PairTerms::a).
+            (*sums).dd -= mass_j * dot(vij, 0.5 * (rfg - pi * g) + hg.xi);
+        }
     }
 }
 
@@ -433,14 +448,58 @@ fn adaptive_forces(own: Own, wk: Walker, i: u32, mi: vec4<u32>, cs: Consts, sums
 }
 
 @compute @workgroup_size(WG)
-fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = flat_index(gid, nwg);
+fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = forces_of(flat_index(gid, nwg));
+    if (DISS) {
+        book_dissipation(lid.x, wid.x + wid.y * nwg.x, d);
+    }
+}
+
+// The workgroup's artificial dissipation rate (particle i's `d`, summed in
+// a fixed tree), booked as the step books the internal energies: the
+// midpoint rule's second evaluation for dt; the leapfrog's energy pass
+// for its half step, with the half step of the last pass's rate that
+// this step's first kick booked; its first evaluation only keeps the rate.
+fn book_dissipation(lid: u32, w: u32, d: f32) {
+    shd[lid] = d;
+    workgroupBarrier();
+    for (var s = WG / 2u; s > 0u; s = s / 2u) {
+        if (lid < s) {
+            shd[lid] += shd[lid + s];
+        }
+        workgroupBarrier();
+    }
+    if (lid != 0u || w * WG >= params.n || zero_length_pass()) {
+        return;
+    }
+    let rate = shd[0];
+    var b = dheat[w];
+    if (MID) {
+        b = vec4<f32>(two_sum(b.xy, rate * ctl.dt), b.zw);
+    } else if (LEAP == 3u) {
+        b = vec4<f32>(two_sum(b.xy, (b.z + rate) * (0.5 * ctl.dt)), rate, 0.0);
+    } else if (LEAP == 1u) {
+        b.z = rate;
+    }
+    dheat[w] = b;
+}
+
+// A compensated sum (hi, lo) plus x.
+fn two_sum(a: vec2<f32>, x: f32) -> vec2<f32> {
+    let y = x + a.y;
+    let t = a.x + y;
+    return vec2<f32>(t, y - (t - a.x));
+}
+
+// Particle i's forces pass (`forces`); returns its artificial dissipation
+// rate m_i d_i (0 where it has none).
+fn forces_of(i: u32) -> f32 {
     if (LEAP == 2u && CONTACT && i == 0u) {
         size_contact();
     }
     // A zero-length leapfrog step leaves the carried rates as they are.
     if (i >= params.n || zero_length_pass()) {
-        return;
+        return 0.0;
     }
     let mi = pinfo[i];
     let bi = mi.z;
@@ -456,7 +515,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     }
     if (rigid && !boundary) {
         if (LEAP == 3u) {
-            return;
+            return 0.0;
         }
         if (!MID) {
             dv[i] = vec2<f32>(0.0);
@@ -465,7 +524,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         if (CONTACT && LEAP != 0u) {
             area[i] = 0.0;
         }
-        return;
+        return 0.0;
     }
     let cs = consts();
     var wk = walker(i);
@@ -525,7 +584,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         params.beta,
     );
 
-    var sums = Sums(vec2<f32>(0.0), 0.0, kernel_w(0.0, hi), vec2<f32>(0.0), vec2<f32>(0.0));
+    var sums = Sums(vec2<f32>(0.0), 0.0, kernel_w(0.0, hi), vec2<f32>(0.0), vec2<f32>(0.0), 0.0);
     var mask = vec2<u32>(0u, MASK_FULL);
     // Where supports adapt the walk's rows are the walker's own
     // (`adaptive_forces`), which the masks' row map does not follow.
@@ -593,11 +652,17 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         }
         cn[u32(nbo[i].w)] = vec4<f32>(nc, gl, om);
     }
+    // The dissipation the energy sums booked: i's (a rigid particle keeps
+    // none).
+    var diss = 0.0;
+    if (DISS && !rigid) {
+        diss = sums.dd * bitcast<f32>(mi.x);
+    }
     if (LEAP == 3u) {
         if (!rigid) {
             dr[i].y = de + dr[i].y;
         }
-        return;
+        return diss;
     }
     if (!MID) {
         if (rigid) {
@@ -631,4 +696,5 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
             area[i] = 0.0;
         }
     }
+    return diss;
 }

@@ -138,6 +138,10 @@ pub struct State {
     /// Cumulative dashpot heat (already booked into `e`), J (per unit area
     /// in 1-D, per unit thickness in 2-D).
     pub heat: f64,
+    /// Cumulative artificial dissipation (already booked into `e`): the
+    /// work of the viscosity, the artificial stress and the hourglass
+    /// control, J (per unit area in 1-D, per unit thickness in 2-D).
+    pub dissipation: f64,
     /// Cumulative work the contact forces' spring part absorbed,
     /// `∫ Σ ½ k δ A w dt` (docs/method.md §8.3). On a conservative spring it
     /// equals the stored energy `Σ ¼ k δ² A`; the difference is the energy
@@ -256,6 +260,7 @@ impl Model {
             e: vec![0.0; n],
             s: vec![Default::default(); n],
             heat: 0.0,
+            dissipation: 0.0,
             spring_work: 0.0,
             entry: Vec::new(),
             eps_p: Vec::new(),
@@ -711,6 +716,16 @@ impl Model {
     /// falls back).
     pub fn kept_gradient_is_the_steps(&self) -> bool {
         self.av_reconstruct && self.hourglass == 0.0 && self.integrator == Integrator::Midpoint
+    }
+
+    /// Whether some artificial term books heat: the viscosity, the
+    /// artificial stress or the hourglass control ([`State::dissipation`];
+    /// the GPU's `DISS`, which keeps the ledger's sums only then).
+    pub fn dissipates(&self) -> bool {
+        self.alpha > 0.0
+            || self.beta > 0.0
+            || self.artificial_stress.is_some()
+            || self.hourglass > 0.0
     }
 
     /// Every body's hourglass coefficient set to `alpha` (as a scene's

@@ -92,6 +92,10 @@ pub struct Energies {
     pub kinetic: f64,
     pub internal: f64,
     pub contact_heat: f64,
+    /// Cumulative artificial dissipation (booked into `e`, part of
+    /// `internal`): the work of the viscosity, the artificial stress and
+    /// the hourglass control ([`State::dissipation`]).
+    pub dissipation: f64,
     pub stored: f64,
 }
 
@@ -104,6 +108,7 @@ impl Energies {
 pub fn energies(model: &Model, st: &State, diag: &Diagnostics) -> Energies {
     let mut e = Energies {
         contact_heat: st.heat,
+        dissipation: st.dissipation,
         stored: diag.contact.stored,
         ..Default::default()
     };

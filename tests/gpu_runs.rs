@@ -91,6 +91,13 @@ fn compare_bars_with(path: &str, plateau: (f64, f64), bodies: [&str; 2], integra
     let sep = |o: &RunOutput| contact_window(&o.history.times, &column(o, "contact_pressure")).1;
     close("separation time", sep(&gpu_out), sep(&cpu), 5e-3);
     close_at_end(&gpu_out, &cpu, bodies.into_iter().chain(["energy_heat"]));
+    // The viscosity's heat, summed by workgroup on the device.
+    close(
+        "artificial dissipation",
+        gpu_out.summary.energy.artificial_dissipation,
+        cpu.summary.energy.artificial_dissipation,
+        1e-3,
+    );
     let (g, c) = (
         gpu_out.summary.energy_spring_loss,
         cpu.summary.energy_spring_loss,

@@ -53,6 +53,7 @@ impl Record for State {
         self.e.put(w);
         w.quads(self.s.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]));
         self.heat.put(w);
+        self.dissipation.put(w);
         self.spring_work.put(w);
         self.entry.put(w);
         self.eps_p.put(w);
@@ -74,6 +75,7 @@ impl Record for State {
                 .map(|[xx, yy, xy, zz]| Sym { xx, yy, xy, zz })
                 .collect(),
             heat: Record::get(r)?,
+            dissipation: Record::get(r)?,
             spring_work: Record::get(r)?,
             entry: Record::get(r)?,
             eps_p: Record::get(r)?,
@@ -146,6 +148,7 @@ impl Record for (Rates, Diagnostics) {
         r.de.put(w);
         r.heat_rate.put(w);
         r.spring_rate.put(w);
+        r.dissipation_rate.put(w);
         d.cfl_dt.put(w);
         (d.correction_fallback as u64).put(w);
         (d.boundary_count as u64).put(w);
@@ -157,6 +160,7 @@ impl Record for (Rates, Diagnostics) {
             de: Record::get(r)?,
             heat_rate: Record::get(r)?,
             spring_rate: Record::get(r)?,
+            dissipation_rate: Record::get(r)?,
             ..Default::default()
         };
         let diag = Diagnostics {

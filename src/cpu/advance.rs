@@ -58,6 +58,7 @@ pub(super) fn advance(
         return_with_history(model, base, &r.rate, base.t + k, out);
     }
     out.heat = base.heat + r.heat_rate * k;
+    out.dissipation = base.dissipation + r.dissipation_rate * k;
     out.spring_work = base.spring_work + r.spring_rate * k;
     out.entry.clone_from(&base.entry);
 }

@@ -47,8 +47,10 @@ pub fn mirror_sym(s: &Sym) -> Sym {
 /// rows ([`Neighbours::images`]; zero where the image lies beyond reach):
 /// pair (i, j̄)'s `X_i` ([`crate::cpu::sweep::PairVectors`]), so that its
 /// energy rate at velocities `w` is `−m_j (w_i − w̄_j)·X_i`. Kept by
-/// [`add_momentum`] for the velocities the leapfrog books its work at.
-pub(super) struct KeptMirrors(Vec<DVec2>);
+/// [`add_momentum`] for the velocities the leapfrog books its work at:
+/// each mirror pair's energy vector `X_i` and its artificial part `a +
+/// X_i^hg` ([`super::forces::PairTerms::a`]).
+pub(super) struct KeptMirrors(Vec<[DVec2; 2]>);
 
 /// Adds the mirror partners' and the hoop's accelerations to `dv` and
 /// keeps what their energy rates need ([`KeptMirrors::add_energy`]): the
@@ -81,9 +83,9 @@ pub(super) fn add_momentum(
         }
     };
     // One slice of the kept vectors for each row, filled in parallel.
-    let mut kept = vec![DVec2::ZERO; nb.images.len()];
+    let mut kept = vec![[DVec2::ZERO; 2]; nb.images.len()];
     let mut rows = Vec::new();
-    let mut rest: &mut [DVec2] = &mut kept;
+    let mut rest: &mut [[DVec2; 2]] = &mut kept;
     for i in nb.image_rows() {
         let (row, tail) = rest.split_at_mut(nb.image_candidates(i).len());
         rows.push((i, row));
@@ -100,7 +102,10 @@ pub(super) fn add_momentum(
                 let im = image(j);
                 let p = pair_terms_of(model, st, &kin.surface, (i, &a), (j, &im), &b);
                 dvi += p.tg * model.mass[j];
-                row[slot] = vectors_of(&p, &a.pt.sr2, &im.pt.sr2)[0];
+                row[slot] = [
+                    vectors_of(&p, &a.pt.sr2, &im.pt.sr2, (true, false))[0],
+                    p.a + p.hg[0],
+                ];
             }
             (i, dvi)
         })
@@ -118,7 +123,8 @@ pub(super) fn add_momentum(
 
 /// [`add_momentum`] and its energy rates at the state's own velocities: a
 /// body of revolution's terms of an evaluation's rates (the leapfrog books
-/// the energy at other velocities).
+/// the energy at other velocities). Returns the mirror pairs' artificial
+/// dissipation rate ([`KeptMirrors::add_energy`]).
 pub(super) fn add_rates(
     model: &Model,
     st: &State,
@@ -126,13 +132,14 @@ pub(super) fn add_rates(
     kin: &Kinematics,
     pts: &[StressPoint],
     (dv, de): (&mut [DVec2], &mut [f64]),
-) {
-    add_momentum(model, st, nb, kin, pts, dv).add_energy(model, nb, pts, &st.v, de);
+) -> f64 {
+    add_momentum(model, st, nb, kin, pts, dv).add_energy(model, nb, pts, &st.v, de)
 }
 
 impl KeptMirrors {
     /// Adds the mirror partners' and the hoop's energy rates at the
-    /// velocities `w` to `de`.
+    /// velocities `w` to `de`; returns the artificial dissipation rate of
+    /// the mirror pairs (the hoop's work is the stress's own).
     pub(super) fn add_energy(
         &self,
         model: &Model,
@@ -140,24 +147,29 @@ impl KeptMirrors {
         pts: &[StressPoint],
         w: &[DVec2],
         de: &mut [f64],
-    ) {
+    ) -> f64 {
+        let mut diss = 0.0;
         for i in nb.image_rows().filter(|&i| !model.rigid(i)) {
             let base = nb.image_start[i] as usize;
-            let mut sum = 0.0;
+            let (mut sum, mut art) = (0.0, 0.0);
             for (k, &j) in nb.image_candidates(i).iter().enumerate() {
-                let x = self.0[base + k];
+                let [x, a] = self.0[base + k];
                 if x != DVec2::ZERO {
                     let j = j as usize;
-                    sum -= model.mass[j] * (w[i] - mirror(w[j])).dot(x);
+                    let wij = w[i] - mirror(w[j]);
+                    sum -= model.mass[j] * wij.dot(x);
+                    art -= model.mass[j] * wij.dot(a);
                 }
             }
             de[i] += sum;
+            diss += model.mass[i] * art;
         }
         de.par_iter_mut().enumerate().for_each(|(i, de)| {
             if !model.rigid(i) {
                 *de += pts[i].hoop * w[i].x;
             }
         });
+        diss
     }
 }
 

@@ -42,6 +42,11 @@ pub(in crate::cpu) struct PairTerms {
     /// `½ Π_ij v_ij·G_ij − ½ (R_i + R_j) f^n : (v_ij ⊗ G_ij)`, the part of
     /// either particle's energy term that is the pair's own.
     pub(in crate::cpu) shared: f64,
+    /// `½ ((R_i + R_j) f^n − Π_ij I) G_ij`: the artificial terms' part of
+    /// either side's energy vector, whose work `−m_j v_ij·(a + X_i)` (with
+    /// the hourglass control's `X_i`) is the pair's artificial
+    /// dissipation booked to i (docs/method.md, "The energy ledger").
+    pub(in crate::cpu) a: DVec2,
     /// The hourglass control's terms per unit of both masses: `[X_i, X_j]`,
     /// its force on i being `m_i m_j (X_i + X_j)` (in `tg`) and its heat
     /// `−m_j v_ij·X_i` on i and `−m_i v_ij·X_j` on j; zero when off.
@@ -166,6 +171,7 @@ pub(in crate::cpu) fn pair_terms_of(
     // It holds intact material together against the tensile instability;
     // a failed particle is bonded to nothing and takes no part in it.
     let mut art_work = 0.0;
+    let mut rfg = DVec2::ZERO;
     let bonded = || {
         st.damage.is_empty() || !(strength::failed(st.damage[i]) || strength::failed(st.damage[j]))
     };
@@ -208,7 +214,8 @@ pub(in crate::cpu) fn pair_terms_of(
                 rf = rf.scale(heat_share(vij.dot(rg), vij.length() * rg.length()));
             }
             t = t.add_scaled(&rf, 1.0);
-            art_work = 0.5 * vij.dot(rf.mul_vec(g));
+            rfg = rf.mul_vec(g);
+            art_work = 0.5 * vij.dot(rfg);
         }
     }
     let hg = if model.hourglass > 0.0 {
@@ -221,6 +228,7 @@ pub(in crate::cpu) fn pair_terms_of(
         g,
         vij,
         shared: 0.5 * pi * vij.dot(g) - art_work,
+        a: (rfg - g * pi) * 0.5,
         hg,
     }
 }
@@ -294,23 +302,41 @@ pub fn momentum_energy(
     kin: &Kinematics,
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>) {
-    let (mut dv, mut de): (Vec<DVec2>, Vec<f64>) = (0..model.len())
+    let (dv, de, _) = rates_and_dissipation(model, st, nb, kin, pts);
+    (dv, de)
+}
+
+/// [`momentum_energy`] and the artificial dissipation rate: the power the
+/// viscosity, the artificial stress and the hourglass control book into
+/// the particles' internal energy, `Σ_i m_i Σ_j −m_j v_ij·(a_ij + X_i)`
+/// ([`PairTerms::a`], docs/method.md, "The energy ledger").
+pub fn rates_and_dissipation(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    kin: &Kinematics,
+    pts: &[StressPoint],
+) -> (Vec<DVec2>, Vec<f64>, f64) {
+    let sums: Vec<(DVec2, f64, f64)> = (0..model.len())
         .map(|i| {
-            let (mut dv, mut de) = (DVec2::ZERO, 0.0);
+            let (mut dv, mut de, mut dd) = (DVec2::ZERO, 0.0, 0.0);
             if model.rigid(i) {
-                return (dv, de);
+                return (dv, de, dd);
             }
             for b in nb.of(model, st.frame(), i) {
                 let p = pair_terms(model, st, kin, pts, i, &b);
                 let mj = model.mass[b.j as usize];
                 dv += p.tg * mj;
                 de -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g) + p.hg[0]) - p.shared);
+                dd -= mj * p.vij.dot(p.a + p.hg[0]);
             }
-            (dv, de)
+            (dv, de, dd * model.mass[i])
         })
-        .unzip();
+        .collect();
+    let mut d = sums.iter().map(|s| s.2).sum::<f64>();
+    let (mut dv, mut de): (Vec<DVec2>, Vec<f64>) = sums.into_iter().map(|s| (s.0, s.1)).unzip();
     if model.axisymmetric {
-        super::axis::add_rates(model, st, nb, kin, pts, (&mut dv, &mut de));
+        d += super::axis::add_rates(model, st, nb, kin, pts, (&mut dv, &mut de));
     }
-    (dv, de)
+    (dv, de, d)
 }

@@ -66,6 +66,7 @@ impl CpuSolver {
         half.metric.clone_from(&st.metric);
         next.metric.clone_from(&st.metric);
         half.heat = st.heat + kn.heat_rate * h;
+        half.dissipation = st.dissipation + kn.dissipation_rate * h;
         half.spring_work = st.spring_work + kn.spring_rate * h;
         Self::refresh_lists(
             model,
@@ -151,9 +152,9 @@ impl CpuSolver {
         });
         let v_next = &half.v;
         stage::enter(Stage::Forces, Role::Energy);
-        let mut de = sweep::energy_replay(model, nb, &self.kept, v_next);
+        let (mut de, mut dissipation_rate) = sweep::energy_replay(model, nb, &self.kept, v_next);
         if let Some(m) = &mirrors {
-            m.add_energy(model, nb, &pts, v_next, &mut de);
+            dissipation_rate += m.add_energy(model, nb, &pts, v_next, &mut de);
         }
         let (mut heat_rate, mut spring_rate) = (0.0, 0.0);
         if let Some(bd) = bd {
@@ -206,6 +207,7 @@ impl CpuSolver {
             })
             .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 && b.1));
         next.heat = half.heat + heat_rate * h;
+        next.dissipation = half.dissipation + dissipation_rate * h;
         next.spring_work = half.spring_work + spring_rate * h;
         next.t = st.t + dt;
         next.step = st.step + 1;
@@ -222,6 +224,7 @@ impl CpuSolver {
                 rate: Vec::new(),
                 heat_rate,
                 spring_rate,
+                dissipation_rate,
                 entry: Vec::new(),
                 lv: Vec::new(),
                 debris: Vec::new(),

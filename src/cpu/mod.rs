@@ -70,6 +70,10 @@ pub struct Rates {
     pub heat_rate: f64,
     /// Total spring power (for the spring-work ledger).
     pub spring_rate: f64,
+    /// Artificial dissipation rate: the power the viscosity, the
+    /// artificial stress and the hourglass control book into `de`
+    /// (for the ledger's [`State::dissipation`](crate::model::State::dissipation)).
+    pub dissipation_rate: f64,
     /// The boundary particles' entry overlaps at the evaluated state
     /// (`(particle, overlap)`, [`contact::write_entries`]); empty without
     /// contact and in the leapfrog's carried rates.
@@ -120,7 +124,7 @@ fn evaluate_at(
     let k = sweep::kinematics(model, st, nb);
     let pts = eos_and_stress_with(model, st, debris.unwrap_or(&k.fallback));
     stage::enter(Stage::Forces, role);
-    let (mut dv, mut de) = sweep::momentum_energy(model, st, nb, &k, &pts);
+    let (mut dv, mut de, dissipation_rate) = sweep::rates_and_dissipation(model, st, nb, &k, &pts);
     let mut diag = Diagnostics {
         cfl_dt: f64::INFINITY,
         correction_fallback: k.fallback.len(),
@@ -170,6 +174,7 @@ fn evaluate_at(
             rate,
             heat_rate,
             spring_rate,
+            dissipation_rate,
             entry,
             lv,
             debris: fallback,

@@ -559,6 +559,19 @@ impl GpuSolver {
                 make("lgrad", 16 * nn, None)?;
             }
         }
+        if model.dissipates() {
+            // Per workgroup of particles: the artificial dissipation
+            // booked (compensated) and the leapfrog's carried rate
+            // (forces.wgsl); a state's total starts in the first.
+            let mut d = vec![[0f32; 4]; particle_groups(n) as usize];
+            let (hi, lo) = split(state.dissipation);
+            d[0] = [hi, lo, 0.0, 0.0];
+            make(
+                "dheat",
+                16 * particle_groups(n),
+                Some(bytemuck::cast_slice(&d)),
+            )?;
+        }
         if contact {
             // Per particle: (dashpot heat booked, spring work of its passes).
             make(

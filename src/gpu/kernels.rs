@@ -77,6 +77,7 @@ pub(super) fn make_kernels(
         ("LGRAD", (support_gradient == "lgrad") as u8 as f64),
         ("ADAPT_ROWS", adaptive_rows() as f64),
         ("WG", WG as f64),
+        ("DISS", model.dissipates() as u8 as f64),
         ("GUARD", plan.energy.is_some() as u8 as f64),
         ("RIGID", model.any_rigid as u8 as f64),
         // The leapfrog's kernels outside its step: its first

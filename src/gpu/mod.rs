@@ -227,6 +227,15 @@ pub fn shared_context() -> Result<Arc<GpuContext>, String> {
 /// 32 is 10 % slower, 256 no faster), the same on lavapipe, and gives the
 /// same bits (docs/performance.md).
 const WG: u32 = 128;
+// The forces pass's dissipation tree holds at most 256 threads, halved
+// at each level (forces.wgsl, book_dissipation).
+const _: () = assert!(WG <= 256 && WG.is_power_of_two());
+
+/// Workgroups of the per-particle kernels for `n` particles: the slots of
+/// the artificial dissipation's sums (`dheat`, forces.wgsl).
+fn particle_groups(n: usize) -> u64 {
+    (n as u64).div_ceil(WG as u64).max(1)
+}
 /// Ring rows: a batch is at most `RING_LEN − 2` steps.
 pub const RING_LEN: u32 = 256;
 /// Steps between reorderings of the particles by cell.

@@ -201,6 +201,9 @@ impl GpuSolver {
         if self.model.adaptive {
             names.push(("metric", 16 * n));
         }
+        if self.model.dissipates() {
+            names.push(("dheat", 16 * particle_groups(self.n)));
+        }
         names
     }
 
@@ -282,6 +285,10 @@ impl GpuSolver {
                     st.failed_at[i],
                 ] = self.history_of(i, h[k]);
             }
+        }
+        if self.model.dissipates() {
+            let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index("dheat")].as_ref());
+            st.dissipation = q.iter().map(|x| x[0] as f64 + x[1] as f64).sum();
         }
         if self.model.adaptive {
             let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index("metric")].as_ref());

@@ -396,6 +396,9 @@ pub struct EnergyLedger {
     pub spring: f64,
     /// Heat the contact's dashpot dissipated (part of `internal`).
     pub dashpot_heat: f64,
+    /// Work the viscosity, the artificial stress and the hourglass
+    /// control booked into the internal energy (part of `internal`).
+    pub artificial_dissipation: f64,
     /// Work the penalty springs absorbed and did not store
     /// (`energy_spring_loss`).
     pub spring_loss: f64,
@@ -411,6 +414,7 @@ impl EnergyLedger {
             internal: end.internal,
             spring: end.stored,
             dashpot_heat: end.contact_heat,
+            artificial_dissipation: end.dissipation,
             spring_loss,
             residual: end.total() + spring_loss - initial,
         }

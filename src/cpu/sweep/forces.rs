@@ -28,19 +28,37 @@ pub fn momentum_energy(
     kin: &Kinematics,
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>) {
-    let (mut dv, mut de) = sums((model, st, nb, kin, pts), lanes_serve(model), None);
-    if model.axisymmetric {
-        crate::cpu::axis::add_rates(model, st, nb, kin, pts, (&mut dv, &mut de));
-    }
+    let (dv, de, _) = rates_and_dissipation(model, st, nb, kin, pts);
     (dv, de)
+}
+
+/// [`momentum_energy`] and the artificial dissipation rate, the power the
+/// viscosity, the artificial stress and the hourglass control book into
+/// the particles' internal energy (twin of
+/// [`crate::cpu::forces::rates_and_dissipation`]).
+pub fn rates_and_dissipation(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    kin: &Kinematics,
+    pts: &[StressPoint],
+) -> (Vec<DVec2>, Vec<f64>, f64) {
+    let (mut dv, mut de, mut d) = sums((model, st, nb, kin, pts), lanes_serve(model), None);
+    if model.axisymmetric {
+        d += crate::cpu::axis::add_rates(model, st, nb, kin, pts, (&mut dv, &mut de));
+    }
+    (dv, de, d)
 }
 
 /// A pair's energy vectors, kept by [`momentum_keeping`] in the pair's
 /// slot of the sweep: particle i's `X_i = (σ_i/ρ_i² − ½Π_ij I + ½ (R_i +
 /// R_j) f^n) G_ij` and particle j's `X_j = t G_ij − X_i`, so that the
 /// energy sums at any velocities `w` are `de_i/dt = −Σ_j m_j w_ij·X_i`
-/// and `de_j/dt = −Σ_i m_i w_ij·X_j` ([`energy_replay`]).
-pub type PairVectors = [DVec2; 2];
+/// and `de_j/dt = −Σ_i m_i w_ij·X_j` ([`energy_replay`]); and the
+/// artificial parts of the sides the sweep books, summed (`Y`, the
+/// vectors less their `σ/ρ² G`), whose work `−m_i m_j w_ij·Y` is the
+/// pair's artificial dissipation.
+pub type PairVectors = [DVec2; 3];
 
 /// The forces pass's momentum sums (`dv/dt`, as [`momentum_energy`], the same bits)
 /// with the energy sums left for later: each pair's [`PairVectors`] go to
@@ -55,50 +73,57 @@ pub fn momentum_keeping(
     pts: &[StressPoint],
     keep: &mut Vec<PairVectors>,
 ) -> Vec<DVec2> {
-    keep.resize(nb.store_len(), [DVec2::ZERO; 2]);
+    keep.resize(nb.store_len(), [DVec2::ZERO; 3]);
     let lanes = lanes_serve(model);
     sums((model, st, nb, kin, pts), lanes, Some(keep)).0
 }
 
 /// `de/dt` from the pairs kept by [`momentum_keeping`] with the work done
-/// on the velocities `w` (rigid particles: zero), in the sweep's order.
+/// on the velocities `w` (rigid particles: zero), in the sweep's order,
+/// and the artificial dissipation rate among it ([`PairVectors`]).
 pub fn energy_replay(
     model: &Model,
     nb: &Neighbours,
     kept: &[PairVectors],
     w: &[DVec2],
-) -> Vec<f64> {
-    let mut acc = vec![0.0f64; model.len()];
+) -> (Vec<f64>, f64) {
+    let mut acc = vec![(0.0f64, 0.0f64); model.len()];
     nb.replay(&mut acc, kept, |i, j, x, ai, aj| {
         let wij = w[i] - w[j];
         if !model.rigid(i) {
-            *ai -= model.mass[j] * wij.dot(x[0]);
+            ai.0 -= model.mass[j] * wij.dot(x[0]);
         }
         if let Some(aj) = aj.filter(|_| !model.rigid(j)) {
-            *aj -= model.mass[i] * wij.dot(x[1]);
+            aj.0 -= model.mass[i] * wij.dot(x[1]);
         }
+        ai.1 -= model.mass[i] * model.mass[j] * wij.dot(x[2]);
     });
-    acc
+    let d = acc.iter().map(|a| a.1).sum();
+    (acc.into_iter().map(|a| a.0).collect(), d)
 }
 
-/// Particle i's energy vector `X_i = ½ (t G + (σ_i/ρ_i² − σ_j/ρ_j²) G)`
-/// and j's `t G − X_i` ([`PairVectors`]).
-#[inline]
-pub(in crate::cpu) fn pair_vectors(tg: DVec2, sig: DVec2, sjg: DVec2) -> PairVectors {
-    let xi = (tg + (sig - sjg)) * 0.5;
-    [xi, tg - xi]
-}
-
-/// The [`PairVectors`] of the one-pair terms `p` of particles with
-/// `σ/ρ²` `si` and `sj`, the hourglass control's parts included.
+/// The one-pair terms `p`'s [`PairVectors`], of particles with `σ/ρ²`
+/// `si` and `sj` (the hourglass control's parts included): `X_i = ½ (t G
+/// + (σ_i/ρ_i² − σ_j/ρ_j²) G)`, `X_j = t G − X_i`, and the artificial
+/// parts of the sides `booked` (i's, j's).
 #[inline]
 pub(in crate::cpu) fn vectors_of(
     p: &crate::cpu::forces::PairTerms,
     si: &crate::math::Sym,
     sj: &crate::math::Sym,
+    booked: (bool, bool),
 ) -> PairVectors {
     let [hi, hj] = p.hg;
-    pair_vectors(p.tg, si.mul_vec(p.g) + hi, sj.mul_vec(p.g) + hj)
+    let (sig, sjg) = (si.mul_vec(p.g) + hi, sj.mul_vec(p.g) + hj);
+    let xi = (p.tg + (sig - sjg)) * 0.5;
+    let mut y = DVec2::ZERO;
+    if booked.0 {
+        y += p.a + hi;
+    }
+    if booked.1 {
+        y += p.a + hj;
+    }
+    [xi, p.tg - xi, y]
 }
 
 /// Whether the lane code serves the scene: it does not do the rigid
@@ -114,7 +139,7 @@ pub(in crate::cpu) fn sums(
     args: Inputs<'_>,
     lanes: bool,
     keep: Option<&mut Vec<PairVectors>>,
-) -> (Vec<DVec2>, Vec<f64>) {
+) -> (Vec<DVec2>, Vec<f64>, f64) {
     let nb = args.2;
     match keep {
         Some(keep) => sums_into(args, lanes, keep),

@@ -18,13 +18,23 @@ use crate::physics::strength;
 use crate::physics::tension::{art_weight_lanes, close_gate_lanes, heat_share_lanes};
 use crate::scene::{ArtPairs, ArtWork};
 
-/// Where a pass's energy terms go: into the particles' sums (`()`, no
-/// memory) or into the pair's slot ([`PairVectors`]).
+/// Where a pass's energy terms go: into the particles' sums and the row's
+/// artificial dissipation (`()`, no memory) or into the pair's slot
+/// ([`PairVectors`]).
 pub(super) trait EnergyTerms: Send + Default {
-    /// Lane k of the pair terms `t`: i's and, for a near pair, j's.
-    fn lane(self_: &mut Self, t: &LaneTerms, k: usize, ei: &mut f64, ej: Option<&mut f64>);
+    /// Lane k of the pair terms `t`: i's and, for a near pair, j's; `di`
+    /// the row's dissipation rate.
+    fn lane(
+        self_: &mut Self,
+        t: &LaneTerms,
+        k: usize,
+        ei: &mut f64,
+        ej: Option<&mut f64>,
+        di: &mut f64,
+    );
     /// The one-pair terms `p` of pair `ij = (i, j)` with the masses
     /// `m = (m_i, m_j)`: i's side unless i is rigid, j's for a near pair.
+    #[allow(clippy::too_many_arguments)]
     fn pair(
         self_: &mut Self,
         p: &PairTerms,
@@ -33,15 +43,18 @@ pub(super) trait EnergyTerms: Send + Default {
         m: (f64, f64),
         ei: Option<&mut f64>,
         ej: Option<&mut f64>,
+        di: &mut f64,
     );
 }
 
 impl EnergyTerms for () {
     #[inline(always)]
-    fn lane(_: &mut (), t: &LaneTerms, k: usize, ei: &mut f64, ej: Option<&mut f64>) {
+    fn lane(_: &mut (), t: &LaneTerms, k: usize, ei: &mut f64, ej: Option<&mut f64>, di: &mut f64) {
         *ei -= t.e_i[k];
+        *di += t.d_i[k];
         if let Some(ej) = ej {
             *ej -= t.e_j[k];
+            *di += t.d_j[k];
         }
     }
 
@@ -54,22 +67,38 @@ impl EnergyTerms for () {
         (mi, mj): (f64, f64),
         ei: Option<&mut f64>,
         ej: Option<&mut f64>,
+        di: &mut f64,
     ) {
+        let mm = mi * mj;
         if let Some(ei) = ei {
             *ei -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g) + p.hg[0]) - p.shared);
+            *di -= mm * p.vij.dot(p.a + p.hg[0]);
         }
         if let Some(ej) = ej {
             *ej -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g) + p.hg[1]) - p.shared);
+            *di -= mm * p.vij.dot(p.a + p.hg[1]);
         }
     }
 }
 
 impl EnergyTerms for PairVectors {
     #[inline(always)]
-    fn lane(slot: &mut Self, t: &LaneTerms, k: usize, _: &mut f64, _: Option<&mut f64>) {
+    fn lane(
+        slot: &mut Self,
+        t: &LaneTerms,
+        k: usize,
+        _: &mut f64,
+        ej: Option<&mut f64>,
+        _: &mut f64,
+    ) {
+        let mut a = DVec2::new(t.a_i[0][k], t.a_i[1][k]);
+        if ej.is_some() {
+            a += DVec2::new(t.a_j[0][k], t.a_j[1][k]);
+        }
         *slot = [
             DVec2::new(t.x_i[0][k], t.x_i[1][k]),
             DVec2::new(t.x_j[0][k], t.x_j[1][k]),
+            a,
         ];
     }
 
@@ -80,10 +109,11 @@ impl EnergyTerms for PairVectors {
         pts: &[StressPoint],
         (i, j): (usize, usize),
         _: (f64, f64),
-        _: Option<&mut f64>,
-        _: Option<&mut f64>,
+        ei: Option<&mut f64>,
+        ej: Option<&mut f64>,
+        _: &mut f64,
     ) {
-        *slot = vectors_of(p, &pts[i].sr2, &pts[j].sr2);
+        *slot = vectors_of(p, &pts[i].sr2, &pts[j].sr2, (ei.is_some(), ej.is_some()));
     }
 }
 
@@ -97,15 +127,27 @@ pub(in crate::cpu) type Inputs<'a> = (
     &'a [StressPoint],
 );
 
+/// Each particle's sums: `dv/dt`, `de/dt`, and the artificial
+/// dissipation rate of the pairs its row books.
+type Acc = (DVec2, f64, f64);
+
+/// The sums' totals: `dv/dt`, `de/dt` and the artificial dissipation
+/// rate, summed in particle order.
+fn totals(acc: Vec<Acc>) -> (Vec<DVec2>, Vec<f64>, f64) {
+    let d = acc.iter().map(|a| a.2).sum();
+    let (dv, de) = acc.into_iter().map(|a| (a.0, a.1)).unzip();
+    (dv, de, d)
+}
+
 /// [`sums`] with the energy terms going to `E` (one slot per visited
 /// candidate).
 pub(super) fn sums_into<E: EnergyTerms>(
     (model, st, nb, kin, pts): Inputs<'_>,
     lanes: bool,
     slots: &mut [E],
-) -> (Vec<DVec2>, Vec<f64>) {
+) -> (Vec<DVec2>, Vec<f64>, f64) {
     let (l, gv, surface) = (&kin.l[..], &kin.gv[..], &kin.surface[..]);
-    let mut acc = vec![(DVec2::ZERO, 0.0); model.len()];
+    let mut acc: Vec<Acc> = vec![(DVec2::ZERO, 0.0, 0.0); model.len()];
     if lanes {
         assert!(lanes_serve(model), "the lane code serves this scene");
         let rec = partners(model, st, l, gv, surface, pts);
@@ -129,11 +171,11 @@ pub(super) fn sums_into<E: EnergyTerms>(
                         aj.0 -= DVec2::new(t.tg_mi[0][k], t.tg_mi[1][k]);
                         &mut aj.1
                     });
-                    E::lane(slot, &t, k, &mut ai.1, ej);
+                    E::lane(slot, &t, k, &mut ai.1, ej, &mut ai.2);
                 }
             },
         );
-        return acc.into_iter().unzip();
+        return totals(acc);
     }
     let terms = |i, b: &Nbr| pair_terms(model, st, kin, pts, i, b);
     nb.sweep_store(model, st.frame(), &mut acc, slots, |i, b, ai, aj, slot| {
@@ -155,9 +197,9 @@ pub(super) fn sums_into<E: EnergyTerms>(
             aj.0 -= p.tg * mi;
             &mut aj.1
         });
-        E::pair(slot, &p, pts, (i, j), (mi, mj), ei, ej);
+        E::pair(slot, &p, pts, (i, j), (mi, mj), ei, ej, &mut ai.2);
     });
-    acc.into_iter().unzip()
+    totals(acc)
 }
 
 /// What four pairs of one row add to their particles' sums: i's side and
@@ -170,6 +212,13 @@ pub(super) struct LaneTerms {
     /// The pair's [`PairVectors`] (x and y rows).
     x_i: [[f64; LANES]; 2],
     x_j: [[f64; LANES]; 2],
+    /// Each side's artificial part of its energy vector (`PairTerms::a`
+    /// and the hourglass control's `X`), and the dissipation rate it books
+    /// at the pair's velocities, masses applied.
+    a_i: [[f64; LANES]; 2],
+    a_j: [[f64; LANES]; 2],
+    d_i: [f64; LANES],
+    d_j: [f64; LANES],
 }
 
 /// What the momentum pass reads of a particle, in one record of five rows
@@ -390,6 +439,7 @@ fn lane_terms(
     let mut tyy = siyy + sjyy - pi;
     let mut txy = sixy + sjxy;
     let mut art_work = None;
+    let (mut rgx_on, mut rgy_on) = (F4::splat(0.0), F4::splat(0.0));
     let bonded = |art: &ArtRows| art.intact.is_empty() || art.intact[i] > 0.0;
     if let (Some(art), Some(a)) = (art.filter(|a| bonded(a)), model.artificial_stress) {
         // Rows untouched by tension skip it, and so do rows with no close
@@ -472,6 +522,7 @@ fn lane_terms(
                     txy = on.select(txy + rfxy, txy);
                     let (rgx, rgy) = (rfxx * gx + rfxy * gy, rfxy * gx + rfyy * gy);
                     art_work = Some(on.select(0.5 * (vx * rgx + vy * rgy), F4::splat(0.0)));
+                    (rgx_on, rgy_on) = (on.select(rgx, rgx_on), on.select(rgy, rgy_on));
                 }
             }
         }
@@ -486,6 +537,9 @@ fn lane_terms(
     let (mut sigx, mut sigy) = (sixx * gx + sixy * gy, sixy * gx + siyy * gy);
     let (mut sjgx, mut sjgy) = (sjxx * gx + sjxy * gy, sjxy * gx + sjyy * gy);
     let (mut tgx, mut tgy) = (tgx, tgy);
+    // PairTerms::a, and with the hourglass control each side's own part.
+    let (ax, ay) = ((rgx_on - gx * pi) * 0.5, (rgy_on - gy * pi) * 0.5);
+    let (mut aix, mut aiy, mut ajx, mut ajy) = (ax, ay, ax, ay);
     if let Some(hg) = hg {
         // The hourglass control (forces::hourglass), its parts added where
         // the one-pair code adds them: to t G, and to each side's σ/ρ² G
@@ -519,7 +573,9 @@ fn lane_terms(
         tgy = tgy + h0y + h1y;
         (sigx, sigy) = (sigx + h0x, sigy + h0y);
         (sjgx, sjgy) = (sjgx + h1x, sjgy + h1y);
+        (aix, aiy, ajx, ajy) = (ax + h0x, ay + h0y, ax + h1x, ay + h1y);
     }
+    let mm = F4::splat(0.0) - mi * mj;
     let ei = vx * sigx + vy * sigy;
     let ej = vx * sjgx + vy * sjgy;
     // pair_vectors, lane by lane.
@@ -532,5 +588,9 @@ fn lane_terms(
         e_j: (mi * (ej - shared)).to_array(),
         x_i: [xix.to_array(), xiy.to_array()],
         x_j: [(tgx - xix).to_array(), (tgy - xiy).to_array()],
+        a_i: [aix.to_array(), aiy.to_array()],
+        a_j: [ajx.to_array(), ajy.to_array()],
+        d_i: (mm * (vx * aix + vy * aiy)).to_array(),
+        d_j: (mm * (vx * ajx + vy * ajy)).to_array(),
     }
 }

@@ -20,7 +20,9 @@ pub mod kinematics;
 #[cfg(test)]
 mod tests;
 
-pub use forces::{energy_replay, momentum_energy, momentum_keeping, PairVectors};
+pub use forces::{
+    energy_replay, momentum_energy, momentum_keeping, rates_and_dissipation, PairVectors,
+};
 pub use kinematics::{kinematics, kinematics_seen};
 
 /// Up to four candidates of one row with their kernel values in lanes

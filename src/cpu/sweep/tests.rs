@@ -2,7 +2,7 @@
 //! the lane code's bits equal to the one-pair code's, the same bits on
 //! any thread count.
 
-use super::forces::sums;
+use super::forces::{lanes_serve, sums};
 use super::*;
 use crate::bench::{CpuBench, DiskCase};
 use crate::cpu::neighbours::{find_with_skin, Neighbours};
@@ -266,6 +266,7 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             assert_eq!(bits(&one.0[i]), bits(&four.0[i]), "dv of {i}");
             assert_eq!(one.1[i].to_bits(), four.1[i].to_bits(), "de of {i}");
         }
+        assert_eq!(one.2.to_bits(), four.2.to_bits(), "dissipation");
         // The sums are not trivially equal: the pass does work.
         assert!(one.0.iter().filter(|a| a.length() > 0.0).count() > model.len() / 2);
         if hourglass > 0.0 {
@@ -287,6 +288,7 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             continue;
         }
         gathers_match(&model, st, &nb, &one);
+        dissipation_is_the_artificial_terms_work(&model, st, &nb, &one);
         if art.is_none() && !damaged && hourglass == 0.0 {
             // One disk rigid: the one-pair code's zero rates against the
             // gather's.
@@ -296,6 +298,7 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             let k = kinematics(&rigid, st, &nb);
             let sums = sums((&rigid, st, &nb, &k, &pts), false, None);
             gathers_match(&rigid, st, &nb, &sums);
+            dissipation_is_the_artificial_terms_work(&rigid, st, &nb, &sums);
         }
     }
 }
@@ -344,7 +347,9 @@ fn adaptive_sweeps_match_gathers_and_lanes_one_pair_code() {
             assert_eq!(one.0[i].y.to_bits(), four.0[i].y.to_bits(), "dv of {i}");
             assert_eq!(one.1[i].to_bits(), four.1[i].to_bits(), "de of {i}");
         }
+        assert_eq!(one.2.to_bits(), four.2.to_bits(), "dissipation");
         gathers_match(&model, &st, &nb, &one);
+        dissipation_is_the_artificial_terms_work(&model, &st, &nb, &one);
         // The supports change the sums: the same state with round ones
         // gives other forces.
         let (mut round, mut flat) = (model.clone(), st.clone());
@@ -362,7 +367,7 @@ fn adaptive_sweeps_match_gathers_and_lanes_one_pair_code() {
 /// [`crate::cpu::forces::momentum_energy`]) sum what the sweeps sum,
 /// `sums` the sweep's forces, to round-off: each field within 1e-12 of its
 /// largest value (the sums differ only in the order of their terms).
-fn gathers_match(model: &Model, st: &State, nb: &Neighbours, sums: &(Vec<DVec2>, Vec<f64>)) {
+fn gathers_match(model: &Model, st: &State, nb: &Neighbours, sums: &(Vec<DVec2>, Vec<f64>, f64)) {
     let k = kinematics(model, st, nb);
     let plain = crate::cpu::kinematics::kinematics(model, st, nb);
     let close = |what: &str, a: &[f64], b: &[f64]| {
@@ -393,9 +398,15 @@ fn gathers_match(model: &Model, st: &State, nb: &Neighbours, sums: &(Vec<DVec2>,
         close("∇v", &flat(&k.gv), &flat(&plain.gv));
     }
     let pts = eos_and_stress(model, st);
-    let (dv, de) = crate::cpu::forces::momentum_energy(model, st, nb, &k, &pts);
+    let (dv, de, d) = crate::cpu::forces::rates_and_dissipation(model, st, nb, &k, &pts);
     close("dv/dt", &xy(&sums.0), &xy(&dv));
     close("de/dt", &sums.1, &de);
+    let power: f64 = (0..model.len()).map(|i| model.mass[i] * de[i].abs()).sum();
+    assert!(
+        (sums.2 - d).abs() <= 1e-12 * power,
+        "dissipation {} against the gather's {d}",
+        sums.2
+    );
     if model.any_rigid {
         let rigid = (0..model.len()).filter(|&i| model.rigid(i));
         assert!(rigid.clone().count() > 0);
@@ -403,6 +414,37 @@ fn gathers_match(model: &Model, st: &State, nb: &Neighbours, sums: &(Vec<DVec2>,
             assert_eq!((dv[i], de[i]), (DVec2::ZERO, 0.0), "rigid {i}");
         }
     }
+}
+
+/// The artificial dissipation rate of the sweep's `sums` is exactly what
+/// the artificial terms add to the energy sums: `Σ m_i de_i/dt` less the
+/// same sums with the viscosity, the artificial stress and the hourglass
+/// control off, at the same state (the stress's own work does not depend
+/// on them), to round-off.
+fn dissipation_is_the_artificial_terms_work(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    with: &(Vec<DVec2>, Vec<f64>, f64),
+) {
+    let k = kinematics(model, st, nb);
+    let pts = eos_and_stress(model, st);
+    let mut off = model.clone();
+    (off.alpha, off.beta, off.artificial_stress) = (0.0, 0.0, None);
+    off.set_hourglass(0.0);
+    let bare = sums((&off, st, nb, &k, &pts[..]), lanes_serve(model), None);
+    assert_eq!(bare.2, 0.0, "no artificial term, no dissipation");
+    let total = |de: &[f64]| -> f64 { (0..model.len()).map(|i| model.mass[i] * de[i]).sum() };
+    let power: f64 = (0..model.len())
+        .map(|i| model.mass[i] * with.1[i].abs())
+        .sum();
+    let moved = total(&with.1) - total(&bare.1);
+    assert!(
+        (moved - with.2).abs() <= 1e-11 * power,
+        "dissipation {:e} against the energy sums' change {moved:e}",
+        with.2
+    );
+    assert!(with.2.abs() > 1e-6 * power, "the state dissipates");
 }
 
 /// The lane code gives the one-pair code's sums bit for bit in 1-D too
@@ -525,8 +567,8 @@ fn kept_pair_vectors_replay_the_energy_sums() {
     let (dv, de) = momentum_energy(args.0, args.1, args.2, args.3, args.4);
     let mut kept = [Vec::new(), Vec::new()];
     for (lanes, kept) in [true, false].into_iter().zip(&mut kept) {
-        kept.resize(nb.store_len(), [DVec2::ZERO; 2]);
-        let (kdv, _) = sums(args, lanes, Some(kept));
+        kept.resize(nb.store_len(), [DVec2::ZERO; 3]);
+        let (kdv, ..) = sums(args, lanes, Some(kept));
         for i in 0..model.len() {
             assert_eq!(kdv[i].x.to_bits(), dv[i].x.to_bits(), "dv.x of {i}");
             assert_eq!(kdv[i].y.to_bits(), dv[i].y.to_bits(), "dv.y of {i}");
@@ -538,7 +580,14 @@ fn kept_pair_vectors_replay_the_energy_sums() {
     assert!(pairs > 5 * model.len(), "{pairs} kept pairs");
 
     let scale = de.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-    let replay = energy_replay(&model, &nb, &kept[0], &st.v);
+    let (replay, dissipation) = energy_replay(&model, &nb, &kept[0], &st.v);
+    // Its artificial dissipation too.
+    let (.., d) = sums(args, true, None);
+    let power: f64 = (0..model.len()).map(|i| model.mass[i] * de[i].abs()).sum();
+    assert!(
+        (dissipation - d).abs() <= 1e-12 * power && d.abs() > 1e-6 * power,
+        "replayed dissipation {dissipation:e} against {d:e}"
+    );
     for i in 0..model.len() {
         assert!(
             (replay[i] - de[i]).abs() <= 1e-12 * scale,
@@ -549,7 +598,7 @@ fn kept_pair_vectors_replay_the_energy_sums() {
     }
     // At other velocities the replay moves with them.
     let w: Vec<DVec2> = st.v.iter().map(|v| *v * 1.5 + DVec2::X).collect();
-    let other = energy_replay(&model, &nb, &kept[0], &w);
+    let (other, _) = energy_replay(&model, &nb, &kept[0], &w);
     let moved = (0..model.len()).filter(|&i| (other[i] - de[i]).abs() > 1e-6 * scale);
     assert!(moved.count() > model.len() / 2);
     // Energy is conserved pair by pair: Σ m_i de_i = Σ_pairs m_i m_j
