@@ -20,6 +20,8 @@
 @group(0) @binding(48) var<storage, read> probe_slot: array<u32>;
 // The plastic history (common.wgsl, HISTORY), for the probes.
 @group(0) @binding(76) var<storage, read> hist: array<vec4<f32>>;
+// The artificial dissipation by workgroup of the forces pass (DISS).
+@group(0) @binding(89) var<storage, read> dheat: array<vec4<f32>>;
 
 // The scene's observation slots are constants the host puts before this
 // file (gpu::probes::ProbePlan::wgsl): NSLOTS, and for each slot its code
@@ -97,6 +99,15 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
             return 0.0;
         }
         return o.m * min(o.e, 0.0);
+    }
+    if (code == 11u) {
+        // The artificial dissipation booked so far: each forces
+        // workgroup's sum (forces.wgsl, dheat), taken by its first particle.
+        if (!DISS || i % WG != 0u) {
+            return 0.0;
+        }
+        let d = dheat[i / WG];
+        return d.x + d.y;
     }
     if (code <= 5u) {
         if (a != NONE && o.body != a) {

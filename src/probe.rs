@@ -179,6 +179,7 @@ pub fn evaluate(probes: &[Resolved], model: &Model, st: &State, diag: &Diagnosti
                     EnergyQuantity::Kinetic => e.kinetic,
                     EnergyQuantity::Internal => e.internal,
                     EnergyQuantity::ContactHeat => e.contact_heat,
+                    EnergyQuantity::ArtificialDissipation => e.dissipation,
                     EnergyQuantity::Total => e.total(),
                 }
             }

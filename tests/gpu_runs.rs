@@ -79,9 +79,17 @@ fn compare_bars(path: &str, plateau: (f64, f64), bodies: [&str; 2]) {
 }
 
 fn compare_bars_with(path: &str, plateau: (f64, f64), bodies: [&str; 2], integrator: Integrator) {
-    let Some((cpu, gpu_out)) = both(path, integrator) else {
+    let mut scene = load(path);
+    scene.simulation.integrator = integrator;
+    // The ledger's artificial dissipation as a history column too.
+    scene.probes.push(sphcontact::scene::Probe::Energy {
+        name: "artificial_dissipation".into(),
+        quantity: sphcontact::scene::EnergyQuantity::ArtificialDissipation,
+    });
+    let Some((cpu, gpu_out)) = both_scene(path, &scene) else {
         return;
     };
+    assert_eq!(gpu_out.summary.steps, cpu.summary.steps, "step counts");
     close(
         "pressure plateau",
         mean_over(&gpu_out, "contact_pressure", plateau.0, plateau.1),
@@ -91,13 +99,25 @@ fn compare_bars_with(path: &str, plateau: (f64, f64), bodies: [&str; 2], integra
     let sep = |o: &RunOutput| contact_window(&o.history.times, &column(o, "contact_pressure")).1;
     close("separation time", sep(&gpu_out), sep(&cpu), 5e-3);
     close_at_end(&gpu_out, &cpu, bodies.into_iter().chain(["energy_heat"]));
-    // The viscosity's heat, summed by workgroup on the device.
+    // The viscosity's heat, summed by workgroup on the device; the
+    // history's column ends where the summary does (the device's in f32).
     close(
         "artificial dissipation",
         gpu_out.summary.energy.artificial_dissipation,
         cpu.summary.energy.artificial_dissipation,
         1e-3,
     );
+    for (o, tol) in [(&cpu, 1e-12), (&gpu_out, 1e-5)] {
+        let (h, s) = (
+            last(o, "artificial_dissipation"),
+            o.summary.energy.artificial_dissipation,
+        );
+        assert!(
+            s > 0.0 && (h / s - 1.0).abs() < tol,
+            "history {h:e}, summary {s:e}"
+        );
+    }
+    close_at_end(&gpu_out, &cpu, ["artificial_dissipation"]);
     let (g, c) = (
         gpu_out.summary.energy_spring_loss,
         cpu.summary.energy_spring_loss,

@@ -28,6 +28,7 @@ mod code {
     pub const STORED: u32 = 8;
     pub const HEAT: u32 = 9;
     pub const OWED: u32 = 10;
+    pub const DISSIPATION: u32 = 11;
 }
 
 /// How a probe value is made from a ring row.
@@ -141,6 +142,9 @@ impl ProbePlan {
                     }
                     EnergyQuantity::ContactHeat => {
                         Expr::Slot(plan.slot([code::HEAT, NONE, NONE, 0]), 1.0, 0.0)
+                    }
+                    EnergyQuantity::ArtificialDissipation => {
+                        Expr::Slot(plan.slot([code::DISSIPATION, NONE, NONE, 0]), 1.0, 0.0)
                     }
                     EnergyQuantity::Total => Expr::Total(
                         plan.slot([code::KINETIC, NONE, NONE, 0]),

@@ -46,6 +46,7 @@ pub fn unit(probe: &Probe, dim: u32) -> &'static str {
             EnergyQuantity::Kinetic
             | EnergyQuantity::Internal
             | EnergyQuantity::ContactHeat
+            | EnergyQuantity::ArtificialDissipation
             | EnergyQuantity::Total => per("J/m", "J/m²"),
         },
     }

@@ -546,6 +546,8 @@ pub enum EnergyQuantity {
     Kinetic,
     Internal,
     ContactHeat,
+    /// The artificial terms' work so far ([`crate::model::State::dissipation`]).
+    ArtificialDissipation,
     Total,
 }
 
