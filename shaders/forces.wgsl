@@ -450,7 +450,8 @@ fn adaptive_forces(own: Own, wk: Walker, i: u32, mi: vec4<u32>, cs: Consts, sums
 @compute @workgroup_size(WG)
 fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let d = forces_of(flat_index(gid, nwg));
-    if (DISS) {
+    // Only the passes that book energies (or, first, keep the rate) sum it.
+    if (DISS && (MID || LEAP == 1u || LEAP == 3u)) {
         book_dissipation(lid.x, wid.x + wid.y * nwg.x, d);
     }
 }

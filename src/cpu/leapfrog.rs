@@ -123,7 +123,7 @@ impl CpuSolver {
         };
         // 3: the forces at n+1.
         stage::enter(Stage::Forces, Role::Next);
-        let mut dv = sweep::momentum_keeping(model, &next, nb, &k, &pts, &mut self.kept);
+        let (mut dv, art) = sweep::momentum_keeping(model, &next, nb, &k, &pts, &mut self.kept);
         let mirrors = model
             .axisymmetric
             .then(|| axis::add_momentum(model, &next, nb, &k, &pts, &mut dv));
@@ -152,7 +152,8 @@ impl CpuSolver {
         });
         let v_next = &half.v;
         stage::enter(Stage::Forces, Role::Energy);
-        let (mut de, mut dissipation_rate) = sweep::energy_replay(model, nb, &self.kept, v_next);
+        let mut de = sweep::energy_replay(model, nb, &self.kept, v_next);
+        let mut dissipation_rate = art.at(v_next);
         if let Some(m) = &mirrors {
             dissipation_rate += m.add_energy(model, nb, &pts, v_next, &mut de);
         }

@@ -6,7 +6,7 @@
 
 use glam::DVec2;
 
-use super::forces_lanes::{sums_into, Inputs};
+use super::forces_lanes::{sums_into, Inputs, SumsOut};
 use crate::cpu::forces::StressPoint;
 use crate::cpu::kinematics::Kinematics;
 use crate::cpu::neighbours::Neighbours;
@@ -43,7 +43,7 @@ pub fn rates_and_dissipation(
     kin: &Kinematics,
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>, f64) {
-    let (mut dv, mut de, mut d) = sums((model, st, nb, kin, pts), lanes_serve(model), None);
+    let (mut dv, mut de, mut d, _) = sums((model, st, nb, kin, pts), lanes_serve(model), None);
     if model.axisymmetric {
         d += crate::cpu::axis::add_rates(model, st, nb, kin, pts, (&mut dv, &mut de));
     }
@@ -54,11 +54,27 @@ pub fn rates_and_dissipation(
 /// slot of the sweep: particle i's `X_i = (σ_i/ρ_i² − ½Π_ij I + ½ (R_i +
 /// R_j) f^n) G_ij` and particle j's `X_j = t G_ij − X_i`, so that the
 /// energy sums at any velocities `w` are `de_i/dt = −Σ_j m_j w_ij·X_i`
-/// and `de_j/dt = −Σ_i m_i w_ij·X_j` ([`energy_replay`]); and the
-/// artificial parts of the sides the sweep books, summed (`Y`, the
-/// vectors less their `σ/ρ² G`), whose work `−m_i m_j w_ij·Y` is the
-/// pair's artificial dissipation.
-pub type PairVectors = [DVec2; 3];
+/// and `de_j/dt = −Σ_i m_i w_ij·X_j` ([`energy_replay`]).
+pub type PairVectors = [DVec2; 2];
+
+/// The artificial dissipation of the pairs [`momentum_keeping`] kept, as
+/// a function of the velocities it is booked at: a pair's is `−m_i m_j
+/// w_ij·Y_ij`, `Y_ij` the artificial parts of its booked sides' energy
+/// vectors (`X` less `σ/ρ² G`), which is `−Σ_k w_k·C_k` with `C_k` summed
+/// per particle as the momentum is (no store of its own), plus the part
+/// of rigid particles, whose velocity the step does not change.
+#[derive(Debug, Clone, Default)]
+pub struct KeptWork {
+    c: Vec<DVec2>,
+    fixed: f64,
+}
+
+impl KeptWork {
+    /// The artificial dissipation rate at the velocities `w`.
+    pub fn at(&self, w: &[DVec2]) -> f64 {
+        self.fixed - self.c.iter().zip(w).map(|(c, w)| c.dot(*w)).sum::<f64>()
+    }
+}
 
 /// The forces pass's momentum sums (`dv/dt`, as [`momentum_energy`], the same bits)
 /// with the energy sums left for later: each pair's [`PairVectors`] go to
@@ -72,58 +88,47 @@ pub fn momentum_keeping(
     kin: &Kinematics,
     pts: &[StressPoint],
     keep: &mut Vec<PairVectors>,
-) -> Vec<DVec2> {
-    keep.resize(nb.store_len(), [DVec2::ZERO; 3]);
+) -> (Vec<DVec2>, KeptWork) {
+    keep.resize(nb.store_len(), [DVec2::ZERO; 2]);
     let lanes = lanes_serve(model);
-    sums((model, st, nb, kin, pts), lanes, Some(keep)).0
+    let (dv, _, fixed, c) = sums((model, st, nb, kin, pts), lanes, Some(keep));
+    (dv, KeptWork { c, fixed })
 }
 
 /// `de/dt` from the pairs kept by [`momentum_keeping`] with the work done
-/// on the velocities `w` (rigid particles: zero), in the sweep's order,
-/// and the artificial dissipation rate among it ([`PairVectors`]).
+/// on the velocities `w` (rigid particles: zero), in the sweep's order.
 pub fn energy_replay(
     model: &Model,
     nb: &Neighbours,
     kept: &[PairVectors],
     w: &[DVec2],
-) -> (Vec<f64>, f64) {
-    let mut acc = vec![(0.0f64, 0.0f64); model.len()];
+) -> Vec<f64> {
+    let mut acc = vec![0.0f64; model.len()];
     nb.replay(&mut acc, kept, |i, j, x, ai, aj| {
         let wij = w[i] - w[j];
         if !model.rigid(i) {
-            ai.0 -= model.mass[j] * wij.dot(x[0]);
+            *ai -= model.mass[j] * wij.dot(x[0]);
         }
         if let Some(aj) = aj.filter(|_| !model.rigid(j)) {
-            aj.0 -= model.mass[i] * wij.dot(x[1]);
+            *aj -= model.mass[i] * wij.dot(x[1]);
         }
-        ai.1 -= model.mass[i] * model.mass[j] * wij.dot(x[2]);
     });
-    let d = acc.iter().map(|a| a.1).sum();
-    (acc.into_iter().map(|a| a.0).collect(), d)
+    acc
 }
 
 /// The one-pair terms `p`'s [`PairVectors`], of particles with `σ/ρ²`
 /// `si` and `sj` (the hourglass control's parts included): `X_i = ½ (t G
-/// + (σ_i/ρ_i² − σ_j/ρ_j²) G)`, `X_j = t G − X_i`, and the artificial
-/// parts of the sides `booked` (i's, j's).
+/// + (σ_i/ρ_i² − σ_j/ρ_j²) G)` and `X_j = t G − X_i`.
 #[inline]
 pub(in crate::cpu) fn vectors_of(
     p: &crate::cpu::forces::PairTerms,
     si: &crate::math::Sym,
     sj: &crate::math::Sym,
-    booked: (bool, bool),
 ) -> PairVectors {
     let [hi, hj] = p.hg;
     let (sig, sjg) = (si.mul_vec(p.g) + hi, sj.mul_vec(p.g) + hj);
     let xi = (p.tg + (sig - sjg)) * 0.5;
-    let mut y = DVec2::ZERO;
-    if booked.0 {
-        y += p.a + hi;
-    }
-    if booked.1 {
-        y += p.a + hj;
-    }
-    [xi, p.tg - xi, y]
+    [xi, p.tg - xi]
 }
 
 /// Whether the lane code serves the scene: it does not do the rigid
@@ -139,7 +144,7 @@ pub(in crate::cpu) fn sums(
     args: Inputs<'_>,
     lanes: bool,
     keep: Option<&mut Vec<PairVectors>>,
-) -> (Vec<DVec2>, Vec<f64>, f64) {
+) -> SumsOut {
     let nb = args.2;
     match keep {
         Some(keep) => sums_into(args, lanes, keep),

@@ -20,41 +20,41 @@ use crate::scene::{ArtPairs, ArtWork};
 
 /// Where a pass's energy terms go: into the particles' sums and the row's
 /// artificial dissipation (`()`, no memory) or into the pair's slot
-/// ([`PairVectors`]).
+/// ([`PairVectors`]), the artificial part's work kept per particle
+/// ([`Acc`]).
 pub(super) trait EnergyTerms: Send + Default {
-    /// Lane k of the pair terms `t`: i's and, for a near pair, j's; `di`
-    /// the row's dissipation rate.
-    fn lane(
-        self_: &mut Self,
-        t: &LaneTerms,
-        k: usize,
-        ei: &mut f64,
-        ej: Option<&mut f64>,
-        di: &mut f64,
-    );
+    /// Whether the pass keeps its energy terms (and the particles' `C_k`).
+    const KEEPS: bool;
+    /// Lane k of the pair terms `t`: i's and, for a near pair, j's.
+    fn lane(self_: &mut Self, t: &LaneTerms, k: usize, ai: &mut Acc, aj: Option<&mut Acc>);
     /// The one-pair terms `p` of pair `ij = (i, j)` with the masses
-    /// `m = (m_i, m_j)`: i's side unless i is rigid, j's for a near pair.
+    /// `m = (m_i, m_j)`, seen from row i: i's side unless i is rigid, j's
+    /// for a near pair (`aj`) unless j is rigid.
     #[allow(clippy::too_many_arguments)]
     fn pair(
         self_: &mut Self,
         p: &PairTerms,
+        st: &State,
         pts: &[StressPoint],
+        rigid: (bool, bool),
         ij: (usize, usize),
         m: (f64, f64),
-        ei: Option<&mut f64>,
-        ej: Option<&mut f64>,
-        di: &mut f64,
+        ai: &mut Acc,
+        aj: Option<&mut Acc>,
+        near: bool,
     );
 }
 
 impl EnergyTerms for () {
+    const KEEPS: bool = false;
+
     #[inline(always)]
-    fn lane(_: &mut (), t: &LaneTerms, k: usize, ei: &mut f64, ej: Option<&mut f64>, di: &mut f64) {
-        *ei -= t.e_i[k];
-        *di += t.d_i[k];
-        if let Some(ej) = ej {
-            *ej -= t.e_j[k];
-            *di += t.d_j[k];
+    fn lane(_: &mut (), t: &LaneTerms, k: usize, ai: &mut Acc, aj: Option<&mut Acc>) {
+        ai.1 -= t.e_i[k];
+        ai.2 += t.d_i[k];
+        if let Some(aj) = aj {
+            aj.1 -= t.e_j[k];
+            ai.2 += t.d_j[k];
         }
     }
 
@@ -62,58 +62,82 @@ impl EnergyTerms for () {
     fn pair(
         _: &mut (),
         p: &PairTerms,
+        _: &State,
         pts: &[StressPoint],
+        (ri, _): (bool, bool),
         (i, j): (usize, usize),
         (mi, mj): (f64, f64),
-        ei: Option<&mut f64>,
-        ej: Option<&mut f64>,
-        di: &mut f64,
+        ai: &mut Acc,
+        aj: Option<&mut Acc>,
+        _: bool,
     ) {
         let mm = mi * mj;
-        if let Some(ei) = ei {
-            *ei -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g) + p.hg[0]) - p.shared);
-            *di -= mm * p.vij.dot(p.a + p.hg[0]);
+        if !ri {
+            ai.1 -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g) + p.hg[0]) - p.shared);
+            ai.2 -= mm * p.vij.dot(p.a + p.hg[0]);
         }
-        if let Some(ej) = ej {
-            *ej -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g) + p.hg[1]) - p.shared);
-            *di -= mm * p.vij.dot(p.a + p.hg[1]);
+        if let Some(aj) = aj {
+            aj.1 -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g) + p.hg[1]) - p.shared);
+            ai.2 -= mm * p.vij.dot(p.a + p.hg[1]);
         }
     }
 }
 
 impl EnergyTerms for PairVectors {
+    const KEEPS: bool = true;
+
     #[inline(always)]
-    fn lane(
-        slot: &mut Self,
-        t: &LaneTerms,
-        k: usize,
-        _: &mut f64,
-        ej: Option<&mut f64>,
-        _: &mut f64,
-    ) {
-        let mut a = DVec2::new(t.a_i[0][k], t.a_i[1][k]);
-        if ej.is_some() {
-            a += DVec2::new(t.a_j[0][k], t.a_j[1][k]);
-        }
+    fn lane(slot: &mut Self, t: &LaneTerms, k: usize, ai: &mut Acc, aj: Option<&mut Acc>) {
         *slot = [
             DVec2::new(t.x_i[0][k], t.x_i[1][k]),
             DVec2::new(t.x_j[0][k], t.x_j[1][k]),
-            a,
         ];
+        // No rigid particle in the lane code: both sides are booked.
+        let y = DVec2::new(t.y_mm[0][k], t.y_mm[1][k]);
+        ai.3 += y;
+        if let Some(aj) = aj {
+            aj.3 -= y;
+        }
     }
 
     #[inline(always)]
     fn pair(
         slot: &mut Self,
         p: &PairTerms,
+        st: &State,
         pts: &[StressPoint],
+        (ri, rj): (bool, bool),
         (i, j): (usize, usize),
-        _: (f64, f64),
-        ei: Option<&mut f64>,
-        ej: Option<&mut f64>,
-        _: &mut f64,
+        (mi, mj): (f64, f64),
+        ai: &mut Acc,
+        aj: Option<&mut Acc>,
+        near: bool,
     ) {
-        *slot = vectors_of(p, &pts[i].sr2, &pts[j].sr2, (ei.is_some(), ej.is_some()));
+        *slot = vectors_of(p, &pts[i].sr2, &pts[j].sr2);
+        // The pair's artificial work at velocities w is −m_i m_j w_ij·y,
+        // y the artificial parts of the sides some visit books (a rigid
+        // particle books none): its w_i part goes to i's vector, its w_j
+        // part to j's (a far pair's: in j's own visit); a rigid
+        // particle's velocity does not change in the step, so its part
+        // is fixed now.
+        let mut y = DVec2::ZERO;
+        if !ri {
+            y += p.a + p.hg[0];
+        }
+        if !rj {
+            y += p.a + p.hg[1];
+        }
+        let y = y * (mi * mj);
+        if ri {
+            ai.2 -= st.v[i].dot(y);
+        } else {
+            ai.3 += y;
+        }
+        if rj {
+            ai.2 += st.v[j].dot(y);
+        } else if let Some(aj) = aj.filter(|_| near) {
+            aj.3 -= y;
+        }
     }
 }
 
@@ -127,16 +151,28 @@ pub(in crate::cpu) type Inputs<'a> = (
     &'a [StressPoint],
 );
 
-/// Each particle's sums: `dv/dt`, `de/dt`, and the artificial
-/// dissipation rate of the pairs its row books.
-type Acc = (DVec2, f64, f64);
+/// Each particle's sums: `dv/dt`, `de/dt`, the artificial dissipation
+/// rate of the pairs its row books (where the energy terms are kept, the
+/// part of it already fixed), and where they are kept the vector `C_k`
+/// whose work `−w_k·C_k` at the booking velocities is the rest
+/// ([`super::forces::KeptWork`]).
+pub(super) type Acc = (DVec2, f64, f64, DVec2);
 
-/// The sums' totals: `dv/dt`, `de/dt` and the artificial dissipation
-/// rate, summed in particle order.
-fn totals(acc: Vec<Acc>) -> (Vec<DVec2>, Vec<f64>, f64) {
+/// What the forces sums give: `dv/dt`, `de/dt`, the artificial
+/// dissipation rate (where the energy terms are kept, its fixed part) and
+/// the particles' `C_k` (empty unless kept).
+pub(in crate::cpu) type SumsOut = (Vec<DVec2>, Vec<f64>, f64, Vec<DVec2>);
+
+/// The sums' totals, summed in particle order; `keep`: with the `C_k`.
+fn totals(acc: Vec<Acc>, keep: bool) -> SumsOut {
     let d = acc.iter().map(|a| a.2).sum();
+    let c = if keep {
+        acc.iter().map(|a| a.3).collect()
+    } else {
+        Vec::new()
+    };
     let (dv, de) = acc.into_iter().map(|a| (a.0, a.1)).unzip();
-    (dv, de, d)
+    (dv, de, d, c)
 }
 
 /// [`sums`] with the energy terms going to `E` (one slot per visited
@@ -145,9 +181,10 @@ pub(super) fn sums_into<E: EnergyTerms>(
     (model, st, nb, kin, pts): Inputs<'_>,
     lanes: bool,
     slots: &mut [E],
-) -> (Vec<DVec2>, Vec<f64>, f64) {
+) -> SumsOut {
     let (l, gv, surface) = (&kin.l[..], &kin.gv[..], &kin.surface[..]);
-    let mut acc: Vec<Acc> = vec![(DVec2::ZERO, 0.0, 0.0); model.len()];
+    let keep = E::KEEPS;
+    let mut acc: Vec<Acc> = vec![Acc::default(); model.len()];
     if lanes {
         assert!(lanes_serve(model), "the lane code serves this scene");
         let rec = partners(model, st, l, gv, surface, pts);
@@ -166,40 +203,39 @@ pub(super) fn sums_into<E: EnergyTerms>(
                         continue;
                     }
                     ai.0 += DVec2::new(t.tg_mj[0][k], t.tg_mj[1][k]);
-                    let aj = c.near.then(|| &mut piece[c.j[k] as usize - base]);
-                    let ej = aj.map(|aj| {
+                    let mut aj = c.near.then(|| &mut piece[c.j[k] as usize - base]);
+                    if let Some(aj) = aj.as_deref_mut() {
                         aj.0 -= DVec2::new(t.tg_mi[0][k], t.tg_mi[1][k]);
-                        &mut aj.1
-                    });
-                    E::lane(slot, &t, k, &mut ai.1, ej, &mut ai.2);
+                    }
+                    E::lane(slot, &t, k, ai, aj);
                 }
             },
         );
-        return totals(acc);
+        return totals(acc, keep);
     }
     let terms = |i, b: &Nbr| pair_terms(model, st, kin, pts, i, b);
     nb.sweep_store(model, st.frame(), &mut acc, slots, |i, b, ai, aj, slot| {
         let j = b.j as usize;
         // Rigid particles keep zero rates; a far pair has no j side here.
-        let aj = aj.filter(|_| !model.rigid(j));
-        let ri = model.rigid(i);
+        let near = aj.is_some();
+        let (ri, rj) = (model.rigid(i), model.rigid(j));
+        let aj = aj.filter(|_| !rj);
         if ri && aj.is_none() {
             *slot = E::default();
             return;
         }
         let p = terms(i, b);
         let (mi, mj) = (model.mass[i], model.mass[j]);
-        let ei = (!ri).then(|| {
+        if !ri {
             ai.0 += p.tg * mj;
-            &mut ai.1
-        });
-        let ej = aj.map(|aj| {
+        }
+        let mut aj = aj;
+        if let Some(aj) = aj.as_deref_mut() {
             aj.0 -= p.tg * mi;
-            &mut aj.1
-        });
-        E::pair(slot, &p, pts, (i, j), (mi, mj), ei, ej, &mut ai.2);
+        }
+        E::pair(slot, &p, st, pts, (ri, rj), (i, j), (mi, mj), ai, aj, near);
     });
-    totals(acc)
+    totals(acc, keep)
 }
 
 /// What four pairs of one row add to their particles' sums: i's side and
@@ -212,11 +248,10 @@ pub(super) struct LaneTerms {
     /// The pair's [`PairVectors`] (x and y rows).
     x_i: [[f64; LANES]; 2],
     x_j: [[f64; LANES]; 2],
-    /// Each side's artificial part of its energy vector (`PairTerms::a`
-    /// and the hourglass control's `X`), and the dissipation rate it books
-    /// at the pair's velocities, masses applied.
-    a_i: [[f64; LANES]; 2],
-    a_j: [[f64; LANES]; 2],
+    /// The artificial parts of both sides' energy vectors (`PairTerms::a`
+    /// and the hourglass control's `X`), summed, times `m_i m_j`; and the
+    /// dissipation rate each side books at the pair's velocities.
+    y_mm: [[f64; LANES]; 2],
     d_i: [f64; LANES],
     d_j: [f64; LANES],
 }
@@ -588,8 +623,10 @@ fn lane_terms(
         e_j: (mi * (ej - shared)).to_array(),
         x_i: [xix.to_array(), xiy.to_array()],
         x_j: [(tgx - xix).to_array(), (tgy - xiy).to_array()],
-        a_i: [aix.to_array(), aiy.to_array()],
-        a_j: [ajx.to_array(), ajy.to_array()],
+        y_mm: [
+            ((aix + ajx) * (mi * mj)).to_array(),
+            ((aiy + ajy) * (mi * mj)).to_array(),
+        ],
         d_i: (mm * (vx * aix + vy * aiy)).to_array(),
         d_j: (mm * (vx * ajx + vy * ajy)).to_array(),
     }
