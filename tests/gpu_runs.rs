@@ -290,6 +290,13 @@ fn spheres_gpu_match_cpu(integrator: Integrator, coarsen: f64) {
         &cpu,
         ["velocity_lower", "velocity_upper", "energy_total"],
     );
+    // The viscosity's heat, the mirror pairs' included.
+    close(
+        "spheres: artificial dissipation",
+        gpu.summary.energy.artificial_dissipation,
+        cpu.summary.energy.artificial_dissipation,
+        5e-3,
+    );
     let e = column(&gpu, "energy_total");
     let drift = e.iter().map(|x| (x / e[0] - 1.0).abs()).fold(0.0, f64::max);
     assert!(
@@ -356,6 +363,14 @@ fn penetration_gpu_matches_cpu_with(integrator: Integrator) {
     let (c1, g1) = (fc.first.expect("failed"), fg.first.expect("failed"));
     assert_eq!(g1.particle, c1.particle, "the first to fail");
     close("first failure", g1.time, c1.time, 5e-3);
+    // The viscosity's and the close-pair artificial stress's work in
+    // plastic flow and failure.
+    close(
+        "artificial dissipation",
+        gpu.summary.energy.artificial_dissipation,
+        cpu.summary.energy.artificial_dissipation,
+        5e-3,
+    );
     for b in [0, 1] {
         let room = cpu.model.bodies[b].material.initial_temperature();
         let rise = |out: &RunOutput| body_mean(out, b, &out.state.temperature) - room;
