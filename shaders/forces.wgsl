@@ -64,6 +64,10 @@
 // atomics; the host sums the workgroups in f64. CPU twin: State::dissipation.
 @group(0) @binding(89) var<storage, read_write> dheat: array<vec4<f32>>;
 var<workgroup> shd: array<f32, 256>;
+// Whether this pass sums it: those that book energies (the midpoint's
+// second evaluation, the leapfrog's energy walk) and the leapfrog's first
+// evaluation, which keeps the rate for the first half kick.
+override DISS_SUMS: bool = DISS && (MID || LEAP == 1u || LEAP == 3u);
 
 // Workgroups of the contact's indirect dispatch (surf_args[1..4]): one a
 // `WG` listed particles.
@@ -343,7 +347,7 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
     }
     if (LEAP != 2u) {
         (*sums).de -= mass_j * (dot(vij, sym_mul(o.t, g) + hg.xi) - 0.5 * pi * dot(vij, g) + art_work);
-        if (DISS) {
+        if (DISS_SUMS) {
             // The artificial part of i's energy vector (PairTerms::a).
             (*sums).dd -= mass_j * dot(vij, 0.5 * (rfg - pi * g) + hg.xi);
         }
@@ -450,8 +454,7 @@ fn adaptive_forces(own: Own, wk: Walker, i: u32, mi: vec4<u32>, cs: Consts, sums
 @compute @workgroup_size(WG)
 fn forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let d = forces_of(flat_index(gid, nwg));
-    // Only the passes that book energies (or, first, keep the rate) sum it.
-    if (DISS && (MID || LEAP == 1u || LEAP == 3u)) {
+    if (DISS_SUMS) {
         book_dissipation(lid.x, wid.x + wid.y * nwg.x, d);
     }
 }
@@ -656,7 +659,7 @@ fn forces_of(i: u32) -> f32 {
     // The dissipation the energy sums booked: i's (a rigid particle keeps
     // none).
     var diss = 0.0;
-    if (DISS && !rigid) {
+    if (DISS_SUMS && !rigid) {
         diss = sums.dd * bitcast<f32>(mi.x);
     }
     if (LEAP == 3u) {
