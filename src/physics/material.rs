@@ -37,9 +37,7 @@ pub struct MaterialModel {
     pub strength: Option<Strength>,
     /// Johnson–Cook damage.
     pub failure: Option<Failure>,
-    /// The tensile pressure at which a particle fails, Pa: the scene's
-    /// spall pressure, else with a strength law the theoretical strength
-    /// `E/10` (`scene::model::THEORETICAL_STRENGTH`), else infinite (none).
+    /// The tensile pressure at which a particle fails, Pa (infinite: none).
     pub spall: f64,
     /// Specific heat, J/(kg K) (0 when no strength law needs it).
     pub specific_heat: f64,
@@ -56,8 +54,7 @@ impl MaterialModel {
     }
 
     /// Whether a particle of the material can fail: it has a damage law or
-    /// a spall pressure (every strength law has one, its theoretical
-    /// strength). Both read the pressure (the damage law through
+    /// a spall pressure. Both read the pressure (the damage law through
     /// the triaxiality), so the stress update asks for it only then.
     #[inline]
     pub fn can_fail(&self) -> bool {

@@ -235,29 +235,6 @@ mod tests {
         assert_eq!((s, h2), (Sym::default(), h));
     }
 
-    /// Without a spall pressure, a material with a strength law fails at
-    /// its theoretical strength, a tension of E/10 (206 GPa × 0.1 for the
-    /// library's 4340); a spall pressure given takes its place, and a
-    /// material without a strength law has no such bound.
-    #[test]
-    fn a_strength_law_fails_at_the_theoretical_strength() {
-        let m = steel(true, false, None);
-        assert!((m.e - 2.064e11).abs() < 1e9, "E = {}", m.e);
-        assert_eq!(m.spall, 0.1 * m.e);
-        assert!(m.can_fail());
-        let at = |m: &MaterialModel, p: f64| {
-            update(m, uniaxial(100e6), 1.0, 7000.0, || p, fresh())
-                .1
-                .damage
-        };
-        assert_eq!(at(&m, -0.099 * m.e), 0.0);
-        assert_eq!(at(&m, -0.101 * m.e), FAILED);
-        let given = steel(true, false, Some(3e9));
-        assert_eq!((given.spall, at(&given, -3.1e9)), (3e9, FAILED));
-        let plain = steel(false, false, None);
-        assert!(!plain.can_fail() && plain.spall.is_infinite());
-    }
-
     /// At a triaxiality past the bound, Armco iron's failure strain (D1 < 0)
     /// would be negative; the update takes it at the bound, so damage grows
     /// by Δε_p/ε_f(1.5) and stays positive.

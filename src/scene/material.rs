@@ -44,8 +44,7 @@ pub struct Material {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failure: Option<FailureLaw>,
     /// The tensile pressure, Pa (a positive number), at which a particle
-    /// fails (spall). Without it a material with a strength law fails at
-    /// its theoretical strength, `E/10`.
+    /// fails (spall).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub spall_pressure: Option<f64>,
 }

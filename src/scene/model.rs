@@ -4,14 +4,6 @@
 use super::{Eos, FailureLaw, Material, StrengthLaw};
 use crate::physics::material::MaterialModel;
 
-/// The tension, as a fraction of Young's modulus, at which a material
-/// with a strength law and no `spall_pressure` fails: its theoretical
-/// strength, about `E/10` (Orowan, Rep. Prog. Phys. 12 (1949) 185). No
-/// solid holds more; without it, material that a splash tears apart while
-/// its supports keep it together carries the EOS's unbounded tension
-/// (docs/method.md, "The stress update").
-pub const THEORETICAL_STRENGTH: f64 = 0.1;
-
 impl MaterialModel {
     /// The model of a scene's material: its EOS, elastic constants, sound
     /// speeds and impedance, and its strength and failure laws.
@@ -37,11 +29,6 @@ impl MaterialModel {
         } else {
             (k, 0.5)
         };
-        let spall = mat.spall_pressure.unwrap_or(if strength.is_some() {
-            THEORETICAL_STRENGTH * e
-        } else {
-            f64::INFINITY
-        });
         let m = k + 4.0 * g / 3.0;
         let c_l = (m / rho0).sqrt();
         Self {
@@ -60,7 +47,7 @@ impl MaterialModel {
             m,
             strength,
             failure,
-            spall,
+            spall: mat.spall_pressure.unwrap_or(f64::INFINITY),
             specific_heat: mat.specific_heat.unwrap_or(0.0),
             taylor_quinney: mat.taylor_quinney(),
         }
