@@ -71,6 +71,7 @@ pub(super) fn make_kernels(
         ("HG", model.hourglass),
         ("HISTORY", model.history as u8 as f64),
         ("FAILURE", model.can_fail() as u8 as f64),
+        ("CAVITATION", model.cavitates() as u8 as f64),
         ("STRAIN_RATE", model.strain_rate as u8 as f64),
         ("AXI", model.axisymmetric as u8 as f64),
         ("ADAPT", model.adaptive as u8 as f64),
@@ -144,7 +145,9 @@ pub(super) fn make_kernels(
         }
         // Buffers a scene does not need (artificial stress, contact)
         // are bound to small placeholders the compiled-out code never
-        // reads (the bind group keeps them alive).
+        // reads (the bind group keeps them alive); each holds at least
+        // one element of the largest struct a kernel binds an array of
+        // (a binding's minimum size).
         let key_of = |name: &str| -> String {
             aliases
                 .iter()
@@ -153,6 +156,7 @@ pub(super) fn make_kernels(
                 .map_or(name, |a| a.1)
                 .to_string()
         };
+        const PLACEHOLDER_BYTES: u64 = 256;
         let placeholders: Vec<(u32, wgpu::Buffer)> = pipeline
             .bindings
             .iter()
@@ -160,7 +164,7 @@ pub(super) fn make_kernels(
             .map(|bu| {
                 let buf = dev.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(&bu.name),
-                    size: 64,
+                    size: PLACEHOLDER_BYTES,
                     usage: wgpu::BufferUsages::STORAGE,
                     mapped_at_creation: false,
                 });
