@@ -74,6 +74,9 @@ override HISTORY: bool = false;
 // particle carries no tension, has the bulk sound speed, no lower density
 // bound and no artificial stress.
 override FAILURE: bool = false;
+// Some material cavitates (MaterialModel::cavitation): the stress update
+// tests the EOS pressure against its cavitation pressure.
+override CAVITATION: bool = false;
 // The strength or damage laws read the equivalent strain rate.
 override STRAIN_RATE: bool = false;
 // A body of revolution (docs/method.md §12): x is the radius r, y the
@@ -493,10 +496,19 @@ fn eos_pressure(b: Body, mu: f32, e: f32) -> f32 {
 // A failed particle's damage (physics::strength::FAILED).
 const FAILED: f32 = 1.0;
 
-// Whether a particle with damage `d` has failed: the one test, false
-// where nothing can fail (physics::strength::failed).
+// A particle's failure time while it is intact, and while it is intact
+// with a void open (physics::strength::INTACT, VOID_OPEN).
+const INTACT: f32 = -1.0;
+const VOID_OPEN: f32 = -2.0;
+// The pressure past which a void closes, a fraction of the cavitation
+// pressure (physics::strength::VOID_CLOSES).
+const VOID_CLOSES: f32 = 1e-3;
+
+// Whether a particle with damage `d` has failed (or, read through
+// `damage_of`, has a void open): the one test, false where nothing can
+// fail or cavitate (physics::strength::failed).
 fn failed(d: f32) -> bool {
-    return FAILURE && d >= FAILED;
+    return (FAILURE || CAVITATION) && d >= FAILED;
 }
 
 // The pressure of a particle with damage `d`: a failed one carries no

@@ -104,9 +104,12 @@ fn reference_volume(mj: vec4<u32>, rho0: f32) -> f32 {
     return bitcast<f32>(mj.x) / rho0;
 }
 
-// Whether particle j has not failed.
+// Whether particle j has not failed and has no void open.
 fn intact(j: u32) -> bool {
-    // The guard keeps scenes that cannot fail from reading the history.
+    // The guards keep scenes that cannot fail from reading the history.
+    if (CAVITATION && hist[j].w == VOID_OPEN) {
+        return false;
+    }
     return !FAILURE || !failed(hist[j].z);
 }
 

@@ -424,6 +424,11 @@ fn fit_of(m_in: vec4<f32>, l: vec4<f32>) -> vec4<f32> {
 
 // Particle i's damage in the state evaluated (0 where nothing can fail).
 fn damage_of(i: u32) -> f32 {
+    // A particle with a void open carries a failed one's stress (CPU
+    // twin: State::damage_of).
+    if (CAVITATION && hist_w[i].w == VOID_OPEN) {
+        return FAILED;
+    }
     if (FAILURE) {
         return hist_w[i].z;
     }
@@ -707,6 +712,9 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         mu1 = up.mu;
         hist_w[i] = up.h;
         d1 = up.h.z;
+        if (CAVITATION && up.h.w == VOID_OPEN) {
+            d1 = FAILED;
+        }
     }
     list_surface(i, ks.gpsi, hi);
     rdt[i].x = mu1;

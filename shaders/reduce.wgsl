@@ -378,7 +378,11 @@ fn probe_value(k: u32) {
     if (HISTORY) {
         h = hist[i];
     }
-    let p = pressure_of(b, mu, r[i].y, h.z);
+    var d = h.z;
+    if (CAVITATION && h.w == VOID_OPEN) {
+        d = FAILED;
+    }
+    let p = pressure_of(b, mu, r[i].y, d);
     let si = s[i];
     var val = 0.0;
     switch pr.y {

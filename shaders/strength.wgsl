@@ -32,6 +32,8 @@ struct Plastic {
     d5: f32,
     // Spall pressure, Pa (BIG: none).
     spall: f32,
+    // Cavitation pressure, Pa (BIG: none).
+    cavitation: f32,
     // 1: Johnson–Cook strength (else perfect plasticity at Body.y0 or
     // elastic); 1: Johnson–Cook damage.
     strength: u32,
@@ -225,6 +227,22 @@ fn strength_update(bi: u32, trial: vec4<f32>, rate: f32, mu: f32, e: f32, h_in: 
             if (h.w < 0.0) {
                 h.w = t_end;
             }
+        }
+    }
+    // Drawn past the cavitation pressure, an intact particle opens a void
+    // that compression closes; while it is open the particle's deviatoric
+    // stress is zero and its density held at the failed floor (CPU twin:
+    // physics::strength::void_state, cpu::advance::return_with_history).
+    if (CAVITATION && !failed(h.z)) {
+        let p = eos_pressure(b, mu, e);
+        if (p < -pl.cavitation) {
+            h.w = VOID_OPEN;
+        } else if (h.w == VOID_OPEN && p > VOID_CLOSES * pl.cavitation) {
+            h.w = INTACT;
+        }
+        if (h.w == VOID_OPEN) {
+            s = vec4<f32>(0.0);
+            mu_out = max(mu, failed_floor(b, e));
         }
     }
     return Updated(s, h, mu_out);

@@ -203,9 +203,15 @@ impl State {
         }
     }
 
-    /// Particle i's damage (0 when the state carries no history).
+    /// Particle i's damage (0 when the state carries no history), taken
+    /// as failed while it has a void open
+    /// ([`crate::physics::strength::VOID_OPEN`]): it carries the stress of
+    /// a failed particle.
     #[inline]
     pub fn damage_of(&self, i: usize) -> f64 {
+        if self.failed_at.get(i) == Some(&crate::physics::strength::VOID_OPEN) {
+            return crate::physics::strength::FAILED;
+        }
         self.damage.get(i).copied().unwrap_or(0.0)
     }
 }
@@ -793,6 +799,14 @@ impl Model {
         self.bodies
             .iter()
             .any(|b| !b.rigid && b.material.can_fail())
+    }
+
+    /// Whether a deformable body's material has a cavitation pressure
+    /// ([`crate::physics::strength::cavitates`]).
+    pub fn cavitates(&self) -> bool {
+        self.bodies
+            .iter()
+            .any(|b| !b.rigid && b.material.cavitation.is_finite())
     }
 
     /// Body name and index within the body of global particle `i`.

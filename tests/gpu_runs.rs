@@ -401,6 +401,15 @@ fn adaptive_penetration_gpu_matches_cpu() {
     let mut scene = coarse_penetration(Integrator::Midpoint);
     scene.simulation.end_time = 3.0e-6;
     scene.simulation.support = Some(sphcontact::scene::Support::Adaptive);
+    // What crosses a threshold parts f32 from f64 by which particles
+    // cross it: here two rod particles open voids on the CPU and none on
+    // the device, and the rod's mean plastic strain parts by 0.7 % (0.03 %
+    // without cavitation). The voids are held to their twin step by step
+    // (gpu_stages, stages_match_cpu_penetration_with_voids); this run
+    // holds the supports' carrying.
+    for m in scene.materials.values_mut() {
+        m.cavitation_pressure = Some(f64::INFINITY);
+    }
     let Some((cpu, gpu)) = both_scene("coarse penetration, adaptive", &scene) else {
         return;
     };

@@ -161,7 +161,9 @@ pub(super) fn plastic_return(model: &Model, i: usize, s: Sym) -> Sym {
 /// state whose history it starts from, `rate` the strain rates (empty: 0),
 /// `t_end` the time `out` is at (a particle failing now fails at it).
 /// A failed particle's density is held at or above the density at which
-/// its pressure vanishes ([`crate::physics::material::MaterialModel::failed_density_floor`]).
+/// its pressure vanishes ([`crate::physics::material::MaterialModel::failed_density_floor`]);
+/// so is that of one with a void open ([`strength::void_state`]), whose
+/// deviatoric stress drops.
 /// Rigid particles keep `from`'s history.
 pub(super) fn return_with_history(
     model: &Model,
@@ -205,17 +207,30 @@ pub(super) fn return_with_history(
                     from.history(i),
                 );
                 *s = s_new;
-                if strength::failed(h.damage) {
+                *at = if strength::failed(h.damage) {
+                    if from.failed_at[i] < 0.0 {
+                        t_end
+                    } else {
+                        from.failed_at[i]
+                    }
+                } else if mat.cavitation.is_finite() {
+                    strength::void_state(mat, mat.pressure(rho_i, e), from.failed_at[i])
+                } else {
+                    from.failed_at[i]
+                };
+                let void = *at == strength::VOID_OPEN;
+                if void {
+                    *s = Sym::default();
+                }
+                if void || strength::failed(h.damage) {
                     let floor = rho_i.max(mat.failed_density_floor(e));
                     *rho = model.state_rho(floor, x[i]);
                 }
                 h
             };
             (*ep, *t, *d) = (h.eps_p, h.temperature, h.damage);
-            *at = if strength::failed(h.damage) && from.failed_at[i] < 0.0 {
-                t_end
-            } else {
-                from.failed_at[i]
-            };
+            if model.rigid(i) {
+                *at = from.failed_at[i];
+            }
         });
 }

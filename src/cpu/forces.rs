@@ -173,7 +173,8 @@ pub(in crate::cpu) fn pair_terms_of(
     let mut art_work = 0.0;
     let mut rfg = DVec2::ZERO;
     let bonded = || {
-        st.damage.is_empty() || !(strength::failed(st.damage[i]) || strength::failed(st.damage[j]))
+        st.damage.is_empty()
+            || !(strength::failed(st.damage_of(i)) || strength::failed(st.damage_of(j)))
     };
     if let Some(a) = model.artificial_stress.filter(|_| bonded()) {
         let rs = pi_.r.add_scaled(&pj.r, 1.0);

@@ -100,6 +100,11 @@ fn plastic_gpu(m: &crate::physics::material::MaterialModel) -> PlasticGpu {
         } else {
             f32::MAX
         },
+        cavitation: if m.cavitation.is_finite() {
+            m.cavitation as f32
+        } else {
+            f32::MAX
+        },
         ..Default::default()
     };
     if let Some(jc) = &m.strength {
@@ -471,7 +476,7 @@ impl GpuSolver {
                 .collect();
             make(
                 "plastic",
-                64 * plastic.len() as u64,
+                size_of_val(plastic.as_slice()) as u64,
                 Some(bytemuck::cast_slice(&plastic)),
             )?;
             if !leapfrog {

@@ -113,6 +113,8 @@ pub struct PlasticGpu {
     pub d5: f32,
     /// Spall pressure, Pa (`f32::MAX`: none).
     pub spall: f32,
+    /// Cavitation pressure, Pa (`f32::MAX`: none).
+    pub cavitation: f32,
     /// 1: Johnson–Cook strength; 1: Johnson–Cook damage.
     pub strength: u32,
     pub damage: u32,
@@ -215,7 +217,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
             size_of::<PlasticGpu>(),
             offsets!(
                 PlasticGpu, a, b, n, c, m, rate0, melt_rise, heat, d1, d2, d3, d4, d5, spall,
-                strength, damage
+                cavitation, strength, damage
             ),
         ),
         (

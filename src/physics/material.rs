@@ -39,6 +39,10 @@ pub struct MaterialModel {
     pub failure: Option<Failure>,
     /// The tensile pressure at which a particle fails, Pa (infinite: none).
     pub spall: f64,
+    /// The tensile pressure past which a particle opens a void without
+    /// failing ([`crate::physics::strength::cavitates`]), Pa (infinite:
+    /// none).
+    pub cavitation: f64,
     /// Specific heat, J/(kg K) (0 when no strength law needs it).
     pub specific_heat: f64,
     /// Taylor–Quinney fraction of the plastic work that heats.
@@ -50,7 +54,7 @@ impl MaterialModel {
     /// ([`crate::physics::strength::History`]): a strength law with
     /// hardening, or a failure model.
     pub fn has_history(&self) -> bool {
-        self.strength.is_some() || self.can_fail()
+        self.strength.is_some() || self.can_fail() || self.cavitation.is_finite()
     }
 
     /// Whether a particle of the material can fail: it has a damage law or

@@ -31,6 +31,39 @@ pub const TRIAXIALITY_BOUND: f64 = 1.5;
 /// A failed particle's damage.
 pub const FAILED: f64 = 1.0;
 
+/// The default cavitation pressure of a material with a strength law, as
+/// a fraction of Young's modulus: the theoretical strength of a solid,
+/// about E/10 (Orowan 1949).
+pub const THEORETICAL_STRENGTH: f64 = 0.1;
+
+/// A particle's failure time (`State::failed_at`) while it is intact.
+pub const INTACT: f64 = -1.0;
+
+/// A particle's failure time while it is intact with a void open
+/// (docs/method.md, "Cavitation"): it carries no tension and no deviatoric
+/// stress, as a failed particle, until compression closes the void.
+pub const VOID_OPEN: f64 = -2.0;
+
+/// The pressure, as a fraction of the cavitation pressure, past which a
+/// void closes: a compression clearly above the round-off of the
+/// pressure at the density floor, which is zero only to it (in f32 on the
+/// GPU, to about 1e-7 of the bulk modulus).
+pub const VOID_CLOSES: f64 = 1e-3;
+
+/// The failure time an intact particle's `at` becomes at EOS pressure
+/// `p`: a void opens past the material's cavitation pressure and closes
+/// once the particle is compressed again ([`VOID_CLOSES`]).
+#[inline]
+pub fn void_state(mat: &MaterialModel, p: f64, at: f64) -> f64 {
+    if p < -mat.cavitation {
+        VOID_OPEN
+    } else if at == VOID_OPEN && p > VOID_CLOSES * mat.cavitation {
+        INTACT
+    } else {
+        at
+    }
+}
+
 /// Whether a particle with damage `damage` has failed.
 #[inline]
 pub fn failed(damage: f64) -> bool {
@@ -233,6 +266,26 @@ mod tests {
         assert_eq!((s, h.damage, h.eps_p), (Sym::default(), FAILED, 0.0));
         let (s, h2) = update(&m, uniaxial(1e9), 1.0, 7830.0, || 1e9, h);
         assert_eq!((s, h2), (Sym::default(), h));
+    }
+
+    /// The default cavitation pressure is E/10 for a material with a
+    /// strength law and none without one; a void opens past it, stays
+    /// open while the particle is not compressed, and closes once it is.
+    #[test]
+    fn a_void_opens_past_the_cavitation_pressure_and_closes_under_compression() {
+        let m = steel(true, false, None);
+        assert_eq!(m.cavitation, 0.1 * m.e);
+        assert_eq!(steel(false, false, None).cavitation, f64::INFINITY);
+        let pc = m.cavitation;
+        assert_eq!(void_state(&m, -0.99 * pc, INTACT), INTACT);
+        assert_eq!(void_state(&m, -1.01 * pc, INTACT), VOID_OPEN);
+        // Held at the zero-pressure density, or still drawn: open.
+        assert_eq!(void_state(&m, 0.0, VOID_OPEN), VOID_OPEN);
+        assert_eq!(void_state(&m, -0.5 * pc, VOID_OPEN), VOID_OPEN);
+        assert_eq!(void_state(&m, 0.9e-3 * pc, VOID_OPEN), VOID_OPEN);
+        assert_eq!(void_state(&m, 1.1e-3 * pc, VOID_OPEN), INTACT);
+        // A failed particle's time is no business of the void's.
+        assert_eq!(void_state(&m, 1.1e-3 * pc, 3e-6), 3e-6);
     }
 
     /// At a triaxiality past the bound, Armco iron's failure strain (D1 < 0)

@@ -47,6 +47,12 @@ pub struct Material {
     /// fails (spall).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub spall_pressure: Option<f64>,
+    /// The tension, Pa (a positive number; `inf`: none), past which the
+    /// solid opens a void without failing (docs/method.md,
+    /// "Cavitation"). Default: a tenth of Young's modulus for a material
+    /// with a strength law, none otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cavitation_pressure: Option<f64>,
 }
 
 /// The default Taylor–Quinney fraction (Taylor & Quinney, 1934).
@@ -67,6 +73,7 @@ impl Material {
             taylor_quinney: None,
             failure: None,
             spall_pressure: None,
+            cavitation_pressure: None,
         }
     }
 
@@ -76,10 +83,14 @@ impl Material {
 
     /// Whether a deformable body of this material carries a plastic history
     /// (equivalent plastic strain, temperature, damage): a strength law, a
-    /// failure model or a spall pressure. The scene-level twin of
+    /// failure model, a spall pressure or a cavitation pressure. The
+    /// scene-level twin of
     /// [`crate::physics::material::MaterialModel::has_history`].
     pub fn has_history(&self) -> bool {
-        self.strength.is_some() || self.failure.is_some() || self.spall_pressure.is_some()
+        self.strength.is_some()
+            || self.failure.is_some()
+            || self.spall_pressure.is_some()
+            || self.cavitation_pressure.is_some_and(f64::is_finite)
     }
 }
 
@@ -110,6 +121,8 @@ pub struct MaterialSpec {
     pub failure: Option<FailureLaw>,
     #[serde(default)]
     pub spall_pressure: Option<f64>,
+    #[serde(default)]
+    pub cavitation_pressure: Option<f64>,
 }
 
 impl TryFrom<MaterialSpec> for Material {
@@ -140,6 +153,9 @@ impl TryFrom<MaterialSpec> for Material {
             taylor_quinney: or_base(spec.taylor_quinney, &base, |b| b.taylor_quinney),
             failure: or_base(spec.failure, &base, |b| b.failure),
             spall_pressure: or_base(spec.spall_pressure, &base, |b| b.spall_pressure),
+            cavitation_pressure: or_base(spec.cavitation_pressure, &base, |b| {
+                b.cavitation_pressure
+            }),
             source: or_base(spec.source, &base, |b| b.source.clone()),
             library: spec.library,
             density,

@@ -48,6 +48,11 @@ impl MaterialModel {
             strength,
             failure,
             spall: mat.spall_pressure.unwrap_or(f64::INFINITY),
+            cavitation: mat.cavitation_pressure.unwrap_or(if strength.is_some() {
+                crate::physics::strength::THEORETICAL_STRENGTH * e
+            } else {
+                f64::INFINITY
+            }),
             specific_heat: mat.specific_heat.unwrap_or(0.0),
             taylor_quinney: mat.taylor_quinney(),
         }

@@ -126,6 +126,9 @@ fn strength_failure_and_library() {
         case("failure_missing_d", &[(YIELD, "yield_stress = 600.0e6\nfailure = { kind = \"johnson_cook\", d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = 0.002 }")], "materials.steel.failure.d5").located(),
         case("failure_without_plasticity", &[(YIELD, "failure = { kind = \"johnson_cook\", d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = 0.002, d5 = 0.61 }")], "materials.steel.failure"),
         case("spall_negative", &[(YIELD, "spall_pressure = -1.0e9")], "materials.steel.spall_pressure"),
+        case("cavitation_zero", &[(YIELD, "yield_stress = 600.0e6\ncavitation_pressure = 0.0")], "materials.steel.cavitation_pressure")
+            .also(&["inf"]),
+        case("cavitation_nan", &[(YIELD, "yield_stress = 600.0e6\ncavitation_pressure = nan")], "materials.steel.cavitation_pressure"),
         case(
             "unknown_library_material",
             &[("density = 7850.0\nshear_modulus = 77.0e9\nyield_stress = 600.0e6\neos = { kind = \"mie_gruneisen\", c0 = 4580.0, s = 1.49, gamma0 = 2.02 }", "library = \"steel_4341\"")],

@@ -148,11 +148,30 @@ fn leapfrog_steps_from(mut model: Model, st: State, hourglass: f64) {
 /// of f32 values: measured 1.4e-5 at worst).
 #[test]
 fn stages_match_cpu_penetration() {
+    stages_match_cpu_penetration_with(None);
+}
+
+/// The same with both materials' cavitation pressure at 0.5 GPa, where
+/// the plate's release opens voids: the half step's voids (the failure
+/// time's −2), stresses and densities (docs/method.md, "Cavitation")
+/// against physics::strength::void_state, particles within f32 of the
+/// cavitation pressure skipped.
+#[test]
+fn stages_match_cpu_penetration_with_voids() {
+    stages_match_cpu_penetration_with(Some(0.5e9));
+}
+
+fn stages_match_cpu_penetration_with(cavitation: Option<f64>) {
     use sphcontact::physics::strength;
     if gpu().is_none() {
         return;
     }
-    let (model, st) = coarse_penetration_at_5_us();
+    let (mut model, st) = coarse_penetration_at_5_us();
+    if let Some(pc) = cavitation {
+        for b in &mut model.bodies {
+            b.material.cavitation = pc;
+        }
+    }
     let failed = st.damage.iter().filter(|&&d| strength::failed(d)).count();
     let yielded = st.eps_p.iter().filter(|&&e| e > 0.0).count();
     println!("{failed} failed, {yielded} yielded of {}", model.len());
@@ -178,6 +197,7 @@ fn stages_match_cpu_penetration() {
         n
     ];
     let mut near_failure = vec![false; n];
+    let mut at = st.failed_at.clone();
     for i in 0..n {
         hist[i] = st.history(i);
         (s[i], rho[i]) = (st.s[i], st.rho[i]);
@@ -190,17 +210,41 @@ fn stages_match_cpu_penetration() {
         let e = st.e[i] + rates.de[i] * k;
         let (sn, h) =
             strength::update(mat, trial, rates.rate[i], r, || mat.pressure(r, e), hist[i]);
-        // Within f32 of failing: either side may call it.
+        // Within f32 of failing or of the cavitation pressure: either
+        // side may call it.
+        let p = mat.pressure(r, e);
         near_failure[i] = !strength::failed(st.damage[i])
-            && (h.damage > 0.998 || (mat.pressure(r, e) + mat.spall).abs() < 1e-3 * mat.spall);
-        s[i] = sn;
-        rho[i] = if strength::failed(h.damage) {
+            && (h.damage > 0.998
+                || (p + mat.spall).abs() < 1e-3 * mat.spall
+                || (p + mat.cavitation).abs() < 1e-3 * mat.cavitation
+                || (p - strength::VOID_CLOSES * mat.cavitation).abs() < 1e-3 * mat.cavitation);
+        at[i] = if strength::failed(h.damage) || !mat.cavitation.is_finite() {
+            st.failed_at[i]
+        } else {
+            strength::void_state(mat, p, st.failed_at[i])
+        };
+        let void = at[i] == strength::VOID_OPEN;
+        s[i] = if void { Sym::default() } else { sn };
+        rho[i] = if strength::failed(h.damage) || void {
             r.max(mat.failed_density_floor(e))
         } else {
             r
         };
         hist[i] = h;
     }
+    let voids = (0..n).filter(|&i| at[i] == strength::VOID_OPEN).count();
+    println!("{voids} voids open after the half step");
+    if cavitation.is_some() {
+        assert!(voids > 20, "voids open");
+    }
+    let void_mismatch: Vec<usize> = (0..n)
+        .filter(|&i| !model.rigid(i) && !near_failure[i])
+        .filter(|&i| (at[i] == strength::VOID_OPEN) != (out.mid_hist[i][3] == strength::VOID_OPEN))
+        .collect();
+    assert!(
+        void_mismatch.is_empty(),
+        "a void on one side only: {void_mismatch:?}"
+    );
     let skip = |i: usize| near_failure[i];
     let mismatched: Vec<usize> = (0..n)
         .filter(|&i| strength::failed(hist[i].damage) != (out.mid_hist[i][2] >= 1.0))

@@ -336,9 +336,13 @@ fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
             ([r.xx, r.xy, r.yy, model.spacing_of(i)], r.xx + r.yy < 0.0)
         })
         .unzip();
-    let intact = if st.damage.iter().any(|&d| strength::failed(d)) {
-        let state = |&d: &f64| if strength::failed(d) { 0.0 } else { 1.0 };
-        st.damage.iter().map(state).collect()
+    // A particle with a void open is no more bonded than a failed one
+    // (State::damage_of).
+    let broken = |i: usize| strength::failed(st.damage_of(i));
+    let intact = if (0..st.damage.len()).any(broken) {
+        (0..st.damage.len())
+            .map(|i| if broken(i) { 0.0 } else { 1.0 })
+            .collect()
     } else {
         Vec::new()
     };

@@ -148,11 +148,21 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         let pts = eos_and_stress(m, st);
         pts.iter().filter(|p| p.r != Sym::default()).count()
     };
-    // Every seventh particle failed: it takes no part in the artificial
+    // Every seventh particle failed, and every eleventh intact with a
+    // void open (State::damage_of): it takes no part in the artificial
     // stress, and no tension.
     let mut failed = st.clone();
     failed.damage = (0..st.x.len())
         .map(|i| if i % 7 == 3 { 1.0 } else { 0.4 })
+        .collect();
+    failed.failed_at = (0..st.x.len())
+        .map(|i| {
+            if i % 11 == 5 && i % 7 != 3 {
+                crate::physics::strength::VOID_OPEN
+            } else {
+                crate::physics::strength::INTACT
+            }
+        })
         .collect();
     // The leapfrog's kinematics (hourglass, "seen"): the viscosity's
     // gradient of other velocities, the control's of the state's.

@@ -345,6 +345,14 @@ fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
     if let Some(p) = m.spall_pressure {
         positive(&k("spall_pressure"), p)?;
     }
+    if let Some(p) = m.cavitation_pressure {
+        if p.is_nan() || p <= 0.0 {
+            return Err(SceneError::at(
+                k("cavitation_pressure"),
+                format!("must be > 0, or inf for none (got {p})"),
+            ));
+        }
+    }
     Ok(())
 }
 

@@ -114,6 +114,7 @@ pub(crate) mod test_support {
             strength: None,
             failure: None,
             spall: f64::INFINITY,
+            cavitation: f64::INFINITY,
             specific_heat: 0.0,
             taylor_quinney: 0.0,
         }
