@@ -159,7 +159,8 @@ pub struct State {
     /// Damage in [0, 1] (1: failed); empty unless [`Model::history`].
     pub damage: Vec<f64>,
     /// The time at which each particle failed (the end of the step that
-    /// failed it), negative while it holds; empty unless
+    /// failed it), negative while it holds: −1, or −2 with a void open
+    /// ([`crate::physics::strength::VOID_OPEN`]); empty unless
     /// [`Model::history`].
     pub failed_at: Vec<f64>,
     /// Each particle's support metric ([`Metric`]) where supports adapt
@@ -802,7 +803,7 @@ impl Model {
     }
 
     /// Whether a deformable body's material has a cavitation pressure
-    /// ([`crate::physics::strength::cavitates`]).
+    /// ([`crate::physics::strength::void_state`]).
     pub fn cavitates(&self) -> bool {
         self.bodies
             .iter()

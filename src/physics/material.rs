@@ -40,7 +40,7 @@ pub struct MaterialModel {
     /// The tensile pressure at which a particle fails, Pa (infinite: none).
     pub spall: f64,
     /// The tensile pressure past which a particle opens a void without
-    /// failing ([`crate::physics::strength::cavitates`]), Pa (infinite:
+    /// failing ([`crate::physics::strength::void_state`]), Pa (infinite:
     /// none).
     pub cavitation: f64,
     /// Specific heat, J/(kg K) (0 when no strength law needs it).
