@@ -504,8 +504,17 @@ const VOID_OPEN: f32 = -2.0;
 // pressure (physics::strength::VOID_CLOSES).
 const VOID_CLOSES: f32 = 1e-3;
 
+// The damage a particle with history `h` carries its stress with: a
+// failed one's while it has a void open (CPU twin: State::damage_of).
+fn damage_seen(h: vec4<f32>) -> f32 {
+    if (CAVITATION && h.w == VOID_OPEN) {
+        return FAILED;
+    }
+    return h.z;
+}
+
 // Whether a particle with damage `d` has failed (or, read through
-// `damage_of`, has a void open): the one test, false where nothing can
+// `damage_seen`, has a void open): the one test, false where nothing can
 // fail or cavitate (physics::strength::failed).
 fn failed(d: f32) -> bool {
     return (FAILURE || CAVITATION) && d >= FAILED;

@@ -106,11 +106,8 @@ fn reference_volume(mj: vec4<u32>, rho0: f32) -> f32 {
 
 // Whether particle j has not failed and has no void open.
 fn intact(j: u32) -> bool {
-    // The guards keep scenes that cannot fail from reading the history.
-    if (CAVITATION && hist[j].w == VOID_OPEN) {
-        return false;
-    }
-    return !FAILURE || !failed(hist[j].z);
+    // The guard keeps scenes that cannot fail from reading the history.
+    return !(FAILURE || CAVITATION) || !failed(damage_seen(hist[j]));
 }
 
 // The velocity jump the viscosity sees: v_ij less each side's linear

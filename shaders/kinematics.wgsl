@@ -422,15 +422,11 @@ fn fit_of(m_in: vec4<f32>, l: vec4<f32>) -> vec4<f32> {
     return vec4<f32>(0.0);
 }
 
-// Particle i's damage in the state evaluated (0 where nothing can fail).
+// Particle i's damage in the state evaluated, a failed one's while it has a
+// void open (0 where nothing can fail or cavitate).
 fn damage_of(i: u32) -> f32 {
-    // A particle with a void open carries a failed one's stress (CPU
-    // twin: State::damage_of).
-    if (CAVITATION && hist_w[i].w == VOID_OPEN) {
-        return FAILED;
-    }
-    if (FAILURE) {
-        return hist_w[i].z;
+    if (FAILURE || CAVITATION) {
+        return damage_seen(hist_w[i]);
     }
     return 0.0;
 }
@@ -711,10 +707,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         s1 = up.s;
         mu1 = up.mu;
         hist_w[i] = up.h;
-        d1 = up.h.z;
-        if (CAVITATION && up.h.w == VOID_OPEN) {
-            d1 = FAILED;
-        }
+        d1 = damage_seen(up.h);
     }
     list_surface(i, ks.gpsi, hi);
     rdt[i].x = mu1;

@@ -378,11 +378,7 @@ fn probe_value(k: u32) {
     if (HISTORY) {
         h = hist[i];
     }
-    var d = h.z;
-    if (CAVITATION && h.w == VOID_OPEN) {
-        d = FAILED;
-    }
-    let p = pressure_of(b, mu, r[i].y, d);
+    let p = pressure_of(b, mu, r[i].y, damage_seen(h));
     let si = s[i];
     var val = 0.0;
     switch pr.y {

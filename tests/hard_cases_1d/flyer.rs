@@ -140,16 +140,37 @@ fn elastic_target_holds_its_tension_gpu() {
     });
 }
 
-/// The flyer-plate test of spall: scenes/hard/flyer_plate_tension.toml with
-/// a spall pressure `p_spall` on the steel.
-fn with_spall(p_spall: f64) -> Scene {
+/// scenes/hard/flyer_plate_tension.toml with its steel changed by `edit`.
+fn with_steel(edit: impl FnOnce(&mut sphcontact::scene::Material)) -> Scene {
     let mut scene = load("scenes/hard/flyer_plate_tension.toml");
+    edit(
+        scene
+            .materials
+            .get_mut("steel")
+            .expect("the scene's material"),
+    );
     scene
-        .materials
-        .get_mut("steel")
-        .expect("the scene's material")
-        .spall_pressure = Some(p_spall);
-    scene
+}
+
+/// The flyer-plate test of spall: the scene with a spall pressure
+/// `p_spall` on the steel.
+fn with_spall(p_spall: f64) -> Scene {
+    with_steel(|m| m.spall_pressure = Some(p_spall))
+}
+
+/// The target's mass-weighted mean velocity at the end of `out` over the
+/// particles whose initial position `x0` passes `pick`.
+fn target_velocity(out: &RunOutput, x0: &[glam::DVec2], pick: impl Fn(f64) -> bool) -> f64 {
+    let ids: Vec<usize> = out.model.bodies[1]
+        .range
+        .clone()
+        .filter(|&i| pick(x0[i].x))
+        .collect();
+    let m: f64 = ids.iter().map(|&i| out.model.mass[i]).sum();
+    ids.iter()
+        .map(|&i| out.model.mass[i] * out.state.v[i].x)
+        .sum::<f64>()
+        / m
 }
 
 /// A spall pressure of 2 GPa, below the 2.82 GPa tensile pressure the
@@ -187,8 +208,8 @@ fn spalls_at_the_plane() {
         "{flyer:?}"
     );
     let first = target.first.clone().expect("the target spalls");
-    let range = out.model.bodies[1].range.clone();
-    let failed: Vec<usize> = range
+    let failed: Vec<usize> = out.model.bodies[1]
+        .range
         .clone()
         .filter(|&i| out.state.damage[i] >= 1.0)
         .collect();
@@ -198,16 +219,8 @@ fn spalls_at_the_plane() {
     });
     let centre = 0.5 * (lo + hi);
     // The intact pieces on either side of the failed layer.
-    let mean_v = |pick: &dyn Fn(f64) -> bool| {
-        let ids: Vec<usize> = range.clone().filter(|&i| pick(x0[i].x)).collect();
-        let m: f64 = ids.iter().map(|&i| out.model.mass[i]).sum();
-        ids.iter()
-            .map(|&i| out.model.mass[i] * out.state.v[i].x)
-            .sum::<f64>()
-            / m
-    };
-    let scab = mean_v(&|x| x > hi);
-    let rest = mean_v(&|x| x < lo);
+    let scab = target_velocity(&out, &x0, |x| x > hi);
+    let rest = target_velocity(&out, &x0, |x| x < lo);
     println!(
         "{:?}: first failure at {:.4e} s ({:+.2} %), x0 = {:.4e} ({:+.1} Δx); {} failed in [{lo:.4e}, {hi:.4e}], centre {:+.1} Δx; scab {scab:.1} m/s ({:+.2} %), the rest {rest:.2} m/s",
         backend(),
@@ -257,13 +270,7 @@ fn target_spalls_at_the_plane_gpu_leapfrog() {
 /// The flyer plate with a cavitation pressure `p_cav` (`inf`: none) on the
 /// steel in place of a spall pressure (docs/method.md, "Cavitation").
 fn with_cavitation(p_cav: f64) -> Scene {
-    let mut scene = load("scenes/hard/flyer_plate_tension.toml");
-    scene
-        .materials
-        .get_mut("steel")
-        .expect("the scene's material")
-        .cavitation_pressure = Some(p_cav);
-    scene
+    with_steel(|m| m.cavitation_pressure = Some(p_cav))
 }
 
 /// The target's mean velocities beyond 12 Δx on either side of the
@@ -271,18 +278,9 @@ fn with_cavitation(p_cav: f64) -> Scene {
 fn scab_and_rest(scene: &Scene, out: &RunOutput) -> (f64, f64) {
     let (plane, dx) = (0.01 - 0.002, scene.bodies[1].spacing);
     let x0 = sphcontact::model::Model::new(scene).1.x;
-    let range = out.model.bodies[1].range.clone();
-    let mean_v = |pick: &dyn Fn(f64) -> bool| {
-        let ids: Vec<usize> = range.clone().filter(|&i| pick(x0[i].x)).collect();
-        let m: f64 = ids.iter().map(|&i| out.model.mass[i]).sum();
-        ids.iter()
-            .map(|&i| out.model.mass[i] * out.state.v[i].x)
-            .sum::<f64>()
-            / m
-    };
     (
-        mean_v(&|x| x > plane + 12.0 * dx),
-        mean_v(&|x| x < plane - 12.0 * dx),
+        target_velocity(out, &x0, |x| x > plane + 12.0 * dx),
+        target_velocity(out, &x0, |x| x < plane - 12.0 * dx),
     )
 }
 
