@@ -5,10 +5,12 @@
 //!     cargo run --release --example knobs -- disks square|polar R_OVER_DX ALPHA BETA
 //!
 //! Environment: KNOB_H (smoothing ratio), KNOB_CFL, KNOB_NOCORR (no gradient
-//! correction), KNOB_NORECON (plain Monaghan viscosity), KNOB_GPU (GPU
+//! correction), KNOB_NORECON (plain Monaghan viscosity), KNOB_FORM
+//! (`monaghan` or `riemann`), KNOB_RECON_SURFACES (1: the reconstructed
+//! jump at surfaces too, 0: plain there), KNOB_GPU (GPU
 //! backend; default CPU).
 
-use sphcontact::scene::{ArtificialViscosity, Backend, Correction};
+use sphcontact::scene::{ArtificialViscosity, Backend, Correction, ViscosityForm};
 use sphcontact::validation::{
     bar_observables_of, bar_scene, disk_observables_of, disk_scene, Observed, BARS,
 };
@@ -23,11 +25,22 @@ fn arg<T: std::str::FromStr>(args: &[String], k: usize) -> Result<T, String> {
 /// The viscosity and the environment's knobs applied to a scene.
 fn apply(scene: &mut Scene, alpha: f64, beta: f64) -> Result<(), String> {
     let var = |k: &str| std::env::var(k).ok();
+    let defaults = ArtificialViscosity::default();
     scene.artificial_viscosity = Some(ArtificialViscosity {
         alpha,
         beta,
         reconstruct: var("KNOB_NORECON").is_none(),
-        hourglass: 0.0,
+        form: match var("KNOB_FORM").as_deref() {
+            None => defaults.form,
+            Some("monaghan") => ViscosityForm::Monaghan,
+            Some("riemann") => ViscosityForm::Riemann,
+            Some(_) => return Err("KNOB_FORM: monaghan or riemann".into()),
+        },
+        reconstruct_surfaces: match var("KNOB_RECON_SURFACES").as_deref() {
+            None => defaults.reconstruct_surfaces,
+            Some(v) => v == "1",
+        },
+        ..defaults
     });
     if let Some(h) = var("KNOB_H") {
         scene.simulation.smoothing_ratio = h.parse().map_err(|_| "KNOB_H")?;

@@ -33,6 +33,10 @@ override YIELD_TOL: f32 = 1e-5;
 // Limited reconstruction of the velocity jump in the viscosity (the forces pass reads
 // the velocity gradient the kinematics pass stores).
 override RECON: bool = false;
+// ... at pairs with a surface particle too (`reconstruct_surfaces`).
+override RECON_SURF: bool = false;
+// The viscosity acts on receding pairs too (`form = "riemann"`).
+override RELEASE: bool = false;
 // The hourglass control's coefficient (docs/method.md, "Hourglass
 // control"), 0 off; it also reads the stored velocity gradient.
 override HG: f32 = 0.0;

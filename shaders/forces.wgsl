@@ -250,22 +250,34 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
         }
         vf = o.vh - vhj;
     }
-    // Not at a surface (h |grad psi| above the threshold): there grad v is
-    // one-sided and a contact loads the face impulsively.
-    if (RECON && !o.surface && nbo[j].z <= 0.0) {
+    // Not at a surface (h |grad psi| above the threshold) unless the scene
+    // asks: there grad v is one-sided and a contact loads the face
+    // impulsively.
+    if (RECON && (RECON_SURF || (!o.surface && nbo[j].z <= 0.0))) {
         var gj = gradv[j];
         if (img) {
             gj = mirror_mat(gj);
         }
         vis = reconstructed_jump(vis, d, o.g, gj);
     }
+    // Approaching pairs; with RELEASE receding ones too, on the linear
+    // term, where the jump seen and the true one agree in sign (the work
+    // is heat). CPU twin: physics::viscosity::viscosity_pi.
     var pi = 0.0;
     let vx = dot(vis, d);
-    if (vx < 0.0) {
+    var on = vx < 0.0;
+    if (RELEASE) {
+        on = vx * dot(vm, d) > 0.0;
+    }
+    if (on) {
         let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
         let cm = 0.5 * (o.t.w + tj.w);
         let rhom = 0.5 * (o.rho + sum_density(bj, j, rj));
-        pi = (-o.alpha * cm * muv + o.beta * muv * muv) / rhom;
+        var beta = o.beta;
+        if (vx >= 0.0) {
+            beta = 0.0;
+        }
+        pi = (-o.alpha * cm * muv + beta * muv * muv) / rhom;
     }
     var t = vec4<f32>(o.t.xyz + tj.xyz, 0.0);
     t.x -= pi;

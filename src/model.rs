@@ -9,7 +9,7 @@ use crate::physics::strength::History;
 use crate::physics::support::Metric;
 use crate::scene::{
     place_bodies, ArtPairs, ArtPlastic, ArtificialStress, Correction, Integrator, Interaction,
-    Scene,
+    Scene, ViscosityForm,
 };
 
 /// One body: its material, its particles (a contiguous range) and flags.
@@ -55,6 +55,11 @@ pub struct Model {
     pub beta: f64,
     /// Limited reconstruction of the velocity jump in the viscosity.
     pub av_reconstruct: bool,
+    /// The viscosity acts on receding pairs too (`form = "riemann"`).
+    pub av_release: bool,
+    /// Pairs with a surface particle see the reconstructed jump too
+    /// (`reconstruct_surfaces`).
+    pub av_recon_surface: bool,
     /// The hourglass control's largest coefficient over the bodies (0:
     /// off; docs/method.md, "Hourglass control"); each body's is
     /// [`BodyInfo::hourglass`].
@@ -236,6 +241,8 @@ impl Model {
             alpha: av.alpha,
             beta: av.beta,
             av_reconstruct: av.reconstruct,
+            av_release: av.form == ViscosityForm::Riemann,
+            av_recon_surface: av.reconstruct_surfaces,
             // The bodies' largest, once they are known.
             hourglass: 0.0,
             artificial_stress: Some(art).filter(|a| a.epsilon > 0.0),

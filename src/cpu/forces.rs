@@ -137,10 +137,10 @@ pub(in crate::cpu) fn pair_terms_of(
     let g = (a.l + b.l).scale(0.5).mul_vec(gw);
     // The viscosity sees the reconstructed jump; the energy equation keeps
     // the true v_ij, so the viscous work is still exactly the heat booked
-    // (energy conserved). Not at a surface: there ∇v is extrapolated from
-    // one side only, and the face is where a contact loads the body
-    // impulsively; full viscosity damps that start-up ringing.
-    let vis = if model.av_reconstruct && !surface[i] && !surface[j] {
+    // (energy conserved). At a surface only where the scene asks for it:
+    // there ∇v is extrapolated from one side, and the face is where a
+    // contact loads the body impulsively.
+    let vis = if model.av_reconstruct && (model.av_recon_surface || !(surface[i] || surface[j])) {
         reconstructed_jump(vij, xij, &a.gv, &b.gv)
     } else {
         vij
@@ -151,8 +151,10 @@ pub(in crate::cpu) fn pair_terms_of(
         hij,
         xij,
         vis,
+        vij,
         0.5 * (pi_.c + pj.c),
         0.5 * (st.rho[i] + st.rho[j]),
+        model.av_release,
     );
     let mut t = pi_.sr2.add_scaled(&pj.sr2, 1.0);
     t.xx -= pi;

@@ -68,6 +68,8 @@ pub(super) fn make_kernels(
         ("ART_FLOW", model.art_keyed_on_flow() as u8 as f64),
         ("YIELD_TOL", crate::model::YIELD_TOL),
         ("RECON", model.av_reconstruct as u8 as f64),
+        ("RECON_SURF", model.av_recon_surface as u8 as f64),
+        ("RELEASE", model.av_release as u8 as f64),
         ("HG", model.hourglass),
         ("HISTORY", model.history as u8 as f64),
         ("FAILURE", model.can_fail() as u8 as f64),

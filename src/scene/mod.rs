@@ -274,6 +274,19 @@ pub enum ArtPairs {
     Close,
 }
 
+/// The pairs the artificial viscosity acts on.
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum ViscosityForm {
+    /// Monaghan's: approaching pairs only.
+    #[default]
+    Monaghan,
+    /// The acoustic Riemann solver's dissipation: approaching and
+    /// receding pairs alike, so release fronts are damped as compression
+    /// fronts are (the quadratic term still on approach only).
+    Riemann,
+}
+
 /// Monaghan artificial viscosity (docs/method.md §4).
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -287,6 +300,14 @@ pub struct ArtificialViscosity {
     /// fronts, not on smooth compression. Default on.
     #[serde(default = "default_true")]
     pub reconstruct: bool,
+    /// Which pairs it acts on (docs/method.md, "Viscosity on the
+    /// reconstructed velocity jump").
+    #[serde(default)]
+    pub form: ViscosityForm,
+    /// With `reconstruct`, pairs with a surface particle see the
+    /// reconstructed jump too (by default they see the plain one).
+    #[serde(default)]
+    pub reconstruct_surfaces: bool,
     /// Hourglass control's coefficient (docs/method.md, "Hourglass
     /// control"): a viscosity on the part of each neighbour's velocity
     /// that the particle's velocity gradient does not explain. 0 (the
@@ -310,6 +331,8 @@ impl Default for ArtificialViscosity {
             alpha: default_av_alpha(),
             beta: default_av_beta(),
             reconstruct: true,
+            form: ViscosityForm::default(),
+            reconstruct_surfaces: false,
             hourglass: 0.0,
         }
     }

@@ -142,6 +142,39 @@ fn check_names_the_hourglass_control() {
     }
 }
 
+/// `check` says which form of the viscosity runs and on which jump; a
+/// bad `form` is a clear error naming the key.
+#[test]
+fn check_names_the_viscosity_form() {
+    let tmp = tempfile::tempdir().unwrap();
+    let default = write_scene(tmp.path(), "default", BASE_1D);
+    let text = format!(
+        "{BASE_1D}\n[artificial_viscosity]\nform = \"riemann\"\nreconstruct_surfaces = true\n"
+    );
+    let riemann = write_scene(tmp.path(), "riemann", &text);
+    for (scene, line) in [
+        (
+            default,
+            "viscosity   Monaghan (approaching pairs), alpha 0.75, beta 0.75, on the reconstructed velocity jump (plain at surfaces)",
+        ),
+        (
+            riemann,
+            "viscosity   Riemann (approaching and receding pairs), alpha 0.75, beta 0.75, on the reconstructed velocity jump;",
+        ),
+    ] {
+        check_says(tmp.path(), &scene, line);
+    }
+    let bad = format!("{BASE_1D}\n[artificial_viscosity]\nform = \"godunov\"\n");
+    let bad = write_scene(tmp.path(), "bad", &bad);
+    let out = sphcontact(tmp.path(), &["check", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("artificial_viscosity.form") && stderr.contains("riemann"),
+        "{stderr}"
+    );
+}
+
 /// `check` says which artificial stress runs, where its work may only be
 /// heat and which bodies take the hourglass control in its place; a bad
 /// `work` is a clear error.

@@ -32,13 +32,17 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
     );
     let av = scene.viscosity();
     println!(
-        "viscosity   alpha {}, beta {}, {}; hourglass control {}",
+        "viscosity   {}, alpha {}, beta {}, {}; hourglass control {}",
+        match av.form {
+            sphcontact::scene::ViscosityForm::Monaghan => "Monaghan (approaching pairs)",
+            sphcontact::scene::ViscosityForm::Riemann => "Riemann (approaching and receding pairs)",
+        },
         av.alpha,
         av.beta,
-        if av.reconstruct {
-            "on the reconstructed velocity jump (plain at surfaces)"
-        } else {
-            "plain Monaghan"
+        match (av.reconstruct, av.reconstruct_surfaces) {
+            (true, false) => "on the reconstructed velocity jump (plain at surfaces)",
+            (true, true) => "on the reconstructed velocity jump",
+            (false, _) => "on the plain velocity jump",
         },
         if av.hourglass > 0.0 {
             av.hourglass.to_string()

@@ -455,8 +455,10 @@ fn lane_terms(
         let sum = si + sj;
         let phi = (4.0 * si * sj / (sum * sum)).min(F4::splat(1.0));
         let half = 0.5 * phi;
-        let surface = (suri + surj).ge(F4::splat(1.0));
-        let keep = surface.or((si * sj).le(F4::splat(0.0)));
+        let mut keep = (si * sj).le(F4::splat(0.0));
+        if !model.av_recon_surface {
+            keep = keep.or((suri + surj).ge(F4::splat(1.0)));
+        }
         (
             keep.select(vx, vx - (dix + djx) * half),
             keep.select(vy, vy - (diy + djy) * half),
@@ -470,8 +472,18 @@ fn lane_terms(
     let wdx = wx * xx + wy * xy;
     let d = (xx * xx + xy * xy) + 0.01 * hij * hij;
     let hv = hij * wdx;
-    let pi_raw = hv * (-model.alpha * c_mean * d + model.beta * hv) / (d * d * rho_mean);
-    let pi = wdx.ge(F4::splat(0.0)).select(F4::splat(0.0), pi_raw);
+    let approach = wdx.lt(F4::splat(0.0));
+    let (beta, on) = if model.av_release {
+        let vdx = vx * xx + vy * xy;
+        (
+            approach.select(F4::splat(model.beta), F4::splat(0.0)),
+            F4::splat(0.0).lt(wdx * vdx),
+        )
+    } else {
+        (F4::splat(model.beta), approach)
+    };
+    let pi_raw = hv * (-model.alpha * c_mean * d + beta * hv) / (d * d * rho_mean);
+    let pi = on.select(pi_raw, F4::splat(0.0));
     // t = σ_i/ρ_i² + σ_j/ρ_j² − Π I (+ (R_i + R_j) f^n), t G, and each
     // side's energy term.
     let mut txx = sixx + sjxx - pi;

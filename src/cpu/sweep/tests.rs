@@ -214,8 +214,12 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             (0.5, true, true),
         ),
     ];
-    for (reconstruct, h_ratio, art, damaged, (hourglass, seen, keyed)) in
-        without_control.into_iter().chain(with_control)
+    // Each case with Monaghan's viscosity and with the Riemann form
+    // reconstructed at surfaces too.
+    for ((reconstruct, h_ratio, art, damaged, (hourglass, seen, keyed)), riemann) in without_control
+        .into_iter()
+        .chain(with_control)
+        .flat_map(|c| [(c, false), (c, true)])
     {
         let st = if damaged { &failed } else { &st };
         let mut model = base.clone();
@@ -236,6 +240,8 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             assert!(n > model.len() / 4 && n < model.len() * 3 / 4, "{n} flow");
         }
         model.av_reconstruct = reconstruct;
+        model.av_release = riemann;
+        model.av_recon_surface = riemann;
         model.set_hourglass(hourglass);
         if keyed {
             model.bodies[0].art = false;
@@ -280,6 +286,15 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         assert_eq!(one.2.to_bits(), four.2.to_bits(), "dissipation");
         // The sums are not trivially equal: the pass does work.
         assert!(one.0.iter().filter(|a| a.length() > 0.0).count() > model.len() / 2);
+        if riemann {
+            // ... and the form acts: on receding pairs, and at surfaces.
+            let mut plain = model.clone();
+            plain.av_release = false;
+            plain.av_recon_surface = false;
+            let m = sums((&plain, st, &nb, &k, &pts[..]), true, None);
+            let moved = (0..model.len()).filter(|&i| m.0[i] != four.0[i]).count();
+            assert!(moved > model.len() / 2, "the Riemann form moved {moved}");
+        }
         if hourglass > 0.0 {
             // ... and the control's part of it.
             let mut off = model.clone();
