@@ -261,13 +261,18 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
         vis = reconstructed_jump(vis, d, o.g, gj);
     }
     // Approaching pairs; with RELEASE receding ones too, on the linear
-    // term, where the jump seen and the true one agree in sign (the work
-    // is heat). CPU twin: physics::viscosity::viscosity_pi.
+    // term. CPU twin: physics::viscosity::viscosity_pi.
     var pi = 0.0;
-    let vx = dot(vis, d);
+    var vx = dot(vis, d);
     var on = vx < 0.0;
     if (RELEASE) {
-        on = vx * dot(vm, d) > 0.0;
+        // The smaller of the seen and the true jump where they agree in
+        // sign: heat, and continuous where either passes zero.
+        let tx = dot(vm, d);
+        on = vx * tx > 0.0;
+        if (tx * tx < vx * vx) {
+            vx = tx;
+        }
     }
     if (on) {
         let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);

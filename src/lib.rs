@@ -23,7 +23,7 @@
 //! let scene = Scene::from_toml_str(r#"
 //!     [simulation]
 //!     dimension = 1
-//!     end_time = 2.0e-7
+//!     end_time = 4.0e-7
 //!     [materials.steel]
 //!     density = 7850.0
 //!     shear_modulus = 77.0e9

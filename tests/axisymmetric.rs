@@ -242,8 +242,9 @@ fn a_solid_cylinder_under_radial_load_follows_lame() {
 /// rigid frictionless wall, linear hardening, 32 particles across the
 /// radius. Finite-element solutions of this model at 80 µs give the face a
 /// radius of 7.11 to 7.22 mm and the rod a length of 21.43 mm
-/// (docs/method.md §12 gives the sources): the length within 2 % of
-/// 21.43 mm and the radius within 5 % of 7.11 mm, the rod's outline taken
+/// (docs/method.md §12 gives the sources): the length within 1 % of
+/// 21.43 mm and the radius within 2 % of 7.11 mm (at 16 across 2 % and
+/// 3 %), the rod's outline taken
 /// at its outermost particles' centres plus Δx/2; the particle on the axis
 /// at the impact face within the finite-element range of plastic strain
 /// (2–4), its centre never within a quarter spacing of the wall; and the
@@ -281,8 +282,21 @@ fn taylor_bar(coarsen: u32) {
         length * 1e3,
         radius * 1e3
     );
-    assert!((length / 21.43e-3 - 1.0).abs() < 0.02, "length {length}");
-    assert!((radius / 7.11e-3 - 1.0).abs() < 0.05, "radius {radius}");
+    // Measured (docs/method.md §12): 21.65 / 7.04 mm at 16 across, 21.52 /
+    // 7.22 mm at 32.
+    let (tol_length, tol_radius) = if coarsen == 1 {
+        (0.01, 0.02)
+    } else {
+        (0.02, 0.03)
+    };
+    assert!(
+        (length / 21.43e-3 - 1.0).abs() < tol_length,
+        "length {length}"
+    );
+    assert!(
+        (radius / 7.11e-3 - 1.0).abs() < tol_radius,
+        "radius {radius}"
+    );
     // The particle on the axis at the impact face: its plastic strain in
     // the finite-element range (about 3), and its centre never pressed
     // within a quarter spacing of the wall (it rests half a spacing off).

@@ -322,8 +322,9 @@ fn cylinder_whose_artificial_stress_heats_where_it_flows_at_10_through_gpu() {
 /// +3.35 % of the initial energy at 108 µs, has fallen to −43 % by then:
 /// the blow-up is paid from the internal energies through the artificial
 /// terms. With the term's work only heat the shell completes and the
-/// artificial dissipation is heat, +3.4 % of the energy; the ledger closes
-/// in both (residual at round-off, the failed run's too).
+/// artificial dissipation is heat, +0.79 % of the energy (+3.4 % with the
+/// former default viscosity, Monaghan's form); the ledger closes in both
+/// (residual at round-off, the failed run's too).
 #[test]
 fn the_ledger_books_the_artificial_stress_against_the_shell() {
     let mut scene = load("scenes/hard/verney_cylinder.toml");
@@ -358,6 +359,6 @@ fn the_ledger_books_the_artificial_stress_against_the_shell() {
     let d = s.energy.artificial_dissipation / s.energy_initial;
     println!("heat only: {}, artificial dissipation {d:+.4}", s.status);
     assert_eq!(s.status, "completed", "{:?}", s.error);
-    assert!(d > 0.01 && d < 0.06, "artificial dissipation {d:+e}");
+    assert!(d > 0.0 && d < 0.06, "artificial dissipation {d:+e}");
     assert!(s.energy.residual.abs() < 1e-9 * s.energy_initial);
 }

@@ -279,11 +279,11 @@ pub enum ArtPairs {
 #[serde(rename_all = "lowercase")]
 pub enum ViscosityForm {
     /// Monaghan's: approaching pairs only.
-    #[default]
     Monaghan,
     /// The acoustic Riemann solver's dissipation: approaching and
     /// receding pairs alike, so release fronts are damped as compression
     /// fronts are (the quadratic term still on approach only).
+    #[default]
     Riemann,
 }
 
@@ -305,8 +305,8 @@ pub struct ArtificialViscosity {
     #[serde(default)]
     pub form: ViscosityForm,
     /// With `reconstruct`, pairs with a surface particle see the
-    /// reconstructed jump too (by default they see the plain one).
-    #[serde(default)]
+    /// reconstructed jump too (the default; `false`: the plain one).
+    #[serde(default = "default_true")]
     pub reconstruct_surfaces: bool,
     /// Hourglass control's coefficient (docs/method.md, "Hourglass
     /// control"): a viscosity on the part of each neighbour's velocity
@@ -332,7 +332,7 @@ impl Default for ArtificialViscosity {
             beta: default_av_beta(),
             reconstruct: true,
             form: ViscosityForm::default(),
-            reconstruct_surfaces: false,
+            reconstruct_surfaces: true,
             hourglass: 0.0,
         }
     }

@@ -148,18 +148,22 @@ fn check_names_the_hourglass_control() {
 fn check_names_the_viscosity_form() {
     let tmp = tempfile::tempdir().unwrap();
     let default = write_scene(tmp.path(), "default", BASE_1D);
-    let text = format!(
-        "{BASE_1D}\n[artificial_viscosity]\nform = \"riemann\"\nreconstruct_surfaces = true\n"
-    );
-    let riemann = write_scene(tmp.path(), "riemann", &text);
+    let text = format!("{BASE_1D}\n[artificial_viscosity]\nform = \"monaghan\"\n");
+    let monaghan = write_scene(tmp.path(), "monaghan", &text);
+    let text = format!("{BASE_1D}\n[artificial_viscosity]\nreconstruct_surfaces = false\n");
+    let plain = write_scene(tmp.path(), "plain", &text);
     for (scene, line) in [
         (
             default,
-            "viscosity   Monaghan (approaching pairs), alpha 0.75, beta 0.75, on the reconstructed velocity jump (plain at surfaces)",
+            "viscosity   Riemann (approaching and receding pairs), alpha 0.75, beta 0.75, on the reconstructed velocity jump;",
         ),
         (
-            riemann,
-            "viscosity   Riemann (approaching and receding pairs), alpha 0.75, beta 0.75, on the reconstructed velocity jump;",
+            monaghan,
+            "viscosity   Monaghan (approaching pairs), alpha 0.75, beta 0.75, on the reconstructed velocity jump;",
+        ),
+        (
+            plain,
+            "viscosity   Riemann (approaching and receding pairs), alpha 0.75, beta 0.75, on the reconstructed velocity jump (plain at surfaces);",
         ),
     ] {
         check_says(tmp.path(), &scene, line);

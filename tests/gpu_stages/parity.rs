@@ -129,9 +129,12 @@ fn hourglass_parity(path: &str, t: f64) {
     let av = scene
         .artificial_viscosity
         .get_or_insert_with(Default::default);
-    av.hourglass = 1.0;
+    // 0.7: with the default (Riemann) viscosity the midpoint rule is
+    // stable with the control to about 0.85 (docs/method.md, "Hourglass
+    // control").
+    av.hourglass = 0.7;
     let (model, mut st) = state_of(&scene, t);
-    assert!(model.hourglass == 1.0 && model.av_reconstruct);
+    assert!(model.hourglass == 0.7 && model.av_reconstruct);
     stir(&mut st);
     check_state(model, st, true);
 }

@@ -278,28 +278,58 @@ fn edge_check_accepts_the_stable_settings() {
     }
 }
 
-/// CFL 0.9 with the default viscosity (α = β = 0.75): the explicit
+/// CFL 0.9 with the default viscosity's α = β = 0.75: the explicit
 /// midpoint rule amplifies an undamped mode of frequency ω by
 /// sqrt(1 + (ωΔt)⁴/4) per step. Before the energy guard
 /// (`Model::guards_energy`) both scenes completed with exit status 0 and
 /// silently wrong energy (the bars with 28 times their initial energy, the
-/// disks with 135 times, restitution 1.29); now both stop with the
-/// instability message on both backends, which is asserted.
+/// disks with 135 times, restitution 1.29). With the former default
+/// (Monaghan's form, plain at surfaces) both now stop with the
+/// instability message on both backends. The default (the Riemann form,
+/// which damps the receding half of each oscillation too) still stops the
+/// bars and completes the disks within every check of the completed
+/// branch (measured: peak 1.094 MN/m, contact 8.50 µs, restitution
+/// 0.887, energy balance 6e-15 on the CPU path, 5e-8 on lavapipe). All asserted.
 #[test]
 fn stiff_settings_with_default_viscosity_are_never_silent_garbage() {
-    for (path, bars) in [
-        ("scenes/hard/bars_stiff.toml", true),
-        ("scenes/hard/disks_stiff.toml", false),
+    use sphcontact::scene::{ArtificialViscosity, ViscosityForm};
+    for (path, bars, former, expect) in [
+        (
+            "scenes/hard/bars_stiff.toml",
+            true,
+            false,
+            Outcome::Unstable,
+        ),
+        (
+            "scenes/hard/disks_stiff.toml",
+            false,
+            false,
+            Outcome::Completed,
+        ),
+        ("scenes/hard/bars_stiff.toml", true, true, Outcome::Unstable),
+        (
+            "scenes/hard/disks_stiff.toml",
+            false,
+            true,
+            Outcome::Unstable,
+        ),
     ] {
         let mut scene = load(path);
-        scene.artificial_viscosity = None;
+        scene.artificial_viscosity = former.then(|| ArtificialViscosity {
+            form: ViscosityForm::Monaghan,
+            reconstruct_surfaces: false,
+            ..Default::default()
+        });
         for backend in edge_backends() {
             let outcome = if bars {
                 run_at_the_edge(&scene, backend, bars_answers(&scene))
             } else {
                 run_at_the_edge(&scene, backend, disks_answers(&scene))
             };
-            assert_eq!(outcome, Outcome::Unstable, "{path} on {backend}");
+            assert_eq!(
+                outcome, expect,
+                "{path}, former default {former}, on {backend}"
+            );
         }
     }
 }

@@ -469,19 +469,20 @@ fn lane_terms(
     // Monaghan's Π (viscosity_pi).
     let c_mean = 0.5 * (ci + cj);
     let rho_mean = 0.5 * (rhoi + rhoj);
-    let wdx = wx * xx + wy * xy;
+    let mut wdx = wx * xx + wy * xy;
     let d = (xx * xx + xy * xy) + 0.01 * hij * hij;
-    let hv = hij * wdx;
-    let approach = wdx.lt(F4::splat(0.0));
     let (beta, on) = if model.av_release {
+        // The smaller of the seen and the true jump where they agree in
+        // sign (viscosity_pi).
         let vdx = vx * xx + vy * xy;
-        (
-            approach.select(F4::splat(model.beta), F4::splat(0.0)),
-            F4::splat(0.0).lt(wdx * vdx),
-        )
+        let on = F4::splat(0.0).lt(wdx * vdx);
+        wdx = (vdx * vdx).lt(wdx * wdx).select(vdx, wdx);
+        let approach = wdx.lt(F4::splat(0.0));
+        (approach.select(F4::splat(model.beta), F4::splat(0.0)), on)
     } else {
-        (F4::splat(model.beta), approach)
+        (F4::splat(model.beta), wdx.lt(F4::splat(0.0)))
     };
+    let hv = hij * wdx;
     let pi_raw = hv * (-model.alpha * c_mean * d + beta * hv) / (d * d * rho_mean);
     let pi = on.select(pi_raw, F4::splat(0.0));
     // t = σ_i/ρ_i² + σ_j/ρ_j² − Π I (+ (R_i + R_j) f^n), t G, and each
