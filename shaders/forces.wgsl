@@ -227,8 +227,8 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
     }
     let g = mat_mul(0.5 * (o.l + lj), pr.gw);
     let vij = o.v - vj;
-    // Monaghan viscosity, zero for receding pairs; it sees the
-    // reconstructed jump, the energy sum keeps the true v_ij.
+    // The viscosity (Monaghan's, or with RELEASE the Riemann form); it
+    // sees the reconstructed jump, the energy sum keeps the true v_ij.
     var vis = vij;
     if (LEAP == 3u) {
         var vsj = vstar[j];

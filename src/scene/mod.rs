@@ -287,7 +287,7 @@ pub enum ViscosityForm {
     Riemann,
 }
 
-/// Monaghan artificial viscosity (docs/method.md §4).
+/// The artificial viscosity (docs/method.md §4, "The Riemann form").
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ArtificialViscosity {
