@@ -83,8 +83,8 @@ const FIT_MIN_SV2: f32 = 1.0e-6;
 // the host lengthens it and goes on (GpuSolver::run_batch). A particle
 // past the end gets no place and is not a boundary particle here; the
 // host reports that evaluation as a failure.
-fn list_surface(i: u32, gpsi: vec2<f32>, hi: f32) {
-    var sf = surface_of(gpsi, hi);
+fn list_surface(i: u32, ks: KinSums, hi: f32) {
+    var sf = surface_of(ks.gpsi, ks.psi, hi);
     var place = -1.0;
     if (CONTACT && sf.z > 0.0) {
         let k = atomicAdd(&surf_args[0], 1u);
@@ -132,6 +132,9 @@ struct KinSums {
     // Same-body partners in the gradient sums, images included (the debris
     // floor, Body::debris_n).
     n: u32,
+    // Bodies of revolution: the colour function sum_j V_j W_ij, the walker
+    // itself included (surface_of).
+    psi: f32,
 }
 
 // The predicted velocity of particle j (a rigid one's a_n is zero).
@@ -184,7 +187,9 @@ fn add_kin_image(o: KinOwn, wk: Walker, j: u32, rj: f32, d: vec2<f32>, hij: f32,
     if (o.seen) {
         vsj = mirror_vec(predicted(j));
     }
-    add_kin(o, im.gw, im.d, mass, vol / circumference(rj), mirror_vec(v[j]), vsj, ks);
+    let area = vol / circumference(rj);
+    add_kin(o, im.gw, im.d, mass, area, mirror_vec(v[j]), vsj, ks);
+    (*ks).psi += kernel_w(im.dist, im.hij) * area;
 }
 
 fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
@@ -201,7 +206,7 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     if (AXI) {
         o.inv_eta = 1.0 / (circumference(wk.rad) * rho0 * (1.0 + r[i].x));
     }
-    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0), wk.rad, 0u);
+    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0), wk.rad, 0u, 0.0);
     var mask = vec2<u32>(0u);
     // The ordinal of the row's first candidate.
     var first = 0u;
@@ -234,6 +239,7 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
                 // The area m_j / eta_j of j, and its image.
                 let area = vol / circumference(cd.rad);
                 add_kin(o, pr.gw, pr.d, mass, area, vj, vsj, &ks);
+                ks.psi += kernel_w(pr.dist, pr.hij) * area;
                 add_kin_image(o, wk, j, cd.rad, pr.d, pr.hij, mass, vol, &ks);
             } else {
                 add_kin(o, pr.gw, pr.d, mass, vol, vj, vsj, &ks);
@@ -241,9 +247,11 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
         }
     }
     if (AXI) {
-        // The walker's own image.
+        // The walker's own image, and itself in the colour function.
         let mi = pinfo[i];
-        add_kin_image(o, wk, i, wk.rad, vec2<f32>(0.0), hi, bitcast<f32>(mi.x), volume(i, mi, rho0), &ks);
+        let vi = volume(i, mi, rho0);
+        add_kin_image(o, wk, i, wk.rad, vec2<f32>(0.0), hi, bitcast<f32>(mi.x), vi, &ks);
+        ks.psi += kernel_w(0.0, hi) * vi / circumference(wk.rad);
     }
     if (first > MASK_BITS) {
         mask.y |= MASK_FULL;
@@ -270,7 +278,7 @@ fn adaptive_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     if (AXI) {
         o.inv_eta = 1.0 / (circumference(wk.rad) * rho0 * (1.0 + r[i].x));
     }
-    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0), wk.rad, 0u);
+    var ks = KinSums(vec4<f32>(0.0), vec2<f32>(0.0), vec4<f32>(0.0), vec2<u32>(0u), vec4<f32>(0.0), wk.rad, 0u, 0.0);
     var mask = vec2<u32>(0u);
     var first = 0u;
     for (var row = 0u; row < scan_rows(); row++) {
@@ -305,7 +313,9 @@ fn adaptive_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
         let mi = pinfo[i];
         let own = Pair(vec2<f32>(0.0), 0.0, hi, vec2<f32>(0.0), true, 0.0, 0.0);
         let img = axis_image_metric(wk, wk.rad, vec2<f32>(0.0), wk.q, hi);
-        add_adaptive(o, wk, i, wk.rad, bitcast<f32>(mi.x), volume(i, mi, rho0), Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0), own, img, &ks);
+        let vi = volume(i, mi, rho0);
+        add_adaptive(o, wk, i, wk.rad, bitcast<f32>(mi.x), vi, Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0), own, img, &ks);
+        ks.psi += kernel_w(0.0, hi) * vi / circumference(wk.rad);
     }
     if (first > MASK_BITS) {
         mask.y |= MASK_FULL;
@@ -326,11 +336,15 @@ fn add_adaptive(o: KinOwn, wk: Walker, j: u32, rj: f32, mass: f32, vol: f32, pr:
     if (round.inside) {
         if (round.dist > 0.0) {
             (*ks).gpsi -= round.gw * area;
+            if (AXI) {
+                (*ks).psi += kernel_w(round.dist, round.hij) * area;
+            }
         }
         if (AXI) {
             let ri = axis_image(wk, rj, round.d, round.hij);
             if (ri.inside) {
                 (*ks).gpsi -= ri.gw * area;
+                (*ks).psi += kernel_w(ri.dist, ri.hij) * area;
             }
         }
     }
@@ -431,15 +445,21 @@ fn damage_of(i: u32) -> f32 {
     return 0.0;
 }
 
-// Outward normal and boundary flag from the colour gradient.
-fn surface_of(gpsi: vec2<f32>, hi: f32) -> vec3<f32> {
+// Outward normal and boundary flag from the colour gradient and, in a body
+// of revolution, the colour function it is taken relative to (CPU twin:
+// cpu::kinematics::is_surface).
+fn surface_of(gpsi: vec2<f32>, psi: f32, hi: f32) -> vec3<f32> {
     var normal = vec2<f32>(0.0);
     let glen = length(gpsi);
     if (glen > 0.0) {
         normal = gpsi / glen;
     }
+    var threshold = params.boundary_threshold;
+    if (AXI) {
+        threshold *= psi;
+    }
     var boundary = 0.0;
-    if (hi * glen > params.boundary_threshold) {
+    if (hi * glen > threshold) {
         boundary = 1.0;
     }
     return vec3<f32>(normal, boundary);
@@ -609,7 +629,7 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     let rigid = wk.rigid;
     let ks = wk.ks;
     let l = wk.l;
-    list_surface(i, ks.gpsi, body.h);
+    list_surface(i, ks, body.h);
     let mu = r[i].x;
     let si = s[i];
     stress_point(i, ks.rad, body, mu, r[i].y, si, damage_of(i), wk.debris);
@@ -673,7 +693,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     let si = ds[i];
     if (rigid) {
         // A rigid body keeps its velocity and reference state.
-        list_surface(i, ks.gpsi, hi);
+        list_surface(i, ks, hi);
         rdt[i].x = mu;
         stress_point(i, ks.rad, body, mu, r[i].y, si, 0.0, false);
         vstar[i] = v[i];
@@ -709,7 +729,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         hist_w[i] = up.h;
         d1 = damage_seen(up.h);
     }
-    list_surface(i, ks.gpsi, hi);
+    list_surface(i, ks, hi);
     rdt[i].x = mu1;
     ds[i] = s1;
     stress_point(i, ks.rad, body, mu1, e1, s1, d1, wk.debris);

@@ -342,3 +342,35 @@ fn face_lift(out: &RunOutput) {
     assert!((rise / 0.27e-3 - 1.0).abs() < 0.25, "rise {rise}");
     assert!((land / 5.9e-6 - 1.0).abs() < 0.5 / 5.9, "back at {land}");
 }
+
+/// The bilinear Taylor bar at 32 across where its face has spread (29–31
+/// µs): the face's axis particle stays a surface particle and off the
+/// rigid wall. With the plain colour-gradient test it left the surface
+/// set at 30 µs, lost its contact and passed through the wall
+/// (docs/method.md §8.1).
+#[test]
+fn the_face_axis_particle_of_a_spread_taylor_bar_stays_on_the_surface() {
+    use sphcontact::cpu::{self, CpuSolver};
+    use sphcontact::model::Model;
+    let scene = load("scenes/axisymmetric/taylor_bar_bilinear.toml");
+    let dx = scene.bodies[0].spacing;
+    let (model, state) = Model::new(&scene);
+    let mut solver = CpuSolver::new(model, state);
+    let face = 0;
+    assert!((solver.state.x[face] - DVec2::splat(0.5 * dx)).length() < 1e-12 * dx);
+    for t in [29e-6, 30e-6, 31e-6] {
+        while solver.state.t < t {
+            solver.step(t - solver.state.t).expect("a stable run");
+        }
+        let (_, surface) = cpu::surface(&solver.model, &solver.state);
+        let y = solver.state.x[face].y;
+        println!(
+            "{:.0} µs: on the surface {}, {:.3} spacings off the wall",
+            t * 1e6,
+            surface[face],
+            y / dx
+        );
+        assert!(surface[face], "off the surface set at {t} s");
+        assert!(y > 0.25 * dx, "the face's centre at {y} m");
+    }
+}

@@ -213,6 +213,7 @@ pub(super) fn add_kinematics<S: Seen>(
             sum.n += u32::from(b.q2 > 0.0);
             if !model.adaptive {
                 sum.gpsi -= b.gw * vol[j];
+                sum.psi += b.w * vol[j];
             }
             sum.seen.add(vj, vel[i], gi);
         }
@@ -221,6 +222,7 @@ pub(super) fn add_kinematics<S: Seen>(
             // (kinematics::round_colour).
             for (b, _) in nb.images_of(model, crate::model::Frame::round(&st.x), i) {
                 sum.gpsi -= b.gw * vol[b.j as usize];
+                sum.psi += b.w * vol[b.j as usize];
             }
         }
     }

@@ -25,10 +25,13 @@ pub struct Kinematics {
     pub fallback: Vec<u32>,
     /// Colour gradient `(∇ψ)_i = −Σ_j V_j ∇_i W_ij` (docs/method.md §8.1, eq. 26).
     pub grad_psi: Vec<DVec2>,
-    /// Surface particles, `h_i |∇ψ|_i` above the boundary threshold (docs/method.md
-    /// §8.1): the contact's boundary set, and where the viscosity keeps the
-    /// plain velocity jump.
+    /// Surface particles, [`surface_measure`] above the boundary threshold
+    /// (docs/method.md §8.1): the contact's boundary set, and where the
+    /// viscosity keeps the plain velocity jump.
     pub surface: Vec<bool>,
+    /// The colour function `ψ_i = Σ_j V_j W_ij`, i included, in a body of
+    /// revolution ([`surface_measure`]); empty in plane strain.
+    pub psi: Vec<f64>,
     /// Corrected velocity gradient `∇v_i` (zero on rigid particles) of the
     /// velocities the viscosity sees (the state's, or the leapfrog's
     /// predicted ones, [`super::sweep::kinematics_seen`]), kept only when the viscosity
@@ -70,6 +73,9 @@ pub(in crate::cpu) struct Sums<S> {
     pub(in crate::cpu) gsum: Mat2,
     /// `(∇ψ)_i`.
     pub(in crate::cpu) gpsi: DVec2,
+    /// `Σ_j V_j W_ij` over the colour gradient's pairs, the particle itself
+    /// left out (bodies of revolution only: [`surface_measure`]).
+    pub(in crate::cpu) psi: f64,
     pub(in crate::cpu) seen: S,
     /// Same-body partners in the gradient sums, images included (the
     /// debris floor, [`Model::debris_neighbours`]).
@@ -138,6 +144,8 @@ impl Seen for Mat2 {
 struct Point {
     l: Mat2,
     ok: bool,
+    /// The colour function, i included, in a body of revolution.
+    psi: Option<f64>,
     gpsi: DVec2,
     gv: Mat2,
     /// `∇v` of the velocities the viscosity sees, when not the state's.
@@ -287,6 +295,9 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
                 sum.m += Mat2::outer(gm, st.x[j] - st.x[i]);
                 sum.gsum += Mat2::outer(st.v[j] - st.v[i], gm);
                 sum.gpsi -= gi;
+                if model.axisymmetric {
+                    sum.psi += b.w * vol[j];
+                }
                 sum.n += u32::from(b.q2 > 0.0);
             }
             sum
@@ -316,11 +327,15 @@ pub(in crate::cpu) fn round_colour<S: Seen>(
         return;
     }
     sums.par_iter_mut().enumerate().for_each(|(i, sum)| {
-        let mut g = DVec2::ZERO;
+        let (mut g, mut psi) = (DVec2::ZERO, 0.0);
         for (b, _) in nb.round_with_images(model, &st.x, i) {
             g -= b.gw * vol[b.j as usize];
+            if model.axisymmetric {
+                psi += b.w * vol[b.j as usize];
+            }
         }
         sum.gpsi = g;
+        sum.psi = psi;
     });
 }
 
@@ -340,6 +355,18 @@ pub(in crate::cpu) fn gradient_weight(
     } else {
         vol[j]
     }
+}
+
+/// What the boundary threshold is held against (docs/method.md §8.1):
+/// `h |∇ψ|`, in a body of revolution `h |∇ψ| / ψ` with `ψ` the colour
+/// function itself ([`Kinematics::psi`]). The areas `m/(2π r ρ)` of the
+/// particles nearest the axis do not tile the r–z plane once it spreads
+/// (ψ from 0.4 to 1.5 in a Taylor bar's face): unnormalised, the face's
+/// axis particle left the surface set while pressed on a wall, and
+/// interior particles by the axis joined it.
+#[inline]
+pub fn surface_measure(model: &Model, i: usize, gpsi: DVec2, psi: Option<f64>) -> f64 {
+    model.h[i] * gpsi.length() / psi.unwrap_or(1.0)
 }
 
 /// Each particle's volume `V_j = m_j / ρ_j`.
@@ -364,6 +391,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
                     mut m,
                     gsum,
                     gpsi,
+                    psi,
                     seen,
                     n,
                 },
@@ -409,6 +437,9 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
                 Point {
                     l,
                     ok,
+                    psi: model
+                        .axisymmetric
+                        .then(|| psi + model.mass[i] / st.rho[i] * kernel::w(2, 0.0, model.h[i])),
                     gpsi,
                     gv,
                     gv_seen,
@@ -424,6 +455,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
         fallback: Vec::new(),
         grad_psi: Vec::with_capacity(n),
         surface: Vec::with_capacity(n),
+        psi: Vec::with_capacity(if model.axisymmetric { n } else { 0 }),
         gv: Vec::with_capacity(if model.keeps_gradient() { n } else { 0 }),
         hv: Vec::new(),
         hgrad: Vec::new(),
@@ -435,7 +467,10 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
     for (i, p) in per.into_iter().enumerate() {
         out.l.push(p.l);
         out.surface
-            .push(model.h[i] * p.gpsi.length() > model.boundary_threshold);
+            .push(surface_measure(model, i, p.gpsi, p.psi) > model.boundary_threshold);
+        if let Some(psi) = p.psi {
+            out.psi.push(psi);
+        }
         out.grad_psi.push(p.gpsi);
         if !p.ok {
             out.fallback.push(i as u32);

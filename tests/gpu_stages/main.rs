@@ -172,10 +172,10 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
     let bd = kinematics::boundary(&model, &st.x, &nb, a.surface.clone());
     for i in 0..n {
         if bd.is_boundary[i] != out.boundary[i] {
-            let x = model.h[i] * a.grad_psi[i].length();
+            let x = kinematics::surface_measure(&model, i, a.grad_psi[i], a.psi.get(i).copied());
             assert!(
                 (x / model.boundary_threshold - 1.0).abs() < 1e-4,
-                "{}: particle {i}: boundary cpu {} gpu {} (h|∇ψ| = {x})",
+                "{}: particle {i}: boundary cpu {} gpu {} (measure {x})",
                 at(Stage::Kinematics, "boundary set"),
                 bd.is_boundary[i],
                 out.boundary[i]

@@ -41,6 +41,7 @@ fn kinematics_in<S: Seen>(
     let vol = volumes(model, st);
     let vel = S::vel(&st.v, seen);
     let mut sums = vec![Sums::<S>::default(); model.len()];
+    let axi = model.axisymmetric;
     if model.adaptive {
         // The gradient sums over the pairs of the supports, the colour
         // gradient over the round pairs (kinematics::round_colour), in
@@ -52,9 +53,15 @@ fn kinematics_in<S: Seen>(
             };
             if let Some(r) = r {
                 si.gpsi -= r.gw * vol[j];
+                if axi {
+                    si.psi += r.w * vol[j];
+                }
             }
             if let (Some(r), Some(sj)) = (r, sj.as_deref_mut()) {
                 sj.gpsi += r.gw * vol[i];
+                if axi {
+                    sj.psi += r.w * vol[i];
+                }
             }
             let Some(b) = m else { return };
             let (vi, vj) = (vel[i], vel[j]);
@@ -88,6 +95,9 @@ fn kinematics_in<S: Seen>(
         si.m += Mat2::outer(gi, dx);
         si.gsum += Mat2::outer(dv, gi);
         si.gpsi -= ci;
+        if axi {
+            si.psi += b.w * vol[j];
+        }
         si.seen.add(vj, vi, gi);
         si.n += near;
         if let Some(sj) = sj {
@@ -96,6 +106,9 @@ fn kinematics_in<S: Seen>(
             sj.m += Mat2::outer(gj, dx);
             sj.gsum += Mat2::outer(dv, gj);
             sj.gpsi += cj;
+            if axi {
+                sj.psi += b.w * vol[i];
+            }
             sj.seen.add(vj, vi, gj);
             sj.n += near;
         }
