@@ -304,13 +304,9 @@ fn lateral_stress_of_uniaxial_strain() {
     assert!(reached > 10, "{reached} rows behind the wave");
 }
 
-/// On the midpoint rule: its density update, taken at the half step's
-/// density, follows `ln ρ` to the third order in a step's strain, and the
-/// relation holds to 1e-5. The leapfrog's takes the rate at `ρ_n`
-/// (second order) and holds it to 1.5e-5 (measured at the wave's front).
 #[test]
 fn lateral_stress_of_uniaxial_strain_cpu() {
-    on_midpoint(lateral_stress_of_uniaxial_strain);
+    lateral_stress_of_uniaxial_strain();
 }
 
 #[test]
@@ -427,29 +423,29 @@ fn plasticity_caps_von_mises_gpu() {
     on_gpu(plasticity_caps_von_mises);
 }
 
-// The same exact answers with the midpoint rule (CPU path; the default is the leapfrog).
+// The same exact answers with the one-evaluation leapfrog (CPU path).
 
 #[test]
-fn equal_steel_bars_penalty_midpoint() {
-    on_midpoint(equal_steel_bars_penalty);
+fn equal_steel_bars_penalty_leapfrog() {
+    on_leapfrog(equal_steel_bars_penalty);
 }
 
 #[test]
-fn steel_against_aluminium_midpoint() {
-    on_midpoint(steel_against_aluminium);
+fn steel_against_aluminium_leapfrog() {
+    on_leapfrog(steel_against_aluminium);
 }
 
 #[test]
-fn translation_and_rest_midpoint() {
-    on_midpoint(translation_and_rest);
+fn translation_and_rest_leapfrog() {
+    on_leapfrog(translation_and_rest);
 }
 
 #[test]
-fn bar_onto_rigid_wall_midpoint() {
-    on_midpoint(bar_onto_rigid_wall);
+fn bar_onto_rigid_wall_leapfrog() {
+    on_leapfrog(bar_onto_rigid_wall);
 }
 
 #[test]
-fn plasticity_caps_von_mises_midpoint() {
-    on_midpoint(plasticity_caps_von_mises);
+fn plasticity_caps_von_mises_leapfrog() {
+    on_leapfrog(plasticity_caps_von_mises);
 }

@@ -91,8 +91,8 @@ fn slow_shot_with_hourglass_control_gpu() {
 }
 
 #[test]
-fn slow_shot_with_hourglass_control_midpoint() {
-    on_midpoint(slow_shot_keeps_its_energy_with_hourglass_control);
+fn slow_shot_with_hourglass_control_leapfrog() {
+    on_leapfrog(slow_shot_keeps_its_energy_with_hourglass_control);
 }
 
 #[test]
@@ -106,8 +106,8 @@ fn slow_shot_keeps_its_energy_gpu() {
 }
 
 #[test]
-fn slow_shot_keeps_its_energy_midpoint() {
-    on_midpoint(slow_shot_keeps_its_energy);
+fn slow_shot_keeps_its_energy_leapfrog() {
+    on_leapfrog(slow_shot_keeps_its_energy);
 }
 
 /// The rod at 1,200 m/s, through the plate. The crater's wall is made of

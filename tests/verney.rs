@@ -98,8 +98,8 @@ fn cylinder_stops_at_40_mm_at_10_through() {
 }
 
 #[test]
-fn cylinder_stops_at_40_mm_at_10_through_midpoint() {
-    on_midpoint(|| {
+fn cylinder_stops_at_40_mm_at_10_through_leapfrog() {
+    on_leapfrog(|| {
         verney("cylinder", 10, 0.025, 1e-4);
     });
 }

@@ -133,9 +133,9 @@ impl Simulation {
 #[serde(rename_all = "snake_case")]
 pub enum Integrator {
     /// The explicit midpoint rule: two evaluations a step.
+    #[default]
     Midpoint,
     /// Kick–drift–kick leapfrog: one evaluation a step.
-    #[default]
     Leapfrog,
 }
 

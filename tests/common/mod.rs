@@ -48,14 +48,6 @@ pub fn on_leapfrog(test: impl FnOnce()) {
     INTEGRATOR.with(|i| i.set(None));
 }
 
-/// Run a test body with every `run` stepped by the midpoint rule (CPU
-/// path), for tests of what it alone does.
-pub fn on_midpoint(test: impl FnOnce()) {
-    INTEGRATOR.with(|i| i.set(Some(Integrator::Midpoint)));
-    test();
-    INTEGRATOR.with(|i| i.set(None));
-}
-
 /// The backend of this test thread's runs.
 pub fn backend() -> Backend {
     BACKEND.with(|b| b.get())

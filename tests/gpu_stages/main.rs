@@ -101,13 +101,9 @@ fn stir(st: &mut State) {
     }
 }
 
-/// A state of `scene` at time `t` of a CPU run of the midpoint rule (the
-/// stage outputs are its evaluation's; the leapfrog's tests step on from
-/// the same states).
+/// A state of `scene` at time `t` of a CPU run.
 fn state_of(scene: &sphcontact::Scene, t: f64) -> (Model, State) {
-    let mut scene = scene.clone();
-    scene.simulation.integrator = Integrator::Midpoint;
-    let (model, state) = Model::new(&scene);
+    let (model, state) = Model::new(scene);
     let mut cpu = CpuSolver::new(model, state);
     while cpu.state.t < t {
         cpu.step(t - cpu.state.t).expect("a stable CPU run");
@@ -123,10 +119,8 @@ fn check_stages(path: &str, t: f64) {
     check_state(model, st, true);
 }
 
-fn check_state(mut model: Model, st: State, expect_contact: bool) {
+fn check_state(model: Model, st: State, expect_contact: bool) {
     let Some(ctx) = gpu() else { return };
-    // The stage outputs are the midpoint rule's evaluation.
-    model.integrator = Integrator::Midpoint;
     let n = model.len();
     let mut g = GpuSolver::new(ctx, model.clone(), &st, &[], 1.0).expect("fits the adapter");
     let out = g.stage_outputs();

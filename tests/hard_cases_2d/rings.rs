@@ -390,25 +390,23 @@ fn rubber_rings_rebound_intact_with_artificial_stress() {
     rings_with_artificial_stress(None, Hold::Classic);
 }
 
-/// The midpoint rule holds the rings with the control at α_hg = 1.
 #[test]
-fn rubber_rings_rebound_intact_with_hourglass_control_midpoint() {
-    on_midpoint(|| rings_with_artificial_stress(None, Hold::Hourglass(1.0)));
+fn rubber_rings_rebound_intact_with_hourglass_control() {
+    rings_with_artificial_stress(None, Hold::Hourglass(1.0));
 }
 
 #[test]
-fn rubber_rings_rebound_intact_with_hourglass_control_gpu_midpoint() {
-    on_midpoint(|| on_gpu(|| rings_with_artificial_stress(Some(3.3e-4), Hold::Hourglass(1.0))));
+fn rubber_rings_rebound_intact_with_hourglass_control_gpu() {
+    on_gpu(|| rings_with_artificial_stress(Some(3.3e-4), Hold::Hourglass(1.0)));
 }
 
-/// The leapfrog (the default), whose control sees v_{n+½}, holds the rings
-/// at α_hg = 0.7, below its stability limit for the control (at the
-/// predicted velocity it was unstable at 10.9 µs; docs/method.md,
+/// The leapfrog, whose control sees v_{n+½}, holds the rings at α_hg = 0.7
+/// (at the predicted velocity it was unstable at 10.9 µs; docs/method.md,
 /// "Hourglass control"). Measured: restitution 0.7207, smallest distance
 /// 0.55 Δx, lowest internal energy 0, ledger residual 8e-6.
 #[test]
-fn rubber_rings_rebound_intact_with_hourglass_control() {
-    rings_with_artificial_stress(None, Hold::Hourglass(0.7));
+fn rubber_rings_rebound_intact_with_hourglass_control_leapfrog() {
+    on_leapfrog(|| rings_with_artificial_stress(None, Hold::Hourglass(0.7)));
 }
 
 /// The rings at Δx = 1 mm (4,398 particles), where round supports no
@@ -457,33 +455,32 @@ fn rubber_rings_rebound_intact_with_artificial_stress_gpu() {
     on_gpu(|| rings_with_artificial_stress(Some(3.3e-4), Hold::Classic));
 }
 
-/// The midpoint rule (the leapfrog is the default) to the same point.
+/// The leapfrog (the artificial stress takes the one-pair code's kept
+/// pair vectors) to the same point.
 #[test]
-fn rubber_rings_rebound_intact_with_artificial_stress_midpoint() {
-    on_midpoint(|| rings_with_artificial_stress(Some(3.3e-4), Hold::Classic));
+fn rubber_rings_rebound_intact_with_artificial_stress_leapfrog() {
+    on_leapfrog(|| rings_with_artificial_stress(Some(3.3e-4), Hold::Classic));
 }
 
 /// With the former default viscosity (Monaghan's form, which leaves
-/// receding pairs alone), the rings clump and break by 250 µs (midpoint
-/// rule).
+/// receding pairs alone), the rings clump and break by 250 µs.
 #[test]
 fn rubber_rings_clump_and_break_without_artificial_stress() {
-    on_midpoint(|| rings_without_artificial_stress(2.5e-4, true, true));
+    rings_without_artificial_stress(2.5e-4, true, true);
 }
 
-/// With the default viscosity they clump by 160 µs (midpoint rule);
-/// continued, the CPU run stops at 190 µs with the instability message (a
-/// particle's internal energy held below zero). The leapfrog stops so at
-/// 159 µs.
+/// With the default viscosity they clump by 160 µs; continued, the CPU
+/// run stops at 190 µs with the instability message (a particle's
+/// internal energy held below zero).
 #[test]
 fn rubber_rings_clump_without_artificial_stress() {
-    on_midpoint(|| rings_without_artificial_stress(1.6e-4, false, false));
+    rings_without_artificial_stress(1.6e-4, false, false);
 }
 
 /// GPU: to 160 µs, where the rings have clumped but not yet cracked.
 #[test]
 fn rubber_rings_clump_without_artificial_stress_gpu() {
-    on_midpoint(|| on_gpu(|| rings_without_artificial_stress(1.6e-4, false, false)));
+    on_gpu(|| rings_without_artificial_stress(1.6e-4, false, false));
 }
 
 // ---------------------------------------------------------------------------
