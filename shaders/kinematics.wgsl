@@ -447,7 +447,7 @@ fn damage_of(i: u32) -> f32 {
 
 // Outward normal and boundary flag from the colour gradient and, in a body
 // of revolution, the colour function it is taken relative to (CPU twin:
-// cpu::kinematics::is_surface).
+// cpu::kinematics::surface_measure).
 fn surface_of(gpsi: vec2<f32>, psi: f32, hi: f32) -> vec3<f32> {
     var normal = vec2<f32>(0.0);
     let glen = length(gpsi);

@@ -212,8 +212,7 @@ pub(super) fn add_kinematics<S: Seen>(
             sum.gsum += Mat2::outer(S::v(vj) - S::v(vel[i]), gi);
             sum.n += u32::from(b.q2 > 0.0);
             if !model.adaptive {
-                sum.gpsi -= b.gw * vol[j];
-                sum.psi += b.w * vol[j];
+                sum.add_colour(b.gw, b.w, vol[j], true);
             }
             sum.seen.add(vj, vel[i], gi);
         }
@@ -221,8 +220,7 @@ pub(super) fn add_kinematics<S: Seen>(
             // The colour gradient keeps the round supports
             // (kinematics::round_colour).
             for (b, _) in nb.images_of(model, crate::model::Frame::round(&st.x), i) {
-                sum.gpsi -= b.gw * vol[b.j as usize];
-                sum.psi += b.w * vol[b.j as usize];
+                sum.add_colour(b.gw, b.w, vol[b.j as usize], true);
             }
         }
     }

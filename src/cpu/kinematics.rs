@@ -82,6 +82,19 @@ pub(in crate::cpu) struct Sums<S> {
     pub(in crate::cpu) n: u32,
 }
 
+impl<S> Sums<S> {
+    /// Adds neighbour j's colour terms, of kernel gradient `gw` (`∇_i W`)
+    /// and value `w`, volume `vol`: `∇ψ` always, `ψ` in a body of
+    /// revolution (`axi`) only.
+    #[inline]
+    pub(in crate::cpu) fn add_colour(&mut self, gw: DVec2, w: f64, vol: f64, axi: bool) {
+        self.gpsi -= gw * vol;
+        if axi {
+            self.psi += w * vol;
+        }
+    }
+}
+
 /// The kinematic walk's velocities and sum for the velocity gradient of the
 /// velocities the viscosity sees: none (`()`, they are the state's; the
 /// walk reads the state's velocities `v`), or (`Mat2`) `Σ_j V_j (v*_j −
@@ -290,14 +303,10 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
             let mut sum = Sums::<()>::default();
             for b in nb.of(model, st.frame(), i) {
                 let j = b.j as usize;
-                let gi = b.gw * vol[j];
                 let gm = b.gw * gradient_weight(model, st, &vol, i, j);
                 sum.m += Mat2::outer(gm, st.x[j] - st.x[i]);
                 sum.gsum += Mat2::outer(st.v[j] - st.v[i], gm);
-                sum.gpsi -= gi;
-                if model.axisymmetric {
-                    sum.psi += b.w * vol[j];
-                }
+                sum.add_colour(b.gw, b.w, vol[j], model.axisymmetric);
                 sum.n += u32::from(b.q2 > 0.0);
             }
             sum
@@ -327,15 +336,10 @@ pub(in crate::cpu) fn round_colour<S: Seen>(
         return;
     }
     sums.par_iter_mut().enumerate().for_each(|(i, sum)| {
-        let (mut g, mut psi) = (DVec2::ZERO, 0.0);
+        (sum.gpsi, sum.psi) = (DVec2::ZERO, 0.0);
         for (b, _) in nb.round_with_images(model, &st.x, i) {
-            g -= b.gw * vol[b.j as usize];
-            if model.axisymmetric {
-                psi += b.w * vol[b.j as usize];
-            }
+            sum.add_colour(b.gw, b.w, vol[b.j as usize], model.axisymmetric);
         }
-        sum.gpsi = g;
-        sum.psi = psi;
     });
 }
 

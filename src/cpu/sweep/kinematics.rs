@@ -51,17 +51,12 @@ fn kinematics_in<S: Seen>(
                 (Some(b), _) | (_, Some(b)) => b.j as usize,
                 _ => return,
             };
+            // ∇_j W_ji = −∇_i W_ij.
             if let Some(r) = r {
-                si.gpsi -= r.gw * vol[j];
-                if axi {
-                    si.psi += r.w * vol[j];
-                }
+                si.add_colour(r.gw, r.w, vol[j], axi);
             }
             if let (Some(r), Some(sj)) = (r, sj.as_deref_mut()) {
-                sj.gpsi += r.gw * vol[i];
-                if axi {
-                    sj.psi += r.w * vol[i];
-                }
+                sj.add_colour(-r.gw, r.w, vol[i], axi);
             }
             let Some(b) = m else { return };
             let (vi, vj) = (vel[i], vel[j]);
@@ -89,26 +84,18 @@ fn kinematics_in<S: Seen>(
         let j = b.j as usize;
         let (vi, vj) = (vel[i], vel[j]);
         let (dx, dv) = (st.x[j] - st.x[i], S::v(vj) - S::v(vi));
-        let ci = b.gw * vol[j];
         let gi = b.gw * gradient_weight(model, st, &vol, i, j);
         let near = u32::from(b.q2 > 0.0);
         si.m += Mat2::outer(gi, dx);
         si.gsum += Mat2::outer(dv, gi);
-        si.gpsi -= ci;
-        if axi {
-            si.psi += b.w * vol[j];
-        }
+        si.add_colour(b.gw, b.w, vol[j], axi);
         si.seen.add(vj, vi, gi);
         si.n += near;
         if let Some(sj) = sj {
-            let cj = b.gw * vol[i];
             let gj = b.gw * gradient_weight(model, st, &vol, j, i);
             sj.m += Mat2::outer(gj, dx);
             sj.gsum += Mat2::outer(dv, gj);
-            sj.gpsi += cj;
-            if axi {
-                sj.psi += b.w * vol[i];
-            }
+            sj.add_colour(-b.gw, b.w, vol[i], axi);
             sj.seen.add(vj, vi, gj);
             sj.n += near;
         }
