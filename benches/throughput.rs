@@ -179,7 +179,8 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
         }),
         ("contact", |m, s, i| {
             let k = &i.k;
-            let bd = kinematics::boundary(m, &s.x, &i.nb, k.surface.clone());
+            let measure = kinematics::contact_measure(m, k);
+            let bd = kinematics::boundary(m, &s.x, &i.nb, k.surface.clone(), measure);
             black_box(contact::penalty(m, s, &i.nb, &bd));
         }),
         ("evaluate", |m, s, i| {

@@ -20,7 +20,8 @@ use sphcontact::validation::disk_scene;
 /// contact areas `area` where given (else their own).
 fn phi(model: &Model, st: &State, surface: &[bool], area: Option<&[f64]>) -> f64 {
     let nb = neighbours::find(model, st.frame());
-    let mut bd = kinematics::boundary(model, &st.x, &nb, surface.to_vec());
+    // The paper's disks are plane: the surface ramp reads `h |∇ψ⁰|`.
+    let mut bd = kinematics::boundary(model, &st.x, &nb, surface.to_vec(), Vec::new());
     if let Some(a) = area {
         bd.area = a.to_vec();
     }
@@ -84,7 +85,7 @@ fn main() {
         if !plain && (diag.contact.stored > 0.0 || booked != 0.0) {
             let nb = neighbours::find(model, st.frame());
             let surface = kinematics::kinematics(model, st, &nb).surface;
-            let area = kinematics::boundary(model, &st.x, &nb, surface.clone()).area;
+            let area = kinematics::boundary(model, &st.x, &nb, surface.clone(), Vec::new()).area;
             let eps = 1e-3 * diag.cfl_dt;
             let rate = |area: Option<&[f64]>, drho: Option<&[f64]>| {
                 let at = |s: f64| phi(model, &moved(st, s * eps, drho), &surface, area);

@@ -122,8 +122,8 @@ fn own_at(p: u32) -> u32 {
 // weight when q is not a contact candidate of p (docs/method.md §8.2). Both
 // passes call it with the same arguments in the same order, so both see
 // the same weight.
-// gp, gq are the two particles' |grad psi0| (cn.z): the weight is ramped
-// by how far each stands above the boundary threshold.
+// gp, gq are the two particles' ramp_measure: the weight is ramped by how
+// far each stands above the boundary threshold.
 // CPU twin: cpu::contact::is_candidate, surface_ramp.
 fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32, gp: f32, gq: f32) -> vec2<f32> {
     let hpq = 0.5 * (hp + hq);
@@ -133,12 +133,23 @@ fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f
     }
     var r = 1.0;
     if (DIM != 1u) {
-        r = surface_ramp(hp * gp) * surface_ramp(hq * gq);
+        r = surface_ramp(gp) * surface_ramp(gq);
         if (r <= 0.0) {
             return vec2<f32>(-1.0, 0.0);
         }
     }
     return vec2<f32>(kernel_w(dist, hpq), kernel_dw(dist, hpq) / dist) * r;
+}
+
+// What the surface ramp reads of boundary particle p, of support h and
+// normal entry c (cn): h |grad psi0|, in a body of revolution the boundary
+// test's own measure (nbo.z, kinematics.wgsl surface_of).
+// CPU twin: cpu::contact::ramp_measure.
+fn ramp_measure(p: u32, h: f32, c: vec4<f32>) -> f32 {
+    if (AXI) {
+        return nbo[p].z;
+    }
+    return h * c.z;
 }
 
 // 0 at the boundary threshold, 1 from 1.5 times it (cpu::contact::surface_ramp).
@@ -311,7 +322,7 @@ fn pass2_at(q: u32) {
             let np = cp.xy;
             let op = bitcast<f32>(mp.y);
             let hp = bodies[mp.z].h;
-            let wg = candidate(np, nq, cd.d, op, oq, hp, hq, cp.z, cnq.z);
+            let wg = candidate(np, nq, cd.d, op, oq, hp, hq, ramp_measure(p, hp, cp), ramp_measure(q, hq, cnq));
             let w = wg.x;
             if (w < 0.0) {
                 continue;

@@ -445,22 +445,27 @@ fn damage_of(i: u32) -> f32 {
     return 0.0;
 }
 
-// Outward normal and boundary flag from the colour gradient and, in a body
-// of revolution, the colour function it is taken relative to (CPU twin:
-// cpu::kinematics::surface_measure).
+// Outward normal and boundary flag (> 0 on the boundary) from the colour
+// gradient and, in a body of revolution, the colour function it is taken
+// relative to (CPU twin: cpu::kinematics::surface_measure). There the
+// flag is the measure itself, which the contact's surface ramp reads
+// (contact.wgsl, ramp_measure).
 fn surface_of(gpsi: vec2<f32>, psi: f32, hi: f32) -> vec3<f32> {
     var normal = vec2<f32>(0.0);
     let glen = length(gpsi);
     if (glen > 0.0) {
         normal = gpsi / glen;
     }
-    var threshold = params.boundary_threshold;
+    var measure = hi * glen;
     if (AXI) {
-        threshold *= psi;
+        measure /= psi;
     }
     var boundary = 0.0;
-    if (hi * glen > threshold) {
+    if (measure > params.boundary_threshold) {
         boundary = 1.0;
+        if (AXI) {
+            boundary = measure;
+        }
     }
     return vec3<f32>(normal, boundary);
 }

@@ -88,7 +88,8 @@ fn entries(p: u32, count: bool) -> Entries {
             let d = -cd.d;
             let cq = cn[place(q)];
             let nq = cq.xy;
-            let w = candidate(np, nq, d, op, oq, hp, bodies[mq.z].h, cnp.z, cq.z).x;
+            let hq = bodies[mq.z].h;
+            let w = candidate(np, nq, d, op, oq, hp, hq, ramp_measure(p, hp, cnp), ramp_measure(q, hq, cq)).x;
             if (w < 0.0) {
                 continue;
             }
@@ -255,7 +256,7 @@ fn entries(p: u32, count: bool) -> Entries {
                 let cnq = cn[place(q)];
                 let nq = cnq.xy;
                 let hq = bodies[mq.z].h;
-                let wg = candidate(np, nq, d, op, oq, hp, hq, cnp.z, cnq.z);
+                let wg = candidate(np, nq, d, op, oq, hp, hq, ramp_measure(p, hp, cnp), ramp_measure(q, hq, cnq));
                 if (wg.x < 0.0) {
                     continue;
                 }

@@ -52,8 +52,8 @@ pub fn is_candidate(
     if model.dim == 1 {
         return Some((w, gw));
     }
-    let r = surface_ramp(model.h[p] * bd.grad_norm[p], model.boundary_threshold)
-        * surface_ramp(model.h[q] * bd.grad_norm[q], model.boundary_threshold);
+    let r = surface_ramp(ramp_measure(model, bd, p), model.boundary_threshold)
+        * surface_ramp(ramp_measure(model, bd, q), model.boundary_threshold);
     if r <= 0.0 {
         return None;
     }
@@ -70,6 +70,17 @@ pub fn is_candidate(
 #[inline]
 pub fn surface_ramp(hg: f64, threshold: f64) -> f64 {
     ((hg - threshold) / (SURFACE_RAMP * threshold)).clamp(0.0, 1.0)
+}
+
+/// What [`surface_ramp`] reads of boundary particle `i`: `h |∇ψ⁰|`, in a
+/// body of revolution the boundary test's own measure
+/// ([`Boundary::measure`]).
+#[inline]
+fn ramp_measure(model: &Model, bd: &Boundary, i: usize) -> f64 {
+    match bd.measure.get(i) {
+        Some(&m) => m,
+        None => model.h[i] * bd.grad_norm[i],
+    }
 }
 
 /// Width of [`surface_ramp`] as a fraction of the boundary threshold.

@@ -534,6 +534,28 @@ pub struct Boundary {
     /// The boundary particles in ascending order: the contact's work goes
     /// over these alone (some hundreds in a body of 1e5 particles).
     pub list: Vec<u32>,
+    /// In a body of revolution, each particle's [`surface_measure`] from
+    /// the kinematic pass, which the contact's surface ramp reads
+    /// ([`contact::surface_ramp`](super::contact::surface_ramp)); empty in
+    /// plane strain and 1-D, where the ramp reads `h |∇ψ⁰|`.
+    pub measure: Vec<f64>,
+}
+
+/// What the contact's surface ramp reads in a body of revolution: each
+/// particle's [`surface_measure`] of the kinematic pass `k`, the measure
+/// the boundary set was chosen by; empty elsewhere. Unnormalised,
+/// `h |∇ψ⁰|` of the face's axis particle of a spread Taylor bar fell to
+/// the threshold while `h |∇ψ| / ψ` stayed at 0.66: the ramp let go of a
+/// particle that was still a boundary particle pressed on the wall, and
+/// it sank into it.
+pub fn contact_measure(model: &Model, k: &Kinematics) -> Vec<f64> {
+    if !model.axisymmetric {
+        return Vec::new();
+    }
+    (0..model.len())
+        .into_par_iter()
+        .map(|i| surface_measure(model, i, k.grad_psi[i], k.psi.get(i).copied()))
+        .collect()
 }
 
 /// The boundary set of the kinematics pass ([`Kinematics::surface`]), with
@@ -549,7 +571,13 @@ pub struct Boundary {
 /// current volumes the energy also moves with the densities, work that no
 /// force does: 0.7 % of the total at the height of two steel disks'
 /// contact at R/Δx 20.
-pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bool>) -> Boundary {
+pub fn boundary(
+    model: &Model,
+    x: &[DVec2],
+    nb: &Neighbours,
+    is_boundary: Vec<bool>,
+    measure: Vec<f64>,
+) -> Boundary {
     let n = model.len();
     let list: Vec<u32> = (0..n as u32)
         .into_par_iter()
@@ -595,6 +623,7 @@ pub fn boundary(model: &Model, x: &[DVec2], nb: &Neighbours, is_boundary: Vec<bo
         is_boundary,
         area,
         list,
+        measure,
     }
 }
 
@@ -653,7 +682,7 @@ shape = { kind = "rectangle", min = [0.0, 0.0], max = [3.0, 3.0] }
         };
         let nb = neighbours::find(&model, st.frame());
         let k = kinematics(&model, &st, &nb);
-        let bd = boundary(&model, &st.x, &nb, k.surface.clone());
+        let bd = boundary(&model, &st.x, &nb, k.surface.clone(), Vec::new());
         let close = |a: DVec2, b: DVec2| (a - b).length() < 1e-12;
         let d = std::f64::consts::FRAC_1_SQRT_2;
         assert!(close(bd.normal[at(0.5, 0.5)], DVec2::new(-d, -d)));

@@ -133,8 +133,9 @@ impl CpuSolver {
         };
         let bd = model.contact.then(|| {
             stage::enter(Stage::Contact, Role::Next);
+            let measure = kinematics::contact_measure(model, &k);
             let kinematics::Kinematics { surface, .. } = k;
-            let bd = kinematics::boundary(model, &next.x, nb, surface);
+            let bd = kinematics::boundary(model, &next.x, nb, surface, measure);
             diag.boundary_count = bd.list.len();
             next.entry.clone_from(&st.entry);
             let c = contact::penalty(model, &next, nb, &bd);

@@ -130,6 +130,7 @@ fn evaluate_at(
         correction_fallback: k.fallback.len(),
         ..Default::default()
     };
+    let measure = kinematics::contact_measure(model, &k);
     let kinematics::Kinematics {
         drho,
         ds,
@@ -144,7 +145,7 @@ fn evaluate_at(
     let mut entry = Vec::new();
     if model.contact {
         stage::enter(Stage::Contact, role);
-        let bd = kinematics::boundary(model, &st.x, nb, surface);
+        let bd = kinematics::boundary(model, &st.x, nb, surface, measure);
         diag.boundary_count = bd.list.len();
         let c = contact::penalty(model, st, nb, &bd);
         entry.clone_from(&c.entry);
@@ -192,7 +193,8 @@ fn evaluate_at(
 pub fn surface(model: &Model, st: &State) -> (Vec<DVec2>, Vec<bool>) {
     let nb = neighbours::find(model, st.frame());
     let a = sweep::kinematics(model, st, &nb);
-    let bd = kinematics::boundary(model, &st.x, &nb, a.surface);
+    let measure = kinematics::contact_measure(model, &a);
+    let bd = kinematics::boundary(model, &st.x, &nb, a.surface, measure);
     (bd.normal, bd.is_boundary)
 }
 

@@ -94,7 +94,13 @@ fn leapfrog_steps_from(mut model: Model, st: State, hourglass: f64) {
     let mut g = GpuSolver::new(ctx, model.clone(), &st, &[], 1.0).expect("fits the adapter");
     let nb = neighbours::find(&model, st.frame());
     let k = kinematics::kinematics(&model, &st, &nb);
-    let bd = kinematics::boundary(&model, &st.x, &nb, k.surface.clone());
+    let bd = kinematics::boundary(
+        &model,
+        &st.x,
+        &nb,
+        k.surface.clone(),
+        kinematics::contact_measure(&model, &k),
+    );
     let cf = contact::penalty(&model, &st, &nb, &bd);
     let a_contact = bd
         .list
