@@ -543,13 +543,13 @@ pub struct Boundary {
 
 /// What the contact's surface ramp reads in a body of revolution: each
 /// particle's [`surface_measure`] of the kinematic pass `k`, the measure
-/// the boundary set was chosen by; empty elsewhere. Unnormalised,
-/// `h |∇ψ⁰|` of the face's axis particle of a spread Taylor bar fell to
-/// the threshold while `h |∇ψ| / ψ` stayed at 0.66: the ramp let go of a
-/// particle that was still a boundary particle pressed on the wall, and
-/// it sank into it.
+/// the boundary set was chosen by; empty elsewhere and without contact.
+/// Unnormalised, `h |∇ψ⁰|` of the face's axis particle of a spread Taylor
+/// bar fell to the threshold while `h |∇ψ| / ψ` stayed at 0.66: the ramp
+/// let go of a particle that was still a boundary particle pressed on the
+/// wall, and it sank into it.
 pub fn contact_measure(model: &Model, k: &Kinematics) -> Vec<f64> {
-    if !model.axisymmetric {
+    if !model.axisymmetric || !model.contact {
         return Vec::new();
     }
     (0..model.len())
