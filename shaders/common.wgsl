@@ -21,8 +21,8 @@ override ART_KAPPA: bool = false;
 // A pair takes the artificial stress only while its work is heat
 // (tension::heat_share).
 override ART_HEAT: bool = false;
-// physics::tension::HEAT_RAMP.
-override HEAT_RAMP: f32 = 0.1;
+// physics::tension::HEAT_SPEED.
+override HEAT_SPEED: f32 = 0.01;
 // A pair with a particle that flows plastically takes the artificial
 // stress as ART_HEAT does (`work = "plastic"`, Model::flowing); the
 // kinematics pass marks such a particle by the sign of its sound speed

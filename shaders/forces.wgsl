@@ -334,10 +334,10 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
                 // the momentum's velocities (tension::heat_share).
                 if (ART_HEAT || (ART_FLOW && (o.flows || flows_j))) {
                     let rg = sym_mul(rf, g);
-                    let norm = length(vm) * length(rg);
+                    let scale = HEAT_SPEED * 0.5 * (o.t.w + tj.w) * length(rg);
                     var share = 0.0;
-                    if (norm > 0.0) {
-                        share = clamp(-dot(vm, rg) / (norm * HEAT_RAMP), 0.0, 1.0);
+                    if (scale > 0.0) {
+                        share = clamp(-dot(vm, rg) / scale, 0.0, 1.0);
                     }
                     rf *= share;
                 }

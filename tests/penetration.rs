@@ -187,3 +187,51 @@ fn jet_tip_holds_with_the_classic_stress() {
 fn jet_tip_holds_gpu() {
     on_gpu(|| jet_tip_holds(false));
 }
+
+/// The artificial stress that heats where the material flows (`work =
+/// "plastic"`) through the coarse penetration (Δx = 0.2 mm, 1,200 m/s,
+/// 15 µs). A pair's share of the term is a continuous function of its
+/// velocity (docs/method.md, "Only heat"), so round-off stays round-off:
+/// the scene's mirror symmetry holds (the rod's sideways speed measured
+/// 1e-10 m/s, asserted 1e-6) and an impact speed changed by 1e-6 of
+/// itself moves the rod's mean plastic strain by 2e-5 of itself (asserted
+/// 1e-4). With the share read from the direction of `v_ij` alone the rod
+/// left sideways at 0.1–0.2 m/s and the strain moved by 3e-3.
+#[test]
+fn artificial_stress_that_heats_where_it_flows_keeps_round_off_small() {
+    let shot = |speed: f64| {
+        let mut scene = load("scenes/penetration/tungsten_rod_steel_plate.toml");
+        for b in &mut scene.bodies {
+            b.spacing = 2.0e-4;
+        }
+        scene.bodies[0].velocity = Some(vec![0.0, -speed]);
+        scene.simulation.end_time = 1.5e-5;
+        scene.output.snapshot_interval = None;
+        scene.artificial_stress = Some(sphcontact::scene::ArtificialStress {
+            pairs: sphcontact::scene::ArtPairs::Close,
+            work: sphcontact::scene::ArtWork::Plastic,
+            ..sphcontact::scene::ArtificialStress::DEFAULT
+        });
+        let out = run(&scene);
+        assert_eq!(out.summary.status, "completed", "{:?}", out.summary.error);
+        let rod = out.model.bodies[0].range.clone();
+        let m: f64 = rod.clone().map(|i| out.model.mass[i]).sum();
+        let mean = |f: &dyn Fn(usize) -> f64| {
+            rod.clone().map(|i| out.model.mass[i] * f(i)).sum::<f64>() / m
+        };
+        let vx = mean(&|i| out.state.v[i].x);
+        let eps = mean(&|i| out.state.eps_p[i]);
+        (vx, eps)
+    };
+    let (vx, eps) = shot(1200.0);
+    let (vx2, eps2) = shot(1200.0 * (1.0 + 1e-6));
+    println!("rod sideways {vx:+.2e} / {vx2:+.2e} m/s, mean plastic strain {eps:.6} / {eps2:.6}");
+    assert!(eps > 0.3, "the rod flows: {eps}");
+    for v in [vx, vx2] {
+        assert!(v.abs() < 1e-6, "the rod leaves sideways at {v:+e} m/s");
+    }
+    assert!(
+        (eps2 / eps - 1.0).abs() < 1e-4,
+        "plastic strain {eps} against {eps2}"
+    );
+}

@@ -301,7 +301,7 @@ fn cylinder_whose_artificial_stress_only_heats_at_10_through_gpu() {
 
 /// With the term heating only where the material flows (`work =
 /// "plastic"`): the whole shell flows, so it stops where the term that
-/// only heats stops it (41.247 mm at 10 through, CPU), and the GPU path,
+/// only heats stops it (40.213 mm at 10 through, CPU), and the GPU path,
 /// which marks the flowing particles in its kinematics pass, with it.
 /// Long on a software adapter (a minute or more); the default suite keeps
 /// the key's parity in the stage test (`stages_match_cpu_with_plastic_flow`).

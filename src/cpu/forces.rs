@@ -12,7 +12,7 @@ use crate::model::{Model, State};
 use crate::physics::strength;
 use crate::scene::ArtPairs;
 
-use crate::physics::tension::{art_weight, close_gate, heat_share};
+use crate::physics::tension::{art_weight, close_gate, heat_share, HEAT_SPEED};
 use crate::physics::viscosity::{reconstructed_jump, viscosity_pi};
 use crate::scene::ArtWork;
 
@@ -214,7 +214,8 @@ pub(in crate::cpu) fn pair_terms_of(
             };
             if heat {
                 let rg = rf.mul_vec(g);
-                rf = rf.scale(heat_share(vij.dot(rg), vij.length() * rg.length()));
+                let scale = HEAT_SPEED * (0.5 * (pi_.c + pj.c)) * rg.length();
+                rf = rf.scale(heat_share(vij.dot(rg), scale));
             }
             t = t.add_scaled(&rf, 1.0);
             rfg = rf.mul_vec(g);

@@ -64,7 +64,7 @@ pub(super) fn make_kernels(
                 .artificial_stress
                 .is_some_and(|a| a.work == ArtWork::Heat) as u8 as f64,
         ),
-        ("HEAT_RAMP", crate::physics::tension::HEAT_RAMP),
+        ("HEAT_SPEED", crate::physics::tension::HEAT_SPEED),
         ("ART_FLOW", model.art_keyed_on_flow() as u8 as f64),
         ("YIELD_TOL", crate::model::YIELD_TOL),
         ("RECON", model.av_reconstruct as u8 as f64),

@@ -93,30 +93,34 @@ pub fn close_gate_lanes(r2: F4, vol: F4, k2: F4, dim: usize) -> F4 {
 /// Where a pair's artificial stress may only heat (`work = "heat"`,
 /// docs/method.md, "Only heat"): the share of the term it takes, from `vr =
 /// v_ij · (R f^n γ) G_ij` (twice the term's work on the pair, heat where
-/// negative) and `norm = |v_ij| |(R f^n γ) G_ij|`. None while the work
-/// would take heat; all of it once the pair closes along the term's
-/// force at a cosine of `HEAT_RAMP`; linear between, so that a pair moving
-/// across the force does not switch it on and off from step to step.
+/// negative) and `scale = HEAT_SPEED c̄_ij |(R f^n γ) G_ij|`, `c̄_ij` the
+/// pair's mean sound speed. None while the pair recedes along the term's
+/// force or rests; all of it once it closes along the force at
+/// `HEAT_SPEED c̄_ij`; linear in `v_ij` between. The share is a continuous
+/// function of the velocities, so round-off in a pair nearly at rest moves
+/// it by round-off: a share read from the direction of `v_ij` alone turned
+/// on round-off there, and runs lost their mirror symmetry.
 #[inline]
-pub fn heat_share(vr: f64, norm: f64) -> f64 {
-    if norm > 0.0 {
-        ((0.0 - vr) / (norm * HEAT_RAMP)).clamp(0.0, 1.0)
+pub fn heat_share(vr: f64, scale: f64) -> f64 {
+    if scale > 0.0 {
+        ((0.0 - vr) / scale).clamp(0.0, 1.0)
     } else {
         0.0
     }
 }
 
-/// The cosine between a pair's velocity and the artificial stress's force
-/// at which [`heat_share`] gives the whole term.
-pub const HEAT_RAMP: f64 = 0.1;
+/// The closing speed along the artificial stress's force, as a fraction of
+/// the pair's mean sound speed, at which [`heat_share`] gives the whole
+/// term (about 50 m/s in steel).
+pub const HEAT_SPEED: f64 = 0.01;
 
 /// [`heat_share`] for four pairs, one to a lane (bit-identical).
 #[inline(always)]
-pub fn heat_share_lanes(vr: F4, norm: F4) -> F4 {
-    let share = ((F4::splat(0.0) - vr) / (norm * HEAT_RAMP))
+pub fn heat_share_lanes(vr: F4, scale: F4) -> F4 {
+    let share = ((F4::splat(0.0) - vr) / scale)
         .min(F4::splat(1.0))
         .max(F4::splat(0.0));
-    F4::splat(0.0).lt(norm).select(share, F4::splat(0.0))
+    F4::splat(0.0).lt(scale).select(share, F4::splat(0.0))
 }
 
 /// [`art_weight`] for four pairs, one to a lane: the same operations in

@@ -250,8 +250,8 @@ pub enum ArtWork {
     #[default]
     Either,
     /// The pair takes the term only while its work there is heat (`≥ 0`),
-    /// fully once the pair approaches along the term's force at more than
-    /// [`crate::physics::tension::HEAT_RAMP`] of the direction's cosine.
+    /// fully once the pair closes along the term's force at
+    /// [`crate::physics::tension::HEAT_SPEED`] of its sound speed.
     Heat,
     /// A pair with a particle that flows plastically
     /// ([`crate::model::Model::flowing`]) takes it as with

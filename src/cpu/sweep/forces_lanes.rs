@@ -15,7 +15,7 @@ use crate::math::lanes::{columns, F4, LANES};
 use crate::math::Mat2;
 use crate::model::{Model, State};
 use crate::physics::strength;
-use crate::physics::tension::{art_weight_lanes, close_gate_lanes, heat_share_lanes};
+use crate::physics::tension::{art_weight_lanes, close_gate_lanes, heat_share_lanes, HEAT_SPEED};
 use crate::scene::{ArtPairs, ArtWork};
 
 /// Where a pass's energy terms go: into the particles' sums and the row's
@@ -563,10 +563,10 @@ fn lane_terms(
                     if let Some(fl) = keyed {
                         let (rgx, rgy) = (rfxx * gx + rfxy * gy, rfxy * gx + rfyy * gy);
                         let vr = vx * rgx + vy * rgy;
-                        let norm = (vx * vx + vy * vy).sqrt() * (rgx * rgx + rgy * rgy).sqrt();
+                        let scale = F4::splat(HEAT_SPEED) * c_mean * (rgx * rgx + rgy * rgy).sqrt();
                         let share = F4::splat(0.0)
                             .lt(fl)
-                            .select(heat_share_lanes(vr, norm), F4::splat(1.0));
+                            .select(heat_share_lanes(vr, scale), F4::splat(1.0));
                         (rfxx, rfxy, rfyy) = (rfxx * share, rfxy * share, rfyy * share);
                     }
                     txx = on.select(txx + rfxx, txx);
