@@ -179,8 +179,7 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
         }),
         ("contact", |m, s, i| {
             let k = &i.k;
-            let measure = kinematics::contact_measure(m, k);
-            let bd = kinematics::boundary(m, &s.x, &i.nb, k.surface.clone(), measure);
+            let bd = kinematics::boundary_of(m, &s.x, &i.nb, k);
             black_box(contact::penalty(m, s, &i.nb, &bd));
         }),
         ("evaluate", |m, s, i| {

@@ -425,8 +425,7 @@ fn the_contact_of_a_body_of_revolution_does_not_read_its_reference_areas_scale()
     let nb = neighbours::find(&model, st.frame());
     let forces = |model: &Model| {
         let k = kinematics::kinematics(model, &st, &nb);
-        let measure = kinematics::contact_measure(model, &k);
-        let bd = kinematics::boundary(model, &st.x, &nb, k.surface, measure);
+        let bd = kinematics::boundary_of(model, &st.x, &nb, &k);
         let c = contact::penalty(model, &st, &nb, &bd);
         let mut f = vec![DVec2::ZERO; model.len()];
         for (k, &i) in bd.list.iter().enumerate() {

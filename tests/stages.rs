@@ -142,13 +142,7 @@ fn normal_errors_deg(
 ) -> (usize, f64, f64) {
     let nb = neighbours::find(model, st.frame());
     let pa = kinematics::kinematics(model, st, &nb);
-    let bd = kinematics::boundary(
-        model,
-        &st.x,
-        &nb,
-        pa.surface.clone(),
-        kinematics::contact_measure(model, &pa),
-    );
+    let bd = kinematics::boundary_of(model, &st.x, &nb, &pa);
     let mut worst: f64 = 0.0;
     let mut sum = 0.0;
     let mut n = 0;

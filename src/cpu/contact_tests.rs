@@ -71,8 +71,8 @@ fn two_particles_gap_and_force_by_hand() {
     assert!((spring_stiffness(0.5 * dx, dx, m, 0.5 * dx, dx, m) / k - 1.0).abs() < 1e-15);
 
     let nb = neighbours::find(&model, st.frame());
-    let surface = kinematics::kinematics(&model, &st, &nb).surface;
-    let bd = kinematics::boundary(&model, &st.x, &nb, surface, Vec::new());
+    let kin = kinematics::kinematics(&model, &st, &nb);
+    let bd = kinematics::boundary_of(&model, &st.x, &nb, &kin);
     // The four ends are the boundary; in 1-D the area is 1.
     assert_eq!(bd.list, vec![0, 3, 4, 7]);
     assert!(bd.list.iter().all(|&i| bd.area[i as usize] == 1.0));
@@ -121,8 +121,8 @@ fn two_particles_gap_and_force_by_hand() {
 fn entry_overlaps_store_nothing_and_only_shrink() {
     let (model, mut st) = pressed("square", 0.2);
     let nb = neighbours::find(&model, st.frame());
-    let surface = kinematics::kinematics(&model, &st, &nb).surface;
-    let bd = kinematics::boundary(&model, &st.x, &nb, surface, Vec::new());
+    let k = kinematics::kinematics(&model, &st, &nb);
+    let bd = kinematics::boundary_of(&model, &st.x, &nb, &k);
     let full = penalty(&model, &st, &nb, &bd);
     assert!(full.stats.stored > 0.0);
     assert!(full.entry.iter().all(|&(_, e)| e == 0.0));
@@ -163,8 +163,8 @@ fn entry_overlaps_store_nothing_and_only_shrink() {
 fn a_deep_overlap_yields() {
     let (model, st) = pressed("square", 0.7);
     let nb = neighbours::find(&model, st.frame());
-    let surface = kinematics::kinematics(&model, &st, &nb).surface;
-    let bd = kinematics::boundary(&model, &st.x, &nb, surface, Vec::new());
+    let k = kinematics::kinematics(&model, &st, &nb);
+    let bd = kinematics::boundary_of(&model, &st.x, &nb, &k);
     let c = penalty(&model, &st, &nb, &bd);
     let dx = model.bodies[0].spacing;
     let cap = yield_overlap(dx);
@@ -198,7 +198,7 @@ fn spring_force_is_the_stored_energys_gradient() {
         let nb = neighbours::find(&model, st.frame());
         let k = kinematics::kinematics(&model, &st, &nb);
         let surface = k.surface.clone();
-        let bd = kinematics::boundary(&model, &st.x, &nb, surface.clone(), Vec::new());
+        let bd = kinematics::boundary_of(&model, &st.x, &nb, &k);
         if entries {
             st.entry.iter_mut().for_each(|e| *e = -1.0);
             let joined = penalty(&model, &st, &nb, &bd);

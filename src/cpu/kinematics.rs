@@ -558,6 +558,13 @@ pub fn contact_measure(model: &Model, k: &Kinematics) -> Vec<f64> {
         .collect()
 }
 
+/// [`boundary`] of the kinematics pass `k`: its surface set and, in a body
+/// of revolution, its [`contact_measure`]. For callers outside the step,
+/// which keeps `k`'s surface set by moving it.
+pub fn boundary_of(model: &Model, x: &[DVec2], nb: &Neighbours, k: &Kinematics) -> Boundary {
+    boundary(model, x, nb, k.surface.clone(), contact_measure(model, k))
+}
+
 /// The boundary set of the kinematics pass ([`Kinematics::surface`]), with
 /// each boundary particle's outward normal `n_i = g_i/|g_i|` and contact
 /// area `A_i = (15/(7π h)) / Σ_j W_ij` over the body's boundary particles,
@@ -682,7 +689,7 @@ shape = { kind = "rectangle", min = [0.0, 0.0], max = [3.0, 3.0] }
         };
         let nb = neighbours::find(&model, st.frame());
         let k = kinematics(&model, &st, &nb);
-        let bd = boundary(&model, &st.x, &nb, k.surface.clone(), Vec::new());
+        let bd = boundary_of(&model, &st.x, &nb, &k);
         let close = |a: DVec2, b: DVec2| (a - b).length() < 1e-12;
         let d = std::f64::consts::FRAC_1_SQRT_2;
         assert!(close(bd.normal[at(0.5, 0.5)], DVec2::new(-d, -d)));

@@ -193,8 +193,7 @@ fn evaluate_at(
 pub fn surface(model: &Model, st: &State) -> (Vec<DVec2>, Vec<bool>) {
     let nb = neighbours::find(model, st.frame());
     let a = sweep::kinematics(model, st, &nb);
-    let measure = kinematics::contact_measure(model, &a);
-    let bd = kinematics::boundary(model, &st.x, &nb, a.surface, measure);
+    let bd = kinematics::boundary_of(model, &st.x, &nb, &a);
     (bd.normal, bd.is_boundary)
 }
 
