@@ -10,6 +10,7 @@ use sphcontact::run::{run_scene, RunOptions};
 use sphcontact::scene::{
     default_cfl, default_smoothing_ratio, Backend, Body, ContactQuantity, Correction, Eos,
     Geometry, Integrator, Interaction, Material, Output, Probe, Scene, Shape, Simulation,
+    StressForm,
 };
 use sphcontact::validation::exact::bar_impact;
 use std::collections::BTreeMap;
@@ -58,6 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             interaction: Interaction::Penalty,
             smoothing_ratio: default_smoothing_ratio(),
             correction: Correction::Gradient,
+            stress_form: StressForm::Variational,
             backend: Backend::Cpu,
             integrator: Integrator::Midpoint,
             geometry: Geometry::Planar,

@@ -35,6 +35,9 @@ override YIELD_TOL: f32 = 1e-5;
 override RECON: bool = false;
 // ... at pairs with a surface particle too (`reconstruct_surfaces`).
 override RECON_SURF: bool = false;
+// The variational stress terms (`stress_form`, docs/method.md §4); else
+// the paper's eq. 6.
+override VARIATIONAL: bool = true;
 // The viscosity acts on receding pairs too (`form = "riemann"`).
 override RELEASE: bool = false;
 // The hourglass control's coefficient (docs/method.md, "Hourglass

@@ -284,7 +284,25 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
         }
         pi = (-o.alpha * cm * muv + beta * muv * muv) / rhom;
     }
+    // Each side's stress vector (cpu::forces::PairTerms::s): the paper's
+    // form keeps the stress terms in t on g; the variational one gives
+    // each side its own corrected gradient, sigma/(rho_i rho_j) L grad W
+    // (sigma/(eta_i rho_i) L grad W in a body of revolution).
     var t = vec4<f32>(o.t.xyz + tj.xyz, 0.0);
+    var si = sym_mul(o.t, g);
+    var sv = vec2<f32>(0.0);
+    if (VARIATIONAL) {
+        var fi = 1.0;
+        var fj = 1.0;
+        if (!AXI) {
+            let rho_j = sum_density(bj, j, rj);
+            fi = o.rho / rho_j;
+            fj = rho_j / o.rho;
+        }
+        si = sym_mul(o.t, mat_mul(o.l, pr.gw)) * fi;
+        sv = si + sym_mul(tj, mat_mul(lj, pr.gw)) * fj;
+        t = vec4<f32>(0.0);
+    }
     t.x -= pi;
     t.y -= pi;
     // The artificial stress's work, half to each particle of the pair, is
@@ -360,10 +378,10 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
     }
     let mass_j = bitcast<f32>(mj.x);
     if (LEAP != 3u) {
-        (*sums).acc += (sym_mul(t, g) + hg.xi + hg.xj) * mass_j;
+        (*sums).acc += (sym_mul(t, g) + sv + hg.xi + hg.xj) * mass_j;
     }
     if (LEAP != 2u) {
-        (*sums).de -= mass_j * (dot(vij, sym_mul(o.t, g) + hg.xi) - 0.5 * pi * dot(vij, g) + art_work);
+        (*sums).de -= mass_j * (dot(vij, si + hg.xi) - 0.5 * pi * dot(vij, g) + art_work);
         if (DISS_SUMS) {
             // The artificial part of i's energy vector (PairTerms::a).
             (*sums).dd -= mass_j * dot(vij, 0.5 * (rfg - pi * g) + hg.xi);

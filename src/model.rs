@@ -115,6 +115,9 @@ pub struct Model {
     /// that follow the deformation"): [`State::metric`] holds each
     /// particle's.
     pub adaptive: bool,
+    /// The variational stress terms (docs/method.md §4,
+    /// [`crate::scene::StressForm`]); `false`: the paper's eq. 6.
+    pub variational: bool,
 }
 
 /// The energy guard's factor ([`Model::guards_energy`]).
@@ -263,6 +266,7 @@ impl Model {
             energy_floor: 0.0,
             axisymmetric: scene.axisymmetric(),
             adaptive: sim.adaptive(),
+            variational: sim.stress_form == crate::scene::StressForm::Variational,
             area0: Vec::new(),
         };
         let mut state = State {

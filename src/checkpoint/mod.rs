@@ -41,14 +41,16 @@ use crate::scene::{Backend, Scene};
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\n";
-/// Version 8: the cumulative artificial dissipation of a state and the
-/// rate the leapfrog carries. (Version 7: the supports' metrics of a state
+/// Version 9: a scene without `stress_form` runs the variational stress
+/// terms, so a version 8 checkpoint resumed would change its physics.
+/// (Version 8: the cumulative artificial dissipation of a state and the
+/// rate the leapfrog carries.) (Version 7: the supports' metrics of a state
 /// whose supports adapt, and the lists' reaches. Version 6: the failure times of a state with a
 /// plastic history.)
 /// (Version 5: a scene without `[artificial_stress]` runs the default
 /// close-pair form, so a version 4 checkpoint resumed would change its
 /// physics.)
-const VERSION: u64 = 8;
+const VERSION: u64 = 9;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]

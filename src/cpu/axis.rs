@@ -102,7 +102,7 @@ pub(super) fn add_momentum(
                 let im = image(j);
                 let p = pair_terms_of(model, st, &kin.surface, (i, &a), (j, &im), &b);
                 dvi += p.tg * model.mass[j];
-                row[slot] = [vectors_of(&p, &a.pt.sr2, &im.pt.sr2)[0], p.a + p.hg[0]];
+                row[slot] = [vectors_of(&p)[0], p.a + p.hg[0]];
             }
             (i, dvi)
         })

@@ -33,10 +33,14 @@ pub struct StressPoint {
 /// What a pair contributes to both of its particles' momentum and energy
 /// sums, from particle i's side.
 pub(in crate::cpu) struct PairTerms {
-    /// `t G_ij`, `t = σ_i/ρ_i² + σ_j/ρ_j² − Π_ij I (+ artificial stress)`.
+    /// The pair's force per unit `m_i m_j`: `S_i + S_j + t G_ij`, `t =
+    /// −Π_ij I (+ artificial stress)` (and the hourglass control's terms).
     pub(in crate::cpu) tg: DVec2,
-    /// `G_ij = ½ (L_i + L_j) ∇_i W_ij`.
-    pub(in crate::cpu) g: DVec2,
+    /// Each side's stress vector `[S_i, S_j]`, whose work `−m_j v_ij·S_i`
+    /// is i's stress power in the pair: variational, `S_i = σ_i/(ρ_i ρ_j)
+    /// L_i ∇_i W_ij` (in a body of revolution `σ_i/(η_i ρ_i) L_i ∇_i
+    /// W_ij`); the paper's form, `S_i = σ_i/ρ_i² G_ij`.
+    pub(in crate::cpu) s: [DVec2; 2],
     /// `v_ij = v_i − v_j`.
     pub(in crate::cpu) vij: DVec2,
     /// `½ Π_ij v_ij·G_ij − ½ (R_i + R_j) f^n : (v_ij ⊗ G_ij)`, the part of
@@ -156,7 +160,28 @@ pub(in crate::cpu) fn pair_terms_of(
         0.5 * (st.rho[i] + st.rho[j]),
         model.av_release,
     );
-    let mut t = pi_.sr2.add_scaled(&pj.sr2, 1.0);
+    // The stress terms (docs/method.md §4): the paper's form keeps them in
+    // `t` on G; the variational one gives each side its own gradient.
+    let s = if model.variational {
+        // V_j / ρ_i against ρ_i²: ρ_i/ρ_j; a body of revolution's
+        // gradient weighs j by m_j/η_i, whose ratio is 1.
+        let (fi, fj) = if model.axisymmetric {
+            (1.0, 1.0)
+        } else {
+            (st.rho[i] / st.rho[j], st.rho[j] / st.rho[i])
+        };
+        [
+            pi_.sr2.mul_vec(a.l.mul_vec(gw)) * fi,
+            pj.sr2.mul_vec(b.l.mul_vec(gw)) * fj,
+        ]
+    } else {
+        [pi_.sr2.mul_vec(g), pj.sr2.mul_vec(g)]
+    };
+    let mut t = if model.variational {
+        Sym::default()
+    } else {
+        pi_.sr2.add_scaled(&pj.sr2, 1.0)
+    };
     t.xx -= pi;
     t.yy -= pi;
     // The artificial stress's work on the pair, half to each particle, is
@@ -227,9 +252,14 @@ pub(in crate::cpu) fn pair_terms_of(
     } else {
         [DVec2::ZERO; 2]
     };
+    let tg = if model.variational {
+        t.mul_vec(g) + (s[0] + s[1])
+    } else {
+        t.mul_vec(g)
+    };
     PairTerms {
-        tg: t.mul_vec(g) + hg[0] + hg[1],
-        g,
+        tg: tg + hg[0] + hg[1],
+        s,
         vij,
         shared: 0.5 * pi * vij.dot(g) - art_work,
         a: (rfg - g * pi) * 0.5,
@@ -331,7 +361,7 @@ pub fn rates_and_dissipation(
                 let p = pair_terms(model, st, kin, pts, i, &b);
                 let mj = model.mass[b.j as usize];
                 dv += p.tg * mj;
-                de -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g) + p.hg[0]) - p.shared);
+                de -= mj * (p.vij.dot(p.s[0] + p.hg[0]) - p.shared);
                 dd -= mj * p.vij.dot(p.a + p.hg[0]);
             }
             (dv, de, dd * model.mass[i])

@@ -70,6 +70,7 @@ pub(super) fn make_kernels(
         ("RECON", model.av_reconstruct as u8 as f64),
         ("RECON_SURF", model.av_recon_surface as u8 as f64),
         ("RELEASE", model.av_release as u8 as f64),
+        ("VARIATIONAL", model.variational as u8 as f64),
         ("HG", model.hourglass),
         ("HISTORY", model.history as u8 as f64),
         ("FAILURE", model.can_fail() as u8 as f64),

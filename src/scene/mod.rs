@@ -64,6 +64,9 @@ pub struct Simulation {
     pub smoothing_ratio: f64,
     #[serde(default)]
     pub correction: Correction,
+    /// The momentum and energy sums' stress terms (docs/method.md §4).
+    #[serde(default)]
+    pub stress_form: StressForm,
     #[serde(default)]
     pub backend: Backend,
     /// Time integration (docs/method.md §9; an addition to the contract).
@@ -155,6 +158,20 @@ pub enum Correction {
     #[default]
     Gradient,
     None,
+}
+
+/// The stress terms of the momentum and energy sums (docs/method.md §4).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum StressForm {
+    /// The variation of the discrete internal power (Bonet & Lok 1999):
+    /// each particle's stress on its own corrected gradient, and each
+    /// particle's energy its own stress power `σ_i : (∇v)_i / ρ_i`.
+    #[default]
+    Variational,
+    /// The paper's eq. 6: `σ_i/ρ_i² + σ_j/ρ_j²` on the pair's mean
+    /// corrected gradient, the energy on that gradient too.
+    Paper,
 }
 
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]

@@ -116,17 +116,16 @@ pub fn energy_replay(
     acc
 }
 
-/// The one-pair terms `p`'s [`PairVectors`], of particles with `σ/ρ²`
-/// `si` and `sj` (the hourglass control's parts included): `X_i = ½ (t G
-/// + (σ_i/ρ_i² − σ_j/ρ_j²) G)` and `X_j = t G − X_i`.
+/// The one-pair terms `p`'s [`PairVectors`] (the hourglass control's
+/// parts included): `X_i = ½ (t G + (S_i − S_j))` with each side's
+/// stress vector and hourglass term `S` ([`PairTerms::s`]), and `X_j = t
+/// G − X_i`.
+///
+/// [`PairTerms::s`]: crate::cpu::forces::PairTerms
 #[inline]
-pub(in crate::cpu) fn vectors_of(
-    p: &crate::cpu::forces::PairTerms,
-    si: &crate::math::Sym,
-    sj: &crate::math::Sym,
-) -> PairVectors {
+pub(in crate::cpu) fn vectors_of(p: &crate::cpu::forces::PairTerms) -> PairVectors {
     let [hi, hj] = p.hg;
-    let (sig, sjg) = (si.mul_vec(p.g) + hi, sj.mul_vec(p.g) + hj);
+    let (sig, sjg) = (p.s[0] + hi, p.s[1] + hj);
     let xi = (p.tg + (sig - sjg)) * 0.5;
     [xi, p.tg - xi]
 }

@@ -27,17 +27,16 @@ pub(super) trait EnergyTerms: Send + Default {
     const KEEPS: bool;
     /// Lane k of the pair terms `t`: i's and, for a near pair, j's.
     fn lane(self_: &mut Self, t: &LaneTerms, k: usize, ai: &mut Acc, aj: Option<&mut Acc>);
-    /// The one-pair terms `p` of pair `ij = (i, j)` with the masses
-    /// `m = (m_i, m_j)`, seen from row i: i's side unless i is rigid, j's
-    /// for a near pair (`aj`) unless j is rigid.
+    /// The one-pair terms `p` of pair `(i, j)` with the velocities `v =
+    /// (v_i, v_j)` and the masses `m = (m_i, m_j)`, seen from row i: i's
+    /// side unless i is rigid, j's for a near pair (`aj`) unless j is
+    /// rigid.
     #[allow(clippy::too_many_arguments)]
     fn pair(
         self_: &mut Self,
         p: &PairTerms,
-        st: &State,
-        pts: &[StressPoint],
+        v: (DVec2, DVec2),
         rigid: (bool, bool),
-        ij: (usize, usize),
         m: (f64, f64),
         ai: &mut Acc,
         aj: Option<&mut Acc>,
@@ -62,10 +61,8 @@ impl EnergyTerms for () {
     fn pair(
         _: &mut (),
         p: &PairTerms,
-        _: &State,
-        pts: &[StressPoint],
+        _: (DVec2, DVec2),
         (ri, _): (bool, bool),
-        (i, j): (usize, usize),
         (mi, mj): (f64, f64),
         ai: &mut Acc,
         aj: Option<&mut Acc>,
@@ -73,11 +70,11 @@ impl EnergyTerms for () {
     ) {
         let mm = mi * mj;
         if !ri {
-            ai.1 -= mj * (p.vij.dot(pts[i].sr2.mul_vec(p.g) + p.hg[0]) - p.shared);
+            ai.1 -= mj * (p.vij.dot(p.s[0] + p.hg[0]) - p.shared);
             ai.2 -= mm * p.vij.dot(p.a + p.hg[0]);
         }
         if let Some(aj) = aj {
-            aj.1 -= mi * (p.vij.dot(pts[j].sr2.mul_vec(p.g) + p.hg[1]) - p.shared);
+            aj.1 -= mi * (p.vij.dot(p.s[1] + p.hg[1]) - p.shared);
             ai.2 -= mm * p.vij.dot(p.a + p.hg[1]);
         }
     }
@@ -104,16 +101,14 @@ impl EnergyTerms for PairVectors {
     fn pair(
         slot: &mut Self,
         p: &PairTerms,
-        st: &State,
-        pts: &[StressPoint],
+        (vi, vj): (DVec2, DVec2),
         (ri, rj): (bool, bool),
-        (i, j): (usize, usize),
         (mi, mj): (f64, f64),
         ai: &mut Acc,
         aj: Option<&mut Acc>,
         near: bool,
     ) {
-        *slot = vectors_of(p, &pts[i].sr2, &pts[j].sr2);
+        *slot = vectors_of(p);
         // The pair's artificial work at velocities w is −m_i m_j w_ij·y,
         // y the artificial parts of the sides some visit books (a rigid
         // particle books none): its w_i part goes to i's vector, its w_j
@@ -129,12 +124,12 @@ impl EnergyTerms for PairVectors {
         }
         let y = y * (mi * mj);
         if ri {
-            ai.2 -= st.v[i].dot(y);
+            ai.2 -= vi.dot(y);
         } else {
             ai.3 += y;
         }
         if rj {
-            ai.2 += st.v[j].dot(y);
+            ai.2 += vj.dot(y);
         } else if let Some(aj) = aj.filter(|_| near) {
             aj.3 -= y;
         }
@@ -233,7 +228,16 @@ pub(super) fn sums_into<E: EnergyTerms>(
         if let Some(aj) = aj.as_deref_mut() {
             aj.0 -= p.tg * mi;
         }
-        E::pair(slot, &p, st, pts, (ri, rj), (i, j), (mi, mj), ai, aj, near);
+        E::pair(
+            slot,
+            &p,
+            (st.v[i], st.v[j]),
+            (ri, rj),
+            (mi, mj),
+            ai,
+            aj,
+            near,
+        );
     });
     totals(acc, keep)
 }
@@ -487,9 +491,14 @@ fn lane_terms(
     let pi = on.select(pi_raw, F4::splat(0.0));
     // t = σ_i/ρ_i² + σ_j/ρ_j² − Π I (+ (R_i + R_j) f^n), t G, and each
     // side's energy term.
-    let mut txx = sixx + sjxx - pi;
-    let mut tyy = siyy + sjyy - pi;
-    let mut txy = sixy + sjxy;
+    // The paper's form keeps the stress terms in t; the variational one
+    // gives each side its own gradient (pair_terms_of).
+    let (mut txx, mut tyy, mut txy) = if model.variational {
+        let zero = F4::splat(0.0);
+        (zero - pi, zero - pi, zero)
+    } else {
+        (sixx + sjxx - pi, siyy + sjyy - pi, sixy + sjxy)
+    };
     let mut art_work = None;
     let (mut rgx_on, mut rgy_on) = (F4::splat(0.0), F4::splat(0.0));
     let bonded = |art: &ArtRows| art.intact.is_empty() || art.intact[i] > 0.0;
@@ -579,16 +588,40 @@ fn lane_terms(
             }
         }
     }
-    let tgx = txx * gx + txy * gy;
-    let tgy = txy * gx + tyy * gy;
+    let mut tgx = txx * gx + txy * gy;
+    let mut tgy = txy * gx + tyy * gy;
     let mut shared = 0.5 * pi * (vx * gx + vy * gy);
     if let Some(w) = art_work {
         shared = shared - w;
     }
-    // σ_i/ρ_i² G and σ_j/ρ_j² G.
-    let (mut sigx, mut sigy) = (sixx * gx + sixy * gy, sixy * gx + siyy * gy);
-    let (mut sjgx, mut sjgy) = (sjxx * gx + sjxy * gy, sjxy * gx + sjyy * gy);
-    let (mut tgx, mut tgy) = (tgx, tgy);
+    // Each side's stress vector (PairTerms::s).
+    let (mut sigx, mut sigy, mut sjgx, mut sjgy);
+    if model.variational {
+        // σ_i/(ρ_i ρ_j) L_i ∇W and σ_j/(ρ_i ρ_j) L_j ∇W.
+        let lgix = lixx * gwx + lixy * gwy;
+        let lgiy = liyx * gwx + liyy * gwy;
+        let lgjx = ljxx * gwx + ljxy * gwy;
+        let lgjy = ljyx * gwx + ljyy * gwy;
+        let (fi, fj) = if model.axisymmetric {
+            (F4::splat(1.0), F4::splat(1.0))
+        } else {
+            (rhoi / rhoj, rhoj / rhoi)
+        };
+        (sigx, sigy) = (
+            (sixx * lgix + sixy * lgiy) * fi,
+            (sixy * lgix + siyy * lgiy) * fi,
+        );
+        (sjgx, sjgy) = (
+            (sjxx * lgjx + sjxy * lgjy) * fj,
+            (sjxy * lgjx + sjyy * lgjy) * fj,
+        );
+        tgx = tgx + (sigx + sjgx);
+        tgy = tgy + (sigy + sjgy);
+    } else {
+        // σ_i/ρ_i² G and σ_j/ρ_j² G.
+        (sigx, sigy) = (sixx * gx + sixy * gy, sixy * gx + siyy * gy);
+        (sjgx, sjgy) = (sjxx * gx + sjxy * gy, sjxy * gx + sjyy * gy);
+    }
     // PairTerms::a, and with the hourglass control each side's own part.
     let (ax, ay) = ((rgx_on - gx * pi) * 0.5, (rgy_on - gy * pi) * 0.5);
     let (mut aix, mut aiy, mut ajx, mut ajy) = (ax, ay, ax, ay);
