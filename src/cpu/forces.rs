@@ -1,7 +1,9 @@
 //! The forces pass: momentum and energy sums (docs/method.md §4) with Monaghan artificial
 //! viscosity and, when the scene asks for it, Gray–Monaghan–Swift artificial
-//! stress. The pair-antisymmetric `G_ij = ½ (L_i + L_j) ∇_i W_ij` conserves
-//! momentum and energy exactly in semi-discrete form.
+//! stress. The stress terms are the variation of the particles' stress
+//! power (each its own corrected gradient `L_i ∇_i W_ij`) or the paper's
+//! on `G_ij = ½ (L_i + L_j) ∇_i W_ij`, the artificial terms on `G_ij`:
+//! both conserve momentum and energy exactly in semi-discrete form.
 
 use glam::DVec2;
 
@@ -323,8 +325,9 @@ pub(in crate::cpu) fn along(r2: f64, q2: f64, h0: f64) -> f64 {
 /// The forces pass: `dv_i/dt` and `de_i/dt` from the SPH sums; rigid
 /// particles get zero rates.
 ///
-/// `dv_i/dt = Σ_j m_j t G_ij` and `de_i/dt = −Σ_j m_j (σ_i/ρ_i² − ½Π I +
-/// ½ (R_i + R_j) f^n) : (v_ij ⊗ G_ij)` (docs/method.md §4).
+/// `dv_i/dt = Σ_j m_j (S_i + S_j + t G_ij)` and `de_i/dt = −Σ_j m_j v_ij ·
+/// (S_i + ½ t G_ij)`, `S` each side's stress vector (`PairTerms::s`)
+/// and `t = −Π I + (R_i + R_j) f^n` (docs/method.md §4).
 ///
 /// Each particle's sums are gathered over its own neighbours, as the
 /// shader does; the solver evaluates each pair once for both of its

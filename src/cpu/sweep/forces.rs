@@ -14,8 +14,9 @@ use crate::model::{Model, State};
 /// The forces pass: `dv_i/dt` and `de_i/dt` from the SPH sums, each pair evaluated
 /// once ([`Neighbours::sweep`]); rigid particles get zero rates.
 ///
-/// `dv_i/dt = Σ_j m_j t G_ij` and `de_i/dt = −Σ_j m_j (σ_i/ρ_i² − ½Π I +
-/// ½ (R_i + R_j) f^n) : (v_ij ⊗ G_ij)` (docs/method.md §4).
+/// `dv_i/dt = Σ_j m_j (S_i + S_j + t G_ij)` and `de_i/dt = −Σ_j m_j v_ij ·
+/// (S_i + ½ t G_ij)`, `S` each side's stress vector (`cpu::forces::PairTerms::s`)
+/// and `t = −Π I + (R_i + R_j) f^n` (docs/method.md §4).
 ///
 /// Scenes with no rigid body (the common case: impacts between deforming
 /// bodies) take the lane code, four pairs of a row at a time
