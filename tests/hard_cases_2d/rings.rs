@@ -317,17 +317,17 @@ fn rings_with_artificial_stress(end: Option<f64>, hold: Hold) {
 /// where the rings with artificial stress have reversed by 180 µs), and run
 /// on, the CPU path stops at 484 µs with the instability message
 /// (density < 0). Asserted, in some snapshot or at the end: clumps (a pair
-/// of one ring closer than 0.5 Δx); with `fragments`, the stress terms it
-/// names (`Some`: the paper's, a ring broken into more than one cluster
-/// (1.5 Δx links) and the rings not yet reversed; `None`: the default,
-/// each ring one cluster).
+/// of one ring closer than 0.5 Δx); with the paper's stress terms
+/// (`paper`), a ring broken into more than one cluster (1.5 Δx links) and
+/// the rings not yet reversed; with the variational ones (the default),
+/// each ring one cluster.
 /// Energy holds to 0.5 % (no artificial stress outside the energy
 /// equation; measured −0.27 %) and momentum to round-off, so the failure
 /// is the tensile instability, not a leak.
-fn rings_without_artificial_stress(end: f64, fragments: Option<StressForm>, former: bool) {
+fn rings_without_artificial_stress(end: f64, paper: bool, former: bool) {
     let mut scene = load("scenes/hard/rubber_rings.toml");
-    if let Some(form) = fragments {
-        scene.simulation.stress_form = form;
+    if paper {
+        scene.simulation.stress_form = StressForm::Paper;
     }
     scene.artificial_stress = Some(sphcontact::scene::ArtificialStress {
         epsilon: 0.0,
@@ -366,13 +366,13 @@ fn rings_without_artificial_stress(end: f64, fragments: Option<StressForm>, form
     let worst = e.iter().map(|x| (x / e[0] - 1.0).abs()).fold(0.0, f64::max);
     println!("energy: worst {:.3} %", worst * 100.0);
     assert!(worst < 5e-3, "energy off by {worst:e}");
-    if fragments.is_none() {
+    if !paper {
         assert!(
             shapes.iter().all(|s| s.2.len() == 1),
             "a ring broke with the variational stress terms"
         );
     }
-    if fragments.is_some() {
+    if paper {
         assert!(
             shapes.iter().any(|s| s.2.len() > 1),
             "no ring fragmented without artificial stress"
@@ -480,8 +480,8 @@ fn rubber_rings_rebound_intact_with_artificial_stress_leapfrog() {
 /// cluster (measured to 400 µs).
 #[test]
 fn rubber_rings_clump_and_break_without_artificial_stress() {
-    rings_without_artificial_stress(2.5e-4, Some(StressForm::Paper), true);
-    rings_without_artificial_stress(2.5e-4, None, true);
+    rings_without_artificial_stress(2.5e-4, true, true);
+    rings_without_artificial_stress(2.5e-4, false, true);
 }
 
 /// With the default viscosity they clump by 160 µs; continued, the CPU
@@ -489,13 +489,13 @@ fn rubber_rings_clump_and_break_without_artificial_stress() {
 /// internal energy held below zero).
 #[test]
 fn rubber_rings_clump_without_artificial_stress() {
-    rings_without_artificial_stress(1.6e-4, None, false);
+    rings_without_artificial_stress(1.6e-4, false, false);
 }
 
 /// GPU: to 160 µs, where the rings have clumped but not yet cracked.
 #[test]
 fn rubber_rings_clump_without_artificial_stress_gpu() {
-    on_gpu(|| rings_without_artificial_stress(1.6e-4, None, false));
+    on_gpu(|| rings_without_artificial_stress(1.6e-4, false, false));
 }
 
 // ---------------------------------------------------------------------------
