@@ -185,15 +185,18 @@ fn compare_disks_with(path: &str, integrator: Integrator) {
     close_at_end(&gpu_out, &cpu, ["velocity_left", "velocity_right"]);
 }
 
-/// Each lattice on one integrator here, the other two runs in
-/// [`disks_on_the_other_integrators_gpu_match_cpu`] (minutes on a software
-/// adapter).
+/// The polar disks on the midpoint rule here (the bars above take both
+/// integrators through contact, the kernel-mode disks below the leapfrog
+/// without it); the other three runs, minutes each on a software adapter,
+/// in [`disks_square_gpu_matches_cpu_leapfrog`] and
+/// [`disks_on_the_other_integrators_gpu_match_cpu`].
 #[test]
 fn disks_polar_gpu_matches_cpu() {
     compare_disks_with("scenes/paper/disks_polar.toml", Integrator::Midpoint);
 }
 
 #[test]
+#[ignore]
 fn disks_square_gpu_matches_cpu_leapfrog() {
     compare_disks_with("scenes/paper/disks_square.toml", Integrator::Leapfrog);
 }
