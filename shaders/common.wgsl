@@ -23,11 +23,13 @@ override ART_KAPPA: bool = false;
 override ART_HEAT: bool = false;
 // physics::tension::HEAT_SPEED.
 override HEAT_SPEED: f32 = 0.01;
-// A pair with a particle that flows plastically takes the artificial
-// stress as ART_HEAT does (`work = "plastic"`, Model::flowing); the
-// kinematics pass marks such a particle by the sign of its sound speed
-// in sr2c.w (negative: flows).
+// A pair with a particle that flows plastically (`work = "plastic"`,
+// Model::flowing) or, with ART_BY_BODY, of a body that can yield (`work =
+// "yielding"`, Model::yields) takes the artificial stress as ART_HEAT
+// does; the kinematics pass marks such a particle by the sign of its
+// sound speed in sr2c.w (negative: heats).
 override ART_FLOW: bool = false;
+override ART_BY_BODY: bool = false;
 // model::YIELD_TOL.
 override YIELD_TOL: f32 = 1e-5;
 // Limited reconstruction of the velocity jump in the viscosity (the forces pass reads

@@ -470,13 +470,17 @@ fn surface_of(gpsi: vec2<f32>, psi: f32, hi: f32) -> vec3<f32> {
     return vec3<f32>(normal, boundary);
 }
 
-// Whether particle i, of deviatoric stress `si`, flows plastically where
-// the artificial stress is keyed on it (ART_FLOW; CPU twin:
-// Model::flowing): it has plastic strain where the state carries it, else
-// its stress is on the yield surface.
+// Whether the pairs of particle i, of deviatoric stress `si`, take only
+// the artificial stress's heat (ART_FLOW; CPU twin: Model::art_heats):
+// with ART_BY_BODY where its body can yield, else where it flows
+// plastically: it has plastic strain where the state carries it, else its
+// stress is on the yield surface.
 fn flows(i: u32, body: Body, si: vec4<f32>) -> bool {
     if (!ART_FLOW) {
         return false;
+    }
+    if (ART_BY_BODY) {
+        return body.elastic == 0u && body.rigid == 0u;
     }
     if (HISTORY) {
         return hist_w[i].x > 0.0;

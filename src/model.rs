@@ -772,14 +772,39 @@ impl Model {
         &self.bodies[self.body[i] as usize].material
     }
 
-    /// Whether some pair's artificial stress is keyed on plastic flow:
-    /// `work = "plastic"` in a scene with a yield stress
-    /// ([`Model::flowing`]; the GPU's `ART_FLOW`).
+    /// Whether some pair's artificial stress is keyed on a particle's
+    /// plastic flow or its body's yield: `work = "plastic"` or
+    /// `"yielding"` in a scene with a yield stress ([`Model::art_heats`];
+    /// the GPU's `ART_FLOW`).
     pub fn art_keyed_on_flow(&self) -> bool {
+        use crate::scene::ArtWork;
         self.plastic
             && self
                 .artificial_stress
-                .is_some_and(|a| a.work == crate::scene::ArtWork::Plastic)
+                .is_some_and(|a| matches!(a.work, ArtWork::Plastic | ArtWork::Yielding))
+    }
+
+    /// Whether particle i's body can yield: deformable, with a finite
+    /// yield stress (`work = "yielding"`; the GPU's `ART_BY_BODY`).
+    #[inline]
+    pub fn yields(&self, i: usize) -> bool {
+        let b = &self.bodies[self.body[i] as usize];
+        !b.rigid && b.material.y0.is_finite()
+    }
+
+    /// Whether the pairs of particle i take only the share of the
+    /// artificial stress whose work is heat (docs/method.md, "Only heat"):
+    /// everywhere with `work = "heat"`, in a body that can yield with
+    /// `"yielding"`, where it flows with `"plastic"`.
+    #[inline]
+    pub fn art_heats(&self, st: &State, i: usize) -> bool {
+        use crate::scene::ArtWork;
+        match self.artificial_stress.map(|a| a.work) {
+            Some(ArtWork::Heat) => true,
+            Some(ArtWork::Yielding) => self.yields(i),
+            Some(ArtWork::Plastic) => self.flowing(st, i),
+            Some(ArtWork::Either) | None => false,
+        }
     }
 
     /// Whether particle i flows plastically in `st`, for the artificial

@@ -231,13 +231,15 @@ pub(in crate::cpu) fn pair_terms_of(
                 art_weight(r2, dp, hij, a.n)
             };
             let mut rf = rs.scale(w * gate);
-            // Where its work may only be heat (everywhere, or at a pair
-            // that flows plastically), the share of it that is
-            // (docs/method.md, "Only heat").
+            // Where its work may only be heat (everywhere, in a body that
+            // can yield, or at a pair that flows plastically), the share of
+            // it that is (docs/method.md, "Only heat").
             let heat = match a.work {
                 ArtWork::Heat => true,
                 ArtWork::Either => false,
-                ArtWork::Plastic => model.flowing(st, i) || model.flowing(st, j),
+                ArtWork::Yielding | ArtWork::Plastic => {
+                    model.art_heats(st, i) || model.art_heats(st, j)
+                }
             };
             if heat {
                 let rg = rf.mul_vec(g);

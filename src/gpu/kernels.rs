@@ -66,6 +66,12 @@ pub(super) fn make_kernels(
         ),
         ("HEAT_SPEED", crate::physics::tension::HEAT_SPEED),
         ("ART_FLOW", model.art_keyed_on_flow() as u8 as f64),
+        (
+            "ART_BY_BODY",
+            model
+                .artificial_stress
+                .is_some_and(|a| a.work == ArtWork::Yielding) as u8 as f64,
+        ),
         ("YIELD_TOL", crate::model::YIELD_TOL),
         ("RECON", model.av_reconstruct as u8 as f64),
         ("RECON_SURF", model.av_recon_surface as u8 as f64),

@@ -235,7 +235,7 @@ impl ArtificialStress {
         epsilon: 0.3,
         n: 4.0,
         pairs: ArtPairs::Close,
-        work: ArtWork::Either,
+        work: ArtWork::Yielding,
         plastic: ArtPlastic::Stress,
         plastic_hourglass: 0.3,
     };
@@ -264,8 +264,15 @@ pub enum ArtPlastic {
 pub enum ArtWork {
     /// Every pair the form selects takes it; its work, of either sign, is
     /// booked as heat.
-    #[default]
     Either,
+    /// A pair with a particle of a body whose material can yield (a yield
+    /// stress or a strength law) takes it as with [`ArtWork::Heat`], every
+    /// other pair as with [`ArtWork::Either`]: plastic flow has no elastic
+    /// tension to hold, and the term's push there drains internal energy
+    /// into motion; elastic bodies keep the push their tension needs. In a
+    /// scene where nothing can yield, the term is `Either`'s to the bit.
+    #[default]
+    Yielding,
     /// The pair takes the term only while its work there is heat (`≥ 0`),
     /// fully once the pair closes along the term's force at
     /// [`crate::physics::tension::HEAT_SPEED`] of its sound speed.

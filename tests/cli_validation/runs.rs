@@ -196,9 +196,22 @@ fn check_names_the_artificial_stress() {
     let elastic = plastic.replacen("yield_stress = 600.0e6\n", "", 1);
     assert_ne!(elastic, plastic);
     let elastic = write_scene(tmp.path(), "elastic", &elastic);
+    let default_elastic = BASE_1D.replacen("yield_stress = 600.0e6\n", "", 1);
+    assert_ne!(default_elastic, BASE_1D);
+    let default_elastic = write_scene(tmp.path(), "default_elastic", &default_elastic);
+    let either = format!("{BASE_1D}\n[artificial_stress]\npairs = \"close\"\nwork = \"either\"\n");
+    let either = write_scene(tmp.path(), "either", &either);
     for (scene, line) in [
         (
             default,
+            "artificial stress epsilon 0.3, n 4, close pairs; only heat in bodies that can yield, of either sign elsewhere",
+        ),
+        (
+            default_elastic,
+            "close pairs; its work of either sign (nothing can yield)",
+        ),
+        (
+            either,
             "artificial stress epsilon 0.3, n 4, close pairs; its work of either sign",
         ),
         (

@@ -219,14 +219,12 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
         1e-5,
         &none,
     );
-    // Who flows for the artificial stress: the same particles, but for
-    // one whose von Mises stress sits at the threshold to f32 precision.
-    let keyed = model.plastic
-        && model
-            .artificial_stress
-            .is_some_and(|a| a.work == sphcontact::scene::ArtWork::Plastic);
+    // Who takes only the artificial stress's heat (a body that can
+    // yield, or a particle that flows): the same particles, but for one
+    // whose von Mises stress sits at the threshold to f32 precision.
+    let keyed = model.art_keyed_on_flow();
     for i in 0..n {
-        let cpu_flows = keyed && model.flowing(&st, i);
+        let cpu_flows = keyed && model.art_heats(&st, i);
         if cpu_flows != out.flows[i] {
             let y0 = model.material(i).y0;
             let at_threshold = !model.history

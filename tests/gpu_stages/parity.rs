@@ -254,6 +254,33 @@ fn stages_match_cpu_with_plastic_flow() {
     check_state(model, st, true);
 }
 
+/// The artificial stress keyed on the body (`work = "yielding"`, the
+/// default): the paper's disks meeting through the SPH sums (kernel mode,
+/// so pairs cross between them), the right one given a yield stress that
+/// nothing reaches; its pairs, those across included, take only the heat
+/// share, the left disk's the whole classic term; velocities stirred.
+#[test]
+fn stages_match_cpu_with_the_term_keyed_on_the_body() {
+    if gpu().is_none() {
+        return;
+    }
+    let mut scene = load("scenes/paper/disks_square_kernel.toml");
+    let mut yielding = scene.materials["steel"].clone();
+    yielding.yield_stress = Some(1.0e10);
+    scene.materials.insert("yielding".into(), yielding);
+    scene.bodies[1].material = "yielding".into();
+    scene.artificial_stress = Some(ArtificialStress {
+        pairs: ArtPairs::All,
+        ..ArtificialStress::DEFAULT
+    });
+    let (model, mut st) = state_of(&scene, 3e-6);
+    assert_eq!(model.artificial_stress.unwrap().work, ArtWork::Yielding);
+    assert!(!model.yields(0) && model.yields(model.bodies[1].range.start));
+    assert!(model.art_keyed_on_flow());
+    stir(&mut st);
+    check_state(model, st, true);
+}
+
 /// The hourglass control in place of the artificial stress in a body that
 /// can yield (`plastic = "hourglass"`): the paper's disks meeting through
 /// the SPH sums (kernel mode, so pairs cross between them), the right one

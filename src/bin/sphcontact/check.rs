@@ -67,6 +67,10 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
                     ArtWork::Either => "its work of either sign",
                     ArtWork::Plastic if model.plastic => "only heat where it flows plastically",
                     ArtWork::Plastic => "its work of either sign (nothing yields)",
+                    ArtWork::Yielding if model.plastic => {
+                        "only heat in bodies that can yield, of either sign elsewhere"
+                    }
+                    ArtWork::Yielding => "its work of either sign (nothing can yield)",
                 }
             ),
         }

@@ -353,7 +353,7 @@ fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option<ArtRows> {
     let flows = if model.art_keyed_on_flow() {
         (0..model.len())
             .into_par_iter()
-            .map(|i| model.flowing(st, i))
+            .map(|i| model.art_heats(st, i))
             .collect()
     } else {
         Vec::new()
@@ -561,8 +561,8 @@ fn lane_terms(
                     let keyed = match a.work {
                         ArtWork::Heat => Some(F4::splat(1.0)),
                         ArtWork::Either => None,
-                        ArtWork::Plastic if art.flows.is_empty() => None,
-                        ArtWork::Plastic => {
+                        ArtWork::Yielding | ArtWork::Plastic if art.flows.is_empty() => None,
+                        ArtWork::Yielding | ArtWork::Plastic => {
                             let fl = F4::gather(|k| {
                                 (art.flows[i] || art.flows[c.j[k] as usize]) as u8 as f64
                             });
