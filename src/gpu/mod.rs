@@ -500,9 +500,10 @@ pub struct StageOutputs {
     /// sound speed.
     pub sr2: Vec<[f64; 3]>,
     pub c: Vec<f64>,
-    /// Whether the particle flows plastically for the artificial stress
-    /// (`work = "plastic"`: [`crate::model::Model::flowing`]); all false
-    /// where nothing is keyed on it.
+    /// Whether the particle's pairs take only the artificial stress's heat
+    /// (`work = "yielding"` or `"plastic"`:
+    /// [`crate::model::Model::art_heats`]); all false where nothing is
+    /// keyed on it.
     pub flows: Vec<bool>,
     /// `dρ/dt` of the density itself (the device's state; a body of
     /// revolution's CPU state keeps `η = 2π r ρ`).

@@ -323,8 +323,10 @@ struct ArtRows {
     /// 1 for a particle that has not failed, 0 for one that has (which
     /// takes no part in the term); empty while no particle has failed.
     intact: Vec<f64>,
-    /// Whether each particle flows plastically ([`Model::flowing`]) where
-    /// `work = "plastic"` can find one; empty otherwise.
+    /// Whether each particle's pairs take only the term's heat
+    /// ([`Model::art_heats`]: a body that can yield, or a particle that
+    /// flows) where `work = "yielding"` or `"plastic"` can find one; empty
+    /// otherwise.
     flows: Vec<bool>,
 }
 
@@ -556,7 +558,8 @@ fn lane_terms(
                     // Where its work may only be heat, the share of it that
                     // is (forces::pair_terms_of).
                     // 1 in the lanes whose pair may only heat (every lane
-                    // with "heat", those with a particle that flows with
+                    // with "heat", those with a particle of a body that can
+                    // yield with "yielding", or one that flows with
                     // "plastic"), 0 in the others; none: no lane.
                     let keyed = match a.work {
                         ArtWork::Heat => Some(F4::splat(1.0)),
