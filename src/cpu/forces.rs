@@ -16,7 +16,6 @@ use crate::scene::ArtPairs;
 
 use crate::physics::tension::{art_weight, close_gate, heat_share, HEAT_SPEED};
 use crate::physics::viscosity::{reconstructed_jump, viscosity_pi};
-use crate::scene::ArtWork;
 
 /// Per-particle inputs of the momentum pass, computed once per evaluation.
 #[derive(Debug, Clone, Copy, Default)]
@@ -234,14 +233,7 @@ pub(in crate::cpu) fn pair_terms_of(
             // Where its work may only be heat (everywhere, in a body that
             // can yield, or at a pair that flows plastically), the share of
             // it that is (docs/method.md, "Only heat").
-            let heat = match a.work {
-                ArtWork::Heat => true,
-                ArtWork::Either => false,
-                ArtWork::Yielding | ArtWork::Plastic => {
-                    model.art_heats(st, i) || model.art_heats(st, j)
-                }
-            };
-            if heat {
+            if model.art_heats(st, i) || model.art_heats(st, j) {
                 let rg = rf.mul_vec(g);
                 let scale = HEAT_SPEED * (0.5 * (pi_.c + pj.c)) * rg.length();
                 rf = rf.scale(heat_share(vij.dot(rg), scale));
