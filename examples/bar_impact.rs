@@ -64,6 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             integrator: Integrator::Midpoint,
             geometry: Geometry::Planar,
             support: None,
+            support_band: None,
         },
         artificial_stress: None,
         artificial_viscosity: None,

@@ -46,14 +46,14 @@ fn clear_next_top(i: u32) {
 // Particle i's support at the step's end (cpu::advance::carry_supports):
 // carried with the velocity gradient of the evaluation that moved the
 // positions (a rigid one keeps its own), and counted in the next step's
-// largest major semi-axis.
+// largest major semi-axis (of the support, where a band maps it).
 fn carry_support(i: u32, rigid: bool, h0: f32, dt: f32) {
     var q = metric_w[i];
     if (!rigid) {
         q = metric_carried(q, lgrad[i], dt, h0);
         metric_w[i] = q;
     }
-    atomicMax(&ctl.h_top[(ctl.step + 1u) & 1u], bitcast<u32>(metric_axes(q).y));
+    atomicMax(&ctl.h_top[(ctl.step + 1u) & 1u], bitcast<u32>(metric_axes(metric_banded(q, h0)).y));
 }
 
 fn finite(x: f32) -> bool {

@@ -102,6 +102,10 @@ override AXI: bool = false;
 // (cells either side) a walk's stencil reaches.
 override ADAPT: bool = false;
 override ADAPT_ROWS: u32 = 2u;
+// The band within which supports stay round (Model::band): 1, `metric`
+// holds the supports themselves; above 1 it holds the carried ellipses,
+// whose supports `metric_banded` gives.
+override BAND: f32 = 1.0;
 // Supports carried with their own copy of the step's velocity gradient
 // (`lgrad`); off where the viscosity's (`gradv`) is that gradient
 // (Model::kept_gradient_is_the_steps) and the advance reads it instead.
@@ -438,11 +442,12 @@ fn metric_axes(q: vec4<f32>) -> vec2<f32> {
 const STRETCH_MAX: f32 = 4.0;
 const SQUEEZE_MAX: f32 = 2.0;
 
-// The metric held to the bounds: unchanged inside them, else its
-// eigenvalues clamped along the same axes (Metric::bounded).
+// The metric held to the bounds widened by the band: unchanged inside
+// them, else its eigenvalues clamped along the same axes
+// (Metric::bounded_band).
 fn metric_bounded(q: vec4<f32>, h0: f32) -> vec4<f32> {
-    let lo = 1.0 / ((STRETCH_MAX * h0) * (STRETCH_MAX * h0));
-    let hi = (SQUEEZE_MAX / h0) * (SQUEEZE_MAX / h0);
+    let lo = 1.0 / ((STRETCH_MAX * BAND * h0) * (STRETCH_MAX * BAND * h0));
+    let hi = (SQUEEZE_MAX * BAND / h0) * (SQUEEZE_MAX * BAND / h0);
     if (DIM == 1u) {
         return vec4<f32>(clamp(q.x, lo, hi), q.y, q.z, 0.0);
     }
@@ -454,6 +459,54 @@ fn metric_bounded(q: vec4<f32>, h0: f32) -> vec4<f32> {
     let b = clamp(g.b, lo, hi);
     let k = a - b;
     return vec4<f32>(b + k * g.e.x * g.e.x, k * g.e.x * g.e.y, b + k * g.e.y * g.e.y, 0.0);
+}
+
+// An eigenvalue of a carried metric mapped by the band (Metric::banded):
+// `round` (1/h0^2) inside it, else moved towards it by band^2.
+fn band_map(l: f32, round: f32, b2: f32) -> f32 {
+    if (l * b2 < round) {
+        return l * b2;
+    }
+    if (l > round * b2) {
+        return l / b2;
+    }
+    return round;
+}
+
+// The support of a carried metric `c` of a particle placed with `h0`
+// (Metric::banded): the round kernel while every semi-axis lies within
+// the band, beyond it the semi-axes over (or times) the band, as
+// alpha I + beta c. With no band, `c` itself.
+fn metric_banded(c: vec4<f32>, h0: f32) -> vec4<f32> {
+    if (BAND == 1.0) {
+        return c;
+    }
+    let round = 1.0 / (h0 * h0);
+    let b2 = BAND * BAND;
+    if (DIM == 1u) {
+        let k = band_map(c.x, round, b2);
+        if (k == round) {
+            return vec4<f32>(round, 0.0, round, 0.0);
+        }
+        return vec4<f32>(k, c.y, c.z, 0.0);
+    }
+    let m = 0.5 * (c.x + c.z);
+    let d = 0.5 * (c.x - c.z);
+    let rad = sqrt(d * d + c.y * c.y);
+    let l1 = m + rad;
+    let l2 = m - rad;
+    let k1 = band_map(l1, round, b2);
+    let k2 = band_map(l2, round, b2);
+    if (k1 == round && k2 == round) {
+        return vec4<f32>(round, 0.0, round, 0.0);
+    }
+    var alpha = 0.0;
+    var beta = k1 / l1;
+    if (rad > 0.0) {
+        beta = (k1 - k2) / (l1 - l2);
+        alpha = k1 - beta * l1;
+    }
+    return vec4<f32>(alpha + beta * c.x, beta * c.y, alpha + beta * c.z, 0.0);
 }
 
 // The metric carried over a step of dt with the velocity gradient l

@@ -467,7 +467,7 @@ fn adaptive_forces(own: Own, wk: Walker, i: u32, mi: vec4<u32>, cs: Consts, sums
                 add_sph(own, j, mj, pr, false, cd.rad, sums);
             }
             if (AXI) {
-                let img = axis_image_metric(wk, cd.rad, cd.d, metric[j], hi);
+                let img = axis_image_metric(wk, cd.rad, cd.d, support_of(j, body_h(hi, mj.z)), hi);
                 if (img.inside) {
                     add_sph(own, j, mj, img, true, cd.rad, sums);
                 }

@@ -294,7 +294,7 @@ fn adaptive_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
             let valid = j != i && in_row(cd.cell, span) && !(CONTACT && mj.z != bi);
             var img = Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0);
             if (AXI && valid) {
-                img = axis_image_metric(wk, cd.rad, cd.d, metric[j], hi);
+                img = axis_image_metric(wk, cd.rad, cd.d, support_of(j, body_h(hi, mj.z)), hi);
             }
             let any = pr.inside || round.inside || img.inside;
             if (LEAP != 0u && any && k + off < MASK_BITS) {

@@ -81,7 +81,7 @@ fn observe(i: u32) -> Obs {
         // Where supports adapt, the support's minor semi-axis for h.
         var h = b.h;
         if (ADAPT) {
-            h = metric_axes(metric[i]).x;
+            h = metric_axes(metric_banded(metric[i], b.h)).x;
         }
         cfl = params.cfl * h / (abs(sr2c[i].w) + length(vi));
     }

@@ -160,7 +160,7 @@ fn walker(i: u32) -> Walker {
 // keep `walker`'s).
 fn adaptive_walker(i: u32) -> Walker {
     var w = walker(i);
-    w.q = metric[i];
+    w.q = support_of(i, bodies[pinfo[i].z].h);
     w.reach = max(adaptive_reach(w.q) * params.inv_cell + params.reach_margin, params.reach);
     return w;
 }
@@ -286,7 +286,21 @@ fn sph_pair(w: Walker, cd: Cand, bj: u32, span: RowSpan, hi: f32, bi: u32) -> Pa
     if (cd.j == w.i || !in_row(cd.cell, span) || (CONTACT && bj != bi)) {
         return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0);
     }
-    return pair_metric(cd.d, w.q, metric[cd.j], pair_h(hi, bj));
+    return pair_metric(cd.d, w.q, support_of(cd.j, body_h(hi, bj)), pair_h(hi, bj));
+}
+
+// Particle j's support (common.wgsl, `metric_banded`), `h0` its body's h.
+fn support_of(j: u32, h0: f32) -> vec4<f32> {
+    return metric_banded(metric[j], h0);
+}
+
+// The h of body `bj` where the walker's is `hi`: with contact on, SPH
+// pairs are of one body (`pair_h`).
+fn body_h(hi: f32, bj: u32) -> f32 {
+    if (!CONTACT) {
+        return bodies[bj].h;
+    }
+    return hi;
 }
 
 // h_ij of a pair with i's h `hi` and j of body `bj`. With contact on, SPH

@@ -115,6 +115,11 @@ pub struct Model {
     /// that follow the deformation"): [`State::metric`] holds each
     /// particle's.
     pub adaptive: bool,
+    /// The band within which supports stay round ([`Metric::banded`]): 1
+    /// (they follow the deformation from the start, and wherever supports
+    /// are fixed) or more, when [`State::carried`] holds each particle's
+    /// carried ellipse.
+    pub band: f64,
     /// The variational stress terms (docs/method.md §4,
     /// [`crate::scene::StressForm`]); `false`: the paper's eq. 6.
     pub variational: bool,
@@ -174,6 +179,10 @@ pub struct State {
     /// Each particle's support metric ([`Metric`]) where supports adapt
     /// ([`Model::adaptive`]); empty otherwise.
     pub metric: Vec<Metric>,
+    /// Where supports adapt within a band ([`Model::band`] above 1): each
+    /// particle's carried ellipse, whose banded form is [`State::metric`];
+    /// empty otherwise.
+    pub carried: Vec<Metric>,
 }
 
 /// What the kernel of a pair is made of: the positions, and each
@@ -266,6 +275,7 @@ impl Model {
             energy_floor: 0.0,
             axisymmetric: scene.axisymmetric(),
             adaptive: sim.adaptive(),
+            band: sim.band(),
             variational: sim.stress_form == crate::scene::StressForm::Variational,
             area0: Vec::new(),
         };
@@ -286,6 +296,7 @@ impl Model {
             damage: Vec::new(),
             failed_at: Vec::new(),
             metric: Vec::new(),
+            carried: Vec::new(),
         };
         for (bi, (b, p)) in scene.bodies.iter().zip(&placed).enumerate() {
             let material = MaterialModel::new(&scene.materials[&b.material]);
@@ -347,6 +358,9 @@ impl Model {
         }
         if model.adaptive {
             state.metric = model.h.iter().map(|&h| Metric::round(h)).collect();
+            if model.band > 1.0 {
+                state.carried = state.metric.clone();
+            }
         }
         let floor = match sim.correction {
             Correction::Gradient => {

@@ -160,6 +160,14 @@ fn cylinder_stops_at_40_mm_at_10_through_leapfrog() {
     });
 }
 
+/// The sphere at 10 through on the CPU path: its supports round until its
+/// inner layers are drawn out past the default band, it stops within 3 %
+/// (measured +2.61 %; +0.36 % at 20 through, −0.11 % at 40).
+#[test]
+fn sphere_stops_at_40_mm_at_10_through() {
+    verney("sphere", 10, 0.03, 1e-4);
+}
+
 /// The sphere on the GPU path (f32): the same checks, and the stop within
 /// 0.1 % of the CPU path's (four minutes on two cores with a software
 /// adapter; the default suite runs the collapse's first 40 µs,
@@ -167,9 +175,9 @@ fn cylinder_stops_at_40_mm_at_10_through_leapfrog() {
 #[test]
 #[ignore]
 fn sphere_stops_at_40_mm_at_10_through_gpu() {
-    let cpu = verney("sphere", 10, 0.05, 1e-4);
+    let cpu = verney("sphere", 10, 0.03, 1e-4);
     on_gpu(|| {
-        let gpu = verney("sphere", 10, 0.05, 1e-4);
+        let gpu = verney("sphere", 10, 0.03, 1e-4);
         assert!((gpu / cpu - 1.0).abs() < 1e-3, "gpu {gpu}, cpu {cpu}");
     });
 }

@@ -41,7 +41,10 @@ use crate::scene::{Backend, Scene};
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\n";
-/// Version 9: a scene without `stress_form` runs the variational stress
+/// Version 11: the carried ellipses of supports that adapt within a band,
+/// and an adaptive scene without `support_band` runs the default band.
+/// (Version 10: a scene's artificial stress without `work` takes only its
+/// heat in bodies that can yield.) (Version 9: a scene without `stress_form` runs the variational stress
 /// terms, so a version 8 checkpoint resumed would change its physics.
 /// (Version 8: the cumulative artificial dissipation of a state and the
 /// rate the leapfrog carries.) (Version 7: the supports' metrics of a state
@@ -50,7 +53,7 @@ const MAGIC: &[u8; 8] = b"SPHCKPT\n";
 /// (Version 5: a scene without `[artificial_stress]` runs the default
 /// close-pair form, so a version 4 checkpoint resumed would change its
 /// physics.)
-const VERSION: u64 = 10;
+const VERSION: u64 = 11;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]

@@ -61,6 +61,7 @@ impl Record for State {
         self.damage.put(w);
         self.failed_at.put(w);
         self.metric.put(w);
+        self.carried.put(w);
     }
     fn get(r: &mut Reader) -> Result<Self, String> {
         Ok(State {
@@ -83,6 +84,7 @@ impl Record for State {
             damage: Record::get(r)?,
             failed_at: Record::get(r)?,
             metric: Record::get(r)?,
+            carried: Record::get(r)?,
         })
     }
 }

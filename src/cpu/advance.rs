@@ -83,22 +83,42 @@ fn compatible_energy(vn: DVec2, vm: DVec2, vn1: DVec2) -> f64 {
 /// carried with the velocity gradient `lv` of the evaluation that moved
 /// the positions ([`Metric::carried`], docs/method.md, "Supports that
 /// follow the deformation"); a rigid particle keeps its own. Nothing
-/// with round supports (`from` empty).
+/// with round supports (`from` empty). Where supports adapt within a
+/// band (`Model::band` above one) the carried ellipse goes to
+/// `out_carried` and the support it gives ([`Metric::banded`]) to `out`.
 pub(super) fn carry_supports(
     model: &Model,
-    from: &[Metric],
+    from: &State,
     lv: &[Mat2],
     dt: f64,
     out: &mut Vec<Metric>,
+    out_carried: &mut Vec<Metric>,
 ) {
     out.clear();
-    out.extend_from_slice(from);
+    out.extend_from_slice(&from.metric);
+    let band = model.band;
+    if band == 1.0 {
+        out.par_iter_mut()
+            .zip(lv.par_iter())
+            .enumerate()
+            .for_each(|(i, (q, l))| {
+                if !model.rigid(i) {
+                    *q = q.carried(l, dt, model.h[i], model.dim);
+                }
+            });
+        return;
+    }
+    out_carried.clear();
+    out_carried.extend_from_slice(&from.carried);
     out.par_iter_mut()
+        .zip(out_carried.par_iter_mut())
         .zip(lv.par_iter())
         .enumerate()
-        .for_each(|(i, (q, l))| {
+        .for_each(|(i, ((q, c), l))| {
             if !model.rigid(i) {
-                *q = q.carried(l, dt, model.h[i], model.dim);
+                let h = model.h[i];
+                *c = c.carried_band(l, dt, h, band, model.dim);
+                *q = c.banded(h, band, model.dim);
             }
         });
 }

@@ -174,7 +174,7 @@ impl CpuSolver {
             diag.contact = c.stats;
         }
         std::mem::swap(&mut next.v, &mut half.v);
-        carry_supports(model, &st.metric, &lv, dt, &mut next.metric);
+        carry_supports(model, st, &lv, dt, &mut next.metric, &mut next.carried);
         stage::enter(Stage::Advance, Role::Finish);
         // The next step's reduction is fused into this walk.
         stage::enter(Stage::Reduce, Role::Step);

@@ -398,10 +398,11 @@ impl CpuSolver {
         advance(&self.model, &self.state, &half.v, &k2, dt, true, &mut next);
         carry_supports(
             &self.model,
-            &self.state.metric,
+            &self.state,
             &k2.lv,
             dt,
             &mut next.metric,
+            &mut next.carried,
         );
         next.t = self.state.t + dt;
         next.step = self.state.step + 1;

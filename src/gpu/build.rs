@@ -310,15 +310,17 @@ impl GpuSolver {
                 }
             })
             .collect();
-        // Where supports adapt, the step's largest major semi-axis, in the
-        // slot of the step's parity (common.wgsl, `step_h_top`).
-        let mut h_top = [0u32; 2];
-        h_top[(state.step & 1) as usize] = state
+        // Where supports adapt, the step's largest major semi-axis
+        // (common.wgsl, `step_h_top`), in both slots: the device counts its
+        // steps from 0 whatever the state's, and the advance clears the
+        // next step's slot before it raises it.
+        let top = state
             .metric
             .iter()
             .map(|q| q.axes().1 as f32)
             .fold(0.0f32, f32::max)
             .to_bits();
+        let h_top = [top; 2];
         let control = Control {
             fail_step: NONE,
             fail_code: NONE,
@@ -554,8 +556,13 @@ impl GpuSolver {
             // Each particle's support (f32), and the velocity gradient
             // the step's end carries it with (kinematics.wgsl to
             // advance.wgsl) unless the viscosity's is that one.
-            let q: Vec<[f32; 4]> = state
-                .metric
+            // With a band the carried ellipses (common.wgsl, BAND).
+            let held = if model.band > 1.0 {
+                &state.carried
+            } else {
+                &state.metric
+            };
+            let q: Vec<[f32; 4]> = held
                 .iter()
                 .map(|q| [q.xx as f32, q.xy as f32, q.yy as f32, 0.0])
                 .collect();

@@ -86,6 +86,7 @@ pub(super) fn make_kernels(
         ("ADAPT", model.adaptive as u8 as f64),
         ("LGRAD", (support_gradient == "lgrad") as u8 as f64),
         ("ADAPT_ROWS", adaptive_rows() as f64),
+        ("BAND", model.band),
         ("WG", WG as f64),
         ("DISS", model.dissipates() as u8 as f64),
         ("GUARD", plan.energy.is_some() as u8 as f64),

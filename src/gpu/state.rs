@@ -300,6 +300,16 @@ impl GpuSolver {
                     yy: q[k][2] as f64,
                 };
             }
+            if self.model.band > 1.0 {
+                let band = self.model.band;
+                st.carried = std::mem::take(&mut st.metric);
+                st.metric = st
+                    .carried
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| c.banded(self.model.h[i], band, self.model.dim))
+                    .collect();
+            }
         }
         (st, ctl)
     }

@@ -25,6 +25,10 @@ pub struct Metric {
 pub const STRETCH_MAX: f64 = 4.0;
 pub const SQUEEZE_MAX: f64 = 2.0;
 
+/// The band within which a support stays round by default (`support_band`;
+/// [`Metric::banded`]).
+pub const DEFAULT_BAND: f64 = 1.5;
+
 impl Metric {
     /// The round kernel of smoothing length `h`.
     #[inline]
@@ -156,6 +160,17 @@ impl Metric {
     /// around the placed smoothing length `h0` ([`Metric::bounded`]). In
     /// 1-D only `Q_xx` moves.
     pub fn carried(&self, l: &Mat2, dt: f64, h0: f64, dim: usize) -> Metric {
+        self.moved(l, dt, dim).bounded(h0, dim)
+    }
+
+    /// Carried over a step as [`Metric::carried`], held to the bounds
+    /// widened by the band ([`Metric::bounded_band`]).
+    pub fn carried_band(&self, l: &Mat2, dt: f64, h0: f64, band: f64, dim: usize) -> Metric {
+        self.moved(l, dt, dim).bounded_band(h0, band, dim)
+    }
+
+    /// Carried over a step, unbounded.
+    fn moved(&self, l: &Mat2, dt: f64, dim: usize) -> Metric {
         let a = Mat2 {
             xx: 1.0 + dt * l.xx,
             xy: dt * l.xy,
@@ -164,7 +179,7 @@ impl Metric {
         };
         if dim == 1 {
             let k = self.xx / (a.xx * a.xx);
-            return Metric { xx: k, ..*self }.bounded(h0, dim);
+            return Metric { xx: k, ..*self };
         }
         let Some(inv) = a.inverse(0.0) else {
             return *self;
@@ -181,13 +196,76 @@ impl Metric {
             xy: b11 * qb12 + b21 * qb22,
             yy: b12 * qb12 + b22 * qb22,
         }
-        .bounded(h0, dim)
+    }
+
+    /// The support of a carried metric (`self`, the image of the placed
+    /// disk of radius `2 h0` under the material's deformation) with the
+    /// band `band ≥ 1` (docs/method.md, "Supports that follow the
+    /// deformation"): round, `I/h0²` exactly, while every semi-axis of
+    /// the carried ellipse lies within a factor `band` of `h0`; beyond
+    /// the band a semi-axis `s` becomes `s / band` (stretched) or
+    /// `s × band` (squeezed), so the support follows the deformation by
+    /// what exceeds the band, and continuously. The carried eigenvalue
+    /// `λ = 1/s²` maps to `λ band²` or `λ / band²`, and a spectral map of
+    /// a 2×2 symmetric matrix is affine in it, `α I + β Q`, so no
+    /// eigenvector is formed.
+    pub fn banded(&self, h0: f64, band: f64, dim: usize) -> Metric {
+        let round = 1.0 / (h0 * h0);
+        let b2 = band * band;
+        let map = |l: f64| {
+            if l * b2 < round {
+                l * b2
+            } else if l > round * b2 {
+                l / b2
+            } else {
+                round
+            }
+        };
+        if dim == 1 {
+            let k = map(self.xx);
+            return if k == round {
+                Metric::round(h0)
+            } else {
+                Metric { xx: k, ..*self }
+            };
+        }
+        let m = 0.5 * (self.xx + self.yy);
+        let d = 0.5 * (self.xx - self.yy);
+        let rad = (d * d + self.xy * self.xy).sqrt();
+        let (l1, l2) = (m + rad, m - rad);
+        let (k1, k2) = (map(l1), map(l2));
+        if k1 == round && k2 == round {
+            return Metric::round(h0);
+        }
+        // α + β λ_k = k_k for both eigenvalues; a round carried metric
+        // (equal eigenvalues) maps to a multiple of itself.
+        let (alpha, beta) = if rad > 0.0 {
+            let beta = (k1 - k2) / (l1 - l2);
+            (k1 - beta * l1, beta)
+        } else {
+            (0.0, k1 / l1)
+        };
+        Metric {
+            xx: alpha + beta * self.xx,
+            xy: beta * self.xy,
+            yy: alpha + beta * self.yy,
+        }
     }
 
     /// Held to the bounds: semi-axes within `[h0/SQUEEZE_MAX,
     /// STRETCH_MAX h0]`. Unchanged (bit for bit) inside them.
     pub fn bounded(&self, h0: f64, dim: usize) -> Metric {
-        let (lo, hi) = (1.0 / (STRETCH_MAX * h0).powi(2), (SQUEEZE_MAX / h0).powi(2));
+        self.bounded_band(h0, 1.0, dim)
+    }
+
+    /// Held to the bounds widened by the band (a carried metric whose
+    /// [`Metric::banded`] support is to keep within the bounds): semi-axes
+    /// within `[h0/(SQUEEZE_MAX band), STRETCH_MAX band h0]`.
+    pub fn bounded_band(&self, h0: f64, band: f64, dim: usize) -> Metric {
+        let (lo, hi) = (
+            1.0 / (STRETCH_MAX * band * h0).powi(2),
+            (SQUEEZE_MAX * band / h0).powi(2),
+        );
         if dim == 1 {
             return Metric {
                 xx: self.xx.clamp(lo, hi),
@@ -266,6 +344,51 @@ mod tests {
         // Turned a quarter: the minor axis now lies along the old major.
         assert!((p.least_ratio(&turned) - 1.0 / 16.0).abs() < 1e-12);
         assert!((Metric::round(1.0).least_ratio(&Metric::round(2.0)) - 4.0).abs() < 1e-12);
+    }
+
+    /// Within the band a support is round to the bit; beyond it each
+    /// semi-axis is the carried one over (or times) the band, along the
+    /// carried axes, and the map is continuous at the band's edges.
+    #[test]
+    fn banded_supports() {
+        let h = 2.0e-4;
+        let e = DVec2::new(0.6, 0.8);
+        for (minor, major) in [(0.7, 1.4), (1.0, 1.0), (2.0 / 3.0, 1.5)] {
+            let c = Metric::with_axes(minor * h, major * h, e);
+            assert_eq!(c.banded(h, 1.5, 2), Metric::round(h), "{minor} {major}");
+        }
+        for (minor, major) in [(0.4, 1.2), (0.9, 3.0), (0.3, 6.0)] {
+            let q = Metric::with_axes(minor * h, major * h, e).banded(h, 1.5, 2);
+            let k = |s: f64| {
+                if s > 1.5 {
+                    s / 1.5
+                } else if s < 1.0 / 1.5 {
+                    s * 1.5
+                } else {
+                    1.0
+                }
+            };
+            let (lo, hi) = q.axes();
+            assert!((lo / (k(minor) * h) - 1.0).abs() < 1e-12, "{minor}: {lo}");
+            assert!((hi / (k(major) * h) - 1.0).abs() < 1e-12, "{major}: {hi}");
+            // Along the carried axes: the minor axis along e.
+            assert!((q.quad(e) * (k(minor) * h).powi(2) - 1.0).abs() < 1e-9);
+        }
+        // Continuous across the edge, to the size of the step taken.
+        for s in [1.5, 1.0 / 1.5] {
+            let a = Metric::with_axes(h, s * (1.0 - 1e-9) * h, e).banded(h, 1.5, 2);
+            let b = Metric::with_axes(h, s * (1.0 + 1e-9) * h, e).banded(h, 1.5, 2);
+            assert!((a.xx - b.xx).abs() + (a.xy - b.xy).abs() < 1e-8 * a.xx);
+        }
+        // 1-D: only Q_xx.
+        let q = Metric {
+            xx: 1.0 / (3.0 * h).powi(2),
+            xy: 0.0,
+            yy: 0.0,
+        }
+        .banded(h, 1.5, 1);
+        assert!((q.xx * (2.0 * h).powi(2) - 1.0).abs() < 1e-12);
+        assert_eq!(Metric::round(h).banded(h, 1.5, 1), Metric::round(h));
     }
 
     /// Past the bounds the semi-axes are held, along the same axes.

@@ -80,6 +80,11 @@ pub struct Simulation {
     /// deformation"); absent: fixed.
     #[serde(default)]
     pub support: Option<Support>,
+    /// How far adaptive supports stay round: a factor on the semi-axes
+    /// (docs/method.md, "Supports that follow the deformation"); absent:
+    /// [`crate::physics::support::DEFAULT_BAND`].
+    #[serde(default)]
+    pub support_band: Option<f64>,
 }
 
 pub fn default_cfl() -> f64 {
@@ -128,6 +133,17 @@ impl Simulation {
     /// nothing).
     pub fn adaptive(&self) -> bool {
         self.support == Some(Support::Adaptive)
+    }
+
+    /// The band within which adaptive supports stay round; 1 where
+    /// supports are fixed.
+    pub fn band(&self) -> f64 {
+        if self.adaptive() {
+            self.support_band
+                .unwrap_or(crate::physics::support::DEFAULT_BAND)
+        } else {
+            1.0
+        }
     }
 }
 

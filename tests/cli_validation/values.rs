@@ -83,6 +83,19 @@ fn non_positive_and_negative_values() {
             &[("dimension = 1", "dimension = 3")],
             "simulation.dimension",
         ),
+        case(
+            "support_band_without_adaptive",
+            &[("dimension = 1", "dimension = 1\nsupport_band = 1.5")],
+            "simulation.support_band",
+        ),
+        case(
+            "support_band_below_one",
+            &[(
+                "dimension = 1",
+                "dimension = 1\nsupport = \"adaptive\"\nsupport_band = 0.5",
+            )],
+            "simulation.support_band",
+        ),
     ]);
 }
 

@@ -195,6 +195,10 @@ fn rings_with_artificial_stress(end: Option<f64>, hold: Hold) {
         Hold::Adaptive(dx) => {
             scene.artificial_stress = None;
             scene.simulation.support = Some(sphcontact::scene::Support::Adaptive);
+            // Following the deformation from the start: supports round
+            // within the default band let the rings clump as round ones do
+            // (docs/method.md, "Round within a band").
+            scene.simulation.support_band = Some(1.0);
             for b in &mut scene.bodies {
                 b.spacing = dx;
             }
@@ -392,7 +396,8 @@ enum Hold {
     /// The hourglass control at this α_hg, no artificial stress.
     Hourglass(f64),
     /// The default close-pair artificial stress with supports that follow
-    /// the deformation, at this spacing.
+    /// the deformation from the start (`support_band = 1`), at this
+    /// spacing.
     Adaptive(f64),
 }
 

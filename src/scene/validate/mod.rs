@@ -73,6 +73,20 @@ pub fn validate(scene: &Scene) -> R {
     if let Some(dt) = sim.dt {
         positive("simulation.dt", dt)?;
     }
+    if let Some(band) = sim.support_band {
+        if !sim.adaptive() {
+            return Err(SceneError::at(
+                "simulation.support_band",
+                "applies to supports that adapt: needs support = \"adaptive\"",
+            ));
+        }
+        if !(band.is_finite() && (1.0..=4.0).contains(&band)) {
+            return Err(SceneError::at(
+                "simulation.support_band",
+                format!("must lie in [1, 4] (got {band})"),
+            ));
+        }
+    }
     if let Some(av) = &scene.artificial_viscosity {
         non_negative("artificial_viscosity.alpha", av.alpha)?;
         non_negative("artificial_viscosity.beta", av.beta)?;
