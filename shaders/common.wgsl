@@ -410,12 +410,19 @@ struct Eigen {
     e: vec2<f32>,
 }
 
-fn metric_eigen(q: vec4<f32>) -> Eigen {
+// The eigenvalues (large, small) of a metric and half their difference
+// (Metric::eigenvalues).
+fn metric_eigenvalues(q: vec4<f32>) -> vec3<f32> {
     let m = 0.5 * (q.x + q.z);
     let d = 0.5 * (q.x - q.z);
     let rad = sqrt(d * d + q.y * q.y);
-    let a = m + rad;
-    let b = m - rad;
+    return vec3<f32>(m + rad, m - rad, rad);
+}
+
+fn metric_eigen(q: vec4<f32>) -> Eigen {
+    let ev = metric_eigenvalues(q);
+    let a = ev.x;
+    let b = ev.y;
     let p = vec2<f32>(q.y, a - q.x);
     let w = vec2<f32>(a - q.z, q.y);
     var e = p;
@@ -490,11 +497,10 @@ fn metric_banded(c: vec4<f32>, h0: f32) -> vec4<f32> {
         }
         return vec4<f32>(k, c.y, c.z, 0.0);
     }
-    let m = 0.5 * (c.x + c.z);
-    let d = 0.5 * (c.x - c.z);
-    let rad = sqrt(d * d + c.y * c.y);
-    let l1 = m + rad;
-    let l2 = m - rad;
+    let ev = metric_eigenvalues(c);
+    let l1 = ev.x;
+    let l2 = ev.y;
+    let rad = ev.z;
     let k1 = band_map(l1, round, b2);
     let k2 = band_map(l2, round, b2);
     if (k1 == round && k2 == round) {

@@ -235,6 +235,14 @@ impl State {
 }
 
 impl Model {
+    /// Whether supports adapt within a band (`Model::band` above 1): the
+    /// state then carries each particle's ellipse besides its support
+    /// ([`State::carried`]).
+    #[inline]
+    pub fn carries_band(&self) -> bool {
+        self.adaptive && self.band > 1.0
+    }
+
     /// Build the model and the initial state of a validated scene.
     pub fn new(scene: &Scene) -> (Model, State) {
         let placed = place_bodies(scene);
@@ -358,7 +366,7 @@ impl Model {
         }
         if model.adaptive {
             state.metric = model.h.iter().map(|&h| Metric::round(h)).collect();
-            if model.band > 1.0 {
+            if model.carries_band() {
                 state.carried = state.metric.clone();
             }
         }

@@ -96,8 +96,7 @@ pub(super) fn carry_supports(
 ) {
     out.clear();
     out.extend_from_slice(&from.metric);
-    let band = model.band;
-    if band == 1.0 {
+    if !model.carries_band() {
         out.par_iter_mut()
             .zip(lv.par_iter())
             .enumerate()
@@ -117,8 +116,8 @@ pub(super) fn carry_supports(
         .for_each(|(i, ((q, c), l))| {
             if !model.rigid(i) {
                 let h = model.h[i];
-                *c = c.carried_band(l, dt, h, band, model.dim);
-                *q = c.banded(h, band, model.dim);
+                *c = c.carried_band(l, dt, h, model.band, model.dim);
+                *q = c.banded(h, model.band, model.dim);
             }
         });
 }

@@ -557,7 +557,7 @@ impl GpuSolver {
             // the step's end carries it with (kinematics.wgsl to
             // advance.wgsl) unless the viscosity's is that one.
             // With a band the carried ellipses (common.wgsl, BAND).
-            let held = if model.band > 1.0 {
+            let held = if model.carries_band() {
                 &state.carried
             } else {
                 &state.metric

@@ -300,7 +300,7 @@ impl GpuSolver {
                     yy: q[k][2] as f64,
                 };
             }
-            if self.model.band > 1.0 {
+            if self.model.carries_band() {
                 let band = self.model.band;
                 st.carried = std::mem::take(&mut st.metric);
                 st.metric = st

@@ -93,10 +93,7 @@ impl Metric {
     /// the large one.
     #[inline]
     fn eigen(&self) -> (f64, f64, DVec2) {
-        let m = 0.5 * (self.xx + self.yy);
-        let d = 0.5 * (self.xx - self.yy);
-        let rad = (d * d + self.xy * self.xy).sqrt();
-        let (a, b) = (m + rad, m - rad);
+        let (a, b, _) = self.eigenvalues();
         // The eigenvector of `a`: (xy, a − xx) or (a − yy, xy), whichever
         // is longer (both vanish only where Q is round).
         let u = DVec2::new(self.xy, a - self.xx);
@@ -108,6 +105,15 @@ impl Metric {
         };
         let e = e.try_normalize().unwrap_or(DVec2::X);
         (a, b, e)
+    }
+
+    /// The eigenvalues `(λ_large, λ_small)` and half their difference.
+    #[inline]
+    fn eigenvalues(&self) -> (f64, f64, f64) {
+        let m = 0.5 * (self.xx + self.yy);
+        let d = 0.5 * (self.xx - self.yy);
+        let rad = (d * d + self.xy * self.xy).sqrt();
+        (m + rad, m - rad, rad)
     }
 
     /// The smallest `λ` with `Q − λ P` singular, `P` another metric: how
@@ -229,10 +235,7 @@ impl Metric {
                 Metric { xx: k, ..*self }
             };
         }
-        let m = 0.5 * (self.xx + self.yy);
-        let d = 0.5 * (self.xx - self.yy);
-        let rad = (d * d + self.xy * self.xy).sqrt();
-        let (l1, l2) = (m + rad, m - rad);
+        let (l1, l2, rad) = self.eigenvalues();
         let (k1, k2) = (map(l1), map(l2));
         if k1 == round && k2 == round {
             return Metric::round(h0);

@@ -20,17 +20,17 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
     );
     println!(
         "support     {}",
-        if model.adaptive && model.band > 1.0 {
+        if model.adaptive {
+            let band = if model.carries_band() {
+                format!(
+                    "round until the material is drawn out or squeezed by {}, then following it beyond that",
+                    model.band
+                )
+            } else {
+                "carried with the deformation".to_string()
+            };
             format!(
-                "adaptive: round until the material is drawn out or squeezed by {}, then \
-                 following it beyond that, semi-axes between h/{} and {} h",
-                model.band,
-                sphcontact::physics::support::SQUEEZE_MAX,
-                sphcontact::physics::support::STRETCH_MAX
-            )
-        } else if model.adaptive {
-            format!(
-                "adaptive: carried with the deformation, semi-axes between h/{} and {} h",
+                "adaptive: {band}, semi-axes between h/{} and {} h",
                 sphcontact::physics::support::SQUEEZE_MAX,
                 sphcontact::physics::support::STRETCH_MAX
             )
