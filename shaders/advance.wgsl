@@ -40,20 +40,27 @@
 fn clear_next_top(i: u32) {
     if (ADAPT && i == 0u) {
         atomicStore(&ctl.h_top[(ctl.step + 1u) & 1u], 0u);
+        atomicStore(&ctl.out_of_band[(ctl.step + 1u) & 1u], 0u);
     }
 }
 
 // Particle i's support at the step's end (cpu::advance::carry_supports):
 // carried with the velocity gradient of the evaluation that moved the
 // positions (a rigid one keeps its own), and counted in the next step's
-// largest major semi-axis (of the support, where a band maps it).
+// largest major semi-axis (of the support, where a band maps it) and, where
+// it is not round, in whether the next step's supports adapt (`adapting`).
 fn carry_support(i: u32, rigid: bool, h0: f32, dt: f32) {
     var q = metric_w[i];
     if (!rigid) {
         q = metric_carried(q, lgrad[i], dt, h0);
         metric_w[i] = q;
     }
-    atomicMax(&ctl.h_top[(ctl.step + 1u) & 1u], bitcast<u32>(metric_axes(metric_banded(q, h0)).y));
+    let b = metric_banded(q, h0);
+    atomicMax(&ctl.h_top[(ctl.step + 1u) & 1u], bitcast<u32>(metric_axes(b).y));
+    let round = 1.0 / (h0 * h0);
+    if (BAND != 1.0 && (b.x != round || b.y != 0.0 || b.z != round)) {
+        atomicMax(&ctl.out_of_band[(ctl.step + 1u) & 1u], 1u);
+    }
 }
 
 fn finite(x: f32) -> bool {

@@ -216,11 +216,27 @@ struct Control {
     // step's walks read their own (`step_h_top`), its advance raises the
     // next step's with each particle's new support (advance.wgsl).
     h_top: array<atomic<u32>, 2>,
+    // Supports that adapt within a band: nonzero where one of a step's
+    // supports is not round, by the step's parity as `h_top`.
+    out_of_band: array<atomic<u32>, 2>,
 }
 
 // The largest major semi-axis of this step's supports.
 fn step_h_top() -> f32 {
     return bitcast<f32>(atomicLoad(&ctl.h_top[ctl.step & 1u]));
+}
+
+// Whether this step's SPH sums take the supports' metrics: where they
+// adapt and (within a band) one of them is not round. While every one is
+// round the walks are the round kernel's (CPU twin: State::round_supports).
+fn adapting() -> bool {
+    if (!ADAPT) {
+        return false;
+    }
+    if (BAND == 1.0) {
+        return true;
+    }
+    return atomicLoad(&ctl.out_of_band[ctl.step & 1u]) != 0u;
 }
 
 // A pass of a zero-length step (past the stop, or after a failure) that

@@ -324,7 +324,7 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
             // the pair's metric.
             var u2 = dist * dist;
             var vs = vol;
-            if (ADAPT) {
+            if (ADAPT && pr.scale > 0.0) {
                 u2 = pr.q2;
                 vs = vol * pr.scale;
             }
@@ -341,7 +341,7 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
             if (rs.x + rs.y < 0.0 && intact(j)) {
                 let dp = 0.5 * (o.body.spacing + bj.spacing);
                 var aw = 0.0;
-                if (ADAPT) {
+                if (ADAPT && pr.scale > 0.0) {
                     aw = art_weight(sqrt(pr.q2), dp / (0.5 * (o.hi + bj.h)), 1.0);
                 } else {
                     aw = art_weight(dist, dp, hij);
@@ -566,8 +566,9 @@ fn forces_of(i: u32) -> f32 {
         return 0.0;
     }
     let cs = consts();
+    let adapt = adapting();
     var wk = walker(i);
-    if (ADAPT) {
+    if (adapt) {
         wk = adaptive_walker(i);
     }
     var gi = vec4<f32>(0.0);
@@ -626,11 +627,12 @@ fn forces_of(i: u32) -> f32 {
     var sums = Sums(vec2<f32>(0.0), 0.0, kernel_w(0.0, hi), vec2<f32>(0.0), vec2<f32>(0.0), 0.0);
     var mask = vec2<u32>(0u, MASK_FULL);
     // Where supports adapt the walk's rows are the walker's own
-    // (`adaptive_forces`), which the masks' row map does not follow.
-    if (LEAP != 0u && !ADAPT) {
+    // (`adaptive_forces`), which the masks' row map does not follow; while
+    // every support is round the walk is round (`row_map_sparse`).
+    if (LEAP != 0u && !adapt) {
         mask = nmask[i];
     }
-    if (ADAPT) {
+    if (adapt) {
         adaptive_forces(own, wk, i, mi, cs, &sums);
     } else if ((mask.y & MASK_FULL) == 0u) {
         // The pairs the kinematics pass found, in walk order (walk.wgsl).
@@ -665,7 +667,7 @@ fn forces_of(i: u32) -> f32 {
             }
         }
     }
-    if (AXI && !ADAPT) {
+    if (AXI && !adapt) {
         // The walker's own image.
         add_image(own, wk, i, mi, Pair(vec2<f32>(0.0), 0.0, hi, vec2<f32>(0.0), true, 0.0, 0.0), wk.rad, &sums);
     }

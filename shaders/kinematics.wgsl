@@ -193,7 +193,7 @@ fn add_kin_image(o: KinOwn, wk: Walker, j: u32, rj: f32, d: vec2<f32>, hij: f32,
 }
 
 fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
-    if (ADAPT) {
+    if (adapting()) {
         return adaptive_walk(i, hi, bi, rigid, rho0);
     }
     let cs = consts();

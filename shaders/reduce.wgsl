@@ -78,9 +78,10 @@ fn observe(i: u32) -> Obs {
     let rigid = b.rigid != 0u;
     var cfl = BIG;
     if (!rigid) {
-        // Where supports adapt, the support's minor semi-axis for h.
+        // Where supports adapt (and one is not round), the support's
+        // minor semi-axis for h.
         var h = b.h;
-        if (ADAPT) {
+        if (adapting()) {
             h = metric_axes(metric_banded(metric[i], b.h)).x;
         }
         cfl = params.cfl * h / (abs(sr2c[i].w) + length(vi));

@@ -21,9 +21,11 @@ const REACH: i32 = 2;
 // Supports that adapt: each particle's metric (common.wgsl).
 @group(0) @binding(82) var<storage, read> metric: array<vec4<f32>>;
 
-// The cells either side a walk's stencil spans.
+// The cells either side a walk's stencil spans: while every support is
+// round (`adapting`), a round walk's, which the leapfrog's neighbour masks
+// can then map (`row_map`).
 fn stencil() -> i32 {
-    if (ADAPT) {
+    if (adapting()) {
         return i32(ADAPT_ROWS);
     }
     return REACH;

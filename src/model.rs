@@ -177,7 +177,10 @@ pub struct State {
     /// [`Model::history`].
     pub failed_at: Vec<f64>,
     /// Each particle's support metric ([`Metric`]) where supports adapt
-    /// ([`Model::adaptive`]); empty otherwise.
+    /// ([`Model::adaptive`]) and one of them is not round; empty otherwise
+    /// (the bodies' round supports of `h`). Within a band every support
+    /// starts round, and the state keeps none until one leaves it
+    /// ([`Model::supports_of`]).
     pub metric: Vec<Metric>,
     /// Where supports adapt within a band ([`Model::band`] above 1): each
     /// particle's carried ellipse, whose banded form is [`State::metric`];
@@ -202,6 +205,13 @@ impl<'a> Frame<'a> {
 }
 
 impl State {
+    /// Whether the supports are the bodies' round ones of `h` ([`State::metric`]
+    /// empty): the pair sums then take the round kernel's code.
+    #[inline]
+    pub fn round_supports(&self) -> bool {
+        self.metric.is_empty()
+    }
+
     /// The state's positions and supports.
     #[inline]
     pub fn frame(&self) -> Frame<'_> {
@@ -241,6 +251,44 @@ impl Model {
     #[inline]
     pub fn carries_band(&self) -> bool {
         self.adaptive && self.band > 1.0
+    }
+
+    /// The supports the carried ellipses `carried` give within the band
+    /// ([`Metric::banded`]), or none (round supports, [`State::metric`])
+    /// while every one of them is round: a scene whose supports stay
+    /// inside the band runs the round kernel's code.
+    pub fn supports_of(&self, carried: &[Metric], out: &mut Vec<Metric>) {
+        use rayon::prelude::*;
+        let all_round = carried
+            .par_iter()
+            .enumerate()
+            .all(|(i, c)| self.round_within_band(i, c));
+        self.supports_unless_round(carried, all_round, out);
+    }
+
+    /// Whether particle i's carried ellipse `c` gives the round support.
+    #[inline]
+    pub fn round_within_band(&self, i: usize, c: &Metric) -> bool {
+        c.banded(self.h[i], self.band, self.dim) == Metric::round(self.h[i])
+    }
+
+    /// [`Model::supports_of`] where whether all are round is known.
+    pub fn supports_unless_round(
+        &self,
+        carried: &[Metric],
+        all_round: bool,
+        out: &mut Vec<Metric>,
+    ) {
+        use rayon::prelude::*;
+        out.clear();
+        if !all_round {
+            out.par_extend(
+                carried
+                    .par_iter()
+                    .enumerate()
+                    .map(|(i, c)| c.banded(self.h[i], self.band, self.dim)),
+            );
+        }
     }
 
     /// Build the model and the initial state of a validated scene.
@@ -364,11 +412,10 @@ impl Model {
         if model.bodies.iter().all(|b| !b.art) {
             model.artificial_stress = None;
         }
-        if model.adaptive {
+        if model.carries_band() {
+            state.carried = model.h.iter().map(|&h| Metric::round(h)).collect();
+        } else if model.adaptive {
             state.metric = model.h.iter().map(|&h| Metric::round(h)).collect();
-            if model.carries_band() {
-                state.carried = state.metric.clone();
-            }
         }
         let floor = match sim.correction {
             Correction::Gradient => {

@@ -85,7 +85,8 @@ fn compatible_energy(vn: DVec2, vm: DVec2, vn1: DVec2) -> f64 {
 /// follow the deformation"); a rigid particle keeps its own. Nothing
 /// with round supports (`from` empty). Where supports adapt within a
 /// band (`Model::band` above one) the carried ellipse goes to
-/// `out_carried` and the support it gives ([`Metric::banded`]) to `out`.
+/// `out_carried` and the supports they give to `out`
+/// ([`Model::supports_of`]: none while all are round).
 pub(super) fn carry_supports(
     model: &Model,
     from: &State,
@@ -94,9 +95,9 @@ pub(super) fn carry_supports(
     out: &mut Vec<Metric>,
     out_carried: &mut Vec<Metric>,
 ) {
-    out.clear();
-    out.extend_from_slice(&from.metric);
     if !model.carries_band() {
+        out.clear();
+        out.extend_from_slice(&from.metric);
         out.par_iter_mut()
             .zip(lv.par_iter())
             .enumerate()
@@ -109,17 +110,20 @@ pub(super) fn carry_supports(
     }
     out_carried.clear();
     out_carried.extend_from_slice(&from.carried);
-    out.par_iter_mut()
-        .zip(out_carried.par_iter_mut())
+    // Carried, and whether every support is round, in one walk.
+    let all_round = out_carried
+        .par_iter_mut()
         .zip(lv.par_iter())
         .enumerate()
-        .for_each(|(i, ((q, c), l))| {
-            if !model.rigid(i) {
-                let h = model.h[i];
-                *c = c.carried_band(l, dt, h, model.band, model.dim);
-                *q = c.banded(h, model.band, model.dim);
+        .map(|(i, (c, l))| {
+            if model.rigid(i) {
+                return true;
             }
-        });
+            *c = c.carried_band(l, dt, model.h[i], model.band, model.dim);
+            model.round_within_band(i, c)
+        })
+        .reduce(|| true, |a, b| a && b);
+    model.supports_unless_round(out_carried, all_round, out);
 }
 
 /// Whether particle i's density is inside `[0.1, 10] ρ0`, or, for a

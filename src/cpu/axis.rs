@@ -211,12 +211,12 @@ pub(super) fn add_kinematics<S: Seen>(
             sum.m += Mat2::outer(gi, mirror(st.x[j]) - st.x[i]);
             sum.gsum += Mat2::outer(S::v(vj) - S::v(vel[i]), gi);
             sum.n += u32::from(b.q2 > 0.0);
-            if !model.adaptive {
+            if st.round_supports() {
                 sum.add_colour(b.gw, b.w, vol[j], true);
             }
             sum.seen.add(vj, vel[i], gi);
         }
-        if model.adaptive {
+        if !st.round_supports() {
             // The colour gradient keeps the round supports
             // (kinematics::round_colour).
             for (b, _) in nb.images_of(model, crate::model::Frame::round(&st.x), i) {

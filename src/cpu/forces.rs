@@ -133,7 +133,7 @@ pub(in crate::cpu) fn pair_terms_of(
     // The pair's smoothing length along x_ij: h_ij, or where supports
     // adapt `r/q` (docs/method.md, "Supports that follow the
     // deformation").
-    let hij = if model.adaptive {
+    let hij = if !st.round_supports() {
         along(xij.length_squared(), nb.q2, h0)
     } else {
         h0
@@ -213,7 +213,7 @@ pub(in crate::cpu) fn pair_terms_of(
                 let vol = 0.5 * (model.mass[i] / st.rho[i] + model.mass[j] / st.rho[j]);
                 let ks = &model.close_scale;
                 let k2 = if ks.is_empty() { 1.0 } else { ks[i].min(ks[j]) };
-                if model.adaptive {
+                if !st.round_supports() {
                     // In the pair's metric: its distance q against the
                     // spacing its volume has there.
                     close_gate(nb.q2, vol * nb.scale, k2, model.dim)
@@ -224,7 +224,7 @@ pub(in crate::cpu) fn pair_terms_of(
         };
         if rs.xx + rs.yy < 0.0 && gate > 0.0 {
             let dp = 0.5 * (model.spacing_of(i) + model.spacing_of(j));
-            let w = if model.adaptive {
+            let w = if !st.round_supports() {
                 art_weight(nb.q2, dp / h0, 1.0, a.n)
             } else {
                 art_weight(r2, dp, hij, a.n)

@@ -332,7 +332,7 @@ pub(in crate::cpu) fn round_colour<S: Seen>(
     vol: &[f64],
     sums: &mut [Sums<S>],
 ) {
-    if !model.adaptive {
+    if st.round_supports() {
         return;
     }
     sums.par_iter_mut().enumerate().for_each(|(i, sum)| {

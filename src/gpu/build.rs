@@ -314,18 +314,24 @@ impl GpuSolver {
         // (common.wgsl, `step_h_top`), in both slots: the device counts its
         // steps from 0 whatever the state's, and the advance clears the
         // next step's slot before it raises it.
-        let top = state
-            .metric
-            .iter()
-            .map(|q| q.axes().1 as f32)
-            .fold(0.0f32, f32::max)
-            .to_bits();
+        let top = if state.round_supports() {
+            model.h.iter().map(|&h| h as f32).fold(0.0f32, f32::max)
+        } else {
+            state
+                .metric
+                .iter()
+                .map(|q| q.axes().1 as f32)
+                .fold(0.0f32, f32::max)
+        }
+        .to_bits();
         let h_top = [top; 2];
+        let out_of_band = [u32::from(!state.round_supports()); 2];
         let control = Control {
             fail_step: NONE,
             fail_code: NONE,
             energy_limit: -1.0,
             h_top,
+            out_of_band,
             ..Default::default()
         };
 

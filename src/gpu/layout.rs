@@ -145,6 +145,10 @@ pub struct Control {
     /// Supports that adapt: the bits of the largest major semi-axis of a
     /// step's supports, by the step's parity (common.wgsl).
     pub h_top: [u32; 2],
+    /// Supports that adapt within a band: nonzero where one of a step's
+    /// supports is not round, by the step's parity (common.wgsl,
+    /// `adapting`).
+    pub out_of_band: [u32; 2],
 }
 
 /// Shared structs declared outside common.wgsl, in the files of the stages
@@ -238,7 +242,8 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 multi_partner,
                 energy_limit,
                 list_peak,
-                h_top
+                h_top,
+                out_of_band
             ),
         ),
     ]

@@ -301,14 +301,8 @@ impl GpuSolver {
                 };
             }
             if self.model.carries_band() {
-                let band = self.model.band;
                 st.carried = std::mem::take(&mut st.metric);
-                st.metric = st
-                    .carried
-                    .iter()
-                    .enumerate()
-                    .map(|(i, c)| c.banded(self.model.h[i], band, self.model.dim))
-                    .collect();
+                self.model.supports_of(&st.carried, &mut st.metric);
             }
         }
         (st, ctl)

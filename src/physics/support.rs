@@ -275,10 +275,12 @@ impl Metric {
                 ..*self
             };
         }
-        let (a, b, e) = self.eigen();
+        // The eigenvector only where the metric is clamped.
+        let (a, b, _) = self.eigenvalues();
         if a <= hi && b >= lo {
             return *self;
         }
+        let (a, b, e) = self.eigen();
         Metric::from_eigen(a.clamp(lo, hi), b.clamp(lo, hi), e)
     }
 }

@@ -42,7 +42,7 @@ fn kinematics_in<S: Seen>(
     let vel = S::vel(&st.v, seen);
     let mut sums = vec![Sums::<S>::default(); model.len()];
     let axi = model.axisymmetric;
-    if model.adaptive {
+    if !st.round_supports() {
         // The gradient sums over the pairs of the supports, the colour
         // gradient over the round pairs (kinematics::round_colour), in
         // one walk.
