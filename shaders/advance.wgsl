@@ -58,7 +58,7 @@ fn carry_support(i: u32, rigid: bool, h0: f32, dt: f32) {
     let b = metric_banded(q, h0);
     atomicMax(&ctl.h_top[(ctl.step + 1u) & 1u], bitcast<u32>(metric_axes(b).y));
     let round = 1.0 / (h0 * h0);
-    if (BAND != 1.0 && (b.x != round || b.y != 0.0 || b.z != round)) {
+    if (!no_band() && (b.x != round || b.y != 0.0 || b.z != round)) {
         atomicMax(&ctl.out_of_band[(ctl.step + 1u) & 1u], 1u);
     }
 }

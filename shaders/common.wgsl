@@ -102,10 +102,17 @@ override AXI: bool = false;
 // (cells either side) a walk's stencil reaches.
 override ADAPT: bool = false;
 override ADAPT_ROWS: u32 = 2u;
-// The band within which supports stay round (Model::band): 1, `metric`
-// holds the supports themselves; above 1 it holds the carried ellipses,
+// The band within which supports stay round (Model::band), its factors
+// for drawn-out (BAND) and squeezed (BAND_SQ) semi-axes: both 1, `metric`
+// holds the supports themselves; else it holds the carried ellipses,
 // whose supports `metric_banded` gives.
 override BAND: f32 = 1.0;
+override BAND_SQ: f32 = 1.0;
+
+// Whether there is no band (`metric` holds the supports).
+fn no_band() -> bool {
+    return BAND == 1.0 && BAND_SQ == 1.0;
+}
 // Supports carried with their own copy of the step's velocity gradient
 // (`lgrad`); off where the viscosity's (`gradv`) is that gradient
 // (Model::kept_gradient_is_the_steps) and the advance reads it instead.
@@ -233,7 +240,7 @@ fn adapting() -> bool {
     if (!ADAPT) {
         return false;
     }
-    if (BAND == 1.0) {
+    if (no_band()) {
         return true;
     }
     return atomicLoad(&ctl.out_of_band[ctl.step & 1u]) != 0u;
@@ -470,7 +477,7 @@ const SQUEEZE_MAX: f32 = 2.0;
 // (Metric::bounded_band).
 fn metric_bounded(q: vec4<f32>, h0: f32) -> vec4<f32> {
     let lo = 1.0 / ((STRETCH_MAX * BAND * h0) * (STRETCH_MAX * BAND * h0));
-    let hi = (SQUEEZE_MAX * BAND / h0) * (SQUEEZE_MAX * BAND / h0);
+    let hi = (SQUEEZE_MAX * BAND_SQ / h0) * (SQUEEZE_MAX * BAND_SQ / h0);
     if (DIM == 1u) {
         return vec4<f32>(clamp(q.x, lo, hi), q.y, q.z, 0.0);
     }
@@ -485,13 +492,14 @@ fn metric_bounded(q: vec4<f32>, h0: f32) -> vec4<f32> {
 }
 
 // An eigenvalue of a carried metric mapped by the band (Metric::banded):
-// `round` (1/h0^2) inside it, else moved towards it by band^2.
-fn band_map(l: f32, round: f32, b2: f32) -> f32 {
-    if (l * b2 < round) {
-        return l * b2;
+// `round` (1/h0^2) inside it, else moved towards it by the square of the
+// drawn-out (`d2`) or squeezed (`s2`) factor.
+fn band_map(l: f32, round: f32, d2: f32, s2: f32) -> f32 {
+    if (l * d2 < round) {
+        return l * d2;
     }
-    if (l > round * b2) {
-        return l / b2;
+    if (l > round * s2) {
+        return l / s2;
     }
     return round;
 }
@@ -501,13 +509,14 @@ fn band_map(l: f32, round: f32, b2: f32) -> f32 {
 // the band, beyond it the semi-axes over (or times) the band, as
 // alpha I + beta c. With no band, `c` itself.
 fn metric_banded(c: vec4<f32>, h0: f32) -> vec4<f32> {
-    if (BAND == 1.0) {
+    if (no_band()) {
         return c;
     }
     let round = 1.0 / (h0 * h0);
-    let b2 = BAND * BAND;
+    let d2 = BAND * BAND;
+    let s2 = BAND_SQ * BAND_SQ;
     if (DIM == 1u) {
-        let k = band_map(c.x, round, b2);
+        let k = band_map(c.x, round, d2, s2);
         if (k == round) {
             return vec4<f32>(round, 0.0, round, 0.0);
         }
@@ -517,8 +526,8 @@ fn metric_banded(c: vec4<f32>, h0: f32) -> vec4<f32> {
     let l1 = ev.x;
     let l2 = ev.y;
     let rad = ev.z;
-    let k1 = band_map(l1, round, b2);
-    let k2 = band_map(l2, round, b2);
+    let k1 = band_map(l1, round, d2, s2);
+    let k2 = band_map(l2, round, d2, s2);
     if (k1 == round && k2 == round) {
         return vec4<f32>(round, 0.0, round, 0.0);
     }

@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use crate::physics::material::MaterialModel;
 use crate::physics::strength::History;
-use crate::physics::support::Metric;
+use crate::physics::support::{Band, Metric};
 use crate::scene::{
     place_bodies, ArtPairs, ArtPlastic, ArtificialStress, Correction, Integrator, Interaction,
     Scene, ViscosityForm,
@@ -115,11 +115,11 @@ pub struct Model {
     /// that follow the deformation"): [`State::metric`] holds each
     /// particle's.
     pub adaptive: bool,
-    /// The band within which supports stay round ([`Metric::banded`]): 1
-    /// (they follow the deformation from the start, and wherever supports
-    /// are fixed) or more, when [`State::carried`] holds each particle's
-    /// carried ellipse.
-    pub band: f64,
+    /// The band within which supports stay round ([`Metric::banded`]):
+    /// none ([`Band::NONE`]: they follow the deformation from the start,
+    /// and wherever supports are fixed) or wider, when [`State::carried`]
+    /// holds each particle's carried ellipse.
+    pub band: Band,
     /// The variational stress terms (docs/method.md §4,
     /// [`crate::scene::StressForm`]); `false`: the paper's eq. 6.
     pub variational: bool,
@@ -182,7 +182,7 @@ pub struct State {
     /// starts round, and the state keeps none until one leaves it
     /// ([`Model::supports_of`]).
     pub metric: Vec<Metric>,
-    /// Where supports adapt within a band ([`Model::band`] above 1): each
+    /// Where supports adapt within a band ([`Model::band`] wider than none): each
     /// particle's carried ellipse, whose banded form is [`State::metric`];
     /// empty otherwise.
     pub carried: Vec<Metric>,
@@ -245,12 +245,12 @@ impl State {
 }
 
 impl Model {
-    /// Whether supports adapt within a band (`Model::band` above 1): the
+    /// Whether supports adapt within a band (`Model::band` not none): the
     /// state then carries each particle's ellipse besides its support
     /// ([`State::carried`]).
     #[inline]
     pub fn carries_band(&self) -> bool {
-        self.adaptive && self.band > 1.0
+        self.adaptive && !self.band.is_none()
     }
 
     /// The supports the carried ellipses `carried` give within the band

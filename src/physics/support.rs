@@ -25,9 +25,42 @@ pub struct Metric {
 pub const STRETCH_MAX: f64 = 4.0;
 pub const SQUEEZE_MAX: f64 = 2.0;
 
-/// The band within which a support stays round by default (`support_band`;
-/// [`Metric::banded`]).
-pub const DEFAULT_BAND: f64 = 1.5;
+/// The band within which a support stays round (`support_band`,
+/// [`Metric::banded`]): the factors on the placed `h` by which its carried
+/// ellipse may be drawn out and squeezed before the support follows it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Band {
+    pub drawn: f64,
+    pub squeezed: f64,
+}
+
+impl Band {
+    /// No band: the support is the carried ellipse itself.
+    pub const NONE: Band = Band {
+        drawn: 1.0,
+        squeezed: 1.0,
+    };
+
+    /// The same factor both ways.
+    pub fn uniform(b: f64) -> Band {
+        Band {
+            drawn: b,
+            squeezed: b,
+        }
+    }
+
+    /// Whether this is no band at all ([`Band::NONE`]).
+    pub fn is_none(&self) -> bool {
+        *self == Band::NONE
+    }
+}
+
+/// The default band (`support_band`): round until drawn out or squeezed
+/// by 1.5 (docs/method.md, "Round within a band").
+pub const DEFAULT_BAND: Band = Band {
+    drawn: 1.5,
+    squeezed: 1.5,
+};
 
 impl Metric {
     /// The round kernel of smoothing length `h`.
@@ -171,7 +204,7 @@ impl Metric {
 
     /// Carried over a step as [`Metric::carried`], held to the bounds
     /// widened by the band ([`Metric::bounded_band`]).
-    pub fn carried_band(&self, l: &Mat2, dt: f64, h0: f64, band: f64, dim: usize) -> Metric {
+    pub fn carried_band(&self, l: &Mat2, dt: f64, h0: f64, band: Band, dim: usize) -> Metric {
         self.moved(l, dt, dim).bounded_band(h0, band, dim)
     }
 
@@ -205,24 +238,25 @@ impl Metric {
     }
 
     /// The support of a carried metric (`self`, the image of the placed
-    /// disk of radius `2 h0` under the material's deformation) with the
-    /// band `band ≥ 1` (docs/method.md, "Supports that follow the
-    /// deformation"): round, `I/h0²` exactly, while every semi-axis of
-    /// the carried ellipse lies within a factor `band` of `h0`; beyond
-    /// the band a semi-axis `s` becomes `s / band` (stretched) or
-    /// `s × band` (squeezed), so the support follows the deformation by
-    /// what exceeds the band, and continuously. The carried eigenvalue
-    /// `λ = 1/s²` maps to `λ band²` or `λ / band²`, and a spectral map of
-    /// a 2×2 symmetric matrix is affine in it, `α I + β Q`, so no
-    /// eigenvector is formed.
-    pub fn banded(&self, h0: f64, band: f64, dim: usize) -> Metric {
+    /// disk of radius `2 h0` under the material's deformation) within the
+    /// band `band` (docs/method.md, "Supports that follow the
+    /// deformation"): round, `I/h0²` exactly, while no semi-axis of the
+    /// carried ellipse exceeds `band.drawn h0` or falls below `h0 /
+    /// band.squeezed`; beyond the band a semi-axis `s` becomes `s /
+    /// band.drawn` (drawn out) or `s × band.squeezed` (squeezed), so the
+    /// support follows the deformation by what exceeds the band, and
+    /// continuously. The carried eigenvalue `λ = 1/s²` maps to `λ
+    /// drawn²` or `λ / squeezed²`, and a spectral map of a 2×2 symmetric
+    /// matrix is affine in it, `α I + β Q`, so no eigenvector is formed.
+    pub fn banded(&self, h0: f64, band: Band, dim: usize) -> Metric {
         let round = 1.0 / (h0 * h0);
-        let b2 = band * band;
+        let d2 = band.drawn * band.drawn;
+        let s2 = band.squeezed * band.squeezed;
         let map = |l: f64| {
-            if l * b2 < round {
-                l * b2
-            } else if l > round * b2 {
-                l / b2
+            if l * d2 < round {
+                l * d2
+            } else if l > round * s2 {
+                l / s2
             } else {
                 round
             }
@@ -258,16 +292,16 @@ impl Metric {
     /// Held to the bounds: semi-axes within `[h0/SQUEEZE_MAX,
     /// STRETCH_MAX h0]`. Unchanged (bit for bit) inside them.
     pub fn bounded(&self, h0: f64, dim: usize) -> Metric {
-        self.bounded_band(h0, 1.0, dim)
+        self.bounded_band(h0, Band::NONE, dim)
     }
 
     /// Held to the bounds widened by the band (a carried metric whose
     /// [`Metric::banded`] support is to keep within the bounds): semi-axes
-    /// within `[h0/(SQUEEZE_MAX band), STRETCH_MAX band h0]`.
-    pub fn bounded_band(&self, h0: f64, band: f64, dim: usize) -> Metric {
+    /// within `[h0/(SQUEEZE_MAX band.squeezed), STRETCH_MAX band.drawn h0]`.
+    pub fn bounded_band(&self, h0: f64, band: Band, dim: usize) -> Metric {
         let (lo, hi) = (
-            1.0 / (STRETCH_MAX * band * h0).powi(2),
-            (SQUEEZE_MAX * band / h0).powi(2),
+            1.0 / (STRETCH_MAX * band.drawn * h0).powi(2),
+            (SQUEEZE_MAX * band.squeezed / h0).powi(2),
         );
         if dim == 1 {
             return Metric {
@@ -360,10 +394,14 @@ mod tests {
         let e = DVec2::new(0.6, 0.8);
         for (minor, major) in [(0.7, 1.4), (1.0, 1.0), (2.0 / 3.0, 1.5)] {
             let c = Metric::with_axes(minor * h, major * h, e);
-            assert_eq!(c.banded(h, 1.5, 2), Metric::round(h), "{minor} {major}");
+            assert_eq!(
+                c.banded(h, Band::uniform(1.5), 2),
+                Metric::round(h),
+                "{minor} {major}"
+            );
         }
         for (minor, major) in [(0.4, 1.2), (0.9, 3.0), (0.3, 6.0)] {
-            let q = Metric::with_axes(minor * h, major * h, e).banded(h, 1.5, 2);
+            let q = Metric::with_axes(minor * h, major * h, e).banded(h, Band::uniform(1.5), 2);
             let k = |s: f64| {
                 if s > 1.5 {
                     s / 1.5
@@ -381,8 +419,8 @@ mod tests {
         }
         // Continuous across the edge, to the size of the step taken.
         for s in [1.5, 1.0 / 1.5] {
-            let a = Metric::with_axes(h, s * (1.0 - 1e-9) * h, e).banded(h, 1.5, 2);
-            let b = Metric::with_axes(h, s * (1.0 + 1e-9) * h, e).banded(h, 1.5, 2);
+            let a = Metric::with_axes(h, s * (1.0 - 1e-9) * h, e).banded(h, Band::uniform(1.5), 2);
+            let b = Metric::with_axes(h, s * (1.0 + 1e-9) * h, e).banded(h, Band::uniform(1.5), 2);
             assert!((a.xx - b.xx).abs() + (a.xy - b.xy).abs() < 1e-8 * a.xx);
         }
         // 1-D: only Q_xx.
@@ -391,9 +429,43 @@ mod tests {
             xy: 0.0,
             yy: 0.0,
         }
-        .banded(h, 1.5, 1);
+        .banded(h, Band::uniform(1.5), 1);
         assert!((q.xx * (2.0 * h).powi(2) - 1.0).abs() < 1e-12);
-        assert_eq!(Metric::round(h).banded(h, 1.5, 1), Metric::round(h));
+        assert_eq!(
+            Metric::round(h).banded(h, Band::uniform(1.5), 1),
+            Metric::round(h)
+        );
+    }
+
+    /// A band wider for squeezing: a support squeezed to 0.6 h stays round
+    /// in the band (1.5, 2) and follows beyond 0.5 h by the factor 2; one
+    /// drawn out follows beyond 1.5 h by 1.5.
+    #[test]
+    fn banded_supports_squeezed_and_drawn_out_apart() {
+        let h = 2.0e-4;
+        let e = DVec2::new(0.6, 0.8);
+        let band = Band {
+            drawn: 1.5,
+            squeezed: 2.0,
+        };
+        assert_eq!(
+            Metric::with_axes(0.6 * h, 1.4 * h, e).banded(h, band, 2),
+            Metric::round(h)
+        );
+        let (lo, hi) = Metric::with_axes(0.4 * h, 1.0 * h, e)
+            .banded(h, band, 2)
+            .axes();
+        assert!((lo / (0.8 * h) - 1.0).abs() < 1e-12 && (hi / h - 1.0).abs() < 1e-12);
+        let (lo, hi) = Metric::with_axes(0.4 * h, 3.0 * h, e)
+            .banded(h, band, 2)
+            .axes();
+        assert!((lo / (0.8 * h) - 1.0).abs() < 1e-12 && (hi / (2.0 * h) - 1.0).abs() < 1e-12);
+        // The bounds of the carried ellipse widen by each side's factor.
+        let q = Metric::from_eigen(1.0 / (0.05 * h).powi(2), 1.0 / (100.0 * h).powi(2), e)
+            .bounded_band(h, band, 2);
+        let (lo, hi) = q.axes();
+        assert!((lo / (h / (SQUEEZE_MAX * 2.0)) - 1.0).abs() < 1e-12);
+        assert!((hi / (STRETCH_MAX * 1.5 * h) - 1.0).abs() < 1e-12);
     }
 
     /// Past the bounds the semi-axes are held, along the same axes.

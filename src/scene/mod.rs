@@ -23,6 +23,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::SceneError;
+use crate::physics::support::Band;
 
 /// A whole scene: geometry, materials, physics switches and what to record.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -80,11 +81,12 @@ pub struct Simulation {
     /// deformation"); absent: fixed.
     #[serde(default)]
     pub support: Option<Support>,
-    /// How far adaptive supports stay round: a factor on the semi-axes
-    /// (docs/method.md, "Supports that follow the deformation"); absent:
+    /// How far adaptive supports stay round: a factor on the semi-axes,
+    /// or two (drawn out, squeezed) (docs/method.md, "Supports that follow
+    /// the deformation"); absent:
     /// [`crate::physics::support::DEFAULT_BAND`].
     #[serde(default)]
-    pub support_band: Option<f64>,
+    pub support_band: Option<SupportBand>,
 }
 
 pub fn default_cfl() -> f64 {
@@ -135,15 +137,39 @@ impl Simulation {
         self.support == Some(Support::Adaptive)
     }
 
-    /// The band within which adaptive supports stay round; 1 where
+    /// The band within which adaptive supports stay round; none where
     /// supports are fixed.
-    pub fn band(&self) -> f64 {
+    pub fn band(&self) -> Band {
         if self.adaptive() {
             self.support_band
-                .unwrap_or(crate::physics::support::DEFAULT_BAND)
+                .map_or(crate::physics::support::DEFAULT_BAND, SupportBand::band)
         } else {
-            1.0
+            Band::NONE
         }
+    }
+}
+
+/// `simulation.support_band`: one factor for drawn-out and squeezed
+/// supports alike, or `[drawn out, squeezed]`.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum SupportBand {
+    Both(f64),
+    Apart([f64; 2]),
+}
+
+impl SupportBand {
+    pub fn band(self) -> Band {
+        match self {
+            SupportBand::Both(b) => Band::uniform(b),
+            SupportBand::Apart([drawn, squeezed]) => Band { drawn, squeezed },
+        }
+    }
+}
+
+impl From<f64> for SupportBand {
+    fn from(b: f64) -> SupportBand {
+        SupportBand::Both(b)
     }
 }
 

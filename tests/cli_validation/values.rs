@@ -89,6 +89,14 @@ fn non_positive_and_negative_values() {
             "simulation.support_band",
         ),
         case(
+            "support_band_squeezed_beyond_four",
+            &[(
+                "dimension = 1",
+                "dimension = 1\nsupport = \"adaptive\"\nsupport_band = [1.5, 5.0]",
+            )],
+            "simulation.support_band",
+        ),
+        case(
             "support_band_below_one",
             &[(
                 "dimension = 1",

@@ -198,7 +198,7 @@ fn rings_with_artificial_stress(end: Option<f64>, hold: Hold) {
             // Following the deformation from the start: supports round
             // within the default band let the rings clump as round ones do
             // (docs/method.md, "Round within a band").
-            scene.simulation.support_band = Some(1.0);
+            scene.simulation.support_band = Some(1.0.into());
             for b in &mut scene.bodies {
                 b.spacing = dx;
             }

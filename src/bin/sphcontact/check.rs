@@ -22,10 +22,13 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
         "support     {}",
         if model.adaptive {
             let band = if model.carries_band() {
-                format!(
-                    "round until the material is drawn out or squeezed by {}, then following it beyond that",
-                    model.band
-                )
+                let b = model.band;
+                let by = if b.drawn == b.squeezed {
+                    format!("drawn out or squeezed by {}", b.drawn)
+                } else {
+                    format!("drawn out by {} or squeezed by {}", b.drawn, b.squeezed)
+                };
+                format!("round until the material is {by}, then following it beyond that")
             } else {
                 "carried with the deformation".to_string()
             };

@@ -80,11 +80,14 @@ pub fn validate(scene: &Scene) -> R {
                 "applies to supports that adapt: needs support = \"adaptive\"",
             ));
         }
-        if !(band.is_finite() && (1.0..=4.0).contains(&band)) {
-            return Err(SceneError::at(
-                "simulation.support_band",
-                format!("must lie in [1, 4] (got {band})"),
-            ));
+        let b = band.band();
+        for f in [b.drawn, b.squeezed] {
+            if !(f.is_finite() && (1.0..=4.0).contains(&f)) {
+                return Err(SceneError::at(
+                    "simulation.support_band",
+                    format!("each factor must lie in [1, 4] (got {f})"),
+                ));
+            }
         }
     }
     if let Some(av) = &scene.artificial_viscosity {
