@@ -65,12 +65,23 @@ fn cpu_bench_times_steps_in_contact() {
 /// reordering permutes the particles, which changes the order of the sums
 /// in the steps after it; timed just before a step that reorders anyway,
 /// it must leave that step's permutation, and so every bit, unchanged.
+/// With round supports and with supports that adapt (whose advance also
+/// carries the ellipses).
 #[test]
 fn time_stage_leaves_the_state_as_it_was() {
+    for support in [
+        sphcontact::scene::Support::Fixed,
+        sphcontact::scene::Support::Adaptive,
+    ] {
+        time_stage_leaves_the_state_with(support);
+    }
+}
+
+fn time_stage_leaves_the_state_with(support: sphcontact::scene::Support) {
     let Some(ctx) = gpu() else {
         return;
     };
-    let case = DiskCase::new(1_000).unwrap();
+    let case = DiskCase::new(1_000).unwrap().with_support(support);
     let make = || {
         GpuSolver::new(
             ctx.clone(),

@@ -175,9 +175,13 @@ impl GpuSolver {
             // carries: all of it is put back afterwards.
             saved = self.persistent_buffers();
         } else if stage == Stage::Advance {
-            // Of the state it moves the positions only: the rest of the full
-            // step is added in place by the passes at the midpoint.
+            // Of the state it moves the positions only (and carries the
+            // supports where they adapt): the rest of the full step is
+            // added in place by the passes at the midpoint.
             saved.push(("u", 8 * nn));
+            if self.model.adaptive {
+                saved.push(("metric", 16 * nn));
+            }
         }
         let backups: Vec<wgpu::Buffer> = saved
             .iter()
