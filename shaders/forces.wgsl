@@ -628,7 +628,8 @@ fn forces_of(i: u32) -> f32 {
     var mask = vec2<u32>(0u, MASK_FULL);
     // Where supports adapt the walk's rows are the walker's own
     // (`adaptive_forces`), which the masks' row map does not follow; while
-    // every support is round the walk is round (`row_map_sparse`).
+    // every support is round the walks and their stencil are round
+    // (`adapting`, walk.wgsl `stencil`) and the masks hold.
     if (LEAP != 0u && !adapt) {
         mask = nmask[i];
     }

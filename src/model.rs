@@ -259,35 +259,19 @@ impl Model {
     /// inside the band runs the round kernel's code.
     pub fn supports_of(&self, carried: &[Metric], out: &mut Vec<Metric>) {
         use rayon::prelude::*;
-        let all_round = carried
+        out.clear();
+        out.par_extend(
+            carried
+                .par_iter()
+                .enumerate()
+                .map(|(i, c)| c.banded(self.h[i], self.band, self.dim)),
+        );
+        let all_round = out
             .par_iter()
             .enumerate()
-            .all(|(i, c)| self.round_within_band(i, c));
-        self.supports_unless_round(carried, all_round, out);
-    }
-
-    /// Whether particle i's carried ellipse `c` gives the round support.
-    #[inline]
-    pub fn round_within_band(&self, i: usize, c: &Metric) -> bool {
-        c.banded(self.h[i], self.band, self.dim) == Metric::round(self.h[i])
-    }
-
-    /// [`Model::supports_of`] where whether all are round is known.
-    pub fn supports_unless_round(
-        &self,
-        carried: &[Metric],
-        all_round: bool,
-        out: &mut Vec<Metric>,
-    ) {
-        use rayon::prelude::*;
-        out.clear();
-        if !all_round {
-            out.par_extend(
-                carried
-                    .par_iter()
-                    .enumerate()
-                    .map(|(i, c)| c.banded(self.h[i], self.band, self.dim)),
-            );
+            .all(|(i, q)| *q == Metric::round(self.h[i]));
+        if all_round {
+            out.clear();
         }
     }
 

@@ -447,6 +447,7 @@ fn supports_inside_the_band_run_the_round_kernel_bit_for_bit() {
             round.simulation.end_time = 1.0e-6;
             round.simulation.integrator = integrator;
             let mut banded = round.clone();
+            round.simulation.support = Some(sphcontact::scene::Support::Fixed);
             banded.simulation.support = Some(sphcontact::scene::Support::Adaptive);
             let (a, b) = (
                 run_on(&round, backend, None),

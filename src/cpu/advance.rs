@@ -110,20 +110,16 @@ pub(super) fn carry_supports(
     }
     out_carried.clear();
     out_carried.extend_from_slice(&from.carried);
-    // Carried, and whether every support is round, in one walk.
-    let all_round = out_carried
+    out_carried
         .par_iter_mut()
         .zip(lv.par_iter())
         .enumerate()
-        .map(|(i, (c, l))| {
-            if model.rigid(i) {
-                return true;
+        .for_each(|(i, (c, l))| {
+            if !model.rigid(i) {
+                *c = c.carried_band(l, dt, model.h[i], model.band, model.dim);
             }
-            *c = c.carried_band(l, dt, model.h[i], model.band, model.dim);
-            model.round_within_band(i, c)
-        })
-        .reduce(|| true, |a, b| a && b);
-    model.supports_unless_round(out_carried, all_round, out);
+        });
+    model.supports_of(out_carried, out);
 }
 
 /// Whether particle i's density is inside `[0.1, 10] ρ0`, or, for a
