@@ -9,13 +9,34 @@ const BIN: &str = env!("CARGO_BIN_EXE_sphcontact");
 const SCENE: &str = "scenes/penetration/tungsten_rod_steel_plate.toml";
 
 fn ballistic(out: &Path, extra: &[&str]) -> Output {
+    ballistic_of(Path::new(SCENE), out, extra)
+}
+
+fn ballistic_of(scene: &Path, out: &Path, extra: &[&str]) -> Output {
     Command::new(BIN)
         .env("SPHCONTACT_FONT", "")
-        .args(["ballistic", SCENE, "--spacing", "2e-4", "--out"])
+        .arg("ballistic")
+        .arg(scene)
+        .args(["--spacing", "2e-4", "--out"])
         .arg(out)
         .args(extra)
         .output()
         .expect("runs")
+}
+
+/// The penetration scene with round supports (`support = "fixed"`), written
+/// into `dir`: the shots are about the bisection, and round supports take
+/// half the steps of the squeezed ones.
+fn round_scene(dir: &Path) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(SCENE).expect("the scene");
+    assert!(text.contains("[simulation]\n"));
+    let path = dir.join("round.toml");
+    std::fs::write(
+        &path,
+        text.replace("[simulation]\n", "[simulation]\nsupport = \"fixed\"\n"),
+    )
+    .expect("written");
+    path
 }
 
 /// A slow shot that stays in the plate, a fast one that comes through and
@@ -25,7 +46,9 @@ fn ballistic(out: &Path, extra: &[&str]) -> Output {
 #[test]
 fn bisection_brackets_the_limit() {
     let tmp = tempfile::tempdir().unwrap();
-    let out = ballistic(
+    let scene = round_scene(tmp.path());
+    let out = ballistic_of(
+        &scene,
         tmp.path(),
         &[
             "--projectile",

@@ -101,7 +101,7 @@ fn cpu_records_as_json() {
     check_record(r, "cpu", 3.0);
     assert_eq!(r["memory_kind"], "host");
     assert_eq!(r["hourglass"], 0.0, "the control is off by default");
-    assert_eq!(r["support"], "fixed", "round supports by default");
+    assert_eq!(r["support"], "adaptive", "adaptive supports by default");
     let threads = num(r, "threads");
     assert!(threads >= 1.0);
     assert!(r["adapter"].as_str().unwrap().starts_with("cpu: "), "{r}");
@@ -176,18 +176,11 @@ fn leapfrog_records_on_both_backends() {
     assert_eq!(recs[0]["work"]["walks"], 3, "{}", recs[0]);
 }
 
-/// `--support adaptive` times the disks with supports that follow the
-/// deformation: the record and the table say so, on the CPU and the GPU.
+/// `--support fixed` times the disks with round supports of fixed `h`:
+/// the record and the table say so, on the CPU and the GPU.
 #[test]
-fn adaptive_supports_records_say_so() {
-    let args = [
-        "--particles",
-        "1000",
-        "--steps",
-        "2",
-        "--support",
-        "adaptive",
-    ];
+fn fixed_supports_records_say_so() {
+    let args = ["--particles", "1000", "--steps", "2", "--support", "fixed"];
     for backend in ["cpu", "gpu"] {
         if backend == "gpu" && common::gpu().is_none() {
             return;
@@ -198,14 +191,10 @@ fn adaptive_supports_records_say_so() {
         );
         let recs = records(&out);
         check_record(&recs[0], backend, 2.0);
-        assert_eq!(recs[0]["support"], "adaptive");
+        assert_eq!(recs[0]["support"], "fixed");
     }
     let (rows, _) = cpu_rows(&bench(&[&["--backend", "cpu"][..], &args].concat(), &[]));
-    assert!(
-        rows[0].contains("midpoint, adaptive supports"),
-        "{}",
-        rows[0]
-    );
+    assert!(rows[0].contains("midpoint, fixed supports"), "{}", rows[0]);
 }
 
 /// `--hourglass` times the disks with the control on: the record and the

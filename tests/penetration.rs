@@ -107,9 +107,12 @@ fn slow_shot_keeps_its_energy_cpu() {
     slow_shot_keeps_its_energy();
 }
 
+/// With round supports (`slow_shot_keeps_its_energy_cpu` holds the
+/// default ones, and `adaptive_penetration_gpu_matches_cpu` the device's
+/// twin of them): minutes on a software adapter otherwise.
 #[test]
 fn slow_shot_keeps_its_energy_gpu() {
-    on_gpu(slow_shot_keeps_its_energy);
+    on_round_supports(|| on_gpu(slow_shot_keeps_its_energy));
 }
 
 #[test]
@@ -179,14 +182,17 @@ fn jet_tip_holds(classic: bool) {
     );
 }
 
+// The two forms' tests, with round supports: the default adaptive ones
+// take twice the steps in the crater and hold the jet as well
+// (docs/hard_cases.md).
 #[test]
 fn jet_tip_holds_with_the_close_pair_stress() {
-    jet_tip_holds(false);
+    on_round_supports(|| jet_tip_holds(false));
 }
 
 #[test]
 fn jet_tip_holds_with_the_classic_stress() {
-    jet_tip_holds(true);
+    on_round_supports(|| jet_tip_holds(true));
 }
 
 #[test]
@@ -206,8 +212,14 @@ fn jet_tip_holds_gpu() {
 /// at 0.1–0.2 m/s and the strain moved by 3e-3. (`work = "plastic"` keys
 /// the share on whether a particle flows, a switch: 1.2e-4 for a change
 /// of 1e-6, 1e-7 or 1e-8.)
+///
+/// With round supports: a test of the term, not of the supports.
 #[test]
 fn artificial_stress_that_only_heats_keeps_round_off_small() {
+    on_round_supports(only_heats_keeps_round_off_small);
+}
+
+fn only_heats_keeps_round_off_small() {
     let shot = |speed: f64| {
         let mut scene = coarse_shot(speed);
         scene.simulation.end_time = 1.5e-5;

@@ -75,13 +75,13 @@ fn rate_cell(r: &Record) -> String {
 }
 
 /// The integrator, the hourglass control where it is on and the supports
-/// where they adapt.
+/// where they are fixed (not the default).
 fn integrator_cell(r: &Record) -> String {
     let mut s = r.integrator.clone();
     if r.hourglass > 0.0 {
         s += &format!(", hourglass {}", r.hourglass);
     }
-    if r.support != "fixed" {
+    if r.support != "adaptive" {
         s += &format!(", {} supports", r.support);
     }
     s

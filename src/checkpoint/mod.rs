@@ -41,8 +41,11 @@ use crate::scene::{Backend, Scene};
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\n";
-/// Version 11: the carried ellipses of supports that adapt within a band,
-/// and an adaptive scene without `support_band` runs the default band.
+/// Version 12: a scene without `support` adapts its supports, and a state
+/// whose supports are all round holds none (a version 11 checkpoint
+/// resumed would change its physics). (Version 11: the carried ellipses
+/// of supports that adapt within a band, and an adaptive scene without
+/// `support_band` runs the default band.)
 /// (Version 10: a scene's artificial stress without `work` takes only its
 /// heat in bodies that can yield.) (Version 9: a scene without `stress_form` runs the variational stress
 /// terms, so a version 8 checkpoint resumed would change its physics.
@@ -53,7 +56,7 @@ const MAGIC: &[u8; 8] = b"SPHCKPT\n";
 /// (Version 5: a scene without `[artificial_stress]` runs the default
 /// close-pair form, so a version 4 checkpoint resumed would change its
 /// physics.)
-const VERSION: u64 = 11;
+const VERSION: u64 = 12;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]

@@ -78,7 +78,7 @@ pub struct Simulation {
     pub geometry: Geometry,
     /// Round supports of fixed `h`, or supports that follow the
     /// deformation (docs/method.md, "Supports that follow the
-    /// deformation"); absent: fixed.
+    /// deformation"); absent: adaptive.
     #[serde(default)]
     pub support: Option<Support>,
     /// How far adaptive supports stay round: a factor on the semi-axes,
@@ -131,10 +131,10 @@ pub enum Support {
 }
 
 impl Simulation {
-    /// Whether supports adapt (as the scene says; fixed where it says
+    /// Whether supports adapt (as the scene says; adaptive where it says
     /// nothing).
     pub fn adaptive(&self) -> bool {
-        self.support == Some(Support::Adaptive)
+        self.support != Some(Support::Fixed)
     }
 
     /// The band within which adaptive supports stay round; none where

@@ -84,8 +84,11 @@ fn non_positive_and_negative_values() {
             "simulation.dimension",
         ),
         case(
-            "support_band_without_adaptive",
-            &[("dimension = 1", "dimension = 1\nsupport_band = 1.5")],
+            "support_band_with_fixed_supports",
+            &[(
+                "dimension = 1",
+                "dimension = 1\nsupport = \"fixed\"\nsupport_band = 1.5",
+            )],
             "simulation.support_band",
         ),
         case(

@@ -39,6 +39,18 @@ thread_local! {
     static BACKEND: std::cell::Cell<Backend> = const { std::cell::Cell::new(Backend::Cpu) };
     /// The integrator `run` imposes on this test's thread (`None`: the scene's).
     static INTEGRATOR: std::cell::Cell<Option<Integrator>> = const { std::cell::Cell::new(None) };
+    /// Whether `run` gives round supports to scenes that name none.
+    static ROUND: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Run a test body with round supports (`support = "fixed"`) in every
+/// scene that does not name its supports: for tests of something else
+/// whose scenes squeeze material, where adaptive supports (the default)
+/// take up to twice the steps. Their own tests hold them.
+pub fn on_round_supports(test: impl FnOnce()) {
+    ROUND.with(|r| r.set(true));
+    test();
+    ROUND.with(|r| r.set(false));
 }
 
 /// Run a test body with every `run` stepped by the leapfrog (CPU path).
@@ -71,6 +83,15 @@ pub fn run(scene: &Scene) -> RunOutput {
 
 /// Run silently on `backend`, writing the outputs into `out_dir` if given.
 pub fn run_on(scene: &Scene, backend: Backend, out_dir: Option<&Path>) -> RunOutput {
+    let round;
+    let scene = if ROUND.with(|r| r.get()) && scene.simulation.support.is_none() {
+        let mut s = scene.clone();
+        s.simulation.support = Some(sphcontact::scene::Support::Fixed);
+        round = s;
+        &round
+    } else {
+        scene
+    };
     run_scene(
         scene,
         None,

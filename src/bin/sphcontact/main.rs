@@ -234,11 +234,11 @@ struct BenchArgs {
     /// docs/method.md, "Hourglass control").
     #[arg(long, default_value_t = 0.0)]
     hourglass: f64,
-    /// The disks' kernel supports: fixed (round, the default) or adaptive
-    /// (carried with the deformation), to time what adapting costs where
-    /// nothing stretches (docs/method.md, "Supports that follow the
-    /// deformation").
-    #[arg(long, value_enum, default_value = "fixed")]
+    /// The disks' kernel supports: adaptive (carried with the
+    /// deformation, round while nothing stretches; the default, as in a
+    /// scene) or fixed (round), to time what carrying them costs
+    /// (docs/method.md, "Supports that follow the deformation").
+    #[arg(long, value_enum, default_value = "adaptive")]
     support: SupportArg,
     /// A JSON list of the records on stdout instead of the table.
     #[arg(long)]

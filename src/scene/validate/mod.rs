@@ -77,7 +77,7 @@ pub fn validate(scene: &Scene) -> R {
         if !sim.adaptive() {
             return Err(SceneError::at(
                 "simulation.support_band",
-                "applies to supports that adapt: needs support = \"adaptive\"",
+                "applies to supports that adapt, not with support = \"fixed\"",
             ));
         }
         let b = band.band();
