@@ -33,7 +33,9 @@
 // with the velocity gradient of the evaluation that moved the positions
 // (kinematics.wgsl).
 @group(0) @binding(83) var<storage, read_write> metric_w: array<vec4<f32>>;
-@group(0) @binding(84) var<storage, read> lgrad: array<vec4<f32>>;
+// With LGRAD the kinematics' packed dt l (common.wgsl), else the
+// viscosity's kept gradient (`gradv`, a vec4<f32> a particle) bound here.
+@group(0) @binding(84) var<storage, read> lgrad: array<vec2<u32>>;
 
 // Where supports adapt, the slot of the next step's largest major
 // semi-axis (common.wgsl), cleared by a pass before the step's end.
@@ -52,7 +54,12 @@ fn clear_next_top(i: u32) {
 fn carry_support(i: u32, rigid: bool, h0: f32, dt: f32) {
     var q = metric_w[i];
     if (!rigid) {
-        q = metric_carried(q, lgrad[i], dt, h0);
+        if (LGRAD) {
+            q = metric_carried(q, unpack_step_gradient(lgrad[i]), 1.0, h0);
+        } else {
+            let l = vec4<f32>(bitcast<vec2<f32>>(lgrad[2u * i]), bitcast<vec2<f32>>(lgrad[2u * i + 1u]));
+            q = metric_carried(q, l, dt, h0);
+        }
         metric_w[i] = q;
     }
     let b = metric_banded(q, h0);

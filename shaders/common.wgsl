@@ -118,6 +118,55 @@ fn no_band() -> bool {
 // (Model::kept_gradient_is_the_steps) and the advance reads it instead.
 override LGRAD: bool = true;
 
+// The copy holds dt l as four half floats (8 bytes a particle, not 16),
+// scaled by 2^16 so that their normal range spans |dt l| from 1e-9 to
+// 0.99: a component's relative error is at most 2^-11 (rounded to nearest,
+// ties to even), and where |dt l| < 1e-9 it is flushed to zero, an error
+// below the f32 rounding of the carry itself (docs/implementation.md, "f32
+// with a precision plan"). Written with integer operations (WGSL's
+// pack2x16float needs a capability some adapters lack, and may round
+// either way). A step cannot strain a particle by 99 % (its CFL step);
+// the clamp keeps the half finite if one did.
+const DTL_SCALE: f32 = 65536.0;
+const DTL_MAX: f32 = 64880.0;
+
+// A half's bits from an f32 in its normal range (or below it: zero).
+fn half_bits(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    let sign = (b >> 16u) & 0x8000u;
+    let a = b & 0x7fffffffu;
+    // 2^-14, the smallest normal half.
+    if (a < 0x38800000u) {
+        return sign;
+    }
+    let r = a + 0xfffu + ((a >> 13u) & 1u);
+    return (sign | ((r >> 13u) - (112u << 10u))) & 0xffffu;
+}
+
+fn half_value(h: u32) -> f32 {
+    let sign = (h & 0x8000u) << 16u;
+    let a = h & 0x7fffu;
+    if (a == 0u) {
+        return bitcast<f32>(sign);
+    }
+    return bitcast<f32>(sign | ((a + (112u << 10u)) << 13u));
+}
+
+fn pack_step_gradient(l: vec4<f32>, dt: f32) -> vec2<u32> {
+    let s = clamp(l * (dt * DTL_SCALE), vec4<f32>(-DTL_MAX), vec4<f32>(DTL_MAX));
+    return vec2<u32>(half_bits(s.x) | (half_bits(s.y) << 16u), half_bits(s.z) | (half_bits(s.w) << 16u));
+}
+
+fn unpack_step_gradient(p: vec2<u32>) -> vec4<f32> {
+    let h = vec4<f32>(
+        half_value(p.x & 0xffffu),
+        half_value(p.x >> 16u),
+        half_value(p.y & 0xffffu),
+        half_value(p.y >> 16u),
+    );
+    return h * (1.0 / DTL_SCALE);
+}
+
 const NONE: u32 = 0xffffffffu;
 const BIG: f32 = 3.0e38;
 const PI: f32 = 3.14159265358979;

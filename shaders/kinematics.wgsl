@@ -50,8 +50,9 @@
 // of the evaluation, for the forces pass.
 @group(0) @binding(80) var<storage, read_write> hoop: array<f32>;
 // Supports that adapt: the state's velocity gradient, which the step's
-// end carries the supports with (advance.wgsl).
-@group(0) @binding(84) var<storage, read_write> lgrad: array<vec4<f32>>;
+// end carries the supports with (advance.wgsl), as dt l in f16
+// (common.wgsl, pack_step_gradient).
+@group(0) @binding(84) var<storage, read_write> lgrad: array<vec2<u32>>;
 // The base pass's debris, a bit a particle (`walk_and_correct`).
 @group(0) @binding(86) var<storage, read_write> debris_bits: array<atomic<u32>>;
 // The leapfrog step with the hourglass control: the velocity v_{n+1/2}
@@ -658,7 +659,7 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
         gradv[i] = velocity_gradient(ks.gsum, fit_of(ks.m, l));
     }
     if (ADAPT && LGRAD) {
-        lgrad[i] = gv;
+        lgrad[i] = pack_step_gradient(gv, ctl.dt);
     }
     if (LEAP != 0u) {
         return;
@@ -717,7 +718,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     }
     let gv = velocity_gradient(ks.gsum, l);
     if (ADAPT && LGRAD) {
-        lgrad[i] = gv;
+        lgrad[i] = pack_step_gradient(gv, ctl.dt);
     }
     let d_tt = hoop_rate(ks.rad, v[i]);
     var mu1 = mu + density_rate(mu, gv, d_tt) * dt;

@@ -395,16 +395,24 @@ fn penetration_gpu_matches_cpu_with(integrator: Integrator) {
     }
 }
 
-/// The coarse penetration with supports that adapt, to 3 µs: the supports
-/// are carried at each step's end with the second evaluation's velocity
-/// gradient, which the device keeps in the contact passes' scratch, so the
-/// contact's entries of that evaluation live on the list instead
-/// (contact.wgsl, on_list). The step counts (the CFL step follows the
-/// minor semi-axes), the velocities and the mean plastic strains against
-/// the CPU within 0.5 %.
+/// The coarse penetration with supports that adapt, to 3 µs: in the
+/// midpoint rule the supports are carried at each step's end with the
+/// second evaluation's velocity gradient, which the device keeps in the
+/// contact passes' scratch, so the contact's entries of that evaluation
+/// live on the list instead (contact.wgsl, on_list); in the leapfrog with
+/// a copy of the step's gradient in half floats (common.wgsl,
+/// pack_step_gradient). The step counts (the CFL step follows the minor
+/// semi-axes), the velocities and the mean plastic strains against the
+/// CPU within 0.5 %.
 #[test]
 fn adaptive_penetration_gpu_matches_cpu() {
-    let mut scene = coarse_penetration(Integrator::Midpoint);
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        adaptive_penetration_matches(integrator);
+    }
+}
+
+fn adaptive_penetration_matches(integrator: Integrator) {
+    let mut scene = coarse_penetration(integrator);
     scene.simulation.end_time = 3.0e-6;
     scene.simulation.support = Some(sphcontact::scene::Support::Adaptive);
     // What crosses a threshold parts f32 from f64 by which particles
@@ -416,7 +424,8 @@ fn adaptive_penetration_gpu_matches_cpu() {
     for m in scene.materials.values_mut() {
         m.cavitation_pressure = Some(f64::INFINITY);
     }
-    let Some((cpu, gpu)) = both_scene("coarse penetration, adaptive", &scene) else {
+    let what = format!("coarse penetration, adaptive, {integrator}");
+    let Some((cpu, gpu)) = both_scene(&what, &scene) else {
         return;
     };
     let steps = |out: &RunOutput| out.summary.steps as f64;

@@ -574,7 +574,8 @@ impl GpuSolver {
                 .collect();
             make("metric", 16 * nn, Some(bytemuck::cast_slice(&q)))?;
             if !supports_carried_by_gradv(&model) {
-                make("lgrad", 16 * nn, None)?;
+                // dt l in f16 pairs (common.wgsl, pack_step_gradient).
+                make("lgrad", 8 * nn, None)?;
             }
         }
         if model.dissipates() {
