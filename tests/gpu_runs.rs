@@ -496,7 +496,10 @@ fn supports_inside_the_band_run_the_round_kernel_bit_for_bit() {
 /// supports, which leave their band in the crater (the largest semi-axis
 /// and the out-of-band flag are raised with integer atomics); the bars
 /// (1-D) on the leapfrog through contact and separation. The scenes but
-/// the penetration run on round supports.
+/// the penetration run on round supports. (The leapfrog with supports
+/// out of their band writes the same bytes twice in the checkpoint tests:
+/// `gpu_resume_with_adaptive_supports_gives_the_same_bytes` runs the
+/// coarse Taylor bar, its face spreading, on both integrators.)
 #[test]
 fn gpu_histories_are_bitwise_repeatable() {
     if gpu().is_none() {
@@ -524,11 +527,6 @@ fn gpu_histories_are_bitwise_repeatable() {
             "scenes/penetration/tungsten_rod_steel_plate.toml",
             None,
             Integrator::Midpoint,
-        ),
-        (
-            "scenes/penetration/tungsten_rod_steel_plate.toml",
-            None,
-            Integrator::Leapfrog,
         ),
         // Bodies of revolution: the mirror images across the axis (in
         // contact from the start; the ball dents the plate at once).
