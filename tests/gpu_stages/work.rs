@@ -127,7 +127,8 @@ fn step_work_on_the_bench_lattice() {
         "{} dispatches a step",
         work.dispatches
     );
-    // The carried ellipses of the default supports among them (16 bytes).
+    // The carried ellipses of the default supports among them (16 bytes
+    // on round supports' 205): 221.74 measured at this size.
     assert!(work.device_bytes_per_particle <= 222.0);
 
     let mut model = case.model.clone();
