@@ -421,8 +421,11 @@ fn face_lift(out: &RunOutput) {
 /// µs): the face's axis particle stays a surface particle and off the
 /// rigid wall. With the plain colour-gradient test it left the surface
 /// set at 30 µs, lost its contact and passed through the wall
-/// (docs/method.md §8.1).
+/// (docs/method.md §8.1). Three minutes on two cores: the default suite
+/// holds the face's axis particle off the wall over the whole 16-across
+/// rod (`a_coarse_taylor_bar_with_linear_hardening_meets_the_finite_element_answer`).
 #[test]
+#[ignore]
 fn the_face_axis_particle_of_a_spread_taylor_bar_stays_on_the_surface() {
     use sphcontact::cpu::{self, CpuSolver};
     use sphcontact::model::Model;

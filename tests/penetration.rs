@@ -89,8 +89,8 @@ fn slow_shot_with_hourglass_control_cpu() {
 }
 
 /// Minutes on a software adapter; the default suite keeps the device's
-/// hourglass control in the stage tests and a whole shot on the device in
-/// [`slow_shot_keeps_its_energy_gpu`].
+/// hourglass control in the stage tests and the device's ledger over a
+/// shot's first 15 µs in `gpu_runs` (`penetration_gpu_matches_cpu`).
 #[test]
 #[ignore]
 fn slow_shot_with_hourglass_control_gpu() {
@@ -109,8 +109,11 @@ fn slow_shot_keeps_its_energy_cpu() {
 
 /// With round supports (`slow_shot_keeps_its_energy_cpu` holds the
 /// default ones, and `adaptive_penetration_gpu_matches_cpu` the device's
-/// twin of them): minutes on a software adapter otherwise.
+/// twin of them). Two minutes on a software adapter: the default suite
+/// holds the device's ledger in plastic flow and failure on the first
+/// 15 µs of the fast shot (`gpu_runs`, `penetration_gpu_matches_cpu`).
 #[test]
+#[ignore]
 fn slow_shot_keeps_its_energy_gpu() {
     on_round_supports(|| on_gpu(slow_shot_keeps_its_energy));
 }

@@ -331,10 +331,12 @@ fn scab_and_rest(scene: &Scene, out: &RunOutput) -> (f64, f64) {
 /// none (`inf`) the plane holds its tension and the far part of the target
 /// does not fly free.
 ///
-/// Measured (CPU midpoint; the GPU path the same to 0.1 m/s): the scab at
-/// −1.0 % of the flyer's speed, the rest at 0.60 m/s; without cavitation
-/// the far part at rest at the end.
-fn cavitates_at_the_plane(coarsen: f64) {
+/// Measured (midpoint): the scab at −2.17 % of the flyer's speed, the rest
+/// at 1.30 m/s (CPU; lavapipe at twice the spacing −2.87 % and 2.03 m/s);
+/// without cavitation the far part at rest at the end. The run without cavitation, which
+/// holds no device code of its own, is the CPU's only where `contrast` is
+/// false.
+fn cavitates_at_the_plane(coarsen: f64, contrast: bool) {
     let scene = coarsened(with_cavitation(2.0e9), coarsen);
     let v = scene.bodies[0].velocity.as_ref().unwrap()[0];
     let out = run(&scene);
@@ -346,33 +348,36 @@ fn cavitates_at_the_plane(coarsen: f64) {
     assert!(out.state.damage.iter().all(|&d| d < 1.0));
     assert_conserved(&scene, &out);
     let (scab, rest) = scab_and_rest(&scene, &out);
-    let holding = coarsened(with_cavitation(f64::INFINITY), coarsen);
-    let (far, _) = scab_and_rest(&holding, &run(&holding));
     println!(
-        "{:?}: scab {scab:.1} m/s ({:+.2} %), the rest {rest:.2} m/s; without cavitation the far part {far:.1} m/s",
+        "{:?}: scab {scab:.1} m/s ({:+.2} %), the rest {rest:.2} m/s",
         backend(),
         100.0 * (scab / v - 1.0),
     );
     assert!((scab / v - 1.0).abs() < 0.03, "scab {scab}");
     assert!(rest.abs() < 0.05 * v, "the rest {rest}");
-    assert!((far / v - 1.0).abs() > 0.2, "without cavitation {far}");
+    if contrast {
+        let holding = coarsened(with_cavitation(f64::INFINITY), coarsen);
+        let (far, _) = scab_and_rest(&holding, &run(&holding));
+        println!("without cavitation the far part {far:.1} m/s");
+        assert!((far / v - 1.0).abs() > 0.2, "without cavitation {far}");
+    }
 }
 
 #[test]
 fn target_cavitates_at_the_plane() {
-    cavitates_at_the_plane(1.0);
+    cavitates_at_the_plane(1.0, true);
 }
 
 #[test]
 fn target_cavitates_at_the_plane_gpu() {
-    on_gpu(|| cavitates_at_the_plane(2.0));
+    on_gpu(|| cavitates_at_the_plane(2.0, false));
 }
 
 /// Minutes on a software adapter.
 #[test]
 #[ignore]
 fn target_cavitates_at_the_plane_gpu_fine() {
-    on_gpu(|| cavitates_at_the_plane(1.0));
+    on_gpu(|| cavitates_at_the_plane(1.0, true));
 }
 
 /// With a spall pressure above the incident stress (4.6 GPa against
