@@ -558,10 +558,11 @@ fn gpu_histories_are_bitwise_repeatable() {
             scene.simulation.end_time = t;
         }
         if path.contains("penetration") {
-            // Its first 3 µs: plastic flow, failures (the first at
-            // 0.55 µs) and the crater's supports out of their band.
+            // Its first 1.5 µs: plastic flow, failures (the first at
+            // 0.55 µs) and the crater's supports out of their band (from
+            // 0.47 µs).
             scene = coarse_penetration(integrator);
-            scene.simulation.end_time = 3.0e-6;
+            scene.simulation.end_time = 1.5e-6;
             scene.simulation.support = None;
         } else {
             scene.simulation.support = Some(sphcontact::scene::Support::Fixed);

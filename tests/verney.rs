@@ -243,7 +243,10 @@ fn cylinder_with_hourglass_control_at_10_through_gpu() {
     });
 }
 
+/// A minute and a half on two cores; the default suite holds the control
+/// in the shell at 10 through (`cylinder_with_hourglass_control_at_10_through`).
 #[test]
+#[ignore]
 fn cylinder_with_hourglass_control_stops_within_1_percent_at_20_through_leapfrog() {
     on_leapfrog(|| {
         let scene = shell_with_hourglass("cylinder", 20, 0.3);
