@@ -65,6 +65,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             geometry: Geometry::Planar,
             support: None,
             support_band: None,
+            dispersion_correction: 0.0,
         },
         artificial_stress: None,
         artificial_viscosity: None,

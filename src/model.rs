@@ -64,6 +64,8 @@ pub struct Model {
     /// off; docs/method.md, "Hourglass control"); each body's is
     /// [`BodyInfo::hourglass`].
     pub hourglass: f64,
+    /// The dispersion correction's `θ` (0: off; docs/method.md §4).
+    pub dispersion: f64,
     /// The artificial stress, unless the scene switches it off
     /// (`epsilon = 0`); a scene without the section gets
     /// [`ArtificialStress::DEFAULT`].
@@ -297,6 +299,7 @@ impl Model {
             av_recon_surface: av.reconstruct_surfaces,
             // The bodies' largest, once they are known.
             hourglass: 0.0,
+            dispersion: sim.dispersion_correction,
             artificial_stress: Some(art).filter(|a| a.epsilon > 0.0),
             close_scale: Vec::new(),
             boundary_threshold: cs.boundary_threshold,

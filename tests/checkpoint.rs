@@ -271,6 +271,18 @@ fn cpu_leapfrog_resume_gives_the_same_bytes() {
     resume_matches_of(scene, Backend::Cpu);
 }
 
+/// With the dispersion correction (the coarse disks, both integrators):
+/// the leapfrog's carried rates hold the correction's forces and work.
+#[test]
+fn cpu_resume_with_the_dispersion_correction_gives_the_same_bytes() {
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        let mut scene = disks();
+        scene.simulation.dispersion_correction = 0.7;
+        scene.simulation.integrator = integrator;
+        resume_matches_of(scene, Backend::Cpu);
+    }
+}
+
 /// Two coarse spheres as bodies of revolution (R/Δx = 10, closing at
 /// 80 m/s), on both integrators: the state's `η = 2π r ρ` and the
 /// leapfrog's carried rates, mirror terms included, resume to the same

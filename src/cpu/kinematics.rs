@@ -52,6 +52,10 @@ pub struct Kinematics {
     /// carried with it, [`super::advance::carry_supports`]); empty
     /// otherwise.
     pub lv: Vec<Mat2>,
+    /// The state's corrected velocity gradient (zero on rigid particles)
+    /// when the dispersion correction is on ([`super::dispersion`]);
+    /// empty otherwise.
+    pub g: Vec<Mat2>,
     /// Continuity `dρ/dt = −ρ tr(∇v)` (the difference form of docs/method.md §4
     /// with the corrected gradient).
     pub drho: Vec<f64>,
@@ -464,6 +468,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
         hv: Vec::new(),
         hgrad: Vec::new(),
         lv: Vec::with_capacity(if model.adaptive { n } else { 0 }),
+        g: Vec::with_capacity(if model.dispersion > 0.0 { n } else { 0 }),
         drho: Vec::with_capacity(n),
         ds: Vec::with_capacity(n),
         rate: Vec::with_capacity(if model.strain_rate { n } else { 0 }),
@@ -504,6 +509,9 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
         }
         if model.adaptive {
             out.lv.push(p.gv);
+        }
+        if model.dispersion > 0.0 {
+            out.g.push(p.gv);
         }
         if model.strain_rate {
             out.rate.push(if model.axisymmetric && !model.rigid(i) {

@@ -82,6 +82,10 @@ impl CpuSolver {
         // mixes two levels: a jump O(Δt) where it should be O(Δx²), which
         // makes the step first order.)
         let mut k = sweep::kinematics_seen(model, &half, nb, &next.v);
+        if model.dispersion > 0.0 {
+            let c = dispersion::strain_correction(model, &half, nb, &k);
+            dispersion::correct_rates(model, &half, &mut k, &c);
+        }
         let lv = std::mem::take(&mut k.lv);
         next.x.copy_from_slice(&half.x);
         // ρ and s at n+1, the predicted energy of 3, and the EOS at them
@@ -124,6 +128,13 @@ impl CpuSolver {
         // 3: the forces at n+1.
         stage::enter(Stage::Forces, Role::Next);
         let (mut dv, art) = sweep::momentum_keeping(model, &next, nb, &k, &pts, &mut self.kept);
+        // The dispersion correction's extra stress and its forces at n+1;
+        // its work is booked at v_{n+1} with the energy sums (4).
+        let extra = (model.dispersion > 0.0).then(|| {
+            let s = dispersion::stress_adjoint(model, &next, nb, &k.l, &pts);
+            dispersion::add_forces(model, &next, nb, &k.l, &s, &mut dv);
+            (s, k.l.clone())
+        });
         let mirrors = model
             .axisymmetric
             .then(|| axis::add_momentum(model, &next, nb, &k, &pts, &mut dv));
@@ -154,6 +165,10 @@ impl CpuSolver {
         let v_next = &half.v;
         stage::enter(Stage::Forces, Role::Energy);
         let mut de = sweep::energy_replay(model, nb, &self.kept, v_next);
+        if let Some((s, l)) = &extra {
+            let g = dispersion::gradient(model, &next, nb, l, v_next);
+            dispersion::add_work(model, &next, s, &g, &mut de);
+        }
         let mut dissipation_rate = art.at(v_next);
         if let Some(m) = &mirrors {
             dissipation_rate += m.add_energy(model, nb, &pts, v_next, &mut de);

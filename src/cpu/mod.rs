@@ -23,6 +23,7 @@ pub mod contact;
 mod contact_tests;
 #[cfg(test)]
 mod debris_tests;
+pub mod dispersion;
 pub mod forces;
 #[cfg(test)]
 mod hourglass_tests;
@@ -121,10 +122,21 @@ fn evaluate_at(
     debris: Option<&[u32]>,
 ) -> (Rates, Diagnostics) {
     stage::enter(Stage::Kinematics, role);
-    let k = sweep::kinematics(model, st, nb);
+    let mut k = sweep::kinematics(model, st, nb);
     let pts = eos_and_stress_with(model, st, debris.unwrap_or(&k.fallback));
+    // The stresses are the state's: the dispersion correction's two sums
+    // take one sweep.
+    let extra = (model.dispersion > 0.0).then(|| {
+        let (c, s) = dispersion::strain_and_stress(model, st, nb, &k, &pts);
+        dispersion::correct_rates(model, st, &mut k, &c);
+        s
+    });
     stage::enter(Stage::Forces, role);
     let (mut dv, mut de, dissipation_rate) = sweep::rates_and_dissipation(model, st, nb, &k, &pts);
+    if let Some(s) = extra {
+        dispersion::add_forces(model, st, nb, &k.l, &s, &mut dv);
+        dispersion::add_work(model, st, &s, &k.g, &mut de);
+    }
     let mut diag = Diagnostics {
         cfl_dt: f64::INFINITY,
         correction_fallback: k.fallback.len(),

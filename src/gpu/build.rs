@@ -189,6 +189,12 @@ impl GpuSolver {
         opts: GpuOptions,
         frame: Option<Frame>,
     ) -> Result<Self, String> {
+        if model.dispersion > 0.0 {
+            return Err(format!(
+                "dispersion_correction = {} runs on the CPU path only",
+                model.dispersion
+            ));
+        }
         let n = model.len();
         let buckets = bucket_count(n);
         let red_groups = (n as u32).div_ceil(RED_CHUNK).max(1);

@@ -107,6 +107,18 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
+    // The dispersion correction runs on the CPU path alone so far.
+    let theta = scene.simulation.dispersion_correction;
+    if theta > 0.0 {
+        return match backend {
+            Backend::Gpu => Err(RunError::Backend(format!(
+                "backend gpu: dispersion_correction = {theta} runs on the CPU path only; use --backend cpu (or auto)"
+            ))),
+            _ => Ok(cpu(matches!(backend, Backend::Auto).then(|| {
+                format!("backend auto: dispersion_correction = {theta} runs on the CPU path only; running it")
+            }))),
+        };
+    }
     match backend {
         Backend::Cpu => Ok(cpu(None)),
         Backend::Gpu => match crate::gpu::shared_context() {

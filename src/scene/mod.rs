@@ -87,6 +87,10 @@ pub struct Simulation {
     /// [`crate::physics::support::DEFAULT_BAND`].
     #[serde(default)]
     pub support_band: Option<SupportBand>,
+    /// The dispersion correction's `θ` (docs/method.md §4, "The
+    /// dispersion correction"): 0 (the default) is off.
+    #[serde(default)]
+    pub dispersion_correction: f64,
 }
 
 pub fn default_cfl() -> f64 {

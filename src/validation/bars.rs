@@ -44,13 +44,13 @@ pub(super) fn exact_bars(scene: &Scene, right: &str) -> Result<BarImpactHistory,
 pub(super) fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
     let n = opts.resolution.bar_particles;
     let pen = run_case(
-        &bar_scene(BARS, n, 5e-9),
+        &opts.tuning.apply(bar_scene(BARS, n, 5e-9)),
         opts.backend,
         opts.integrator,
         None,
     )?;
     let ker = run_case(
-        &bar_scene(BARS_KERNEL, n, 5e-9),
+        &opts.tuning.apply(bar_scene(BARS_KERNEL, n, 5e-9)),
         opts.backend,
         opts.integrator,
         None,
@@ -247,12 +247,12 @@ pub(super) fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
 pub(super) fn steel_aluminium(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
     let n = opts.resolution.bar_particles;
     let pen = run_case(
-        &bar_scene(STEEL_AL, n, 5e-9),
+        &opts.tuning.apply(bar_scene(STEEL_AL, n, 5e-9)),
         opts.backend,
         opts.integrator,
         None,
     )?;
-    let kscene = bar_scene(STEEL_AL_KERNEL, n, 5e-9);
+    let kscene = opts.tuning.apply(bar_scene(STEEL_AL_KERNEL, n, 5e-9));
     let ex = exact_bars(&pen.scene, "aluminium")?;
     // Particle positions at t = 0 (the profiles are drawn against them; the
     // displacements are micrometres) and the exact profile's coordinates.

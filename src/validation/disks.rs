@@ -25,7 +25,12 @@ pub(super) fn disks(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
     let mut cols = Vec::new();
     let mut polar_peak = None;
     for (k, lattice) in ["square", "polar"].into_iter().enumerate() {
-        let run = run_case(&disk_scene(lattice, r), opts.backend, opts.integrator, None)?;
+        let run = run_case(
+            &opts.tuning.apply(disk_scene(lattice, r)),
+            opts.backend,
+            opts.integrator,
+            None,
+        )?;
         let sc = DiskScores::of(&run);
         let case = format!("disks, {lattice} lattice, contact");
         rep.within(

@@ -15,7 +15,7 @@ mod runs;
 mod sweep;
 
 pub use report::{write_csv, Record, Report};
-pub use runs::{bar_scene, disk_scene, run_case, BarScores, CaseRun, DiskScores};
+pub use runs::{bar_scene, disk_scene, run_case, BarScores, CaseRun, DiskScores, Tuning};
 pub use sweep::{
     bar_observables, bar_observables_of, convergence_order, disk_observables, disk_observables_of,
     sweep, Observed, SweepOptions, SweepPoint,
@@ -100,6 +100,8 @@ pub struct Options {
     pub backend: Option<Backend>,
     /// `None`: the scenes' (the midpoint rule).
     pub integrator: Option<Integrator>,
+    /// The dispersion correction and the viscosity, where not the scenes'.
+    pub tuning: Tuning,
     pub out: PathBuf,
     pub resolution: Resolution,
     /// Print progress lines.

@@ -7,6 +7,43 @@ use crate::RunError;
 
 use super::{DISKS_POLAR, DISKS_SQUARE};
 
+/// What `validate` changes in every scene it runs, beyond the backend and
+/// the integrator: the dispersion correction's θ and the viscosity's α
+/// (`None`: the scene's).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Tuning {
+    pub dispersion_correction: Option<f64>,
+    pub alpha: Option<f64>,
+}
+
+impl Tuning {
+    /// `scene` with the tuning applied.
+    pub fn apply(&self, mut scene: Scene) -> Scene {
+        if let Some(theta) = self.dispersion_correction {
+            scene.simulation.dispersion_correction = theta;
+        }
+        if let Some(alpha) = self.alpha {
+            scene
+                .artificial_viscosity
+                .get_or_insert_with(Default::default)
+                .alpha = alpha;
+        }
+        scene
+    }
+
+    /// The tuning's part of a table's title: empty where there is none.
+    pub fn label(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some(t) = self.dispersion_correction {
+            parts.push(format!("dispersion correction θ {t}"));
+        }
+        if let Some(a) = self.alpha {
+            parts.push(format!("viscosity α {a}"));
+        }
+        parts.join(", ")
+    }
+}
+
 /// A run of one scene for validation.
 pub struct CaseRun {
     pub scene: Scene,

@@ -11,7 +11,7 @@ use crate::RunError;
 
 use super::bars::exact_bars;
 use super::report::{draw, series};
-use super::runs::{bar_scene, disk_scene, run_case, BarScores, CaseRun, DiskScores};
+use super::runs::{bar_scene, disk_scene, run_case, BarScores, CaseRun, DiskScores, Tuning};
 use super::{BARS, DISKS_CONTACT_TIME, DISKS_PEAK_FORCE};
 
 /// One point of the speed-against-error sweep.
@@ -41,6 +41,8 @@ pub struct SweepOptions {
     pub disk_r_over_dx: Vec<f64>,
     /// Time integration of every run (the leapfrog: CPU backend only).
     pub integrator: Integrator,
+    /// The dispersion correction and the viscosity, where not the scenes'.
+    pub tuning: Tuning,
     pub out: PathBuf,
     pub verbose: bool,
 }
@@ -53,6 +55,7 @@ impl SweepOptions {
             bar_particles: vec![25, 50, 100, 200, 400],
             disk_r_over_dx: vec![10.0, 15.0, 20.0, 30.0, 40.0, 50.0],
             integrator: Integrator::Midpoint,
+            tuning: Tuning::default(),
             out,
             verbose: false,
         }
@@ -198,7 +201,7 @@ pub fn sweep(opts: &SweepOptions) -> Result<(Vec<SweepPoint>, Vec<String>), RunE
             if opts.verbose {
                 eprintln!("sweep: bars, {n} per bar, {b}");
             }
-            let mut scene = bar_scene(BARS, n, 5e-9);
+            let mut scene = opts.tuning.apply(bar_scene(BARS, n, 5e-9));
             scene.simulation.integrator = opts.integrator;
             let (run, obs) = bar_observables_of(&scene, Some(b))?;
             push("bars", "segment", n as f64, &run, &obs);
@@ -208,7 +211,7 @@ pub fn sweep(opts: &SweepOptions) -> Result<(Vec<SweepPoint>, Vec<String>), RunE
                 if opts.verbose {
                     eprintln!("sweep: disks, {lattice}, R/dx = {r}, {b}");
                 }
-                let mut scene = disk_scene(lattice, r);
+                let mut scene = opts.tuning.apply(disk_scene(lattice, r));
                 scene.simulation.integrator = opts.integrator;
                 let (run, obs) = disk_observables_of(&scene, Some(b))?;
                 push("disks", lattice, r, &run, &obs);

@@ -119,6 +119,44 @@ fn adaptive_supports_run_on_both_paths() {
     assert!(stdout.contains("support     adaptive"), "{stdout}");
 }
 
+/// The dispersion correction runs on the CPU path alone so far: `--backend
+/// gpu` refuses it (exit 2, naming the key and the way out) before any
+/// adapter is asked for, `auto` runs it on the CPU path with one warning
+/// line, and `check` names it.
+#[test]
+fn dispersion_correction_runs_on_the_cpu_path() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = BASE_1D.replacen(
+        "dimension = 1",
+        "dimension = 1\ndispersion_correction = 0.7",
+        1,
+    );
+    let scene = write_scene(tmp.path(), "dispersion", &text);
+    let run = |backend: &str| {
+        let out_dir = tmp.path().join(backend);
+        let args = [
+            "run",
+            scene.to_str().unwrap(),
+            "--backend",
+            backend,
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--quiet",
+        ];
+        (sphcontact(tmp.path(), &args), out_dir)
+    };
+    let (out, _) = run("gpu");
+    refused(&out, &["dispersion_correction", "--backend cpu"]);
+    let (out, dir) = run("auto");
+    let warning = the_warning(&out);
+    assert!(warning.contains("CPU path only"), "{warning}");
+    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
+    check_says(tmp.path(), &scene, "dispersion  corrected, theta 0.7");
+    let plain = write_scene(tmp.path(), "plain", BASE_1D);
+    check_says(tmp.path(), &plain, "dispersion  uncorrected");
+}
+
 /// `sphcontact check` on `scene` succeeds and prints `line`.
 fn check_says(dir: &Path, scene: &Path, line: &str) {
     let out = sphcontact(dir, &["check", scene.to_str().unwrap()]);
@@ -434,6 +472,53 @@ fn validate_writes_figures_csv_and_json() {
     assert!(String::from_utf8_lossy(&bad.stderr).contains("unknown case 'nonsense'"));
     let bad = sphcontact(dir.path(), &["validate", "--bar-particles", "3"]);
     assert_eq!(bad.status.code(), Some(2));
+}
+
+/// `validate --dispersion-correction 0.7 --alpha 0.3` runs the cases with
+/// the correction (on the CPU path, where `auto` sends it) and says so:
+/// the bars' rebound reaches 0.98 of the exact; values out of range exit 2.
+#[test]
+fn validate_takes_the_dispersion_correction() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = sphcontact(
+        dir.path(),
+        &[
+            "validate",
+            "bars",
+            "--dispersion-correction",
+            "0.7",
+            "--alpha",
+            "0.3",
+            "--out",
+            "v",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "validate failed: {stderr}");
+    assert!(
+        stderr.contains("every scene with dispersion correction θ 0.7, viscosity α 0.3"),
+        "{stderr}"
+    );
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("v/validation.json")).unwrap(),
+    )
+    .unwrap();
+    let rebound = json
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["observable"].as_str().unwrap().starts_with("rebound"))
+        .expect("the rebound's record");
+    assert_eq!(rebound["backend"], "cpu");
+    let ratio = rebound["measured"].as_f64().unwrap() / rebound["exact"].as_f64().unwrap();
+    assert!(ratio >= 0.98, "{rebound}");
+    for bad in [
+        &["validate", "--dispersion-correction", "2"][..],
+        &["validate", "--alpha=-1"][..],
+    ] {
+        let out = sphcontact(dir.path(), bad);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+    }
 }
 
 /// Limits lowered on what the solver requests (a smaller device's, on any

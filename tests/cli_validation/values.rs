@@ -107,6 +107,31 @@ fn non_positive_and_negative_values() {
             )],
             "simulation.support_band",
         ),
+        case(
+            "dispersion_correction_beyond_its_range",
+            &[(
+                "dimension = 1",
+                "dimension = 1\ndispersion_correction = 2.0",
+            )],
+            "simulation.dispersion_correction",
+        ),
+        case(
+            "dispersion_correction_negative",
+            &[(
+                "dimension = 1",
+                "dimension = 1\ndispersion_correction = -0.7",
+            )],
+            "simulation.dispersion_correction",
+        ),
+        case(
+            "dispersion_correction_in_a_body_of_revolution",
+            &[(
+                "dimension = 2",
+                "dimension = 2\ngeometry = \"axisymmetric\"\ndispersion_correction = 0.7",
+            )],
+            "simulation.dispersion_correction",
+        )
+        .two_d(),
     ]);
 }
 

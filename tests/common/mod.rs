@@ -30,6 +30,18 @@ pub fn with_hourglass_control(scene: &mut Scene, alpha: f64) {
         .hourglass = alpha;
 }
 
+/// `scene` with the dispersion correction at `theta` and the viscosity's
+/// linear coefficient at `alpha` (docs/method.md §4, "The dispersion
+/// correction").
+#[allow(dead_code)]
+pub fn with_dispersion_correction(scene: &mut Scene, theta: f64, alpha: f64) {
+    scene.simulation.dispersion_correction = theta;
+    scene
+        .artificial_viscosity
+        .get_or_insert_with(Default::default)
+        .alpha = alpha;
+}
+
 pub fn parse(text: &str) -> Scene {
     Scene::from_toml_str(text, "test scene").expect("a valid scene")
 }

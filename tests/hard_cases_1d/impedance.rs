@@ -22,7 +22,11 @@ use super::*;
 /// contact faces moving together within 3 % of the closing speed, and no
 /// tension. Same tolerances on the GPU: f32 is far below them.
 fn impedance_mismatch() {
-    let scene = load("scenes/hard/impedance_tungsten_aluminium.toml");
+    impedance_mismatch_of(&load("scenes/hard/impedance_tungsten_aluminium.toml"));
+}
+
+fn impedance_mismatch_of(scene: &Scene) {
+    let scene = scene.clone();
     let (w, al) = (material(&scene, "tungsten"), material(&scene, "aluminium"));
     let (l1, l2, v1, v2) = (0.002, 0.006, 20.0, 0.0);
     let t_end = scene.simulation.end_time;
@@ -153,6 +157,16 @@ fn high_impedance_mismatch() {
 #[test]
 fn high_impedance_mismatch_gpu() {
     on_gpu(impedance_mismatch);
+}
+
+/// The same checks with the dispersion correction at θ = 0.7 and the
+/// viscosity at α = 0.3 (docs/method.md §4), with both integrators.
+#[test]
+fn high_impedance_mismatch_with_the_dispersion_correction() {
+    let mut scene = load("scenes/hard/impedance_tungsten_aluminium.toml");
+    with_dispersion_correction(&mut scene, 0.7, 0.3);
+    impedance_mismatch_of(&scene);
+    on_leapfrog(|| impedance_mismatch_of(&scene));
 }
 
 // ---------------------------------------------------------------------------

@@ -19,6 +19,17 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
         sim.dimension, sim.interaction, sim.correction, sim.smoothing_ratio
     );
     println!(
+        "dispersion  {}",
+        if sim.dispersion_correction > 0.0 {
+            format!(
+                "corrected, theta {} (more pair sweeps: two a midpoint evaluation, four a leapfrog step; CPU path only)",
+                sim.dispersion_correction
+            )
+        } else {
+            "uncorrected (dispersion_correction = 0)".to_string()
+        }
+    );
+    println!(
         "support     {}",
         if model.adaptive {
             let band = if model.carries_band() {

@@ -19,6 +19,14 @@ pub(crate) struct ValidateArgs {
     /// Time integration of the cases (default: the scenes' midpoint).
     #[arg(long, value_enum)]
     integrator: Option<IntegratorArg>,
+    /// The dispersion correction's theta in every scene (docs/method.md
+    /// §4; default: the scenes' 0, off), in [0, 1.5].
+    #[arg(long)]
+    dispersion_correction: Option<f64>,
+    /// The artificial viscosity's alpha in every scene (default: the
+    /// scenes' 0.75), >= 0.
+    #[arg(long)]
+    alpha: Option<f64>,
     /// Output directory.
     #[arg(long, default_value = "out/validate")]
     out: PathBuf,
@@ -43,6 +51,8 @@ pub(crate) fn validate_cmd(args: ValidateArgs) -> ExitCode {
         cases,
         backend,
         integrator,
+        dispersion_correction,
+        alpha,
         out,
         bar_particles,
         disk_resolution,
@@ -63,6 +73,25 @@ pub(crate) fn validate_cmd(args: ValidateArgs) -> ExitCode {
             "--disk-resolution must be at least 5 (got {disk_resolution})"
         ));
     }
+    if let Some(t) = dispersion_correction {
+        if !(t.is_finite() && (0.0..=1.5).contains(&t)) {
+            return bad(format!(
+                "--dispersion-correction must lie in [0, 1.5] (got {t})"
+            ));
+        }
+    }
+    if let Some(a) = alpha {
+        if !(a.is_finite() && a >= 0.0) {
+            return bad(format!("--alpha must be >= 0 (got {a})"));
+        }
+    }
+    let tuning = v::Tuning {
+        dispersion_correction,
+        alpha,
+    };
+    if !tuning.label().is_empty() {
+        eprintln!("validate: every scene with {}", tuning.label());
+    }
     let mut chosen = Vec::new();
     for c in &cases {
         match v::Case::parse(c) {
@@ -79,6 +108,10 @@ pub(crate) fn validate_cmd(args: ValidateArgs) -> ExitCode {
     }
     if sweep {
         let backends = match backend.map(backend_of) {
+            Some(Backend::Auto) | None if dispersion_correction.is_some_and(|t| t > 0.0) => {
+                eprintln!("sweep: the dispersion correction runs on the CPU path only; CPU only");
+                vec![Backend::Cpu]
+            }
             Some(Backend::Auto) | None => {
                 let mut b = vec![Backend::Cpu];
                 match sphcontact::gpu::shared_context() {
@@ -97,6 +130,7 @@ pub(crate) fn validate_cmd(args: ValidateArgs) -> ExitCode {
         if let Some(i) = integrator {
             opts.integrator = integrator_of(i);
         }
+        opts.tuning = tuning;
         opts.verbose = true;
         return match v::sweep(&opts) {
             Ok((points, warnings)) => {
@@ -128,6 +162,7 @@ pub(crate) fn validate_cmd(args: ValidateArgs) -> ExitCode {
         cases: chosen,
         backend: backend.map(backend_of),
         integrator: integrator.map(integrator_of),
+        tuning,
         out: out.clone(),
         resolution: v::Resolution {
             bar_particles,

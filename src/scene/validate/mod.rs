@@ -90,6 +90,19 @@ pub fn validate(scene: &Scene) -> R {
             }
         }
     }
+    let theta = sim.dispersion_correction;
+    if !(theta.is_finite() && (0.0..=1.5).contains(&theta)) {
+        return Err(SceneError::at(
+            "simulation.dispersion_correction",
+            format!("must lie in [0, 1.5] (got {theta}; 0.7 is the measured best, 0 is off)"),
+        ));
+    }
+    if theta > 0.0 && scene.axisymmetric() {
+        return Err(SceneError::at(
+            "simulation.dispersion_correction",
+            "is not available for bodies of revolution (geometry = \"axisymmetric\")",
+        ));
+    }
     if let Some(av) = &scene.artificial_viscosity {
         non_negative("artificial_viscosity.alpha", av.alpha)?;
         non_negative("artificial_viscosity.beta", av.beta)?;

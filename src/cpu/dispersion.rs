@@ -1,0 +1,407 @@
+//! The dispersion correction (docs/method.md §4, "The dispersion
+//! correction"): the strain rate takes each pair's velocity jump less the
+//! part the two particles' velocity gradients explain, and the forces are
+//! that map's adjoint applied to the stresses, so that the semi-discrete
+//! energy is kept to round-off.
+//!
+//! With `a_ij = L_i ∇_i W_ij V_j` the weight of the corrected gradient
+//! (`∇v_i = Σ_j (v_j − v_i) ⊗ a_ij`, [`super::kinematics`]) and `d_ij =
+//! x_j − x_i`:
+//!
+//! * the strain rate the stress and the density see is `∇v_i + C_i`,
+//!   `C_i = −½θ Σ_j ((∇v_j − ∇v_i) d_ij) ⊗ a_ij` ([`strain_correction`]);
+//! * its power `Σ_i V_i σ_i : C_i` equals `Σ_k V_k S_k : ∇v_k` with
+//!   `S_k = ½θ/V_k Σ_j (V_j σ_j a_jk + V_k σ_k a_kj) ⊗ d_kj`
+//!   ([`stress_adjoint`], a general 2×2 matrix), so the correction's forces
+//!   are those of the extra stress `S` ([`add_forces`]) and its work, booked
+//!   as internal energy, is `S_k : ∇v_k / ρ_k` ([`add_work`]).
+//!
+//! Three pair sweeps an evaluation (one more for the leapfrog's work at
+//! `v_{n+1}`, [`gradient`]), run only where a scene sets
+//! `dispersion_correction`.
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use super::forces::StressPoint;
+use super::kinematics::{gradient_weight, stress_rate, volumes, Kinematics};
+use super::neighbours::Neighbours;
+use crate::math::{Mat2, Sym};
+use crate::model::{Model, State};
+use crate::physics::strength;
+
+/// The pair's weights `(a_ij, a_ji)` from `∇_i W_ij` (`∇_j W_ji = −∇_i W_ij`).
+#[inline]
+fn weights(
+    model: &Model,
+    st: &State,
+    vol: &[f64],
+    l: &[Mat2],
+    (i, j): (usize, usize),
+    gw: DVec2,
+) -> (DVec2, DVec2) {
+    (
+        l[i].mul_vec(gw * gradient_weight(model, st, vol, i, j)),
+        l[j].mul_vec(-gw * gradient_weight(model, st, vol, j, i)),
+    )
+}
+
+/// `σ : A` of an in-plane stress and a general matrix.
+#[inline]
+fn ddot(s: &Sym, a: &Mat2) -> f64 {
+    s.xx * a.xx + s.xy * (a.xy + a.yx) + s.yy * a.yy
+}
+
+/// `A : B` of two general matrices.
+#[inline]
+fn ddot2(a: &Mat2, b: &Mat2) -> f64 {
+    a.xx * b.xx + a.xy * b.xy + a.yx * b.yx + a.yy * b.yy
+}
+
+/// The corrected gradient `Σ_j (v_j − v_i) ⊗ a_ij` of the velocities `v`
+/// at `st`'s positions with the correction matrices `l` (zero on rigid
+/// particles): the same sums as the kinematic pass's.
+pub fn gradient(model: &Model, st: &State, nb: &Neighbours, l: &[Mat2], v: &[DVec2]) -> Vec<Mat2> {
+    let vol = volumes(model, st);
+    let mut g = vec![Mat2::ZERO; model.len()];
+    nb.sweep(model, st.frame(), &mut g, |i, b, gi, gj| {
+        let j = b.j as usize;
+        let (ai, aj) = weights(model, st, &vol, l, (i, j), b.gw);
+        let dv = v[j] - v[i];
+        *gi += Mat2::outer(dv, ai);
+        if let Some(gj) = gj {
+            *gj += Mat2::outer(-dv, aj);
+        }
+    });
+    for (i, g) in g.iter_mut().enumerate() {
+        if model.rigid(i) {
+            *g = Mat2::ZERO;
+        }
+    }
+    g
+}
+
+/// `C_i = −½θ Σ_j ((∇v_j − ∇v_i) d_ij) ⊗ a_ij` from the kinematic pass's
+/// `∇v` (`k.g`) and `L` (zero on rigid particles).
+pub fn strain_correction(model: &Model, st: &State, nb: &Neighbours, k: &Kinematics) -> Vec<Mat2> {
+    pair_sums(model, st, nb, &k.l, Some(&k.g), None).0
+}
+
+/// [`strain_correction`] and [`stress_adjoint`] in one sweep, where the
+/// stresses do not wait for the corrected rates (the midpoint rule's
+/// evaluations take them from the state).
+pub fn strain_and_stress(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    k: &Kinematics,
+    pts: &[StressPoint],
+) -> (Vec<Mat2>, Vec<Mat2>) {
+    pair_sums(model, st, nb, &k.l, Some(&k.g), Some(pts))
+}
+
+/// The sweep behind [`strain_correction`] (with `g`, the velocity
+/// gradients) and [`stress_adjoint`] (with `pts`, the stresses), either or
+/// both: `(C, S)`, each zero where not asked for and on rigid particles.
+fn pair_sums(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    l: &[Mat2],
+    g: Option<&[Mat2]>,
+    pts: Option<&[StressPoint]>,
+) -> (Vec<Mat2>, Vec<Mat2>) {
+    let vol = volumes(model, st);
+    // V σ: σ/ρ² is what the stress point keeps.
+    let vs: Option<Vec<Sym>> = pts.map(|pts| {
+        (0..model.len())
+            .into_par_iter()
+            .map(|i| pts[i].sr2.scale(vol[i] * st.rho[i] * st.rho[i]))
+            .collect()
+    });
+    let mut acc = vec![(Mat2::ZERO, Mat2::ZERO); model.len()];
+    nb.sweep(model, st.frame(), &mut acc, |i, b, (ci, qi), cj| {
+        let j = b.j as usize;
+        let (ai, aj) = weights(model, st, &vol, l, (i, j), b.gw);
+        let d = st.x[j] - st.x[i];
+        // (∇v_j − ∇v_i) d_ij, the same from j's side (d_ji = −d_ij).
+        let u = g.map(|g| g[j].mul_vec(d) - g[i].mul_vec(d));
+        let w = vs.as_ref().map(|vs| vs[i].mul_vec(ai) + vs[j].mul_vec(aj));
+        if let Some(u) = u {
+            *ci += Mat2::outer(u, ai);
+        }
+        if let Some(w) = w {
+            *qi += Mat2::outer(w, d);
+        }
+        if let Some((cj, qj)) = cj {
+            if let Some(u) = u {
+                *cj += Mat2::outer(u, aj);
+            }
+            if let Some(w) = w {
+                *qj += Mat2::outer(-w, d);
+            }
+        }
+    });
+    let theta = model.dispersion;
+    acc.into_par_iter()
+        .enumerate()
+        .map(|(i, (c, q))| {
+            if model.rigid(i) {
+                (Mat2::ZERO, Mat2::ZERO)
+            } else {
+                (c.scale(-0.5 * theta), q.scale(0.5 * theta / vol[i]))
+            }
+        })
+        .unzip()
+}
+
+/// The kinematic pass's density and stress rates (and equivalent strain
+/// rate) taken at `∇v + C` instead of `∇v` ([`strain_correction`]).
+pub fn correct_rates(model: &Model, st: &State, k: &mut Kinematics, c: &[Mat2]) {
+    let debris = k.debris_flags(model);
+    let (g, drho, ds) = (&k.g, &mut k.drho, &mut k.ds);
+    drho.par_iter_mut()
+        .zip(ds.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, (drho, ds))| {
+            if model.rigid(i) {
+                return;
+            }
+            let gc = g[i] + c[i];
+            *drho = -st.rho[i] * gc.trace();
+            let shear = if debris.get(i).copied().unwrap_or(false) {
+                0.0
+            } else {
+                model.material(i).g
+            };
+            *ds = stress_rate(shear, &st.s[i], &gc);
+        });
+    if model.strain_rate {
+        k.rate.par_iter_mut().enumerate().for_each(|(i, r)| {
+            if !model.rigid(i) {
+                *r = strength::equivalent_strain_rate(&(g[i] + c[i]));
+            }
+        });
+    }
+}
+
+/// The extra stress `S_k` whose forces are the correction's adjoint, from
+/// the stresses of `pts` and the kinematic pass's `L`.
+pub fn stress_adjoint(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    l: &[Mat2],
+    pts: &[StressPoint],
+) -> Vec<Mat2> {
+    pair_sums(model, st, nb, l, None, Some(pts)).1
+}
+
+/// The forces of the extra stress `s` ([`stress_adjoint`]), added to the
+/// accelerations `dv`: `m_i a_i += Σ_j (V_i S_i a_ij − V_j S_j a_ji)`,
+/// minus the gradient of `Σ_k V_k S_k : ∇v_k` in the velocities.
+pub fn add_forces(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    l: &[Mat2],
+    s: &[Mat2],
+    dv: &mut [DVec2],
+) {
+    let vol = volumes(model, st);
+    let mut f = vec![DVec2::ZERO; model.len()];
+    nb.sweep(model, st.frame(), &mut f, |i, b, fi, fj| {
+        let j = b.j as usize;
+        let (ai, aj) = weights(model, st, &vol, l, (i, j), b.gw);
+        let p = s[i].mul_vec(ai) * vol[i] - s[j].mul_vec(aj) * vol[j];
+        *fi += p;
+        if let Some(fj) = fj {
+            *fj -= p;
+        }
+    });
+    dv.par_iter_mut().enumerate().for_each(|(i, a)| {
+        if !model.rigid(i) {
+            *a += f[i] / model.mass[i];
+        }
+    });
+}
+
+/// The correction's work on each particle, `S_k : ∇v_k / ρ_k` per unit
+/// mass, added to `de`: its sum over the particles is minus the power of
+/// [`add_forces`]'s forces at the velocities `∇v` is taken of.
+pub fn add_work(model: &Model, st: &State, s: &[Mat2], g: &[Mat2], de: &mut [f64]) {
+    de.par_iter_mut().enumerate().for_each(|(i, e)| {
+        if !model.rigid(i) {
+            *e += ddot2(&s[i], &g[i]) / st.rho[i];
+        }
+    });
+}
+
+/// `Σ_i V_i σ_i : C_i`, the correction's power through the strain rate,
+/// which [`add_work`] books in its adjoint form (tests).
+pub fn strain_power(model: &Model, st: &State, pts: &[StressPoint], c: &[Mat2]) -> f64 {
+    (0..model.len())
+        .map(|i| model.mass[i] * st.rho[i] * ddot(&pts[i].sr2, &c[i]))
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cpu::kinematics::eos_and_stress;
+    use crate::cpu::{neighbours, sweep};
+    use crate::scene::Scene;
+
+    /// A block of `dim` dimensions, the correction at `theta`, `support`
+    /// the scene's key; with `stir`, its lattice, velocities, densities and
+    /// deviatoric stresses stirred by a fixed pseudo-random sequence.
+    fn stirred(dim: u32, support: &str, theta: f64, stir: bool) -> (Model, State) {
+        let (shape, v) = if dim == 1 {
+            (r#"{ kind = "segment", from = 0.0, to = 0.004 }"#, "[3.0]")
+        } else {
+            (
+                r#"{ kind = "rectangle", min = [0.0, 0.0], max = [0.003, 0.0025] }"#,
+                "[3.0, -1.0]",
+            )
+        };
+        let scene = Scene::from_toml_str(
+            &format!(
+                r#"
+[simulation]
+dimension = {dim}
+end_time = 1.0e-6
+support = "{support}"
+dispersion_correction = {theta}
+[materials.m]
+density = 7850.0
+shear_modulus = 77.0e9
+eos = {{ kind = "linear", c0 = 4580.0 }}
+[[bodies]]
+name = "block"
+material = "m"
+spacing = 1.0e-4
+velocity = {v}
+shape = {shape}
+"#
+            ),
+            "block",
+        )
+        .expect("the scene");
+        let (model, mut st) = Model::new(&scene);
+        if !stir {
+            return (model, st);
+        }
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut r = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let y = if dim == 1 { 0.0 } else { 1.0 };
+        for i in 0..model.len() {
+            st.x[i] += DVec2::new(r(), r() * y) * 2.0e-5;
+            st.v[i] += DVec2::new(r(), r() * y) * 4.0;
+            st.rho[i] *= 1.0 + 0.01 * r();
+            st.s[i] = Sym {
+                xx: 1e8 * r(),
+                yy: 1e8 * r() * y,
+                xy: 1e8 * r() * y,
+                zz: 0.0,
+            };
+        }
+        (model, st)
+    }
+
+    /// The correction's two halves are each other's adjoints on a stirred
+    /// block: `Σ V σ : C = Σ V S : ∇v` (the stress power the strain rate
+    /// gains is the extra stress's), and the extra stress's forces do
+    /// minus that work at the velocities, so the ledger closes.
+    #[test]
+    fn the_forces_are_the_strain_rates_adjoint() {
+        for (dim, support) in [(1, "fixed"), (2, "fixed"), (2, "adaptive")] {
+            let (model, st) = stirred(dim, support, 0.7, true);
+            let nb = neighbours::find(&model, st.frame());
+            let k = sweep::kinematics(&model, &st, &nb);
+            assert_eq!(k.g.len(), model.len());
+            let c = strain_correction(&model, &st, &nb, &k);
+            let pts = eos_and_stress(&model, &st);
+            let s = stress_adjoint(&model, &st, &nb, &k.l, &pts);
+            let through_strain = strain_power(&model, &st, &pts, &c);
+            let mut de = vec![0.0; model.len()];
+            add_work(&model, &st, &s, &k.g, &mut de);
+            let booked: f64 = (0..model.len()).map(|i| model.mass[i] * de[i]).sum();
+            let mut dv = vec![DVec2::ZERO; model.len()];
+            add_forces(&model, &st, &nb, &k.l, &s, &mut dv);
+            let kinetic: f64 = (0..model.len())
+                .map(|i| model.mass[i] * st.v[i].dot(dv[i]))
+                .sum();
+            let scale: f64 = (0..model.len()).map(|i| model.mass[i] * de[i].abs()).sum();
+            assert!(scale > 0.0, "{dim}-D {support}: no correction at all");
+            let tol = 1e-10 * scale;
+            assert!(
+                (through_strain - booked).abs() < tol,
+                "{dim}-D {support}: Σ Vσ:C {through_strain} against Σ V S:∇v {booked}"
+            );
+            assert!(
+                (kinetic + booked).abs() < tol,
+                "{dim}-D {support}: the forces' power {kinetic} against the work booked {booked}"
+            );
+            // The correction's sweep of ∇v is the kinematic pass's.
+            let g = gradient(&model, &st, &nb, &k.l, &st.v);
+            for (a, b) in g.iter().zip(&k.g) {
+                assert!(ddot2(&(*a - *b), &(*a - *b)).sqrt() < 1e-9 * ddot2(b, b).sqrt().max(1.0));
+            }
+        }
+    }
+
+    /// A velocity field whose gradient is uniform leaves the strain rate
+    /// alone everywhere (the corrected gradient is exact for it at the
+    /// surfaces too, so the neighbours' gradients agree), and a uniform
+    /// stress gives no extra stress inside (the neighbours' `L` agree
+    /// there; at the surfaces they do not).
+    #[test]
+    fn linear_fields_are_left_alone_inside() {
+        let (model, mut st) = stirred(2, "fixed", 0.7, false);
+        let a = Mat2 {
+            xx: 300.0,
+            xy: -120.0,
+            yx: 80.0,
+            yy: -200.0,
+        };
+        for i in 0..model.len() {
+            st.v[i] = a.mul_vec(st.x[i]);
+            st.s[i] = Sym {
+                xx: 2e8,
+                yy: -1e8,
+                xy: 5e7,
+                zz: -1e8,
+            };
+        }
+        let nb = neighbours::find(&model, st.frame());
+        let k = sweep::kinematics(&model, &st, &nb);
+        let c = strain_correction(&model, &st, &nb, &k);
+        let pts = eos_and_stress(&model, &st);
+        let s = stress_adjoint(&model, &st, &nb, &k.l, &pts);
+        let norm = |m: &Mat2| ddot2(m, m).sqrt();
+        // Two supports' reach from every edge: the particle's and its
+        // neighbours' sums are whole.
+        let reach = 4.0 * model.h[0] + 1e-9;
+        let (lo, hi) = (DVec2::splat(0.0), DVec2::new(0.003, 0.0025));
+        let inside: Vec<usize> = (0..model.len())
+            .filter(|&i| {
+                (st.x[i] - lo).min_element() > reach && (hi - st.x[i]).min_element() > reach
+            })
+            .collect();
+        assert!(inside.len() > 20, "{}", inside.len());
+        for (g, c) in k.g.iter().zip(&c) {
+            assert!(norm(&(*g - a)) < 1e-9 * norm(&a), "∇v {g:?}");
+            assert!(norm(c) < 1e-9 * norm(&a), "C {c:?}");
+        }
+        for &i in &inside {
+            assert!(norm(&s[i]) < 1e-9 * 2e8, "S {:?}", s[i]);
+        }
+        let edge = (0..model.len()).map(|i| norm(&s[i])).fold(0.0, f64::max);
+        assert!(edge > 1e-3 * 2e8, "{edge}");
+    }
+}
