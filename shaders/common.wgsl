@@ -325,6 +325,14 @@ fn compatible_energy(w0: vec2<f32>, w1: vec2<f32>, vm: vec2<f32>) -> f32 {
     return -dot(w1 - w0, 0.5 * (w0 + w1) - vm);
 }
 
+// The weight c of the leapfrog's predicted velocity v_n + c dt a_n (the
+// viscosity's and the dashpot's): 1 / (1 + 4 alpha c_L dt / h) with the
+// body's placed h and its material's c_L; 1 without viscosity. CPU twin:
+// physics::viscosity::predictor_weight (PREDICTOR_RATE).
+fn predictor_weight(c_l: f32, h: f32, dt: f32) -> f32 {
+    return 1.0 / (1.0 + 4.0 * params.alpha * c_l * dt / h);
+}
+
 // Global invocation index of a 2-D dispatch of `WG`-wide workgroups
 // (dispatches past 65,535 workgroups wrap into y).
 fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {

@@ -19,8 +19,8 @@
 //   n+1 (the density into rdt.x, whose de_n it has used: the neighbours
 //   read density n for their volumes, and the passes after it read n+1
 //   there until the step's end commits it), the EOS at n+1 with the predicted
-//   energy e_{n+1/2} + dt/2 de_n, the predicted velocity v_{n+1/2} + dt/2 a_n
-//   (vstar) the viscosity and the contact see, and with the reconstructed
+//   energy e_{n+1/2} + dt/2 de_n, the predicted velocity v_n + c dt a_n
+//   (vstar, c = predictor_weight) the viscosity and the contact see, and with the reconstructed
 //   viscosity the velocity gradient of vstar, summed in the same walk. CPU
 //   twin: cpu::CpuSolver::leapfrog, steps 2 and 3.
 
@@ -120,7 +120,7 @@ fn volume(j: u32, mj: vec4<u32>, rho0_i: f32) -> f32 {
 // The sums of particle i's neighbour walk at velocities `v`, its neighbour
 // mask (common.wgsl; leapfrog only), and in a leapfrog step with the
 // reconstructed viscosity the velocity gradient sum of the predicted
-// velocities v + dt/2 a_n (`gseen`; vstar is written in this pass, so each
+// velocities v + (c - 1/2) dt a_n (`gseen`; vstar is written in this pass, so each
 // side's is formed here); with the walker's radius (bodies of revolution;
 // 0 in plane strain), which the stress point and the hoop rate read.
 struct KinSums {
@@ -138,9 +138,12 @@ struct KinSums {
     psi: f32,
 }
 
-// The predicted velocity of particle j (a rigid one's a_n is zero).
+// The predicted velocity of particle j, v_n + c dt a_n (a rigid one's a_n
+// is zero; c = predictor_weight).
 fn predicted(j: u32) -> vec2<f32> {
-    return v[j] + acc[j] * (0.5 * ctl.dt);
+    let b = bodies[pinfo[j].z];
+    let c = predictor_weight(sqrt(b.modulus / b.rho0), b.h, ctl.dt);
+    return v[j] + acc[j] * ((c - 0.5) * ctl.dt);
 }
 
 // What particle i's kinematic walk reads of itself.

@@ -495,7 +495,7 @@ fn rebound_with_the_correction(
 /// The dispersion correction (docs/method.md §4) at θ = 0.7 with the
 /// viscosity at α = 0.3 brings case 1's rebound at 100 particles a bar
 /// to 0.98 of the exact with both integrators (measured 0.9812 and
-/// 0.9811), its contact plateau within 1 %, where the same viscosity
+/// 0.9810), its contact plateau within 1 %, where the same viscosity
 /// without it stops at 0.9725 and rings 1.4 %: the rebound is lost to
 /// the release front's dispersion, not to its damping.
 #[test]

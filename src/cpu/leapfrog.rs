@@ -4,6 +4,8 @@
 
 use rayon::prelude::*;
 
+use crate::physics::viscosity;
+
 use super::*;
 
 impl CpuSolver {
@@ -15,7 +17,8 @@ impl CpuSolver {
     /// 2. the kinematic pass at `(x_{n+1}, v_{n+½})` takes `ρ` and `s` from
     ///    `n` to `n+1` (time-centred rates; with the radial return);
     /// 3. EOS and the momentum pass at `n+1`; the viscosity and the
-    ///    dashpot see the predicted `v_{n+½} + ½Δt a_n`, the EOS the
+    ///    dashpot see the predicted `v_n + cΔt a_n` (`c` the viscosity's
+    ///    [`viscosity::predictor_weight`], 1 without it), the EOS the
     ///    predicted `e_{n+½} + ½Δt ė_n`, the viscosity's reconstruction the
     ///    gradient of the predicted velocities (taken in the walk of 2,
     ///    [`sweep::kinematics_seen`]); the hourglass control sees `v_{n+½}`
@@ -55,7 +58,13 @@ impl CpuSolver {
                 } else {
                     *v = st.v[i] + kn.dv[i] * h;
                     *e = st.e[i] + kn.de[i] * h + kick_energy(kn.dv[i], h);
-                    *vp = *v + kn.dv[i] * h;
+                    let c = viscosity::predictor_weight(
+                        model.alpha,
+                        model.material(i).c_l,
+                        model.h[i],
+                        dt,
+                    );
+                    *vp = *v + kn.dv[i] * ((c - 0.5) * dt);
                 }
                 *x = st.x[i] + *v * dt;
             });

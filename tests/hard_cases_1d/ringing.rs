@@ -101,10 +101,12 @@ fn long_ringing_free_bar_gpu() {
 /// bar of the long run, to two transits, at CFL numbers 0.2, 0.1 and 0.05
 /// against a run at 0.0125 on the same particles. Halving the step must
 /// cut the largest error of a half's mean velocity about fourfold (at
-/// least 3.5×; measured 4.1 and 4.2 for the midpoint rule, 4.2 and 4.2 for
-/// the leapfrog). A first-order term fails it: the leapfrog with the
-/// viscosity's reconstruction mixing `∇v` at `n+½` with velocities at
-/// `n+1` gave 1.9 and 2.2.
+/// least 3.5×; measured 4.0 and 4.2 for the midpoint rule, 3.7 and 4.0 for
+/// the leapfrog, whose viscosity sees the damping-weighted predicted
+/// velocity, 4.2 and 4.3 with the plain one). A first-order term fails
+/// it: the leapfrog with the viscosity's reconstruction mixing `∇v` at
+/// `n+½` with velocities at `n+1` gave 1.9 and 2.2, with its viscosity on
+/// `v_{n+½}` 2.7 and 2.7.
 fn second_order(integrator: Integrator) {
     let base = load("scenes/hard/long_ringing_bar.toml");
     let at = |cfl: f64| {

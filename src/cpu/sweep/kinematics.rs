@@ -21,7 +21,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
 
 /// [`kinematics`], with the velocity gradient the viscosity's
 /// reconstruction uses ([`Kinematics::gv`](crate::cpu::kinematics::Kinematics::gv)) taken at the velocities `seen`
-/// (the leapfrog's predicted `v_{n+½} + ½Δt a_n` at `x_{n+1}`) instead of the
+/// (the leapfrog's predicted `v_n + cΔt a_n` at `x_{n+1}`) instead of the
 /// state's, in the same walk: the reconstruction then removes exactly the
 /// linear part of the jump the viscosity sees.
 pub fn kinematics_seen(model: &Model, st: &State, nb: &Neighbours, seen: &[DVec2]) -> Kinematics {
