@@ -194,7 +194,8 @@ fn stages_match_cpu_penetration_with(cavitation: Option<f64>) {
     if gpu().is_none() {
         return;
     }
-    let (mut model, st) = coarse_penetration_at_5_us();
+    let (model, st) = coarse_penetration_at_5_us();
+    let mut model = midpoint(model);
     if let Some(pc) = cavitation {
         for b in &mut model.bodies {
             b.material.cavitation = pc;

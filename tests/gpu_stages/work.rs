@@ -24,7 +24,7 @@ fn device_memory_per_particle_at_four_million() {
     let n = case.particles();
     assert!(n >= 4_000_000, "{n} particles");
     assert!(case.model.contact && case.model.av_reconstruct);
-    let mut model = case.model.clone();
+    let mut model = midpoint(case.model.clone());
     let solver = GpuSolver::new(ctx.clone(), model.clone(), &case.state, &case.probes, 1e-5)
         .expect("four million particles fit the adapter");
     let per = solver.device_bytes() as f64 / n as f64;
@@ -43,8 +43,8 @@ fn device_memory_per_particle_at_four_million() {
     // the leapfrog with a copy of the step's in f16: at most 220 bytes a
     // particle either way.
     let case = adaptive;
-    assert!(case.model.adaptive && case.model.kept_gradient_is_the_steps());
-    let mut model = case.model.clone();
+    let mut model = midpoint(case.model.clone());
+    assert!(model.adaptive && model.kept_gradient_is_the_steps());
     let solver = GpuSolver::new(ctx.clone(), model.clone(), &case.state, &case.probes, 1e-5)
         .expect("four million particles fit the adapter");
     let per = solver.device_bytes() as f64 / n as f64;
@@ -74,8 +74,14 @@ fn step_work_on_the_bench_lattice() {
     let Some(ctx) = gpu() else { return };
     let case = sphcontact::bench::DiskCase::new(20_000).expect("the benchmark case");
     let n = case.particles();
-    let mut g = GpuSolver::new(ctx, case.model.clone(), &case.state, &case.probes, 1.0)
-        .expect("fits the adapter");
+    let mut g = GpuSolver::new(
+        ctx,
+        midpoint(case.model.clone()),
+        &case.state,
+        &case.probes,
+        1.0,
+    )
+    .expect("fits the adapter");
     let out = g.stage_outputs();
     let work = g.step_work();
     println!("{work:#?}");
