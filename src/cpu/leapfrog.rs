@@ -108,7 +108,7 @@ impl CpuSolver {
             // The predicted energy takes back the first half kick's
             // compatible term, which the second is expected to return.
             *e = half.e[i] + kn.de[i] * h - kick_energy(kn.dv[i], h);
-            *rho = half.rho[i] + k.drho[i] * dt;
+            *rho = density_after(half.rho[i], k.drho[i], dt);
             *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
         };
         let walk = next
@@ -259,6 +259,17 @@ impl CpuSolver {
         ));
         sane
     }
+}
+
+/// The density a step later at the rate `drho = −ρ tr ∇v` held over it:
+/// `ρ exp(Δt drho/ρ)`, so that `ln ρ` and the deviatoric stress, both
+/// advanced by `Δt` times the same strain rate, keep the uniaxial identity
+/// `s_zz − s_xx = 2G ln(ρ/ρ0)` to round-off (the forward step `ρ + Δt
+/// drho` lost `½(Δt tr ∇v)²` of `ln ρ` a step; docs/method.md §9). Its
+/// twin is `density_after` in kinematics.wgsl.
+#[inline]
+fn density_after(rho: f64, drho: f64, dt: f64) -> f64 {
+    rho + rho * (drho / rho * dt).exp_m1()
 }
 
 /// The leapfrog's compatible energy (docs/method.md §9): what a half kick
