@@ -329,8 +329,10 @@ fn compatible_energy(w0: vec2<f32>, w1: vec2<f32>, vm: vec2<f32>) -> f32 {
 // viscosity's and the dashpot's): 1 / (1 + 4 alpha c_L dt / h) with the
 // body's placed h and its material's c_L; 1 without viscosity. CPU twin:
 // physics::viscosity::predictor_weight (PREDICTOR_RATE).
+const PREDICTOR_RATE: f32 = 4.0;
+
 fn predictor_weight(c_l: f32, h: f32, dt: f32) -> f32 {
-    return 1.0 / (1.0 + 4.0 * params.alpha * c_l * dt / h);
+    return 1.0 / (1.0 + PREDICTOR_RATE * params.alpha * c_l * dt / h);
 }
 
 // Global invocation index of a 2-D dispatch of `WG`-wide workgroups

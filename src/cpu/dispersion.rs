@@ -46,12 +46,6 @@ fn weights(
     )
 }
 
-/// `σ : A` of an in-plane stress and a general matrix.
-#[inline]
-fn ddot(s: &Sym, a: &Mat2) -> f64 {
-    s.xx * a.xx + s.xy * (a.xy + a.yx) + s.yy * a.yy
-}
-
 /// `A : B` of two general matrices.
 #[inline]
 fn ddot2(a: &Mat2, b: &Mat2) -> f64 {
@@ -237,20 +231,25 @@ pub fn add_work(model: &Model, st: &State, s: &[Mat2], g: &[Mat2], de: &mut [f64
     });
 }
 
-/// `Σ_i V_i σ_i : C_i`, the correction's power through the strain rate,
-/// which [`add_work`] books in its adjoint form (tests).
-pub fn strain_power(model: &Model, st: &State, pts: &[StressPoint], c: &[Mat2]) -> f64 {
-    (0..model.len())
-        .map(|i| model.mass[i] * st.rho[i] * ddot(&pts[i].sr2, &c[i]))
-        .sum()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::cpu::kinematics::eos_and_stress;
     use crate::cpu::{neighbours, sweep};
     use crate::scene::Scene;
+
+    /// `σ : A` of an in-plane stress and a general matrix.
+    fn ddot(s: &Sym, a: &Mat2) -> f64 {
+        s.xx * a.xx + s.xy * (a.xy + a.yx) + s.yy * a.yy
+    }
+
+    /// `Σ_i V_i σ_i : C_i`, the correction's power through the strain rate,
+    /// which [`add_work`] books in its adjoint form.
+    pub fn strain_power(model: &Model, st: &State, pts: &[StressPoint], c: &[Mat2]) -> f64 {
+        (0..model.len())
+            .map(|i| model.mass[i] * st.rho[i] * ddot(&pts[i].sr2, &c[i]))
+            .sum()
+    }
 
     /// A block of `dim` dimensions, the correction at `theta`, `support`
     /// the scene's key; with `stir`, its lattice, velocities, densities and

@@ -142,11 +142,13 @@ impl CpuSolver {
         let extra = (model.dispersion > 0.0).then(|| {
             let s = dispersion::stress_adjoint(model, &next, nb, &k.l, &pts);
             dispersion::add_forces(model, &next, nb, &k.l, &s, &mut dv);
-            (s, k.l.clone())
+            s
         });
         let mirrors = model
             .axisymmetric
             .then(|| axis::add_momentum(model, &next, nb, &k, &pts, &mut dv));
+        // Nothing below reads L but the correction's work (4).
+        let extra = extra.map(|s| (s, std::mem::take(&mut k.l)));
         let mut diag = Diagnostics {
             correction_fallback: k.fallback.len(),
             ..Default::default()

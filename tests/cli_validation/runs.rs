@@ -27,7 +27,11 @@ fn the_warning(out: &Output) -> String {
 /// `run` of the tiny base scene on `backend`, writing into `<tmp>/out`.
 fn run_base(tmp: &Path, name: &str, backend: &str) -> (Output, PathBuf) {
     let scene = write_scene(tmp, name, BASE_1D);
-    let out_dir = tmp.join("out");
+    run_into(tmp, &scene, backend, tmp.join("out"))
+}
+
+/// `run` of `scene` on `backend`, quiet, writing into `out_dir`.
+fn run_into(tmp: &Path, scene: &Path, backend: &str, out_dir: PathBuf) -> (Output, PathBuf) {
     let args = [
         "run",
         scene.to_str().unwrap(),
@@ -82,19 +86,7 @@ fn adaptive_supports_run_on_both_paths() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_1D.replacen("dimension = 1", "dimension = 1\nsupport = \"adaptive\"", 1);
     let scene = write_scene(tmp.path(), "adaptive", &text);
-    let run = |backend: &str| {
-        let out_dir = tmp.path().join(backend);
-        let args = [
-            "run",
-            scene.to_str().unwrap(),
-            "--backend",
-            backend,
-            "--out",
-            out_dir.to_str().unwrap(),
-            "--quiet",
-        ];
-        (sphcontact(tmp.path(), &args), out_dir)
-    };
+    let run = |backend: &str| run_into(tmp.path(), &scene, backend, tmp.path().join(backend));
     let backends: &[&str] = if sphcontact::gpu::shared_context().is_ok() {
         &["cpu", "gpu"]
     } else {
@@ -132,19 +124,7 @@ fn dispersion_correction_runs_on_the_cpu_path() {
         1,
     );
     let scene = write_scene(tmp.path(), "dispersion", &text);
-    let run = |backend: &str| {
-        let out_dir = tmp.path().join(backend);
-        let args = [
-            "run",
-            scene.to_str().unwrap(),
-            "--backend",
-            backend,
-            "--out",
-            out_dir.to_str().unwrap(),
-            "--quiet",
-        ];
-        (sphcontact(tmp.path(), &args), out_dir)
-    };
+    let run = |backend: &str| run_into(tmp.path(), &scene, backend, tmp.path().join(backend));
     let (out, _) = run("gpu");
     refused(&out, &["dispersion_correction", "--backend cpu"]);
     let (out, dir) = run("auto");

@@ -74,10 +74,8 @@ pub(crate) fn validate_cmd(args: ValidateArgs) -> ExitCode {
         ));
     }
     if let Some(t) = dispersion_correction {
-        if !(t.is_finite() && (0.0..=1.5).contains(&t)) {
-            return bad(format!(
-                "--dispersion-correction must lie in [0, 1.5] (got {t})"
-            ));
+        if let Err(e) = sphcontact::scene::validate::dispersion_correction_in_range(t) {
+            return bad(format!("--dispersion-correction {e}"));
         }
     }
     if let Some(a) = alpha {

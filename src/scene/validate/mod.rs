@@ -52,6 +52,18 @@ fn dimension_of(key: &str, v: &[f64], dim: usize) -> R {
 }
 
 /// Check every rule of docs/scenes.md ("Validation") that serde does not.
+/// The dispersion correction's θ is in [0, 1.5] (docs/method.md §4): the
+/// scene key's rule, and `validate --dispersion-correction`'s.
+pub fn dispersion_correction_in_range(theta: f64) -> Result<(), String> {
+    if theta.is_finite() && (0.0..=1.5).contains(&theta) {
+        Ok(())
+    } else {
+        Err(format!(
+            "must lie in [0, 1.5] (got {theta}; 0.7 is the measured best, 0 is off)"
+        ))
+    }
+}
+
 pub fn validate(scene: &Scene) -> R {
     let sim = &scene.simulation;
     let dim = sim.dimension as usize;
@@ -91,12 +103,8 @@ pub fn validate(scene: &Scene) -> R {
         }
     }
     let theta = sim.dispersion_correction;
-    if !(theta.is_finite() && (0.0..=1.5).contains(&theta)) {
-        return Err(SceneError::at(
-            "simulation.dispersion_correction",
-            format!("must lie in [0, 1.5] (got {theta}; 0.7 is the measured best, 0 is off)"),
-        ));
-    }
+    dispersion_correction_in_range(theta)
+        .map_err(|e| SceneError::at("simulation.dispersion_correction", e))?;
     if theta > 0.0 && scene.axisymmetric() {
         return Err(SceneError::at(
             "simulation.dispersion_correction",
