@@ -221,7 +221,9 @@ struct Params {
     reach_margin: f32,
     // The energy guard's slot of the internal energy held below zero.
     energy_owed: u32,
-    pad2: u32,
+    // The longest step the penalty spring allows (Model::contact_dt;
+    // the largest f32 without contact).
+    contact_dt: f32,
 }
 
 // Per-body constants (mirrored by `gpu::layout::BodyGpu`).

@@ -300,7 +300,7 @@ fn reduce_final(@builtin(local_invocation_id) lid3: vec3<u32>, @builtin(workgrou
 
 // dt from the CFL minimum over the particles (thread 0 of reduce_final).
 fn cfl_step(cfl_min: f32) {
-    var cfl_dt = cfl_min;
+    var cfl_dt = min(cfl_min, params.contact_dt);
     if (params.fixed_dt > 0.0) {
         cfl_dt = params.fixed_dt;
     }

@@ -85,6 +85,12 @@ pub struct Model {
     pub offset: Vec<f64>,
     /// `true` when the penalty contact runs: penalty mode and two or more bodies.
     pub contact: bool,
+    /// The longest step the penalty spring allows
+    /// ([`contact_step`](crate::physics::penalty::contact_step), over every
+    /// pair of bodies and both sides); infinite without contact. Both
+    /// backends take the CFL step or this, the shorter, unless the scene
+    /// fixes the step.
+    pub contact_dt: f64,
     /// `true` when some material has a yield stress.
     pub plastic: bool,
     /// `true` when some deformable body's material carries a plastic
@@ -309,6 +315,7 @@ impl Model {
             body: Vec::with_capacity(n),
             offset: Vec::with_capacity(n),
             contact: sim.interaction == Interaction::Penalty && scene.bodies.len() > 1,
+            contact_dt: f64::INFINITY,
             plastic: false,
             history: false,
             strain_rate: false,
@@ -421,6 +428,7 @@ impl Model {
             Vec::new()
         };
         if model.contact {
+            model.contact_dt = model.contact_step();
             for (i, n) in hoods.iter().enumerate() {
                 let b = model.body[i] as usize;
                 model.offset[i] = crate::physics::penalty::surface_offset(
@@ -465,6 +473,33 @@ impl Model {
             state.entry = vec![0.0; model.len()];
         }
         (model, state)
+    }
+
+    /// The longest step the penalty spring allows over every pair of
+    /// bodies and both sides ([`Model::contact_dt`]).
+    fn contact_step(&self) -> f64 {
+        let m = |b: &BodyInfo| {
+            if b.rigid {
+                f64::INFINITY
+            } else {
+                b.material.m
+            }
+        };
+        let mut dt = f64::INFINITY;
+        for (i, a) in self.bodies.iter().enumerate() {
+            for (j, b) in self.bodies.iter().enumerate() {
+                if i != j {
+                    dt = dt.min(crate::physics::penalty::contact_step(
+                        a.spacing,
+                        a.material.rho0,
+                        m(a),
+                        b.spacing,
+                        m(b),
+                    ));
+                }
+            }
+        }
+        dt
     }
 
     /// The density of particle i at position `x` from its state's
@@ -942,6 +977,44 @@ mod tests {
             "the test scene",
         )
         .expect("a valid scene")
+    }
+
+    /// The model keeps the contact's step limit over its pairs of bodies
+    /// (two steel bodies of one spacing: `Δx / (√2 c_L)`), infinite
+    /// without contact; the CPU solver's step is the shorter of it and the
+    /// CFL step, and a fixed step is left as the scene gives it.
+    #[test]
+    fn contact_step_limit_holds_the_solvers_step() {
+        let mut sc = scene("square", 0.0);
+        let (m, _) = Model::new(&sc);
+        let c = m.bodies[0].material.c_l;
+        let limit = 1.0e-4 / (2f64.sqrt() * c);
+        assert!(
+            (m.contact_dt / limit - 1.0).abs() < 1e-14,
+            "{}",
+            m.contact_dt
+        );
+        sc.simulation.cfl = 0.9;
+        let mut solver = {
+            let (m, st) = Model::new(&sc);
+            crate::cpu::CpuSolver::new(m, st)
+        };
+        assert_eq!(solver.next_dt(), m.contact_dt);
+        sc.simulation.cfl = 0.3;
+        let mut solver = {
+            let (m, st) = Model::new(&sc);
+            crate::cpu::CpuSolver::new(m, st)
+        };
+        assert!(solver.next_dt() < 0.6 * m.contact_dt);
+        sc.simulation.cfl = 0.9;
+        sc.simulation.dt = Some(1.2 * m.contact_dt);
+        let mut solver = {
+            let (m, st) = Model::new(&sc);
+            crate::cpu::CpuSolver::new(m, st)
+        };
+        assert_eq!(solver.next_dt(), 1.2 * m.contact_dt);
+        sc.simulation.interaction = Interaction::Kernel;
+        assert_eq!(Model::new(&sc).0.contact_dt, f64::INFINITY);
     }
 
     /// Each particle's surface offset as placed, the model and state the

@@ -357,7 +357,7 @@ impl CpuSolver {
     pub fn next_dt(&mut self) -> f64 {
         match self.model.fixed_dt {
             Some(dt) => dt,
-            None => self.diagnostics().cfl_dt,
+            None => self.diagnostics().cfl_dt.min(self.model.contact_dt),
         }
     }
 

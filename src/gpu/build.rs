@@ -289,7 +289,7 @@ impl GpuSolver {
             },
             reach_margin: REACH_MARGIN as f32,
             energy_owed: plan.energy.map_or(0, |e| e.2 as u32),
-            pad2: 0,
+            contact_dt: model.contact_dt.min(f32::MAX as f64) as f32,
         };
         let bodies: Vec<BodyGpu> = model
             .bodies

@@ -59,7 +59,9 @@ pub struct Params {
     /// The ring-row slot of the internal energy held below zero, which
     /// the energy guard reads too ([`crate::model::Model::energy_owed_bound`]).
     pub energy_owed: u32,
-    pub pad2: u32,
+    /// The longest step the penalty spring allows
+    /// ([`crate::model::Model::contact_dt`]; `f32::MAX` without contact).
+    pub contact_dt: f32,
 }
 
 /// `Body` in common.wgsl: per-body constants.
@@ -205,7 +207,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 axis_cell,
                 reach_margin,
                 energy_owed,
-                pad2
+                contact_dt
             ),
         ),
         (

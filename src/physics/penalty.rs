@@ -224,7 +224,9 @@ pub fn candidate(bar: &SumsBar, sp: DVec2, w: f64, sq: DVec2, nq: DVec2, oq: f64
 /// A layer is taken at least `Δx/4` thick: on a square lattice around a curve
 /// a particle centre can sit almost on the surface, and a zero-thickness
 /// layer would be an infinitely stiff spring. At the floor the spring's
-/// frequency is `√2 c_L/Δx`, so `ω Δt ≈ 0.5` at the CFL step: stable with margin.
+/// frequency is `√2 c_L/Δx` between equal bodies (`2 c_L/Δx` against a
+/// rigid one), so `ω Δt ≈ 0.5` (0.72) at the default CFL step; the step
+/// is held below [`CONTACT_STEP`]` / ω` ([`contact_step`]).
 /// A rigid side (`M = ∞`) adds no compliance.
 pub fn spring_stiffness(o_a: f64, dx_a: f64, m_a: f64, o_b: f64, dx_b: f64, m_b: f64) -> f64 {
     let layer = |o: f64, dx: f64, m: f64| {
@@ -235,6 +237,30 @@ pub fn spring_stiffness(o_a: f64, dx_a: f64, m_a: f64, o_b: f64, dx_b: f64, m_b:
         }
     };
     1.0 / (layer(o_a, dx_a, m_a) + layer(o_b, dx_b, m_b))
+}
+
+/// The most `ω Δt` the step gives the stiffest penalty spring
+/// ([`contact_step`]). Alone the spring is stable to `ω Δt = 2` on the
+/// leapfrog, but it acts on particles the body's own stresses load too:
+/// at CFL 0.9 the spring of two coarse steel disks at `ω Δt ≈ 1.5` (its
+/// floor) makes the contact chatter, opening and closing every 15 steps,
+/// at twice the Hertz force; at 1.27 (CFL 0.75) the contact holds the
+/// quasi-static force (docs/method.md §9).
+pub const CONTACT_STEP: f64 = 1.0;
+
+/// The longest step the penalty spring between bodies a and b allows on
+/// body a (spacing `dx_a`, reference density `rho_a`, constrained modulus
+/// `m_a`), `CONTACT_STEP / ω` with `ω² = k / (ρ_a Δx_a)`: the spring
+/// of [`spring_stiffness`] at its floor (both layers `Δx/4`), pressing on
+/// a particle of mass `ρ Δx^d` through its area `Δx^(d−1)` (the same
+/// ratio in 1-D, plane strain and bodies of revolution). Infinite for a
+/// rigid body a (`m_a = ∞`: its particles move as prescribed).
+pub fn contact_step(dx_a: f64, rho_a: f64, m_a: f64, dx_b: f64, m_b: f64) -> f64 {
+    if m_a.is_infinite() {
+        return f64::INFINITY;
+    }
+    let k = spring_stiffness(0.0, dx_a, m_a, 0.0, dx_b, m_b);
+    CONTACT_STEP * (rho_a * dx_a / k).sqrt()
 }
 
 /// The surface offset a particle carries (`Model::offset`), from the one
@@ -334,6 +360,22 @@ pub fn stiffness_slope(k: f64, o_b: f64, dx_b: f64, m_b: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The contact's step limit, exactly: `Δx / (√2 c_L)` between equal
+    /// bodies, `Δx / (2 c_L)` against a rigid one (for the deformable
+    /// side; a rigid side sets none), where `M = ρ0 c_L²`.
+    #[test]
+    fn contact_step_between_equal_and_rigid_bodies() {
+        let (rho, c, dx) = (7850.0, 5835.66, 5.0e-5);
+        let m = rho * c * c;
+        let equal = contact_step(dx, rho, m, dx, m);
+        assert!((equal / (dx / (2f64.sqrt() * c)) - 1.0).abs() < 1e-14);
+        let wall = contact_step(dx, rho, m, dx, f64::INFINITY);
+        assert!((wall / (dx / (2.0 * c)) - 1.0).abs() < 1e-14);
+        assert_eq!(contact_step(dx, rho, f64::INFINITY, dx, m), f64::INFINITY);
+        // A body against a softer one: its spring is softer, its step longer.
+        assert!(contact_step(dx, rho, m, dx, 0.1 * m) > equal);
+    }
 
     /// The surface offset: as placed up to 1.25 spacings deep (a
     /// conforming face's half spacing, a square lattice's 0 to 1 around a

@@ -145,6 +145,29 @@ fn check_says(dir: &Path, scene: &Path, line: &str) {
     assert!(stdout.contains(line), "{stdout}");
 }
 
+/// `check` gives the contact's step limit, and says when it sets the step:
+/// not at the paper's CFL 0.3, at the stiff scenes' 0.9.
+#[test]
+fn check_names_the_contacts_step_limit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (scene, sets) in [
+        ("scenes/paper/bars_steel.toml", false),
+        ("scenes/hard/bars_stiff.toml", true),
+    ] {
+        let out = sphcontact(tmp.path(), &["check", root.join(scene).to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(0));
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        // Δx / (√2 c_L) for the bars' steel at 50 µm.
+        assert!(
+            stdout.contains("step limit of the stiffest spring 6.0585e-9 s"),
+            "{stdout}"
+        );
+        assert_eq!(stdout.contains("it sets the step"), sets, "{stdout}");
+        assert_eq!(stdout.contains("(the contact's limit)"), sets, "{stdout}");
+    }
+}
+
 /// `check` says whether the hourglass control runs and at what coefficient.
 #[test]
 fn check_names_the_hourglass_control() {

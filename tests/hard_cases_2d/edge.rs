@@ -1,6 +1,7 @@
 //! The paper's cases at the edge of stability: a clear stop or a good answer.
 
 use super::*;
+use sphcontact::scene::Integrator;
 use std::process::Output;
 
 const BIN: &str = env!("CARGO_BIN_EXE_sphcontact");
@@ -192,33 +193,54 @@ fn edge_backends() -> Vec<&'static str> {
     b
 }
 
+/// `scene` stepped by `integrator`.
+fn stepped_by(scene: &sphcontact::Scene, integrator: Integrator) -> sphcontact::Scene {
+    let mut scene = scene.clone();
+    scene.simulation.integrator = integrator;
+    scene
+}
+
 /// The paper's bars at CFL 0.9 with α = β = 0.01 (scenes/hard/bars_stiff.toml).
-/// Either contract may hold (see `run_at_the_edge`); today the run stops on
-/// both backends at step 7 (65 ns) on the energy guard, naming the contact
-/// face (left bar particle 99 on the CPU, its mirror twin right bar
-/// particle 0 on the GPU; without the guard it went on to a negative
-/// density at step 34), and that is asserted so that a change is noticed.
+/// Either contract may hold (see `run_at_the_edge`); what each integrator
+/// does is asserted so that a change is noticed. The step is the contact's
+/// limit (`Model::contact_dt`), an effective CFL number of 0.59. The
+/// leapfrog completes them within the checks on both backends. The
+/// midpoint rule, which amplifies an undamped mode by sqrt(1 + (ωΔt)⁴/4)
+/// a step, stops on the energy guard (CPU: step 260, 1.58 µs, left bar
+/// particle 1, internal energy held below zero); at the full CFL 0.9
+/// step it stopped at step 7.
 #[test]
-fn stiff_bars_stop_with_a_message_or_hold() {
+fn stiff_bars_hold_on_the_leapfrog_and_stop_on_the_midpoint_rule() {
     let scene = load("scenes/hard/bars_stiff.toml");
     for backend in edge_backends() {
-        let outcome = run_at_the_edge(&scene, backend, bars_answers(&scene));
-        assert_eq!(outcome, Outcome::Unstable, "{backend}: today the run stops");
+        for (integrator, expect) in [
+            (Integrator::Leapfrog, Outcome::Completed),
+            (Integrator::Midpoint, Outcome::Unstable),
+        ] {
+            let scene = stepped_by(&scene, integrator);
+            let outcome = run_at_the_edge(&scene, backend, bars_answers(&scene));
+            assert_eq!(outcome, expect, "{backend}, {integrator}");
+        }
     }
 }
 
 /// A coarse disk pair at CFL 0.9 with α = β = 0.01
-/// (scenes/hard/disks_stiff.toml). Either contract may hold; today the run
-/// stops on both backends during the loading on the energy guard, at step
-/// 10 (0.92 µs), naming left disk particle 254 by the contact (without the
-/// guard it went on to a negative density at step 41–43), and that is
-/// asserted so that a change is noticed.
+/// (scenes/hard/disks_stiff.toml), at the contact's step limit as above:
+/// the leapfrog completes within the Hertz bracket on both backends
+/// (CPU: peak 1.128e6 N/m), the midpoint rule stops on the energy guard
+/// (CPU: step 56, 3.39 µs, left disk particle 311 by the contact).
 #[test]
-fn stiff_disks_stop_with_a_message_or_hold() {
+fn stiff_disks_hold_on_the_leapfrog_and_stop_on_the_midpoint_rule() {
     let scene = load("scenes/hard/disks_stiff.toml");
     for backend in edge_backends() {
-        let outcome = run_at_the_edge(&scene, backend, disks_answers(&scene));
-        assert_eq!(outcome, Outcome::Unstable, "{backend}: today the run stops");
+        for (integrator, expect) in [
+            (Integrator::Leapfrog, Outcome::Completed),
+            (Integrator::Midpoint, Outcome::Unstable),
+        ] {
+            let scene = stepped_by(&scene, integrator);
+            let outcome = run_at_the_edge(&scene, backend, disks_answers(&scene));
+            assert_eq!(outcome, expect, "{backend}, {integrator}");
+        }
     }
 }
 
@@ -230,13 +252,14 @@ fn stiff_disks_stop_with_a_message_or_hold() {
 /// The ledger closes (the leapfrog's compatible kicks, §9), so the total
 /// holds; what shows is the internal energy those particles hold below
 /// zero, which passes half the initial energy. The energy guard stops the
-/// run on both backends at the same step (measured: step 62, 8.8 µs,
-/// particle 201, on both).
+/// run on both backends at the same step (measured: step 63, 8.9 µs,
+/// particle 201, on both; step 62 before the contact's step limit,
+/// `Model::contact_dt`).
 #[test]
 fn rings_past_the_leapfrogs_hourglass_limit_stop_on_energy_held_below_zero() {
     let mut scene = load("scenes/hard/rubber_rings.toml");
     with_hourglass_control(&mut scene, 1.2);
-    scene.simulation.integrator = sphcontact::scene::Integrator::Leapfrog;
+    scene.simulation.integrator = Integrator::Leapfrog;
     scene.simulation.end_time = 2.0e-4;
     let tmp = tempfile::tempdir().unwrap();
     let mut steps = Vec::new();
@@ -278,59 +301,49 @@ fn edge_check_accepts_the_stable_settings() {
     }
 }
 
-/// CFL 0.9 with the default viscosity's α = β = 0.75: the explicit
-/// midpoint rule amplifies an undamped mode of frequency ω by
-/// sqrt(1 + (ωΔt)⁴/4) per step. Before the energy guard
-/// (`Model::guards_energy`) both scenes completed with exit status 0 and
-/// silently wrong energy (the bars with 28 times their initial energy, the
-/// disks with 135 times, restitution 1.29). With the former default
-/// (Monaghan's form, plain at surfaces) both now stop with the
-/// instability message on both backends. The default (the Riemann form,
-/// which damps the receding half of each oscillation too) stops both as
-/// well: the disks with the variational stress terms (docs/method.md §4)
-/// at step 47 on the CPU path (the paper's form completes them at 0.9).
-/// At CFL 0.75 the default completes the disks within every check of the
-/// completed branch on both backends. All asserted.
+/// CFL 0.9 with the default viscosity's α = β = 0.75. Before the energy
+/// guard (`Model::guards_energy`) both scenes completed with exit status 0
+/// and silently wrong energy (the bars with 28 times their initial energy,
+/// the disks with 135 times, restitution 1.29). At the full CFL 0.9 step
+/// the midpoint rule stopped both, and the leapfrog completed the disks
+/// with the contact chattering, opening and closing every 15 steps at
+/// twice the Hertz force (the spring at `ω Δt ≈ 1.5` on particles the
+/// disk's stresses load too). At the contact's step limit
+/// (`Model::contact_dt`, here an effective CFL number of 0.59) both
+/// integrators complete both scenes within every check of the completed
+/// branch, with the default viscosity (the Riemann form) and with the
+/// former one (Monaghan's form, plain at surfaces). At CFL 0.75 (the
+/// limit binds too) the default completes the disks on both backends.
+/// All asserted.
 #[test]
 fn stiff_settings_with_default_viscosity_are_never_silent_garbage() {
     use sphcontact::scene::{ArtificialViscosity, ViscosityForm};
-    for (path, bars, former, expect) in [
-        (
-            "scenes/hard/bars_stiff.toml",
-            true,
-            false,
-            Outcome::Unstable,
-        ),
-        (
-            "scenes/hard/disks_stiff.toml",
-            false,
-            false,
-            Outcome::Unstable,
-        ),
-        ("scenes/hard/bars_stiff.toml", true, true, Outcome::Unstable),
-        (
-            "scenes/hard/disks_stiff.toml",
-            false,
-            true,
-            Outcome::Unstable,
-        ),
+    for (path, bars) in [
+        ("scenes/hard/bars_stiff.toml", true),
+        ("scenes/hard/disks_stiff.toml", false),
     ] {
-        let mut scene = load(path);
-        scene.artificial_viscosity = former.then(|| ArtificialViscosity {
-            form: ViscosityForm::Monaghan,
-            reconstruct_surfaces: false,
-            ..Default::default()
-        });
-        for backend in edge_backends() {
-            let outcome = if bars {
-                run_at_the_edge(&scene, backend, bars_answers(&scene))
-            } else {
-                run_at_the_edge(&scene, backend, disks_answers(&scene))
-            };
-            assert_eq!(
-                outcome, expect,
-                "{path}, former default {former}, on {backend}"
-            );
+        for former in [false, true] {
+            let mut scene = load(path);
+            scene.artificial_viscosity = former.then(|| ArtificialViscosity {
+                form: ViscosityForm::Monaghan,
+                reconstruct_surfaces: false,
+                ..Default::default()
+            });
+            for integrator in [Integrator::Leapfrog, Integrator::Midpoint] {
+                let scene = stepped_by(&scene, integrator);
+                for backend in edge_backends() {
+                    let outcome = if bars {
+                        run_at_the_edge(&scene, backend, bars_answers(&scene))
+                    } else {
+                        run_at_the_edge(&scene, backend, disks_answers(&scene))
+                    };
+                    assert_eq!(
+                        outcome,
+                        Outcome::Completed,
+                        "{path}, former default {former}, {integrator} on {backend}"
+                    );
+                }
+            }
         }
     }
     let mut scene = load("scenes/hard/disks_stiff.toml");

@@ -194,13 +194,27 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
     }
     let placed = sphcontact::scene::place_bodies(scene);
     let dt = cfl_step_at_start(scene, &placed);
-    let used = sim.dt.unwrap_or(dt);
+    if model.contact {
+        println!(
+            "            step limit of the stiffest spring {:.4e} s (ω Δt = {}){}",
+            model.contact_dt,
+            sphcontact::physics::penalty::CONTACT_STEP,
+            if sim.dt.is_none() && model.contact_dt < dt {
+                ", below the CFL step: it sets the step"
+            } else {
+                ""
+            }
+        );
+    }
+    let used = sim.dt.unwrap_or(dt.min(model.contact_dt));
     println!(
         "time        end {:.4e} s, step {:.4e} s ({}), about {} steps, {}",
         sim.end_time,
         used,
         if sim.dt.is_some() {
             "fixed"
+        } else if model.contact_dt < dt {
+            "the contact's limit"
         } else {
             "CFL at t = 0"
         },
