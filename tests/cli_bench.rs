@@ -139,7 +139,7 @@ fn repeated_measurements() {
     assert!(lo <= median && median <= hi, "{cell}");
 }
 
-/// The leapfrog's records say so, on both backends; with `--stages` the
+/// Each integrator's records say so, on both backends; with `--stages` the
 /// GPU leapfrog's work counts its three walks a step.
 #[test]
 fn leapfrog_records_on_both_backends() {
@@ -174,6 +174,19 @@ fn leapfrog_records_on_both_backends() {
     check_record(&recs[0], "gpu", 2.0);
     assert_eq!(recs[0]["integrator"], "leapfrog");
     assert_eq!(recs[0]["work"]["walks"], 3, "{}", recs[0]);
+    // The midpoint rule's two evaluations: kinematics and forces twice.
+    let out = bench(
+        &[
+            &["--backend", "gpu"][..],
+            &args,
+            &["midpoint", "--stages", "--json"],
+        ]
+        .concat(),
+        &[],
+    );
+    let recs = records(&out);
+    assert_eq!(recs[0]["integrator"], "midpoint");
+    assert_eq!(recs[0]["work"]["walks"], 4, "{}", recs[0]);
 }
 
 /// `--support fixed` times the disks with round supports of fixed `h`:
@@ -194,7 +207,7 @@ fn fixed_supports_records_say_so() {
         assert_eq!(recs[0]["support"], "fixed");
     }
     let (rows, _) = cpu_rows(&bench(&[&["--backend", "cpu"][..], &args].concat(), &[]));
-    assert!(rows[0].contains("midpoint, fixed supports"), "{}", rows[0]);
+    assert!(rows[0].contains("leapfrog, fixed supports"), "{}", rows[0]);
 }
 
 /// `--hourglass` times the disks with the control on: the record and the
@@ -210,7 +223,7 @@ fn hourglass_records_say_so() {
     check_record(&recs[0], "cpu", 2.0);
     assert_eq!(recs[0]["hourglass"], 0.7);
     let (rows, _) = cpu_rows(&bench(&[&["--backend", "cpu"][..], &args].concat(), &[]));
-    assert!(rows[0].contains("midpoint, hourglass 0.7"), "{}", rows[0]);
+    assert!(rows[0].contains("leapfrog, hourglass 0.7"), "{}", rows[0]);
     if common::gpu().is_none() {
         return;
     }
@@ -350,13 +363,14 @@ fn gpu_records_and_stages() {
         "{w}"
     );
     let walks = w["per_walk"].as_array().expect("the walks");
-    assert!(walks.iter().any(|k| k["name"] == "kinematics"), "{w}");
+    // The default leapfrog's kinematic pass.
+    assert!(walks.iter().any(|k| k["name"] == "kinematics_leap"), "{w}");
     for k in walks {
         assert!(num(k, "candidates") > 0.0, "{k}");
         assert!((0.0..=1.0).contains(&num(k, "lane_use")), "{k}");
         // Every particle walks the kinematics pass: a group's trips are at least its
         // lanes' mean.
-        if k["name"] == "kinematics" {
+        if k["name"] == "kinematics_leap" {
             assert!(num(k, "group_trips") >= num(k, "candidates"), "{k}");
         }
     }

@@ -134,19 +134,20 @@ fn disks_at_rest_and_translating_gpu() {
     on_gpu(disks_at_rest_and_translating);
 }
 
-// The same bracket with the one-evaluation leapfrog (CPU path).
+// The same bracket with the midpoint rule, two evaluations a step (CPU
+// path; the default is the leapfrog).
 
 #[test]
-fn disks_square_lattice_leapfrog() {
-    on_leapfrog(disks_square_lattice);
+fn disks_square_lattice_midpoint() {
+    on_midpoint(disks_square_lattice);
 }
 
 #[test]
-fn disks_polar_lattice_leapfrog() {
-    on_leapfrog(disks_polar_lattice);
+fn disks_polar_lattice_midpoint() {
+    on_midpoint(disks_polar_lattice);
 }
 
 #[test]
-fn disks_at_rest_and_translating_leapfrog() {
-    on_leapfrog(disks_at_rest_and_translating);
+fn disks_at_rest_and_translating_midpoint() {
+    on_midpoint(disks_at_rest_and_translating);
 }

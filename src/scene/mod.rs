@@ -182,9 +182,9 @@ impl From<f64> for SupportBand {
 #[serde(rename_all = "snake_case")]
 pub enum Integrator {
     /// The explicit midpoint rule: two evaluations a step.
-    #[default]
     Midpoint,
-    /// Kick–drift–kick leapfrog: one evaluation a step.
+    /// Kick–drift–kick leapfrog: one evaluation a step (the default).
+    #[default]
     Leapfrog,
 }
 

@@ -54,7 +54,7 @@ impl SweepOptions {
             backends,
             bar_particles: vec![25, 50, 100, 200, 400],
             disk_r_over_dx: vec![10.0, 15.0, 20.0, 30.0, 40.0, 50.0],
-            integrator: Integrator::Midpoint,
+            integrator: Integrator::default(),
             tuning: Tuning::default(),
             out,
             verbose: false,

@@ -302,17 +302,17 @@ fn check_names_the_artificial_stress() {
     assert!(stderr.contains("work"), "{stderr}");
 }
 
-/// The leapfrog (scene key or `--integrator`) runs on both paths, and the
-/// summary names it.
+/// The leapfrog runs by default; the midpoint rule (scene key or
+/// `--integrator`) runs on both paths, and the summary names it.
 #[test]
-fn leapfrog_by_key_or_flag() {
+fn midpoint_by_key_or_flag() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_1D.replacen(
         "dimension = 1",
-        "dimension = 1\nintegrator = \"leapfrog\"",
+        "dimension = 1\nintegrator = \"midpoint\"",
         1,
     );
-    let scene = write_scene(tmp.path(), "leap", &text);
+    let scene = write_scene(tmp.path(), "mid", &text);
     let plain = write_scene(tmp.path(), "plain", BASE_1D);
     let run = |scene: &Path, extra: &[&str], dir: &str| {
         let out_dir = tmp.path().join(dir);
@@ -333,7 +333,7 @@ fn leapfrog_by_key_or_flag() {
         (&scene, &["--backend", "cpu"][..], "key"),
         (
             &plain,
-            &["--backend", "cpu", "--integrator", "leapfrog"][..],
+            &["--backend", "cpu", "--integrator", "midpoint"][..],
             "flag",
         ),
     ] {
@@ -341,12 +341,12 @@ fn leapfrog_by_key_or_flag() {
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
         let s = summary(&dir);
-        assert_eq!(s["integrator"], "leapfrog", "{s}");
+        assert_eq!(s["integrator"], "midpoint", "{s}");
         assert_eq!(s["backend"], "cpu", "{s}");
     }
     let (out, dir) = run(&plain, &["--backend", "cpu"], "plain");
     assert_eq!(out.status.code(), Some(0));
-    assert_eq!(summary(&dir)["integrator"], "midpoint");
+    assert_eq!(summary(&dir)["integrator"], "leapfrog");
 
     if common::gpu().is_none() {
         return;
@@ -356,7 +356,7 @@ fn leapfrog_by_key_or_flag() {
     let s = summary(&dir);
     assert_eq!(
         (&s["integrator"], &s["backend"]),
-        (&"leapfrog".into(), &"gpu".into())
+        (&"midpoint".into(), &"gpu".into())
     );
 }
 
@@ -397,7 +397,10 @@ fn check_prints_the_derived_set_up() {
     );
     // c_L = sqrt((K + 4G/3) / ρ0) with K = ρ0 c0²: 5835.66 m/s for this steel.
     assert!(stdout.contains("c_L 5835."), "{stdout}");
-    assert!(stdout.contains("midpoint rule"), "{stdout}");
+    assert!(
+        stdout.contains("leapfrog (one evaluation a step)"),
+        "{stdout}"
+    );
     // check runs nothing and writes nothing.
     assert!(std::fs::read_dir(tmp.path()).unwrap().next().is_none());
 }

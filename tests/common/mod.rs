@@ -65,9 +65,17 @@ pub fn on_round_supports(test: impl FnOnce()) {
     ROUND.with(|r| r.set(false));
 }
 
-/// Run a test body with every `run` stepped by the leapfrog (CPU path).
+/// Run a test body with every `run` stepped by the leapfrog.
 pub fn on_leapfrog(test: impl FnOnce()) {
     INTEGRATOR.with(|i| i.set(Some(Integrator::Leapfrog)));
+    test();
+    INTEGRATOR.with(|i| i.set(None));
+}
+
+/// Run a test body with every `run` stepped by the midpoint rule (the
+/// default is the leapfrog).
+pub fn on_midpoint(test: impl FnOnce()) {
+    INTEGRATOR.with(|i| i.set(Some(Integrator::Midpoint)));
     test();
     INTEGRATOR.with(|i| i.set(None));
 }

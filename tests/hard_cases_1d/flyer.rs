@@ -140,8 +140,8 @@ fn elastic_target_holds_its_tension() {
 }
 
 #[test]
-fn elastic_target_holds_its_tension_leapfrog() {
-    on_leapfrog(|| {
+fn elastic_target_holds_its_tension_midpoint() {
+    on_midpoint(|| {
         holds(&flyer_tension(&load(
             "scenes/hard/flyer_plate_tension.toml",
         )))
@@ -282,8 +282,8 @@ fn target_spalls_at_the_plane() {
 }
 
 #[test]
-fn target_spalls_at_the_plane_leapfrog() {
-    on_leapfrog(|| spalls_at_the_plane(1.0));
+fn target_spalls_at_the_plane_midpoint() {
+    on_midpoint(|| spalls_at_the_plane(1.0));
 }
 
 #[test]
@@ -298,12 +298,12 @@ fn target_spalls_at_the_plane_gpu_fine() {
     on_gpu(|| spalls_at_the_plane(1.0));
 }
 
-/// Minutes on a software adapter; the device's leapfrog keeps its spall
-/// in the midpoint run above and its step in the stage tests.
+/// Minutes on a software adapter; the device's midpoint rule keeps its
+/// spall in the leapfrog run above and its step in the stage tests.
 #[test]
 #[ignore]
-fn target_spalls_at_the_plane_gpu_leapfrog() {
-    on_leapfrog(|| on_gpu(|| spalls_at_the_plane(1.0)));
+fn target_spalls_at_the_plane_gpu_midpoint() {
+    on_midpoint(|| on_gpu(|| spalls_at_the_plane(1.0)));
 }
 
 /// The flyer plate with a cavitation pressure `p_cav` (`inf`: none) on the
@@ -331,28 +331,15 @@ fn scab_and_rest(scene: &Scene, out: &RunOutput) -> (f64, f64) {
 /// none (`inf`) the plane holds its tension and the far part of the target
 /// does not fly free.
 ///
-/// Measured (midpoint): the scab at −2.17 % of the flyer's speed, the rest
-/// at 1.30 m/s (CPU; lavapipe at twice the spacing −2.87 % and 2.03 m/s);
-/// without cavitation the far part at rest at the end. The run without cavitation, which
-/// holds no device code of its own, is the CPU's only where `contrast` is
-/// false.
+/// Measured at the scene's spacing (CPU): the scab at −1.96 % of the
+/// flyer's speed, the rest at 1.23 m/s (midpoint rule −2.17 %, 1.30 m/s,
+/// lavapipe the same); without cavitation the far part at rest at the end. The
+/// run without cavitation, which holds no device code of its own, is the
+/// CPU's only where `contrast` is false.
 fn cavitates_at_the_plane(coarsen: f64, contrast: bool) {
     let scene = coarsened(with_cavitation(2.0e9), coarsen);
     let v = scene.bodies[0].velocity.as_ref().unwrap()[0];
-    let out = run(&scene);
-    assert_eq!(out.summary.status, "completed");
-    assert!(
-        out.summary.bodies.iter().all(|b| b.failure.is_none()),
-        "nothing can fail"
-    );
-    assert!(out.state.damage.iter().all(|&d| d < 1.0));
-    assert_conserved(&scene, &out);
-    let (scab, rest) = scab_and_rest(&scene, &out);
-    println!(
-        "{:?}: scab {scab:.1} m/s ({:+.2} %), the rest {rest:.2} m/s",
-        backend(),
-        100.0 * (scab / v - 1.0),
-    );
+    let (scab, rest) = cavitation_run(&scene);
     assert!((scab / v - 1.0).abs() < 0.03, "scab {scab}");
     assert!(rest.abs() < 0.05 * v, "the rest {rest}");
     if contrast {
@@ -363,14 +350,53 @@ fn cavitates_at_the_plane(coarsen: f64, contrast: bool) {
     }
 }
 
+/// The cavitating flyer plate `scene` run on this thread's backend:
+/// completed, nothing failed, conserved; the scab's and the rest's speeds.
+fn cavitation_run(scene: &Scene) -> (f64, f64) {
+    let v = scene.bodies[0].velocity.as_ref().unwrap()[0];
+    let out = run(scene);
+    assert_eq!(out.summary.status, "completed");
+    assert!(
+        out.summary.bodies.iter().all(|b| b.failure.is_none()),
+        "nothing can fail"
+    );
+    assert!(out.state.damage.iter().all(|&d| d < 1.0));
+    assert_conserved(scene, &out);
+    let (scab, rest) = scab_and_rest(scene, &out);
+    println!(
+        "{:?}: scab {scab:.1} m/s ({:+.2} %), the rest {rest:.2} m/s",
+        backend(),
+        100.0 * (scab / v - 1.0),
+    );
+    (scab, rest)
+}
+
 #[test]
 fn target_cavitates_at_the_plane() {
     cavitates_at_the_plane(1.0, true);
 }
 
 #[test]
+fn target_cavitates_at_the_plane_midpoint() {
+    on_midpoint(|| cavitates_at_the_plane(1.0, false));
+}
+
+/// The device at twice the spacing (the scene's own takes minutes on a
+/// software adapter: `_gpu_fine`), held to its CPU twin there: the scab
+/// and the rest within 0.5 % of the flyer's speed of the CPU's. At that
+/// spacing the smeared fronts put the scab below the 3 % the scene's
+/// spacing meets (measured on both backends: leapfrog −3.61 %, midpoint
+/// rule −2.87 %).
+#[test]
 fn target_cavitates_at_the_plane_gpu() {
-    on_gpu(|| cavitates_at_the_plane(2.0, false));
+    let scene = coarsened(with_cavitation(2.0e9), 2.0);
+    let v = scene.bodies[0].velocity.as_ref().unwrap()[0];
+    let (scab, rest) = cavitation_run(&scene);
+    on_gpu(|| {
+        let (gs, gr) = cavitation_run(&scene);
+        assert!((gs - scab).abs() < 5e-3 * v, "scab {gs} against {scab}");
+        assert!((gr - rest).abs() < 5e-3 * v, "the rest {gr} against {rest}");
+    });
 }
 
 /// Minutes on a software adapter.

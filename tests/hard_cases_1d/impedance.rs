@@ -166,7 +166,7 @@ fn high_impedance_mismatch_with_the_dispersion_correction() {
     let mut scene = load("scenes/hard/impedance_tungsten_aluminium.toml");
     with_dispersion_correction(&mut scene, 0.7, 0.3);
     impedance_mismatch_of(&scene);
-    on_leapfrog(|| impedance_mismatch_of(&scene));
+    on_midpoint(|| impedance_mismatch_of(&scene));
 }
 
 // ---------------------------------------------------------------------------

@@ -96,8 +96,8 @@ fn jitter_bars() {
 }
 
 #[test]
-fn jitter_bars_leapfrog() {
-    on_leapfrog(jitter_bars);
+fn jitter_bars_midpoint() {
+    on_midpoint(jitter_bars);
 }
 
 #[test]

@@ -84,8 +84,8 @@ fn long_ringing_free_bar() {
 }
 
 #[test]
-fn long_ringing_free_bar_leapfrog() {
-    on_leapfrog(long_ringing);
+fn long_ringing_free_bar_midpoint() {
+    on_midpoint(long_ringing);
 }
 
 #[test]

@@ -167,8 +167,8 @@ fn elastic_plastic_rod_on_rigid_wall() {
 }
 
 #[test]
-fn elastic_plastic_rod_on_rigid_wall_leapfrog() {
-    on_leapfrog(elastic_plastic_rod_on_rigid_wall);
+fn elastic_plastic_rod_on_rigid_wall_midpoint() {
+    on_midpoint(elastic_plastic_rod_on_rigid_wall);
 }
 
 #[test]
@@ -208,8 +208,8 @@ fn hardening_rod_on_rigid_wall() {
 }
 
 #[test]
-fn hardening_rod_on_rigid_wall_leapfrog() {
-    on_leapfrog(hardening_rod_on_rigid_wall);
+fn hardening_rod_on_rigid_wall_midpoint() {
+    on_midpoint(hardening_rod_on_rigid_wall);
 }
 
 #[test]
@@ -217,10 +217,10 @@ fn hardening_rod_on_rigid_wall_gpu() {
     on_gpu(hardening_rod);
 }
 
-/// A minute or more on a software adapter (the midpoint run above and the
-/// CPU leapfrog stay in the default suite).
+/// A minute or more on a software adapter (the leapfrog run above and the
+/// CPU midpoint rule stay in the default suite).
 #[test]
 #[ignore]
-fn hardening_rod_on_rigid_wall_gpu_leapfrog() {
-    on_leapfrog(|| on_gpu(hardening_rod));
+fn hardening_rod_on_rigid_wall_gpu_midpoint() {
+    on_midpoint(|| on_gpu(hardening_rod));
 }

@@ -205,8 +205,8 @@ fn disk_bounces_off_a_rigid_wall_gpu() {
 }
 
 #[test]
-fn disk_bounces_off_a_rigid_wall_leapfrog() {
-    on_leapfrog(disk_on_wall);
+fn disk_bounces_off_a_rigid_wall_midpoint() {
+    on_midpoint(disk_on_wall);
 }
 
 // ---------------------------------------------------------------------------
