@@ -160,7 +160,7 @@ fn surface_ramp(hg: f32) -> f32 {
 
 // Penalty spring stiffness: the two surface layers (thickness o, at least
 // spacing/4) in series, a rigid side adding no compliance.
-// CPU twin: cpu::contact::spring_stiffness.
+// CPU twin: physics::penalty::spring_stiffness.
 fn layer(o: f32, b: Body) -> f32 {
     if (b.rigid != 0u) {
         return 0.0;

@@ -112,7 +112,7 @@ fn intact(j: u32) -> bool {
 
 // The velocity jump the viscosity sees: v_ij less each side's linear
 // reconstruction to the pair midpoint, van Leer limited (xij = x_i - x_j).
-// CPU twin: cpu::forces::reconstructed_jump.
+// CPU twin: physics::viscosity::reconstructed_jump.
 fn reconstructed_jump(vij: vec2<f32>, xij: vec2<f32>, gi: vec4<f32>, gj: vec4<f32>) -> vec2<f32> {
     let di = mat_mul(gi, xij);
     let dj = mat_mul(gj, xij);

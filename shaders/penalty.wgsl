@@ -148,7 +148,7 @@ fn entries(p: u32, count: bool) -> Entries {
         }
     }
     let gap = 0.5 * (chord + tg);
-    // Round-off counts as touching (CPU twin: cpu::contact::touching).
+    // Round-off counts as touching (CPU twin: physics::penalty::touching).
     if (gap > 1e-5 * bodyp.spacing) {
         e.own.w = f32(partner);
         return e;
@@ -156,7 +156,8 @@ fn entries(p: u32, count: bool) -> Entries {
     // The spring measures the overlap beyond the one the particle joined
     // the surface with; that one only shrinks, but follows an overlap more
     // than a quarter spacing beyond it, where the spring yields (CPU twin:
-    // the entry rule of cpu::contact::penalty_booked, yield_overlap).
+    // the entry rule of cpu::contact::penalty_booked,
+    // physics::penalty::yield_overlap).
     let raw = max(-gap, 0.0);
     let e_in = centry[p];
     var yielded = false;
