@@ -264,7 +264,7 @@ impl Checkpoint {
                     .all(|&j| (j as usize) < n)
                 && c.carried
                     .as_ref()
-                    .map_or(true, |(r, _)| r.dv.len() == n && r.de.len() == n);
+                    .is_none_or(|(r, _)| r.dv.len() == n && r.de.len() == n);
             if !ok {
                 return Err(format!(
                     "its particle arrays do not match the scene's {n} particles"

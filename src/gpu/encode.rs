@@ -117,7 +117,7 @@ impl GpuSolver {
         step_index: u64,
         mut timer: Option<&mut profile::StepTimer>,
     ) {
-        if step_index % REORDER_EVERY == 0 {
+        if step_index.is_multiple_of(REORDER_EVERY) {
             self.encode_reorder(enc);
             if let Some(t) = timer.as_deref_mut() {
                 t.after_encoder_work(enc, "reorder", "reorder");

@@ -83,7 +83,7 @@ impl Stepper for CpuStepper<'_> {
             }
             self.fed = false;
             let st = &self.solver.state;
-            if st.step % OUT_OF_RANGE_STEPS == 0 {
+            if st.step.is_multiple_of(OUT_OF_RANGE_STEPS) {
                 rec.progress.out_of_range =
                     Some(probe::count_out_of_range(&self.solver.model, st).total());
             }

@@ -247,10 +247,7 @@ pub fn read_history(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
             row
         })
         .collect();
-    assert!(
-        rows.first().map_or(true, |r| r[0] == 0.0),
-        "rows from t = 0"
-    );
+    assert!(rows.first().is_none_or(|r| r[0] == 0.0), "rows from t = 0");
     for w in rows.windows(2) {
         assert!(w[1][0] > w[0][0], "times increase");
     }

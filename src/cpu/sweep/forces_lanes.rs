@@ -532,7 +532,7 @@ fn lane_terms(
                     Some(gate)
                 }
             };
-            let open = gate.map_or(true, |g| F4::splat(0.0).lt(g).bits() != 0);
+            let open = gate.is_none_or(|g| F4::splat(0.0).lt(g).bits() != 0);
             if open {
                 let [rjxx, rjxy, rjyy, spj] = columns(c.j.map(|j| &art.rows[j as usize]));
                 let [rixx, rixy, riyy, spi] = art.rows[i];
