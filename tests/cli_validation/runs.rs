@@ -164,6 +164,13 @@ fn check_names_the_contacts_step_limit() {
             "{stdout}"
         );
         assert_eq!(stdout.contains("it sets the step"), sets, "{stdout}");
+        // Under the contact's lines, which it belongs to.
+        let lines: Vec<&str> = stdout.lines().collect();
+        let k = lines
+            .iter()
+            .position(|l| l.contains("step limit of the stiffest spring"))
+            .unwrap();
+        assert!(lines[k - 1].starts_with("contact"), "{stdout}");
         assert_eq!(stdout.contains("(the contact's limit)"), sets, "{stdout}");
     }
 }
@@ -397,6 +404,22 @@ fn check_prints_the_derived_set_up() {
     );
     // c_L = sqrt((K + 4G/3) / ρ0) with K = ρ0 c0²: 5835.66 m/s for this steel.
     assert!(stdout.contains("c_L 5835."), "{stdout}");
+    // The geometry, and each body's mass and velocity with their units.
+    assert!(
+        stdout
+            .contains("set-up      1-D, uniaxial strain, interaction penalty, correction gradient"),
+        "{stdout}"
+    );
+    assert!(stdout.contains(" kg/m2, velocity (10, 0) m/s"), "{stdout}");
+    let axi =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/axisymmetric/taylor_bar_bilinear.toml");
+    let out = sphcontact(tmp.path(), &["check", axi.to_str().unwrap()]);
+    let axi = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        axi.contains("set-up      2-D, bodies of revolution (r–z)"),
+        "{axi}"
+    );
+    assert!(axi.contains(" kg, velocity (0, -227) m/s"), "{axi}");
     assert!(
         stdout.contains("leapfrog (one evaluation a step)"),
         "{stdout}"

@@ -259,13 +259,13 @@ fn names() {
             &[(RIGHT_SPACING, "name = \"right\"\nmaterial = \"iron\"\nspacing = 1.0e-4")],
             "bodies[1].material",
         )
-        .also(&["iron"]),
+        .also(&["iron", "(the scene defines: steel)"]),
         case(
             "particle_probe_unknown_body",
             &[(PROBE0_BODY, "body = \"middle\"\nat = [-0.0005]")],
             "probes[0].body",
         )
-        .also(&["middle"]),
+        .also(&["middle", "(the scene defines: left, right)"]),
         case(
             "contact_probe_unknown_body",
             &[(

@@ -15,9 +15,27 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
         println!("title       {t}");
     }
     println!(
-        "set-up      {}-D, interaction {:?}, correction {:?}, smoothing ratio {}",
-        sim.dimension, sim.interaction, sim.correction, sim.smoothing_ratio
+        "set-up      {}, interaction {}, correction {}, smoothing ratio {}",
+        if scene.axisymmetric() {
+            "2-D, bodies of revolution (r–z)"
+        } else if sim.dimension == 1 {
+            "1-D, uniaxial strain"
+        } else {
+            "2-D, plane strain"
+        },
+        format!("{:?}", sim.interaction).to_lowercase(),
+        format!("{:?}", sim.correction).to_lowercase(),
+        sim.smoothing_ratio
     );
+    // A body's mass: per unit area in 1-D, per unit depth in plane strain,
+    // the whole revolution's in a body of revolution.
+    let mass_unit = if scene.axisymmetric() {
+        "kg"
+    } else if sim.dimension == 1 {
+        "kg/m2"
+    } else {
+        "kg/m"
+    };
     println!(
         "dispersion  {}",
         if sim.dispersion_correction > 0.0 {
@@ -116,7 +134,7 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
         let m = &b.material;
         let mass: f64 = b.range.clone().map(|i| model.mass[i]).sum();
         println!(
-            "body        {:<12} {:>8} particles, spacing {:.4e} m, h {:.4e} m, mass {:.6e}, velocity ({}, {}){}",
+            "body        {:<12} {:>8} particles, spacing {:.4e} m, h {:.4e} m, mass {:.6e} {mass_unit}, velocity ({}, {}) m/s{}",
             b.name,
             b.range.len(),
             b.spacing,
@@ -158,6 +176,8 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
             if m.y0.is_finite() { format!(", Y0 {:.4e} Pa", m.y0) } else { String::new() }
         );
     }
+    let placed = sphcontact::scene::place_bodies(scene);
+    let dt = cfl_step_at_start(scene, &placed);
     if model.contact {
         let inf = |b: &sphcontact::model::BodyInfo, v: f64| if b.rigid { f64::INFINITY } else { v };
         for (i, a) in model.bodies.iter().enumerate() {
@@ -179,6 +199,16 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
                 );
             }
         }
+        println!(
+            "            step limit of the stiffest spring {:.4e} s (ω Δt = {}){}",
+            model.contact_dt,
+            sphcontact::physics::penalty::CONTACT_STEP,
+            if sim.dt.is_none() && model.contact_dt < dt {
+                ", below the CFL step: it sets the step"
+            } else {
+                ""
+            }
+        );
     }
     let [lo, hi] = model.domain;
     if model.dim == 1 {
@@ -190,20 +220,6 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
         println!(
             "domain      x in [{:.4e}, {:.4e}] m, y in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
             lo.x, hi.x, lo.y, hi.y
-        );
-    }
-    let placed = sphcontact::scene::place_bodies(scene);
-    let dt = cfl_step_at_start(scene, &placed);
-    if model.contact {
-        println!(
-            "            step limit of the stiffest spring {:.4e} s (ω Δt = {}){}",
-            model.contact_dt,
-            sphcontact::physics::penalty::CONTACT_STEP,
-            if sim.dt.is_none() && model.contact_dt < dt {
-                ", below the CFL step: it sets the step"
-            } else {
-                ""
-            }
         );
     }
     let used = sim.dt.unwrap_or(dt.min(model.contact_dt));

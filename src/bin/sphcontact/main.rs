@@ -17,7 +17,8 @@ use validate::{validate_cmd, ValidateArgs};
 #[command(
     name = "sphcontact",
     version,
-    about = "SPH for impacts between elastic and elasto-plastic solids, with the Seo & Min penalty contact"
+    about = "SPH for impacts between elastic and elasto-plastic solids, with the Seo & Min penalty contact",
+    after_help = "Scene files, their keys and every output: docs/scenes.md. The method: docs/method.md."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -52,7 +53,7 @@ fn integrator_of(i: IntegratorArg) -> Integrator {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a scene and write history.csv and summary.json.
+    /// Run a scene and write history.csv, history.png and summary.json.
     Run {
         /// The scene file (TOML); not with --resume, which takes the scene
         /// from the checkpoint.

@@ -172,7 +172,11 @@ pub fn validate(scene: &Scene) -> R {
         if !scene.materials.contains_key(&b.material) {
             return Err(SceneError::at(
                 k("material"),
-                format!("unknown material '{}'", b.material),
+                format!(
+                    "unknown material '{}' (the scene defines: {})",
+                    b.material,
+                    listed(scene.materials.keys())
+                ),
             ));
         }
         positive(&k("spacing"), b.spacing)?;
@@ -232,7 +236,10 @@ pub fn validate(scene: &Scene) -> R {
         } else {
             Err(SceneError::at(
                 format!("probes[{i}].{key}"),
-                format!("unknown body '{body}'"),
+                format!(
+                    "unknown body '{body}' (the scene defines: {})",
+                    listed(scene.bodies.iter().map(|b| &b.name))
+                ),
             ))
         }
     };
@@ -486,6 +493,17 @@ fn validate_placement(scene: &Scene) -> R {
         }
     }
     Ok(())
+}
+
+/// Names as an error lists them: sorted, comma-separated, `none` for none.
+fn listed<'a>(names: impl Iterator<Item = &'a String>) -> String {
+    let mut v: Vec<&str> = names.map(String::as_str).collect();
+    v.sort_unstable();
+    if v.is_empty() {
+        "none".to_string()
+    } else {
+        v.join(", ")
+    }
 }
 
 /// Largest number of particles a scene may place.
