@@ -251,10 +251,11 @@ impl Progress {
             debris: None,
             t0,
         };
-        if opts.silent {
+        // Quiet: the warnings and the closing line only.
+        if opts.silent || opts.quiet {
             return p;
         }
-        if !opts.quiet && std::io::stderr().is_terminal() {
+        if std::io::stderr().is_terminal() {
             let bar = ProgressBar::new(1000);
             bar.set_style(
                 ProgressStyle::with_template(

@@ -379,6 +379,36 @@ fn tiny_scene_runs_on_the_cpu() {
     );
     assert!(out_dir.join("history.csv").is_file());
     assert!(out_dir.join("summary.json").is_file());
+    // Quiet: no progress, the closing line alone (stdout empty); without
+    // --quiet and without a terminal, plain progress lines too.
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let ours: Vec<&str> = stderr.lines().filter(|l| !is_adapter_noise(l)).collect();
+    assert_eq!(ours.len(), 1, "{stderr}");
+    assert!(ours[0].starts_with("done: "), "{stderr}");
+    assert!(out.stdout.is_empty());
+    let scene = tmp.path().join("tiny.toml");
+    let loud = sphcontact(
+        tmp.path(),
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--out",
+            tmp.path().join("loud").to_str().unwrap(),
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&loud.stderr);
+    assert!(
+        stderr.lines().filter(|l| l.starts_with("t = ")).count() >= 2,
+        "{stderr}"
+    );
+}
+
+/// A line the graphics stack may print on its own (Mesa without a
+/// display's runtime directory), not the solver's.
+fn is_adapter_noise(line: &str) -> bool {
+    line.contains("XDG_RUNTIME_DIR")
 }
 
 #[test]

@@ -72,7 +72,9 @@ enum Command {
         /// (two evaluations a step) or leapfrog (one).
         #[arg(long, value_enum)]
         integrator: Option<IntegratorArg>,
-        /// Occasional plain progress lines instead of a progress bar.
+        /// No progress: only warnings and the closing line (without a
+        /// terminal, and without --quiet, a plain progress line every 5 %
+        /// of the end time or 10 s).
         #[arg(long)]
         quiet: bool,
         /// Write the run's whole state to OUT/checkpoint.bin at the first
