@@ -49,9 +49,9 @@ pub struct RunOptions {
     pub end_time: Option<f64>,
     /// Overrides the scene's integrator (`simulation.integrator`).
     pub integrator: Option<Integrator>,
-    /// Plain occasional progress lines instead of a bar.
+    /// No progress: warnings only (the command line adds its closing line).
     pub quiet: bool,
-    /// Print no progress at all (library use, tests).
+    /// Print nothing at all, warnings included (library use, tests).
     pub silent: bool,
     /// Write `history.csv`, `summary.json` and, when the scene sets
     /// `output.snapshot_interval`, the snapshots. Without it a run keeps
