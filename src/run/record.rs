@@ -257,12 +257,15 @@ impl Progress {
         }
         if std::io::stderr().is_terminal() {
             let bar = ProgressBar::new(1000);
+            // The message takes what the terminal's width leaves and is cut
+            // to it, so the line never wraps; it is there from the first frame.
             bar.set_style(
                 ProgressStyle::with_template(
-                    "{bar:40} t = {msg} [{elapsed_precise} < {eta_precise}]",
+                    "{bar:20} {wide_msg} [{elapsed_precise} < {eta_precise}]",
                 )
                 .expect("a valid template"),
             );
+            bar.set_message(bar_message(t0, end, 0, None, ""));
             // A resumed run's bar starts where the checkpoint was, and its
             // rate estimate from there (not from a jump at the first step).
             bar.set_position(((t0 / end).clamp(0.0, 1.0) * 1000.0) as u64);
@@ -288,9 +291,7 @@ impl Progress {
         }
         if let Some(bar) = &self.bar {
             bar.set_position((frac * 1000.0) as u64);
-            bar.set_message(format!(
-                "{t:.3e} / {end:.3e} s, {steps} steps, {rate:.3e} particle-steps/s{tail}"
-            ));
+            bar.set_message(bar_message(t, end, steps, Some(rate), &tail));
         } else if self.plain {
             let percent = frac * 100.0;
             let quiet_for = self.last_line.elapsed().as_secs_f64();
@@ -301,7 +302,8 @@ impl Progress {
             self.last_line = Instant::now();
             let eta = eta_seconds(elapsed, self.t0, t, end).map_or("unknown".into(), duration);
             eprintln!(
-                "t = {t:.4e} s ({percent:.0} %), {steps} steps, {rate:.3e} particle-steps/s, ETA {eta}{tail}"
+                "t = {t:.4e} s ({percent:.0} %), {}, {rate:.3e} particle-steps/s, ETA {eta}{tail}",
+                steps_text(steps)
             );
         }
     }
@@ -311,6 +313,25 @@ impl Progress {
             bar.finish_and_clear();
         }
     }
+}
+
+/// `1 step`, `2 steps`.
+pub(super) fn steps_text(steps: u64) -> String {
+    if steps == 1 {
+        "1 step".to_string()
+    } else {
+        format!("{steps} steps")
+    }
+}
+
+/// The progress bar's message: the simulated time against the end, the
+/// steps and, once one is measured, the rate.
+pub(super) fn bar_message(t: f64, end: f64, steps: u64, rate: Option<f64>, tail: &str) -> String {
+    let rate = rate.map_or(String::new(), |r| format!(", {r:.3e} particle-steps/s"));
+    format!(
+        "t = {t:.3e} / {end:.3e} s, {}{rate}{tail}",
+        steps_text(steps)
+    )
 }
 
 /// How often the CPU loop counts the particles outside the solid range
@@ -344,6 +365,20 @@ mod tests {
         assert!(close(eta_seconds(10.0, 5e-6, 7.5e-6, 1e-5), 10.0));
         assert!(close(eta_seconds(3.0, 0.0, 1e-5, 1e-5), 0.0));
         assert_eq!(eta_seconds(1.0, 5e-6, 5e-6, 1e-5), None);
+    }
+
+    /// The bar's message from the first frame (no rate yet), one step in
+    /// the singular, and the rate once measured.
+    #[test]
+    fn bar_message_from_the_first_frame() {
+        assert_eq!(
+            bar_message(0.0, 4e-6, 0, None, ""),
+            "t = 0.000e0 / 4.000e-6 s, 0 steps"
+        );
+        assert_eq!(
+            bar_message(1e-8, 4e-6, 1, Some(2.5e6), ", 3 debris"),
+            "t = 1.000e-8 / 4.000e-6 s, 1 step, 2.500e6 particle-steps/s, 3 debris"
+        );
     }
 
     /// Plain lines come at the multiples of LINE_PERCENT: a fresh run's
