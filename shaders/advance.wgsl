@@ -74,10 +74,8 @@ fn finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
 }
 
-// Record the first failing step and, within it, the lowest particle id.
-// Quantity codes (GpuSolver::instability): 0 position, 1 velocity,
-// 2 internal energy, 3 density band, 4 time step (reduce.wgsl), 5 domain;
-// 7 (no particle) the contact's list (kinematics.wgsl, list_surface).
+// Record the first failing step and, within it, the lowest particle id,
+// with why (common.wgsl's FAIL_* codes).
 fn fail(i: u32, quantity: u32) {
     let fs = atomicLoad(&ctl.fail_step);
     if (fs == NONE || fs == ctl.step) {
@@ -202,20 +200,20 @@ fn check(i: u32, un: vec2<f32>, vn: vec2<f32>, rn: vec2<f32>) {
     }
     let xn = x0[i].zw + un;
     if (!(finite(xn.x) && finite(xn.y))) {
-        fail(i, 0u);
+        fail(i, FAIL_POSITION);
     } else if (!(finite(vn.x) && finite(vn.y))) {
-        fail(i, 1u);
+        fail(i, FAIL_VELOCITY);
     } else if (!finite(rn.y)) {
-        fail(i, 2u);
+        fail(i, FAIL_ENERGY);
     } else if (!(rn.x > low_mu(i) && rn.x < 9.0)) {
-        fail(i, 3u);
+        fail(i, FAIL_DENSITY);
     } else {
         // The domain (Model::domain_of), in the grid origin's frame; f32 is
         // ample for a box this coarse.
         let p = x0[i].xy * params.cell + xn;
         let d = params.domain;
         if (!(all(p >= d.xy) && all(p <= d.zw))) {
-            fail(i, 5u);
+            fail(i, FAIL_DOMAIN);
         }
     }
 }

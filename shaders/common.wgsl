@@ -172,6 +172,20 @@ const BIG: f32 = 3.0e38;
 const PI: f32 = 3.14159265358979;
 
 // Run-wide constants (mirrored by `gpu::layout::Params`).
+// Why a step failed: Control.fail_code is the particle's id times 8 plus
+// one of these (its twin: gpu::fail, which a test holds to these values).
+// The time step's and the energy guard's name no particle; a list of
+// boundary particles more than three quarters full (kinematics.wgsl,
+// list_surface) is no failure: the host makes it longer and the run goes on.
+const FAIL_POSITION: u32 = 0u;
+const FAIL_VELOCITY: u32 = 1u;
+const FAIL_ENERGY: u32 = 2u;
+const FAIL_DENSITY: u32 = 3u;
+const FAIL_TIME_STEP: u32 = 4u;
+const FAIL_DOMAIN: u32 = 5u;
+const FAIL_ENERGY_GUARD: u32 = 6u;
+const FAIL_LIST_FULL: u32 = 7u;
+
 struct Params {
     n: u32,
     nbodies: u32,

@@ -65,10 +65,6 @@
 @group(0) @binding(64) var<storage, read_write> surf: array<u32>;
 @group(0) @binding(65) var<storage, read_write> surf_args: array<atomic<u32>>;
 
-// The failure code (GpuSolver::instability) of a list of boundary
-// particles more than three quarters full: the host makes it longer and
-// the run goes on.
-const LIST_FULL: u32 = 7u;
 // kernel::FIT_MIN_SINGULAR, squared.
 const FIT_MIN_SV2: f32 = 1.0e-6;
 
@@ -94,7 +90,7 @@ fn list_surface(i: u32, ks: KinSums, hi: f32) {
             atomicMax(&ctl.list_peak, k + 1u);
             if (atomicLoad(&ctl.fail_step) == NONE) {
                 atomicMin(&ctl.fail_step, ctl.step);
-                atomicMin(&ctl.fail_code, LIST_FULL);
+                atomicMin(&ctl.fail_code, FAIL_LIST_FULL);
             }
         }
         if (k < cap) {

@@ -326,7 +326,7 @@ fn cfl_step(cfl_min: f32) {
         let fs = atomicLoad(&ctl.fail_step);
         if (fs == NONE) {
             atomicMin(&ctl.fail_step, ctl.step);
-            atomicMin(&ctl.fail_code, 4u);
+            atomicMin(&ctl.fail_code, FAIL_TIME_STEP);
         }
     }
     ctl.dt = dt;
@@ -364,7 +364,7 @@ fn energy_guard(e: f32, owed: f32) {
     let outside = e > ctl.energy_limit || e < lower || owed < owed_bound;
     if (outside && atomicLoad(&ctl.fail_step) == NONE) {
         atomicMin(&ctl.fail_step, ctl.step);
-        atomicMin(&ctl.fail_code, 6u);
+        atomicMin(&ctl.fail_code, FAIL_ENERGY_GUARD);
         ctl.dt = 0.0;
     }
 }

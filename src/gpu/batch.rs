@@ -298,8 +298,8 @@ impl GpuSolver {
             let why = "the boundary grew by more than a quarter of it within one step";
             return self.list_instability(ctl, ctl.fail_step, time, why);
         }
-        let guard = q == 6;
-        let (quantity, value) = if q == 4 {
+        let guard = q == fail::ENERGY_GUARD;
+        let (quantity, value) = if q == fail::TIME_STEP {
             ("time step".to_string(), row[2] as f64)
         } else if guard {
             let (e, owed) = (self.plan.guarded_energy(row), self.plan.guarded_owed(row));
@@ -308,16 +308,19 @@ impl GpuSolver {
             let st = self.download();
             let named = |name: &str, v: f64| (name.to_string(), v);
             match q {
-                0 => named("position", st.x[id].x + st.x[id].y),
-                1 => named("velocity", st.v[id].x + st.v[id].y),
-                2 => named("internal energy", st.e[id]),
-                5 => self.model.outside_domain(st.x[id]),
-                _ => named("density", st.rho[id]),
+                fail::POSITION => named("position", st.x[id].x + st.x[id].y),
+                fail::VELOCITY => named("velocity", st.v[id].x + st.v[id].y),
+                fail::ENERGY => named("internal energy", st.e[id]),
+                fail::DOMAIN => self.model.outside_domain(st.x[id]),
+                _ => {
+                    debug_assert_eq!(q, fail::DENSITY);
+                    named("density", st.rho[id])
+                }
             }
         };
         let id = match q {
-            4 => 0,
-            6 => self.model.guarded_particle(
+            fail::TIME_STEP => 0,
+            fail::ENERGY_GUARD => self.model.guarded_particle(
                 &self.download(),
                 ctl.energy_limit as f64,
                 self.plan.guarded_energy(row),
@@ -327,7 +330,7 @@ impl GpuSolver {
         let (body, particle) = self.model.locate(id.min(self.n - 1));
         // As the CPU path: a bad state is reported with its own step and
         // time; a collapsed step with the state it was computed at.
-        let (step, time) = if q == 4 || guard {
+        let (step, time) = if q == fail::TIME_STEP || guard {
             (ctl.fail_step as u64, time)
         } else {
             (ctl.fail_step as u64 + 1, time + row[2] as f64)

@@ -606,9 +606,24 @@ pub struct GpuSolver {
     list_full: Option<u32>,
 }
 
-/// The failure code of a contact list more than three quarters full
-/// (kinematics.wgsl, list_surface): the steps pause for a longer list.
-const LIST_FULL: u32 = 7;
+/// Why a step failed: `Control::fail_code` is the particle's id times 8
+/// plus one of these, written by the shaders under the same names with a
+/// `FAIL_` prefix (common.wgsl; `tests::fail_codes_are_the_shaders`).
+pub(crate) mod fail {
+    pub const POSITION: u32 = 0;
+    pub const VELOCITY: u32 = 1;
+    pub const ENERGY: u32 = 2;
+    pub const DENSITY: u32 = 3;
+    /// The step collapsed (reduce.wgsl); names no particle.
+    pub const TIME_STEP: u32 = 4;
+    pub const DOMAIN: u32 = 5;
+    /// The energy guard (reduce.wgsl); names no particle.
+    pub const ENERGY_GUARD: u32 = 6;
+    /// A contact list more than three quarters full (kinematics.wgsl,
+    /// list_surface): the steps pause for a longer list.
+    pub const LIST_FULL: u32 = 7;
+}
+use fail::LIST_FULL;
 
 /// The next length of a list of `cap` places that held `count` boundary
 /// particles: twice as long, and at least twice the count.
@@ -634,5 +649,40 @@ impl GpuSolver {
 
     fn buf(&self, name: &str) -> &wgpu::Buffer {
         &self.buffers[name]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The failure codes the host reads are the ones the shaders write:
+    /// every `const FAIL_*` of common.wgsl, by name and value, and no other.
+    #[test]
+    fn fail_codes_are_the_shaders() {
+        let wgsl = include_str!("../../shaders/common.wgsl");
+        let mut found: Vec<(String, u32)> = wgsl
+            .lines()
+            .filter_map(|l| {
+                let rest = l.strip_prefix("const FAIL_")?;
+                let (name, value) = rest.split_once(": u32 = ")?;
+                let value = value.strip_suffix("u;")?.parse().ok()?;
+                Some((format!("FAIL_{name}"), value))
+            })
+            .collect();
+        found.sort_by_key(|f| f.1);
+        use super::fail::*;
+        let ours: Vec<(String, u32)> = [
+            ("FAIL_POSITION", POSITION),
+            ("FAIL_VELOCITY", VELOCITY),
+            ("FAIL_ENERGY", ENERGY),
+            ("FAIL_DENSITY", DENSITY),
+            ("FAIL_TIME_STEP", TIME_STEP),
+            ("FAIL_DOMAIN", DOMAIN),
+            ("FAIL_ENERGY_GUARD", ENERGY_GUARD),
+            ("FAIL_LIST_FULL", LIST_FULL),
+        ]
+        .iter()
+        .map(|(n, v)| (n.to_string(), *v))
+        .collect();
+        assert_eq!(found, ours);
     }
 }
