@@ -994,25 +994,17 @@ mod tests {
             "{}",
             m.contact_dt
         );
+        let next_dt = |sc: &Scene| {
+            let (m, st) = Model::new(sc);
+            crate::cpu::CpuSolver::new(m, st).next_dt()
+        };
         sc.simulation.cfl = 0.9;
-        let mut solver = {
-            let (m, st) = Model::new(&sc);
-            crate::cpu::CpuSolver::new(m, st)
-        };
-        assert_eq!(solver.next_dt(), m.contact_dt);
+        assert_eq!(next_dt(&sc), m.contact_dt);
         sc.simulation.cfl = 0.3;
-        let mut solver = {
-            let (m, st) = Model::new(&sc);
-            crate::cpu::CpuSolver::new(m, st)
-        };
-        assert!(solver.next_dt() < 0.6 * m.contact_dt);
+        assert!(next_dt(&sc) < 0.6 * m.contact_dt);
         sc.simulation.cfl = 0.9;
         sc.simulation.dt = Some(1.2 * m.contact_dt);
-        let mut solver = {
-            let (m, st) = Model::new(&sc);
-            crate::cpu::CpuSolver::new(m, st)
-        };
-        assert_eq!(solver.next_dt(), 1.2 * m.contact_dt);
+        assert_eq!(next_dt(&sc), 1.2 * m.contact_dt);
         sc.simulation.interaction = Interaction::Kernel;
         assert_eq!(Model::new(&sc).0.contact_dt, f64::INFINITY);
     }

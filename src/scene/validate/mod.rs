@@ -51,7 +51,6 @@ fn dimension_of(key: &str, v: &[f64], dim: usize) -> R {
     finite(key, v)
 }
 
-/// Check every rule of docs/scenes.md ("Validation") that serde does not.
 /// The dispersion correction's θ is in [0, 1.5] (docs/method.md §4): the
 /// scene key's rule, and `validate --dispersion-correction`'s.
 pub fn dispersion_correction_in_range(theta: f64) -> Result<(), String> {
@@ -64,6 +63,7 @@ pub fn dispersion_correction_in_range(theta: f64) -> Result<(), String> {
     }
 }
 
+/// Check every rule of docs/scenes.md ("Validation") that serde does not.
 pub fn validate(scene: &Scene) -> R {
     let sim = &scene.simulation;
     let dim = sim.dimension as usize;
