@@ -53,7 +53,7 @@ impl GpuSolver {
         ctl.list_peak = 0;
         self.ctx
             .queue
-            .write_buffer(self.buf("ctl"), 0, bytemuck::bytes_of(&ctl));
+            .write_buffer(self.buf(Buf::Ctl), 0, bytemuck::bytes_of(&ctl));
     }
 
     /// Before a solver's first steps: the list of boundary particles long
@@ -79,7 +79,7 @@ impl GpuSolver {
 
     /// The boundary particles at the current state.
     pub(super) fn boundary_count(&mut self) -> u32 {
-        let d = self.kinematics_outside_step(&[("surf_args", 4)]);
+        let d = self.kinematics_outside_step(&[(Buf::SurfArgs, 4)]);
         bytemuck::pod_read_unaligned(&d[0])
     }
 
@@ -189,8 +189,8 @@ impl GpuSolver {
             self.encode_step(&mut enc, self.encoded + s, timer.as_deref_mut());
         }
         let ring_bytes = self.staging.size() - CTL_BYTES;
-        enc.copy_buffer_to_buffer(self.buf("ctl"), 0, &self.staging, 0, CTL_BYTES);
-        enc.copy_buffer_to_buffer(self.buf("ring"), 0, &self.staging, CTL_BYTES, ring_bytes);
+        enc.copy_buffer_to_buffer(self.buf(Buf::Ctl), 0, &self.staging, 0, CTL_BYTES);
+        enc.copy_buffer_to_buffer(self.buf(Buf::Ring), 0, &self.staging, CTL_BYTES, ring_bytes);
         let stamps = timer.map(|t| {
             let n = t.written();
             let bytes = 8 * n as u64;
@@ -356,6 +356,6 @@ impl GpuSolver {
         debug_assert_eq!(std::mem::offset_of!(Params, end_lo) as u64, at + 4);
         self.ctx
             .queue
-            .write_buffer(self.buf("params"), at, bytemuck::cast_slice(&[hi, lo]));
+            .write_buffer(self.buf(Buf::Params), at, bytemuck::cast_slice(&[hi, lo]));
     }
 }

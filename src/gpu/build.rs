@@ -2,8 +2,6 @@
 //! precision plan's form, the buffers the scene needs and no others, and
 //! its kernels ([`super::kernels`]).
 
-use std::collections::HashMap;
-
 use super::*;
 
 /// Cell-list buckets for `n` particles: a power of two at least the count.
@@ -47,13 +45,16 @@ pub(super) fn bucket_count(n: usize) -> u32 {
 /// scratch is `lmat`). Its force passes, before the energy walk, keep the
 /// entries on the list of boundary particles instead (`cown_e`, `cshare_e`;
 /// contact.wgsl).
-fn contact_homes(model: &Model) -> [(&'static str, Option<&'static str>); 2] {
-    let own_home = if model.keeps_gradient() {
-        Some("gradv")
-    } else {
-        None
-    };
-    [("cshare", Some("lmat")), ("cown", own_home)]
+fn contact_homes(model: &Model) -> [(Buf, Option<Buf>); 2] {
+    let own_home = model.keeps_gradient().then_some(Buf::Gradv);
+    [(Buf::Cshare, Some(Buf::Lmat)), (Buf::Cown, own_home)]
+}
+
+/// A buffer another lives in, made by then (`contact_homes`, `mask_home`).
+fn made(buffers: &DeviceBuffers, home: Buf) -> &wgpu::Buffer {
+    buffers
+        .get(home)
+        .unwrap_or_else(|| panic!("'{}' is made before what lives in it", home.name()))
 }
 
 /// Places on the contact's list of boundary particles (kinematics.wgsl,
@@ -80,8 +81,8 @@ pub(super) const MAX_SURF_CAP: usize = 1 << 24;
 /// evaluation's contact writes it after its forces pass too. Only the boundary
 /// particles' entries are rates (the drift reads no others). Without
 /// contact (`None`), in a buffer of their own.
-fn mask_home(model: &Model) -> Option<&'static str> {
-    (model.integrator == Integrator::Leapfrog && model.contact).then_some("qrate")
+fn mask_home(model: &Model) -> Option<Buf> {
+    (model.integrator == Integrator::Leapfrog && model.contact).then_some(Buf::Qrate)
 }
 
 /// The device's constants of a material's strength and failure laws
@@ -418,7 +419,7 @@ impl GpuSolver {
             (None, Some(b)) => Some((b, "SPHCONTACT_GPU_MEMORY")),
             (None, None) => None,
         };
-        let mut buffers = HashMap::new();
+        let mut buffers = DeviceBuffers::default();
         let mut device_bytes = 0u64;
         // Out-of-memory errors while the buffers are made, for the build
         // to report (a device past its budget refuses a buffer).
@@ -426,7 +427,7 @@ impl GpuSolver {
         // A device buffer for storage and copies, and any `extra` use.
         // Past the budget the buffers are only counted, for the error to
         // say how much the scene needs.
-        let mut make_as = |name: &'static str,
+        let mut make_as = |name: Buf,
                            size: u64,
                            data: Option<&[u8]>,
                            extra: wgpu::BufferUsages|
@@ -443,8 +444,9 @@ impl GpuSolver {
                 };
                 return Err(format!(
                     "the scene does not fit this adapter: its {n} particles need a {size}-byte \
-                     device buffer '{name}', and the adapter allows {limit} bytes a {which}; at \
+                     device buffer '{}', and the adapter allows {limit} bytes a {which}; at \
                      most {} particles fit; use fewer particles or --backend cpu",
+                    name.name(),
                     particles_within(limit)
                 ));
             }
@@ -457,7 +459,7 @@ impl GpuSolver {
                 | wgpu::BufferUsages::COPY_DST
                 | extra;
             let buf = dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(name),
+                label: Some(name.name()),
                 size,
                 usage,
                 mapped_at_creation: false,
@@ -465,38 +467,38 @@ impl GpuSolver {
             if let Some(d) = data {
                 ctx.queue.write_buffer(&buf, 0, d);
             }
-            buffers.insert(name, buf);
+            buffers.set(name, buf);
             Ok(())
         };
-        let mut make = |name: &'static str, size: u64, data: Option<&[u8]>| {
+        let mut make = |name: Buf, size: u64, data: Option<&[u8]>| {
             make_as(name, size, data, wgpu::BufferUsages::empty())
         };
         let nn = n as u64;
-        make("x0", 16 * nn, Some(bytemuck::cast_slice(&x0)))?;
-        make("u", 8 * nn, Some(bytemuck::cast_slice(&zeros2)))?;
-        make("v", 8 * nn, Some(bytemuck::cast_slice(&v)))?;
-        make("r", 8 * nn, Some(bytemuck::cast_slice(&r)))?;
-        make("s", 16 * nn, Some(bytemuck::cast_slice(&s)))?;
-        make("pinfo", 16 * nn, Some(bytemuck::cast_slice(&meta)))?;
+        make(Buf::X0, 16 * nn, Some(bytemuck::cast_slice(&x0)))?;
+        make(Buf::U, 8 * nn, Some(bytemuck::cast_slice(&zeros2)))?;
+        make(Buf::V, 8 * nn, Some(bytemuck::cast_slice(&v)))?;
+        make(Buf::R, 8 * nn, Some(bytemuck::cast_slice(&r)))?;
+        make(Buf::S, 16 * nn, Some(bytemuck::cast_slice(&s)))?;
+        make(Buf::Pinfo, 16 * nn, Some(bytemuck::cast_slice(&meta)))?;
         if model.history {
             // The plastic history (strength.wgsl's precision plan), its
             // laws' constants a body, and the midpoint rule's midpoint
             // history and strain rates.
-            make("hist", 16 * nn, Some(bytemuck::cast_slice(&hist)))?;
+            make(Buf::Hist, 16 * nn, Some(bytemuck::cast_slice(&hist)))?;
             let plastic: Vec<PlasticGpu> = model
                 .bodies
                 .iter()
                 .map(|b| plastic_gpu(&b.material))
                 .collect();
             make(
-                "plastic",
+                Buf::Plastic,
                 size_of_val(plastic.as_slice()) as u64,
                 Some(bytemuck::cast_slice(&plastic)),
             )?;
             if !leapfrog {
-                make("histm", 16 * nn, None)?;
+                make(Buf::Histm, 16 * nn, None)?;
                 if model.strain_rate {
-                    make("srate", 4 * nn, None)?;
+                    make(Buf::Srate, 4 * nn, None)?;
                 }
             }
         }
@@ -504,7 +506,7 @@ impl GpuSolver {
             // By original index (pinfo.w): constant, never permuted. Not
             // made when every scale is 1 (ART_KAPPA off).
             let k2: Vec<f32> = model.close_scale.iter().map(|&k| k as f32).collect();
-            make("kappa", 4 * nn, Some(bytemuck::cast_slice(&k2)))?;
+            make(Buf::Kappa, 4 * nn, Some(bytemuck::cast_slice(&k2)))?;
         }
         if model.axisymmetric {
             // Each particle's area as placed, by original index (the
@@ -512,27 +514,27 @@ impl GpuSolver {
             // acceleration sigma_tt / (r rho) of an evaluation
             // (kinematics.wgsl to forces.wgsl).
             let a0: Vec<f32> = model.area0.iter().map(|&a| a as f32).collect();
-            make("area0", 4 * nn, Some(bytemuck::cast_slice(&a0)))?;
-            make("hoop", 4 * nn, None)?;
+            make(Buf::Area0, 4 * nn, Some(bytemuck::cast_slice(&a0)))?;
+            make(Buf::Hoop, 4 * nn, None)?;
         }
         if model.correction == Correction::Gradient && !leapfrog {
             // The base pass's debris, a bit a particle, for the midpoint
             // pass (kinematics.wgsl, walk_and_correct).
-            make("debris_bits", 4 * nn.div_ceil(32), None)?;
+            make(Buf::DebrisBits, 4 * nn.div_ceil(32), None)?;
         }
         if leapfrog {
             // The carried rates a_n and (_, de_n/dt), and the predicted
             // velocity (common.wgsl, LEAP); buffers wgpu zeroes.
-            for name in ["acc", "rdt", "vstar"] {
+            for name in [Buf::Acc, Buf::Rdt, Buf::Vstar] {
                 make(name, 8 * nn, None)?;
             }
             if mask_home(&model).is_none() {
-                make("nmask", 8 * nn, None)?;
+                make(Buf::Nmask, 8 * nn, None)?;
             }
             if contact {
-                make("qrate", 8 * nn, None)?;
+                make(Buf::Qrate, 8 * nn, None)?;
                 // The force passes' entries, on the list.
-                for name in ["cown_e", "cshare_e"] {
+                for name in [Buf::CownE, Buf::CshareE] {
                     make(name, 16 * surf_cap as u64, None)?;
                 }
             }
@@ -540,29 +542,29 @@ impl GpuSolver {
             // The midpoint state; the evaluation at the base state leaves
             // its rates there (common.wgsl, MID), so there are no rate
             // buffers.
-            for name in ["um", "vm", "rm", "sm"] {
-                make(name, if name == "sm" { 16 } else { 8 } * nn, None)?;
+            for name in [Buf::Um, Buf::Vm, Buf::Rm, Buf::Sm] {
+                make(name, if name == Buf::Sm { 16 } else { 8 } * nn, None)?;
             }
             if contact && supports_carried_by_gradv(&model) {
                 // The second evaluation's entries, on the list: its pass
                 // scratch (`gradv`) carries the supports' gradient on to
                 // the step's end (contact.wgsl, on_list).
-                for name in ["cown_e", "cshare_e"] {
+                for name in [Buf::CownE, Buf::CshareE] {
                     make(name, 16 * surf_cap as u64, None)?;
                 }
             }
         }
-        for name in ["lmat", "nbo", "sr2c"] {
+        for name in [Buf::Lmat, Buf::Nbo, Buf::Sr2c] {
             make(name, 16 * nn, None)?;
         }
         if model.keeps_gradient() {
-            make("gradv", 16 * nn, None)?;
+            make(Buf::Gradv, 16 * nn, None)?;
         }
         if leapfrog && model.hourglass > 0.0 {
             // The velocity v_{n+1/2} the hourglass control sees in a step
             // and its gradient (common.wgsl, HG_HALF).
-            make("vhalf", 8 * nn, None)?;
-            make("gradh", 16 * nn, None)?;
+            make(Buf::Vhalf, 8 * nn, None)?;
+            make(Buf::Gradh, 16 * nn, None)?;
         }
         if model.adaptive {
             // Each particle's support (f32), and the velocity gradient
@@ -578,10 +580,10 @@ impl GpuSolver {
                 .iter()
                 .map(|q| [q.xx as f32, q.xy as f32, q.yy as f32, 0.0])
                 .collect();
-            make("metric", 16 * nn, Some(bytemuck::cast_slice(&q)))?;
+            make(Buf::Metric, 16 * nn, Some(bytemuck::cast_slice(&q)))?;
             if !supports_carried_by_gradv(&model) {
                 // dt l in f16 pairs (common.wgsl, pack_step_gradient).
-                make("lgrad", 8 * nn, None)?;
+                make(Buf::Lgrad, 8 * nn, None)?;
             }
         }
         if model.dissipates() {
@@ -592,7 +594,7 @@ impl GpuSolver {
             let (hi, lo) = split(state.dissipation);
             d[0] = [hi, lo, 0.0, 0.0];
             make(
-                "dheat",
+                Buf::Dheat,
                 16 * particle_groups(n),
                 Some(bytemuck::cast_slice(&d)),
             )?;
@@ -600,7 +602,7 @@ impl GpuSolver {
         if contact {
             // Per particle: (dashpot heat booked, spring work of its passes).
             make(
-                "qheat",
+                Buf::Qheat,
                 8 * nn,
                 Some(bytemuck::cast_slice(&vec![0f32; 2 * n])),
             )?;
@@ -611,16 +613,16 @@ impl GpuSolver {
             // too, which the leapfrog carries a particle from step to step
             // (common.wgsl, area_index).
             let cap = surf_cap as u64;
-            make("surf", 4 * cap, None)?;
-            for name in ["cn", "cbar0", "cbar1", "ckeep"] {
+            make(Buf::Surf, 4 * cap, None)?;
+            for name in [Buf::Cn, Buf::Cbar0, Buf::Cbar1, Buf::Ckeep] {
                 make(name, 16 * cap, None)?;
             }
-            make("bt", 4 * cap, None)?;
-            make("area", 4 * if leapfrog { nn } else { cap }, None)?;
+            make(Buf::Bt, 4 * cap, None)?;
+            make(Buf::Area, 4 * if leapfrog { nn } else { cap }, None)?;
             // The spread's claims, a bit a particle (spread.wgsl).
-            make("claim", 4 * nn.div_ceil(32), None)?;
+            make(Buf::Claim, 4 * nn.div_ceil(32), None)?;
             let entry: Vec<f32> = state.entry.iter().map(|&e| e as f32).collect();
-            make("centry", 4 * nn, Some(bytemuck::cast_slice(&entry)))?;
+            make(Buf::Centry, 4 * nn, Some(bytemuck::cast_slice(&entry)))?;
             // The two gather buffers share memory with pass scratch where
             // the scene has it (below); the rest get their own.
             for (name, home) in contact_homes(&model) {
@@ -629,39 +631,39 @@ impl GpuSolver {
                 }
             }
         }
-        make("blist", 4 * nn, None)?;
+        make(Buf::Blist, 4 * nn, None)?;
         // Counts, then ends, then starts (neighbours.wgsl): one array.
-        make("bstart", 4 * (buckets as u64 + 1), None)?;
-        make("bsum", 4 * buckets.div_ceil(SCAN_BLOCK) as u64, None)?;
+        make(Buf::Bstart, 4 * (buckets as u64 + 1), None)?;
+        make(Buf::Bsum, 4 * buckets.div_ceil(SCAN_BLOCK) as u64, None)?;
         let red_len = red_groups as u64 * (1 + plan.slots.len() as u64);
-        make("red", 4 * red_len, None)?;
+        make(Buf::Red, 4 * red_len, None)?;
         let ring_bytes = 4 * RING_LEN as u64 * plan.row_width() as u64;
-        make("ring", ring_bytes, None)?;
+        make(Buf::Ring, ring_bytes, None)?;
         make(
-            "probes",
+            Buf::Probes,
             8 * plan.particles.len() as u64,
             Some(bytemuck::cast_slice(&probe_refs)),
         )?;
         if !plan.particles.is_empty() {
             make(
-                "probe_ids",
+                Buf::ProbeIds,
                 4 * probe_ids.len() as u64,
                 Some(bytemuck::cast_slice(&probe_ids)),
             )?;
-            make("probe_slot", 4 * probe_ids.len() as u64, None)?;
+            make(Buf::ProbeSlot, 4 * probe_ids.len() as u64, None)?;
         }
         make(
-            "bodies",
+            Buf::Bodies,
             64 * bodies.len() as u64,
             Some(bytemuck::cast_slice(&bodies)),
         )?;
-        make("ctl", CTL_BYTES, Some(bytemuck::bytes_of(&control)))?;
+        make(Buf::Ctl, CTL_BYTES, Some(bytemuck::bytes_of(&control)))?;
         if contact {
             // The contact list's (count, workgroups x, y, z): the
             // leapfrog's indirect dispatch's arguments from byte 4
             // (contact.wgsl).
             make_as(
-                "surf_args",
+                Buf::SurfArgs,
                 16,
                 Some(bytemuck::cast_slice(&[0u32, 0, 1, 1])),
                 wgpu::BufferUsages::INDIRECT,
@@ -685,13 +687,13 @@ impl GpuSolver {
             ));
         }
         if let Some(home) = mask_home(&model) {
-            buffers.insert("nmask", buffers[home].clone());
+            buffers.set(Buf::Nmask, made(&buffers, home).clone());
         }
         if contact {
             for (name, home) in contact_homes(&model) {
                 if let Some(home) = home {
-                    let shared = buffers[home].clone();
-                    buffers.insert(name, shared);
+                    let shared = made(&buffers, home).clone();
+                    buffers.set(name, shared);
                 }
             }
         }
@@ -703,7 +705,7 @@ impl GpuSolver {
         });
         ctx.queue
             .write_buffer(&params_buf, 0, bytemuck::bytes_of(&params));
-        buffers.insert("params", params_buf);
+        buffers.set(Buf::Params, params_buf);
         let staging = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("staging"),
             size: CTL_BYTES + ring_bytes,

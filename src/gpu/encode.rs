@@ -64,7 +64,7 @@ impl GpuSolver {
             self.encode_grid(&mut enc.begin_compute_pass(&Default::default()), Var::Base);
             for (k, name, bytes) in &self.k.permute_each {
                 k.dispatch(&mut enc.begin_compute_pass(&Default::default()));
-                enc.copy_buffer_to_buffer(self.buf("lmat"), 0, self.buf(name), 0, bytes * n);
+                enc.copy_buffer_to_buffer(self.buf(Buf::Lmat), 0, self.buf(*name), 0, bytes * n);
             }
             self.encode_map_slots(enc);
             // Between leapfrog steps the cell list's counts are zero.
@@ -81,24 +81,24 @@ impl GpuSolver {
             self.encode_grid(&mut pass, Var::Base);
             permute.dispatch(&mut pass);
         }
-        let mut copy = |from: &str, to: &str, bytes: u64| {
+        let mut copy = |from: Buf, to: Buf, bytes: u64| {
             enc.copy_buffer_to_buffer(self.buf(from), 0, self.buf(to), 0, bytes * n);
         };
-        copy("lmat", "x0", 16);
-        copy("um", "u", 8);
-        copy("vm", "v", 8);
-        copy("rm", "r", 8);
-        copy("sm", "s", 16);
-        copy("sr2c", "pinfo", 16);
+        copy(Buf::Lmat, Buf::X0, 16);
+        copy(Buf::Um, Buf::U, 8);
+        copy(Buf::Vm, Buf::V, 8);
+        copy(Buf::Rm, Buf::R, 8);
+        copy(Buf::Sm, Buf::S, 16);
+        copy(Buf::Sr2c, Buf::Pinfo, 16);
         if self.model.contact {
-            copy("cown", "qheat", 8);
-            copy("nbo", "centry", 4);
+            copy(Buf::Cown, Buf::Qheat, 8);
+            copy(Buf::Nbo, Buf::Centry, 4);
         }
         // The arrays `permute` has no room for, through `lmat` (its x0 is
         // copied out above).
         for (k, name, bytes) in &self.k.permute_each {
             k.dispatch(&mut enc.begin_compute_pass(&Default::default()));
-            enc.copy_buffer_to_buffer(self.buf("lmat"), 0, self.buf(name), 0, bytes * n);
+            enc.copy_buffer_to_buffer(self.buf(Buf::Lmat), 0, self.buf(*name), 0, bytes * n);
         }
         self.encode_map_slots(enc);
     }

@@ -11,10 +11,10 @@ impl GpuSolver {
     /// run carries is put back: the leapfrog's carried arrays, and the
     /// control block (the correction fallbacks and the list's fill they
     /// count).
-    pub(super) fn kinematics_outside_step(&mut self, read: &[(&str, u64)]) -> Vec<Vec<u8>> {
+    pub(super) fn kinematics_outside_step(&mut self, read: &[(Buf, u64)]) -> Vec<Vec<u8>> {
         let leap = self.k.leap.is_some();
         let raw = leap.then(|| self.save_raw());
-        let ctl = (!leap).then(|| self.read_buffers(None, &[("ctl", CTL_BYTES)]).remove(0));
+        let ctl = (!leap).then(|| self.read_buffers(None, &[(Buf::Ctl, CTL_BYTES)]).remove(0));
         let pending = self.first_pending;
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
         {
@@ -29,7 +29,7 @@ impl GpuSolver {
             self.leap_clear();
         }
         if let Some(ctl) = ctl {
-            self.ctx.queue.write_buffer(self.buf("ctl"), 0, &ctl);
+            self.ctx.queue.write_buffer(self.buf(Buf::Ctl), 0, &ctl);
         }
         d
     }
@@ -49,13 +49,13 @@ impl GpuSolver {
         // The kinematics pass gives the boundary flags and the leapfrog's
         // neighbour masks at these positions.
         let mut read = vec![
-            ("x0", 16 * nn),
-            ("u", 8 * nn),
-            ("bstart", 4 * (buckets + 1)),
-            ("nbo", 16 * nn),
+            (Buf::X0, 16 * nn),
+            (Buf::U, 8 * nn),
+            (Buf::Bstart, 4 * (buckets + 1)),
+            (Buf::Nbo, 16 * nn),
         ];
         if self.k.leap.is_some() {
-            read.push(("nmask", 8 * nn));
+            read.push((Buf::Nmask, 8 * nn));
         }
         let d = self.kinematics_outside_step(&read);
         let x0: &[[f32; 4]] = bytemuck::cast_slice(&d[0]);
@@ -169,7 +169,7 @@ impl GpuSolver {
         let ctx = self.ctx.clone();
         let dev = &ctx.device;
         let nn = self.n as u64;
-        let mut saved = vec![("ctl", CTL_BYTES)];
+        let mut saved = vec![(Buf::Ctl, CTL_BYTES)];
         if self.k.leap.is_some() {
             // Every stage of a leapfrog step changes the state or what it
             // carries: all of it is put back afterwards.
@@ -178,16 +178,16 @@ impl GpuSolver {
             // Of the state it moves the positions only (and carries the
             // supports where they adapt): the rest of the full step is
             // added in place by the passes at the midpoint.
-            saved.push(("u", 8 * nn));
+            saved.push((Buf::U, 8 * nn));
             if self.model.adaptive {
-                saved.push(("metric", 16 * nn));
+                saved.push((Buf::Metric, 16 * nn));
             }
         }
         let backups: Vec<wgpu::Buffer> = saved
             .iter()
             .map(|(label, bytes)| {
                 dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
+                    label: Some(label.name()),
                     size: *bytes,
                     usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
@@ -203,7 +203,7 @@ impl GpuSolver {
         let mut enc = dev.create_command_encoder(&Default::default());
         self.encode_first(&mut enc);
         for ((from, bytes), to) in saved.iter().zip(&backups) {
-            enc.copy_buffer_to_buffer(self.buf(from), 0, to, 0, *bytes);
+            enc.copy_buffer_to_buffer(self.buf(*from), 0, to, 0, *bytes);
         }
         if let Some(l) = &self.k.leap {
             // A whole step, then the cell list it ends by zeroing and the
@@ -211,7 +211,7 @@ impl GpuSolver {
             // are then valid. The kinematics pass lists the boundary particles again,
             // from an empty list.
             self.encode_step_pass(&mut enc.begin_compute_pass(&Default::default()));
-            if let Some(args) = self.buffers.get("surf_args") {
+            if let Some(args) = self.buffers.get(Buf::SurfArgs) {
                 enc.clear_buffer(args, 0, Some(4));
             }
             let mut pass = enc.begin_compute_pass(&Default::default());
@@ -237,7 +237,7 @@ impl GpuSolver {
 
         let mut enc = dev.create_command_encoder(&Default::default());
         for ((to, bytes), from) in saved.iter().zip(&backups) {
-            enc.copy_buffer_to_buffer(from, 0, self.buf(to), 0, *bytes);
+            enc.copy_buffer_to_buffer(from, 0, self.buf(*to), 0, *bytes);
         }
         self.ctx.queue.submit([enc.finish()]);
         self.leap_clear();
@@ -272,14 +272,14 @@ impl GpuSolver {
         let first = self.read_buffers(
             Some(enc),
             &[
-                ("pinfo", 16 * nn),
-                ("lmat", 16 * nn),
-                ("nbo", 16 * nn),
-                ("sr2c", 16 * nn),
+                (Buf::Pinfo, 16 * nn),
+                (Buf::Lmat, 16 * nn),
+                (Buf::Nbo, 16 * nn),
+                (Buf::Sr2c, 16 * nn),
                 // The rates at the base state, left in the midpoint buffers.
-                ("rm", 8 * nn),
-                ("sm", 16 * nn),
-                ("vm", 8 * nn),
+                (Buf::Rm, 8 * nn),
+                (Buf::Sm, 16 * nn),
+                (Buf::Vm, 8 * nn),
             ],
         );
         let mut enc = dev.create_command_encoder(&Default::default());
@@ -290,11 +290,11 @@ impl GpuSolver {
             }
             self.encode_reduce(&mut pass);
         }
-        let mut names = vec![("vm", 8 * nn), ("rm", 8 * nn), ("ctl", CTL_BYTES)];
+        let mut names = vec![(Buf::Vm, 8 * nn), (Buf::Rm, 8 * nn), (Buf::Ctl, CTL_BYTES)];
         if self.model.contact {
             let cap = self.params.surf_cap as u64;
-            names.push(("area", 4 * cap));
-            names.push(("cn", 16 * cap));
+            names.push((Buf::Area, 4 * cap));
+            names.push((Buf::Cn, 16 * cap));
         }
         let second = self.read_buffers(Some(enc), &names);
         // The strength update of the midpoint state, at the step the
@@ -306,7 +306,7 @@ impl GpuSolver {
             }
             self.read_buffers(
                 Some(enc),
-                &[("sm", 16 * nn), ("rm", 8 * nn), ("histm", 16 * nn)],
+                &[(Buf::Sm, 16 * nn), (Buf::Rm, 8 * nn), (Buf::Histm, 16 * nn)],
             )
         });
 
@@ -327,7 +327,9 @@ impl GpuSolver {
                 resource: if b.name == "dump" {
                     dump.as_entire_binding()
                 } else {
-                    self.buf(&b.name).as_entire_binding()
+                    let name = Buf::from_name(&b.name);
+                    self.buf(name.expect("dump_neighbours binds device buffers by name"))
+                        .as_entire_binding()
                 },
             })
             .collect();

@@ -3,8 +3,6 @@
 //! an evaluation reads or writes other buffers than its names say), its
 //! workgroups sized.
 
-use std::collections::HashMap;
-
 use super::*;
 
 /// How many particles, cell-list buckets and reduction groups a scene has,
@@ -21,7 +19,7 @@ pub(super) fn make_kernels(
     ctx: &GpuContext,
     model: &Model,
     plan: &ProbePlan,
-    buffers: &HashMap<&'static str, wgpu::Buffer>,
+    buffers: &DeviceBuffers,
     sizes: Sizes,
 ) -> Result<Kernels, String> {
     let Sizes {
@@ -34,13 +32,13 @@ pub(super) fn make_kernels(
     let limits = &ctx.limits;
     let contact = model.contact;
     let leapfrog = model.integrator == Integrator::Leapfrog;
-    let surf_args = buffers.get("surf_args").cloned();
+    let surf_args = buffers.get(Buf::SurfArgs).cloned();
     // The velocity gradient adaptive supports are carried with at a
     // step's end (`supports_carried_by_gradv`).
     let support_gradient = if supports_carried_by_gradv(model) {
-        "gradv"
+        Buf::Gradv
     } else {
-        "lgrad"
+        Buf::Lgrad
     };
     let constants: Vec<(&str, f64)> = vec![
         ("DIM", model.dim as f64),
@@ -84,7 +82,7 @@ pub(super) fn make_kernels(
         ("STRAIN_RATE", model.strain_rate as u8 as f64),
         ("AXI", model.axisymmetric as u8 as f64),
         ("ADAPT", model.adaptive as u8 as f64),
-        ("LGRAD", (support_gradient == "lgrad") as u8 as f64),
+        ("LGRAD", (support_gradient == Buf::Lgrad) as u8 as f64),
         ("ADAPT_ROWS", adaptive_rows() as f64),
         ("BAND", model.band.drawn),
         ("BAND_SQ", model.band.squeezed),
@@ -115,22 +113,6 @@ pub(super) fn make_kernels(
             (maxd, g.div_ceil(maxd))
         }
     };
-    // Where an evaluation's rates go (common.wgsl, MID): at the base
-    // state into the midpoint buffers; at the midpoint, which the
-    // evaluation reads instead of the base state, into the base state.
-    let base_aliases: &[(&str, &str)] = &[("dv", "vm"), ("dr", "rm"), ("ds", "sm")];
-    let mid_aliases: &[(&str, &str)] = &[
-        ("hist", "histm"),
-        ("hist_w", "histm"),
-        ("u", "um"),
-        ("v", "vm"),
-        ("r", "rm"),
-        ("s", "sm"),
-        ("dv", "v"),
-        ("dr", "r"),
-        ("ds", "s"),
-        ("qheat_w", "qheat"),
-    ];
     // The reductions are compiled for this scene's observation slots.
     let slot_wgsl = plan.wgsl();
     let mut mid_constants = constants.clone();
@@ -139,7 +121,7 @@ pub(super) fn make_kernels(
                      stage: &str,
                      entry: &str,
                      size: Size,
-                     aliases: &[(&str, &str)]|
+                     table: &[(&str, Buf)]|
      -> Result<Kernel, String> {
         let prelude = if stage == "reduce" {
             slot_wgsl.as_str()
@@ -158,46 +140,35 @@ pub(super) fn make_kernels(
         // are bound to small placeholders the compiled-out code never
         // reads (the bind group keeps them alive); each holds at least
         // one element of the largest struct a kernel binds an array of
-        // (a binding's minimum size).
-        let key_of = |name: &str| -> String {
-            aliases
-                .iter()
-                .chain(WRITER_ALIASES)
-                .find(|a| a.0 == name)
-                .map_or(name, |a| a.1)
-                .to_string()
-        };
+        // (a binding's minimum size). A binding that names no buffer is
+        // an error, never a placeholder.
         const PLACEHOLDER_BYTES: u64 = 256;
-        let placeholders: Vec<(u32, wgpu::Buffer)> = pipeline
-            .bindings
-            .iter()
-            .filter(|bu| !buffers.contains_key(key_of(&bu.name).as_str()))
-            .map(|bu| {
-                let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+        let mut bound: Vec<(u32, wgpu::Buffer)> = Vec::new();
+        for bu in &pipeline.bindings {
+            let b = aliases::resolve(table, &bu.name).ok_or_else(|| {
+                format!(
+                    "{stage}::{entry} binds '{}', which is no device buffer's name and which \
+                     its kernel's aliases do not name",
+                    bu.name
+                )
+            })?;
+            let buf = buffers.get(b).cloned().unwrap_or_else(|| {
+                dev.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(&bu.name),
                     size: PLACEHOLDER_BYTES,
                     usage: wgpu::BufferUsages::STORAGE,
                     mapped_at_creation: false,
-                });
-                (bu.binding, buf)
-            })
-            .collect();
-        let mut entries: Vec<wgpu::BindGroupEntry> = pipeline
-            .bindings
+                })
+            });
+            bound.push((bu.binding, buf));
+        }
+        let entries: Vec<wgpu::BindGroupEntry> = bound
             .iter()
-            .filter_map(|bu| {
-                buffers
-                    .get(key_of(&bu.name).as_str())
-                    .map(|buf| wgpu::BindGroupEntry {
-                        binding: bu.binding,
-                        resource: buf.as_entire_binding(),
-                    })
+            .map(|(binding, buf)| wgpu::BindGroupEntry {
+                binding: *binding,
+                resource: buf.as_entire_binding(),
             })
             .collect();
-        entries.extend(placeholders.iter().map(|(b, buf)| wgpu::BindGroupEntry {
-            binding: *b,
-            resource: buf.as_entire_binding(),
-        }));
         let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(entry),
             layout: &pipeline.layout,
@@ -214,13 +185,10 @@ pub(super) fn make_kernels(
             indirect: None,
         })
     };
-    let kernel = |stage: &str, entry: &str, size: Size, aliases: &[(&str, &str)]| {
-        kernel_in(&constants, stage, entry, size, aliases)
+    let kernel = |stage: &str, entry: &str, size: Size, table: &[(&str, Buf)]| {
+        kernel_in(&constants, stage, entry, size, table)
     };
 
-    // The leapfrog's first evaluation leaves a_0 and de_0 in the carried
-    // rates and makes no density or stress rates.
-    let first_aliases: &[(&str, &str)] = &[("dv", "acc"), ("dr", "rdt"), ("ds", UNUSED)];
     let variants: &[Var] = if leapfrog {
         &[Var::Base]
     } else {
@@ -229,19 +197,19 @@ pub(super) fn make_kernels(
     let mut evals = Vec::new();
     for &var in variants {
         let (consts, al) = match (var, leapfrog) {
-            (Var::Base, false) => (constants.as_slice(), base_aliases),
-            (Var::Base, true) => (constants.as_slice(), first_aliases),
-            (Var::Mid, _) => (mid_constants.as_slice(), mid_aliases),
+            (Var::Base, false) => (constants.as_slice(), aliases::BASE),
+            (Var::Base, true) => (constants.as_slice(), aliases::FIRST),
+            (Var::Mid, _) => (mid_constants.as_slice(), aliases::MID),
         };
         let eval_kernel = |stage, entry| kernel_in(consts, stage, entry, Size::Particles, al);
         // The second evaluation's contact entries go on the list where its
         // pass scratch carries the supports' gradient (contact.wgsl, on_list).
-        let listed: Vec<(&str, &str)> = al
+        let listed: Vec<(&str, Buf)> = al
             .iter()
             .copied()
-            .chain([("cown", "cown_e"), ("cshare", "cshare_e")])
+            .chain(aliases::ON_LIST.iter().copied())
             .collect();
-        let contact_al = if var == Var::Mid && support_gradient == "gradv" {
+        let contact_al = if var == Var::Mid && support_gradient == Buf::Gradv {
             listed.as_slice()
         } else {
             al
@@ -273,39 +241,36 @@ pub(super) fn make_kernels(
         let mut book_constants = step_constants.clone();
         step_constants.push(("LEAP", 2.0));
         book_constants.push(("LEAP", 3.0));
-        let state_w: &[(&str, &str)] = &[
-            ("u_w", "u"),
-            ("v_w", "v"),
-            ("r_w", "r"),
-            ("qheat_w", "qheat"),
-        ];
-        let at_n1: &[(&str, &str)] =
-            &[("v", "vstar"), ("dv", "acc"), ("dr", "rdt"), ("vkick", "v")];
-        let listed_at_n1: Vec<(&str, &str)> = at_n1
+        let listed_at_n1: Vec<(&str, Buf)> = aliases::AT_N1
             .iter()
+            .chain(aliases::ON_LIST)
             .copied()
-            .chain([("cown", "cown_e"), ("cshare", "cshare_e")])
             .collect();
-        let booking: &[(&str, &str)] = &[
-            ("v", "vstar"),
-            ("vbook", "v"),
-            ("dr", "rdt"),
-            ("dv", UNUSED),
-            ("qheat_w", "qheat"),
-        ];
-        let energy: &[(&str, &str)] = &[("dr", "rdt"), ("dv", UNUSED)];
         let step = |stage, entry, al| kernel_in(&step_constants, stage, entry, Size::Particles, al);
-        let book =
-            |stage, entry| kernel_in(&book_constants, stage, entry, Size::Particles, booking);
+        let book = |stage, entry| {
+            kernel_in(
+                &book_constants,
+                stage,
+                entry,
+                Size::Particles,
+                aliases::BOOKING,
+            )
+        };
         Some(LeapKernels {
-            kick_drift: kernel("advance", "kick_drift_cells", Size::Particles, state_w)?,
-            kinematics: step("kinematics", "kinematics_leap", &[("ds", "s")])?.walking(Walk::All),
-            forces: step("forces", "forces", at_n1)?.walking(Walk::Masked),
+            kick_drift: kernel(
+                "advance",
+                "kick_drift_cells",
+                Size::Particles,
+                aliases::STATE_W,
+            )?,
+            kinematics: step("kinematics", "kinematics_leap", aliases::LEAP_KINEMATICS)?
+                .walking(Walk::All),
+            forces: step("forces", "forces", aliases::AT_N1)?.walking(Walk::Masked),
             contact: match &surf_args {
                 Some(a) => Some(ContactKernels {
                     pass1: step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
                     pass2: step("contact", "contact_pass2", &listed_at_n1)?.listed(a),
-                    spread: Some(step("contact", "contact_spread", at_n1)?),
+                    spread: Some(step("contact", "contact_spread", aliases::AT_N1)?),
                 }),
                 None => None,
             },
@@ -326,10 +291,16 @@ pub(super) fn make_kernels(
                 }
                 None => Vec::new(),
             },
-            energy: kernel_in(&book_constants, "forces", "forces", Size::Particles, energy)?
-                .walking(Walk::Masked)
-                .labelled("energy"),
-            finish: kernel("advance", "finish", Size::Particles, state_w)?,
+            energy: kernel_in(
+                &book_constants,
+                "forces",
+                "forces",
+                Size::Particles,
+                aliases::ENERGY,
+            )?
+            .walking(Walk::Masked)
+            .labelled("energy"),
+            finish: kernel("advance", "finish", Size::Particles, aliases::STATE_W)?,
         })
     } else {
         None
@@ -350,13 +321,7 @@ pub(super) fn make_kernels(
                 "advance",
                 "advance_half",
                 Size::Particles,
-                &[
-                    ("u_w", "um"),
-                    ("v_w", "vm"),
-                    ("r_w", "rm"),
-                    ("s_w", "sm"),
-                    ("hist_w", "histm"),
-                ],
+                aliases::ADVANCE_HALF,
             )?)
         },
         advance_full: if leapfrog {
@@ -366,16 +331,11 @@ pub(super) fn make_kernels(
                 "advance",
                 "advance_full",
                 Size::Particles,
-                // The spread reads the midpoint's positions, which
-                // its cell list was made at.
-                &[
-                    ("u_w", "u"),
-                    ("v_w", "v"),
-                    ("r_w", "r"),
-                    ("s_w", "s"),
-                    ("u", "um"),
-                    ("lgrad", support_gradient),
-                ],
+                &aliases::ADVANCE_FULL
+                    .iter()
+                    .copied()
+                    .chain([("lgrad", support_gradient)])
+                    .collect::<Vec<_>>(),
             )?)
         },
         end_step: kernel("reduce", "end_step", Size::One, &[])?,
@@ -386,22 +346,21 @@ pub(super) fn make_kernels(
                 // The midpoint rule's `permute` has no room for these.
                 let mut a = Vec::new();
                 if model.history {
-                    a.push(("hist", 16));
+                    a.push((Buf::Hist, 16));
                 }
                 if model.adaptive {
-                    a.push(("metric", 16));
+                    a.push((Buf::Metric, 16));
                 }
                 a
             };
             arrays
                 .into_iter()
                 .map(|(name, bytes)| {
-                    let (entry, src, dst) = match bytes {
-                        16 => ("permute4", "p_src4", "p_dst4"),
-                        8 => ("permute2", "p_src2", "p_dst2"),
-                        _ => ("permute1", "p_src1", "p_dst1"),
-                    };
-                    let al = [(src, name), (dst, "lmat")];
+                    let &(_, entry, src, dst) = aliases::PERMUTE_EACH
+                        .iter()
+                        .find(|p| p.0 == bytes)
+                        .expect("a permute for each element size");
+                    let al = [(src, name), (dst, Buf::Lmat)];
                     Ok((kernel("reorder", entry, Size::Particles, &al)?, name, bytes))
                 })
                 .collect::<Result<_, String>>()?
@@ -413,16 +372,7 @@ pub(super) fn make_kernels(
                 "reorder",
                 "permute",
                 Size::Particles,
-                &[
-                    ("t_x0", "lmat"),
-                    ("t_u", "um"),
-                    ("t_v", "vm"),
-                    ("t_r", "rm"),
-                    ("t_s", "sm"),
-                    ("t_pinfo", "sr2c"),
-                    ("t_qheat", "cown"),
-                    ("t_centry", "nbo"),
-                ],
+                aliases::PERMUTE,
             )?)
         },
         map_slots: if plan.particles.is_empty() {

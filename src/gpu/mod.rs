@@ -51,7 +51,8 @@
 //! ## The module's files
 //!
 //! [`GpuSolver`] is made for a scene in `build.rs` (device arrays and
-//! buffers) and `kernels.rs` (the entry points compiled and bound); its
+//! buffers, one field each in `buffers.rs`) and `kernels.rs` (the entry
+//! points compiled and bound through the alias tables of `aliases.rs`); its
 //! step is encoded from the schedule in `encode.rs` and run in batches in
 //! `batch.rs`; `state.rs` reads and writes the device state (downloads,
 //! snapshots, checkpoints); `inspect.rs` times stages and reads one
@@ -83,7 +84,9 @@
 //! compiles them out, and the contact passes are not dispatched; the
 //! history's buffers exist only in scenes that carry one.
 
+mod aliases;
 mod batch;
+mod buffers;
 mod build;
 pub mod context;
 mod encode;
@@ -96,9 +99,9 @@ pub mod shaders;
 mod state;
 pub mod work;
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
+use buffers::{Buf, DeviceBuffers};
 use build::{bucket_count, MAX_SURF_CAP};
 
 use glam::DVec2;
@@ -120,32 +123,32 @@ pub use probes::ProbePlan;
 /// what the next step's reductions read of the last step's passes (the
 /// sound speeds, the stored spring energy, the contact forces and areas).
 /// Checkpoints hold them; the reorder permutes them.
-fn leap_arrays(model: &Model) -> Vec<(&'static str, u64)> {
+fn leap_arrays(model: &Model) -> Vec<(Buf, u64)> {
     let mut a = vec![
-        ("x0", 16),
-        ("u", 8),
-        ("v", 8),
-        ("r", 8),
-        ("s", 16),
-        ("pinfo", 16),
-        ("acc", 8),
-        ("rdt", 8),
-        ("sr2c", 16),
-        ("nbo", 16),
+        (Buf::X0, 16),
+        (Buf::U, 8),
+        (Buf::V, 8),
+        (Buf::R, 8),
+        (Buf::S, 16),
+        (Buf::Pinfo, 16),
+        (Buf::Acc, 8),
+        (Buf::Rdt, 8),
+        (Buf::Sr2c, 16),
+        (Buf::Nbo, 16),
     ];
     if model.history {
-        a.push(("hist", 16));
+        a.push((Buf::Hist, 16));
     }
     if model.adaptive {
-        a.push(("metric", 16));
+        a.push((Buf::Metric, 16));
     }
     if model.contact {
         a.extend([
-            ("qheat", 8),
-            ("qrate", 8),
-            ("cown", 16),
-            ("area", 4),
-            ("centry", 4),
+            (Buf::Qheat, 8),
+            (Buf::Qrate, 8),
+            (Buf::Cown, 16),
+            (Buf::Area, 4),
+            (Buf::Centry, 4),
         ]);
     }
     a
@@ -241,14 +244,6 @@ pub const RING_LEN: u32 = 256;
 /// Steps between reorderings of the particles by cell.
 pub const REORDER_EVERY: u64 = 16;
 const NONE: u32 = u32::MAX;
-/// The cell-list build writes, under these names, the buffers every other
-/// stage reads under the second names.
-const WRITER_ALIASES: &[(&str, &str)] = &[
-    ("bstart_w", "bstart"),
-    ("blist_w", "blist"),
-    ("hist_w", "hist"),
-    ("metric_w", "metric"),
-];
 /// Cell size over the largest smoothing length (see `GpuSolver::with_options`).
 const CELL_OVER_H: f64 = 1.002;
 
@@ -266,9 +261,6 @@ const CTL_BYTES: u64 = size_of::<Control>() as u64;
 /// The entry of a saved device state that names its grid
 /// ([`GpuSolver::save_raw`]).
 const FRAME: &str = "frame";
-/// A binding name no buffer has: bound to a placeholder the kernel's
-/// variant never writes (`kernel_in`).
-const UNUSED: &str = "unused";
 /// Buckets a workgroup of the cell list's scan takes (neighbours.wgsl, BLOCK).
 const SCAN_BLOCK: u32 = 1024;
 /// Particles per workgroup of the reductions (256 threads × 4).
@@ -467,7 +459,7 @@ struct Kernels {
     permute: Option<Kernel>,
     /// The leapfrog's: each array of [`leap_arrays`] in turn through one
     /// scratch buffer (`lmat`), with its name and bytes a particle.
-    permute_each: Vec<(Kernel, &'static str, u64)>,
+    permute_each: Vec<(Kernel, Buf, u64)>,
     /// Refreshes the probed particles' slots after a reorder (none without
     /// particle probes).
     map_slots: Option<Kernel>,
@@ -574,7 +566,7 @@ pub struct GpuSolver {
     ctx: Arc<GpuContext>,
     pub model: Model,
     n: usize,
-    buffers: HashMap<&'static str, wgpu::Buffer>,
+    buffers: DeviceBuffers,
     staging: wgpu::Buffer,
     plan: ProbePlan,
     k: Kernels,
@@ -647,8 +639,11 @@ impl GpuSolver {
         self.ctx.adapter_name()
     }
 
-    fn buf(&self, name: &str) -> &wgpu::Buffer {
-        &self.buffers[name]
+    /// A buffer the scene has made (a missing one is a solver bug).
+    fn buf(&self, b: Buf) -> &wgpu::Buffer {
+        self.buffers
+            .get(b)
+            .unwrap_or_else(|| panic!("no device buffer '{}' for this scene", b.name()))
     }
 }
 

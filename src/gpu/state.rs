@@ -10,7 +10,7 @@ impl GpuSolver {
     pub(super) fn read_buffers(
         &self,
         enc: Option<wgpu::CommandEncoder>,
-        names: &[(&str, u64)],
+        names: &[(Buf, u64)],
     ) -> Vec<Vec<u8>> {
         let dev = &self.ctx.device;
         let total: u64 = names.iter().map(|x| x.1.next_multiple_of(4)).sum();
@@ -23,7 +23,7 @@ impl GpuSolver {
         let mut enc = enc.unwrap_or_else(|| dev.create_command_encoder(&Default::default()));
         let mut off = 0;
         for (name, bytes) in names {
-            enc.copy_buffer_to_buffer(self.buf(name), 0, &stage, off, *bytes);
+            enc.copy_buffer_to_buffer(self.buf(*name), 0, &stage, off, *bytes);
             off += bytes.next_multiple_of(4);
         }
         self.ctx.queue.submit([enc.finish()]);
@@ -62,7 +62,7 @@ impl GpuSolver {
     /// Normals are zero off the boundary, as on the CPU path.
     pub fn snapshot(&mut self) -> (State, Vec<DVec2>, Vec<bool>) {
         let mut names = self.state_buffers();
-        names.push(("nbo", 16 * self.n as u64));
+        names.push((Buf::Nbo, 16 * self.n as u64));
         let d = if self.k.leap.is_some() {
             // The normals of the last step's kinematic pass, at these
             // positions: an evaluation now would overwrite what the next
@@ -92,11 +92,11 @@ impl GpuSolver {
     /// (checkpoints): the state and the control block. Everything else is
     /// rewritten by every step before it is read, or (the probed
     /// particles' slots) follows from the state.
-    pub(super) fn persistent_buffers(&self) -> Vec<(&'static str, u64)> {
+    pub(super) fn persistent_buffers(&self) -> Vec<(Buf, u64)> {
         let mut names = self.state_buffers();
         if self.k.leap.is_some() {
             let n = self.n as u64;
-            let state: Vec<&str> = names.iter().map(|b| b.0).collect();
+            let state: Vec<Buf> = names.iter().map(|b| b.0).collect();
             names.extend(
                 leap_arrays(&self.model)
                     .into_iter()
@@ -115,7 +115,7 @@ impl GpuSolver {
         let mut buffers: Vec<(String, Vec<u8>)> = names
             .iter()
             .zip(data)
-            .map(|((name, _), d)| (name.to_string(), d))
+            .map(|((name, _), d)| (name.name().to_string(), d))
             .collect();
         buffers.push((FRAME.to_string(), self.frame_bytes()));
         RawDevice {
@@ -162,12 +162,12 @@ impl GpuSolver {
             && names
                 .iter()
                 .zip(&saved)
-                .all(|((n, size), (m, d))| n == m && *size == d.len() as u64);
+                .all(|((n, size), (m, d))| n.name() == m && *size == d.len() as u64);
         if !same {
             return Err("the saved device buffers do not match this scene's".into());
         }
-        for (name, d) in saved {
-            self.ctx.queue.write_buffer(self.buf(name), 0, d);
+        for ((name, _), (_, d)) in names.iter().zip(saved) {
+            self.ctx.queue.write_buffer(self.buf(*name), 0, d);
         }
         self.refresh_probe_slots();
         self.first_pending = false;
@@ -180,39 +180,39 @@ impl GpuSolver {
 
     /// The buffers the state is read from, in the order `unpack_state`
     /// takes them.
-    pub(super) fn state_buffers(&self) -> Vec<(&'static str, u64)> {
+    pub(super) fn state_buffers(&self) -> Vec<(Buf, u64)> {
         let n = self.n as u64;
         let mut names = vec![
-            ("x0", 16 * n),
-            ("u", 8 * n),
-            ("v", 8 * n),
-            ("r", 8 * n),
-            ("s", 16 * n),
-            ("pinfo", 16 * n),
-            ("ctl", CTL_BYTES),
+            (Buf::X0, 16 * n),
+            (Buf::U, 8 * n),
+            (Buf::V, 8 * n),
+            (Buf::R, 8 * n),
+            (Buf::S, 16 * n),
+            (Buf::Pinfo, 16 * n),
+            (Buf::Ctl, CTL_BYTES),
         ];
         if self.model.contact {
-            names.push(("qheat", 8 * n));
-            names.push(("centry", 4 * n));
+            names.push((Buf::Qheat, 8 * n));
+            names.push((Buf::Centry, 4 * n));
         }
         if self.model.history {
-            names.push(("hist", 16 * n));
+            names.push((Buf::Hist, 16 * n));
         }
         if self.model.adaptive {
-            names.push(("metric", 16 * n));
+            names.push((Buf::Metric, 16 * n));
         }
         if self.model.dissipates() {
-            names.push(("dheat", 16 * particle_groups(self.n)));
+            names.push((Buf::Dheat, 16 * particle_groups(self.n)));
         }
         names
     }
 
     /// Where buffer `name` is among `state_buffers`.
-    pub(super) fn state_index(&self, name: &str) -> usize {
+    pub(super) fn state_index(&self, name: Buf) -> usize {
         self.state_buffers()
             .iter()
             .position(|b| b.0 == name)
-            .unwrap_or_else(|| panic!("no state buffer '{name}'"))
+            .unwrap_or_else(|| panic!("no state buffer '{}'", name.name()))
     }
 
     /// Particle i's history `(ε_p, T, D, t_f)` in f64 from the device's
@@ -261,17 +261,17 @@ impl GpuSolver {
             st.s[i] = sym_of(s[k]);
         }
         if self.model.contact {
-            let q: &[[f32; 2]] = bytemuck::cast_slice(d[self.state_index("qheat")].as_ref());
+            let q: &[[f32; 2]] = bytemuck::cast_slice(d[self.state_index(Buf::Qheat)].as_ref());
             st.heat = q.iter().map(|x| x[0] as f64).sum();
             st.spring_work = q.iter().map(|x| x[1] as f64).sum();
-            let e: &[f32] = bytemuck::cast_slice(d[self.state_index("centry")].as_ref());
+            let e: &[f32] = bytemuck::cast_slice(d[self.state_index(Buf::Centry)].as_ref());
             st.entry = vec![0.0; n];
             for k in 0..n {
                 st.entry[meta[k][3] as usize] = e[k] as f64;
             }
         }
         if self.model.history {
-            let h: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index("hist")].as_ref());
+            let h: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index(Buf::Hist)].as_ref());
             st.eps_p = vec![0.0; n];
             st.temperature = vec![0.0; n];
             st.damage = vec![0.0; n];
@@ -287,11 +287,11 @@ impl GpuSolver {
             }
         }
         if self.model.dissipates() {
-            let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index("dheat")].as_ref());
+            let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index(Buf::Dheat)].as_ref());
             st.dissipation = q.iter().map(|x| x[0] as f64 + x[1] as f64).sum();
         }
         if self.model.adaptive {
-            let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index("metric")].as_ref());
+            let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index(Buf::Metric)].as_ref());
             st.metric = vec![Default::default(); n];
             for k in 0..n {
                 st.metric[meta[k][3] as usize] = crate::physics::support::Metric {
@@ -312,7 +312,7 @@ impl GpuSolver {
     /// whose correction fell back to `L = I` (most at one state) and of
     /// contact evaluations that met two partner bodies.
     pub fn control(&self) -> Control {
-        let d = self.read_buffers(None, &[("ctl", CTL_BYTES)]);
+        let d = self.read_buffers(None, &[(Buf::Ctl, CTL_BYTES)]);
         bytemuck::pod_read_unaligned(&d[0])
     }
 }
