@@ -148,6 +148,20 @@ pub fn contact_window(t: &[f64], force: &[f64]) -> (f64, f64) {
     (start, end)
 }
 
+/// The largest pull a body felt from its partners: the largest rate,
+/// between consecutive rows, at which its momentum `mass × v` grew toward
+/// them (`v` its mean velocity along the direction to its partner; in the
+/// units of the contact force probe). Only contact changes a body's
+/// momentum, so this is the contact's net traction on the body, read
+/// before anything is clamped: a contact that never pulls gives round-off
+/// at most.
+pub fn largest_pull(t: &[f64], v: &[f64], mass: f64) -> f64 {
+    t.windows(2)
+        .zip(v.windows(2))
+        .map(|(t, v)| mass * (v[1] - v[0]) / (t[1] - t[0]))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
 /// Per-body line of the summary.
 #[derive(Debug, Clone, Serialize)]
 pub struct BodySummary {
@@ -445,4 +459,18 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), RunError> {
     let tmp = path.with_file_name(format!(".{name}.tmp"));
     std::fs::write(&tmp, bytes).map_err(|e| RunError::io(&tmp, e))?;
     std::fs::rename(&tmp, path).map_err(|e| RunError::io(path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::largest_pull;
+
+    #[test]
+    fn a_pull_is_momentum_gained_toward_the_partner() {
+        let t = [0.0, 1.0, 2.0, 4.0];
+        // Pushed back at 2 m/s², then pulled: +0.5 m/s over 2 s.
+        let v = [10.0, 8.0, 6.0, 6.5];
+        assert_eq!(largest_pull(&t, &v, 3.0), 0.75);
+        assert_eq!(largest_pull(&t[..3], &v[..3], 3.0), -6.0);
+    }
 }

@@ -45,6 +45,11 @@ impl Tuning {
 }
 
 /// A run of one scene for validation.
+/// What a contact that never pulls may show of a pull, over its largest
+/// push: round-off of the bodies' momenta (measured 1e-13 in f64, 1e-5 in
+/// f32 on the paper's bars and disks).
+pub(super) const PULL_ROUND_OFF: f64 = 1e-4;
+
 pub struct CaseRun {
     pub scene: Scene,
     pub out: RunOutput,
@@ -56,6 +61,18 @@ impl CaseRun {
     }
     pub fn times(&self) -> &[f64] {
         &self.out.history.times
+    }
+    /// The largest pull and the largest push body `body` felt from its
+    /// partner, from its momentum ([`crate::output::largest_pull`];
+    /// `velocity`, its mean velocity toward the partner).
+    pub(super) fn pull_and_push(&self, body: usize, velocity: &str) -> (f64, f64) {
+        let (t, v) = (self.times(), self.col(velocity));
+        let mass = self.out.summary.bodies[body].mass;
+        let back: Vec<f64> = v.iter().map(|x| -x).collect();
+        (
+            crate::output::largest_pull(t, &v, mass),
+            crate::output::largest_pull(t, &back, mass),
+        )
     }
     pub(super) fn backend(&self) -> String {
         self.out.summary.backend.clone()
@@ -165,8 +182,6 @@ pub struct DiskScores {
     pub contact_time: f64,
     /// Relative velocity after over before (closing at 10 m/s).
     pub restitution: f64,
-    /// Least contact force over the run (negative would be tension).
-    pub least_force: f64,
 }
 
 impl DiskScores {
@@ -184,7 +199,6 @@ impl DiskScores {
             contact_time: t1 - t0,
             // Separating velocity over the closing speed (10 m/s).
             restitution: (last(run, "velocity_right") - last(run, "velocity_left")) / 10.0,
-            least_force: f.iter().copied().fold(f64::INFINITY, f64::min),
         }
     }
 }

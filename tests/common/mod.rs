@@ -207,6 +207,44 @@ pub fn assert_conserved(scene: &Scene, out: &RunOutput) {
     }
 }
 
+/// The contact never pulls body `body` (its mean velocity along the
+/// direction to its partner in column `velocity`): the largest pull
+/// ([`sphcontact::output::largest_pull`], read from the body's momentum,
+/// not from a probe clamped at zero) stays at round-off. On the CPU that
+/// is 1e-11 of the largest push (measured 5e-14 to 1.3e-12 on the bars,
+/// disks, impedance and jitter cases). In f32 a mean velocity rounds at
+/// about 1e-7 of the largest, so two rows Δt apart differ by that much
+/// over Δt: the bound is ten times it, `1e-6 m max|v| / Δt` (measured
+/// 0.05–0.15 of it).
+pub fn assert_never_pulls(out: &RunOutput, body: usize, velocity: &str) {
+    let t = &out.history.times;
+    let v = column(out, velocity);
+    let mass = out.summary.bodies[body].mass;
+    let pull = sphcontact::output::largest_pull(t, &v, mass);
+    let reversed: Vec<f64> = v.iter().map(|x| -x).collect();
+    let push = sphcontact::output::largest_pull(t, &reversed, mass);
+    assert!(push > 0.0, "no contact: largest push {push:e}");
+    let bound = if out.summary.backend == "gpu" {
+        let v_max = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let dt = t
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(f64::INFINITY, f64::min);
+        1e-6 * mass * v_max / dt
+    } else {
+        1e-11 * push
+    };
+    println!(
+        "largest pull {pull:e}, {:.2e} of the bound, {:.2e} of the largest push",
+        pull / bound,
+        pull / push
+    );
+    assert!(
+        pull <= bound,
+        "the contact pulled: {pull:e} against a largest push of {push:e} (bound {bound:e})"
+    );
+}
+
 /// The GPU context shared by a test binary, or `None` with a visible skip
 /// line. With `SPHCONTACT_REQUIRE_GPU` set (CI), a missing adapter fails
 /// the test instead.
