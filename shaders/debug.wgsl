@@ -40,3 +40,20 @@ fn dump_neighbours(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     dump[base] = count;
     dump[base + STRIDE - 1u] = visits;
 }
+
+// Test support: the equation of state of body `q.w` at given states `q`
+// = (mu, e, damage, body), as (pressure, sound speed), for the tests that
+// hold it to its formula (CPU twin: MaterialModel::pressure_of).
+@group(0) @binding(90) var<storage, read> eos_in: array<vec4<f32>>;
+@group(0) @binding(91) var<storage, read_write> eos_out: array<vec2<f32>>;
+
+@compute @workgroup_size(WG)
+fn eos_table(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= arrayLength(&eos_in)) {
+        return;
+    }
+    let q = eos_in[i];
+    let b = bodies[u32(q.w)];
+    eos_out[i] = vec2<f32>(pressure_of(b, q.x, q.y, q.z), sound_speed_of(b, q.x, q.y, q.z));
+}

@@ -149,6 +149,11 @@ pub(super) const PERMUTE_EACH: &[(u64, &str, &str, &str)] = &[
     (4, "permute1", "p_src1", "p_dst1"),
 ];
 
+/// The test kernels' own buffers (debug.wgsl), made where they run
+/// (`GpuSolver::stage_outputs`, `GpuSolver::equation_of_state`).
+#[cfg(test)]
+pub(super) const TEST_ONLY: &[&str] = &["dump", "eos_in", "eos_out"];
+
 /// Every fixed table, for the tests.
 #[cfg(test)]
 pub(super) const ALL: &[Aliases] = &[
@@ -208,7 +213,8 @@ mod tests {
             .iter()
             .flat_map(|t| t.iter().map(|a| a.0))
             .chain(PERMUTE_EACH.iter().flat_map(|p| [p.2, p.3]))
-            .chain(["lgrad", "dump"])
+            .chain(TEST_ONLY.iter().copied())
+            .chain(["lgrad"])
             .collect();
         for n in &names {
             assert!(

@@ -249,6 +249,83 @@ impl GpuSolver {
         Ok(elapsed)
     }
 
+    /// A test kernel's bind group (debug.wgsl): its own buffers `own` by
+    /// name, the solver's for the rest.
+    fn test_bind(&self, p: &Pipeline, own: &[(&str, &wgpu::Buffer)]) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry> = p
+            .bindings
+            .iter()
+            .map(|b| wgpu::BindGroupEntry {
+                binding: b.binding,
+                resource: match own.iter().find(|o| o.0 == b.name) {
+                    Some(o) => o.1.as_entire_binding(),
+                    None => {
+                        let name = Buf::from_name(&b.name);
+                        self.buf(name.expect("a test kernel binds device buffers by name"))
+                            .as_entire_binding()
+                    }
+                },
+            })
+            .collect();
+        self.ctx
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("test kernel"),
+                layout: &p.layout,
+                entries: &entries,
+            })
+    }
+
+    /// The device's equation of state (common.wgsl, `pressure_of` and
+    /// `sound_speed_of`) at `states`, each `[μ, e, damage]` of body
+    /// `body`: `(pressure, sound speed)` each (tests: the EOS against its
+    /// formula and its CPU twin).
+    pub fn equation_of_state(&self, body: u32, states: &[[f32; 3]]) -> Vec<[f32; 2]> {
+        let dev = &self.ctx.device;
+        let consts = [
+            ("WG", WG as f64),
+            ("FAILURE", self.model.can_fail() as u8 as f64),
+            ("CAVITATION", self.model.cavitates() as u8 as f64),
+        ];
+        let p = self.ctx.pipeline("debug", "", "eos_table", &consts);
+        let input: Vec<[f32; 4]> = states
+            .iter()
+            .map(|s| [s[0], s[1], s[2], body as f32])
+            .collect();
+        let len = input.len().max(1) as u64;
+        let buffer = |label, size, usage| {
+            dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | usage,
+                mapped_at_creation: false,
+            })
+        };
+        let eos_in = buffer("eos_in", 16 * len, wgpu::BufferUsages::COPY_DST);
+        let eos_out = buffer("eos_out", 8 * len, wgpu::BufferUsages::COPY_SRC);
+        self.ctx
+            .queue
+            .write_buffer(&eos_in, 0, bytemuck::cast_slice(&input));
+        let bind = self.test_bind(&p, &[("eos_in", &eos_in), ("eos_out", &eos_out)]);
+        let read = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("eos_read"),
+            size: 8 * len,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = dev.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&p.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups((len as u32).div_ceil(WG), 1, 1);
+        }
+        enc.copy_buffer_to_buffer(&eos_out, 0, &read, 0, 8 * len);
+        self.ctx.queue.submit([enc.finish()]);
+        let data = map_read(&self.ctx, &read, 8 * len);
+        bytemuck::cast_slice::<u8, [f32; 2]>(&data)[..states.len()].to_vec()
+    }
+
     /// One evaluation at the current state, with every stage's output read
     /// back (tests: the device against its CPU twins). Does not step.
     pub fn stage_outputs(&mut self) -> StageOutputs {
@@ -319,25 +396,7 @@ impl GpuSolver {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let entries: Vec<wgpu::BindGroupEntry> = p
-            .bindings
-            .iter()
-            .map(|b| wgpu::BindGroupEntry {
-                binding: b.binding,
-                resource: if b.name == "dump" {
-                    dump.as_entire_binding()
-                } else {
-                    let name = Buf::from_name(&b.name);
-                    self.buf(name.expect("dump_neighbours binds device buffers by name"))
-                        .as_entire_binding()
-                },
-            })
-            .collect();
-        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("dump"),
-            layout: &p.layout,
-            entries: &entries,
-        });
+        let bind = self.test_bind(&p, &[("dump", &dump)]);
         let mut enc = dev.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&Default::default());

@@ -278,7 +278,10 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
         assert_field(&at(Stage::Kinematics, name), &gg, &c, 1e-4, &none);
     }
 
-    // The forces pass: momentum and energy before contact.
+    // The forces pass: momentum and energy before contact. Held tighter
+    // than the other fields, so that an error of 1e-4 in the pass fails:
+    // measured at most 1.7e-5 (dv/dt) and 2.1e-6 (de/dt) of the largest
+    // value over every parity case on lavapipe.
     let (dv, de) = forces::momentum_energy(&model, &st, &nb, &a, &pts);
     let xs = |v: &[DVec2]| v.iter().map(|p| p.x).collect::<Vec<_>>();
     let ys = |v: &[DVec2]| v.iter().map(|p| p.y).collect::<Vec<_>>();
@@ -286,17 +289,17 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
         &at(Stage::Forces, "dv/dt.x"),
         &xs(&out.dv_sph),
         &xs(&dv),
-        1e-4,
+        5e-5,
         &none,
     );
     assert_field(
         &at(Stage::Forces, "dv/dt.y"),
         &ys(&out.dv_sph),
         &ys(&dv),
-        1e-4,
+        5e-5,
         &none,
     );
-    assert_field(&at(Stage::Forces, "de/dt"), &out.de_sph, &de, 1e-4, &none);
+    assert_field(&at(Stage::Forces, "de/dt"), &out.de_sph, &de, 2e-5, &none);
 
     // Contact: area, force on each particle, and the full rates.
     if model.contact {
@@ -384,6 +387,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
 }
 
 mod batches;
+mod eos;
 mod parity;
 mod steps;
 mod work;
