@@ -11,8 +11,9 @@ use sphcontact::scene::{Backend, Integrator, Scene};
 fn close(what: &str, gpu: f64, cpu: f64, tol: f64) {
     let e = (gpu / cpu - 1.0).abs();
     println!(
-        "{what}: gpu {gpu:.6e} cpu {cpu:.6e} ({:+.3} %)",
-        100.0 * (gpu / cpu - 1.0)
+        "{} {what}: gpu {gpu:.6e} cpu {cpu:.6e} ({:+.3e})",
+        std::thread::current().name().unwrap_or("-"),
+        gpu / cpu - 1.0
     );
     assert!(
         e < tol,
@@ -49,11 +50,28 @@ fn last(out: &RunOutput, name: &str) -> f64 {
     *column(out, name).last().expect("a history")
 }
 
-/// Each named history column's last value on the device within 0.5 % of
-/// the CPU's.
-fn close_at_end<'a>(gpu: &RunOutput, cpu: &RunOutput, names: impl IntoIterator<Item = &'a str>) {
+/// How close a whole GPU run comes to its CPU twin, relative, by kind of
+/// run: ten times the largest difference measured on lavapipe over the
+/// default suite's runs of each kind. Elastic contacts: 2.9e-5 (the
+/// steel/aluminium bars' contact heat; the rest ≤ 1.6e-5).
+const ELASTIC: f64 = 2e-4;
+/// Plastic flow and failure (the coarse penetrations, whose flow
+/// amplifies f32's round-off): 2.2e-4 (the artificial dissipation).
+const PLASTIC: f64 = 2e-3;
+/// Small ledger entries, differences of large ones (the spring's loss):
+/// 5.4e-4 (the steel/aluminium bars).
+const LEDGER_ENTRY: f64 = 5e-3;
+
+/// Each named history column's last value on the device within `tol` of
+/// the CPU's, relative.
+fn close_at_end<'a>(
+    gpu: &RunOutput,
+    cpu: &RunOutput,
+    names: impl IntoIterator<Item = &'a str>,
+    tol: f64,
+) {
     for name in names {
-        close(name, last(gpu, name), last(cpu, name), 5e-3);
+        close(name, last(gpu, name), last(cpu, name), tol);
     }
 }
 
@@ -94,11 +112,16 @@ fn compare_bars_with(path: &str, plateau: (f64, f64), bodies: [&str; 2], integra
         "pressure plateau",
         mean_over(&gpu_out, "contact_pressure", plateau.0, plateau.1),
         mean_over(&cpu, "contact_pressure", plateau.0, plateau.1),
-        5e-3,
+        ELASTIC,
     );
     let sep = |o: &RunOutput| contact_window(&o.history.times, &column(o, "contact_pressure")).1;
-    close("separation time", sep(&gpu_out), sep(&cpu), 5e-3);
-    close_at_end(&gpu_out, &cpu, bodies.into_iter().chain(["energy_heat"]));
+    close("separation time", sep(&gpu_out), sep(&cpu), ELASTIC);
+    close_at_end(
+        &gpu_out,
+        &cpu,
+        bodies.into_iter().chain(["energy_heat"]),
+        ELASTIC,
+    );
     // The viscosity's heat, summed by workgroup on the device; the
     // history's column ends where the summary does (the device's in f32).
     close(
@@ -117,13 +140,13 @@ fn compare_bars_with(path: &str, plateau: (f64, f64), bodies: [&str; 2], integra
             "history {h:e}, summary {s:e}"
         );
     }
-    close_at_end(&gpu_out, &cpu, ["artificial_dissipation"]);
+    close_at_end(&gpu_out, &cpu, ["artificial_dissipation"], ELASTIC);
     let (g, c) = (
         gpu_out.summary.energy_spring_loss,
         cpu.summary.energy_spring_loss,
     );
     if integrator == Integrator::Midpoint {
-        close("spring loss", g, c, 5e-3);
+        close("spring loss", g, c, LEDGER_ENTRY);
     } else {
         // The leapfrog books the spring's work at v_{n+1}, where it is the
         // stored energy's change: what is left (7e-3 J/m² of 16.6 J/m² of
@@ -132,7 +155,7 @@ fn compare_bars_with(path: &str, plateau: (f64, f64), bodies: [&str; 2], integra
         let heat = last(&cpu, "energy_heat");
         println!("spring loss: gpu {g:.3e} cpu {c:.3e} (heat {heat:.3e})");
         assert!(
-            (g - c).abs() < 5e-3 * heat,
+            (g - c).abs() < LEDGER_ENTRY * heat,
             "spring loss: gpu {g:e} vs cpu {c:e}"
         );
     }
@@ -175,14 +198,19 @@ fn compare_disks_with(path: &str, integrator: Integrator) {
     let Some((cpu, gpu_out)) = both(path, integrator) else {
         return;
     };
-    close("peak force", peak_force(&gpu_out), peak_force(&cpu), 5e-3);
+    close(
+        "peak force",
+        peak_force(&gpu_out),
+        peak_force(&cpu),
+        ELASTIC,
+    );
     close(
         "contact time",
         contact_time(&gpu_out),
         contact_time(&cpu),
-        5e-3,
+        ELASTIC,
     );
-    close_at_end(&gpu_out, &cpu, ["velocity_left", "velocity_right"]);
+    close_at_end(&gpu_out, &cpu, ["velocity_left", "velocity_right"], ELASTIC);
 }
 
 /// The polar disks on the midpoint rule here (the bars above take both
@@ -254,6 +282,7 @@ fn ball_on_plate_gpu_matches_cpu() {
             "dent",
             "plastic_strain_dent",
         ],
+        5e-3,
     );
 }
 
@@ -280,25 +309,26 @@ fn spheres_gpu_match_cpu(integrator: Integrator, coarsen: f64) {
         "spheres: peak force",
         peak_force(&gpu),
         peak_force(&cpu),
-        5e-3,
+        ELASTIC,
     );
     close(
         "spheres: contact time",
         contact_time(&gpu),
         contact_time(&cpu),
-        5e-3,
+        ELASTIC,
     );
     close_at_end(
         &gpu,
         &cpu,
         ["velocity_lower", "velocity_upper", "energy_total"],
+        ELASTIC,
     );
     // The viscosity's heat, the mirror pairs' included.
     close(
         "spheres: artificial dissipation",
         gpu.summary.energy.artificial_dissipation,
         cpu.summary.energy.artificial_dissipation,
-        5e-3,
+        ELASTIC,
     );
     let e = column(&gpu, "energy_total");
     let drift = e.iter().map(|x| (x / e[0] - 1.0).abs()).fold(0.0, f64::max);
@@ -374,7 +404,7 @@ fn penetration_gpu_matches_cpu_with(integrator: Integrator) {
     // changes: the step counts part by a few.
     let steps = |out: &RunOutput| out.summary.steps as f64;
     close("steps", steps(&gpu), steps(&cpu), 5e-3);
-    close_at_end(&gpu, &cpu, ["velocity_rod", "velocity_plate"]);
+    close_at_end(&gpu, &cpu, ["velocity_rod", "velocity_plate"], PLASTIC);
     let failure = |out: &RunOutput| out.summary.bodies[1].failure.clone().expect("can fail");
     let (fc, fg) = (failure(&cpu), failure(&gpu));
     assert!(fc.failed > 100, "the plate fails: {fc:?}");
@@ -384,14 +414,14 @@ fn penetration_gpu_matches_cpu_with(integrator: Integrator) {
     close("failed", fg.failed as f64, fc.failed as f64, 2e-2);
     let (c1, g1) = (fc.first.expect("failed"), fg.first.expect("failed"));
     assert_eq!(g1.particle, c1.particle, "the first to fail");
-    close("first failure", g1.time, c1.time, 5e-3);
+    close("first failure", g1.time, c1.time, PLASTIC);
     // The viscosity's and the close-pair artificial stress's work in
     // plastic flow and failure.
     close(
         "artificial dissipation",
         gpu.summary.energy.artificial_dissipation,
         cpu.summary.energy.artificial_dissipation,
-        5e-3,
+        PLASTIC,
     );
     for b in [0, 1] {
         let room = cpu.model.bodies[b].material.initial_temperature();
@@ -400,13 +430,13 @@ fn penetration_gpu_matches_cpu_with(integrator: Integrator) {
             &format!("mean plastic strain, body {b}"),
             body_mean(&gpu, b, &gpu.state.eps_p),
             body_mean(&cpu, b, &cpu.state.eps_p),
-            5e-3,
+            PLASTIC,
         );
         close(
             &format!("mean heating, body {b}"),
             rise(&gpu),
             rise(&cpu),
-            5e-3,
+            PLASTIC,
         );
     }
 }
@@ -446,13 +476,13 @@ fn adaptive_penetration_matches(integrator: Integrator) {
     };
     let steps = |out: &RunOutput| out.summary.steps as f64;
     close("steps", steps(&gpu), steps(&cpu), 5e-3);
-    close_at_end(&gpu, &cpu, ["velocity_rod", "velocity_plate"]);
+    close_at_end(&gpu, &cpu, ["velocity_rod", "velocity_plate"], PLASTIC);
     for b in [0, 1] {
         close(
             &format!("mean plastic strain, body {b}"),
             body_mean(&gpu, b, &gpu.state.eps_p),
             body_mean(&cpu, b, &cpu.state.eps_p),
-            5e-3,
+            PLASTIC,
         );
     }
 }
@@ -687,9 +717,10 @@ fn kernel_mode_leapfrog_gpu_matches_cpu() {
             "energy_kinetic",
             "energy_total",
         ],
+        ELASTIC,
     );
     let peak = |o: &RunOutput| column(o, "von_mises_a").iter().cloned().fold(0.0, f64::max);
-    close("peak von Mises stress", peak(&gpu_out), peak(&cpu), 5e-3);
+    close("peak von Mises stress", peak(&gpu_out), peak(&cpu), ELASTIC);
 }
 
 /// A machine without a desktop session (no `XDG_RUNTIME_DIR`): listing the

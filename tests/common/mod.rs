@@ -153,8 +153,12 @@ pub fn plateau(times: &[f64], column: &[f64], t_sep: f64) -> Vec<f64> {
 }
 
 /// Momentum to round-off (relative to Σ m |v0|: 1e-12 in f64 on the CPU,
-/// 1e-6 for f32 on the GPU) and total energy (kinetic + internal + stored
-/// penalty; dashpot heat is inside the internal energy) within 0.5 %.
+/// 1e-6 for f32 on the GPU) and the ledger closed: the total energy
+/// (kinetic + internal + stored penalty, with what the spring lost; the
+/// dashpot's and the artificial terms' heat are inside the internal
+/// energy) within 1e-10 of the initial on the CPU and 1e-5 on the GPU.
+/// Measured over the default suite's 72 calls: at most 2.4e-13 on the
+/// CPU, 7.4e-7 on the GPU (the steel bars in f32).
 pub fn assert_conserved(scene: &Scene, out: &RunOutput) {
     let s = &out.summary;
     let scale: f64 = s
@@ -198,7 +202,16 @@ pub fn assert_conserved(scene: &Scene, out: &RunOutput) {
     );
     if s.energy_initial > 0.0 {
         let drift = s.energy_balance().abs();
-        assert!(drift < 5e-3, "energy drift {drift:e}");
+        println!(
+            "{} energy drift {drift:.2e}",
+            std::thread::current().name().unwrap_or("-")
+        );
+        let bound = if out.summary.backend == "gpu" {
+            1e-5
+        } else {
+            1e-10
+        };
+        assert!(drift < bound, "energy drift {drift:e} (bound {bound:e})");
         assert!(
             s.energy_spring_loss >= -1e-3 * s.energy_initial,
             "the penalty spring made energy: {:e}",
