@@ -183,7 +183,7 @@ mod tests {
     /// Every binding name of every entry point of every stage.
     fn binding_names() -> BTreeSet<String> {
         let mut names = BTreeSet::new();
-        for (stage, _) in shaders::STAGES {
+        for stage in shaders::modules() {
             let r = shaders::reflect(stage, &shaders::sample_prelude(stage)).unwrap();
             for e in r.entry_points() {
                 names.extend(r.bindings(&e).into_iter().map(|b| b.name));

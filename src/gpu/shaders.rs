@@ -8,52 +8,74 @@ const COMMON: &str = include_str!("../../shaders/common.wgsl");
 /// The neighbour walk every stage shares (shaders/walk.wgsl).
 const WALK: &str = include_str!("../../shaders/walk.wgsl");
 
-/// One pass of the penalty law (shaders/penalty.wgsl), part of the contact
-/// stage.
-const PENALTY: &str = include_str!("../../shaders/penalty.wgsl");
-
-/// The contact's spread (shaders/spread.wgsl), part of the stages that run
-/// it: the contact's own pass and the midpoint rule's advance passes.
-const SPREAD: &str = include_str!("../../shaders/spread.wgsl");
-
-/// The stress update with a plastic history (shaders/strength.wgsl), part
-/// of the stages that run it: the kinematics pass (the leapfrog's step) and
-/// the midpoint rule's advance passes.
-const STRENGTH: &str = include_str!("../../shaders/strength.wgsl");
-
-/// Every stage file: `(name, source)`.
-pub const STAGES: &[(&str, &str)] = &[
-    ("neighbours", include_str!("../../shaders/neighbours.wgsl")),
-    ("kinematics", include_str!("../../shaders/kinematics.wgsl")),
-    ("forces", include_str!("../../shaders/forces.wgsl")),
-    ("contact", include_str!("../../shaders/contact.wgsl")),
-    ("reduce", include_str!("../../shaders/reduce.wgsl")),
-    ("advance", include_str!("../../shaders/advance.wgsl")),
-    ("reorder", include_str!("../../shaders/reorder.wgsl")),
-    ("debug", include_str!("../../shaders/debug.wgsl")),
+/// Every WGSL file besides the two every module starts with: the stages'
+/// files and the parts some of them share, as the stage table lists them
+/// ([`crate::stage::STAGES`], `shaders`), and the test kernels'.
+const FILES: &[(&str, &str)] = &[
+    ("reorder.wgsl", include_str!("../../shaders/reorder.wgsl")),
+    (
+        "neighbours.wgsl",
+        include_str!("../../shaders/neighbours.wgsl"),
+    ),
+    (
+        "kinematics.wgsl",
+        include_str!("../../shaders/kinematics.wgsl"),
+    ),
+    ("forces.wgsl", include_str!("../../shaders/forces.wgsl")),
+    ("contact.wgsl", include_str!("../../shaders/contact.wgsl")),
+    ("reduce.wgsl", include_str!("../../shaders/reduce.wgsl")),
+    ("advance.wgsl", include_str!("../../shaders/advance.wgsl")),
+    // One pass of the penalty law, part of the contact stage.
+    ("penalty.wgsl", include_str!("../../shaders/penalty.wgsl")),
+    // The contact's spread: the contact's own pass and the midpoint
+    // rule's advance passes.
+    ("spread.wgsl", include_str!("../../shaders/spread.wgsl")),
+    // The stress update with a plastic history: the kinematics pass (the
+    // leapfrog's step) and the midpoint rule's advance passes.
+    ("strength.wgsl", include_str!("../../shaders/strength.wgsl")),
+    ("debug.wgsl", include_str!("../../shaders/debug.wgsl")),
 ];
+
+/// The test kernels' module (debug.wgsl): compiled as a stage is, but no
+/// stage of the step.
+pub const TEST_KERNELS: &str = "debug";
+
+/// Every module: each stage of the stage table, then the test kernels.
+pub fn modules() -> impl Iterator<Item = &'static str> {
+    crate::stage::STAGES
+        .iter()
+        .map(|s| s.name)
+        .chain([TEST_KERNELS])
+}
+
+fn file(name: &str) -> &'static str {
+    FILES
+        .iter()
+        .find(|f| f.0 == name)
+        .unwrap_or_else(|| panic!("no shader file '{name}'"))
+        .1
+}
 
 /// The full source of a stage: the shared declarations, the constants the
 /// host generates for this scene (`prelude`: the observation slots of
-/// `reduce`, [`super::ProbePlan::wgsl`]; empty for the other stages), then
-/// the stage.
+/// `reduce`, [`super::ProbePlan::wgsl`]; empty for the other stages), the
+/// shared parts the stage table lists for it, then the stage's own file.
 pub fn source(stage: &str, prelude: &str) -> String {
-    let body = STAGES
-        .iter()
-        .find(|s| s.0 == stage)
-        .unwrap_or_else(|| panic!("no shader stage '{stage}'"))
-        .1;
-    let spread = if matches!(stage, "contact" | "advance") {
-        SPREAD
+    let (body, parts): (&str, &[&str]) = if stage == TEST_KERNELS {
+        (file("debug.wgsl"), &[])
     } else {
-        ""
+        let info = crate::stage::Stage::named(stage)
+            .map(crate::stage::info)
+            .unwrap_or_else(|| panic!("no shader stage '{stage}'"));
+        (file(info.shaders[0]), &info.shaders[1..])
     };
-    let strength = if matches!(stage, "kinematics" | "advance") {
-        STRENGTH
-    } else {
-        ""
-    };
-    let penalty = if stage == "contact" { PENALTY } else { "" };
+    // The shared parts in one order, whatever order the table lists them.
+    let part = |f: &str| if parts.contains(&f) { file(f) } else { "" };
+    let (spread, strength, penalty) = (
+        part("spread.wgsl"),
+        part("strength.wgsl"),
+        part("penalty.wgsl"),
+    );
     format!("{COMMON}\n{WALK}\n{prelude}\n{spread}\n{strength}\n{penalty}\n// ---- {stage}.wgsl ----\n{body}")
 }
 
@@ -141,5 +163,29 @@ impl Reflected {
             );
         }
         out.into_values().collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every file in shaders/ is a module's part, and every file the
+    /// stage table names is one of them.
+    #[test]
+    fn every_shader_file_is_listed() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+        let mut on_disk: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .filter(|f| f.ends_with(".wgsl") && f != "common.wgsl" && f != "walk.wgsl")
+            .collect();
+        on_disk.sort();
+        let mut listed: Vec<String> = super::FILES.iter().map(|f| f.0.to_string()).collect();
+        listed.sort();
+        assert_eq!(on_disk, listed);
+        for s in &crate::stage::STAGES {
+            for f in s.shaders {
+                super::file(f);
+            }
+        }
     }
 }
