@@ -62,16 +62,17 @@ macro_rules! device_buffers {
 }
 
 device_buffers! {
-    /// Reference positions and cell (f32 x, y; the cell's key; the id).
+    /// Reference positions: the cell (x, y) and the offset within it.
     X0 => x0,
     /// Displacements from the reference positions.
     U => u,
     V => v,
-    /// Density and specific internal energy.
+    /// Density as μ = ρ/ρ0 − 1, and specific internal energy.
     R => r,
     /// Deviatoric stress.
     S => s,
-    /// Per particle: body, flags, mass and original index.
+    /// Per particle: mass and surface-layer offset (f32 bits), body and
+    /// original index.
     Pinfo => pinfo,
     /// The plastic history (strength.wgsl's precision plan).
     Hist => hist,
