@@ -154,12 +154,15 @@ pub fn contact_window(t: &[f64], force: &[f64]) -> (f64, f64) {
 /// units of the contact force probe). Only contact changes a body's
 /// momentum, so this is the contact's net traction on the body, read
 /// before anything is clamped: a contact that never pulls gives round-off
-/// at most.
-pub fn largest_pull(t: &[f64], v: &[f64], mass: f64) -> f64 {
+/// at most. With it, the largest push, the largest rate at which the
+/// momentum grew away from them: `(pull, push)`.
+pub fn pull_and_push(t: &[f64], v: &[f64], mass: f64) -> (f64, f64) {
     t.windows(2)
         .zip(v.windows(2))
         .map(|(t, v)| mass * (v[1] - v[0]) / (t[1] - t[0]))
-        .fold(f64::NEG_INFINITY, f64::max)
+        .fold((f64::NEG_INFINITY, f64::NEG_INFINITY), |(pull, push), r| {
+            (pull.max(r), push.max(-r))
+        })
 }
 
 /// Per-body line of the summary.
@@ -463,14 +466,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), RunError> {
 
 #[cfg(test)]
 mod tests {
-    use super::largest_pull;
+    use super::pull_and_push;
 
     #[test]
     fn a_pull_is_momentum_gained_toward_the_partner() {
         let t = [0.0, 1.0, 2.0, 4.0];
         // Pushed back at 2 m/s², then pulled: +0.5 m/s over 2 s.
         let v = [10.0, 8.0, 6.0, 6.5];
-        assert_eq!(largest_pull(&t, &v, 3.0), 0.75);
-        assert_eq!(largest_pull(&t[..3], &v[..3], 3.0), -6.0);
+        assert_eq!(pull_and_push(&t, &v, 3.0), (0.75, 6.0));
+        assert_eq!(pull_and_push(&t[..3], &v[..3], 3.0), (-6.0, 6.0));
     }
 }

@@ -63,16 +63,11 @@ impl CaseRun {
         &self.out.history.times
     }
     /// The largest pull and the largest push body `body` felt from its
-    /// partner, from its momentum ([`crate::output::largest_pull`];
+    /// partner, from its momentum ([`crate::output::pull_and_push`];
     /// `velocity`, its mean velocity toward the partner).
     pub(super) fn pull_and_push(&self, body: usize, velocity: &str) -> (f64, f64) {
-        let (t, v) = (self.times(), self.col(velocity));
         let mass = self.out.summary.bodies[body].mass;
-        let back: Vec<f64> = v.iter().map(|x| -x).collect();
-        (
-            crate::output::largest_pull(t, &v, mass),
-            crate::output::largest_pull(t, &back, mass),
-        )
+        crate::output::pull_and_push(self.times(), &self.col(velocity), mass)
     }
     pub(super) fn backend(&self) -> String {
         self.out.summary.backend.clone()
