@@ -86,6 +86,9 @@ override FAILURE: bool = false;
 // Some material cavitates (MaterialModel::cavitation): the stress update
 // tests the EOS pressure against its cavitation pressure.
 override CAVITATION: bool = false;
+// The strength laws some deformable body uses, a bit `1 << id` each
+// (physics::laws; strength.wgsl's dispatch compiles the others out).
+override STRENGTH_LAWS: u32 = 0u;
 // The strength or damage laws read the equivalent strain rate.
 override STRAIN_RATE: bool = false;
 // A body of revolution (docs/method.md §12): x is the radius r, y the

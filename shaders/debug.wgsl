@@ -57,3 +57,26 @@ fn eos_table(@builtin(global_invocation_id) gid: vec3<u32>) {
     let b = bodies[u32(q.w)];
     eos_out[i] = vec2<f32>(pressure_of(b, q.x, q.y, q.z), sound_speed_of(b, q.x, q.y, q.z));
 }
+
+// Test support: the strength law of a body at given rows, each two vec4s:
+// (eps_p, rate, T - T_room, q_trial) and (body, 0, 0, 0); out, in the first
+// of two vec4s a row: (the law's factor, flow stress, its slope, the
+// return's plastic strain increment from q_trial with the body's shear
+// modulus), for the tests that hold each law to its formula (CPU twin:
+// physics::laws::return_increment).
+@group(0) @binding(92) var<storage, read> law_in: array<vec4<f32>>;
+@group(0) @binding(93) var<storage, read_write> law_out: array<vec4<f32>>;
+
+@compute @workgroup_size(WG)
+fn law_table(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = 2u * gid.x;
+    if (i >= arrayLength(&law_in)) {
+        return;
+    }
+    let q = law_in[i];
+    let bi = u32(law_in[i + 1u].x);
+    let p = plastic[bi];
+    let f = law_factor(p, q.y, q.z);
+    let c = law_curve(p, f, q.x);
+    law_out[i] = vec4<f32>(f, c.x, c.y, return_increment(p, q.w, bodies[bi].g, q.x, f));
+}

@@ -1,10 +1,11 @@
 // The stress update with a plastic history (docs/method.md, "Strength and
-// failure"): the radial return onto a Johnson–Cook or perfectly plastic
-// yield surface, the plastic work's heating, Johnson–Cook damage, spall,
-// and a failed particle's density floor. Part of the stages that run it:
-// the kinematics pass (the leapfrog's step) and the midpoint rule's
-// advance passes. CPU twin: physics::strength::update, with
-// physics::johnson_cook for the laws.
+// failure"): the radial return onto the yield surface of a strength law
+// (shaders/laws/, dispatched by `law_factor` and `law_curve`, which the
+// host writes from the registry) or of perfect plasticity, the plastic
+// work's heating, Johnson–Cook damage, spall, and a failed particle's
+// density floor. Part of the stages that run it: the kinematics pass (the
+// leapfrog's step) and the midpoint rule's advance passes. CPU twin:
+// physics::strength::update, with physics::laws for the laws.
 //
 // Precision plan: a particle's history is (eps_p, T - T_room, D, failure
 // time) in f32. The temperature is kept as its rise above room temperature
@@ -14,14 +15,17 @@
 // Per-body constants of the strength and failure laws (mirrored by
 // `gpu::layout::PlasticGpu`).
 struct Plastic {
-    a: f32,
-    b: f32,
-    n: f32,
-    c: f32,
-    m: f32,
-    // Reference strain rate, 1/s.
+    // The strength law's constants, as its file in shaders/laws/ reads
+    // them.
+    k: array<f32, 8>,
+    // The strength law's number (physics::laws registry; 0: perfect
+    // plasticity at Body.y0, or elastic).
+    law: u32,
+    // Room temperature, K.
+    room: f32,
+    // The damage law's reference strain rate, 1/s.
     rate0: f32,
-    // T_melt - T_room, K.
+    // T_melt - T_room, K (BIG: no melt).
     melt_rise: f32,
     // Taylor–Quinney fraction over the specific heat, K kg/J.
     heat: f32,
@@ -34,9 +38,7 @@ struct Plastic {
     spall: f32,
     // Cavitation pressure, Pa (BIG: none).
     cavitation: f32,
-    // 1: Johnson–Cook strength (else perfect plasticity at Body.y0 or
-    // elastic); 1: Johnson–Cook damage.
-    strength: u32,
+    // 1: Johnson–Cook damage.
     damage: u32,
 }
 
@@ -64,65 +66,32 @@ fn equivalent_rate(gv: vec4<f32>, d_tt: f32) -> f32 {
     return sqrt((2.0 / 3.0) * (a * a + b * b + tr3 * tr3 + 2.0 * dxy * dxy));
 }
 
-// 1 + C ln(rate / rate0), rates below the reference counting as it.
-fn rate_factor(p: Plastic, rate: f32) -> f32 {
-    let star = rate / p.rate0;
-    if (star > 1.0) {
-        return 1.0 + p.c * log(star);
-    }
-    return 1.0;
-}
-
 // The homologous temperature T* from the rise above room temperature.
 fn homologous(p: Plastic, rise: f32) -> f32 {
     return clamp(rise / p.melt_rise, 0.0, 1.0);
 }
 
-fn thermal_factor(p: Plastic, rise: f32) -> f32 {
-    let t = homologous(p, rise);
-    if (t <= 0.0) {
-        return 1.0;
-    }
-    return 1.0 - pow(t, p.m);
-}
-
-// A + B eps^n and its slope (BIG at zero strain for n < 1: the return
-// brackets its root and never divides by it).
-fn hardening(p: Plastic, eps: f32) -> vec2<f32> {
-    if (eps <= 0.0) {
-        var slope = 0.0;
-        if (p.n < 1.0) {
-            slope = BIG;
-        } else if (p.n == 1.0) {
-            slope = p.b;
-        }
-        return vec2<f32>(p.a, slope);
-    }
-    let pw = pow(eps, p.n);
-    return vec2<f32>(p.a + p.b * pw, p.b * p.n * pw / eps);
-}
-
 // The plastic strain increment of the return from von Mises stress `q`
-// with shear modulus `g` at plastic strain `eps`, the rate and temperature
-// factors `scale` held: safeguarded Newton on a bracket, to f32 round-off
-// (Strength::return_increment).
-fn return_increment(p: Plastic, q: f32, g: f32, eps: f32, scale: f32) -> f32 {
-    if (q - scale * hardening(p, eps).x <= 0.0) {
+// with shear modulus `g` at plastic strain `eps` onto the law's curve, its
+// rate and temperature factor `f` held: safeguarded Newton on a bracket,
+// to f32 round-off (physics::laws::return_increment).
+fn return_increment(p: Plastic, q: f32, g: f32, eps: f32, f: f32) -> f32 {
+    if (q - law_curve(p, f, eps).x <= 0.0) {
         return 0.0;
     }
     var lo = 0.0;
     var hi = q / (3.0 * g);
     var d = 0.5 * hi;
     for (var it = 0; it < 60; it++) {
-        let hs = hardening(p, eps + d);
-        let f = q - 3.0 * g * d - scale * hs.x;
-        let df = -3.0 * g - scale * hs.y;
-        if (f > 0.0) {
+        let c = law_curve(p, f, eps + d);
+        let r = q - 3.0 * g * d - c.x;
+        let dr = -3.0 * g - c.y;
+        if (r > 0.0) {
             lo = d;
         } else {
             hi = d;
         }
-        let newton = d - f / df;
+        let newton = d - r / dr;
         if (newton >= lo && newton <= hi) {
             let done = abs(newton - d) <= 1e-7 * d;
             d = newton;
@@ -132,7 +101,7 @@ fn return_increment(p: Plastic, q: f32, g: f32, eps: f32, scale: f32) -> f32 {
         } else {
             d = 0.5 * (lo + hi);
         }
-        if (f == 0.0 || hi - lo <= 1e-7 * hi) {
+        if (r == 0.0 || hi - lo <= 1e-7 * hi) {
             break;
         }
     }
@@ -183,9 +152,9 @@ fn strength_update(bi: u32, trial: vec4<f32>, rate: f32, mu: f32, e: f32, h_in: 
     var s = trial;
     var d_eps = 0.0;
     var flow = q;
-    if (pl.strength != 0u) {
-        let scale = rate_factor(pl, rate) * thermal_factor(pl, h.y);
-        d_eps = return_increment(pl, q, b.g, h.x, scale);
+    if (pl.law != 0u) {
+        let f = law_factor(pl, rate, h.y);
+        d_eps = return_increment(pl, q, b.g, h.x, f);
         if (d_eps > 0.0) {
             flow = q - 3.0 * b.g * d_eps;
             s = trial * (flow / q);
@@ -211,7 +180,7 @@ fn strength_update(bi: u32, trial: vec4<f32>, rate: f32, mu: f32, e: f32, h_in: 
             }
             var rate_star = rate;
             var t_star = 0.0;
-            if (pl.strength != 0u) {
+            if (pl.law != 0u) {
                 rate_star = rate / pl.rate0;
                 t_star = homologous(pl, h.y);
             }

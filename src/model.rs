@@ -937,6 +937,17 @@ impl Model {
             .any(|b| !b.rigid && b.material.cavitation.is_finite())
     }
 
+    /// The strength laws the deformable bodies use, a bit `1 << id` each
+    /// ([`crate::physics::laws::StrengthLaw::device_id`]): the device
+    /// compiles the others out.
+    pub fn strength_laws(&self) -> u32 {
+        self.bodies
+            .iter()
+            .filter(|b| !b.rigid)
+            .filter_map(|b| b.material.strength.as_ref())
+            .fold(0, |bits, law| bits | 1 << law.device_id())
+    }
+
     /// Body name and index within the body of global particle `i`.
     pub fn locate(&self, i: usize) -> (&str, usize) {
         let b = &self.bodies[self.body[i] as usize];

@@ -1,14 +1,15 @@
-//! Johnson–Cook strength on a homogeneous block: the CPU path's kinematic
+//! The strength laws on a homogeneous block: the CPU path's kinematic
 //! stage (corrected velocity gradient, stress rate, equivalent strain rate)
 //! and its stress update (`physics::strength::update`), driven by an
-//! imposed uniform velocity gradient, against the exact Johnson–Cook
-//! stress–strain curve.
+//! imposed uniform velocity gradient, against each law's exact
+//! stress–strain curve (Johnson–Cook, its multiplicative rate form).
 //!
 //! Under a constant velocity gradient without spin the loading is
 //! proportional: the trial stress grows by `3G Δε_eq` a step and the
 //! return keeps `q + 3G ε_p = 3G ε_eq` and `q = σ_y(ε_p)` exactly, at any
 //! step size. The exact curve is then `q(ε_eq)`, the root of
-//! `q = (A + B (ε_eq − q/3G)ⁿ)(1 + C ln ε̇*)(1 − T*ᵐ)`, and the block must
+//! `q = σ_y(ε_eq − q/3G; ε̇, T)` (for Johnson–Cook
+//! `(A + B (ε_eq − q/3G)ⁿ)(1 + C ln ε̇*)(1 − T*ᵐ)`), and the block must
 //! follow it to round-off (1e-6 relative, f64).
 
 #![allow(clippy::needless_range_loop)] // the particle loops index several arrays
@@ -19,12 +20,20 @@ use common::parse;
 use sphcontact::cpu::{kinematics, neighbours};
 use sphcontact::math::Mat2;
 use sphcontact::model::Model;
-use sphcontact::physics::johnson_cook::Strength;
+use sphcontact::physics::laws::StrengthLaw;
 use sphcontact::physics::strength::{self, History};
 
-/// A 2-D steel block with the 4340 steel strength of Johnson & Cook
-/// (1983), rate coefficient `c`, Taylor–Quinney fraction `tq`.
-fn block(c: f64, tq: f64) -> (Model, sphcontact::model::State) {
+/// The 4340 steel strength of Johnson & Cook (1983) with rate coefficient
+/// `c`, as a scene's keys.
+fn jc_keys(c: f64) -> String {
+    format!(
+        "strength = {{ kind = \"johnson_cook\", a = 792e6, b = 510e6, n = 0.26, c = {c}, m = 1.03, reference_strain_rate = 1.0, room_temperature = 294.0, melt_temperature = 1793.0 }}"
+    )
+}
+
+/// A 2-D steel block with the strength law `strength` (a scene's
+/// `strength = …` line), Taylor–Quinney fraction `tq`.
+fn block(strength: &str, tq: f64) -> (Model, sphcontact::model::State) {
     let scene = parse(&format!(
         r#"
 [simulation]
@@ -34,7 +43,7 @@ end_time = 1e-6
 density = 7830.0
 shear_modulus = 77.5e9
 eos = {{ kind = "linear", c0 = 4578.0 }}
-strength = {{ kind = "johnson_cook", a = 792e6, b = 510e6, n = 0.26, c = {c}, m = 1.03, reference_strain_rate = 1.0, room_temperature = 294.0, melt_temperature = 1793.0 }}
+{strength}
 specific_heat = 477.0
 taylor_quinney = {tq}
 [[bodies]]
@@ -48,12 +57,12 @@ shape = {{ kind = "rectangle", min = [0.0, 0.0], max = [1.2e-3, 1.2e-3] }}
 }
 
 /// The exact von Mises stress at equivalent strain `eps_eq` from the virgin
-/// state, the rate and temperature factors held at `scale`: the root of
-/// `q = scale σ_static(ε_eq − q/3G)`, by bisection to round-off.
-fn exact_q(jc: &Strength, g: f64, eps_eq: f64, scale: f64) -> f64 {
+/// state, the law's rate and temperature factor held at `factor`: the root
+/// of `q = σ_y(ε_eq − q/3G)`, by bisection to round-off.
+fn exact_q(law: &StrengthLaw, g: f64, eps_eq: f64, factor: f64) -> f64 {
     let f = |q: f64| {
         let ep = (eps_eq - q / (3.0 * g)).max(0.0);
-        q - scale * (jc.a + jc.b * ep.powf(jc.n))
+        q - law.curve(factor, ep).0
     };
     let q_el = 3.0 * g * eps_eq;
     if f(q_el) <= 0.0 {
@@ -86,8 +95,8 @@ struct Driven {
 /// kinematic stage's stress rate and strain rate, the stress update, and
 /// the positions moved with the velocities. Every particle starts at
 /// temperature `t0`.
-fn drive(c: f64, tq: f64, t0: f64, l: Mat2, dt: f64, steps: usize) -> Driven {
-    let (model, mut st) = block(c, tq);
+fn drive(strength: &str, tq: f64, t0: f64, l: Mat2, dt: f64, steps: usize) -> Driven {
+    let (model, mut st) = block(strength, tq);
     let n = model.len();
     let mat = *model.material(0);
     let mut hist = vec![
@@ -133,12 +142,12 @@ fn drive(c: f64, tq: f64, t0: f64, l: Mat2, dt: f64, steps: usize) -> Driven {
 
 /// The largest relative distance of the block's stresses from the exact
 /// curve, over every particle and step.
-fn worst(d: &Driven, jc: &Strength, g: f64, scale: f64) -> f64 {
+fn worst(d: &Driven, law: &StrengthLaw, g: f64, factor: f64) -> f64 {
     d.eps_eq
         .iter()
         .zip(&d.q)
         .flat_map(|(&e, qs)| {
-            let want = exact_q(jc, g, e, scale);
+            let want = exact_q(law, g, e, factor);
             qs.iter().map(move |q| (q / want - 1.0).abs())
         })
         .fold(0.0, f64::max)
@@ -163,8 +172,8 @@ fn shear(gamma_rate: f64) -> Mat2 {
     }
 }
 
-fn steel() -> (Strength, f64) {
-    let (model, _) = block(0.014, 0.0);
+fn steel() -> (StrengthLaw, f64) {
+    let (model, _) = block(&jc_keys(0.014), 0.0);
     (model.material(0).strength.unwrap(), model.material(0).g)
 }
 
@@ -192,7 +201,7 @@ fn a_block_follows_the_exact_johnson_cook_curve() {
             yy: slow.yy * scale_slow,
         };
         let dt = strain / 0.5 / steps as f64;
-        let d = drive(0.014, 0.0, 294.0, l, dt, steps);
+        let d = drive(&jc_keys(0.014), 0.0, 294.0, l, dt, steps);
         let e = worst(&d, &jc, g, 1.0);
         println!("{what}, static: worst {e:.2e}");
         assert!(e < 1e-6, "{what}, static: {e:e}");
@@ -200,9 +209,9 @@ fn a_block_follows_the_exact_johnson_cook_curve() {
         // The rate term alone: ε̇_eq = 1e3/s.
         let fast = l_of(1e3 / per);
         let dt = strain / 1e3 / steps as f64;
-        let d = drive(0.014, 0.0, 294.0, fast, dt, steps);
+        let d = drive(&jc_keys(0.014), 0.0, 294.0, fast, dt, steps);
         assert!(d.rate.0 > 0.999e3 && d.rate.1 < 1.001e3, "{:?}", d.rate);
-        let scale = jc.rate_factor(1e3);
+        let scale = jc.factor(1e3, 294.0);
         let e = worst(&d, &jc, g, scale);
         println!("{what}, rate term (×{scale:.4}): worst {e:.2e}");
         assert!(e < 1e-6, "{what}, rate: {e:e}");
@@ -210,12 +219,55 @@ fn a_block_follows_the_exact_johnson_cook_curve() {
         assert!(worst(&d, &jc, g, 1.0) > 0.05);
 
         // The temperature term alone: 800 K, no heating.
-        let d = drive(0.014, 0.0, 800.0, l, strain / 0.5 / steps as f64, steps);
-        let scale = jc.thermal_factor(800.0);
+        let d = drive(
+            &jc_keys(0.014),
+            0.0,
+            800.0,
+            l,
+            strain / 0.5 / steps as f64,
+            steps,
+        );
+        let scale = jc.factor(0.5, 800.0);
         let e = worst(&d, &jc, g, scale);
         println!("{what}, temperature term (×{scale:.4}): worst {e:.2e}");
         assert!(e < 1e-6, "{what}, temperature: {e:e}");
         assert!(worst(&d, &jc, g, 1.0) > 0.2);
+    }
+}
+
+/// The other laws of the registry on the same block: the multiplicative
+/// rate form of Johnson–Cook (Weldox 460 E), in compression at a slow and
+/// a fast rate and hot, against its exact curve at the rate the kinematic
+/// stage measured. Each case also differs from the same law's curve at
+/// another rate or temperature, so the check can tell.
+#[test]
+fn the_other_laws_follow_their_exact_curves() {
+    let mjc = "strength = { kind = \"modified_johnson_cook\", a = 490e6, b = 807e6, n = 0.73, c = 0.0114, m = 0.94, reference_strain_rate = 5e-4, room_temperature = 293.0, melt_temperature = 1800.0 }";
+    let steps = 400;
+    let strain = 0.05;
+    for (name, law_keys) in [("modified JC", mjc)] {
+        let (model, _) = block(law_keys, 0.0);
+        let (law, g) = (model.material(0).strength.unwrap(), model.material(0).g);
+        let per = strength::equivalent_strain_rate(&uniaxial(1.0));
+        for (rate, t0) in [(0.5, 294.0), (2e3, 294.0), (0.5, 700.0)] {
+            let dt = strain / rate / steps as f64;
+            let d = drive(law_keys, 0.0, t0, uniaxial(-rate / per), dt, steps);
+            // The block's rate is uniform and steady to round-off.
+            assert!((d.rate.1 / d.rate.0 - 1.0) < 1e-9, "{name}: {:?}", d.rate);
+            let f = law.factor(d.rate.1, t0);
+            let e = worst(&d, &law, g, f);
+            let other = law.factor(
+                if rate > 1.0 { 0.5 } else { 2e3 },
+                if t0 > 300.0 { 294.0 } else { 700.0 },
+            );
+            let apart = worst(&d, &law, g, other);
+            println!("{name} at {rate}/s, {t0} K: worst {e:.2e} (another rate or temperature: {apart:.2e})");
+            assert!(e < 1e-6, "{name} at {rate}/s, {t0} K: {e:e}");
+            assert!(
+                apart > 0.01,
+                "{name} at {rate}/s, {t0} K: the check cannot tell ({apart:e})"
+            );
+        }
     }
 }
 
@@ -230,7 +282,14 @@ fn adiabatic_heating_converges_to_first_order() {
     let strain = 0.2;
     let l = uniaxial(-0.75); // ε̇_eq = 0.5/s, below the reference
     let run = |steps: usize| {
-        let d = drive(0.014, 0.9, 294.0, l, strain / 0.5 / steps as f64, steps);
+        let d = drive(
+            &jc_keys(0.014),
+            0.9,
+            294.0,
+            l,
+            strain / 0.5 / steps as f64,
+            steps,
+        );
         *d.q.last()
             .unwrap()
             .iter()
@@ -239,7 +298,7 @@ fn adiabatic_heating_converges_to_first_order() {
     };
     // Reference: the same update on one particle with 100x the steps.
     let reference = {
-        let (model, _) = block(0.014, 0.9);
+        let (model, _) = block(&jc_keys(0.014), 0.9);
         let mat = *model.material(0);
         let steps = 40_000;
         let de = strain / steps as f64;
@@ -283,7 +342,7 @@ fn adiabatic_heating_converges_to_first_order() {
 /// (the classic hypoelastic answer), to second order in the step.
 #[test]
 fn jaumann_simple_shear_rotates() {
-    let (model, mut st) = block(0.0, 0.0);
+    let (model, mut st) = block(&jc_keys(0.0), 0.0);
     let g = model.material(0).g;
     let n = model.len();
     let gamma_rate = 1.0;

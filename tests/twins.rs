@@ -1,5 +1,6 @@
 //! Every CPU twin a shader names exists: each `CPU twin: path` (or
-//! `twins:` with a list) in a comment of `shaders/*.wgsl` resolves to a
+//! `twins:` with a list) in a comment of `shaders/*.wgsl` and
+//! `shaders/laws/*.wgsl` resolves to a
 //! module, type, function, constant or field of `src/` where the path
 //! says, so that a twin which moves or is renamed fails here instead of
 //! leaving the shader pointing at nothing.
@@ -240,8 +241,10 @@ fn every_cpu_twin_a_shader_names_exists() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let mut found = 0;
     let mut missing = Vec::new();
-    let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
+    // The stages' files and the strength laws' (shaders/laws/).
+    let mut names: Vec<PathBuf> = [dir.clone(), dir.join("laws")]
+        .iter()
+        .flat_map(|d| std::fs::read_dir(d).unwrap())
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "wgsl"))
         .collect();

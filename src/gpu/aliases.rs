@@ -150,9 +150,10 @@ pub(super) const PERMUTE_EACH: &[(u64, &str, &str, &str)] = &[
 ];
 
 /// The test kernels' own buffers (debug.wgsl), made where they run
-/// (`GpuSolver::stage_outputs`, `GpuSolver::equation_of_state`).
+/// (`GpuSolver::stage_outputs`, `GpuSolver::equation_of_state`,
+/// `GpuSolver::strength_law`).
 #[cfg(test)]
-pub(super) const TEST_ONLY: &[&str] = &["dump", "eos_in", "eos_out"];
+pub(super) const TEST_ONLY: &[&str] = &["dump", "eos_in", "eos_out", "law_in", "law_out"];
 
 /// Every fixed table, for the tests.
 #[cfg(test)]

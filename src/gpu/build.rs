@@ -108,17 +108,14 @@ fn plastic_gpu(m: &crate::physics::material::MaterialModel) -> PlasticGpu {
         },
         ..Default::default()
     };
-    if let Some(jc) = &m.strength {
-        p.strength = 1;
-        (p.a, p.b, p.n, p.c, p.m) = (
-            jc.a as f32,
-            jc.b as f32,
-            jc.n as f32,
-            jc.c as f32,
-            jc.m as f32,
-        );
-        p.rate0 = jc.reference_strain_rate as f32;
-        p.melt_rise = (jc.melt_temperature - jc.room_temperature) as f32;
+    if let Some(law) = &m.strength {
+        p.law = law.device_id();
+        p.k = law.device();
+        p.room = law.room_temperature() as f32;
+        p.rate0 = law.reference_strain_rate() as f32;
+        p.melt_rise = law
+            .melt_temperature()
+            .map_or(f32::MAX, |t| (t - law.room_temperature()) as f32);
     }
     if let Some(f) = &m.failure {
         p.damage = 1;

@@ -281,17 +281,44 @@ impl GpuSolver {
     /// `body`: `(pressure, sound speed)` each (tests: the EOS against its
     /// formula and its CPU twin).
     pub fn equation_of_state(&self, body: u32, states: &[[f32; 3]]) -> Vec<[f32; 2]> {
+        let input: Vec<[f32; 4]> = states
+            .iter()
+            .map(|s| [s[0], s[1], s[2], body as f32])
+            .collect();
+        let out = self.table("eos_table", ("eos_in", "eos_out"), &input, 8);
+        bytemuck::cast_slice::<u8, [f32; 2]>(&out)[..states.len()].to_vec()
+    }
+
+    /// The device's strength law of body `body` (strength.wgsl's
+    /// `law_factor`, `law_curve` and `return_increment`) at `rows`, each
+    /// `[ε_p, ε̇, T − T_room, q_trial]`: `[factor, σ_y, dσ_y/dε_p, Δε_p]`
+    /// each, the return from `q_trial` with the body's shear modulus
+    /// (tests: each law against its formula on the device).
+    pub fn strength_law(&self, body: u32, rows: &[[f32; 4]]) -> Vec<[f32; 4]> {
+        let input: Vec<[f32; 4]> = rows
+            .iter()
+            .flat_map(|r| [*r, [body as f32, 0.0, 0.0, 0.0]])
+            .collect();
+        let out = self.table("law_table", ("law_in", "law_out"), &input, 16);
+        bytemuck::cast_slice::<u8, [f32; 4]>(&out)
+            .chunks(2)
+            .take(rows.len())
+            .map(|c| c[0])
+            .collect()
+    }
+
+    /// Run the test kernel `entry` (debug.wgsl) over `input`, one thread a
+    /// row, its buffers named `names` (in, out): the output, `stride` bytes
+    /// a row.
+    fn table(&self, entry: &str, names: (&str, &str), input: &[[f32; 4]], stride: u64) -> Vec<u8> {
         let dev = &self.ctx.device;
         let consts = [
             ("WG", WG as f64),
             ("FAILURE", self.model.can_fail() as u8 as f64),
             ("CAVITATION", self.model.cavitates() as u8 as f64),
+            ("STRENGTH_LAWS", self.model.strength_laws() as f64),
         ];
-        let p = self.ctx.pipeline("debug", "", "eos_table", &consts);
-        let input: Vec<[f32; 4]> = states
-            .iter()
-            .map(|s| [s[0], s[1], s[2], body as f32])
-            .collect();
+        let p = self.ctx.pipeline("debug", "", entry, &consts);
         let len = input.len().max(1) as u64;
         let buffer = |label, size, usage| {
             dev.create_buffer(&wgpu::BufferDescriptor {
@@ -301,15 +328,15 @@ impl GpuSolver {
                 mapped_at_creation: false,
             })
         };
-        let eos_in = buffer("eos_in", 16 * len, wgpu::BufferUsages::COPY_DST);
-        let eos_out = buffer("eos_out", 8 * len, wgpu::BufferUsages::COPY_SRC);
+        let t_in = buffer(names.0, 16 * len, wgpu::BufferUsages::COPY_DST);
+        let t_out = buffer(names.1, stride * len, wgpu::BufferUsages::COPY_SRC);
         self.ctx
             .queue
-            .write_buffer(&eos_in, 0, bytemuck::cast_slice(&input));
-        let bind = self.test_bind(&p, &[("eos_in", &eos_in), ("eos_out", &eos_out)]);
+            .write_buffer(&t_in, 0, bytemuck::cast_slice(input));
+        let bind = self.test_bind(&p, &[(names.0, &t_in), (names.1, &t_out)]);
         let read = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("eos_read"),
-            size: 8 * len,
+            label: Some("table_read"),
+            size: stride * len,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -320,10 +347,9 @@ impl GpuSolver {
             pass.set_bind_group(0, &bind, &[]);
             pass.dispatch_workgroups((len as u32).div_ceil(WG), 1, 1);
         }
-        enc.copy_buffer_to_buffer(&eos_out, 0, &read, 0, 8 * len);
+        enc.copy_buffer_to_buffer(&t_out, 0, &read, 0, stride * len);
         self.ctx.queue.submit([enc.finish()]);
-        let data = map_read(&self.ctx, &read, 8 * len);
-        bytemuck::cast_slice::<u8, [f32; 2]>(&data)[..states.len()].to_vec()
+        map_read(&self.ctx, &read, stride * len)
     }
 
     /// One evaluation at the current state, with every stage's output read

@@ -79,6 +79,7 @@ pub(super) fn make_kernels(
         ("HISTORY", model.history as u8 as f64),
         ("FAILURE", model.can_fail() as u8 as f64),
         ("CAVITATION", model.cavitates() as u8 as f64),
+        ("STRENGTH_LAWS", model.strength_laws() as f64),
         ("STRAIN_RATE", model.strain_rate as u8 as f64),
         ("AXI", model.axisymmetric as u8 as f64),
         ("ADAPT", model.adaptive as u8 as f64),

@@ -97,14 +97,15 @@ pub struct BodyGpu {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
 pub struct PlasticGpu {
-    pub a: f32,
-    pub b: f32,
-    pub n: f32,
-    pub c: f32,
-    pub m: f32,
-    /// Reference strain rate, 1/s.
+    /// The strength law's constants ([`crate::physics::laws::Law::device`]).
+    pub k: [f32; crate::physics::laws::DEVICE_CONSTANTS],
+    /// The strength law's number (0: none).
+    pub law: u32,
+    /// Room temperature, K.
+    pub room: f32,
+    /// The damage law's reference strain rate, 1/s.
     pub rate0: f32,
-    /// Melt temperature less room temperature, K.
+    /// Melt temperature less room temperature, K (`f32::MAX`: no melt).
     pub melt_rise: f32,
     /// Taylor–Quinney fraction over the specific heat.
     pub heat: f32,
@@ -117,8 +118,7 @@ pub struct PlasticGpu {
     pub spall: f32,
     /// Cavitation pressure, Pa (`f32::MAX`: none).
     pub cavitation: f32,
-    /// 1: Johnson–Cook strength; 1: Johnson–Cook damage.
-    pub strength: u32,
+    /// 1: Johnson–Cook damage.
     pub damage: u32,
 }
 
@@ -222,8 +222,8 @@ pub fn host_layouts() -> Vec<HostLayout> {
             "Plastic",
             size_of::<PlasticGpu>(),
             offsets!(
-                PlasticGpu, a, b, n, c, m, rate0, melt_rise, heat, d1, d2, d3, d4, d5, spall,
-                cavitation, strength, damage
+                PlasticGpu, k, law, room, rate0, melt_rise, heat, d1, d2, d3, d4, d5, spall,
+                cavitation, damage
             ),
         ),
         (

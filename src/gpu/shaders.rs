@@ -62,7 +62,7 @@ fn file(name: &str) -> &'static str {
 /// shared parts the stage table lists for it, then the stage's own file.
 pub fn source(stage: &str, prelude: &str) -> String {
     let (body, parts): (&str, &[&str]) = if stage == TEST_KERNELS {
-        (file("debug.wgsl"), &[])
+        (file("debug.wgsl"), &["strength.wgsl"])
     } else {
         let info = crate::stage::Stage::named(stage)
             .map(crate::stage::info)
@@ -71,12 +71,47 @@ pub fn source(stage: &str, prelude: &str) -> String {
     };
     // The shared parts in one order, whatever order the table lists them.
     let part = |f: &str| if parts.contains(&f) { file(f) } else { "" };
-    let (spread, strength, penalty) = (
-        part("spread.wgsl"),
-        part("strength.wgsl"),
-        part("penalty.wgsl"),
-    );
+    let (spread, penalty) = (part("spread.wgsl"), part("penalty.wgsl"));
+    let strength = if parts.contains(&"strength.wgsl") {
+        format!("{}\n{}", file("strength.wgsl"), laws())
+    } else {
+        String::new()
+    };
     format!("{COMMON}\n{WALK}\n{prelude}\n{spread}\n{strength}\n{penalty}\n// ---- {stage}.wgsl ----\n{body}")
+}
+
+/// Every strength law's WGSL (shaders/laws/) and the dispatch on a
+/// body's law, written from the registry ([`crate::physics::laws::DEVICE`]).
+/// A law that no body of the scene uses is compiled out: the override
+/// `STRENGTH_LAWS` has its bit (`1 << id`) clear.
+fn laws() -> String {
+    use crate::physics::laws::DEVICE;
+    let mut out = String::new();
+    for l in DEVICE {
+        out += &format!("// ---- laws/{}.wgsl ----\n{}\n", l.kind, l.wgsl);
+    }
+    let dispatch = |name: &str, args: &str, params: &str, ret: &str, none: &str| {
+        let mut f = format!("fn law_{name}(p: Plastic, {params}) -> {ret} {{\n");
+        for l in DEVICE {
+            f += &format!(
+                "    if ((STRENGTH_LAWS & {}u) != 0u && p.law == {}u) {{\n        return {}_{name}(p, {args});\n    }}\n",
+                1u32 << l.id,
+                l.id,
+                l.kind
+            );
+        }
+        f + &format!("    return {none};\n}}\n")
+    };
+    out += "// The laws' dispatch (gpu::shaders::laws).\n";
+    out += &dispatch("factor", "rate, rise", "rate: f32, rise: f32", "f32", "1.0");
+    out += &dispatch(
+        "curve",
+        "f, eps",
+        "f: f32, eps: f32",
+        "vec2<f32>",
+        "vec2<f32>(0.0)",
+    );
+    out
 }
 
 /// A prelude to check a stage alone with (tests): for `reduce`, one

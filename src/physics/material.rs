@@ -4,7 +4,7 @@
 //! this module knows nothing of the scene format.
 
 use crate::math::Sym;
-use crate::physics::johnson_cook::{Failure, Strength};
+use crate::physics::laws::{johnson_cook::Failure, StrengthLaw};
 
 /// A material with every derived constant the solver needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -32,9 +32,10 @@ pub struct MaterialModel {
     pub z: f64,
     /// Constrained modulus `M = K + 4G/3 = ρ0 c_L²`.
     pub m: f64,
-    /// Johnson–Cook strength (then `y0` is its `A`); `None`: perfect
+    /// A strength law (then `y0` is its initial yield stress,
+    /// [`crate::physics::laws::Law::initial_yield`]); `None`: perfect
     /// plasticity at `y0`, or elastic.
-    pub strength: Option<Strength>,
+    pub strength: Option<StrengthLaw>,
     /// Johnson–Cook damage.
     pub failure: Option<Failure>,
     /// The tensile pressure at which a particle fails, Pa (infinite: none).
@@ -68,7 +69,7 @@ impl MaterialModel {
     /// The room temperature a particle starts at (0 without a strength law,
     /// which has no use for it).
     pub fn initial_temperature(&self) -> f64 {
-        self.strength.map_or(0.0, |jc| jc.room_temperature)
+        self.strength.map_or(0.0, |law| law.room_temperature())
     }
 
     /// The sound speed of a particle with damage `damage`: a failed one has

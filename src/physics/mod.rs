@@ -4,8 +4,8 @@
 //! mirrored by the shaders of the GPU path); the exact answers of the
 //! validation cases are in [`crate::validation::exact`].
 
-pub mod johnson_cook;
 pub mod kernel;
+pub mod laws;
 pub mod material;
 pub mod penalty;
 pub mod strength;

@@ -9,6 +9,7 @@
 //! for them.
 
 use crate::math::{Mat2, Sym};
+use crate::physics::laws;
 use crate::physics::material::MaterialModel;
 
 /// What a particle remembers of its plastic past.
@@ -99,9 +100,9 @@ pub fn equivalent_strain_rate_3(gv: &Mat2, d_zz: f64) -> f64 {
 /// the deviatoric stress and the history at the end.
 ///
 /// * Perfect plasticity: `s` scaled onto `Y0`; `Δε_p = (q − Y0)/3G`.
-/// * Johnson–Cook: `Δε_p` from the return at the rate and temperature of
-///   the step's start ([`crate::physics::johnson_cook::Strength::return_increment`]),
-///   and `ΔT = χ σ_y Δε_p / (ρ c_p)`.
+/// * A strength law ([`crate::physics::laws`]): `Δε_p` from the return
+///   onto its curve at the rate and temperature of the step's start
+///   ([`laws::return_increment`]), and `ΔT = χ σ_y Δε_p / (ρ c_p)`.
 /// * Damage: `ΔD = Δε_p / ε_f(σ*, ε̇*, T*)` with the triaxiality
 ///   `σ* = −p/σ_y` of the returned state; a particle whose damage reaches
 ///   1, or whose pressure falls below `−p_spall`, fails.
@@ -122,9 +123,9 @@ pub fn update(
     }
     let q = trial.von_mises();
     let (mut s, mut d_eps, mut flow) = (trial, 0.0, q);
-    if let Some(jc) = &mat.strength {
-        let scale = jc.rate_factor(rate) * jc.thermal_factor(h.temperature);
-        d_eps = jc.return_increment(q, mat.g, h.eps_p, scale);
+    if let Some(law) = &mat.strength {
+        let f = law.factor(rate, h.temperature);
+        d_eps = laws::return_increment(|e| law.curve(f, e), q, mat.g, h.eps_p);
         if d_eps > 0.0 {
             flow = q - 3.0 * mat.g * d_eps;
             s = trial.scale(flow / q);
@@ -148,9 +149,13 @@ pub fn update(
                 -p.signum() * f64::INFINITY
             };
             let (rate_star, t_star) = match &mat.strength {
-                Some(jc) => (
-                    rate / jc.reference_strain_rate,
-                    jc.homologous(h.temperature),
+                Some(law) => (
+                    rate / law.reference_strain_rate(),
+                    laws::homologous(
+                        law.room_temperature(),
+                        law.melt_temperature(),
+                        h.temperature,
+                    ),
                 ),
                 None => (rate, 0.0),
             };
@@ -232,8 +237,7 @@ mod tests {
         let m = steel(true, false, None);
         let g = m.g;
         let (s, h) = update(&m, uniaxial(1.2e9), 1.0, 7830.0, || 0.0, fresh());
-        let jc = m.strength.unwrap();
-        let y = jc.flow_stress(h.eps_p, 1.0, 294.0);
+        let y = m.strength.unwrap().flow_stress(h.eps_p, 1.0, 294.0);
         assert!((s.von_mises() - y).abs() <= 1e-12 * y);
         assert!((h.eps_p - (1.2e9 - y) / (3.0 * g)).abs() <= 1e-12 * h.eps_p);
         let heat = 0.9 * y * h.eps_p / (7830.0 * 477.0);
@@ -293,7 +297,7 @@ mod tests {
     /// by Δε_p/ε_f(1.5) and stays positive.
     #[test]
     fn the_triaxiality_bound_keeps_armco_iron_positive() {
-        let f = crate::physics::johnson_cook::Failure {
+        let f = laws::johnson_cook::Failure {
             d1: -2.20,
             d2: 5.43,
             d3: -0.47,

@@ -164,21 +164,16 @@ impl TryFrom<MaterialSpec> for Material {
     }
 }
 
-/// Strength laws beyond perfect plasticity.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum StrengthLaw {
-    /// Johnson & Cook (1983): `σ_y = (A + B ε_pⁿ)(1 + C ln ε̇*)(1 − T*ᵐ)`;
-    /// stresses in Pa, the reference rate in 1/s, temperatures in K.
-    JohnsonCook(crate::physics::johnson_cook::Strength),
-}
+/// Strength laws beyond perfect plasticity: one module each in
+/// [`crate::physics::laws`], registered there.
+pub use crate::physics::laws::StrengthLaw;
 
 /// Damage laws.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum FailureLaw {
     /// Johnson & Cook (1985): `ε_f = (D1 + D2 exp(D3 σ*))(1 + D4 ln ε̇*)(1 + D5 T*)`.
-    JohnsonCook(crate::physics::johnson_cook::Failure),
+    JohnsonCook(crate::physics::laws::johnson_cook::Failure),
 }
 
 /// Equation of state (docs/method.md §6).

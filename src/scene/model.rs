@@ -1,7 +1,7 @@
 //! A scene's material as the solvers' material model: the derived
 //! constants of physics::material::MaterialModel from the scene's keys.
 
-use super::{Eos, FailureLaw, Material, StrengthLaw};
+use super::{Eos, FailureLaw, Material};
 use crate::physics::material::MaterialModel;
 
 impl MaterialModel {
@@ -14,10 +14,10 @@ impl MaterialModel {
             Eos::Linear { c0 } => (c0, 0.0, 0.0, true),
         };
         let g = mat.shear_modulus.unwrap_or(0.0);
-        let strength = mat.strength.map(|StrengthLaw::JohnsonCook(jc)| jc);
+        let strength = mat.strength;
         let failure = mat.failure.map(|FailureLaw::JohnsonCook(f)| f);
         let y0 = match &strength {
-            Some(jc) => jc.a,
+            Some(law) => law.initial_yield(),
             None => mat.yield_stress.unwrap_or(f64::INFINITY),
         };
         let k = rho0 * c0 * c0;

@@ -137,6 +137,7 @@ fn non_positive_and_negative_values() {
 
 /// Velocities and points of the wrong dimension; shapes of the wrong dimension.
 const YIELD: &str = "yield_stress = 600.0e6";
+const MJC: &str = "strength = { kind = \"modified_johnson_cook\", a = 490e6, b = 807e6, n = 0.73, c = 0.0114, m = 0.94, reference_strain_rate = 5e-4, room_temperature = 293.0, melt_temperature = 1800.0 }\nspecific_heat = 452.0";
 const JC: &str = "strength = { kind = \"johnson_cook\", a = 792e6, b = 510e6, n = 0.26, c = 0.014, m = 1.03, reference_strain_rate = 1.0, room_temperature = 294.0, melt_temperature = 1793.0 }\nspecific_heat = 477.0";
 
 /// The strength, failure and library keys: unknown model keys, negative or
@@ -148,11 +149,12 @@ fn strength_failure_and_library() {
         case("specific_heat_negative", &[(YIELD, JC), ("specific_heat = 477.0", "specific_heat = -1.0")], "materials.steel.specific_heat"),
         case(
             "jc_unknown_kind",
-            &[(YIELD, "strength = { kind = \"zerilli_armstrong\", a = 1.0 }")],
+            &[(YIELD, "strength = { kind = \"steinberg_guinan\", a = 1.0 }")],
             "materials.steel.strength.kind",
         )
         .located()
-        .also(&["zerilli_armstrong", "johnson_cook"]),
+        .also(&["johnson_cook", "modified_johnson_cook"]),
+        case("mjc_negative_m", &[(YIELD, MJC), ("m = 0.94", "m = -0.94")], "materials.steel.strength.m"),
         case("jc_unknown_key", &[(YIELD, JC), ("melt_temperature = 1793.0", "melt_temperature = 1793.0, d = 1.0")], "materials.steel.strength.d")
             .located(),
         case("jc_missing_constant", &[(YIELD, JC), ("n = 0.26, ", "")], "materials.steel.strength.n")

@@ -388,6 +388,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
 
 mod batches;
 mod eos;
+mod laws;
 mod parity;
 mod steps;
 mod work;

@@ -298,10 +298,9 @@ pub fn validate(scene: &Scene) -> R {
 /// The strength, heating and failure keys of one material; `k` makes the
 /// dotted key of a field.
 fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
-    use super::{FailureLaw, StrengthLaw};
+    use super::FailureLaw;
     let g = m.shear_modulus.unwrap_or(0.0);
-    if let Some(StrengthLaw::JohnsonCook(jc)) = m.strength {
-        let (room_temperature, melt_temperature) = (jc.room_temperature, jc.melt_temperature);
+    if let Some(law) = &m.strength {
         if m.yield_stress.is_some() {
             return Err(SceneError::at(
                 k("strength"),
@@ -314,23 +313,8 @@ fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
                 "a strength law needs a shear modulus > 0",
             ));
         }
-        positive(&k("strength.a"), jc.a)?;
-        non_negative(&k("strength.b"), jc.b)?;
-        positive(&k("strength.n"), jc.n)?;
-        non_negative(&k("strength.c"), jc.c)?;
-        positive(&k("strength.m"), jc.m)?;
-        positive(
-            &k("strength.reference_strain_rate"),
-            jc.reference_strain_rate,
-        )?;
-        positive(&k("strength.room_temperature"), room_temperature)?;
-        positive(&k("strength.melt_temperature"), melt_temperature)?;
-        if melt_temperature <= room_temperature {
-            return Err(SceneError::at(
-                k("strength.melt_temperature"),
-                format!("must be above room_temperature ({room_temperature} K)"),
-            ));
-        }
+        law.check()
+            .map_err(|(key, msg)| SceneError::at(k(&format!("strength.{key}")), msg))?;
         match m.specific_heat {
             Some(cp) => positive(&k("specific_heat"), cp)?,
             None => return Err(SceneError::at(
@@ -384,6 +368,12 @@ fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
                 format!(
                     "must be > -1 (got {d5}): the failure strain would be non-positive at the melt"
                 ),
+            ));
+        }
+        if d5 != 0.0 && m.strength.is_some_and(|l| l.melt_temperature().is_none()) {
+            return Err(SceneError::at(
+                k("failure.d5"),
+                "a temperature term needs the strength law's melt_temperature (its T* reads it)",
             ));
         }
     }

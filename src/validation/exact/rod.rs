@@ -118,10 +118,10 @@ pub fn rod_on_wall(mat: &MaterialModel, v0: f64) -> Option<TwoWaveImpact> {
     if !(y0.is_finite() && y0 > 0.0 && g > 0.0 && v0.is_finite() && v0 > 0.0) {
         return None;
     }
-    if let Some(jc) = &mat.strength {
+    if let Some(law) = &mat.strength {
         // The answer is exact for a strength that depends on the plastic
         // strain alone: no rate term, no heating.
-        if jc.c != 0.0 || mat.taylor_quinney != 0.0 {
+        if law.rate_dependent() || mat.taylor_quinney != 0.0 {
             return None;
         }
     }
@@ -132,9 +132,11 @@ pub fn rod_on_wall(mat: &MaterialModel, v0: f64) -> Option<TwoWaveImpact> {
     // compression (docs/method.md, "Strength and failure").
     let deviator = |rho: f64| match &mat.strength {
         None => s_yield,
-        Some(jc) => {
+        Some(law) => {
             let q_trial = 2.0 * g * (rho / rho0).ln();
-            -2.0 / 3.0 * (q_trial - 3.0 * g * jc.return_increment(q_trial, g, 0.0, 1.0))
+            let f = law.factor(law.reference_strain_rate(), law.room_temperature());
+            let d = crate::physics::laws::return_increment(|e| law.curve(f, e), q_trial, g, 0.0);
+            -2.0 / 3.0 * (q_trial - 3.0 * g * d)
         }
     };
 

@@ -7,12 +7,14 @@
 //!   `T* = (T − T_room)/(T_melt − T_room)`, clamped to [0, 1];
 //! * failure strain `ε_f = (D1 + D2 exp(D3 σ*))(1 + D4 ln ε̇*)(1 + D5 T*)`
 //!   with the stress triaxiality `σ* = −p / σ_vm`;
-//! * the radial return of a trial deviatoric stress onto the hardening
-//!   yield surface at a fixed rate and temperature: the plastic strain
-//!   increment `Δε_p` that solves `q_trial − 3 G Δε_p = σ_y(ε_p + Δε_p)`
-//!   (von Mises, associated flow), found to round-off.
+//!
+//! The strength law is registered in [`super`] as `kind = "johnson_cook"`;
+//! its device twin is `shaders/laws/johnson_cook.wgsl`. The failure strain
+//! is the damage law of [`crate::scene::FailureLaw`] (strength.wgsl).
 
 use serde::{Deserialize, Serialize};
+
+use super::{non_negative, positive, temperatures, Law, DEVICE_CONSTANTS};
 
 /// The strength constants of one material, as a scene writes them
 /// (`strength = { kind = "johnson_cook", a, b, … }`).
@@ -49,8 +51,11 @@ impl Strength {
 
     /// The homologous temperature `T*`, clamped to [0, 1].
     pub fn homologous(&self, temperature: f64) -> f64 {
-        ((temperature - self.room_temperature) / (self.melt_temperature - self.room_temperature))
-            .clamp(0.0, 1.0)
+        super::homologous(
+            self.room_temperature,
+            Some(self.melt_temperature),
+            temperature,
+        )
     }
 
     /// `(1 − T*ᵐ)`: 1 at or below room temperature, 0 at the melt.
@@ -64,10 +69,10 @@ impl Strength {
     }
 
     /// The static hardening curve `A + B ε_pⁿ` and its slope.
-    fn hardening(&self, eps_p: f64) -> (f64, f64) {
+    pub(crate) fn hardening(&self, eps_p: f64) -> (f64, f64) {
         if eps_p <= 0.0 {
             // The slope is infinite at zero strain for n < 1; the return
-            // below brackets its root, so it never divides by it.
+            // brackets its root, so it never divides by it.
             let slope = if self.n < 1.0 {
                 f64::INFINITY
             } else if self.n == 1.0 {
@@ -81,50 +86,63 @@ impl Strength {
         (self.a + self.b * pow, self.b * self.n * pow / eps_p)
     }
 
-    /// The flow stress at plastic strain `eps_p`, plastic strain rate and
-    /// temperature.
-    pub fn flow_stress(&self, eps_p: f64, strain_rate: f64, temperature: f64) -> f64 {
-        self.hardening(eps_p).0 * self.rate_factor(strain_rate) * self.thermal_factor(temperature)
+    /// The rules shared with the multiplicative form
+    /// ([`super::modified_johnson_cook`]).
+    pub(crate) fn check_constants(&self) -> Result<(), (&'static str, String)> {
+        positive("a", self.a)?;
+        non_negative("b", self.b)?;
+        positive("n", self.n)?;
+        non_negative("c", self.c)?;
+        positive("m", self.m)?;
+        positive("reference_strain_rate", self.reference_strain_rate)?;
+        temperatures(self.room_temperature, Some(self.melt_temperature))
     }
 
-    /// The plastic strain increment of a radial return from a trial von
-    /// Mises stress `q_trial` with shear modulus `g`, at plastic strain
-    /// `eps_p`, the rate and temperature factors held: 0 where the trial
-    /// state is inside the yield surface. Safeguarded Newton on a bracket
-    /// (the residual falls monotonically in Δε_p), to round-off.
-    pub fn return_increment(&self, q_trial: f64, g: f64, eps_p: f64, scale: f64) -> f64 {
-        let resid = |d: f64| {
-            let (s, slope) = self.hardening(eps_p + d);
-            (q_trial - 3.0 * g * d - scale * s, -3.0 * g - scale * slope)
-        };
-        if resid(0.0).0 <= 0.0 {
-            return 0.0;
+    /// A, B, n, C, m, ε̇0 (shaders/laws/johnson_cook.wgsl).
+    pub(crate) fn constants(&self) -> [f32; DEVICE_CONSTANTS] {
+        let k = [self.a, self.b, self.n, self.c, self.m, self.reference_strain_rate];
+        let mut out = [0.0; DEVICE_CONSTANTS];
+        for (o, k) in out.iter_mut().zip(k) {
+            *o = k as f32;
         }
-        let (mut lo, mut hi) = (0.0, q_trial / (3.0 * g));
-        let mut d = 0.5 * (lo + hi);
-        for _ in 0..200 {
-            let (f, df) = resid(d);
-            if f > 0.0 {
-                lo = d;
-            } else {
-                hi = d;
-            }
-            let newton = d - f / df;
-            if newton.is_finite() && newton >= lo && newton <= hi {
-                // Converged where Newton no longer moves.
-                let done = (newton - d).abs() <= 1e-15 * d;
-                d = newton;
-                if done {
-                    break;
-                }
-            } else {
-                d = 0.5 * (lo + hi);
-            }
-            if f == 0.0 || hi - lo <= 1e-15 * hi {
-                break;
-            }
-        }
-        d
+        out
+    }
+}
+
+impl Law for Strength {
+    /// `(1 + C ln ε̇*)(1 − T*ᵐ)`.
+    fn factor(&self, rate: f64, temperature: f64) -> f64 {
+        self.rate_factor(rate) * self.thermal_factor(temperature)
+    }
+
+    /// `factor (A + B ε_pⁿ)`.
+    fn curve(&self, factor: f64, eps_p: f64) -> (f64, f64) {
+        let (s, slope) = self.hardening(eps_p);
+        (factor * s, factor * slope)
+    }
+
+    fn room_temperature(&self) -> f64 {
+        self.room_temperature
+    }
+
+    fn melt_temperature(&self) -> Option<f64> {
+        Some(self.melt_temperature)
+    }
+
+    fn reference_strain_rate(&self) -> f64 {
+        self.reference_strain_rate
+    }
+
+    fn rate_dependent(&self) -> bool {
+        self.c != 0.0
+    }
+
+    fn check(&self) -> Result<(), (&'static str, String)> {
+        self.check_constants()
+    }
+
+    fn device(&self) -> [f32; DEVICE_CONSTANTS] {
+        self.constants()
     }
 }
 
@@ -202,16 +220,17 @@ mod tests {
     fn the_return_lands_on_the_hardened_surface() {
         let s = steel_4340();
         let g = 77.5e9;
+        let ret = |q, eps| crate::physics::laws::return_increment(|e| s.curve(1.0, e), q, g, eps);
         for (eps_p, q_trial) in [(0.0, 1.2e9), (0.0, 792.5e6), (0.05, 2.0e9), (0.3, 1.5e9)] {
-            let d = s.return_increment(q_trial, g, eps_p, 1.0);
+            let d = ret(q_trial, eps_p);
             let q = q_trial - 3.0 * g * d;
             let y = s.flow_stress(eps_p + d, 1.0, 294.0);
             assert!(d > 0.0, "{eps_p} {q_trial}: yields");
             assert!((q - y).abs() <= 1e-12 * y, "{eps_p} {q_trial}: {q} vs {y}");
         }
         // Inside the surface: elastic.
-        assert_eq!(s.return_increment(700e6, g, 0.0, 1.0), 0.0);
-        assert_eq!(s.return_increment(0.9e9, g, 0.2, 1.0), 0.0);
+        assert_eq!(ret(700e6, 0.0), 0.0);
+        assert_eq!(ret(0.9e9, 0.2), 0.0);
     }
 
     #[test]
