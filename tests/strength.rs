@@ -2,7 +2,8 @@
 //! stage (corrected velocity gradient, stress rate, equivalent strain rate)
 //! and its stress update (`physics::strength::update`), driven by an
 //! imposed uniform velocity gradient, against each law's exact
-//! stress–strain curve (Johnson–Cook, its multiplicative rate form).
+//! stress–strain curve (Johnson–Cook, its multiplicative rate form,
+//! Zerilli–Armstrong).
 //!
 //! Under a constant velocity gradient without spin the loading is
 //! proportional: the trial stress grows by `3G Δε_eq` a step and the
@@ -235,17 +236,24 @@ fn a_block_follows_the_exact_johnson_cook_curve() {
     }
 }
 
-/// The other laws of the registry on the same block: the multiplicative
-/// rate form of Johnson–Cook (Weldox 460 E), in compression at a slow and
+/// The other laws of the registry on the same block: Zerilli–Armstrong
+/// (copper's FCC constants, and a BCC form) and the multiplicative rate
+/// form of Johnson–Cook (Weldox 460 E), each in compression at a slow and
 /// a fast rate and hot, against its exact curve at the rate the kinematic
 /// stage measured. Each case also differs from the same law's curve at
 /// another rate or temperature, so the check can tell.
 #[test]
 fn the_other_laws_follow_their_exact_curves() {
+    let za_cu = "strength = { kind = \"zerilli_armstrong\", c0 = 65e6, c2 = 890e6, c3 = 0.0028, c4 = 0.000115, room_temperature = 294.0 }";
+    let za_bcc = "strength = { kind = \"zerilli_armstrong\", c0 = 70e6, c1 = 1033e6, c3 = 0.00698, c4 = 0.000415, c5 = 266e6, n = 0.289, room_temperature = 294.0 }";
     let mjc = "strength = { kind = \"modified_johnson_cook\", a = 490e6, b = 807e6, n = 0.73, c = 0.0114, m = 0.94, reference_strain_rate = 5e-4, room_temperature = 293.0, melt_temperature = 1800.0 }";
     let steps = 400;
     let strain = 0.05;
-    for (name, law_keys) in [("modified JC", mjc)] {
+    for (name, law_keys) in [
+        ("ZA copper", za_cu),
+        ("ZA BCC", za_bcc),
+        ("modified JC", mjc),
+    ] {
         let (model, _) = block(law_keys, 0.0);
         let (law, g) = (model.material(0).strength.unwrap(), model.material(0).g);
         let per = strength::equivalent_strain_rate(&uniaxial(1.0));

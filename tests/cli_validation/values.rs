@@ -137,6 +137,7 @@ fn non_positive_and_negative_values() {
 
 /// Velocities and points of the wrong dimension; shapes of the wrong dimension.
 const YIELD: &str = "yield_stress = 600.0e6";
+const ZA: &str = "strength = { kind = \"zerilli_armstrong\", c0 = 65e6, c2 = 890e6, c3 = 0.0028, c4 = 0.000115, room_temperature = 294.0 }\nspecific_heat = 383.0";
 const MJC: &str = "strength = { kind = \"modified_johnson_cook\", a = 490e6, b = 807e6, n = 0.73, c = 0.0114, m = 0.94, reference_strain_rate = 5e-4, room_temperature = 293.0, melt_temperature = 1800.0 }\nspecific_heat = 452.0";
 const JC: &str = "strength = { kind = \"johnson_cook\", a = 792e6, b = 510e6, n = 0.26, c = 0.014, m = 1.03, reference_strain_rate = 1.0, room_temperature = 294.0, melt_temperature = 1793.0 }\nspecific_heat = 477.0";
 
@@ -153,7 +154,17 @@ fn strength_failure_and_library() {
             "materials.steel.strength.kind",
         )
         .located()
-        .also(&["johnson_cook", "modified_johnson_cook"]),
+        .also(&["zerilli_armstrong", "johnson_cook", "modified_johnson_cook"]),
+        case("za_unknown_key", &[(YIELD, ZA), ("c4 = 0.000115", "c4 = 0.000115, a = 1.0")], "materials.steel.strength.a").located(),
+        case("za_negative_c2", &[(YIELD, ZA), ("c2 = 890e6", "c2 = -890e6")], "materials.steel.strength.c2"),
+        case("za_no_yield", &[(YIELD, ZA), ("c0 = 65e6", "c0 = 0.0")], "materials.steel.strength.c0"),
+        case("za_hardening_without_n", &[(YIELD, ZA), ("c2 = 890e6", "c5 = 266e6")], "materials.steel.strength.n"),
+        case("za_zero_rate_floor", &[(YIELD, ZA), ("c4 = 0.000115", "c4 = 0.000115, minimum_strain_rate = 0.0")], "materials.steel.strength.minimum_strain_rate"),
+        case(
+            "za_damage_temperature_without_melt",
+            &[(YIELD, ZA), ("specific_heat = 383.0", "specific_heat = 383.0\nfailure = { kind = \"johnson_cook\", d1 = 0.54, d2 = 4.89, d3 = -3.03, d4 = 0.014, d5 = 1.12 }")],
+            "materials.steel.failure.d5",
+        ),
         case("mjc_negative_m", &[(YIELD, MJC), ("m = 0.94", "m = -0.94")], "materials.steel.strength.m"),
         case("jc_unknown_key", &[(YIELD, JC), ("melt_temperature = 1793.0", "melt_temperature = 1793.0, d = 1.0")], "materials.steel.strength.d")
             .located(),

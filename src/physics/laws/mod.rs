@@ -120,6 +120,7 @@ macro_rules! strength_laws {
 strength_laws! {
     1 => JohnsonCook(johnson_cook),
     2 => ModifiedJohnsonCook(modified_johnson_cook),
+    3 => ZerilliArmstrong(zerilli_armstrong),
 }
 
 /// A particle's homologous temperature `T* = (T − T_room)/(T_melt − T_room)`,
