@@ -131,50 +131,59 @@ fn direction(v: &[f64]) -> Option<DVec2> {
     (d.length() > 0.0).then(|| d.normalize())
 }
 
-fn body_index(scene: &Scene, name: &str, role: &str) -> Result<usize, RunError> {
+fn body_index(scene: &Scene, name: &str, role: &'static str) -> Result<usize, RunError> {
     scene
         .bodies
         .iter()
         .position(|b| b.name == name)
         .ok_or_else(|| {
             let names: Vec<&str> = scene.bodies.iter().map(|b| b.name.as_str()).collect();
-            RunError::Backend(format!(
-                "--{role} {name}: no such body (the scene has {})",
-                names.join(", ")
-            ))
+            RunError::option(
+                role,
+                format!("{name}: no such body (the scene has {})", names.join(", ")),
+            )
         })
 }
 
 /// Check the options against the scene: bad input, exit status 2.
 fn check(scene: &Scene, opts: &BallisticOptions) -> Result<(usize, usize), RunError> {
-    let bad = |m: String| Err(RunError::Backend(m));
-    let p = body_index(scene, &opts.projectile, "projectile")?;
-    let t = body_index(scene, &opts.target, "target")?;
+    let bad = |option, m: String| Err(RunError::option(option, m));
+    let p = body_index(scene, &opts.projectile, "--projectile")?;
+    let t = body_index(scene, &opts.target, "--target")?;
     if p == t {
-        return bad("--projectile and --target name the same body".into());
+        return bad("--projectile", "and --target name the same body".into());
     }
     let v = scene.bodies[p].velocity.clone().unwrap_or_default();
     if direction(&v).is_none() {
-        return bad(format!(
-            "the projectile '{}' has no velocity in the scene: its direction is the impact direction",
-            opts.projectile
-        ));
+        return bad(
+            "--projectile",
+            format!(
+                "{}: the body has no velocity in the scene; its direction is the impact direction",
+                opts.projectile
+            ),
+        );
     }
     let positive = |x: f64| x.is_finite() && x > 0.0;
     if !(positive(opts.low) && positive(opts.high) && opts.low < opts.high) {
-        return bad(format!(
-            "--low and --high must be speeds with 0 < low < high (got {} and {})",
-            opts.low, opts.high
-        ));
+        return bad(
+            "--low",
+            format!(
+                "and --high must be speeds with 0 < low < high (got {} and {})",
+                opts.low, opts.high
+            ),
+        );
     }
     if !positive(opts.tolerance) {
-        return bad(format!("--tolerance must be > 0 (got {})", opts.tolerance));
+        return bad(
+            "--tolerance",
+            format!("must be > 0 (got {})", opts.tolerance),
+        );
     }
     if let Some(dx) = opts.spacing.filter(|&dx| !positive(dx)) {
-        return bad(format!("--spacing must be > 0 (got {dx})"));
+        return bad("--spacing", format!("must be > 0 (got {dx})"));
     }
     if let Some(&v) = opts.speeds.iter().find(|&&v| !positive(v)) {
-        return bad(format!("--speeds must be > 0 (got {v})"));
+        return bad("--speeds", format!("must be > 0 (got {v})"));
     }
     Ok((p, t))
 }
@@ -272,28 +281,28 @@ pub fn search(
     };
     let longer = |v: f64| {
         format!(
-            "at {v} m/s the projectile is still moving into the target at the end: give a longer --end-time"
+            "is too short: at {v} m/s the projectile is still moving into the target at the end; give a longer one"
         )
     };
     // The bracket's ends must be decided, and on their own sides.
     for (v, end, through, wrong) in [
         (
             opts.low,
-            "low",
+            "--low",
             false,
             "already perforates: give a lower speed",
         ),
         (
             opts.high,
-            "high",
+            "--high",
             true,
             "does not perforate: give a higher speed",
         ),
     ] {
         match fire(v, &mut shots)? {
-            (_, true) => return Err(RunError::Backend(longer(v))),
+            (_, true) => return Err(RunError::option("--end-time", longer(v))),
             (p, _) if p != through => {
-                return Err(RunError::Backend(format!("--{end} {v} m/s {wrong}")))
+                return Err(RunError::option(end, format!("{v} m/s {wrong}")))
             }
             _ => {}
         }
@@ -387,8 +396,10 @@ impl Ballistic {
                 color: Some(1),
                 exact: false,
             });
-            line_plot(&dir.join("residual.png"), &fig)
-                .map_err(|e| RunError::Backend(format!("residual.png: {e}")))?;
+            line_plot(&dir.join("residual.png"), &fig).map_err(|e| RunError::Plot {
+                path: dir.join("residual.png").display().to_string(),
+                message: e.to_string(),
+            })?;
         }
         Ok(())
     }

@@ -66,15 +66,32 @@ impl fmt::Display for Instability {
     }
 }
 
-/// A failure of the run itself (exit status 1), or of its set-up (exit 2).
+/// A failure of the run itself (exit status 1), or of its set-up (exit 2):
+/// what failed, and where ([`RunError::exit_code`] maps each to its
+/// status).
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// A command-line option that cannot be honoured: the option and why.
+    #[error("{option} {message}")]
+    Option {
+        option: &'static str,
+        message: String,
+    },
+    /// The backend asked for cannot run the scene: which (`gpu`, `cpu`)
+    /// and why.
+    #[error("backend {backend}: {message}")]
+    Backend {
+        backend: &'static str,
+        message: String,
+    },
+    /// A checkpoint that cannot be written or resumed: its file and why.
+    #[error("{path}: {message}")]
+    Checkpoint { path: String, message: String },
+    /// The run went unstable: where and why.
     #[error("{0}")]
     Unstable(Instability),
-    #[error("{0}")]
-    Backend(String),
     /// The device failed during the run (lost, or an error it reported).
     #[error("{0}")]
     Device(String),
@@ -84,14 +101,42 @@ pub enum RunError {
         #[source]
         source: std::io::Error,
     },
+    /// An output that could not be drawn: its file and why.
+    #[error("{path}: {message}")]
+    Plot { path: String, message: String },
 }
 
 impl RunError {
-    /// The process exit status this error maps to (docs/scenes.md, "Exit status": 2 bad input, 1 run failed).
+    /// The process exit status this error maps to (docs/scenes.md, "Exit
+    /// status"): 2 for bad input (a scene, an option, a backend that cannot
+    /// run the scene, a checkpoint that cannot be resumed), 1 for a run
+    /// that failed.
     pub fn exit_code(&self) -> i32 {
         match self {
-            RunError::Scene(_) | RunError::Backend(_) => 2,
-            RunError::Unstable(_) | RunError::Device(_) | RunError::Io { .. } => 1,
+            RunError::Scene(_)
+            | RunError::Option { .. }
+            | RunError::Backend { .. }
+            | RunError::Checkpoint { .. } => 2,
+            RunError::Unstable(_)
+            | RunError::Device(_)
+            | RunError::Io { .. }
+            | RunError::Plot { .. } => 1,
+        }
+    }
+
+    /// A bad option.
+    pub fn option(option: &'static str, message: impl Into<String>) -> Self {
+        RunError::Option {
+            option,
+            message: message.into(),
+        }
+    }
+
+    /// A checkpoint at `path` that cannot be used.
+    pub fn checkpoint(path: impl Into<String>, message: impl Into<String>) -> Self {
+        RunError::Checkpoint {
+            path: path.into(),
+            message: message.into(),
         }
     }
 

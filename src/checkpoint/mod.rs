@@ -145,7 +145,7 @@ impl Checkpoint {
     /// Encode into the file format.
     pub fn to_bytes(&self) -> Result<Vec<u8>, RunError> {
         let scene = toml::to_string(&self.scene)
-            .map_err(|e| RunError::Backend(format!("cannot encode the scene: {e}")))?;
+            .map_err(|e| RunError::checkpoint(FILE, format!("cannot encode the scene: {e}")))?;
         let mut w = Writer(MAGIC.to_vec());
         w.u64(VERSION);
         w.str(&self.scene_label);
@@ -162,7 +162,7 @@ impl Checkpoint {
 
     /// Decode a checkpoint file's bytes; `origin` names it in errors.
     pub fn from_bytes(bytes: &[u8], origin: &str) -> Result<Checkpoint, RunError> {
-        let bad = |what: String| RunError::Backend(format!("{origin}: {what}"));
+        let bad = |what: String| RunError::checkpoint(origin, what);
         if bytes.len() < MAGIC.len() + 16 || &bytes[..MAGIC.len()] != MAGIC {
             return Err(bad("not a sphcontact checkpoint".into()));
         }
@@ -218,7 +218,7 @@ impl Checkpoint {
     /// half-filled. `origin` names the checkpoint in the error.
     pub fn check_sizes(&self, model: &crate::model::Model, origin: &str) -> Result<(), RunError> {
         self.sizes_match(model.len(), model.contact, model.history)
-            .map_err(|what| RunError::Backend(format!("{origin}: {what}")))
+            .map_err(|what| RunError::checkpoint(origin, what))
     }
 
     fn sizes_match(&self, n: usize, contact: bool, history: bool) -> Result<(), String> {
@@ -283,10 +283,10 @@ impl Checkpoint {
     pub fn read(dir: &Path) -> Result<Checkpoint, RunError> {
         let p = path(dir);
         let bytes = std::fs::read(&p).map_err(|e| {
-            RunError::Backend(format!(
-                "{}: cannot read the checkpoint ({e}); was the run started with --checkpoint-every?",
-                p.display()
-            ))
+            RunError::checkpoint(
+                p.display().to_string(),
+                format!("cannot read the checkpoint ({e}); was the run started with --checkpoint-every?"),
+            )
         })?;
         Self::from_bytes(&bytes, &p.display().to_string())
     }

@@ -43,7 +43,15 @@ fn lose_at() -> Result<Option<f64>, RunError> {
         |t: &f64| t.is_finite() && *t >= 0.0,
         "a time >= 0 in seconds",
     )
-    .map_err(RunError::Backend)
+    .map_err(gpu_cannot)
+}
+
+/// The GPU backend cannot run the scene: why.
+fn gpu_cannot(message: String) -> RunError {
+    RunError::Backend {
+        backend: "gpu",
+        message,
+    }
 }
 
 impl GpuStepper {
@@ -71,15 +79,16 @@ impl GpuStepper {
         // A resumed solver is made from the initial state (which fixes the
         // grid's frame and every constant) before its buffers are
         // overwritten.
-        let mut solver =
-            GpuSolver::new(ctx, model, &state, probes, end).map_err(RunError::Backend)?;
+        let mut solver = GpuSolver::new(ctx, model, &state, probes, end).map_err(gpu_cannot)?;
         let mut stored = (None, 0.0);
         let mut t_last = 0.0;
         if let Some((saved, ledger)) = resume {
             let SolverState::Gpu(g) = saved else {
                 unreachable!("a checkpoint resumes on the backend that wrote it");
             };
-            solver.restore_raw(&g.device).map_err(RunError::Backend)?;
+            solver
+                .restore_raw(&g.device)
+                .map_err(|e| RunError::checkpoint(crate::checkpoint::FILE, e))?;
             stored = (Some(ledger.stored0), g.stored_last);
             t_last = g.t_last;
         }

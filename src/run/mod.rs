@@ -111,9 +111,12 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
     let theta = scene.simulation.dispersion_correction;
     if theta > 0.0 {
         return match backend {
-            Backend::Gpu => Err(RunError::Backend(format!(
-                "backend gpu: dispersion_correction = {theta} runs on the CPU path only; use --backend cpu (or auto)"
-            ))),
+            Backend::Gpu => Err(RunError::Backend {
+                backend: "gpu",
+                message: format!(
+                    "dispersion_correction = {theta} runs on the CPU path only; use --backend cpu (or auto)"
+                ),
+            }),
             _ => Ok(cpu(matches!(backend, Backend::Auto).then(|| {
                 format!("backend auto: dispersion_correction = {theta} runs on the CPU path only; running it")
             }))),
@@ -127,9 +130,10 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
                 gpu: Some(ctx),
                 warning: None,
             }),
-            Err(e) => Err(RunError::Backend(format!(
-                "backend gpu: {e}; use --backend cpu (or auto) to run on the CPU"
-            ))),
+            Err(e) => Err(RunError::Backend {
+                backend: "gpu",
+                message: format!("{e}; use --backend cpu (or auto) to run on the CPU"),
+            }),
         },
         Backend::Auto => match crate::gpu::shared_context() {
             Ok(ctx) if !ctx.is_software() => Ok(BackendChoice {
@@ -170,9 +174,10 @@ pub fn run_scene(
     let mut scene = scene.clone();
     if let Some(t) = opts.end_time {
         if !(t.is_finite() && t > 0.0) {
-            return Err(RunError::Backend(format!(
-                "--end-time must be > 0 (got {t})"
-            )));
+            return Err(RunError::option(
+                "--end-time",
+                format!("must be > 0 (got {t})"),
+            ));
         }
         scene.simulation.end_time = t;
     }
@@ -191,24 +196,29 @@ pub fn run_scene(
 pub fn resume_run(dir: &Path, opts: &RunOptions) -> Result<RunOutput, RunError> {
     let ck = Checkpoint::read(dir)?;
     if opts.end_time.is_some() {
-        return Err(RunError::Backend(
-            "--end-time cannot be combined with --resume: a resumed run continues to the end time it was started with".into(),
+        return Err(RunError::option(
+            "--end-time",
+            "cannot be combined with --resume: a resumed run continues to the end time it was started with",
         ));
     }
     if opts.integrator.is_some() {
-        return Err(RunError::Backend(
-            "--integrator cannot be combined with --resume: a resumed run continues with the integrator it was started with".into(),
+        return Err(RunError::option(
+            "--integrator",
+            "cannot be combined with --resume: a resumed run continues with the integrator it was started with",
         ));
     }
     if let Some(b) = opts
         .backend
         .filter(|&b| b != Backend::Auto && b != ck.backend)
     {
-        return Err(RunError::Backend(format!(
-            "--backend {b}: the checkpoint in {} was written by the {} backend, and a run resumes on the backend that wrote it",
-            dir.display(),
-            ck.backend
-        )));
+        return Err(RunError::option(
+            "--backend",
+            format!(
+                "{b}: the checkpoint in {} was written by the {} backend, and a run resumes on the backend that wrote it",
+                dir.display(),
+                ck.backend
+            ),
+        ));
     }
     let mut opts = opts.clone();
     opts.backend = Some(ck.backend);
@@ -234,13 +244,15 @@ fn run_from(
 ) -> Result<RunOutput, RunError> {
     if let Some(every) = opts.checkpoint_every {
         if !(every.is_finite() && every > 0.0) {
-            return Err(RunError::Backend(format!(
-                "--checkpoint-every must be > 0 (got {every})"
-            )));
+            return Err(RunError::option(
+                "--checkpoint-every",
+                format!("must be > 0 (got {every})"),
+            ));
         }
         if dir.is_none() {
-            return Err(RunError::Backend(
-                "checkpoints need an output directory (a run that writes its outputs)".into(),
+            return Err(RunError::option(
+                "--checkpoint-every",
+                "needs an output directory (a run that writes its outputs)",
             ));
         }
     }

@@ -35,8 +35,12 @@ pub(super) fn exact_bars(scene: &Scene, right: &str) -> Result<BarImpactHistory,
     let steel = MaterialModel::new(&scene.materials["steel"]);
     let other = MaterialModel::new(&scene.materials[right]);
     let end = scene.simulation.end_time;
-    bar_impact_history(&steel, 0.005, 10.0, &other, 0.005, -10.0, end)
-        .ok_or_else(|| RunError::Backend("exact bar answer unavailable".into()))
+    bar_impact_history(&steel, 0.005, 10.0, &other, 0.005, -10.0, end).ok_or_else(|| {
+        RunError::Scene(crate::error::SceneError::at(
+            "materials",
+            "the bar case has no exact answer for these materials",
+        ))
+    })
 }
 
 /// Case 1, Figs. 4–6: velocity at point b, stress at the contact point a,
