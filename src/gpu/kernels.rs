@@ -7,6 +7,7 @@ use super::*;
 
 /// How many particles, cell-list buckets and reduction groups a scene has,
 /// and the adapter's largest dispatch along one dimension.
+#[derive(Clone, Copy)]
 pub(super) struct Sizes {
     pub n: usize,
     pub buckets: u32,
@@ -22,14 +23,6 @@ pub(super) fn make_kernels(
     buffers: &DeviceBuffers,
     sizes: Sizes,
 ) -> Result<Kernels, String> {
-    let Sizes {
-        n,
-        buckets,
-        red_groups,
-        maxd,
-    } = sizes;
-    let dev = &ctx.device;
-    let limits = &ctx.limits;
     let contact = model.contact;
     let leapfrog = model.integrator == Integrator::Leapfrog;
     let surf_args = buffers.get(Buf::SurfArgs).cloned();
@@ -40,152 +33,21 @@ pub(super) fn make_kernels(
     } else {
         Buf::Lgrad
     };
-    let constants: Vec<(&str, f64)> = vec![
-        ("DIM", model.dim as f64),
-        ("CONTACT", contact as u8 as f64),
-        (
-            "CORRECTED",
-            (model.correction == Correction::Gradient) as u8 as f64,
-        ),
-        ("PLASTIC", model.plastic as u8 as f64),
-        ("ART_STRESS", model.artificial_stress.is_some() as u8 as f64),
-        (
-            "ART_CLOSE",
-            model
-                .artificial_stress
-                .is_some_and(|a| a.pairs == ArtPairs::Close) as u8 as f64,
-        ),
-        ("ART_KAPPA", !model.close_scale.is_empty() as u8 as f64),
-        (
-            "ART_HEAT",
-            model
-                .artificial_stress
-                .is_some_and(|a| a.work == ArtWork::Heat) as u8 as f64,
-        ),
-        ("HEAT_SPEED", crate::physics::tension::HEAT_SPEED),
-        ("ART_FLOW", model.art_keyed_on_flow() as u8 as f64),
-        (
-            "ART_BY_BODY",
-            model
-                .artificial_stress
-                .is_some_and(|a| a.work == ArtWork::Yielding) as u8 as f64,
-        ),
-        ("YIELD_TOL", crate::model::YIELD_TOL),
-        ("RECON", model.av_reconstruct as u8 as f64),
-        ("RECON_SURF", model.av_recon_surface as u8 as f64),
-        ("RELEASE", model.av_release as u8 as f64),
-        ("VARIATIONAL", model.variational as u8 as f64),
-        ("HG", model.hourglass),
-        ("HISTORY", model.history as u8 as f64),
-        ("FAILURE", model.can_fail() as u8 as f64),
-        ("CAVITATION", model.cavitates() as u8 as f64),
-        ("STRENGTH_LAWS", model.strength_laws() as f64),
-        ("STRAIN_RATE", model.strain_rate as u8 as f64),
-        ("AXI", model.axisymmetric as u8 as f64),
-        ("ADAPT", model.adaptive as u8 as f64),
-        ("LGRAD", (support_gradient == Buf::Lgrad) as u8 as f64),
-        ("ADAPT_ROWS", adaptive_rows() as f64),
-        ("BAND", model.band.drawn),
-        ("BAND_SQ", model.band.squeezed),
-        ("WG", WG as f64),
-        ("DISS", model.dissipates() as u8 as f64),
-        ("GUARD", plan.energy.is_some() as u8 as f64),
-        ("RIGID", model.any_rigid as u8 as f64),
-        // The leapfrog's kernels outside its step: its first
-        // evaluation and the reductions (common.wgsl, LEAP).
-        (
-            "LEAP",
-            (model.integrator == Integrator::Leapfrog) as u8 as f64,
-        ),
-    ];
-    let groups_of = |size: Size| -> (u32, u32) {
-        let g = match size {
-            Size::Particles => (n as u32).div_ceil(WG),
-            Size::Buckets => buckets.div_ceil(WG),
-            Size::ScanBlocks => buckets.div_ceil(SCAN_BLOCK),
-            Size::RedGroups => red_groups,
-            Size::FinalGroups => 1 + plan.slots.len() as u32,
-            Size::One => 1,
-        }
-        .max(1);
-        if g <= maxd {
-            (g, 1)
-        } else {
-            (maxd, g.div_ceil(maxd))
-        }
-    };
+    let constants = override_constants(model, plan, support_gradient);
     // The reductions are compiled for this scene's observation slots.
-    let slot_wgsl = plan.wgsl();
+    let binder = Binder {
+        ctx,
+        buffers,
+        sizes,
+        plan,
+        slot_wgsl: plan.wgsl(),
+    };
     let mut mid_constants = constants.clone();
     mid_constants.push(("MID", 1.0));
-    let kernel_in = |consts: &[(&str, f64)],
-                     stage: &str,
-                     entry: &str,
-                     size: Size,
-                     table: &[(&str, Buf)]|
-     -> Result<Kernel, String> {
-        let prelude = if stage == "reduce" {
-            slot_wgsl.as_str()
-        } else {
-            ""
+    let kernel_in =
+        |consts: &[(&str, f64)], stage: &str, entry: &str, size: Size, table: &[(&str, Buf)]| {
+            binder.kernel(consts, stage, entry, size, table)
         };
-        let pipeline = ctx.pipeline(stage, prelude, entry, consts);
-        let storage_used = pipeline.bindings.iter().filter(|b| !b.uniform).count() as u32;
-        if storage_used > limits.max_storage_buffers_per_shader_stage {
-            return Err(format!(
-                "{stage}::{entry} binds {storage_used} storage buffers; this adapter allows {}",
-                limits.max_storage_buffers_per_shader_stage
-            ));
-        }
-        // Buffers a scene does not need (artificial stress, contact)
-        // are bound to small placeholders the compiled-out code never
-        // reads (the bind group keeps them alive); each holds at least
-        // one element of the largest struct a kernel binds an array of
-        // (a binding's minimum size). A binding that names no buffer is
-        // an error, never a placeholder.
-        const PLACEHOLDER_BYTES: u64 = 256;
-        let mut bound: Vec<(u32, wgpu::Buffer)> = Vec::new();
-        for bu in &pipeline.bindings {
-            let b = aliases::resolve(table, &bu.name).ok_or_else(|| {
-                format!(
-                    "{stage}::{entry} binds '{}', which is no device buffer's name and which \
-                     its kernel's aliases do not name",
-                    bu.name
-                )
-            })?;
-            let buf = buffers.get(b).cloned().unwrap_or_else(|| {
-                dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(&bu.name),
-                    size: PLACEHOLDER_BYTES,
-                    usage: wgpu::BufferUsages::STORAGE,
-                    mapped_at_creation: false,
-                })
-            });
-            bound.push((bu.binding, buf));
-        }
-        let entries: Vec<wgpu::BindGroupEntry> = bound
-            .iter()
-            .map(|(binding, buf)| wgpu::BindGroupEntry {
-                binding: *binding,
-                resource: buf.as_entire_binding(),
-            })
-            .collect();
-        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(entry),
-            layout: &pipeline.layout,
-            entries: &entries,
-        });
-        Ok(Kernel {
-            name: entry.to_string(),
-            stage: stage.to_string(),
-            role: None,
-            pipeline,
-            bind,
-            groups: groups_of(size),
-            walk: Walk::None,
-            indirect: None,
-        })
-    };
     let kernel = |stage: &str, entry: &str, size: Size, table: &[(&str, Buf)]| {
         kernel_in(&constants, stage, entry, size, table)
     };
@@ -382,4 +244,179 @@ pub(super) fn make_kernels(
             Some(kernel("reorder", "map_slots", Size::Particles, &[])?)
         },
     })
+}
+
+/// The override constants of a scene's kernels: what it switches on, so
+/// that what it does not is compiled out.
+fn override_constants(
+    model: &Model,
+    plan: &ProbePlan,
+    support_gradient: Buf,
+) -> Vec<(&'static str, f64)> {
+    let contact = model.contact;
+    vec![
+        ("DIM", model.dim as f64),
+        ("CONTACT", contact as u8 as f64),
+        (
+            "CORRECTED",
+            (model.correction == Correction::Gradient) as u8 as f64,
+        ),
+        ("PLASTIC", model.plastic as u8 as f64),
+        ("ART_STRESS", model.artificial_stress.is_some() as u8 as f64),
+        (
+            "ART_CLOSE",
+            model
+                .artificial_stress
+                .is_some_and(|a| a.pairs == ArtPairs::Close) as u8 as f64,
+        ),
+        ("ART_KAPPA", !model.close_scale.is_empty() as u8 as f64),
+        (
+            "ART_HEAT",
+            model
+                .artificial_stress
+                .is_some_and(|a| a.work == ArtWork::Heat) as u8 as f64,
+        ),
+        ("HEAT_SPEED", crate::physics::tension::HEAT_SPEED),
+        ("ART_FLOW", model.art_keyed_on_flow() as u8 as f64),
+        (
+            "ART_BY_BODY",
+            model
+                .artificial_stress
+                .is_some_and(|a| a.work == ArtWork::Yielding) as u8 as f64,
+        ),
+        ("YIELD_TOL", crate::model::YIELD_TOL),
+        ("RECON", model.av_reconstruct as u8 as f64),
+        ("RECON_SURF", model.av_recon_surface as u8 as f64),
+        ("RELEASE", model.av_release as u8 as f64),
+        ("VARIATIONAL", model.variational as u8 as f64),
+        ("HG", model.hourglass),
+        ("HISTORY", model.history as u8 as f64),
+        ("FAILURE", model.can_fail() as u8 as f64),
+        ("CAVITATION", model.cavitates() as u8 as f64),
+        ("STRENGTH_LAWS", model.strength_laws() as f64),
+        ("STRAIN_RATE", model.strain_rate as u8 as f64),
+        ("AXI", model.axisymmetric as u8 as f64),
+        ("ADAPT", model.adaptive as u8 as f64),
+        ("LGRAD", (support_gradient == Buf::Lgrad) as u8 as f64),
+        ("ADAPT_ROWS", adaptive_rows() as f64),
+        ("BAND", model.band.drawn),
+        ("BAND_SQ", model.band.squeezed),
+        ("WG", WG as f64),
+        ("DISS", model.dissipates() as u8 as f64),
+        ("GUARD", plan.energy.is_some() as u8 as f64),
+        ("RIGID", model.any_rigid as u8 as f64),
+        // The leapfrog's kernels outside its step: its first
+        // evaluation and the reductions (common.wgsl, LEAP).
+        (
+            "LEAP",
+            (model.integrator == Integrator::Leapfrog) as u8 as f64,
+        ),
+    ]
+}
+
+/// Compiles and binds a scene's kernels.
+struct Binder<'a> {
+    ctx: &'a GpuContext,
+    buffers: &'a DeviceBuffers,
+    sizes: Sizes,
+    plan: &'a ProbePlan,
+    /// The reductions' observation slots, compiled into `reduce`.
+    slot_wgsl: String,
+}
+
+impl Binder<'_> {
+    /// The workgroups of a dispatch over `size`, split over two
+    /// dimensions past the adapter's largest along one.
+    fn groups(&self, size: Size) -> (u32, u32) {
+        let g = match size {
+            Size::Particles => (self.sizes.n as u32).div_ceil(WG),
+            Size::Buckets => self.sizes.buckets.div_ceil(WG),
+            Size::ScanBlocks => self.sizes.buckets.div_ceil(SCAN_BLOCK),
+            Size::RedGroups => self.sizes.red_groups,
+            Size::FinalGroups => 1 + self.plan.slots.len() as u32,
+            Size::One => 1,
+        }
+        .max(1);
+        if g <= self.sizes.maxd {
+            (g, 1)
+        } else {
+            (self.sizes.maxd, g.div_ceil(self.sizes.maxd))
+        }
+    }
+
+    /// The kernel `stage::entry` compiled with `consts`, its buffers bound
+    /// by name through `table`'s aliases, its workgroups for `size`.
+    fn kernel(
+        &self,
+        consts: &[(&str, f64)],
+        stage: &str,
+        entry: &str,
+        size: Size,
+        table: &[(&str, Buf)],
+    ) -> Result<Kernel, String> {
+        let prelude = if stage == "reduce" {
+            self.slot_wgsl.as_str()
+        } else {
+            ""
+        };
+        let pipeline = self.ctx.pipeline(stage, prelude, entry, consts);
+        let storage_used = pipeline.bindings.iter().filter(|b| !b.uniform).count() as u32;
+        if storage_used > self.ctx.limits.max_storage_buffers_per_shader_stage {
+            return Err(format!(
+                "{stage}::{entry} binds {storage_used} storage buffers; this adapter allows {}",
+                self.ctx.limits.max_storage_buffers_per_shader_stage
+            ));
+        }
+        // Buffers a scene does not need (artificial stress, contact)
+        // are bound to small placeholders the compiled-out code never
+        // reads (the bind group keeps them alive); each holds at least
+        // one element of the largest struct a kernel binds an array of
+        // (a binding's minimum size). A binding that names no buffer is
+        // an error, never a placeholder.
+        const PLACEHOLDER_BYTES: u64 = 256;
+        let mut bound: Vec<(u32, wgpu::Buffer)> = Vec::new();
+        for bu in &pipeline.bindings {
+            let b = aliases::resolve(table, &bu.name).ok_or_else(|| {
+                format!(
+                    "{stage}::{entry} binds '{}', which is no device buffer's name and which \
+                 its kernel's aliases do not name",
+                    bu.name
+                )
+            })?;
+            let buf = self.buffers.get(b).cloned().unwrap_or_else(|| {
+                self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&bu.name),
+                    size: PLACEHOLDER_BYTES,
+                    usage: wgpu::BufferUsages::STORAGE,
+                    mapped_at_creation: false,
+                })
+            });
+            bound.push((bu.binding, buf));
+        }
+        let entries: Vec<wgpu::BindGroupEntry> = bound
+            .iter()
+            .map(|(binding, buf)| wgpu::BindGroupEntry {
+                binding: *binding,
+                resource: buf.as_entire_binding(),
+            })
+            .collect();
+        let bind = self
+            .ctx
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(entry),
+                layout: &pipeline.layout,
+                entries: &entries,
+            });
+        Ok(Kernel {
+            name: entry.to_string(),
+            stage: stage.to_string(),
+            role: None,
+            pipeline,
+            bind,
+            groups: self.groups(size),
+            walk: Walk::None,
+            indirect: None,
+        })
+    }
 }
