@@ -141,7 +141,7 @@ device_buffers! {
     /// The contact's entry overlaps.
     Centry => centry,
     /// The contact's gather buffers (in pass scratch where there is some,
-    /// `build::contact_homes`).
+    /// `make::contact_homes`).
     Cshare => cshare,
     Cown => cown,
     /// The cell list.

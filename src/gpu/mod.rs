@@ -93,6 +93,7 @@ mod encode;
 mod inspect;
 mod kernels;
 pub mod layout;
+mod make;
 pub mod probes;
 pub mod profile;
 pub mod shaders;
@@ -102,7 +103,8 @@ pub mod work;
 use std::sync::Arc;
 
 use buffers::{Buf, DeviceBuffers};
-use build::{bucket_count, MAX_SURF_CAP};
+use build::bucket_count;
+use make::MAX_SURF_CAP;
 
 use glam::DVec2;
 
