@@ -24,10 +24,10 @@ use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, BenchmarkId, Criterion, SamplingMode, Throughput};
 
 use sphcontact::bench::{cpu_name, CpuBench, DiskCase, GpuBench};
-use sphcontact::cpu::forces::StressPoint;
+use sphcontact::cpu::kinematics::StressPoint;
 use sphcontact::cpu::neighbours::{self, Neighbours};
 use sphcontact::cpu::sweep::{self, PairVectors};
-use sphcontact::cpu::{self, contact, kinematics};
+use sphcontact::cpu::{self, contact, forces, kinematics};
 use sphcontact::gpu::GpuContext;
 use sphcontact::model::{Model, State};
 use sphcontact::scene::Integrator;
@@ -180,7 +180,7 @@ fn cpu_benches(c: &mut Criterion, sizes: &[usize]) {
         }),
         ("contact", |m, s, i| {
             let k = &i.k;
-            let bd = kinematics::boundary_of(m, &s.x, &i.nb, k);
+            let bd = forces::boundary_of(m, &s.x, &i.nb, k);
             black_box(contact::penalty(m, s, &i.nb, &bd));
         }),
         ("evaluate", |m, s, i| {

@@ -12,7 +12,7 @@
 //! and live), and −∂Φ/∂ρ·ρ̇ (what the densities' change would move Φ by):
 //! the parts of the ledger no force accounts for.
 
-use sphcontact::cpu::{self, contact, kinematics, neighbours, CpuSolver};
+use sphcontact::cpu::{self, contact, forces, kinematics, neighbours, CpuSolver};
 use sphcontact::model::{Model, State};
 use sphcontact::validation::disk_scene;
 
@@ -21,7 +21,7 @@ use sphcontact::validation::disk_scene;
 fn phi(model: &Model, st: &State, surface: &[bool], area: Option<&[f64]>) -> f64 {
     let nb = neighbours::find(model, st.frame());
     // The paper's disks are plane: the surface ramp reads `h |∇ψ⁰|`.
-    let mut bd = kinematics::boundary(model, &st.x, &nb, surface.to_vec(), Vec::new());
+    let mut bd = forces::boundary(model, &st.x, &nb, surface.to_vec(), Vec::new());
     if let Some(a) = area {
         bd.area = a.to_vec();
     }
@@ -85,7 +85,7 @@ fn main() {
         if !plain && (diag.contact.stored > 0.0 || booked != 0.0) {
             let nb = neighbours::find(model, st.frame());
             let surface = kinematics::kinematics(model, st, &nb).surface;
-            let area = kinematics::boundary(model, &st.x, &nb, surface.clone(), Vec::new()).area;
+            let area = forces::boundary(model, &st.x, &nb, surface.clone(), Vec::new()).area;
             let eps = 1e-3 * diag.cfl_dt;
             let rate = |area: Option<&[f64]>, drho: Option<&[f64]>| {
                 let at = |s: f64| phi(model, &moved(st, s * eps, drho), &surface, area);

@@ -5,7 +5,7 @@
 // its contact normal from the colour gradient with reference volumes,
 // g = -sum_j V0_j grad W, with how fast that normal turns at the walk's
 // velocities (`cn`, for contact.wgsl).
-// CPU twins: cpu::forces::momentum_energy, cpu::kinematics::boundary,
+// CPU twins: cpu::forces::momentum_energy, cpu::forces::boundary,
 // cpu::contact::normal_rates.
 //
 // dv and dr.y take the rates at the base state (into the midpoint buffers)
@@ -439,7 +439,7 @@ fn add_image(o: Own, wk: Walker, j: u32, mj: vec4<u32>, pr: Pair, rj: f32, sums:
 // mean metric (and in a body of revolution the pair with its image, whose
 // metric is mirrored) to the momentum and energy sums, its round pair and
 // round image to the boundary's sums; then the walker's own images. CPU
-// twins: cpu::forces::momentum_energy, cpu::kinematics::boundary.
+// twins: cpu::forces::momentum_energy, cpu::forces::boundary.
 fn adaptive_forces(own: Own, wk: Walker, i: u32, mi: vec4<u32>, cs: Consts, sums: ptr<function, Sums>) {
     let bi = mi.z;
     let hi = own.hi;

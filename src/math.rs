@@ -22,6 +22,29 @@ pub fn circumference(r: f64) -> f64 {
     2.0 * std::f64::consts::PI * r
 }
 
+/// The mirror image of a point or a velocity: `(r, z) → (−r, z)`.
+#[inline]
+pub fn mirror(x: DVec2) -> DVec2 {
+    DVec2::new(-x.x, x.y)
+}
+
+/// The mirror image of a tensor `T`: `P T P` with `P = diag(−1, 1)`.
+#[inline]
+pub fn mirror_mat(m: &Mat2) -> Mat2 {
+    Mat2 {
+        xx: m.xx,
+        xy: -m.xy,
+        yx: -m.yx,
+        yy: m.yy,
+    }
+}
+
+/// The mirror image of a symmetric tensor (the `rz` entry reversed).
+#[inline]
+pub fn mirror_sym(s: &Sym) -> Sym {
+    Sym { xy: -s.xy, ..*s }
+}
+
 /// A general 2×2 matrix, row-major names: `m[α][β]` = `aβ`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Mat2 {

@@ -2,7 +2,7 @@
 //!
 //! A stage is one piece of the step that both backends run: the GPU as a
 //! shader, `shaders/<stage>.wgsl`, the CPU oracle as a plain gather of the
-//! same name, `src/cpu/<stage>.rs`. Where the CPU solver runs the stage's
+//! same name, `src/cpu/<stage>.rs` (or `src/cpu/<stage>/`). Where the CPU solver runs the stage's
 //! sums pair by pair instead (kinematics and forces, [`crate::cpu::sweep`]),
 //! the row names that file too. [`STAGES`] lists each stage with its
 //! files, the tests that hold the two to each other, and what it reads and
@@ -16,8 +16,8 @@
 //! |---|---|---|---|
 //! | reorder | `reorder.wgsl` | — | particles permuted by cell, every 16 steps |
 //! | neighbours | `neighbours.wgsl` | [`crate::cpu::neighbours`] | the cell list (the CPU: and the candidate lists) |
-//! | kinematics | `kinematics.wgsl` | [`crate::cpu::kinematics`] | correction, normals, EOS, `∇v`, `dρ/dt`, `ds/dt` |
-//! | forces | `forces.wgsl` | [`crate::cpu::forces`] | momentum, energy, contact area |
+//! | kinematics | `kinematics.wgsl` | [`crate::cpu::kinematics`] | correction, the boundary set, EOS, `∇v`, `dρ/dt`, `ds/dt` |
+//! | forces | `forces.wgsl` | [`crate::cpu::forces`] | momentum, energy, contact normals and areas |
 //! | contact | `contact.wgsl` | [`crate::cpu::contact`] | the penalty contact |
 //! | reduce | `reduce.wgsl` | [`crate::cpu::reduce`] | the CFL step and the observations |
 //! | advance | `advance.wgsl` | [`crate::cpu::advance`] | time integration, strength update, state check |
@@ -26,8 +26,9 @@
 //! stress update with a plastic history, [`crate::physics::strength`]) in
 //! the kinematics and advance stages, `spread.wgsl` (the contact spring's
 //! pull through the normals) in the contact and advance stages.
-//! `common.wgsl` holds the declarations every stage shares and `walk.wgsl`
-//! the neighbour walk; `penalty.wgsl` is the contact stage's pass of the
+//! `common.wgsl` holds the declarations every stage shares, `kernel.wgsl`
+//! the kernel and the supports, `material.wgsl` the material laws, and
+//! `walk.wgsl` the neighbour walk; `penalty.wgsl` is the contact stage's pass of the
 //! penalty law ([`crate::physics::penalty`]).
 
 use crate::scene::Integrator;
@@ -107,41 +108,43 @@ pub const STAGES: [StageInfo; 7] = [
         stage: Stage::Kinematics,
         name: "kinematics",
         shaders: &["kinematics.wgsl", "strength.wgsl"],
-        cpu: Some("cpu/kinematics.rs"),
+        cpu: Some("cpu/kinematics/mod.rs"),
         solver: Some("cpu/sweep/kinematics.rs"),
         tests: &[
             "tests/gpu_stages/parity.rs::stages_match_cpu_disks_polar",
             "tests/stages.rs::corrected_gradient_reproduces_linear_fields",
-            "tests/stages.rs::outward_normals",
-            "src/cpu/kinematics.rs::square_corner_normal_by_hand",
-            "src/cpu/sweep/tests.rs::sweeps_match_gathers_and_lanes_one_pair_code",
+            "src/cpu/sweep/tests/mod.rs::sweeps_match_gathers_and_lanes_one_pair_code",
         ],
         reads: "x, v, ρ, e, s, damage; the cell list",
         writes: "L (the gradient correction), ∇ψ and the boundary set, σ/ρ² and c (EOS), \
                  ∇v, dρ/dt, ds/dt, the equivalent strain rate",
         what:
-            "correction, colour gradient, normals, EOS, velocity gradient, density and stress rates",
+            "correction, colour gradient and the boundary set, EOS, velocity gradient, density and \
+             stress rates",
     },
     StageInfo {
         stage: Stage::Forces,
         name: "forces",
         shaders: &["forces.wgsl"],
-        cpu: Some("cpu/forces.rs"),
+        cpu: Some("cpu/forces/mod.rs"),
         solver: Some("cpu/sweep/forces.rs"),
         tests: &[
             "tests/gpu_stages/parity.rs::stages_match_cpu_bars_steel_aluminium",
-            "src/cpu/sweep/tests.rs::sweeps_match_gathers_and_lanes_one_pair_code",
+            "src/cpu/sweep/tests/mod.rs::sweeps_match_gathers_and_lanes_one_pair_code",
+            "tests/stages.rs::outward_normals",
+            "src/cpu/forces/tests.rs::square_corner_normal_by_hand",
             "src/physics/tension.rs::artificial_stress_is_the_principal_axes_form",
         ],
         reads: "x, v, σ/ρ², c, L, ∇v, the boundary set; the cell list",
-        writes: "dv/dt and de/dt of the SPH sums, the contact area",
-        what: "momentum and energy (artificial viscosity and stress), contact area",
+        writes: "dv/dt and de/dt of the SPH sums; the boundary list, each boundary particle's \
+                 outward normal and contact area",
+        what: "momentum and energy (artificial viscosity and stress), contact normals and areas",
     },
     StageInfo {
         stage: Stage::Contact,
         name: "contact",
         shaders: &["contact.wgsl", "penalty.wgsl", "spread.wgsl"],
-        cpu: Some("cpu/contact.rs"),
+        cpu: Some("cpu/contact/mod.rs"),
         solver: None,
         tests: &[
             "tests/gpu_stages/parity.rs::stages_match_cpu_with_entry_overlaps",
@@ -352,7 +355,11 @@ mod tests {
                 assert!(root.join("shaders").join(f).is_file(), "shaders/{f}");
             }
             if let Some(c) = s.cpu {
-                assert_eq!(c, format!("cpu/{}.rs", s.name), "twins by name");
+                let (file, folder) = (
+                    format!("cpu/{}.rs", s.name),
+                    format!("cpu/{}/mod.rs", s.name),
+                );
+                assert!(c == file || c == folder, "twins by name: {c}");
                 assert!(root.join("src").join(c).is_file(), "src/{c}");
             }
             if let Some(c) = s.solver {

@@ -500,7 +500,7 @@ fn the_face_axis_particle_of_a_spread_taylor_bar_stays_on_the_surface() {
 /// the ramp no longer reads them), where the old ramp cut them.
 #[test]
 fn the_contact_of_a_body_of_revolution_does_not_read_its_reference_areas_scale() {
-    use sphcontact::cpu::{contact, kinematics, neighbours};
+    use sphcontact::cpu::{contact, forces, kinematics, neighbours};
     use sphcontact::model::Model;
     let mut scene = load("scenes/axisymmetric/taylor_bar_bilinear.toml");
     for b in &mut scene.bodies {
@@ -517,7 +517,7 @@ fn the_contact_of_a_body_of_revolution_does_not_read_its_reference_areas_scale()
     let nb = neighbours::find(&model, st.frame());
     let forces = |model: &Model| {
         let k = kinematics::kinematics(model, &st, &nb);
-        let bd = kinematics::boundary_of(model, &st.x, &nb, &k);
+        let bd = forces::boundary_of(model, &st.x, &nb, &k);
         let c = contact::penalty(model, &st, &nb, &bd);
         let mut f = vec![DVec2::ZERO; model.len()];
         for (k, &i) in bd.list.iter().enumerate() {

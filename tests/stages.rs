@@ -3,7 +3,7 @@
 //! too), and outward normals.
 
 use glam::DVec2;
-use sphcontact::cpu::{kinematics, neighbours};
+use sphcontact::cpu::{forces, kinematics, neighbours};
 use sphcontact::math::Mat2;
 use sphcontact::model::{Model, State};
 use sphcontact::Scene;
@@ -142,7 +142,7 @@ fn normal_errors_deg(
 ) -> (usize, f64, f64) {
     let nb = neighbours::find(model, st.frame());
     let pa = kinematics::kinematics(model, st, &nb);
-    let bd = kinematics::boundary_of(model, &st.x, &nb, &pa);
+    let bd = forces::boundary_of(model, &st.x, &nb, &pa);
     let mut worst: f64 = 0.0;
     let mut sum = 0.0;
     let mut n = 0;

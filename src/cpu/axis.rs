@@ -13,35 +13,11 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
-use super::forces::{pair_terms_of, Side, StressPoint};
-use super::kinematics::{gradient_weight, Kinematics, Seen, Sums};
+use super::forces::{pair_terms_of, vectors_of, Side};
+use super::kinematics::{gradient_weight, Kinematics, Seen, StressPoint, Sums};
 use super::neighbours::Neighbours;
-use super::sweep::forces::vectors_of;
-use crate::math::{Mat2, Sym};
+use crate::math::{mirror, Mat2};
 use crate::model::{Model, State};
-
-/// The mirror image of a point or a velocity: `(r, z) → (−r, z)`.
-#[inline]
-pub fn mirror(x: DVec2) -> DVec2 {
-    DVec2::new(-x.x, x.y)
-}
-
-/// The mirror image of a tensor `T`: `P T P` with `P = diag(−1, 1)`.
-#[inline]
-pub fn mirror_mat(m: &Mat2) -> Mat2 {
-    Mat2 {
-        xx: m.xx,
-        xy: -m.xy,
-        yx: -m.yx,
-        yy: m.yy,
-    }
-}
-
-/// The mirror image of a symmetric tensor (the `rz` entry reversed).
-#[inline]
-pub fn mirror_sym(s: &Sym) -> Sym {
-    Sym { xy: -s.xy, ..*s }
-}
 
 /// The mirror partners' energy vectors, one per slot of the lists' image
 /// rows ([`Neighbours::images`]; zero where the image lies beyond reach):
@@ -66,22 +42,7 @@ pub(super) fn add_momentum(
     dv: &mut [DVec2],
 ) -> KeptMirrors {
     let side = |k| Side::of(st, kin, pts, k);
-    let image = |k: usize| {
-        let s = side(k);
-        Side {
-            x: mirror(s.x),
-            v: mirror(s.v),
-            l: mirror_mat(&s.l),
-            gv: mirror_mat(&s.gv),
-            vh: mirror(s.vh),
-            gh: mirror_mat(&s.gh),
-            pt: StressPoint {
-                sr2: mirror_sym(&s.pt.sr2),
-                r: mirror_sym(&s.pt.r),
-                ..s.pt
-            },
-        }
-    };
+    let image = |k: usize| side(k).mirrored();
     // One slice of the kept vectors for each row, filled in parallel.
     let mut kept = vec![[DVec2::ZERO; 2]; nb.images.len()];
     let mut rows = Vec::new();
@@ -167,26 +128,6 @@ impl KeptMirrors {
             }
         });
         diss
-    }
-}
-
-/// The hoop rate of strain `v_r / r` of particle i.
-#[inline]
-pub fn hoop_rate(st: &State, i: usize) -> f64 {
-    st.v[i].x / st.x[i].x
-}
-
-/// The deviatoric stress rate with the hoop strain rate `d_θθ` added to
-/// the plane's ([`super::kinematics::stress_rate`] with `d_θθ = 0`): the
-/// trace takes it, and `s_θθ` (kept as `zz`) follows it.
-#[inline]
-pub fn with_hoop(g_mod: f64, ds: Sym, d_tt: f64) -> Sym {
-    let third = d_tt / 3.0;
-    Sym {
-        xx: ds.xx - 2.0 * g_mod * third,
-        yy: ds.yy - 2.0 * g_mod * third,
-        xy: ds.xy,
-        zz: ds.zz + 4.0 * g_mod * third,
     }
 }
 

@@ -1,7 +1,7 @@
 //! Tests of the contact stage (`contact.rs`).
 
 use super::contact::*;
-use crate::cpu::{kinematics, neighbours};
+use crate::cpu::{forces, kinematics, neighbours};
 use crate::model::{Model, State};
 use crate::physics::penalty::{spring_stiffness, yield_overlap};
 use crate::validation::disk_scene;
@@ -34,7 +34,7 @@ fn pressed(lattice: &str, overlap: f64) -> (Model, State) {
 /// The stored energy at `x`, with the boundary set and areas held.
 fn stored(model: &Model, st: &State, surface: &[bool], area: &[f64]) -> f64 {
     let nb = neighbours::find(model, st.frame());
-    let mut bd = kinematics::boundary(model, &st.x, &nb, surface.to_vec(), Vec::new());
+    let mut bd = forces::boundary(model, &st.x, &nb, surface.to_vec(), Vec::new());
     bd.area = area.to_vec();
     penalty(model, st, &nb, &bd).stats.stored
 }
@@ -72,7 +72,7 @@ fn two_particles_gap_and_force_by_hand() {
 
     let nb = neighbours::find(&model, st.frame());
     let kin = kinematics::kinematics(&model, &st, &nb);
-    let bd = kinematics::boundary_of(&model, &st.x, &nb, &kin);
+    let bd = forces::boundary_of(&model, &st.x, &nb, &kin);
     // The four ends are the boundary; in 1-D the area is 1.
     assert_eq!(bd.list, vec![0, 3, 4, 7]);
     assert!(bd.list.iter().all(|&i| bd.area[i as usize] == 1.0));
@@ -122,7 +122,7 @@ fn entry_overlaps_store_nothing_and_only_shrink() {
     let (model, mut st) = pressed("square", 0.2);
     let nb = neighbours::find(&model, st.frame());
     let k = kinematics::kinematics(&model, &st, &nb);
-    let bd = kinematics::boundary_of(&model, &st.x, &nb, &k);
+    let bd = forces::boundary_of(&model, &st.x, &nb, &k);
     let full = penalty(&model, &st, &nb, &bd);
     assert!(full.stats.stored > 0.0);
     assert!(full.entry.iter().all(|&(_, e)| e == 0.0));
@@ -164,7 +164,7 @@ fn a_deep_overlap_yields() {
     let (model, st) = pressed("square", 0.7);
     let nb = neighbours::find(&model, st.frame());
     let k = kinematics::kinematics(&model, &st, &nb);
-    let bd = kinematics::boundary_of(&model, &st.x, &nb, &k);
+    let bd = forces::boundary_of(&model, &st.x, &nb, &k);
     let c = penalty(&model, &st, &nb, &bd);
     let dx = model.bodies[0].spacing;
     let cap = yield_overlap(dx);
@@ -198,7 +198,7 @@ fn spring_force_is_the_stored_energys_gradient() {
         let nb = neighbours::find(&model, st.frame());
         let k = kinematics::kinematics(&model, &st, &nb);
         let surface = k.surface.clone();
-        let bd = kinematics::boundary_of(&model, &st.x, &nb, &k);
+        let bd = forces::boundary_of(&model, &st.x, &nb, &k);
         if entries {
             st.entry.iter_mut().for_each(|e| *e = -1.0);
             let joined = penalty(&model, &st, &nb, &bd);

@@ -23,7 +23,7 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
-use super::forces::StressPoint;
+use super::kinematics::StressPoint;
 use super::kinematics::{gradient_weight, stress_rate, volumes, Kinematics};
 use super::neighbours::Neighbours;
 use crate::math::{Mat2, Sym};

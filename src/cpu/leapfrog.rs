@@ -153,18 +153,20 @@ impl CpuSolver {
             correction_fallback: k.fallback.len(),
             ..Default::default()
         };
+        // The contact's normals and areas, as the GPU's forces stage has them.
         let bd = model.contact.then(|| {
-            stage::enter(Stage::Contact, Role::Next);
-            let measure = kinematics::contact_measure(model, &k);
+            let measure = forces::contact_measure(model, &k);
             let kinematics::Kinematics { surface, .. } = k;
-            let bd = kinematics::boundary(model, &next.x, nb, surface, measure);
+            forces::boundary(model, &next.x, nb, surface, measure)
+        });
+        if let Some(bd) = &bd {
+            stage::enter(Stage::Contact, Role::Next);
             diag.boundary_count = bd.list.len();
             next.entry.clone_from(&st.entry);
-            let c = contact::penalty(model, &next, nb, &bd);
-            c.add_forces(model, &bd, &mut dv);
+            let c = contact::penalty(model, &next, nb, bd);
+            c.add_forces(model, bd, &mut dv);
             contact::write_entries(&c.entry, &mut next.entry);
-            bd
-        });
+        }
         // 4: the second half kick, in place (v_{n+½} is dead after it;
         // next.v keeps the predicted velocity the contact's forces were
         // made at until the booking below), then the work on v_{n+1}.

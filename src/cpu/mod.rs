@@ -51,7 +51,7 @@ use crate::model::{Diagnostics, Frame, Model, State};
 use crate::physics::material;
 use crate::scene::Integrator;
 use crate::stage::{self, Role, Stage};
-use forces::StressPoint;
+use kinematics::StressPoint;
 
 /// Rates of one evaluation. The leapfrog's rates at the end of its step
 /// ([`CpuSolver::step`]) carry `dv` and `de` only: it has applied `dρ/dt`
@@ -142,11 +142,14 @@ fn evaluate_at(
         correction_fallback: k.fallback.len(),
         ..Default::default()
     };
-    let measure = kinematics::contact_measure(model, &k);
+    // The contact's normals and areas, as the GPU's forces stage has them.
+    let boundary = model.contact.then(|| {
+        let measure = forces::contact_measure(model, &k);
+        forces::boundary(model, &st.x, nb, std::mem::take(&mut k.surface), measure)
+    });
     let kinematics::Kinematics {
         drho,
         ds,
-        surface,
         rate,
         lv,
         fallback,
@@ -155,9 +158,8 @@ fn evaluate_at(
     let mut heat_rate = 0.0;
     let mut spring_rate = 0.0;
     let mut entry = Vec::new();
-    if model.contact {
+    if let Some(bd) = boundary {
         stage::enter(Stage::Contact, role);
-        let bd = kinematics::boundary(model, &st.x, nb, surface, measure);
         diag.boundary_count = bd.list.len();
         let c = contact::penalty(model, st, nb, &bd);
         entry.clone_from(&c.entry);
@@ -197,7 +199,7 @@ fn evaluate_at(
 }
 
 /// Outward unit normals and the boundary set at `st`, for output
-/// (snapshots): the contact's normals ([`kinematics::boundary`]) on the
+/// (snapshots): the contact's normals ([`forces::boundary`]) on the
 /// surface particles, zero elsewhere. The step never calls this: it costs one
 /// neighbour search and one kinematic pass, paid only when a snapshot is written.
 /// In kernel mode the SPH sums run across bodies, so faces in contact with
@@ -205,7 +207,7 @@ fn evaluate_at(
 pub fn surface(model: &Model, st: &State) -> (Vec<DVec2>, Vec<bool>) {
     let nb = neighbours::find(model, st.frame());
     let a = sweep::kinematics(model, st, &nb);
-    let bd = kinematics::boundary_of(model, &st.x, &nb, &a);
+    let bd = forces::boundary_of(model, &st.x, &nb, &a);
     (bd.normal, bd.is_boundary)
 }
 

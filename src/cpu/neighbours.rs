@@ -133,7 +133,7 @@ impl Neighbours {
             .iter()
             .enumerate()
             .filter_map(move |(slot, &j)| {
-                let d = f.x[i] - crate::cpu::axis::mirror(f.x[j as usize]);
+                let d = f.x[i] - crate::math::mirror(f.x[j as usize]);
                 let k = if f.metric.is_empty() {
                     let inv_h = pair_inv_h(model.h[i], model.h[j as usize], inv_hi);
                     kernel::w_grad_q(model.dim, d, d.length_squared(), inv_h)
@@ -218,7 +218,7 @@ impl Neighbours {
                     for j in cands {
                         let j_ = j as usize;
                         let round = model.h[i] + model.h[j_] + self.skin;
-                        let d = x[i] - crate::cpu::axis::mirror(x[j_]);
+                        let d = x[i] - crate::math::mirror(x[j_]);
                         let near = if adaptive {
                             near_adaptive(d, &q[i], &q[j_].mirror(), round, self.skin)
                         } else {

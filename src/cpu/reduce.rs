@@ -4,7 +4,7 @@
 
 use rayon::prelude::*;
 
-use super::forces::StressPoint;
+use super::kinematics::StressPoint;
 use crate::model::{Model, State};
 use crate::physics::material;
 use crate::physics::support::Metric;

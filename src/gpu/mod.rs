@@ -89,6 +89,7 @@ mod batch;
 mod buffers;
 mod build;
 pub mod context;
+mod dispatch;
 mod encode;
 mod inspect;
 mod kernels;
@@ -104,6 +105,7 @@ use std::sync::Arc;
 
 use buffers::{Buf, DeviceBuffers};
 use build::bucket_count;
+use dispatch::*;
 use make::MAX_SURF_CAP;
 
 use glam::DVec2;
@@ -267,205 +269,6 @@ const FRAME: &str = "frame";
 const SCAN_BLOCK: u32 = 1024;
 /// Particles per workgroup of the reductions (256 threads × 4).
 const RED_CHUNK: u32 = 1024;
-
-/// How many threads a kernel runs.
-#[derive(Debug, Clone, Copy)]
-enum Size {
-    Particles,
-    Buckets,
-    ScanBlocks,
-    RedGroups,
-    /// One workgroup for the step and one for each observation slot.
-    FinalGroups,
-    One,
-}
-
-/// Which state the evaluation reads: the step's base state or the midpoint.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Var {
-    Base,
-    Mid,
-}
-
-/// Whether a kernel walks the neighbours, and whose.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Walk {
-    None,
-    /// Every particle's thread walks.
-    All,
-    /// Only the boundary particles' threads walk (the contact).
-    Boundary,
-    /// The threads of a list of the boundary particles walk, one a
-    /// particle (the leapfrog's contact, dispatched over the list).
-    Listed,
-    /// Every particle's thread visits the pairs of its neighbour mask
-    /// (walk.wgsl), or walks in full where the mask overflowed.
-    Masked,
-}
-
-struct Kernel {
-    /// The entry point.
-    name: String,
-    /// Its shader (a stage of [`crate::stage::STAGES`]).
-    stage: String,
-    /// Its role where a step runs one entry point in two roles (what a
-    /// step profile calls it then, [`Kernel::label`]).
-    role: Option<&'static str>,
-    pipeline: Arc<Pipeline>,
-    bind: wgpu::BindGroup,
-    groups: (u32, u32),
-    walk: Walk,
-    /// A dispatch sized on the device: its workgroups are the three words
-    /// at byte 4 of this buffer (`surf_args`, contact.wgsl).
-    indirect: Option<wgpu::Buffer>,
-}
-
-impl Kernel {
-    fn dispatch(&self, pass: &mut wgpu::ComputePass<'_>) {
-        pass.set_pipeline(&self.pipeline.pipeline);
-        pass.set_bind_group(0, &self.bind, &[]);
-        match &self.indirect {
-            Some(args) => pass.dispatch_workgroups_indirect(args, 4),
-            None => pass.dispatch_workgroups(self.groups.0, self.groups.1, 1),
-        }
-    }
-
-    /// The kernel dispatched over the contact's list of boundary particles.
-    fn listed(mut self, args: &wgpu::Buffer) -> Self {
-        self.walk = Walk::Listed;
-        self.indirect = Some(args.clone());
-        self
-    }
-
-    fn walking(mut self, walk: Walk) -> Self {
-        self.walk = walk;
-        self
-    }
-
-    fn labelled(mut self, role: &'static str) -> Self {
-        self.role = Some(role);
-        self
-    }
-
-    /// What a step profile calls it: its role, else its entry point.
-    fn label(&self) -> &str {
-        self.role.unwrap_or(&self.name)
-    }
-}
-
-/// Where a step's dispatches go: into a compute pass, or into a tally of
-/// the work ([`GpuSolver::step_work`]). The step is encoded by one code for
-/// both, so the tally counts what runs.
-trait Dispatches {
-    fn run(&mut self, k: &Kernel);
-}
-
-impl Dispatches for wgpu::ComputePass<'_> {
-    fn run(&mut self, k: &Kernel) {
-        k.dispatch(self);
-    }
-}
-
-/// Dispatches and neighbour walks, by kernel entry point in the order run.
-#[derive(Default)]
-struct Tally {
-    dispatches: u32,
-    walks: Vec<(String, Walk)>,
-}
-
-/// A compute pass with a timestamp after every dispatch
-/// ([`GpuSolver::run_batch_profiled`]).
-struct Timed<'a, 'p> {
-    pass: &'a mut wgpu::ComputePass<'p>,
-    timer: &'a mut profile::StepTimer,
-}
-
-impl Dispatches for Timed<'_, '_> {
-    fn run(&mut self, k: &Kernel) {
-        k.dispatch(self.pass);
-        self.timer
-            .after_pass_dispatch(self.pass, &k.stage, k.label());
-    }
-}
-
-impl Dispatches for Tally {
-    fn run(&mut self, k: &Kernel) {
-        self.dispatches += 1;
-        if k.walk != Walk::None {
-            self.walks.push((k.name.clone(), k.walk));
-        }
-    }
-}
-
-/// An evaluation's kernels for one state variant.
-struct Eval {
-    // The cell list's two per-particle passes read the evaluation's state
-    // (a particle's cell is recomputed, not stored; neighbours.wgsl).
-    cells: Kernel,
-    scatter: Kernel,
-    kinematics: Kernel,
-    forces: Kernel,
-    contact: Option<ContactKernels>,
-}
-
-/// The contact's force passes in their order: the two gathers, then the
-/// spread of the spring's pull through the normals (contact.wgsl), which
-/// the midpoint rule's steps gather in their advance passes instead: its
-/// evaluation at the midpoint has none, its base one serves only the
-/// stage outputs the tests read ([`GpuSolver::stage_outputs`]).
-struct ContactKernels {
-    pass1: Kernel,
-    pass2: Kernel,
-    spread: Option<Kernel>,
-}
-
-impl ContactKernels {
-    fn all(&self) -> impl Iterator<Item = &Kernel> {
-        [&self.pass1, &self.pass2].into_iter().chain(&self.spread)
-    }
-}
-
-/// The leapfrog step's kernels besides the cell list and the reductions
-/// (advance.wgsl has the order).
-struct LeapKernels {
-    kick_drift: Kernel,
-    kinematics: Kernel,
-    forces: Kernel,
-    contact: Option<ContactKernels>,
-    /// The booking's contact passes (none without contact): the first,
-    /// and the second only with a rigid body (contact.wgsl, pass1_at).
-    book: Vec<Kernel>,
-    energy: Kernel,
-    finish: Kernel,
-}
-
-struct Kernels {
-    clear: Kernel,
-    scan_local: Kernel,
-    scan_add: Kernel,
-    sort: Kernel,
-    /// The evaluation at the base state and, for the midpoint rule, at the
-    /// midpoint; for the leapfrog its first evaluation (LEAP = 1) alone.
-    eval: Vec<Eval>,
-    leap: Option<LeapKernels>,
-    /// The reductions (reduce.wgsl): the CFL minimum and the observation
-    /// sums over the particles, then the step, the observations, the
-    /// energy guard and the probes.
-    reduce_partial: Kernel,
-    reduce_final: Kernel,
-    advance_half: Option<Kernel>,
-    advance_full: Option<Kernel>,
-    end_step: Kernel,
-    /// The midpoint rule's reorder: every array at once into the midpoint
-    /// state's buffers and pass scratch.
-    permute: Option<Kernel>,
-    /// The leapfrog's: each array of [`leap_arrays`] in turn through one
-    /// scratch buffer (`lmat`), with its name and bytes a particle.
-    permute_each: Vec<(Kernel, Buf, u64)>,
-    /// Refreshes the probed particles' slots after a reorder (none without
-    /// particle probes).
-    map_slots: Option<Kernel>,
-}
 
 /// What one batch of steps produced.
 #[derive(Debug, Default)]

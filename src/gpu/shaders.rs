@@ -3,7 +3,19 @@
 
 use std::collections::BTreeMap;
 
-const COMMON: &str = include_str!("../../shaders/common.wgsl");
+/// What every module starts with: the shared declarations, the kernel
+/// and the supports, the material laws.
+const COMMON: &str = concat!(
+    include_str!("../../shaders/common.wgsl"),
+    "\n",
+    include_str!("../../shaders/kernel.wgsl"),
+    "\n",
+    include_str!("../../shaders/material.wgsl"),
+);
+
+/// The files of [`COMMON`].
+#[cfg(test)]
+const COMMON_FILES: [&str; 3] = ["common.wgsl", "kernel.wgsl", "material.wgsl"];
 
 /// The neighbour walk every stage shares (shaders/walk.wgsl).
 const WALK: &str = include_str!("../../shaders/walk.wgsl");
@@ -211,7 +223,11 @@ mod tests {
         let mut on_disk: Vec<String> = std::fs::read_dir(dir)
             .unwrap()
             .map(|e| e.unwrap().file_name().into_string().unwrap())
-            .filter(|f| f.ends_with(".wgsl") && f != "common.wgsl" && f != "walk.wgsl")
+            .filter(|f| {
+                f.ends_with(".wgsl")
+                    && !super::COMMON_FILES.contains(&f.as_str())
+                    && f != "walk.wgsl"
+            })
             .collect();
         on_disk.sort();
         let mut listed: Vec<String> = super::FILES.iter().map(|f| f.0.to_string()).collect();

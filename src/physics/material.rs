@@ -77,11 +77,7 @@ impl MaterialModel {
     /// as an opening crack takes its density towards zero).
     #[inline]
     pub fn sound_speed_of(&self, rho: f64, e: f64, damage: f64) -> f64 {
-        let g = if crate::physics::strength::failed(damage) {
-            0.0
-        } else {
-            self.g
-        };
+        let g = if failed(damage) { 0.0 } else { self.g };
         self.speed_with_shear(rho, e, g)
     }
 
@@ -90,7 +86,7 @@ impl MaterialModel {
     #[inline]
     pub fn pressure_of(&self, rho: f64, e: f64, damage: f64) -> f64 {
         let p = self.pressure(rho, e);
-        if crate::physics::strength::failed(damage) {
+        if failed(damage) {
             p.max(0.0)
         } else {
             p
@@ -197,6 +193,15 @@ pub fn cauchy(p: f64, s: &Sym) -> Sym {
         xy: s.xy,
         zz: s.zz - p,
     }
+}
+
+/// A failed particle's damage.
+pub const FAILED: f64 = 1.0;
+
+/// Whether a particle with damage `damage` has failed.
+#[inline]
+pub fn failed(damage: f64) -> bool {
+    damage >= FAILED
 }
 
 #[cfg(test)]

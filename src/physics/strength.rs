@@ -11,6 +11,7 @@
 use crate::math::{Mat2, Sym};
 use crate::physics::laws;
 use crate::physics::material::MaterialModel;
+pub use crate::physics::material::{failed, FAILED};
 
 /// What a particle remembers of its plastic past.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -28,9 +29,6 @@ pub struct History {
 /// pressure governs, and where the exponential term of some published
 /// constant sets (Armco iron's) turns the failure strain negative.
 pub const TRIAXIALITY_BOUND: f64 = 1.5;
-
-/// A failed particle's damage.
-pub const FAILED: f64 = 1.0;
 
 /// The default cavitation pressure of a material with a strength law, as
 /// a fraction of Young's modulus: the theoretical strength of a solid,
@@ -63,12 +61,6 @@ pub fn void_state(mat: &MaterialModel, p: f64, at: f64) -> f64 {
     } else {
         at
     }
-}
-
-/// Whether a particle with damage `damage` has failed.
-#[inline]
-pub fn failed(damage: f64) -> bool {
-    damage >= FAILED
 }
 
 /// The equivalent strain rate `sqrt(⅔ d′:d′)` of a velocity gradient, `d′`

@@ -178,7 +178,7 @@ fn check_state(model: Model, st: State, expect_contact: bool) {
         let gpu_l: Vec<f64> = out.l.iter().map(|m| m[k]).collect();
         assert_field(&at(Stage::Kinematics, name), &gpu_l, &cpu_l, 1e-4, &none);
     }
-    let bd = kinematics::boundary_of(&model, &st.x, &nb, &a);
+    let bd = forces::boundary_of(&model, &st.x, &nb, &a);
     for i in 0..n {
         if bd.is_boundary[i] != out.boundary[i] {
             let x = kinematics::surface_measure(&model, i, a.grad_psi[i], a.psi.get(i).copied());

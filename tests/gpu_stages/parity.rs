@@ -49,7 +49,7 @@ fn stages_match_cpu_with_yielded_springs() {
     }
     let nb = neighbours::find(&model, st.frame());
     let k = kinematics::kinematics(&model, &st, &nb);
-    let bd = kinematics::boundary_of(&model, &st.x, &nb, &k);
+    let bd = forces::boundary_of(&model, &st.x, &nb, &k);
     let c = contact::penalty(&model, &st, &nb, &bd);
     assert!(c.entry.iter().any(|e| e.1 > 0.0), "some spring yields");
     check_state(model, st, true);

@@ -97,7 +97,7 @@ fn leapfrog_steps_from(mut model: Model, st: State, hourglass: f64) {
     let mut g = GpuSolver::new(ctx, model.clone(), &st, &[], 1.0).expect("fits the adapter");
     let nb = neighbours::find(&model, st.frame());
     let k = kinematics::kinematics(&model, &st, &nb);
-    let bd = kinematics::boundary_of(&model, &st.x, &nb, &k);
+    let bd = forces::boundary_of(&model, &st.x, &nb, &k);
     let cf = contact::penalty(&model, &st, &nb, &bd);
     let a_contact = bd
         .list

@@ -6,9 +6,10 @@
 
 use glam::DVec2;
 
-use super::forces_lanes::{sums_into, Inputs, SumsOut};
-use crate::cpu::forces::StressPoint;
+use super::forces_lanes::{lanes_serve, sums_into, Inputs, SumsOut};
+use crate::cpu::forces::PairVectors;
 use crate::cpu::kinematics::Kinematics;
+use crate::cpu::kinematics::StressPoint;
 use crate::cpu::neighbours::Neighbours;
 use crate::model::{Model, State};
 /// The forces pass: `dv_i/dt` and `de_i/dt` from the SPH sums, each pair evaluated
@@ -50,13 +51,6 @@ pub fn rates_and_dissipation(
     }
     (dv, de, d)
 }
-
-/// A pair's energy vectors, kept by [`momentum_keeping`] in the pair's
-/// slot of the sweep: particle i's `X_i = (σ_i/ρ_i² − ½Π_ij I + ½ (R_i +
-/// R_j) f^n) G_ij` and particle j's `X_j = t G_ij − X_i`, so that the
-/// energy sums at any velocities `w` are `de_i/dt = −Σ_j m_j w_ij·X_i`
-/// and `de_j/dt = −Σ_i m_i w_ij·X_j` ([`energy_replay`]).
-pub type PairVectors = [DVec2; 2];
 
 /// The artificial dissipation of the pairs [`momentum_keeping`] kept, as
 /// a function of the velocities it is booked at: a pair's is `−m_i m_j
@@ -115,26 +109,6 @@ pub fn energy_replay(
         }
     });
     acc
-}
-
-/// The one-pair terms `p`'s [`PairVectors`] (the hourglass control's
-/// parts included): `X_i = ½ (t G + (S_i − S_j))` with each side's
-/// stress vector and hourglass term `S` ([`PairTerms::s`]), and `X_j = t
-/// G − X_i`.
-///
-/// [`PairTerms::s`]: crate::cpu::forces::PairTerms
-#[inline]
-pub(in crate::cpu) fn vectors_of(p: &crate::cpu::forces::PairTerms) -> PairVectors {
-    let [hi, hj] = p.hg;
-    let (sig, sjg) = (p.s[0] + hi, p.s[1] + hj);
-    let xi = (p.tg + (sig - sjg)) * 0.5;
-    [xi, p.tg - xi]
-}
-
-/// Whether the lane code serves the scene: it does not do the rigid
-/// bodies' zero rates (it does the hourglass control).
-pub(in crate::cpu) fn lanes_serve(model: &Model) -> bool {
-    !model.any_rigid
 }
 
 /// [`momentum_energy`] by the lane code (`lanes`, [`lanes_serve`]) or by

@@ -6,10 +6,11 @@
 
 use glam::DVec2;
 
-use super::forces::{lanes_serve, vectors_of, PairVectors};
 use super::Chunk;
-use crate::cpu::forces::{pair_terms, PairTerms, StressPoint};
+use crate::cpu::forces::{pair_terms, PairTerms};
+use crate::cpu::forces::{vectors_of, PairVectors};
 use crate::cpu::kinematics::Kinematics;
+use crate::cpu::kinematics::StressPoint;
 use crate::cpu::neighbours::{Nbr, Neighbours};
 use crate::math::lanes::{columns, F4, LANES};
 use crate::math::Mat2;
@@ -683,4 +684,10 @@ fn lane_terms(
         d_i: (mm * (vx * aix + vy * aiy)).to_array(),
         d_j: (mm * (vx * ajx + vy * ajy)).to_array(),
     }
+}
+
+/// Whether the lane code serves the scene: it does not do the rigid
+/// bodies' zero rates (it does the hourglass control).
+pub(in crate::cpu) fn lanes_serve(model: &Model) -> bool {
+    !model.any_rigid
 }

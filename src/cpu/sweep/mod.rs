@@ -20,9 +20,8 @@ pub mod kinematics;
 #[cfg(test)]
 mod tests;
 
-pub use forces::{
-    energy_replay, momentum_energy, momentum_keeping, rates_and_dissipation, PairVectors,
-};
+pub use super::forces::PairVectors;
+pub use forces::{energy_replay, momentum_energy, momentum_keeping, rates_and_dissipation};
 pub use kinematics::{kinematics, kinematics_seen};
 
 /// Up to four candidates of one row with their kernel values in lanes

@@ -4,7 +4,6 @@
 
 use std::collections::VecDeque;
 
-use super::bars::{BarImpact, BarImpactHistory, StressStep};
 use crate::physics::material::MaterialModel;
 
 /// A wave front, emitted at one end of a bar at `t_emit`, carrying the stress
@@ -390,5 +389,153 @@ pub(super) fn trace(
         }
         pending_close = closing;
         t = t_next;
+    }
+}
+
+/// Summary of a 1-D impact of two elastic bars (docs/method.md §10, cases 1–2).
+///
+/// Bar 1 is on the left moving at `v1`, bar 2 on the right moving at `v2`,
+/// `v1 > v2`; first contact at `t = 0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BarImpact {
+    /// Interface stress right after first contact, Pa, tension positive (so
+    /// negative): `−Z1 Z2 (v1 − v2)/(Z1 + Z2)`. When impedances and lengths
+    /// differ the interface stress may later step to other levels; see
+    /// [`BarImpactHistory::contact_steps`].
+    pub contact_stress: f64,
+    /// Interface particle velocity right after first contact, m/s:
+    /// `(Z1 v1 + Z2 v2)/(Z1 + Z2)` (impedance matching).
+    pub interface_velocity: f64,
+    /// Time of the final separation of the contact faces, s (the end of the
+    /// last contact interval; for the paper's cases there is only one).
+    pub separation_time: f64,
+    /// Mean (momentum) velocity of bar 1 after the final separation, m/s.
+    pub final_velocity_1: f64,
+    /// Mean (momentum) velocity of bar 2 after the final separation, m/s.
+    pub final_velocity_2: f64,
+}
+
+impl BarImpact {
+    pub(super) fn nan() -> Self {
+        Self {
+            contact_stress: f64::NAN,
+            interface_velocity: f64::NAN,
+            separation_time: f64::NAN,
+            final_velocity_1: f64::NAN,
+            final_velocity_2: f64::NAN,
+        }
+    }
+}
+
+/// One level of the piecewise-constant interface stress while the bars are in
+/// contact: `stress` (Pa, ≤ 0) on `[t_start, t_end)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StressStep {
+    pub t_start: f64,
+    pub t_end: f64,
+    pub stress: f64,
+}
+
+/// Full exact history of a 1-D two-bar impact (docs/method.md §10, cases 1–2).
+///
+/// Local geometry: bar 1 occupies `[−L1, 0]`, bar 2 `[0, L2]` (Lagrangian,
+/// small strain), contact face at `x = 0`, first contact at `t = 0`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BarImpactHistory {
+    /// The summary (same as [`bar_impact`]).
+    pub result: BarImpact,
+    /// End of the first contact interval, s.
+    pub first_separation_time: f64,
+    /// Interface stress while in contact, piecewise constant, in time order;
+    /// gaps between steps are intervals without contact.
+    pub contact_steps: Vec<StressStep>,
+    /// The history is exact for `0 ≤ t ≤ valid_until` (infinite when nothing
+    /// changes any more).
+    pub valid_until: f64,
+    pub(super) bars: [BarTrace; 2],
+}
+
+impl BarImpactHistory {
+    /// Local coordinate (from the bar's left end) of the point at distance
+    /// `d` from the contact face, or None when `d` is outside `[0, L]`.
+    fn local_x(&self, bar: BarId, d: f64) -> Option<(usize, f64)> {
+        let b = bar.index();
+        let len = self.bars[b].len;
+        if !(0.0..=len).contains(&d) {
+            return None;
+        }
+        Some(match bar {
+            BarId::One => (b, len - d),
+            BarId::Two => (b, d),
+        })
+    }
+
+    fn point_state(&self, bar: BarId, d: f64, t: f64) -> Option<(f64, f64)> {
+        if t.is_nan() || t > self.valid_until {
+            return None;
+        }
+        let (b, x) = self.local_x(bar, d)?;
+        Some(self.bars[b].state(x, t.max(0.0)))
+    }
+
+    /// Exact particle velocity, m/s, at distance `d` (m) from the contact
+    /// face inside `bar`, at time `t` (s). Before contact (`t < 0`) the
+    /// initial velocity. NaN when `d` is outside the bar or `t` beyond
+    /// [`valid_until`](Self::valid_until).
+    pub fn point_velocity(&self, bar: BarId, d: f64, t: f64) -> f64 {
+        self.point_state(bar, d, t).map_or(f64::NAN, |s| s.1)
+    }
+
+    /// Exact axial stress `σ_xx`, Pa (tension positive), at distance `d` from
+    /// the contact face inside `bar`, at time `t`; NaN as for
+    /// [`point_velocity`](Self::point_velocity).
+    pub fn point_stress(&self, bar: BarId, d: f64, t: f64) -> f64 {
+        self.point_state(bar, d, t).map_or(f64::NAN, |s| s.0)
+    }
+
+    /// Interface (contact) stress at time `t`, Pa: the contact step that
+    /// holds `t`, 0 outside contact.
+    pub fn interface_stress(&self, t: f64) -> f64 {
+        self.contact_steps
+            .iter()
+            .find(|s| t >= s.t_start && t < s.t_end)
+            .map_or(0.0, |s| s.stress)
+    }
+
+    /// Mean (momentum) velocity of `bar` at time `t`: the initial velocity
+    /// plus the interface impulse delivered up to `t` over the mass per unit
+    /// area `ρ0 L`. Falls linearly from `v0` to its final value while the
+    /// interface stress is constant (docs/method.md §10, case 1).
+    pub fn mean_velocity(&self, bar: BarId, t: f64) -> f64 {
+        let impulse: f64 = self
+            .contact_steps
+            .iter()
+            .map(|s| s.stress * (t.min(s.t_end) - s.t_start).max(0.0))
+            .sum();
+        let tr = &self.bars[bar.index()];
+        // The interface traction on bar 1 (outer normal +x) is +σ, on bar 2
+        // (outer normal −x) it is −σ.
+        let sign = match bar {
+            BarId::One => 1.0,
+            BarId::Two => -1.0,
+        };
+        tr.v0 + sign * impulse / (tr.rho0 * tr.len)
+    }
+}
+
+/// Which bar of a [`BarImpactHistory`]: `One` is the left bar (initial
+/// velocity `v1`), `Two` the right bar (`v2`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BarId {
+    One,
+    Two,
+}
+
+impl BarId {
+    fn index(self) -> usize {
+        match self {
+            BarId::One => 0,
+            BarId::Two => 1,
+        }
     }
 }

@@ -5,31 +5,23 @@
 //! on `G_ij = ½ (L_i + L_j) ∇_i W_ij`, the artificial terms on `G_ij`:
 //! both conserve momentum and energy exactly in semi-discrete form.
 
+mod boundary;
+#[cfg(test)]
+mod tests;
+
+pub use boundary::*;
+
 use glam::DVec2;
 
-use super::kinematics::Kinematics;
+use super::kinematics::{Kinematics, StressPoint};
 use super::neighbours::{Nbr, Neighbours};
-use crate::math::{Mat2, Sym};
+use crate::math::{mirror, mirror_mat, mirror_sym, Mat2, Sym};
 use crate::model::{Model, State};
 use crate::physics::strength;
 use crate::scene::ArtPairs;
 
 use crate::physics::tension::{art_weight, close_gate, heat_share, HEAT_SPEED};
 use crate::physics::viscosity::{reconstructed_jump, viscosity_pi};
-
-/// Per-particle inputs of the momentum pass, computed once per evaluation.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct StressPoint {
-    /// `σ_i / ρ_i²`, in plane (tension positive).
-    pub sr2: Sym,
-    /// Artificial stress `R_i` (zero when off).
-    pub r: Sym,
-    /// Sound speed for the viscosity.
-    pub c: f64,
-    /// The hoop stress's acceleration `σ_θθ / (r ρ)` of a body of
-    /// revolution (docs/method.md §12); 0 in plane strain.
-    pub hoop: f64,
-}
 
 /// What a pair contributes to both of its particles' momentum and energy
 /// sums, from particle i's side.
@@ -110,6 +102,26 @@ impl Side {
             vh: kin.hv.get(k).copied().unwrap_or(st.v[k]),
             gh: kin.hgrad.get(k).copied().unwrap_or(gv),
             pt: pts[k],
+        }
+    }
+
+    /// The side of this particle's mirror image across the axis of a body
+    /// of revolution: its position, velocities and gradients mirrored, its
+    /// stress's `rz` entries reversed.
+    #[inline]
+    pub(in crate::cpu) fn mirrored(&self) -> Side {
+        Side {
+            x: mirror(self.x),
+            v: mirror(self.v),
+            l: mirror_mat(&self.l),
+            gv: mirror_mat(&self.gv),
+            vh: mirror(self.vh),
+            gh: mirror_mat(&self.gh),
+            pt: StressPoint {
+                sr2: mirror_sym(&self.pt.sr2),
+                r: mirror_sym(&self.pt.r),
+                ..self.pt
+            },
         }
     }
 }
@@ -361,13 +373,48 @@ pub fn rates_and_dissipation(
                 de -= mj * (p.vij.dot(p.s[0] + p.hg[0]) - p.shared);
                 dd -= mj * p.vij.dot(p.a + p.hg[0]);
             }
+            // The mirror images across the axis of a body of revolution
+            // (none in plane strain) as more neighbours, and the hoop
+            // stress's acceleration and its work.
+            let side_i = Side::of(st, kin, pts, i);
+            for (b, _) in nb.images_of(model, st.frame(), i) {
+                let j = b.j as usize;
+                let image = Side::of(st, kin, pts, j).mirrored();
+                let p = pair_terms_of(model, st, &kin.surface, (i, &side_i), (j, &image), &b);
+                let mj = model.mass[j];
+                dv += p.tg * mj;
+                de -= mj * (p.vij.dot(p.s[0] + p.hg[0]) - p.shared);
+                dd -= mj * p.vij.dot(p.a + p.hg[0]);
+            }
+            if model.axisymmetric {
+                dv.x -= pts[i].hoop;
+                de += pts[i].hoop * st.v[i].x;
+            }
             (dv, de, dd * model.mass[i])
         })
         .collect();
-    let mut d = sums.iter().map(|s| s.2).sum::<f64>();
-    let (mut dv, mut de): (Vec<DVec2>, Vec<f64>) = sums.into_iter().map(|s| (s.0, s.1)).unzip();
-    if model.axisymmetric {
-        d += super::axis::add_rates(model, st, nb, kin, pts, (&mut dv, &mut de));
-    }
+    let d = sums.iter().map(|s| s.2).sum::<f64>();
+    let (dv, de): (Vec<DVec2>, Vec<f64>) = sums.into_iter().map(|s| (s.0, s.1)).unzip();
     (dv, de, d)
+}
+
+/// A pair's energy vectors, kept by [`momentum_keeping`] in the pair's
+/// slot of the sweep: particle i's `X_i = (σ_i/ρ_i² − ½Π_ij I + ½ (R_i +
+/// R_j) f^n) G_ij` and particle j's `X_j = t G_ij − X_i`, so that the
+/// energy sums at any velocities `w` are `de_i/dt = −Σ_j m_j w_ij·X_i`
+/// and `de_j/dt = −Σ_i m_i w_ij·X_j` ([`energy_replay`]).
+pub type PairVectors = [DVec2; 2];
+
+/// The one-pair terms `p`'s [`PairVectors`] (the hourglass control's
+/// parts included): `X_i = ½ (t G + (S_i − S_j))` with each side's
+/// stress vector and hourglass term `S` ([`PairTerms::s`]), and `X_j = t
+/// G − X_i`.
+///
+/// [`PairTerms::s`]: crate::cpu::forces::PairTerms
+#[inline]
+pub(in crate::cpu) fn vectors_of(p: &PairTerms) -> PairVectors {
+    let [hi, hj] = p.hg;
+    let (sig, sjg) = (p.s[0] + hi, p.s[1] + hj);
+    let xi = (p.tg + (sig - sjg)) * 0.5;
+    [xi, p.tg - xi]
 }

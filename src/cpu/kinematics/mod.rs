@@ -7,10 +7,8 @@ use glam::DVec2;
 use rayon::prelude::*;
 use std::borrow::Cow;
 
-use super::axis;
-use super::forces::StressPoint;
 use super::neighbours::Neighbours;
-use crate::math::{Mat2, Sym};
+use crate::math::{mirror, Mat2, Sym};
 use crate::model::{Model, State};
 use crate::physics::kernel;
 use crate::physics::{material, strength, tension};
@@ -126,7 +124,7 @@ impl Seen for () {
     }
     #[inline]
     fn mirror(vel: DVec2) -> DVec2 {
-        axis::mirror(vel)
+        mirror(vel)
     }
     #[inline]
     fn add(&mut self, _: DVec2, _: DVec2, _: DVec2) {}
@@ -146,7 +144,7 @@ impl Seen for Mat2 {
     }
     #[inline]
     fn mirror(vel: [DVec2; 2]) -> [DVec2; 2] {
-        vel.map(axis::mirror)
+        vel.map(mirror)
     }
     #[inline]
     fn add(&mut self, vj: [DVec2; 2], vi: [DVec2; 2], g: DVec2) {
@@ -154,121 +152,6 @@ impl Seen for Mat2 {
     }
     fn sum(self) -> Option<Mat2> {
         Some(self)
-    }
-}
-
-/// One particle's result of the kinematic pass.
-struct Point {
-    l: Mat2,
-    ok: bool,
-    /// The colour function, i included, in a body of revolution.
-    psi: Option<f64>,
-    gpsi: DVec2,
-    gv: Mat2,
-    /// `∇v` of the velocities the viscosity sees, when not the state's.
-    gv_seen: Option<Mat2>,
-    /// The least-squares `∇v` (of the seen velocities) where the
-    /// correction fell back and the hourglass control is on.
-    fit: Option<Mat2>,
-    /// The hourglass control's `∇v` of the state's velocities, where the
-    /// viscosity sees others (the leapfrog).
-    hgrad: Option<Mat2>,
-}
-
-/// Per-particle inputs of the momentum pass: `σ/ρ²`, artificial stress and
-/// sound speed, from the EOS.
-pub fn eos_and_stress(model: &Model, st: &State) -> Vec<StressPoint> {
-    (0..model.len())
-        .into_par_iter()
-        .map(|i| {
-            stress_point(
-                model,
-                i,
-                (st.rho[i], st.x[i]),
-                st.e[i],
-                &st.s[i],
-                st.damage_of(i),
-            )
-        })
-        .collect()
-}
-
-/// [`eos_and_stress`] with the particles of `debris` (a kinematics pass's
-/// [`Kinematics::fallback`]) as debris ([`debris_point`]).
-pub fn eos_and_stress_with(model: &Model, st: &State, debris: &[u32]) -> Vec<StressPoint> {
-    let mut pts = eos_and_stress(model, st);
-    for i in debris.iter().map(|&i| i as usize) {
-        if !model.rigid(i) {
-            pts[i] = debris_point(model, i, (st.rho[i], st.x[i]), st.e[i]);
-        }
-    }
-    pts
-}
-
-/// The [`StressPoint`] of a debris particle (docs/method.md, "Debris"):
-/// one whose neighbourhood cannot support a corrected gradient (the
-/// correction fell back) carries, while it is so, no deviatoric stress
-/// and no tension, as a failed particle does; its pressure in
-/// compression stays, so it still cannot pass through its neighbours.
-#[inline]
-pub(crate) fn debris_point(model: &Model, i: usize, at: (f64, DVec2), e: f64) -> StressPoint {
-    stress_point(model, i, at, e, &Sym::default(), strength::FAILED)
-}
-
-/// Particle i's [`StressPoint`] at density `rho` (a state's
-/// [`State::rho`]) and position `x`, energy `e`, deviatoric stress `s`
-/// and damage `damage` (a failed particle carries no tension).
-///
-/// In a body of revolution `rho` is `η = 2π r ρ` (docs/method.md §12): the
-/// EOS takes `ρ = η / 2π r`, the momentum sums `σ/(η ρ)` (the divergence
-/// of `2π r σ` per unit `η`) and the artificial stress in the same
-/// measure, and the hoop acceleration is `σ_θθ / (r ρ)`; in plane strain
-/// `η = ρ` and there is no hoop term.
-#[inline]
-pub(crate) fn stress_point(
-    model: &Model,
-    i: usize,
-    (eta, x): (f64, DVec2),
-    e: f64,
-    s: &Sym,
-    damage: f64,
-) -> StressPoint {
-    let mat = model.material(i);
-    let rho = model.density(eta, x);
-    let p = mat.pressure_of(rho, e, damage);
-    let c = mat.sound_speed_of(rho, e, damage);
-    point_of(model, model.takes_art(i), (eta, x), rho, (p, c), s)
-}
-
-/// The [`StressPoint`] of pressure `p`, sound speed `c` and deviatoric
-/// stress `s` at `η`, `x` and density `rho`, with its artificial stress if
-/// `art`.
-#[inline]
-fn point_of(
-    model: &Model,
-    art: bool,
-    (eta, x): (f64, DVec2),
-    rho: f64,
-    (p, c): (f64, f64),
-    s: &Sym,
-) -> StressPoint {
-    let sigma = material::cauchy(p, s);
-    let r = match model.artificial_stress.filter(|_| art) {
-        Some(a) if model.axisymmetric => {
-            tension::artificial_stress(a.epsilon, &sigma, rho).scale(rho / eta)
-        }
-        Some(a) => tension::artificial_stress(a.epsilon, &sigma, rho),
-        None => Sym::default(),
-    };
-    StressPoint {
-        sr2: sigma.scale(1.0 / (eta * rho)),
-        r,
-        c,
-        hoop: if model.axisymmetric {
-            sigma.zz / (x.x * rho)
-        } else {
-            0.0
-        },
     }
 }
 
@@ -313,12 +196,20 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
                 sum.add_colour(b.gw, b.w, vol[j], model.axisymmetric);
                 sum.n += u32::from(b.q2 > 0.0);
             }
+            // The mirror images across the axis of a body of revolution
+            // (none in plane strain), as more neighbours; `round_colour`
+            // redoes the colour where supports adapt.
+            for (b, _) in nb.images_of(model, st.frame(), i) {
+                let j = b.j as usize;
+                let gm = b.gw * gradient_weight(model, st, &vol, i, j);
+                sum.m += Mat2::outer(gm, mirror(st.x[j]) - st.x[i]);
+                sum.gsum += Mat2::outer(mirror(st.v[j]) - st.v[i], gm);
+                sum.add_colour(b.gw, b.w, vol[j], true);
+                sum.n += u32::from(b.q2 > 0.0);
+            }
             sum
         })
         .collect();
-    if model.axisymmetric {
-        axis::add_kinematics(model, st, nb, &vol, &st.v, &mut sums);
-    }
     round_colour(model, st, nb, &vol, &mut sums);
     finish(model, st, sums)
 }
@@ -496,7 +387,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
             let g = if p.ok { model.material(i).g } else { 0.0 };
             let ds = stress_rate(g, &st.s[i], &p.gv);
             out.ds.push(if model.axisymmetric {
-                axis::with_hoop(g, ds, axis::hoop_rate(st, i))
+                with_hoop(g, ds, hoop_rate(st, i))
             } else {
                 ds
             });
@@ -515,7 +406,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
         }
         if model.strain_rate {
             out.rate.push(if model.axisymmetric && !model.rigid(i) {
-                strength::equivalent_strain_rate_3(&p.gv, axis::hoop_rate(st, i))
+                strength::equivalent_strain_rate_3(&p.gv, hoop_rate(st, i))
             } else {
                 strength::equivalent_strain_rate(&p.gv)
             });
@@ -527,187 +418,56 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
     out
 }
 
-/// Boundary particles, outward normals and the contact area each represents.
-#[derive(Debug, Clone, Default)]
-pub struct Boundary {
-    /// Outward unit normal on the boundary particles, zero elsewhere.
-    pub normal: Vec<DVec2>,
-    /// `|∇ψ|` on the boundary particles, zero elsewhere: how fast the
-    /// normal turns as the colour gradient changes.
-    pub grad_norm: Vec<f64>,
-    pub is_boundary: Vec<bool>,
-    /// Contact area `A_i` (1 in 1-D; a kernel measure of the boundary line
-    /// in 2-D) on the boundary particles, zero elsewhere.
-    pub area: Vec<f64>,
-    /// The boundary particles in ascending order: the contact's work goes
-    /// over these alone (some hundreds in a body of 1e5 particles).
-    pub list: Vec<u32>,
-    /// In a body of revolution, each particle's [`surface_measure`] from
-    /// the kinematic pass, which the contact's surface ramp reads
-    /// ([`contact::surface_ramp`](super::contact::surface_ramp)); empty in
-    /// plane strain and 1-D, where the ramp reads `h |∇ψ⁰|`.
-    pub measure: Vec<f64>,
+/// One particle's result of the kinematic pass.
+struct Point {
+    l: Mat2,
+    ok: bool,
+    /// The colour function, i included, in a body of revolution.
+    psi: Option<f64>,
+    gpsi: DVec2,
+    gv: Mat2,
+    /// `∇v` of the velocities the viscosity sees, when not the state's.
+    gv_seen: Option<Mat2>,
+    /// The least-squares `∇v` (of the seen velocities) where the
+    /// correction fell back and the hourglass control is on.
+    fit: Option<Mat2>,
+    /// The hourglass control's `∇v` of the state's velocities, where the
+    /// viscosity sees others (the leapfrog).
+    hgrad: Option<Mat2>,
 }
 
-/// What the contact's surface ramp reads in a body of revolution: each
-/// particle's [`surface_measure`] of the kinematic pass `k`, the measure
-/// the boundary set was chosen by; empty elsewhere and without contact.
-/// Unnormalised, `h |∇ψ⁰|` of the face's axis particle of a spread Taylor
-/// bar fell to the threshold while `h |∇ψ| / ψ` stayed at 0.66: the ramp
-/// let go of a particle that was still a boundary particle pressed on the
-/// wall, and it sank into it.
-pub fn contact_measure(model: &Model, k: &Kinematics) -> Vec<f64> {
-    if !model.axisymmetric || !model.contact {
-        return Vec::new();
-    }
-    (0..model.len())
-        .into_par_iter()
-        .map(|i| surface_measure(model, i, k.grad_psi[i], k.psi.get(i).copied()))
-        .collect()
-}
-
-/// [`boundary`] of the kinematics pass `k`: its surface set and, in a body
-/// of revolution, its [`contact_measure`]. For callers outside the step,
-/// which keeps `k`'s surface set by moving it.
-pub fn boundary_of(model: &Model, x: &[DVec2], nb: &Neighbours, k: &Kinematics) -> Boundary {
-    boundary(model, x, nb, k.surface.clone(), contact_measure(model, k))
-}
-
-/// The boundary set of the kinematics pass ([`Kinematics::surface`]), with
-/// each boundary particle's outward normal `n_i = g_i/|g_i|` and contact
-/// area `A_i = (15/(7π h)) / Σ_j W_ij` over the body's boundary particles,
-/// self included (docs/method.md §8.4, "Contact area"), at positions `x`.
-///
-/// `g_i = −Σ_j V⁰_j ∇_i W_ij` is the colour gradient with the reference
-/// volumes `V⁰ = m/ρ₀` where the kinematics pass has the current ones: the
-/// normals, and with them the penalty spring's stored energy, are then
-/// functions of the positions alone, so the spring's force (their
-/// gradient) does all the work the stored energy gains or loses. With the
-/// current volumes the energy also moves with the densities, work that no
-/// force does: 0.7 % of the total at the height of two steel disks'
-/// contact at R/Δx 20.
-pub fn boundary(
-    model: &Model,
-    x: &[DVec2],
-    nb: &Neighbours,
-    is_boundary: Vec<bool>,
-    measure: Vec<f64>,
-) -> Boundary {
-    let n = model.len();
-    let list: Vec<u32> = (0..n as u32)
-        .into_par_iter()
-        .filter(|&i| is_boundary[i as usize])
-        .collect();
-    let mut normal = vec![DVec2::ZERO; n];
-    let mut grad_norm = vec![0.0; n];
-    let mut area = vec![0.0; n];
-    // In a body of revolution the images across the axis are neighbours
-    // too, and a particle's area is its ring's.
-    let per: Vec<(DVec2, f64)> = list
-        .par_iter()
-        .map(|&i| {
-            let i = i as usize;
-            let h = model.h[i];
-            let mut sw = kernel::w(2, 0.0, h);
-            let mut g = DVec2::ZERO;
-            for (b, _) in nb.round_with_images(model, x, i) {
-                let j = b.j as usize;
-                g -= b.gw * model.reference_volume(j);
-                if is_boundary[j] {
-                    sw += b.w;
-                }
-            }
-            let a = if model.dim == 1 {
-                1.0
-            } else if model.axisymmetric {
-                kernel::line_integral_2d(h) / sw * crate::math::circumference(x[i].x)
-            } else {
-                kernel::line_integral_2d(h) / sw
-            };
-            (g, a)
-        })
-        .collect();
-    for (&i, (g, a_i)) in list.iter().zip(per) {
-        normal[i as usize] = g.normalize_or_zero();
-        grad_norm[i as usize] = g.length();
-        area[i as usize] = a_i;
-    }
-    Boundary {
-        normal,
-        grad_norm,
-        is_boundary,
-        area,
-        list,
-        measure,
-    }
-}
-
-/// Jaumann-rate hypoelastic deviatoric stress rate (docs/method.md §6):
-/// `ṡ = 2G(ε̇ − ⅓ tr ε̇ I) + s Ωᵀ + Ω s`, plane strain with `s_zz` carried
-/// (1-D uniaxial strain is the same formula with zero y-gradients).
+/// The [`StressPoint`] of pressure `p`, sound speed `c` and deviatoric
+/// stress `s` at `η`, `x` and density `rho`, with its artificial stress if
+/// `art`.
 #[inline]
-pub fn stress_rate(g_mod: f64, s: &Sym, gv: &Mat2) -> Sym {
-    let exy = 0.5 * (gv.xy + gv.yx);
-    let w = 0.5 * (gv.xy - gv.yx);
-    let tr3 = (gv.xx + gv.yy) / 3.0;
-    Sym {
-        xx: 2.0 * g_mod * (gv.xx - tr3) + 2.0 * w * s.xy,
-        yy: 2.0 * g_mod * (gv.yy - tr3) - 2.0 * w * s.xy,
-        xy: 2.0 * g_mod * exy + w * (s.yy - s.xx),
-        zz: -2.0 * g_mod * tr3,
+fn point_of(
+    model: &Model,
+    art: bool,
+    (eta, x): (f64, DVec2),
+    rho: f64,
+    (p, c): (f64, f64),
+    s: &Sym,
+) -> StressPoint {
+    let sigma = material::cauchy(p, s);
+    let r = match model.artificial_stress.filter(|_| art) {
+        Some(a) if model.axisymmetric => {
+            tension::artificial_stress(a.epsilon, &sigma, rho).scale(rho / eta)
+        }
+        Some(a) => tension::artificial_stress(a.epsilon, &sigma, rho),
+        None => Sym::default(),
+    };
+    StressPoint {
+        sr2: sigma.scale(1.0 / (eta * rho)),
+        r,
+        c,
+        hoop: if model.axisymmetric {
+            sigma.zz / (x.x * rho)
+        } else {
+            0.0
+        },
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::cpu::neighbours;
-    use crate::scene::Scene;
+mod stress;
 
-    /// A 3×3 block of particles: by its mirror symmetries the corner's
-    /// normal is the outward diagonal, an edge's middle particle's normal
-    /// the outward axis, and the centre's colour gradient vanishes, so it
-    /// is inside.
-    #[test]
-    fn square_corner_normal_by_hand() {
-        let scene = Scene::from_toml_str(
-            r#"
-[simulation]
-dimension = 2
-end_time = 1.0e-6
-[materials.m]
-density = 1000.0
-shear_modulus = 1.0e9
-eos = { kind = "linear", c0 = 2000.0 }
-[[bodies]]
-name = "block"
-material = "m"
-spacing = 1.0
-shape = { kind = "rectangle", min = [0.0, 0.0], max = [3.0, 3.0] }
-"#,
-            "block",
-        )
-        .expect("the scene");
-        let (model, st) = Model::new(&scene);
-        assert_eq!(model.len(), 9);
-        let at = |x: f64, y: f64| {
-            (0..9)
-                .find(|&i| st.x[i] == DVec2::new(x, y))
-                .unwrap_or_else(|| panic!("a particle at ({x}, {y})"))
-        };
-        let nb = neighbours::find(&model, st.frame());
-        let k = kinematics(&model, &st, &nb);
-        let bd = boundary_of(&model, &st.x, &nb, &k);
-        let close = |a: DVec2, b: DVec2| (a - b).length() < 1e-12;
-        let d = std::f64::consts::FRAC_1_SQRT_2;
-        assert!(close(bd.normal[at(0.5, 0.5)], DVec2::new(-d, -d)));
-        assert!(close(bd.normal[at(2.5, 2.5)], DVec2::new(d, d)));
-        assert!(close(bd.normal[at(2.5, 0.5)], DVec2::new(d, -d)));
-        assert!(close(bd.normal[at(0.5, 1.5)], DVec2::new(-1.0, 0.0)));
-        assert!(close(bd.normal[at(1.5, 2.5)], DVec2::new(0.0, 1.0)));
-        let centre = at(1.5, 1.5);
-        assert!(k.grad_psi[centre].length() < 1e-12);
-        assert!(!bd.is_boundary[centre]);
-        assert_eq!(bd.list.len(), 8);
-    }
-}
+pub use stress::*;

@@ -1,0 +1,127 @@
+//! What a run records (`[[probes]]`) and writes (`[output]`).
+
+use super::*;
+
+/// Per-particle quantities a `particle` probe can record.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ParticleQuantity {
+    PositionX,
+    PositionY,
+    VelocityX,
+    VelocityY,
+    Density,
+    Pressure,
+    StressXx,
+    StressYy,
+    StressXy,
+    /// The normal stress across the plane: `σ_zz` of plane strain, the
+    /// hoop stress `σ_θθ` of a body of revolution.
+    StressZz,
+    VonMises,
+    InternalEnergy,
+    /// Equivalent plastic strain (a body whose material has a strength law
+    /// or a failure model).
+    PlasticStrain,
+    /// Temperature, K (as `plastic_strain`).
+    Temperature,
+    /// Damage, 0 to 1 (1: failed; as `plastic_strain`).
+    Damage,
+    /// The time the particle failed, s; −1 while it holds (as
+    /// `plastic_strain`).
+    FailureTime,
+}
+
+impl ParticleQuantity {
+    /// Whether the quantity is part of the plastic history, which only
+    /// bodies of materials with a strength law or failure model carry.
+    pub fn needs_history(self) -> bool {
+        matches!(
+            self,
+            ParticleQuantity::PlasticStrain
+                | ParticleQuantity::Temperature
+                | ParticleQuantity::Damage
+                | ParticleQuantity::FailureTime
+        )
+    }
+}
+
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum BodyQuantity {
+    VelocityX,
+    VelocityY,
+    PositionX,
+    PositionY,
+    KineticEnergy,
+    MomentumX,
+    MomentumY,
+}
+
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactQuantity {
+    Force,
+    PressureMax,
+}
+
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum EnergyQuantity {
+    Kinetic,
+    Internal,
+    ContactHeat,
+    /// The artificial terms' work so far ([`crate::model::State::dissipation`]).
+    ArtificialDissipation,
+    Total,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Probe {
+    Particle {
+        name: String,
+        body: String,
+        at: Vec<f64>,
+        quantity: ParticleQuantity,
+    },
+    Body {
+        name: String,
+        body: String,
+        quantity: BodyQuantity,
+    },
+    Contact {
+        name: String,
+        bodies: [String; 2],
+        quantity: ContactQuantity,
+    },
+    Energy {
+        name: String,
+        quantity: EnergyQuantity,
+    },
+}
+
+impl Probe {
+    pub fn name(&self) -> &str {
+        match self {
+            Probe::Particle { name, .. }
+            | Probe::Body { name, .. }
+            | Probe::Contact { name, .. }
+            | Probe::Energy { name, .. } => name,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    /// Output directory (default `out/<scene file stem>`).
+    #[serde(default)]
+    pub dir: Option<PathBuf>,
+    /// s; default `end_time / 1000`.
+    #[serde(default)]
+    pub history_interval: Option<f64>,
+    /// s; optional.
+    #[serde(default)]
+    pub snapshot_interval: Option<f64>,
+}
