@@ -22,10 +22,12 @@
 //! | reduce | `reduce.wgsl` | [`crate::cpu::reduce`] | the CFL step and the observations |
 //! | advance | `advance.wgsl` | [`crate::cpu::advance`] | time integration, strength update, state check |
 //!
-//! Two shader files are not stages but parts of them: `strength.wgsl` (the
-//! stress update with a plastic history, [`crate::physics::strength`]) in
-//! the kinematics and advance stages, `spread.wgsl` (the contact spring's
-//! pull through the normals) in the contact and advance stages.
+//! Some shader files are not stages but parts of them: `strength.wgsl`
+//! (the stress update with a plastic history, [`crate::physics::strength`])
+//! in the kinematics and advance stages, `spread.wgsl` (the contact
+//! spring's pull through the normals) in the contact and advance stages,
+//! `kinematics_point.wgsl` (the per-particle part) in the kinematics stage
+//! and `forces_pair.wgsl` (the pair terms) in the forces stage.
 //! `common.wgsl` holds the declarations every stage shares, `kernel.wgsl`
 //! the kernel and the supports, `material.wgsl` the material laws, and
 //! `walk.wgsl` the neighbour walk; `penalty.wgsl` is the contact stage's pass of the
@@ -107,7 +109,7 @@ pub const STAGES: [StageInfo; 7] = [
     StageInfo {
         stage: Stage::Kinematics,
         name: "kinematics",
-        shaders: &["kinematics.wgsl", "strength.wgsl"],
+        shaders: &["kinematics.wgsl", "kinematics_point.wgsl", "strength.wgsl"],
         cpu: Some("cpu/kinematics/mod.rs"),
         solver: Some("cpu/sweep/kinematics.rs"),
         tests: &[
@@ -125,7 +127,7 @@ pub const STAGES: [StageInfo; 7] = [
     StageInfo {
         stage: Stage::Forces,
         name: "forces",
-        shaders: &["forces.wgsl"],
+        shaders: &["forces.wgsl", "forces_pair.wgsl"],
         cpu: Some("cpu/forces/mod.rs"),
         solver: Some("cpu/sweep/forces.rs"),
         tests: &[

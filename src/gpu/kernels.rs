@@ -23,9 +23,7 @@ pub(super) fn make_kernels(
     buffers: &DeviceBuffers,
     sizes: Sizes,
 ) -> Result<Kernels, String> {
-    let contact = model.contact;
     let leapfrog = model.integrator == Integrator::Leapfrog;
-    let surf_args = buffers.get(Buf::SurfArgs).cloned();
     // The velocity gradient adaptive supports are carried with at a
     // step's end (`supports_carried_by_gradv`).
     let support_gradient = if supports_carried_by_gradv(model) {
@@ -42,129 +40,12 @@ pub(super) fn make_kernels(
         plan,
         slot_wgsl: plan.wgsl(),
     };
-    let mut mid_constants = constants.clone();
-    mid_constants.push(("MID", 1.0));
-    let kernel_in =
-        |consts: &[(&str, f64)], stage: &str, entry: &str, size: Size, table: &[(&str, Buf)]| {
-            binder.kernel(consts, stage, entry, size, table)
-        };
     let kernel = |stage: &str, entry: &str, size: Size, table: &[(&str, Buf)]| {
-        kernel_in(&constants, stage, entry, size, table)
+        binder.kernel(&constants, stage, entry, size, table)
     };
-
-    let variants: &[Var] = if leapfrog {
-        &[Var::Base]
-    } else {
-        &[Var::Base, Var::Mid]
-    };
-    let mut evals = Vec::new();
-    for &var in variants {
-        let (consts, al) = match (var, leapfrog) {
-            (Var::Base, false) => (constants.as_slice(), aliases::BASE),
-            (Var::Base, true) => (constants.as_slice(), aliases::FIRST),
-            (Var::Mid, _) => (mid_constants.as_slice(), aliases::MID),
-        };
-        let eval_kernel = |stage, entry| kernel_in(consts, stage, entry, Size::Particles, al);
-        // The second evaluation's contact entries go on the list where its
-        // pass scratch carries the supports' gradient (contact.wgsl, on_list).
-        let listed: Vec<(&str, Buf)> = al
-            .iter()
-            .copied()
-            .chain(aliases::ON_LIST.iter().copied())
-            .collect();
-        let contact_al = if var == Var::Mid && support_gradient == Buf::Gradv {
-            listed.as_slice()
-        } else {
-            al
-        };
-        let contact_kernel =
-            |entry| kernel_in(consts, "contact", entry, Size::Particles, contact_al);
-        evals.push(Eval {
-            cells: eval_kernel("neighbours", "grid_cells")?,
-            scatter: eval_kernel("neighbours", "grid_scatter")?,
-            kinematics: eval_kernel("kinematics", "kinematics")?.walking(Walk::All),
-            forces: eval_kernel("forces", "forces")?.walking(Walk::All),
-            contact: if contact {
-                Some(ContactKernels {
-                    pass1: contact_kernel("contact_pass1")?.walking(Walk::Boundary),
-                    pass2: contact_kernel("contact_pass2")?.walking(Walk::Boundary),
-                    spread: match var {
-                        Var::Base => Some(eval_kernel("contact", "contact_spread")?),
-                        Var::Mid => None,
-                    },
-                })
-            } else {
-                None
-            },
-        });
-    }
+    let eval = eval_kernels(&binder, model, &constants, support_gradient)?;
     let leap = if leapfrog {
-        let mut step_constants = constants.clone();
-        step_constants.retain(|c| c.0 != "LEAP");
-        let mut book_constants = step_constants.clone();
-        step_constants.push(("LEAP", 2.0));
-        book_constants.push(("LEAP", 3.0));
-        let listed_at_n1: Vec<(&str, Buf)> = aliases::AT_N1
-            .iter()
-            .chain(aliases::ON_LIST)
-            .copied()
-            .collect();
-        let step = |stage, entry, al| kernel_in(&step_constants, stage, entry, Size::Particles, al);
-        let book = |stage, entry| {
-            kernel_in(
-                &book_constants,
-                stage,
-                entry,
-                Size::Particles,
-                aliases::BOOKING,
-            )
-        };
-        Some(LeapKernels {
-            kick_drift: kernel(
-                "advance",
-                "kick_drift_cells",
-                Size::Particles,
-                aliases::STATE_W,
-            )?,
-            kinematics: step("kinematics", "kinematics_leap", aliases::LEAP_KINEMATICS)?
-                .walking(Walk::All),
-            forces: step("forces", "forces", aliases::AT_N1)?.walking(Walk::Masked),
-            contact: match &surf_args {
-                Some(a) => Some(ContactKernels {
-                    pass1: step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
-                    pass2: step("contact", "contact_pass2", &listed_at_n1)?.listed(a),
-                    spread: Some(step("contact", "contact_spread", aliases::AT_N1)?),
-                }),
-                None => None,
-            },
-            book: match &surf_args {
-                Some(a) => {
-                    let passes: &[(&str, &'static str)] = if model.any_rigid {
-                        &[
-                            ("contact_pass1", "book_pass1"),
-                            ("contact_pass2", "book_pass2"),
-                        ]
-                    } else {
-                        &[("contact_pass1", "book_pass1")]
-                    };
-                    passes
-                        .iter()
-                        .map(|&(entry, role)| Ok(book("contact", entry)?.listed(a).labelled(role)))
-                        .collect::<Result<_, String>>()?
-                }
-                None => Vec::new(),
-            },
-            energy: kernel_in(
-                &book_constants,
-                "forces",
-                "forces",
-                Size::Particles,
-                aliases::ENERGY,
-            )?
-            .walking(Walk::Masked)
-            .labelled("energy"),
-            finish: kernel("advance", "finish", Size::Particles, aliases::STATE_W)?,
-        })
+        Some(leap_kernels(&binder, model, &constants)?)
     } else {
         None
     };
@@ -173,7 +54,7 @@ pub(super) fn make_kernels(
         scan_local: kernel("neighbours", "scan_local", Size::ScanBlocks, &[])?,
         scan_add: kernel("neighbours", "scan_add", Size::ScanBlocks, &[])?,
         sort: kernel("neighbours", "grid_sort", Size::Buckets, &[])?,
-        eval: evals,
+        eval,
         leap,
         reduce_partial: kernel("reduce", "reduce_partial", Size::RedGroups, &[])?,
         reduce_final: kernel("reduce", "reduce_final", Size::FinalGroups, &[])?,
@@ -202,32 +83,7 @@ pub(super) fn make_kernels(
             )?)
         },
         end_step: kernel("reduce", "end_step", Size::One, &[])?,
-        permute_each: {
-            let arrays = if leapfrog {
-                leap_arrays(model)
-            } else {
-                // The midpoint rule's `permute` has no room for these.
-                let mut a = Vec::new();
-                if model.history {
-                    a.push((Buf::Hist, 16));
-                }
-                if model.adaptive {
-                    a.push((Buf::Metric, 16));
-                }
-                a
-            };
-            arrays
-                .into_iter()
-                .map(|(name, bytes)| {
-                    let &(_, entry, src, dst) = aliases::PERMUTE_EACH
-                        .iter()
-                        .find(|p| p.0 == bytes)
-                        .expect("a permute for each element size");
-                    let al = [(src, name), (dst, Buf::Lmat)];
-                    Ok((kernel("reorder", entry, Size::Particles, &al)?, name, bytes))
-                })
-                .collect::<Result<_, String>>()?
-        },
+        permute_each: permute_each_kernels(&binder, model, &constants)?,
         permute: if leapfrog {
             None
         } else {
@@ -244,6 +100,185 @@ pub(super) fn make_kernels(
             Some(kernel("reorder", "map_slots", Size::Particles, &[])?)
         },
     })
+}
+
+/// The evaluations' kernels (the cell list, kinematics, forces and the
+/// contact's passes): at the base state and, for the midpoint rule, at
+/// the midpoint (`MID`), each bound through its aliases.
+fn eval_kernels(
+    binder: &Binder,
+    model: &Model,
+    constants: &[(&'static str, f64)],
+    support_gradient: Buf,
+) -> Result<Vec<Eval>, String> {
+    let leapfrog = model.integrator == Integrator::Leapfrog;
+    let mut mid_constants = constants.to_vec();
+    mid_constants.push(("MID", 1.0));
+    let variants: &[Var] = if leapfrog {
+        &[Var::Base]
+    } else {
+        &[Var::Base, Var::Mid]
+    };
+    let mut evals = Vec::new();
+    for &var in variants {
+        let (consts, al) = match (var, leapfrog) {
+            (Var::Base, false) => (constants, aliases::BASE),
+            (Var::Base, true) => (constants, aliases::FIRST),
+            (Var::Mid, _) => (mid_constants.as_slice(), aliases::MID),
+        };
+        let eval_kernel = |stage, entry| binder.kernel(consts, stage, entry, Size::Particles, al);
+        // The second evaluation's contact entries go on the list where its
+        // pass scratch carries the supports' gradient (contact.wgsl, on_list).
+        let listed: Vec<(&str, Buf)> = al
+            .iter()
+            .copied()
+            .chain(aliases::ON_LIST.iter().copied())
+            .collect();
+        let contact_al = if var == Var::Mid && support_gradient == Buf::Gradv {
+            listed.as_slice()
+        } else {
+            al
+        };
+        let contact_kernel =
+            |entry| binder.kernel(consts, "contact", entry, Size::Particles, contact_al);
+        evals.push(Eval {
+            cells: eval_kernel("neighbours", "grid_cells")?,
+            scatter: eval_kernel("neighbours", "grid_scatter")?,
+            kinematics: eval_kernel("kinematics", "kinematics")?.walking(Walk::All),
+            forces: eval_kernel("forces", "forces")?.walking(Walk::All),
+            contact: if model.contact {
+                Some(ContactKernels {
+                    pass1: contact_kernel("contact_pass1")?.walking(Walk::Boundary),
+                    pass2: contact_kernel("contact_pass2")?.walking(Walk::Boundary),
+                    spread: match var {
+                        Var::Base => Some(eval_kernel("contact", "contact_spread")?),
+                        Var::Mid => None,
+                    },
+                })
+            } else {
+                None
+            },
+        });
+    }
+    Ok(evals)
+}
+
+/// The leapfrog step's kernels besides its first evaluation: the step's
+/// (`LEAP = 2`) and the booking's (`LEAP = 3`).
+fn leap_kernels(
+    binder: &Binder,
+    model: &Model,
+    constants: &[(&'static str, f64)],
+) -> Result<LeapKernels, String> {
+    let surf_args = binder.buffers.get(Buf::SurfArgs).cloned();
+    let mut step_constants = constants.to_vec();
+    step_constants.retain(|c| c.0 != "LEAP");
+    let mut book_constants = step_constants.clone();
+    step_constants.push(("LEAP", 2.0));
+    book_constants.push(("LEAP", 3.0));
+    let listed_at_n1: Vec<(&str, Buf)> = aliases::AT_N1
+        .iter()
+        .chain(aliases::ON_LIST)
+        .copied()
+        .collect();
+    let step = |stage, entry, al| binder.kernel(&step_constants, stage, entry, Size::Particles, al);
+    let book = |stage, entry| {
+        binder.kernel(
+            &book_constants,
+            stage,
+            entry,
+            Size::Particles,
+            aliases::BOOKING,
+        )
+    };
+    Ok(LeapKernels {
+        kick_drift: binder.kernel(
+            constants,
+            "advance",
+            "kick_drift_cells",
+            Size::Particles,
+            aliases::STATE_W,
+        )?,
+        kinematics: step("kinematics", "kinematics_leap", aliases::LEAP_KINEMATICS)?
+            .walking(Walk::All),
+        forces: step("forces", "forces", aliases::AT_N1)?.walking(Walk::Masked),
+        contact: match &surf_args {
+            Some(a) => Some(ContactKernels {
+                pass1: step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
+                pass2: step("contact", "contact_pass2", &listed_at_n1)?.listed(a),
+                spread: Some(step("contact", "contact_spread", aliases::AT_N1)?),
+            }),
+            None => None,
+        },
+        book: match &surf_args {
+            Some(a) => {
+                let passes: &[(&str, &'static str)] = if model.any_rigid {
+                    &[
+                        ("contact_pass1", "book_pass1"),
+                        ("contact_pass2", "book_pass2"),
+                    ]
+                } else {
+                    &[("contact_pass1", "book_pass1")]
+                };
+                passes
+                    .iter()
+                    .map(|&(entry, role)| Ok(book("contact", entry)?.listed(a).labelled(role)))
+                    .collect::<Result<_, String>>()?
+            }
+            None => Vec::new(),
+        },
+        energy: binder
+            .kernel(
+                &book_constants,
+                "forces",
+                "forces",
+                Size::Particles,
+                aliases::ENERGY,
+            )?
+            .walking(Walk::Masked)
+            .labelled("energy"),
+        finish: binder.kernel(
+            constants,
+            "advance",
+            "finish",
+            Size::Particles,
+            aliases::STATE_W,
+        )?,
+    })
+}
+
+/// The reorder's kernels that permute one array each through `lmat`: the
+/// leapfrog's arrays, or those the midpoint rule's `permute` has no room
+/// for; with each array's buffer and bytes a particle.
+fn permute_each_kernels(
+    binder: &Binder,
+    model: &Model,
+    constants: &[(&'static str, f64)],
+) -> Result<Vec<(Kernel, Buf, u64)>, String> {
+    let arrays = if model.integrator == Integrator::Leapfrog {
+        leap_arrays(model)
+    } else {
+        let mut a = Vec::new();
+        if model.history {
+            a.push((Buf::Hist, 16));
+        }
+        if model.adaptive {
+            a.push((Buf::Metric, 16));
+        }
+        a
+    };
+    arrays
+        .into_iter()
+        .map(|(name, bytes)| {
+            let &(_, entry, src, dst) = aliases::PERMUTE_EACH
+                .iter()
+                .find(|p| p.0 == bytes)
+                .expect("a permute for each element size");
+            let al = [(src, name), (dst, Buf::Lmat)];
+            let k = binder.kernel(constants, "reorder", entry, Size::Particles, &al)?;
+            Ok((k, name, bytes))
+        })
+        .collect()
 }
 
 /// The override constants of a scene's kernels: what it switches on, so

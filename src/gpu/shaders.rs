@@ -33,7 +33,15 @@ const FILES: &[(&str, &str)] = &[
         "kinematics.wgsl",
         include_str!("../../shaders/kinematics.wgsl"),
     ),
+    (
+        "kinematics_point.wgsl",
+        include_str!("../../shaders/kinematics_point.wgsl"),
+    ),
     ("forces.wgsl", include_str!("../../shaders/forces.wgsl")),
+    (
+        "forces_pair.wgsl",
+        include_str!("../../shaders/forces_pair.wgsl"),
+    ),
     ("contact.wgsl", include_str!("../../shaders/contact.wgsl")),
     ("reduce.wgsl", include_str!("../../shaders/reduce.wgsl")),
     ("advance.wgsl", include_str!("../../shaders/advance.wgsl")),
@@ -47,6 +55,10 @@ const FILES: &[(&str, &str)] = &[
     ("strength.wgsl", include_str!("../../shaders/strength.wgsl")),
     ("debug.wgsl", include_str!("../../shaders/debug.wgsl")),
 ];
+
+/// The parts more than one module includes (the rest of a stage's parts
+/// are its own).
+const SHARED_PARTS: [&str; 3] = ["spread.wgsl", "strength.wgsl", "penalty.wgsl"];
 
 /// The test kernels' module (debug.wgsl): compiled as a stage is, but no
 /// stage of the step.
@@ -89,7 +101,13 @@ pub fn source(stage: &str, prelude: &str) -> String {
     } else {
         String::new()
     };
-    format!("{COMMON}\n{WALK}\n{prelude}\n{spread}\n{strength}\n{penalty}\n// ---- {stage}.wgsl ----\n{body}")
+    // Then the stage's own parts, in the table's order.
+    let own: String = parts
+        .iter()
+        .filter(|f| !SHARED_PARTS.contains(f))
+        .map(|f| format!("// ---- {f} ----\n{}\n", file(f)))
+        .collect();
+    format!("{COMMON}\n{WALK}\n{prelude}\n{spread}\n{strength}\n{penalty}\n{own}// ---- {stage}.wgsl ----\n{body}")
 }
 
 /// Every strength law's WGSL (shaders/laws/) and the dispatch on a

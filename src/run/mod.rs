@@ -29,12 +29,14 @@ use crate::scene::{Backend, Integrator, Scene};
 mod cpu;
 mod gpu;
 mod record;
+mod setup;
 mod stepper;
 
 use cpu::CpuStepper;
 use gpu::GpuStepper;
 pub use record::history_times;
 use record::{next_multiple, Checkpoints, Progress, Recorder, Snapshots};
+use setup::{RunSetup, Start};
 use stepper::drive;
 
 /// How to run a scene.
@@ -242,6 +244,100 @@ fn run_from(
     opts: &RunOptions,
     resume: Option<Checkpoint>,
 ) -> Result<RunOutput, RunError> {
+    check_checkpoint_option(opts, dir.as_deref())?;
+    let choice = choose_backend(&scene, opts)?;
+    let backend = choice.backend;
+    let mut warnings = Vec::new();
+    if let Some(w) = choice.warning {
+        warn(opts, &mut warnings, w);
+    }
+    if let Some(d) = &dir {
+        std::fs::create_dir_all(d).map_err(|e| RunError::io(d, e))?;
+    }
+    let adapter = choice.gpu.as_ref().map(|c| c.adapter_name());
+    if let Some(ck) = &resume {
+        warnings.extend(ck.ledger.warnings.iter().cloned());
+        if let (Some(was), Some(now)) = (&ck.adapter, &adapter) {
+            if was != now {
+                let w = format!(
+                    "the checkpoint was written on adapter '{was}' and resumes on '{now}': the history may differ from an uninterrupted run in its last digits"
+                );
+                warn(opts, &mut warnings, w);
+            }
+        }
+    }
+
+    // The model and the probes come from the scene's initial state, also
+    // when resuming: probes are fixed by where particles start.
+    let (model, state) = Model::new(&scene);
+    if let Some(ck) = &resume {
+        ck.check_sizes(&model, "the checkpoint")?;
+    }
+    let (start, resume) = Start::of(&model, &state, resume);
+    let probes = probe::resolve(&scene, &model, &state);
+    let run = RunSetup {
+        scene: &scene,
+        label: &label,
+        dir: dir.as_deref(),
+        backend,
+        adapter: adapter.clone(),
+    };
+    let (mut rec, resume) = run.recorder(opts, &start, resume, &warnings, model.len())?;
+    let out = match choice.gpu {
+        Some(ctx) => drive(
+            GpuStepper::new(ctx, model, state, &probes, rec.end, resume)?,
+            &mut rec,
+        ),
+        None => drive(CpuStepper::new(model, state, &probes, resume), &mut rec),
+    };
+    let out = match out {
+        Ok(out) => out,
+        Err(RunError::Device(why)) => return Err(device_failure(&mut rec, why)?),
+        Err(e) => return Err(e),
+    };
+    rec.progress.finish();
+    rec.history.flush()?;
+    let mut late = Vec::new();
+    if let Some(d) = &dir {
+        // A picture of the run; one that cannot be drawn (no font) is a
+        // warning, never the run's failure.
+        if let Err(e) = crate::output::history_plot::write(d, &scene, &rec.history) {
+            warn(opts, &mut late, format!("history.png not drawn: {e}"));
+        }
+    }
+    let wall = start.wall_before + rec.start.elapsed().as_secs_f64();
+    let snapshots = rec.snaps.as_ref().map_or((0, 0, 0.0), |s| {
+        (s.series.count(), s.series.bytes, s.series.seconds)
+    });
+    let failure = out.failure.clone();
+    let (summary, model, state) = run.summary(out, [warnings, late], &start, wall, snapshots);
+    if let Some(d) = &dir {
+        summary.write(d)?;
+    }
+    if let Some(f) = failure {
+        return Err(RunError::Unstable(f));
+    }
+    Ok(RunOutput {
+        history: rec.history,
+        summary,
+        out_dir: dir,
+        model,
+        state,
+    })
+}
+
+/// Prints warning `w` (unless the run is silent) and keeps it for the
+/// summary.
+fn warn(opts: &RunOptions, warnings: &mut Vec<String>, w: String) {
+    if !opts.silent {
+        eprintln!("warning: {w}");
+    }
+    warnings.push(w);
+}
+
+/// `--checkpoint-every`, if given, is a positive interval and the run
+/// writes its outputs.
+fn check_checkpoint_option(opts: &RunOptions, dir: Option<&Path>) -> Result<(), RunError> {
     if let Some(every) = opts.checkpoint_every {
         if !(every.is_finite() && every > 0.0) {
             return Err(RunError::option(
@@ -256,259 +352,22 @@ fn run_from(
             ));
         }
     }
-    let choice = choose_backend(&scene, opts)?;
-    let backend = choice.backend;
-    let mut warnings = Vec::new();
-    if let Some(w) = choice.warning {
-        if !opts.silent {
-            eprintln!("warning: {w}");
-        }
-        warnings.push(w);
-    }
-    if let Some(d) = &dir {
-        std::fs::create_dir_all(d).map_err(|e| RunError::io(d, e))?;
-    }
-    let adapter = choice.gpu.as_ref().map(|c| c.adapter_name());
-    if let Some(ck) = &resume {
-        warnings.extend(ck.ledger.warnings.iter().cloned());
-        if let (Some(was), Some(now)) = (&ck.adapter, &adapter) {
-            if was != now {
-                let w = format!(
-                    "the checkpoint was written on adapter '{was}' and resumes on '{now}': the history may differ from an uninterrupted run in its last digits"
-                );
-                if !opts.silent {
-                    eprintln!("warning: {w}");
-                }
-                warnings.push(w);
-            }
-        }
-    }
+    Ok(())
+}
 
-    // The model and the probes come from the scene's initial state, also
-    // when resuming: probes are fixed by where particles start.
-    let (model, state) = Model::new(&scene);
-    // Where particles start, for the summary's first failures.
-    let x0 = if model.history {
-        state.x.clone()
-    } else {
-        Vec::new()
-    };
-    if let Some(ck) = &resume {
-        ck.check_sizes(&model, "the checkpoint")?;
-    }
-    let dim = model.dim;
-    let probes = probe::resolve(&scene, &model, &state);
-    let names = scene.probes.iter().map(|p| p.name().to_string()).collect();
-    let end = scene.simulation.end_time;
-    let n = model.len();
-    // What a resumed run takes over: the ledger, the recorder's state and
-    // the solver's (the checkpoint taken apart, nothing copied).
-    let resume = resume.map(|ck| (ck.time(), ck.ledger, ck.recorder, ck.solver));
-    let t_start = resume.as_ref().map_or(0.0, |r| r.0);
-    let ledger = resume.as_ref().map(|r| &r.1);
-    let (p0, base_energy) = match ledger {
-        Some(l) => (l.momentum, l.base_energy),
-        None => (
-            probe::momentum(&model, &state),
-            probe::energies(&model, &state, &Diagnostics::default()).total(),
-        ),
-    };
-    let wall_before = ledger.map_or(0.0, |l| l.wall_seconds);
-    // A resumed run goes on writing checkpoints at the interval it was
-    // started with, unless told another.
-    let every = opts
-        .checkpoint_every
-        .or(resume.as_ref().map(|r| r.2.checkpoint_every));
-    let checkpoints = match (&dir, every) {
-        (Some(d), Some(every)) => Some(Checkpoints {
-            dir: d.clone(),
-            every,
-            next: match &resume {
-                Some((_, _, rec, _)) if rec.checkpoint_every == every => rec.next_checkpoint,
-                Some((t, ..)) => next_multiple(*t, every),
-                None => every,
-            },
-            scene: scene.clone(),
-            scene_label: label.clone(),
-            backend,
-            adapter: adapter.clone(),
-            ledger: Ledger {
-                base_energy,
-                momentum: p0,
-                stored0: 0.0,
-                max_fallback: 0,
-                wall_seconds: wall_before,
-                warnings: warnings.clone(),
-            },
-        }),
-        _ => None,
-    };
-    let (recorded, resume) = match resume {
-        Some((_, ledger, rec, solver)) => (Some(rec), Some((solver, ledger))),
-        None => (None, None),
-    };
-    let RecorderState {
-        times: done_times,
-        rows: done_rows,
-        prev,
-        snapshots: done_snaps,
-        ..
-    } = recorded.unwrap_or_default();
-    let snaps = match (&dir, scene.output.snapshot_interval) {
-        (Some(d), Some(interval)) => Some(Snapshots {
-            times: history_times(end, interval),
-            next: done_snaps.len(),
-            // (A fresh run's list is empty: every old file goes.)
-            series: SnapshotSeries::open(d, done_snaps)?,
-        }),
-        _ => None,
-    };
-    let mut rec = Recorder {
-        times: history_times(end, scene.history_interval()),
-        next: done_times.len(),
-        prev,
-        history: History::resume(names, done_times, done_rows, dir.as_deref())?,
-        snaps,
-        progress: Progress::new(opts, t_start, end),
-        start: Instant::now(),
-        end,
-        particles: n,
-        checkpoints,
-    };
-    let out = match choice.gpu {
-        Some(ctx) => drive(
-            GpuStepper::new(ctx, model, state, &probes, rec.end, resume)?,
-            &mut rec,
-        ),
-        None => drive(CpuStepper::new(model, state, &probes, resume), &mut rec),
-    };
-    let out = match out {
-        Ok(out) => out,
-        Err(RunError::Device(why)) => {
-            // What was written stays: the history up to the last state the
-            // device delivered, and the last checkpoint.
-            rec.progress.finish();
-            rec.history.flush()?;
-            let kept = match &rec.checkpoints {
-                Some(c) if c.dir.join(crate::checkpoint::FILE).exists() => format!(
-                    "the last checkpoint is kept: `sphcontact run --resume {}` continues from it",
-                    c.dir.display()
-                ),
-                Some(_) => "no checkpoint was due yet".to_string(),
-                None => "the run wrote no checkpoints (--checkpoint-every)".to_string(),
-            };
-            return Err(RunError::Device(format!("{why}; {kept}")));
-        }
-        Err(e) => return Err(e),
-    };
+/// The error of a run the device failed: what was written stays (the
+/// history up to the last state the device delivered, and the last
+/// checkpoint), and the message says how to go on.
+fn device_failure(rec: &mut Recorder, why: String) -> Result<RunError, RunError> {
     rec.progress.finish();
     rec.history.flush()?;
-    let mut rec_warnings = Vec::new();
-    if let Some(d) = &dir {
-        // A picture of the run; one that cannot be drawn (no font) is a
-        // warning, never the run's failure.
-        if let Err(e) = crate::output::history_plot::write(d, &scene, &rec.history) {
-            let w = format!("history.png not drawn: {e}");
-            if !opts.silent {
-                eprintln!("warning: {w}");
-            }
-            rec_warnings.push(w);
-        }
-    }
-    let wall = wall_before + rec.start.elapsed().as_secs_f64();
-    let history = rec.history;
-    let (snapshots, snapshot_bytes, snapshot_seconds) = rec.snaps.map_or((0, 0, 0.0), |s| {
-        (s.series.count(), s.series.bytes, s.series.seconds)
-    });
-    let Outcome {
-        model,
-        state,
-        stored,
-        failure,
-        max_fallback,
-        adapter,
-        warnings: extra,
-    } = out;
-    let (final_model, final_state) = (model, state);
-    let (model, st) = (&final_model, &final_state);
-    warnings.extend(extra);
-    warnings.extend(rec_warnings);
-    let e0 = base_energy + stored.0;
-    let final_diag = Diagnostics {
-        contact: ContactStats {
-            stored: stored.1,
-            ..Default::default()
-        },
-        ..Default::default()
+    let kept = match &rec.checkpoints {
+        Some(c) if c.dir.join(crate::checkpoint::FILE).exists() => format!(
+            "the last checkpoint is kept: `sphcontact run --resume {}` continues from it",
+            c.dir.display()
+        ),
+        Some(_) => "no checkpoint was due yet".to_string(),
+        None => "the run wrote no checkpoints (--checkpoint-every)".to_string(),
     };
-    let end_energy = probe::energies(model, st, &final_diag);
-    let spring_loss = st.spring_work - (stored.1 - stored.0);
-    let out_of_range = crate::output::OutOfRangeSummary::of(model, st);
-    if let Some(line) = out_of_range.line() {
-        eprintln!("warning: {line}");
-        warnings.push(line);
-    }
-    if max_fallback > 0 {
-        warnings.push(format!(
-            "up to {max_fallback} particle(s) at a time were debris: too few neighbours for the corrected gradient, so L = I and no deviatoric stress or tension"
-        ));
-    }
-    let debris = crate::output::DebrisSummary::of(model, st, max_fallback as usize);
-    let summary = Summary {
-        scene: label,
-        dimension: dim,
-        backend: backend.to_string(),
-        adapter,
-        integrator: model.integrator.to_string(),
-        particles: n,
-        steps: st.step,
-        end_time: end,
-        time_reached: st.t,
-        wall_seconds: wall,
-        particle_steps_per_second: st.step as f64 * n as f64 / wall.max(1e-9),
-        momentum_initial: vec_of(p0, dim),
-        momentum_final: vec_of(probe::momentum(model, st), dim),
-        energy_initial: e0,
-        energy_final: end_energy.total(),
-        energy_spring_loss: spring_loss,
-        energy: crate::output::EnergyLedger::new(e0, &end_energy, spring_loss),
-        bodies: (0..model.bodies.len())
-            .map(|b| {
-                let (m, mv, _, _) = probe::body_means(model, st, b);
-                BodySummary {
-                    name: model.bodies[b].name.clone(),
-                    particles: model.bodies[b].range.len(),
-                    mass: m,
-                    velocity_final: vec_of(mv / m, dim),
-                    failure: crate::output::BodyFailure::of(model, st, &x0, b),
-                }
-            })
-            .collect(),
-        out_of_range,
-        debris,
-        snapshots,
-        snapshot_bytes,
-        snapshot_seconds,
-        warnings,
-        status: if failure.is_some() {
-            "failed"
-        } else {
-            "completed"
-        }
-        .into(),
-        error: failure.as_ref().map(|f| f.to_string()),
-    };
-    if let Some(d) = &dir {
-        summary.write(d)?;
-    }
-    if let Some(f) = failure {
-        return Err(RunError::Unstable(f));
-    }
-    Ok(RunOutput {
-        history,
-        summary,
-        out_dir: dir,
-        model: final_model,
-        state: final_state,
-    })
+    Ok(RunError::Device(format!("{why}; {kept}")))
 }

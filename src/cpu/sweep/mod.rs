@@ -17,6 +17,7 @@ use crate::physics::kernel;
 pub mod forces;
 mod forces_lanes;
 pub mod kinematics;
+mod lane_terms;
 #[cfg(test)]
 mod tests;
 

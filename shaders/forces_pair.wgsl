@@ -1,0 +1,316 @@
+// The forces stage's pair terms (the host appends them to the forces
+// stage's module, forces.wgsl, which declares the buffers they read): a
+// pair's momentum and energy terms with the viscosity, the artificial
+// stress and the hourglass control, and the boundary's sums.
+
+// The velocity jump the viscosity sees: v_ij less each side's linear
+// reconstruction to the pair midpoint, van Leer limited (xij = x_i - x_j).
+// CPU twin: physics::viscosity::reconstructed_jump.
+fn reconstructed_jump(vij: vec2<f32>, xij: vec2<f32>, gi: vec4<f32>, gj: vec4<f32>) -> vec2<f32> {
+    let di = mat_mul(gi, xij);
+    let dj = mat_mul(gj, xij);
+    let si = dot(xij, di);
+    let sj = dot(xij, dj);
+    if (si * sj <= 0.0) {
+        return vij;
+    }
+    let q = si / sj;
+    let phi = min(4.0 * q / ((1.0 + q) * (1.0 + q)), 1.0);
+    return vij - (di + dj) * (0.5 * phi);
+}
+
+// What particle i's pair terms read of it, read once before its walk.
+struct Own {
+    body: Body,
+    hi: f32,
+    rigid: bool,
+    boundary: bool,
+    surface: bool,
+    l: vec4<f32>,
+    t: vec4<f32>,
+    v: vec2<f32>,
+    vs: vec2<f32>,
+    g: vec4<f32>,
+    // The velocity and gradient the hourglass control sees (`hg_seen`).
+    vh: vec2<f32>,
+    gh: vec4<f32>,
+    rho: f32,
+    // m_i / rho_i and kappa_i^2, for the close-pair gate.
+    vol: f32,
+    k2: f32,
+    // R_i (art_of), zero without the artificial stress.
+    art: vec4<f32>,
+    // Not failed: a failed particle takes no part in the artificial stress.
+    intact: bool,
+    // Flows plastically (ART_FLOW; `t.w` holds the sound speed itself).
+    flows: bool,
+    alpha: f32,
+    beta: f32,
+}
+
+// The sums of the walk.
+struct Sums {
+    acc: vec2<f32>,
+    de: f32,
+    // The boundary's kernel sum over boundary neighbours (contact area).
+    sw: f32,
+    // The colour gradient with reference volumes, and its rate.
+    g0: vec2<f32>,
+    gdot: vec2<f32>,
+    // The artificial terms' share of `de` (DISS).
+    dd: f32,
+}
+
+// Add the SPH pair (i, j) (inside the support) to the sums; `img`: the
+// pair of i and j's mirror image across the axis (`axis_image`), which
+// has j's values mirrored, at radius `rj` (bodies of revolution).
+fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: ptr<function, Sums>) {
+    add_boundary(o, j, mj, pr, img, sums);
+    add_sph(o, j, mj, pr, img, rj, sums);
+}
+
+// A boundary particle's contact area and normal terms of a pair with the
+// round supports of the bodies' h (`add_pair`).
+fn add_boundary(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, sums: ptr<function, Sums>) {
+    let hij = pr.hij;
+    let dist = pr.dist;
+    if (o.boundary && nbo[j].z > 0.0 && LEAP != 3u) {
+        (*sums).sw += kernel_w(dist, hij);
+    }
+    if (o.boundary && dist > 0.0) {
+        var vj = v[j];
+        if (img) {
+            vj = mirror_vec(vj);
+        }
+        // With contact on, j is of i's body.
+        let v0 = reference_volume(mj, o.body.rho0);
+        (*sums).g0 -= pr.gw * v0;
+        (*sums).gdot -= hess_times(pr.d, dist, hij, o.v - vj) * v0;
+    }
+}
+
+// The momentum and energy terms of a pair (`add_pair`); where supports
+// adapt, `pr` is the pair in its mean metric.
+fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: ptr<function, Sums>) {
+    let hij = pr.hij;
+    let dist = pr.dist;
+    var vj = v[j];
+    if (img) {
+        vj = mirror_vec(vj);
+    }
+    if (o.rigid || dist <= 0.0) {
+        return;
+    }
+    // With contact on, j is of i's body (`body_pair`).
+    var bj = o.body;
+    if (!CONTACT) {
+        bj = bodies[mj.z];
+    }
+    let d = pr.d;
+    var lj = lmat[j];
+    var tj = sr2c[j];
+    var flows_j = false;
+    if (ART_FLOW) {
+        flows_j = tj.w < 0.0;
+        tj.w = abs(tj.w);
+    }
+    if (img) {
+        lj = mirror_mat(lj);
+        tj = mirror_sym(tj);
+    }
+    let g = mat_mul(0.5 * (o.l + lj), pr.gw);
+    let vij = o.v - vj;
+    // The viscosity (Monaghan's, or with RELEASE the Riemann form); it
+    // sees the reconstructed jump, the energy sum keeps the true v_ij.
+    var vis = vij;
+    if (LEAP == 3u) {
+        var vsj = vstar[j];
+        if (img) {
+            vsj = mirror_vec(vsj);
+        }
+        vis = o.vs - vsj;
+    }
+    // The velocities the momentum saw (the predicted ones in a leapfrog
+    // step): the artificial stress's heat gate reads these in both passes.
+    let vm = vis;
+    // The velocities the hourglass control sees: the forces' in an
+    // evaluation, v_{n+1/2} in a leapfrog step (`hg_seen`).
+    var vf = vis;
+    if (HG_HALF) {
+        var vhj = vhalf[j];
+        if (img) {
+            vhj = mirror_vec(vhj);
+        }
+        vf = o.vh - vhj;
+    }
+    // Not at a surface (h |grad psi| above the threshold) unless the scene
+    // asks: there grad v is one-sided and a contact loads the face
+    // impulsively.
+    if (RECON && (RECON_SURF || (!o.surface && nbo[j].z <= 0.0))) {
+        var gj = gradv[j];
+        if (img) {
+            gj = mirror_mat(gj);
+        }
+        vis = reconstructed_jump(vis, d, o.g, gj);
+    }
+    // Approaching pairs; with RELEASE receding ones too, on the linear
+    // term. CPU twin: physics::viscosity::viscosity_pi.
+    var pi = 0.0;
+    var vx = dot(vis, d);
+    var on = vx < 0.0;
+    if (RELEASE) {
+        // The smaller of the seen and the true jump where they agree in
+        // sign: heat, and continuous where either passes zero.
+        let tx = dot(vm, d);
+        on = vx * tx > 0.0;
+        if (tx * tx < vx * vx) {
+            vx = tx;
+        }
+    }
+    if (on) {
+        let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
+        let cm = 0.5 * (o.t.w + tj.w);
+        let rhom = 0.5 * (o.rho + sum_density(bj, j, rj));
+        var beta = o.beta;
+        if (vx >= 0.0) {
+            beta = 0.0;
+        }
+        pi = (-o.alpha * cm * muv + beta * muv * muv) / rhom;
+    }
+    // Each side's stress vector (cpu::forces::PairTerms::s): the paper's
+    // form keeps the stress terms in t on g; the variational one gives
+    // each side its own corrected gradient, sigma/(rho_i rho_j) L grad W
+    // (sigma/(eta_i rho_i) L grad W in a body of revolution).
+    var t = vec4<f32>(o.t.xyz + tj.xyz, 0.0);
+    var si = sym_mul(o.t, g);
+    var sv = vec2<f32>(0.0);
+    if (VARIATIONAL) {
+        var fi = 1.0;
+        var fj = 1.0;
+        if (!AXI) {
+            let rho_j = sum_density(bj, j, rj);
+            fi = o.rho / rho_j;
+            fj = rho_j / o.rho;
+        }
+        si = sym_mul(o.t, mat_mul(o.l, pr.gw)) * fi;
+        sv = si + sym_mul(tj, mat_mul(lj, pr.gw)) * fj;
+        t = vec4<f32>(0.0);
+    }
+    t.x -= pi;
+    t.y -= pi;
+    // The artificial stress's work, half to each particle of the pair, is
+    // booked as heat so total energy stays conserved.
+    // A pair acts only where one of its particles is in tension (the
+    // trace of R_i + R_j, R negative semi-definite, below zero) and, in
+    // the close-pair form, where its gate is open; R_j comes from t_j.
+    // It holds intact material together against the tensile instability;
+    // a failed particle is bonded to nothing.
+    var art_work = 0.0;
+    var rfg = vec2<f32>(0.0);
+    if (ART_STRESS && o.intact) {
+        var gate = 1.0;
+        if (ART_CLOSE) {
+            let rho_j = sum_density(bj, j, rj);
+            let vol = 0.5 * (o.vol + bitcast<f32>(mj.x) / rho_j);
+            // kappa^2 <= 1 only shrinks the spacing: a gate shut at 1 is
+            // shut, and most pairs read no kappa. Where supports adapt, in
+            // the pair's metric.
+            var u2 = dist * dist;
+            var vs = vol;
+            if (ADAPT && pr.scale > 0.0) {
+                u2 = pr.q2;
+                vs = vol * pr.scale;
+            }
+            gate = close_gate(u2, vs, 1.0);
+            if (ART_KAPPA && gate > 0.0) {
+                gate = close_gate(u2, vs, min(o.k2, kappa[mj.w]));
+            }
+        }
+        if (gate > 0.0) {
+            var rs = o.art;
+            if (bj.art != 0u) {
+                rs += art_of(tj);
+            }
+            if (rs.x + rs.y < 0.0 && intact(j)) {
+                let dp = 0.5 * (o.body.spacing + bj.spacing);
+                var aw = 0.0;
+                if (ADAPT && pr.scale > 0.0) {
+                    aw = art_weight(sqrt(pr.q2), dp / (0.5 * (o.hi + bj.h)), 1.0);
+                } else {
+                    aw = art_weight(dist, dp, hij);
+                }
+                var rf = rs * (aw * gate);
+                // Where its work may only be heat (everywhere, or at a pair
+                // that flows plastically), the share of it that is, read at
+                // the momentum's velocities (tension::heat_share).
+                if (ART_HEAT || (ART_FLOW && (o.flows || flows_j))) {
+                    let rg = sym_mul(rf, g);
+                    let scale = HEAT_SPEED * 0.5 * (o.t.w + tj.w) * length(rg);
+                    var share = 0.0;
+                    if (scale > 0.0) {
+                        share = clamp(-dot(vm, rg) / scale, 0.0, 1.0);
+                    }
+                    rf *= share;
+                }
+                t += rf;
+                rfg = sym_mul(rf, g);
+                art_work = 0.5 * dot(vij, rfg);
+            }
+        }
+    }
+    var hg = Hourglass(vec2<f32>(0.0), vec2<f32>(0.0));
+    if (HG > 0.0) {
+        var gj = gradv[j];
+        if (HG_HALF) {
+            gj = gradh[j];
+        }
+        if (img) {
+            gj = mirror_mat(gj);
+        }
+        hg = hourglass(o, bj, vf, d, pr.gw, gj, tj.w, bj.h, sum_density(bj, j, rj));
+    }
+    let mass_j = bitcast<f32>(mj.x);
+    if (LEAP != 3u) {
+        (*sums).acc += (sym_mul(t, g) + sv + hg.xi + hg.xj) * mass_j;
+    }
+    if (LEAP != 2u) {
+        (*sums).de -= mass_j * (dot(vij, si + hg.xi) - 0.5 * pi * dot(vij, g) + art_work);
+        if (DISS_SUMS) {
+            // The artificial part of i's energy vector (PairTerms::a).
+            (*sums).dd -= mass_j * dot(vij, 0.5 * (rfg - pi * g) + hg.xi);
+        }
+    }
+}
+
+// A pair's hourglass terms per unit m_i m_j: i's family's force on i
+// (`xi`, heat -m_j v_ij.xi to i) and j's family's (`xj`, heat -m_i
+// v_ij.xj to j, which j's own walk books).
+struct Hourglass {
+    xi: vec2<f32>,
+    xj: vec2<f32>,
+}
+
+// The hourglass control of the pair (i, j) at the velocities the forces
+// see, `vf = v_i - v_j`, `d = x_i - x_j`, the kernel gradient `gw`, j's
+// velocity gradient, sound speed, h and density (eta in a body of
+// revolution). CPU twin: cpu::forces::hourglass.
+fn hourglass(o: Own, bj: Body, vf: vec2<f32>, d: vec2<f32>, gw: vec2<f32>, gj: vec4<f32>, cj: f32, hj: f32, rho_j: f32) -> Hourglass {
+    let r2 = dot(d, d);
+    if (r2 <= 0.0) {
+        return Hourglass(vec2<f32>(0.0), vec2<f32>(0.0));
+    }
+    let w = -dot(gw, d) / r2;
+    let di = mat_mul(o.gh, d) - vf;
+    let dj = vf - mat_mul(gj, d);
+    // Each family at its body's coefficient.
+    let ki = o.body.hg * w;
+    let kj = bj.hg * w;
+    // V_j/m_j: 1/rho_j; in a body of revolution 1/eta_i.
+    var vi = rho_j;
+    var vj = o.rho;
+    if (AXI) {
+        vi = o.rho;
+        vj = rho_j;
+    }
+    return Hourglass(di * (ki * o.t.w * o.hi / vi), dj * (-kj * cj * hj / vj));
+}
