@@ -264,9 +264,44 @@ fn check_cases(cases: &[Case]) {
     );
 }
 
+mod check;
 mod files;
 mod keys;
 mod placement;
 mod runs;
 mod shapes;
 mod values;
+
+/// `sphcontact check` on `scene` succeeds and prints `line`.
+fn check_says(dir: &Path, scene: &Path, line: &str) {
+    let out = sphcontact(dir, &["check", scene.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains(line), "{stdout}");
+}
+
+/// A line the graphics stack may print on its own (Mesa without a
+/// display's runtime directory), not the solver's.
+fn is_adapter_noise(line: &str) -> bool {
+    line.contains("XDG_RUNTIME_DIR")
+}
+
+/// `run` of the tiny base scene on `backend`, writing into `<tmp>/out`.
+fn run_base(tmp: &Path, name: &str, backend: &str) -> (Output, PathBuf) {
+    let scene = write_scene(tmp, name, BASE_1D);
+    run_into(tmp, &scene, backend, tmp.join("out"))
+}
+
+/// `run` of `scene` on `backend`, quiet, writing into `out_dir`.
+fn run_into(tmp: &Path, scene: &Path, backend: &str, out_dir: PathBuf) -> (Output, PathBuf) {
+    let args = [
+        "run",
+        scene.to_str().unwrap(),
+        "--backend",
+        backend,
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--quiet",
+    ];
+    (sphcontact(tmp, &args), out_dir)
+}
