@@ -27,15 +27,66 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
         format!("{:?}", sim.correction).to_lowercase(),
         sim.smoothing_ratio
     );
-    // A body's mass: per unit area in 1-D, per unit depth in plane strain,
-    // the whole revolution's in a body of revolution.
-    let mass_unit = if scene.axisymmetric() {
-        "kg"
-    } else if sim.dimension == 1 {
-        "kg/m2"
+    print_numerics(scene, &model);
+    print_bodies(scene, &model);
+    let placed = sphcontact::scene::place_bodies(scene);
+    let dt = cfl_step_at_start(scene, &placed);
+    if model.contact {
+        print_contact(scene, &model, dt);
+    }
+    let [lo, hi] = model.domain;
+    if model.dim == 1 {
+        println!(
+            "domain      x in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
+            lo.x, hi.x
+        );
     } else {
-        "kg/m"
-    };
+        println!(
+            "domain      x in [{:.4e}, {:.4e}] m, y in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
+            lo.x, hi.x, lo.y, hi.y
+        );
+    }
+    let used = sim.dt.unwrap_or(dt.min(model.contact_dt));
+    println!(
+        "time        end {:.4e} s, step {:.4e} s ({}), about {} steps, {}",
+        sim.end_time,
+        used,
+        if sim.dt.is_some() {
+            "fixed"
+        } else if model.contact_dt < dt {
+            "the contact's limit"
+        } else {
+            "CFL at t = 0"
+        },
+        (sim.end_time / used).ceil(),
+        match sim.integrator {
+            Integrator::Midpoint => "midpoint rule (two evaluations a step)",
+            Integrator::Leapfrog => "leapfrog (one evaluation a step)",
+        }
+    );
+    println!(
+        "output      {} ({} history rows, {} probes{})",
+        output_dir(scene, Some(path), &RunOptions::default()).display(),
+        history_times(sim.end_time, scene.history_interval()).len(),
+        scene.probes.len(),
+        match scene.output.snapshot_interval {
+            // A size to plan disk for.
+            Some(dt) => {
+                let k = history_times(sim.end_time, dt).len();
+                format!(
+                    ", {k} snapshots of about {:.0} MB each",
+                    (sphcontact::output::vtk::BYTES_PER_PARTICLE * model.len() as u64) as f64 / 1e6
+                )
+            }
+            None => String::new(),
+        }
+    );
+}
+
+/// The numerics' lines: the dispersion correction, the supports, the
+/// viscosity and the hourglass control, the artificial stress.
+fn print_numerics(scene: &Scene, model: &Model) {
+    let sim = &scene.simulation;
     println!(
         "dispersion  {}",
         if sim.dispersion_correction > 0.0 {
@@ -129,6 +180,19 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
             b.hourglass
         );
     }
+}
+
+/// The particles' line and each body's lines.
+fn print_bodies(scene: &Scene, model: &Model) {
+    // A body's mass: per unit area in 1-D, per unit depth in plane strain,
+    // the whole revolution's in a body of revolution.
+    let mass_unit = if scene.axisymmetric() {
+        "kg"
+    } else if scene.simulation.dimension == 1 {
+        "kg/m2"
+    } else {
+        "kg/m"
+    };
     println!("particles   {}", model.len());
     for (bi, (b, sb)) in model.bodies.iter().zip(&scene.bodies).enumerate() {
         let m = &b.material;
@@ -176,85 +240,40 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
             if m.y0.is_finite() { format!(", Y0 {:.4e} Pa", m.y0) } else { String::new() }
         );
     }
-    let placed = sphcontact::scene::place_bodies(scene);
-    let dt = cfl_step_at_start(scene, &placed);
-    if model.contact {
-        let inf = |b: &sphcontact::model::BodyInfo, v: f64| if b.rigid { f64::INFINITY } else { v };
-        for (i, a) in model.bodies.iter().enumerate() {
-            for b in &model.bodies[i + 1..] {
-                let z = series(inf(a, a.material.z), inf(b, b.material.z));
-                // The spring at conforming-lattice offsets (Δx/2 each side).
-                let k = sphcontact::physics::penalty::spring_stiffness(
-                    0.5 * a.spacing,
-                    a.spacing,
-                    inf(a, a.material.m),
-                    0.5 * b.spacing,
-                    b.spacing,
-                    inf(b, b.material.m),
-                );
-                let spring = format!("spring (surface layers Δx/2) {k:.4e} Pa/m");
-                println!(
-                    "contact     {} | {}: Z* {:.4e} Pa s/m, {}",
-                    a.name, b.name, z, spring
-                );
-            }
+}
+
+/// Each pair of bodies' contact constants and the spring's step limit
+/// against the CFL step `dt`.
+fn print_contact(scene: &Scene, model: &Model, dt: f64) {
+    let sim = &scene.simulation;
+    let inf = |b: &sphcontact::model::BodyInfo, v: f64| if b.rigid { f64::INFINITY } else { v };
+    for (i, a) in model.bodies.iter().enumerate() {
+        for b in &model.bodies[i + 1..] {
+            let z = series(inf(a, a.material.z), inf(b, b.material.z));
+            // The spring at conforming-lattice offsets (Δx/2 each side).
+            let k = sphcontact::physics::penalty::spring_stiffness(
+                0.5 * a.spacing,
+                a.spacing,
+                inf(a, a.material.m),
+                0.5 * b.spacing,
+                b.spacing,
+                inf(b, b.material.m),
+            );
+            let spring = format!("spring (surface layers Δx/2) {k:.4e} Pa/m");
+            println!(
+                "contact     {} | {}: Z* {:.4e} Pa s/m, {}",
+                a.name, b.name, z, spring
+            );
         }
-        println!(
-            "            step limit of the stiffest spring {:.4e} s (ω Δt = {}){}",
-            model.contact_dt,
-            sphcontact::physics::penalty::CONTACT_STEP,
-            if sim.dt.is_none() && model.contact_dt < dt {
-                ", below the CFL step: it sets the step"
-            } else {
-                ""
-            }
-        );
     }
-    let [lo, hi] = model.domain;
-    if model.dim == 1 {
-        println!(
-            "domain      x in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
-            lo.x, hi.x
-        );
-    } else {
-        println!(
-            "domain      x in [{:.4e}, {:.4e}] m, y in [{:.4e}, {:.4e}] m (a particle leaving it stops the run)",
-            lo.x, hi.x, lo.y, hi.y
-        );
-    }
-    let used = sim.dt.unwrap_or(dt.min(model.contact_dt));
     println!(
-        "time        end {:.4e} s, step {:.4e} s ({}), about {} steps, {}",
-        sim.end_time,
-        used,
-        if sim.dt.is_some() {
-            "fixed"
-        } else if model.contact_dt < dt {
-            "the contact's limit"
+        "            step limit of the stiffest spring {:.4e} s (ω Δt = {}){}",
+        model.contact_dt,
+        sphcontact::physics::penalty::CONTACT_STEP,
+        if sim.dt.is_none() && model.contact_dt < dt {
+            ", below the CFL step: it sets the step"
         } else {
-            "CFL at t = 0"
-        },
-        (sim.end_time / used).ceil(),
-        match sim.integrator {
-            Integrator::Midpoint => "midpoint rule (two evaluations a step)",
-            Integrator::Leapfrog => "leapfrog (one evaluation a step)",
-        }
-    );
-    println!(
-        "output      {} ({} history rows, {} probes{})",
-        output_dir(scene, Some(path), &RunOptions::default()).display(),
-        history_times(sim.end_time, scene.history_interval()).len(),
-        scene.probes.len(),
-        match scene.output.snapshot_interval {
-            // A size to plan disk for.
-            Some(dt) => {
-                let k = history_times(sim.end_time, dt).len();
-                format!(
-                    ", {k} snapshots of about {:.0} MB each",
-                    (sphcontact::output::vtk::BYTES_PER_PARTICLE * model.len() as u64) as f64 / 1e6
-                )
-            }
-            None => String::new(),
+            ""
         }
     );
 }

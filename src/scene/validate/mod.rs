@@ -65,6 +65,16 @@ pub fn dispersion_correction_in_range(theta: f64) -> Result<(), String> {
 
 /// Check every rule of docs/scenes.md ("Validation") that serde does not.
 pub fn validate(scene: &Scene) -> R {
+    validate_simulation(scene)?;
+    validate_materials(scene)?;
+    let names = validate_bodies(scene)?;
+    validate_probes(scene, &names)?;
+    validate_placement(scene)
+}
+
+/// The simulation's keys and the scene-wide tables (artificial terms,
+/// contact, output).
+fn validate_simulation(scene: &Scene) -> R {
     let sim = &scene.simulation;
     let dim = sim.dimension as usize;
     if dim != 1 && dim != 2 {
@@ -130,7 +140,11 @@ pub fn validate(scene: &Scene) -> R {
     if let Some(v) = scene.output.snapshot_interval {
         positive("output.snapshot_interval", v)?;
     }
+    Ok(())
+}
 
+/// Each material's keys.
+fn validate_materials(scene: &Scene) -> R {
     if scene.materials.is_empty() {
         return Err(SceneError::at(
             "materials",
@@ -153,7 +167,13 @@ pub fn validate(scene: &Scene) -> R {
         }
         validate_strength(m, &k)?;
     }
+    Ok(())
+}
 
+/// Each body's keys; the bodies' names.
+fn validate_bodies(scene: &Scene) -> Result<HashSet<&str>, SceneError> {
+    let sim = &scene.simulation;
+    let dim = sim.dimension as usize;
     if scene.bodies.is_empty() {
         return Err(SceneError::at("bodies", "at least one body is required"));
     }
@@ -228,7 +248,12 @@ pub fn validate(scene: &Scene) -> R {
             validate_particles(b, file, dim, rho0, scene.axisymmetric(), &k)?;
         }
     }
+    Ok(names)
+}
 
+/// Each probe's keys, against the bodies' `names`.
+fn validate_probes(scene: &Scene, names: &HashSet<&str>) -> R {
+    let dim = scene.simulation.dimension as usize;
     let mut probe_names = HashSet::new();
     let known = |i: usize, key: &str, body: &str| -> R {
         if names.contains(body) {
@@ -291,8 +316,7 @@ pub fn validate(scene: &Scene) -> R {
             Probe::Energy { .. } => {}
         }
     }
-
-    validate_placement(scene)
+    Ok(())
 }
 
 /// The strength, heating and failure keys of one material; `k` makes the
