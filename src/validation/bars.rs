@@ -60,139 +60,184 @@ pub(super) fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
         None,
     )?;
     let ex = exact_bars(&pen.scene, "steel")?;
-    let t = pen.times().to_vec();
-    let tk = ker.times().to_vec();
-    let us = 1e6;
-    let d_b = probe_distance(&pen.scene, -0.0025);
+    let fig = BarFigures {
+        pen: &pen,
+        ker: &ker,
+        ex: &ex,
+        n,
+    };
+    fig.velocity_b(rep, probe_distance(&pen.scene, -0.0025))?;
+    fig.stress_a(rep)?;
+    fig.mean_velocities(rep)?;
+    bar_scores(&pen, &ker, &ex, rep);
+    Ok(())
+}
 
-    // Fig. 4: velocity at b.
-    let exact_vb: Vec<f64> = t
-        .iter()
-        .map(|&s| ex.point_velocity(BarId::One, d_b, s))
-        .collect();
-    let (vb_p, vb_k) = (pen.col("velocity_b"), ker.col("velocity_b"));
-    let mut f = Figure::new(
-        &format!(
-            "Fig. 4: velocity at b ({:.2} mm from the contact), steel bars, N = {n}",
-            d_b * 1e3
-        ),
-        "time (µs)",
-        "velocity (m/s)",
-    );
-    f.series.push(series(
-        "kernel mode",
-        pts(&tk, &vb_k, us, 1.0),
-        Style::Solid,
-        1,
-    ));
-    f.series.push(series(
-        "contact mode",
-        pts(&t, &vb_p, us, 1.0),
-        Style::Solid,
-        0,
-    ));
-    f.series
-        .push(exact_series("exact", pts(&t, &exact_vb, us, 1.0)));
-    rep.figure("fig4_velocity_b", &f);
-    rep.csv(
-        "fig4_velocity_b",
-        &["time_s", "exact_m_s", "contact_m_s", "kernel_m_s"],
-        &[t.clone(), exact_vb, vb_p, vb_k],
-    )?;
+/// The steel bars' runs (contact and kernel mode, `n` particles a bar)
+/// and their exact answer, for Figs. 4–6.
+struct BarFigures<'a> {
+    pen: &'a CaseRun,
+    ker: &'a CaseRun,
+    ex: &'a BarImpactHistory,
+    n: usize,
+}
 
-    // Fig. 5: stress at the contact point a. In contact mode that is the
-    // contact pressure (docs/method.md §11); in kernel mode the SPH stress of the
-    // face particle (tension positive), shown as −σ_xx (compression up).
-    let p_pen = pen.col("contact_pressure");
-    let s_ker: Vec<f64> = ker.col("stress_a").iter().map(|s| -s).collect();
-    let exact_p: Vec<f64> = t.iter().map(|&s| -ex.interface_stress(s)).collect();
-    let mut f = Figure::new(
-        &format!("Fig. 5: stress at the contact point a, steel bars, N = {n}"),
-        "time (µs)",
-        "contact stress (MPa)",
-    );
-    f.series.push(series(
-        "kernel mode (−σxx of the face particle)",
-        pts(&tk, &s_ker, us, 1e-6),
-        Style::Solid,
-        1,
-    ));
-    f.series.push(series(
-        "contact mode (contact pressure p)",
-        pts(&t, &p_pen, us, 1e-6),
-        Style::Solid,
-        0,
-    ));
-    f.series
-        .push(exact_series("exact", pts(&t, &exact_p, us, 1e-6)));
-    rep.figure("fig5_stress_a", &f);
+impl BarFigures<'_> {
+    /// Fig. 4: the velocity at b, `d_b` from the contact.
+    fn velocity_b(&self, rep: &mut Report, d_b: f64) -> Result<(), RunError> {
+        let (pen, ker, ex, n) = (self.pen, self.ker, self.ex, self.n);
+        let t = pen.times().to_vec();
+        let tk = ker.times().to_vec();
+        let us = 1e6;
+        // Fig. 4: velocity at b.
+        let exact_vb: Vec<f64> = t
+            .iter()
+            .map(|&s| ex.point_velocity(BarId::One, d_b, s))
+            .collect();
+        let (vb_p, vb_k) = (pen.col("velocity_b"), ker.col("velocity_b"));
+        let mut f = Figure::new(
+            &format!(
+                "Fig. 4: velocity at b ({:.2} mm from the contact), steel bars, N = {n}",
+                d_b * 1e3
+            ),
+            "time (µs)",
+            "velocity (m/s)",
+        );
+        f.series.push(series(
+            "kernel mode",
+            pts(&tk, &vb_k, us, 1.0),
+            Style::Solid,
+            1,
+        ));
+        f.series.push(series(
+            "contact mode",
+            pts(&t, &vb_p, us, 1.0),
+            Style::Solid,
+            0,
+        ));
+        f.series
+            .push(exact_series("exact", pts(&t, &exact_vb, us, 1.0)));
+        rep.figure("fig4_velocity_b", &f);
+        rep.csv(
+            "fig4_velocity_b",
+            &["time_s", "exact_m_s", "contact_m_s", "kernel_m_s"],
+            &[t.clone(), exact_vb, vb_p, vb_k],
+        )?;
+        Ok(())
+    }
+
+    /// Fig. 5: the stress at the contact point a.
+    fn stress_a(&self, rep: &mut Report) -> Result<(), RunError> {
+        let (pen, ker, ex, n) = (self.pen, self.ker, self.ex, self.n);
+        let t = pen.times().to_vec();
+        let tk = ker.times().to_vec();
+        let us = 1e6;
+        // Fig. 5: stress at the contact point a. In contact mode that is the
+        // contact pressure (docs/method.md §11); in kernel mode the SPH stress of the
+        // face particle (tension positive), shown as −σ_xx (compression up).
+        let p_pen = pen.col("contact_pressure");
+        let s_ker: Vec<f64> = ker.col("stress_a").iter().map(|s| -s).collect();
+        let exact_p: Vec<f64> = t.iter().map(|&s| -ex.interface_stress(s)).collect();
+        let mut f = Figure::new(
+            &format!("Fig. 5: stress at the contact point a, steel bars, N = {n}"),
+            "time (µs)",
+            "contact stress (MPa)",
+        );
+        f.series.push(series(
+            "kernel mode (−σxx of the face particle)",
+            pts(&tk, &s_ker, us, 1e-6),
+            Style::Solid,
+            1,
+        ));
+        f.series.push(series(
+            "contact mode (contact pressure p)",
+            pts(&t, &p_pen, us, 1e-6),
+            Style::Solid,
+            0,
+        ));
+        f.series
+            .push(exact_series("exact", pts(&t, &exact_p, us, 1e-6)));
+        rep.figure("fig5_stress_a", &f);
+        rep.csv(
+            "fig5_stress_a",
+            &[
+                "time_s",
+                "exact_pressure_pa",
+                "contact_pressure_pa",
+                "kernel_minus_stress_xx_pa",
+            ],
+            &[t.clone(), exact_p, p_pen, s_ker],
+        )?;
+        Ok(())
+    }
+
+    /// Fig. 6: the bars' mean velocities.
+    fn mean_velocities(&self, rep: &mut Report) -> Result<(), RunError> {
+        let (pen, ker, ex, n) = (self.pen, self.ker, self.ex, self.n);
+        let t = pen.times().to_vec();
+        let us = 1e6;
+        // Fig. 6: mean velocities.
+        let ex_l: Vec<f64> = t.iter().map(|&s| ex.mean_velocity(BarId::One, s)).collect();
+        let ex_r: Vec<f64> = t.iter().map(|&s| ex.mean_velocity(BarId::Two, s)).collect();
+        let mut f = Figure::new(
+            &format!("Fig. 6: mean velocities of the bars, steel bars, N = {n}"),
+            "time (µs)",
+            "mean velocity (m/s)",
+        );
+        let cols = [
+            ("kernel mode, left", &ker, "velocity_left", 1),
+            ("kernel mode, right", &ker, "velocity_right", 3),
+            ("contact mode, left", &pen, "velocity_left", 0),
+            ("contact mode, right", &pen, "velocity_right", 2),
+        ]
+        .map(|(label, run, col, color)| {
+            let v = run.col(col);
+            f.series.push(series(
+                label,
+                pts(run.times(), &v, us, 1.0),
+                Style::Solid,
+                color,
+            ));
+            v
+        });
+        f.series
+            .push(exact_series("exact", pts(&t, &ex_l, us, 1.0)));
+        f.series.push(exact_series("", pts(&t, &ex_r, us, 1.0)));
+        rep.figure("fig6_mean_velocity", &f);
+        let [kl, kr, cl, cr] = cols;
+        rep.csv(
+            "fig6_mean_velocity",
+            &[
+                "time_s",
+                "exact_left_m_s",
+                "exact_right_m_s",
+                "contact_left_m_s",
+                "contact_right_m_s",
+                "kernel_left_m_s",
+                "kernel_right_m_s",
+            ],
+            &[t, ex_l, ex_r, cl, cr, kl, kr],
+        )?;
+        Ok(())
+    }
+}
+
+/// Case 1's scores: the contact mode against the exact answer, the kernel
+/// mode's failure (the paper's point).
+fn bar_scores(pen: &CaseRun, ker: &CaseRun, ex: &BarImpactHistory, rep: &mut Report) {
+    // Scores.
     // The bars never pull each other (docs/method.md §11): read from the
     // left bar's momentum, which only the contact changes.
     let (pull, push) = pen.pull_and_push(0, "velocity_left");
-    rep.csv(
-        "fig5_stress_a",
-        &[
-            "time_s",
-            "exact_pressure_pa",
-            "contact_pressure_pa",
-            "kernel_minus_stress_xx_pa",
-        ],
-        &[t.clone(), exact_p, p_pen, s_ker],
-    )?;
-
-    // Fig. 6: mean velocities.
-    let ex_l: Vec<f64> = t.iter().map(|&s| ex.mean_velocity(BarId::One, s)).collect();
-    let ex_r: Vec<f64> = t.iter().map(|&s| ex.mean_velocity(BarId::Two, s)).collect();
-    let mut f = Figure::new(
-        &format!("Fig. 6: mean velocities of the bars, steel bars, N = {n}"),
-        "time (µs)",
-        "mean velocity (m/s)",
-    );
-    let cols = [
-        ("kernel mode, left", &ker, "velocity_left", 1),
-        ("kernel mode, right", &ker, "velocity_right", 3),
-        ("contact mode, left", &pen, "velocity_left", 0),
-        ("contact mode, right", &pen, "velocity_right", 2),
-    ]
-    .map(|(label, run, col, color)| {
-        let v = run.col(col);
-        f.series.push(series(
-            label,
-            pts(run.times(), &v, us, 1.0),
-            Style::Solid,
-            color,
-        ));
-        v
-    });
-    f.series
-        .push(exact_series("exact", pts(&t, &ex_l, us, 1.0)));
-    f.series.push(exact_series("", pts(&t, &ex_r, us, 1.0)));
-    rep.figure("fig6_mean_velocity", &f);
-    let [kl, kr, cl, cr] = cols;
-    rep.csv(
-        "fig6_mean_velocity",
-        &[
-            "time_s",
-            "exact_left_m_s",
-            "exact_right_m_s",
-            "contact_left_m_s",
-            "contact_right_m_s",
-            "kernel_left_m_s",
-            "kernel_right_m_s",
-        ],
-        &[t, ex_l, ex_r, cl, cr, kl, kr],
-    )?;
-
-    // Scores.
     let case = "steel bars, contact";
     let r = &ex.result;
-    let sc = rep.contact_phase(case, "contact pressure plateau (Pa)", &pen, r, 0.01);
+    let sc = rep.contact_phase(case, "contact pressure plateau (Pa)", pen, r, 0.01);
     rep.add(
         case,
         "rebound: left bar mean velocity at 4 µs (m/s)",
         r.final_velocity_1,
         sc.final_left,
-        &pen,
+        pen,
         "≥ 0.97 of exact",
         sc.final_left / r.final_velocity_1 >= 0.97,
     );
@@ -201,11 +246,11 @@ pub(super) fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
         "largest pull between the bars, from the left bar's momentum (Pa)",
         0.0,
         pull.max(0.0),
-        &pen,
+        pen,
         "round-off: ≤ 1e-4 of the largest push",
         pull <= PULL_ROUND_OFF * push,
     );
-    rep.momentum(case, "kg m/s per m²", &pen, 2.0 * 39.25 * 10.0);
+    rep.momentum(case, "kg m/s per m²", pen, 2.0 * 39.25 * 10.0);
     let s = &pen.out.summary;
     let de = s.energy_final / s.energy_initial - 1.0;
     rep.add(
@@ -213,7 +258,7 @@ pub(super) fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
         "total energy change (relative)",
         0.0,
         de,
-        &pen,
+        pen,
         "|·| < 1e-3 (docs/method.md §11)",
         de.abs() < 1e-3,
     );
@@ -221,29 +266,28 @@ pub(super) fn bars(opts: &Options, rep: &mut Report) -> Result<(), RunError> {
     // Kernel mode: the paper's point is that it fails; the records pass
     // when it does (bars still stuck, tension at the face).
     let case = "steel bars, kernel";
-    let v = last(&ker, "velocity_left");
+    let v = last(ker, "velocity_left");
     rep.add(
         case,
         "left bar mean velocity at 4 µs (m/s)",
         r.final_velocity_1,
         v,
-        &ker,
+        ker,
         "off by > 10 % (the paper's point)",
         (v / r.final_velocity_1 - 1.0).abs() > 0.1,
     );
     // The bodies pull on each other through the SPH sums: the face
     // particle's own stress shows it.
-    let tension = max_tension(&ker, "stress_a");
+    let tension = max_tension(ker, "stress_a");
     rep.add(
         case,
         "largest tension at the contact face (Pa)",
         0.0,
         tension,
-        &ker,
+        ker,
         "> 10 % of the contact stress (the paper's point)",
         tension > 0.1 * r.contact_stress.abs(),
     );
-    Ok(())
 }
 
 /// Case 2, Fig. 7: axial stress against position at fixed times, steel
