@@ -4,6 +4,8 @@
 
 use rayon::prelude::*;
 
+use crate::cpu::neighbours::Neighbours;
+use crate::model::ContactStats;
 use crate::physics::viscosity;
 
 use super::*;
@@ -44,39 +46,7 @@ impl CpuSolver {
         let mut half = std::mem::take(&mut self.scratch);
         let mut next = std::mem::take(&mut self.spare);
         stage::enter(Stage::Advance, Role::KickDrift);
-        half.x
-            .par_iter_mut()
-            .zip(half.v.par_iter_mut())
-            .zip(half.e.par_iter_mut())
-            .zip(next.v.par_iter_mut())
-            .enumerate()
-            .for_each(|(i, (((x, v), e), vp))| {
-                if model.rigid(i) {
-                    *v = st.v[i];
-                    *e = st.e[i];
-                    *vp = *v;
-                } else {
-                    *v = st.v[i] + kn.dv[i] * h;
-                    *e = st.e[i] + kn.de[i] * h + kick_energy(kn.dv[i], h);
-                    let c = viscosity::predictor_weight(
-                        model.alpha,
-                        model.material(i).c_l,
-                        model.h[i],
-                        dt,
-                    );
-                    *vp = *v + kn.dv[i] * ((c - 0.5) * dt);
-                }
-                *x = st.x[i] + *v * dt;
-            });
-        half.rho.copy_from_slice(&st.rho);
-        half.s.copy_from_slice(&st.s);
-        // The step's sums take the supports it starts with; they are
-        // carried to n+1 at its end.
-        half.metric.clone_from(&st.metric);
-        next.metric.clone_from(&st.metric);
-        half.heat = st.heat + kn.heat_rate * h;
-        half.dissipation = st.dissipation + kn.dissipation_rate * h;
-        half.spring_work = st.spring_work + kn.spring_rate * h;
+        kick_drift(model, st, &kn, dt, &mut half, &mut next);
         Self::refresh_lists(
             model,
             &mut self.nb,
@@ -97,43 +67,8 @@ impl CpuSolver {
         }
         let lv = std::mem::take(&mut k.lv);
         next.x.copy_from_slice(&half.x);
-        // ρ and s at n+1, the predicted energy of 3, and the EOS at them
-        // (eos_and_stress: in the same walk, or, with a plastic history,
-        // after its return).
-        let to_next = |i: usize, e: &mut f64, rho: &mut f64, s: &mut Sym| {
-            if model.rigid(i) {
-                (*e, *rho, *s) = (half.e[i], half.rho[i], half.s[i]);
-                return;
-            }
-            // The predicted energy takes back the first half kick's
-            // compatible term, which the second is expected to return.
-            *e = half.e[i] + kn.de[i] * h - kick_energy(kn.dv[i], h);
-            *rho = density_after(half.rho[i], k.drho[i], dt);
-            *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
-        };
-        let walk = next
-            .e
-            .par_iter_mut()
-            .zip(next.rho.par_iter_mut())
-            .zip(next.s.par_iter_mut())
-            .enumerate();
-        let pts: Vec<StressPoint> = if model.history {
-            walk.for_each(|(i, ((e, rho), s))| to_next(i, e, rho, s));
-            return_with_history(model, st, &k.rate, st.t + dt, &mut next);
-            eos_and_stress_with(model, &next, &k.fallback)
-        } else {
-            let debris = k.debris_flags(model);
-            walk.map(|(i, ((e, rho), s))| {
-                to_next(i, e, rho, s);
-                let at = (*rho, next.x[i]);
-                if debris.get(i).copied().unwrap_or(false) {
-                    kinematics::debris_point(model, i, at, *e)
-                } else {
-                    stress_point(model, i, at, *e, s, 0.0)
-                }
-            })
-            .collect()
-        };
+        // ρ and s at n+1, the predicted energy of 3, and the EOS at them.
+        let pts = to_next(model, st, (&kn, &k), dt, &half, &mut next);
         // 3: the forces at n+1.
         stage::enter(Stage::Forces, Role::Next);
         let (mut dv, art) = sweep::momentum_keeping(model, &next, nb, &k, &pts, &mut self.kept);
@@ -186,21 +121,11 @@ impl CpuSolver {
         if let Some(m) = &mirrors {
             dissipation_rate += m.add_energy(model, nb, &pts, v_next, &mut de);
         }
-        let (mut heat_rate, mut spring_rate) = (0.0, 0.0);
         if let Some(bd) = bd {
             stage::enter(Stage::Contact, Role::Book);
-            // The contact's forces again (the same bits), their heat and
-            // spring power booked at v_{n+1}.
-            let c = contact::penalty_booked(model, &next, nb, &bd, Some(v_next));
-            for (k, &i) in bd.list.iter().enumerate() {
-                let i = i as usize;
-                if !model.rigid(i) {
-                    de[i] += c.heat[k] / model.mass[i];
-                }
-            }
-            (heat_rate, spring_rate) = (c.stats.heat_rate, c.stats.spring_rate);
-            diag.contact = c.stats;
+            diag.contact = book_contact(model, &next, nb, &bd, v_next, &mut de);
         }
+        let (heat_rate, spring_rate) = (diag.contact.heat_rate, diag.contact.spring_rate);
         std::mem::swap(&mut next.v, &mut half.v);
         carry_supports(model, st, &lv, dt, &mut next.metric, &mut next.carried);
         stage::enter(Stage::Advance, Role::Finish);
@@ -209,33 +134,7 @@ impl CpuSolver {
         // e at n+1, the CFL step at the new state (cfl_step) and whether
         // it passes the state check ([`CpuSolver::check`], which names
         // the particle when it does not), in one walk.
-        let (cfl_dt, sane) = next
-            .e
-            .par_iter_mut()
-            .enumerate()
-            .map(|(i, e)| {
-                let (x, v, rho) = (next.x[i], next.v[i], next.rho[i]);
-                if model.rigid(i) {
-                    // Checked too: a rigid body may leave the domain.
-                    return (f64::INFINITY, sane(model, i, x, v, *e, rho, 0.0));
-                }
-                *e = half.e[i] + de[i] * h - kick_energy(dv[i], h);
-                let hs = support_h(model, &next.metric, i);
-                let dt = material::cfl_step(model.cfl, hs, pts[i].c, v.length());
-                (
-                    dt,
-                    sane(
-                        model,
-                        i,
-                        x,
-                        v,
-                        *e,
-                        rho,
-                        next.damage.get(i).copied().unwrap_or(0.0),
-                    ),
-                )
-            })
-            .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 && b.1));
+        let (cfl_dt, sane) = finish_energy(model, &mut next, &half, (&dv, &de), &pts, h);
         next.heat = half.heat + heat_rate * h;
         next.dissipation = half.dissipation + dissipation_rate * h;
         next.spring_work = half.spring_work + spring_rate * h;
@@ -245,24 +144,139 @@ impl CpuSolver {
         diag.cfl_dt = cfl_dt;
         self.scratch = half;
         self.spare = std::mem::replace(&mut self.state, next);
-        self.current = Some((
-            Rates {
-                dv,
-                drho: Vec::new(),
-                de,
-                ds: Vec::new(),
-                rate: Vec::new(),
-                heat_rate,
-                spring_rate,
-                dissipation_rate,
-                entry: Vec::new(),
-                lv: Vec::new(),
-                debris: Vec::new(),
-            },
-            diag,
-        ));
+        let rates = Rates {
+            heat_rate,
+            spring_rate,
+            dissipation_rate,
+            ..Rates::of_motion(dv, de)
+        };
+        self.current = Some((rates, diag));
         sane
     }
+}
+
+/// Step 1 of [`CpuSolver::leapfrog`]: the half kick of `v` and `e` and the
+/// drift of `x` into `half`, the predicted velocity of 3 into `next.v`.
+fn kick_drift(model: &Model, st: &State, kn: &Rates, dt: f64, half: &mut State, next: &mut State) {
+    let h = 0.5 * dt;
+    half.x
+        .par_iter_mut()
+        .zip(half.v.par_iter_mut())
+        .zip(half.e.par_iter_mut())
+        .zip(next.v.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, (((x, v), e), vp))| {
+            if model.rigid(i) {
+                *v = st.v[i];
+                *e = st.e[i];
+                *vp = *v;
+            } else {
+                *v = st.v[i] + kn.dv[i] * h;
+                *e = st.e[i] + kn.de[i] * h + kick_energy(kn.dv[i], h);
+                let c =
+                    viscosity::predictor_weight(model.alpha, model.material(i).c_l, model.h[i], dt);
+                *vp = *v + kn.dv[i] * ((c - 0.5) * dt);
+            }
+            *x = st.x[i] + *v * dt;
+        });
+    half.rho.copy_from_slice(&st.rho);
+    half.s.copy_from_slice(&st.s);
+    // The step's sums take the supports it starts with; they are
+    // carried to n+1 at its end.
+    half.metric.clone_from(&st.metric);
+    next.metric.clone_from(&st.metric);
+    half.heat = st.heat + kn.heat_rate * h;
+    half.dissipation = st.dissipation + kn.dissipation_rate * h;
+    half.spring_work = st.spring_work + kn.spring_rate * h;
+}
+
+/// Step 2's second half: `ρ` and `s` at n+1 (with the radial return and
+/// a plastic history's), the predicted energy of 3, into `next`; and the
+/// stress points at them (in the same walk, or, with a plastic history,
+/// after its return).
+fn to_next(
+    model: &Model,
+    st: &State,
+    (kn, k): (&Rates, &kinematics::Kinematics),
+    dt: f64,
+    half: &State,
+    next: &mut State,
+) -> Vec<StressPoint> {
+    let h = 0.5 * dt;
+    let to_next = |i: usize, e: &mut f64, rho: &mut f64, s: &mut Sym| {
+        if model.rigid(i) {
+            (*e, *rho, *s) = (half.e[i], half.rho[i], half.s[i]);
+            return;
+        }
+        // The predicted energy takes back the first half kick's
+        // compatible term, which the second is expected to return.
+        *e = half.e[i] + kn.de[i] * h - kick_energy(kn.dv[i], h);
+        *rho = density_after(half.rho[i], k.drho[i], dt);
+        *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
+    };
+    let walk = next
+        .e
+        .par_iter_mut()
+        .zip(next.rho.par_iter_mut())
+        .zip(next.s.par_iter_mut())
+        .enumerate();
+    if model.history {
+        walk.for_each(|(i, ((e, rho), s))| to_next(i, e, rho, s));
+        return_with_history(model, st, &k.rate, st.t + dt, next);
+        eos_and_stress_with(model, next, &k.fallback)
+    } else {
+        let debris = k.debris_flags(model);
+        walk.map(|(i, ((e, rho), s))| {
+            to_next(i, e, rho, s);
+            let at = (*rho, next.x[i]);
+            if debris.get(i).copied().unwrap_or(false) {
+                kinematics::debris_point(model, i, at, *e)
+            } else {
+                stress_point(model, i, at, *e, s, 0.0)
+            }
+        })
+        .collect()
+    }
+}
+
+/// Step 4's end: `e` at n+1 from the energy rates `de` (the kick `dv`'s
+/// compatible term taken back), the CFL step at the new state (cfl_step)
+/// and whether it passes the state check ([`CpuSolver::check`], which
+/// names the particle when it does not), in one walk.
+fn finish_energy(
+    model: &Model,
+    next: &mut State,
+    half: &State,
+    (dv, de): (&[DVec2], &[f64]),
+    pts: &[StressPoint],
+    h: f64,
+) -> (f64, bool) {
+    next.e
+        .par_iter_mut()
+        .enumerate()
+        .map(|(i, e)| {
+            let (x, v, rho) = (next.x[i], next.v[i], next.rho[i]);
+            if model.rigid(i) {
+                // Checked too: a rigid body may leave the domain.
+                return (f64::INFINITY, sane(model, i, x, v, *e, rho, 0.0));
+            }
+            *e = half.e[i] + de[i] * h - kick_energy(dv[i], h);
+            let hs = support_h(model, &next.metric, i);
+            let dt = material::cfl_step(model.cfl, hs, pts[i].c, v.length());
+            (
+                dt,
+                sane(
+                    model,
+                    i,
+                    x,
+                    v,
+                    *e,
+                    rho,
+                    next.damage.get(i).copied().unwrap_or(0.0),
+                ),
+            )
+        })
+        .reduce(|| (f64::INFINITY, true), |a, b| (a.0.min(b.0), a.1 && b.1))
 }
 
 /// The density a step later at the rate `drho = −ρ tr ∇v` held over it:
@@ -291,4 +305,25 @@ fn density_after(rho: f64, drho: f64, dt: f64) -> f64 {
 #[inline]
 fn kick_energy(a: DVec2, h: f64) -> f64 {
     -0.5 * (a * h).length_squared()
+}
+
+/// The contact's forces at `next` again (the same bits), their heat and
+/// spring power booked at the velocities `v` (v_{n+1}); the heat goes to
+/// `de`.
+fn book_contact(
+    model: &Model,
+    next: &State,
+    nb: &Neighbours,
+    bd: &forces::Boundary,
+    v: &[DVec2],
+    de: &mut [f64],
+) -> ContactStats {
+    let c = contact::penalty_booked(model, next, nb, bd, Some(v));
+    for (k, &i) in bd.list.iter().enumerate() {
+        let i = i as usize;
+        if !model.rigid(i) {
+            de[i] += c.heat[k] / model.mass[i];
+        }
+    }
+    c.stats
 }

@@ -92,6 +92,26 @@ pub struct Rates {
     pub debris: Vec<u32>,
 }
 
+impl Rates {
+    /// The leapfrog's carried rates: the accelerations `dv` and energy
+    /// rates `de`, no totals.
+    pub(crate) fn of_motion(dv: Vec<DVec2>, de: Vec<f64>) -> Rates {
+        Rates {
+            dv,
+            drho: Vec::new(),
+            de,
+            ds: Vec::new(),
+            rate: Vec::new(),
+            heat_rate: 0.0,
+            spring_rate: 0.0,
+            dissipation_rate: 0.0,
+            entry: Vec::new(),
+            lv: Vec::new(),
+            debris: Vec::new(),
+        }
+    }
+}
+
 /// One full evaluation of the rates at `st`, neighbour lists built for it.
 pub fn evaluate(model: &Model, st: &State) -> (Rates, Diagnostics) {
     let nb = neighbours::find(model, st.frame());

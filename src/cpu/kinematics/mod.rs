@@ -279,143 +279,153 @@ pub(in crate::cpu) fn volumes(model: &Model, st: &State) -> Vec<f64> {
 /// The kinematic pass's results from each particle's sums: `L_i`, `∇v_i`,
 /// continuity, the stress rate, the surface set.
 pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<S>>) -> Kinematics {
-    let corrected = model.correction == Correction::Gradient;
     let per: Vec<Point> = sums
         .into_par_iter()
         .enumerate()
-        .map(
-            |(
-                i,
-                Sums {
-                    mut m,
-                    gsum,
-                    gpsi,
-                    psi,
-                    seen,
-                    n,
-                },
-            )| {
-                let (l, ok) = if !corrected {
-                    (Mat2::IDENTITY, true)
-                } else {
-                    if model.dim == 1 {
-                        // 1-D: L is the scalar 1/M_xx; keep the unused yy entry neutral.
-                        m.yy = 1.0;
-                    }
-                    // Too few neighbours is debris however well M looks: a
-                    // compact cluster of a few particles passes the
-                    // conditioning test (docs/method.md, "Debris").
-                    match kernel::correction_inverse(&m) {
-                        Some(l) if n >= model.bodies[model.body[i] as usize].debris_neighbours => {
-                            (l, true)
-                        }
-                        _ => (Mat2::IDENTITY, false),
-                    }
-                };
-                let (gv, gv_seen) = if model.rigid(i) {
-                    (Mat2::ZERO, seen.sum().map(|_| Mat2::ZERO))
-                } else {
-                    (
-                        gsum.mul_transpose(&l),
-                        seen.sum().map(|g| g.mul_transpose(&l)),
-                    )
-                };
-                // Where the correction falls back, the hourglass control
-                // still needs the least-squares fit (kernel::fit_inverse).
-                // It sees the state's velocities; with others seen (the
-                // leapfrog) the viscosity keeps their plain gradient.
-                let hg = model.hourglass > 0.0;
-                let fit_of = |g: Mat2| {
-                    (!ok && !model.rigid(i)).then(|| g.mul_transpose(&kernel::fit_inverse(&m)))
-                };
-                let (fit, hgrad) = match seen.sum() {
-                    Some(_) if hg => (None, Some(fit_of(gsum).unwrap_or(gv))),
-                    None if hg => (fit_of(gsum), None),
-                    _ => (None, None),
-                };
-                Point {
-                    l,
-                    ok,
-                    psi: model
-                        .axisymmetric
-                        .then(|| psi + model.mass[i] / st.rho[i] * kernel::w(2, 0.0, model.h[i])),
-                    gpsi,
-                    gv,
-                    gv_seen,
-                    fit,
-                    hgrad,
-                }
-            },
-        )
+        .map(|(i, sums)| point_of_sums(model, st, i, sums))
         .collect();
-    let n = per.len();
-    let mut out = Kinematics {
-        l: Vec::with_capacity(n),
-        fallback: Vec::new(),
-        grad_psi: Vec::with_capacity(n),
-        surface: Vec::with_capacity(n),
-        psi: Vec::with_capacity(if model.axisymmetric { n } else { 0 }),
-        gv: Vec::with_capacity(if model.keeps_gradient() { n } else { 0 }),
-        hv: Vec::new(),
-        hgrad: Vec::new(),
-        lv: Vec::with_capacity(if model.adaptive { n } else { 0 }),
-        g: Vec::with_capacity(if model.dispersion > 0.0 { n } else { 0 }),
-        drho: Vec::with_capacity(n),
-        ds: Vec::with_capacity(n),
-        rate: Vec::with_capacity(if model.strain_rate { n } else { 0 }),
-    };
+    let mut out = Kinematics::with_room(model, per.len());
     for (i, p) in per.into_iter().enumerate() {
-        out.l.push(p.l);
-        out.surface
+        out.push(model, st, i, p);
+    }
+    if !out.hgrad.is_empty() {
+        out.hv.clone_from(&st.v);
+    }
+    out
+}
+
+/// Particle i's [`Point`] from its sums: `L_i` (or the fallback), the
+/// velocity gradients, the hourglass control's fit, the colour function.
+fn point_of_sums<S: Seen>(model: &Model, st: &State, i: usize, sums: Sums<S>) -> Point {
+    let corrected = model.correction == Correction::Gradient;
+    let Sums {
+        mut m,
+        gsum,
+        gpsi,
+        psi,
+        seen,
+        n,
+    } = sums;
+    let (l, ok) = if !corrected {
+        (Mat2::IDENTITY, true)
+    } else {
+        if model.dim == 1 {
+            // 1-D: L is the scalar 1/M_xx; keep the unused yy entry neutral.
+            m.yy = 1.0;
+        }
+        // Too few neighbours is debris however well M looks: a
+        // compact cluster of a few particles passes the
+        // conditioning test (docs/method.md, "Debris").
+        match kernel::correction_inverse(&m) {
+            Some(l) if n >= model.bodies[model.body[i] as usize].debris_neighbours => (l, true),
+            _ => (Mat2::IDENTITY, false),
+        }
+    };
+    let (gv, gv_seen) = if model.rigid(i) {
+        (Mat2::ZERO, seen.sum().map(|_| Mat2::ZERO))
+    } else {
+        (
+            gsum.mul_transpose(&l),
+            seen.sum().map(|g| g.mul_transpose(&l)),
+        )
+    };
+    // Where the correction falls back, the hourglass control
+    // still needs the least-squares fit (kernel::fit_inverse).
+    // It sees the state's velocities; with others seen (the
+    // leapfrog) the viscosity keeps their plain gradient.
+    let hg = model.hourglass > 0.0;
+    let fit_of =
+        |g: Mat2| (!ok && !model.rigid(i)).then(|| g.mul_transpose(&kernel::fit_inverse(&m)));
+    let (fit, hgrad) = match seen.sum() {
+        Some(_) if hg => (None, Some(fit_of(gsum).unwrap_or(gv))),
+        None if hg => (fit_of(gsum), None),
+        _ => (None, None),
+    };
+    Point {
+        l,
+        ok,
+        psi: model
+            .axisymmetric
+            .then(|| psi + model.mass[i] / st.rho[i] * kernel::w(2, 0.0, model.h[i])),
+        gpsi,
+        gv,
+        gv_seen,
+        fit,
+        hgrad,
+    }
+}
+
+impl Kinematics {
+    /// No particle yet, room for `n`, the optional arrays sized for what
+    /// the scene keeps.
+    fn with_room(model: &Model, n: usize) -> Kinematics {
+        Kinematics {
+            l: Vec::with_capacity(n),
+            fallback: Vec::new(),
+            grad_psi: Vec::with_capacity(n),
+            surface: Vec::with_capacity(n),
+            psi: Vec::with_capacity(if model.axisymmetric { n } else { 0 }),
+            gv: Vec::with_capacity(if model.keeps_gradient() { n } else { 0 }),
+            hv: Vec::new(),
+            hgrad: Vec::new(),
+            lv: Vec::with_capacity(if model.adaptive { n } else { 0 }),
+            g: Vec::with_capacity(if model.dispersion > 0.0 { n } else { 0 }),
+            drho: Vec::with_capacity(n),
+            ds: Vec::with_capacity(n),
+            rate: Vec::with_capacity(if model.strain_rate { n } else { 0 }),
+        }
+    }
+
+    /// Particle i's results from its point `p`: the surface test, the
+    /// continuity and stress rates, the gradients kept.
+    fn push(&mut self, model: &Model, st: &State, i: usize, p: Point) {
+        self.l.push(p.l);
+        self.surface
             .push(surface_measure(model, i, p.gpsi, p.psi) > model.boundary_threshold);
         if let Some(psi) = p.psi {
-            out.psi.push(psi);
+            self.psi.push(psi);
         }
-        out.grad_psi.push(p.gpsi);
+        self.grad_psi.push(p.gpsi);
         if !p.ok {
-            out.fallback.push(i as u32);
+            self.fallback.push(i as u32);
         }
         if model.rigid(i) {
-            out.drho.push(0.0);
-            out.ds.push(Sym::default());
+            self.drho.push(0.0);
+            self.ds.push(Sym::default());
         } else {
             // η = 2π r ρ obeys the plane's continuity equation: the hoop
             // strain rate is in ρ alone (docs/method.md §12).
-            out.drho.push(-st.rho[i] * p.gv.trace());
+            self.drho.push(-st.rho[i] * p.gv.trace());
             // Debris keeps its deviatoric stress, frozen (docs/method.md,
             // "Debris").
             let g = if p.ok { model.material(i).g } else { 0.0 };
             let ds = stress_rate(g, &st.s[i], &p.gv);
-            out.ds.push(if model.axisymmetric {
+            self.ds.push(if model.axisymmetric {
                 with_hoop(g, ds, hoop_rate(st, i))
             } else {
                 ds
             });
         }
         if model.keeps_gradient() {
-            out.gv.push(p.fit.or(p.gv_seen).unwrap_or(p.gv));
+            self.gv.push(p.fit.or(p.gv_seen).unwrap_or(p.gv));
         }
         if let Some(g) = p.hgrad {
-            out.hgrad.push(g);
+            self.hgrad.push(g);
         }
         if model.adaptive {
-            out.lv.push(p.gv);
+            self.lv.push(p.gv);
         }
         if model.dispersion > 0.0 {
-            out.g.push(p.gv);
+            self.g.push(p.gv);
         }
         if model.strain_rate {
-            out.rate.push(if model.axisymmetric && !model.rigid(i) {
+            self.rate.push(if model.axisymmetric && !model.rigid(i) {
                 strength::equivalent_strain_rate_3(&p.gv, hoop_rate(st, i))
             } else {
                 strength::equivalent_strain_rate(&p.gv)
             });
         }
     }
-    if !out.hgrad.is_empty() {
-        out.hv.clone_from(&st.v);
-    }
-    out
 }
 
 /// One particle's result of the kinematic pass.
