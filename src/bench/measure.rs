@@ -114,31 +114,7 @@ fn support_name(s: Support) -> &'static str {
 
 /// Run the benchmark: one record per backend and size.
 pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
-    if opts.particles.is_empty() {
-        return Err(BenchError::Input(
-            "--particles needs at least one count".into(),
-        ));
-    }
-    // Every size is checked before anything runs.
-    for &n in &opts.particles {
-        check_particles(n)?;
-    }
-    if opts.steps == Some(0) {
-        return Err(BenchError::Input(
-            "--steps must be at least 1 (got 0)".into(),
-        ));
-    }
-    if opts.repeat == 0 {
-        return Err(BenchError::Input(
-            "--repeat must be at least 1 (got 0)".into(),
-        ));
-    }
-    if !(opts.hourglass.is_finite() && opts.hourglass >= 0.0) {
-        return Err(BenchError::Input(format!(
-            "--hourglass must be a finite number >= 0 (got {})",
-            opts.hourglass
-        )));
-    }
+    check_options(opts)?;
     let (cpu, gpu) = backends(opts.backend, opts.verbose)?;
     let threads = rayon::current_num_threads();
     let cpu_adapter = format!("cpu: {} ({threads} threads)", cpu_name());
@@ -150,33 +126,7 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
             .with_hourglass(opts.hourglass);
         let particles = case.particles();
         let record = |backend: &str, adapter: &str, steps: u64, walls: Vec<f64>| {
-            let rate = |wall: f64| (steps * particles as u64) as f64 / wall.max(1e-12);
-            let mut sorted = walls.clone();
-            sorted.sort_by(f64::total_cmp);
-            let wall = sorted[sorted.len() / 2];
-            Record {
-                backend: backend.into(),
-                adapter: adapter.into(),
-                threads: None,
-                integrator: opts.integrator.to_string(),
-                hourglass: opts.hourglass,
-                support: support_name(opts.support).into(),
-                requested_particles: n,
-                particles,
-                r_over_dx: case.r_over_dx,
-                steps,
-                wall_seconds: wall,
-                particle_steps_per_second: rate(wall),
-                rates: walls.iter().map(|&w| rate(w)).collect(),
-                particle_steps_per_second_per_core: None,
-                mean_neighbours: 0.0,
-                bytes_per_particle: 0.0,
-                memory_kind: String::new(),
-                in_contact: false,
-                stages: None,
-                work: None,
-                step_profile: None,
-            }
+            record_of(opts, &case, n, (backend, adapter), steps, walls)
         };
         // The GPU solver is built first: a size the adapter cannot hold
         // fails in a moment, before minutes of CPU work.
@@ -245,4 +195,76 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
         records.extend(here);
     }
     Ok(records)
+}
+
+/// Every option checked before anything runs: the sizes, the steps, the
+/// repeats, the hourglass coefficient.
+fn check_options(opts: &BenchOptions) -> Result<(), BenchError> {
+    if opts.particles.is_empty() {
+        return Err(BenchError::Input(
+            "--particles needs at least one count".into(),
+        ));
+    }
+    // Every size is checked before anything runs.
+    for &n in &opts.particles {
+        check_particles(n)?;
+    }
+    if opts.steps == Some(0) {
+        return Err(BenchError::Input(
+            "--steps must be at least 1 (got 0)".into(),
+        ));
+    }
+    if opts.repeat == 0 {
+        return Err(BenchError::Input(
+            "--repeat must be at least 1 (got 0)".into(),
+        ));
+    }
+    if !(opts.hourglass.is_finite() && opts.hourglass >= 0.0) {
+        return Err(BenchError::Input(format!(
+            "--hourglass must be a finite number >= 0 (got {})",
+            opts.hourglass
+        )));
+    }
+    Ok(())
+}
+
+/// The record of one backend's measurement on `case` (asked for `n`
+/// particles): `steps` steps a run, each run's wall time in `walls`, the
+/// median the record's.
+fn record_of(
+    opts: &BenchOptions,
+    case: &DiskCase,
+    n: usize,
+    (backend, adapter): (&str, &str),
+    steps: u64,
+    walls: Vec<f64>,
+) -> Record {
+    let particles = case.particles();
+    let rate = |wall: f64| (steps * particles as u64) as f64 / wall.max(1e-12);
+    let mut sorted = walls.clone();
+    sorted.sort_by(f64::total_cmp);
+    let wall = sorted[sorted.len() / 2];
+    Record {
+        backend: backend.into(),
+        adapter: adapter.into(),
+        threads: None,
+        integrator: opts.integrator.to_string(),
+        hourglass: opts.hourglass,
+        support: support_name(opts.support).into(),
+        requested_particles: n,
+        particles,
+        r_over_dx: case.r_over_dx,
+        steps,
+        wall_seconds: wall,
+        particle_steps_per_second: rate(wall),
+        rates: walls.iter().map(|&w| rate(w)).collect(),
+        particle_steps_per_second_per_core: None,
+        mean_neighbours: 0.0,
+        bytes_per_particle: 0.0,
+        memory_kind: String::new(),
+        in_contact: false,
+        stages: None,
+        work: None,
+        step_profile: None,
+    }
 }

@@ -124,6 +124,32 @@ fn xml_attr(s: &str) -> String {
 pub fn write_vtu(path: &Path, time: f64, f: &Fields) -> Result<u64, RunError> {
     let (model, st) = (f.model, f.state);
     let n = model.len();
+    let point_data = point_arrays(f);
+    let points = Array {
+        name: "Points",
+        vtk_type: "Float64",
+        components: 3,
+        bytes_per_value: 8,
+        make: Box::new(move || vec3_bytes(&st.x)),
+    };
+    let cells = cell_arrays(n);
+    let xml = vtu_header(time, model, &point_data, &points, &cells);
+    write_streamed(path, |w| {
+        w.write_all(xml.as_bytes())?;
+        for a in point_data.iter().chain([&points]).chain(&cells) {
+            let bytes = (a.make)();
+            debug_assert_eq!(bytes.len(), n * a.components * a.bytes_per_value);
+            w.write_all(&(bytes.len() as u64).to_le_bytes())?;
+            w.write_all(&bytes)?;
+        }
+        w.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
+    })
+}
+
+/// The point-data arrays of a snapshot of `f`, in file order.
+fn point_arrays<'a>(f: &Fields<'a>) -> Vec<Array<'a>> {
+    let (model, st) = (f.model, f.state);
+    let n = model.len();
     let mut point_data: Vec<Array> = vec![Array {
         name: "velocity",
         vtk_type: "Float64",
@@ -170,15 +196,12 @@ pub fn write_vtu(path: &Path, time: f64, f: &Fields) -> Result<u64, RunError> {
         bytes_per_value: 8,
         make: Box::new(move || vec3_bytes(normal)),
     });
-    let points = Array {
-        name: "Points",
-        vtk_type: "Float64",
-        components: 3,
-        bytes_per_value: 8,
-        make: Box::new(move || vec3_bytes(&st.x)),
-    };
-    // One vertex cell per particle: cell k is point k.
-    let cells = vec![
+    point_data
+}
+
+/// The cells of `n` particles: one vertex cell each, cell k is point k.
+fn cell_arrays<'a>(n: usize) -> Vec<Array<'a>> {
+    vec![
         Array {
             name: "connectivity",
             vtk_type: "Int64",
@@ -207,8 +230,19 @@ pub fn write_vtu(path: &Path, time: f64, f: &Fields) -> Result<u64, RunError> {
             // VTK_VERTEX
             make: Box::new(move || vec![1u8; n]),
         },
-    ];
+    ]
+}
 
+/// The XML before the appended block at `time`, each array described
+/// with its offset into that block.
+fn vtu_header(
+    time: f64,
+    model: &Model,
+    point_data: &[Array],
+    points: &Array,
+    cells: &[Array],
+) -> String {
+    let n = model.len();
     // The header, with each array's offset into the appended block.
     let mut offset = 0u64;
     let mut describe = |a: &Array, xml: &mut String| {
@@ -243,27 +277,18 @@ pub fn write_vtu(path: &Path, time: f64, f: &Fields) -> Result<u64, RunError> {
     xml.push_str(&format!(
         "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">\n      <PointData Scalars=\"density\" Vectors=\"velocity\">\n"
     ));
-    for a in &point_data {
+    for a in point_data {
         describe(a, &mut xml);
     }
     xml.push_str("      </PointData>\n      <Points>\n");
-    describe(&points, &mut xml);
+    describe(points, &mut xml);
     xml.push_str("      </Points>\n      <Cells>\n");
-    for a in &cells {
+    for a in cells {
         describe(a, &mut xml);
     }
     xml.push_str("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _");
 
-    write_streamed(path, |w| {
-        w.write_all(xml.as_bytes())?;
-        for a in point_data.iter().chain([&points]).chain(&cells) {
-            let bytes = (a.make)();
-            debug_assert_eq!(bytes.len(), n * a.components * a.bytes_per_value);
-            w.write_all(&(bytes.len() as u64).to_le_bytes())?;
-            w.write_all(&bytes)?;
-        }
-        w.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
-    })
+    xml
 }
 
 /// Write a file through `fill`, atomically as [`write_atomic`] does (a

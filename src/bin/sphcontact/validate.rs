@@ -105,56 +105,13 @@ pub(crate) fn validate_cmd(args: ValidateArgs) -> ExitCode {
         chosen = v::Case::ALL.to_vec();
     }
     if sweep {
-        let backends = match backend.map(backend_of) {
-            Some(Backend::Auto) | None if dispersion_correction.is_some_and(|t| t > 0.0) => {
-                eprintln!("sweep: the dispersion correction runs on the CPU path only; CPU only");
-                vec![Backend::Cpu]
-            }
-            Some(Backend::Auto) | None => {
-                let mut b = vec![Backend::Cpu];
-                match sphcontact::gpu::shared_context() {
-                    Ok(ctx) => {
-                        eprintln!("sweep: GPU adapter {}", ctx.adapter_name());
-                        b.push(Backend::Gpu);
-                    }
-                    Err(e) => eprintln!("sweep: no GPU adapter ({e}); CPU only"),
-                }
-                b
-            }
-            Some(b) => vec![b],
+        let sw = SweepRequest {
+            backend,
+            integrator,
+            dispersion_correction,
+            sweep_max,
         };
-        let mut opts = v::SweepOptions::new(backends, out.clone());
-        opts.disk_r_over_dx.retain(|&r| r <= sweep_max);
-        if let Some(i) = integrator {
-            opts.integrator = integrator_of(i);
-        }
-        opts.tuning = tuning;
-        opts.verbose = true;
-        return match v::sweep(&opts) {
-            Ok((points, warnings)) => {
-                println!("| case | lattice | backend | resolution | particles | wall (s) | observable | relative error |");
-                println!("|---|---|---|---|---|---|---|---|");
-                for p in &points {
-                    println!(
-                        "| {} | {} | {} | {} | {} | {:.2} | {} | {:+.3} % |",
-                        p.case,
-                        p.lattice,
-                        p.backend,
-                        p.resolution,
-                        p.particles,
-                        p.wall_seconds,
-                        p.observable,
-                        100.0 * p.relative_error
-                    );
-                }
-                for w in warnings {
-                    eprintln!("warning: {w}");
-                }
-                eprintln!("sweep written to {}", out.display());
-                ExitCode::SUCCESS
-            }
-            Err(e) => failed(e),
-        };
+        return sweep_cmd(sw, tuning, out);
     }
     let opts = v::Options {
         cases: chosen,
@@ -181,6 +138,76 @@ pub(crate) fn validate_cmd(args: ValidateArgs) -> ExitCode {
                 failed,
                 out.display()
             );
+            ExitCode::SUCCESS
+        }
+        Err(e) => failed(e),
+    }
+}
+
+/// What `validate --sweep` was asked for.
+struct SweepRequest {
+    backend: Option<BackendArg>,
+    integrator: Option<IntegratorArg>,
+    dispersion_correction: Option<f64>,
+    sweep_max: f64,
+}
+
+/// `validate --sweep`: the speed-against-error sweep on the backends asked
+/// for (or every one available), its table printed.
+fn sweep_cmd(req: SweepRequest, tuning: sphcontact::validation::Tuning, out: PathBuf) -> ExitCode {
+    use sphcontact::validation as v;
+    let SweepRequest {
+        backend,
+        integrator,
+        dispersion_correction,
+        sweep_max,
+    } = req;
+    let backends = match backend.map(backend_of) {
+        Some(Backend::Auto) | None if dispersion_correction.is_some_and(|t| t > 0.0) => {
+            eprintln!("sweep: the dispersion correction runs on the CPU path only; CPU only");
+            vec![Backend::Cpu]
+        }
+        Some(Backend::Auto) | None => {
+            let mut b = vec![Backend::Cpu];
+            match sphcontact::gpu::shared_context() {
+                Ok(ctx) => {
+                    eprintln!("sweep: GPU adapter {}", ctx.adapter_name());
+                    b.push(Backend::Gpu);
+                }
+                Err(e) => eprintln!("sweep: no GPU adapter ({e}); CPU only"),
+            }
+            b
+        }
+        Some(b) => vec![b],
+    };
+    let mut opts = v::SweepOptions::new(backends, out.clone());
+    opts.disk_r_over_dx.retain(|&r| r <= sweep_max);
+    if let Some(i) = integrator {
+        opts.integrator = integrator_of(i);
+    }
+    opts.tuning = tuning;
+    opts.verbose = true;
+    match v::sweep(&opts) {
+        Ok((points, warnings)) => {
+            println!("| case | lattice | backend | resolution | particles | wall (s) | observable | relative error |");
+            println!("|---|---|---|---|---|---|---|---|");
+            for p in &points {
+                println!(
+                    "| {} | {} | {} | {} | {} | {:.2} | {} | {:+.3} % |",
+                    p.case,
+                    p.lattice,
+                    p.backend,
+                    p.resolution,
+                    p.particles,
+                    p.wall_seconds,
+                    p.observable,
+                    100.0 * p.relative_error
+                );
+            }
+            for w in warnings {
+                eprintln!("warning: {w}");
+            }
+            eprintln!("sweep written to {}", out.display());
             ExitCode::SUCCESS
         }
         Err(e) => failed(e),
