@@ -82,8 +82,8 @@ pub const STAGES: [StageInfo; 7] = [
         cpu: None,
         solver: None,
         tests: &[
-            "tests/gpu_runs.rs::disks_polar_gpu_matches_cpu",
-            "tests/gpu_runs.rs::gpu_histories_are_bitwise_repeatable",
+            "tests/gpu_runs/main.rs::disks_polar_gpu_matches_cpu",
+            "tests/gpu_runs/repeat.rs::gpu_histories_are_bitwise_repeatable",
         ],
         reads: "the cell list; every per-particle array",
         writes: "every per-particle array, permuted by cell",

@@ -425,7 +425,7 @@ fn equal_steel_bars_kernel_mode_does_not_separate_gpu() {
 }
 
 /// Held to the CPU's run (which meets the targets) to 0.5 % in
-/// tests/gpu_runs.rs; this run of the targets on the device is nearly a
+/// tests/gpu_runs/; this run of the targets on the device is nearly a
 /// minute on a software adapter.
 #[test]
 #[ignore]

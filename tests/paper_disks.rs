@@ -121,7 +121,7 @@ fn disks_square_lattice_gpu() {
 }
 
 /// The polar disks' GPU run is held to the CPU's (which meets the
-/// bracket) in tests/gpu_runs.rs, to 0.5 %; this run of the bracket on the
+/// bracket) in tests/gpu_runs/, to 0.5 %; this run of the bracket on the
 /// device is a minute and more on a software adapter.
 #[test]
 #[ignore]

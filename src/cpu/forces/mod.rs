@@ -212,48 +212,10 @@ pub(in crate::cpu) fn pair_terms_of(
     // a failed particle is bonded to nothing and takes no part in it.
     let mut art_work = 0.0;
     let mut rfg = DVec2::ZERO;
-    let bonded = || {
-        st.damage.is_empty()
-            || !(strength::failed(st.damage_of(i)) || strength::failed(st.damage_of(j)))
-    };
-    if let Some(a) = model.artificial_stress.filter(|_| bonded()) {
-        let rs = pi_.r.add_scaled(&pj.r, 1.0);
-        let r2 = xij.length_squared();
-        let gate = match a.pairs {
-            ArtPairs::All => 1.0,
-            ArtPairs::Close => {
-                let vol = 0.5 * (model.mass[i] / st.rho[i] + model.mass[j] / st.rho[j]);
-                let ks = &model.close_scale;
-                let k2 = if ks.is_empty() { 1.0 } else { ks[i].min(ks[j]) };
-                if !st.round_supports() {
-                    // In the pair's metric: its distance q against the
-                    // spacing its volume has there.
-                    close_gate(nb.q2, vol * nb.scale, k2, model.dim)
-                } else {
-                    close_gate(r2, vol, k2, model.dim)
-                }
-            }
-        };
-        if rs.xx + rs.yy < 0.0 && gate > 0.0 {
-            let dp = 0.5 * (model.spacing_of(i) + model.spacing_of(j));
-            let w = if !st.round_supports() {
-                art_weight(nb.q2, dp / h0, 1.0, a.n)
-            } else {
-                art_weight(r2, dp, hij, a.n)
-            };
-            let mut rf = rs.scale(w * gate);
-            // Where its work may only be heat (everywhere, in a body that
-            // can yield, or at a pair that flows plastically), the share of
-            // it that is (docs/method.md, "Only heat").
-            if model.art_heats(st, i) || model.art_heats(st, j) {
-                let rg = rf.mul_vec(g);
-                let scale = HEAT_SPEED * (0.5 * (pi_.c + pj.c)) * rg.length();
-                rf = rf.scale(heat_share(vij.dot(rg), scale));
-            }
-            t = t.add_scaled(&rf, 1.0);
-            rfg = rf.mul_vec(g);
-            art_work = 0.5 * vij.dot(rfg);
-        }
+    if let Some(rf) = art_stress(model, st, (i, pi_), (j, pj), nb, (xij, vij, g), (hij, h0)) {
+        t = t.add_scaled(&rf, 1.0);
+        rfg = rf.mul_vec(g);
+        art_work = 0.5 * vij.dot(rfg);
     }
     let hg = if model.hourglass > 0.0 {
         hourglass(model, st, (i, a), (j, b), gw)
@@ -273,6 +235,65 @@ pub(in crate::cpu) fn pair_terms_of(
         a: (rfg - g * pi) * 0.5,
         hg,
     }
+}
+
+/// The artificial stress of the pair `(i, j)` (stress points `pi_`,
+/// `pj`), scaled by its weight and gate, and to its heat share where its
+/// work may only be heat: `None` where neither particle is in tension,
+/// the gate is shut, or a failed particle is in the pair (it is bonded to
+/// nothing and takes no part in it).
+#[inline]
+#[allow(clippy::too_many_arguments)]
+fn art_stress(
+    model: &Model,
+    st: &State,
+    (i, pi_): (usize, &StressPoint),
+    (j, pj): (usize, &StressPoint),
+    nb: &Nbr,
+    (xij, vij, g): (DVec2, DVec2, DVec2),
+    (hij, h0): (f64, f64),
+) -> Option<Sym> {
+    let bonded = || {
+        st.damage.is_empty()
+            || !(strength::failed(st.damage_of(i)) || strength::failed(st.damage_of(j)))
+    };
+    let a = model.artificial_stress.filter(|_| bonded())?;
+    let rs = pi_.r.add_scaled(&pj.r, 1.0);
+    let r2 = xij.length_squared();
+    let gate = match a.pairs {
+        ArtPairs::All => 1.0,
+        ArtPairs::Close => {
+            let vol = 0.5 * (model.mass[i] / st.rho[i] + model.mass[j] / st.rho[j]);
+            let ks = &model.close_scale;
+            let k2 = if ks.is_empty() { 1.0 } else { ks[i].min(ks[j]) };
+            if !st.round_supports() {
+                // In the pair's metric: its distance q against the
+                // spacing its volume has there.
+                close_gate(nb.q2, vol * nb.scale, k2, model.dim)
+            } else {
+                close_gate(r2, vol, k2, model.dim)
+            }
+        }
+    };
+    if rs.xx + rs.yy < 0.0 && gate > 0.0 {
+        let dp = 0.5 * (model.spacing_of(i) + model.spacing_of(j));
+        let w = if !st.round_supports() {
+            art_weight(nb.q2, dp / h0, 1.0, a.n)
+        } else {
+            art_weight(r2, dp, hij, a.n)
+        };
+        let mut rf = rs.scale(w * gate);
+        // Where its work may only be heat (everywhere, in a body that
+        // can yield, or at a pair that flows plastically), the share of
+        // it that is (docs/method.md, "Only heat").
+        if model.art_heats(st, i) || model.art_heats(st, j) {
+            let rg = rf.mul_vec(g);
+            let scale = HEAT_SPEED * (0.5 * (pi_.c + pj.c)) * rg.length();
+            rf = rf.scale(heat_share(vij.dot(rg), scale));
+        }
+        return Some(rf);
+    }
+    None
 }
 
 /// The hourglass control of a pair (docs/method.md): each particle's

@@ -301,24 +301,8 @@ fn place(shape: &Shape, dx: f64, rho0: f64, axisymmetric: bool) -> PlacedBody {
         }
         Shape::Rectangle { min, max } => {
             let surface = surface_distance(shape, axisymmetric);
-            let (nx, ny) = (cells(max[0] - min[0], dx), cells(max[1] - min[1], dx));
-            if nx == 0 || ny == 0 {
-                return out;
-            }
-            let ddx = (max[0] - min[0]) / nx as f64;
-            let ddy = (max[1] - min[1]) / ny as f64;
-            out.spacing = (ddx * ddy).sqrt();
-            for j in 0..ny {
-                for i in 0..nx {
-                    let p = DVec2::new(
-                        min[0] + (i as f64 + 0.5) * ddx,
-                        min[1] + (j as f64 + 0.5) * ddy,
-                    );
-                    out.positions.push(p);
-                    out.masses.push(rho0 * ddx * ddy);
-                    out.offsets.push(surface(p));
-                }
-            }
+            let bounds = (DVec2::new(min[0], min[1]), DVec2::new(max[0], max[1]));
+            square_lattice(&mut out, bounds, (dx, rho0), |_| true, surface);
         }
         Shape::Disk {
             center,
@@ -376,31 +360,50 @@ fn place(shape: &Shape, dx: f64, rho0: f64, axisymmetric: bool) -> PlacedBody {
                 .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), p| {
                     (lo.min(*p), hi.max(*p))
                 });
-            let (nx, ny) = (cells(max.x - min.x, dx), cells(max.y - min.y, dx));
-            if nx == 0 || ny == 0 {
-                return out;
-            }
-            let ddx = (max.x - min.x) / nx as f64;
-            let ddy = (max.y - min.y) / ny as f64;
-            out.spacing = (ddx * ddy).sqrt();
-            for j in 0..ny {
-                for i in 0..nx {
-                    let p = DVec2::new(
-                        min.x + (i as f64 + 0.5) * ddx,
-                        min.y + (j as f64 + 0.5) * ddy,
-                    );
-                    if poly.contains(p) {
-                        out.positions.push(p);
-                        out.masses.push(rho0 * ddx * ddy);
-                        out.offsets.push(surface.distance(p));
-                    }
-                }
-            }
+            square_lattice(
+                &mut out,
+                (min, max),
+                (dx, rho0),
+                |p| poly.contains(p),
+                |p| surface.distance(p),
+            );
         }
         // Read by `place_bodies`, which knows the scene's dimension.
         Shape::Particles { .. } => {}
     }
     out
+}
+
+/// The square lattice of spacing about `dx` (density `rho0`) fitted to the
+/// box `(min, max)`: a whole number of cells each way, a particle at each
+/// cell's centre that lies `inside`, with its `surface` offset.
+fn square_lattice(
+    out: &mut PlacedBody,
+    (min, max): (DVec2, DVec2),
+    (dx, rho0): (f64, f64),
+    inside: impl Fn(DVec2) -> bool,
+    surface: impl Fn(DVec2) -> f64,
+) {
+    let (nx, ny) = (cells(max.x - min.x, dx), cells(max.y - min.y, dx));
+    if nx == 0 || ny == 0 {
+        return;
+    }
+    let ddx = (max.x - min.x) / nx as f64;
+    let ddy = (max.y - min.y) / ny as f64;
+    out.spacing = (ddx * ddy).sqrt();
+    for j in 0..ny {
+        for i in 0..nx {
+            let p = DVec2::new(
+                min.x + (i as f64 + 0.5) * ddx,
+                min.y + (j as f64 + 0.5) * ddy,
+            );
+            if inside(p) {
+                out.positions.push(p);
+                out.masses.push(rho0 * ddx * ddy);
+                out.offsets.push(surface(p));
+            }
+        }
+    }
 }
 
 /// A disk (`r_in = 0`) or a ring (radii `(r_in, r_out)`) on the square or
