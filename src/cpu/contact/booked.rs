@@ -72,237 +72,301 @@ pub fn penalty_booked(
     book: Option<&[DVec2]>,
 ) -> ContactForces {
     let vb = book.unwrap_or(&st.v);
-    let ndot = normal_rates(model, st, nb, bd, vb);
-    let slot = |q: usize| {
-        bd.list
-            .binary_search(&(q as u32))
-            .expect("a boundary particle is listed")
+    let bk = Booking {
+        model,
+        st,
+        nb,
+        bd,
+        book,
+        vb,
+        ndot: normal_rates(model, st, nb, bd, vb),
     };
     // Pass 1: every boundary particle against each partner body around it
     // (entry k for particle `bd.list[k]`; only boundary particles have
     // contact terms, so the passes go over the boundary list alone).
-    struct P1 {
-        entry: f64,
-        force: DVec2,
-        heat: f64,
-        /// `∂Φ/∂n_P` from P's own passes.
-        n_bar: DVec2,
-        shares: Vec<Share>,
-        stats: Vec<PassStat>,
-    }
     let pass1: Vec<P1> = bd
         .list
         .par_iter()
         .enumerate()
-        .map(|(kp, &p)| {
-            let p = p as usize;
-            let mut out = P1 {
-                entry: -1.0,
-                force: DVec2::ZERO,
-                heat: 0.0,
-                n_bar: DVec2::ZERO,
-                shares: Vec::new(),
-                stats: Vec::new(),
-            };
-            let (np, op) = (bd.normal[p], model.offset[p]);
-            let sp = st.x[p] + np * op;
-            let mut cands: Vec<Cand> = Vec::new();
-            // One set of sums per partner body (almost always one).
-            let mut sums: Vec<PartnerSums> = Vec::new();
-            for &q in nb.cross_of(p) {
-                let q = q as usize;
-                if !bd.is_boundary[q] {
-                    continue;
-                }
-                let Some((w, gw)) = is_candidate(model, st, bd, p, q) else {
-                    continue;
-                };
-                let bq = model.body[q];
-                cands.push(Cand { q, body: bq, w, gw });
-                let k = match sums.iter().position(|s| s.body == bq) {
-                    Some(k) => k,
-                    None => {
-                        sums.push(PartnerSums {
-                            body: bq,
-                            s: Sums::default(),
-                            swv: DVec2::ZERO,
-                            swb: DVec2::ZERO,
-                        });
-                        sums.len() - 1
-                    }
-                };
-                let s = &mut sums[k];
-                let nq = bd.normal[q];
-                s.s.add(w, sp, st.x[q] + nq * model.offset[q], nq, model.offset[q]);
-                s.swv += st.v[q] * w;
-                if let Some(book) = book {
-                    s.swb += book[q] * w;
-                }
-            }
-            let a = bd.area[p];
-            let rigid = model.rigid(p);
-            let passes: Vec<(&PartnerSums, Pass)> = sums
-                .iter()
-                .filter_map(|s| Some((s, pressure(model, p, np, st.v[p], s)?)))
-                .collect();
-            let deepest = passes.iter().map(|(_, ps)| ps.delta).fold(0.0, f64::max);
-            let cap = yield_overlap(model.bodies[model.body[p] as usize].spacing);
-            let (entry, yielded) = entry_rule(st.entry[p], deepest, cap);
-            out.entry = entry;
-            for (s, mut ps) in passes {
-                let sat = yielded && ps.delta == deepest;
-                ps.offset(out.entry);
-                let (bq, sw) = (s.body, s.s.sw);
-                let n = ps.gap.n;
-                // The spring's derivative, and dΦ/dt at the booking
-                // velocities (forward, through the same derivative).
-                let mut spring = None;
-                let mut phi_dot = 0.0;
-                let phi0 = 0.25 * ps.stiffness * ps.delta * ps.delta * a;
-                let (fade, fade_slope) = pass_fade(model, p, bq, sw);
-                if ps.delta > 0.0 {
-                    let gbar = -0.5 * ps.stiffness * ps.delta * a * fade;
-                    let obar = 0.25 * ps.delta * ps.delta * a * ps.slope * fade;
-                    let mut bar = penalty::gap_bar(np, &s.s, &ps.gap, gbar, obar);
-                    bar.sw += phi0 * fade_slope;
-                    let mut xp_bar = bar.sp;
-                    let np_bar = bar.np + bar.sp * op;
-                    for c in cands.iter().filter(|c| c.body == bq) {
-                        let (nq, oq) = (bd.normal[c.q], model.offset[c.q]);
-                        let d = penalty::candidate(&bar, sp, c.w, st.x[c.q] + nq * oq, nq, oq);
-                        xp_bar += c.gw * d.w;
-                        phi_dot += (d.x - c.gw * d.w).dot(vb[c.q]) + d.n.dot(ndot[slot(c.q)]);
-                    }
-                    phi_dot += xp_bar.dot(vb[p]) + np_bar.dot(ndot[kp]);
-                    if !ps.clipped {
-                        out.force -= xp_bar;
-                        out.n_bar += np_bar;
-                        spring = Some((bar, sp));
-                    }
-                }
-                let w_book = book.map_or(ps.w_rate, |b| (b[p] - s.swb / sw).dot(n));
-                // Dashpot heat ½ z w A w ≥ 0; where the pass lets go, the
-                // spring's energy released.
-                let (mut heat, dash) = if ps.clipped {
-                    (-phi_dot, 0.0)
-                } else {
-                    (
-                        0.5 * ps.z * ps.w_rate * a * w_book,
-                        0.5 * ps.z * ps.w_rate * a,
-                    )
-                };
-                // A yielded spring pressed further stores nothing more: the
-                // work it takes is heat.
-                if sat && !ps.clipped && phi_dot > 0.0 {
-                    heat += phi_dot;
-                    phi_dot = 0.0;
-                }
-                out.force -= n * dash;
-                if !rigid {
-                    out.heat += heat;
-                }
-                out.shares.push(Share {
-                    body: bq,
-                    q: n * (dash / sw),
-                    eta: if rigid { heat / sw } else { 0.0 },
-                    spring,
-                });
-                // What the pass applies along its normal: the dashpot and
-                // the spring as faded (the pressure law's own p where the
-                // pass does not fade).
-                let applied = if fade < 1.0 && !ps.clipped {
-                    (ps.z * ps.w_rate + ps.stiffness * ps.delta * fade).max(0.0)
-                } else {
-                    ps.p
-                };
-                out.stats.push(PassStat {
-                    partner: bq,
-                    force: 0.5 * applied * a,
-                    pressure: applied,
-                    // Finite: a pair with two rigid sides has no pressure.
-                    stored: phi0 * fade,
-                    heat,
-                    spring_rate: phi_dot,
-                });
-            }
-            out
-        })
+        .map(|(kp, &p)| bk.pass1(kp, p as usize))
         .collect();
-
     // Pass 2: every boundary particle Q gathers what its partners handed it,
     // over exactly the candidate set each of them used; then its normal's
     // derivative, complete, turns into forces on Q and its neighbours.
-    /// What Q gathers: its force and heat from its partners, and the
-    /// forces its normal's derivative puts on its neighbours.
-    struct Gathered {
-        force: DVec2,
-        heat: f64,
-        spread: Vec<(u32, DVec2)>,
-    }
     let gathered: Vec<Gathered> = bd
         .list
         .par_iter()
         .enumerate()
-        .map(|(kq, &q)| {
-            let q = q as usize;
-            let mut f = DVec2::ZERO;
-            let mut heat = 0.0;
-            let mut n_bar = pass1[kq].n_bar;
-            let bq = model.body[q];
-            let (nq, oq) = (bd.normal[q], model.offset[q]);
-            let sq = st.x[q] + nq * oq;
-            for &p in nb.cross_of(q) {
-                if !bd.is_boundary[p as usize] {
-                    continue;
-                }
-                let p = p as usize;
-                let Some(share) = pass1[slot(p)].shares.iter().find(|s| s.body == bq) else {
-                    continue;
-                };
-                let Some((w, gw)) = is_candidate(model, st, bd, p, q) else {
-                    continue;
-                };
-                f += share.q * w;
-                heat += share.eta * w;
-                if let Some((bar, sp)) = &share.spring {
-                    let d = penalty::candidate(bar, *sp, w, sq, nq, oq);
-                    f += gw * d.w - d.x;
-                    n_bar += d.n;
-                }
-            }
-            let mut spread = Vec::new();
-            if model.dim == 2 && n_bar != DVec2::ZERO && !model.rigid(q) {
-                // ∂Φ/∂g for g = ∇ψ: g moves with Q against each neighbour
-                // j by V_j ∇∇W, and with j the other way.
-                let b = (n_bar - nq * nq.dot(n_bar)) / bd.grad_norm[q];
-                // In a body of revolution j moves its image across the
-                // axis the mirror way.
-                for (nbr, image) in nb.round_with_images(model, &st.x, q) {
-                    let j = nbr.j as usize;
-                    let vol = model.reference_volume(j);
-                    let xj = if image {
-                        crate::math::mirror(st.x[j])
-                    } else {
-                        st.x[j]
-                    };
-                    let hb = hessian_times(model, q, j, st.x[q] - xj, b) * vol;
-                    f += hb;
-                    spread.push((nbr.j, if image { crate::math::mirror(-hb) } else { -hb }));
-                }
-            }
-            Gathered {
-                force: f,
-                heat,
-                spread,
-            }
-        })
+        .map(|(kq, &q)| bk.pass2(&pass1, kq, q as usize))
         .collect();
+    assemble(model, bd, &pass1, gathered)
+}
 
+/// What one evaluation's booked passes read.
+struct Booking<'a> {
+    model: &'a Model,
+    st: &'a State,
+    nb: &'a Neighbours,
+    bd: &'a Boundary,
+    /// The booking velocities, if not the state's.
+    book: Option<&'a [DVec2]>,
+    /// The velocities the work is booked at.
+    vb: &'a [DVec2],
+    /// How fast each boundary particle's normal turns at `vb`.
+    ndot: Vec<DVec2>,
+}
+
+/// Pass 1's result for one boundary particle P.
+struct P1 {
+    entry: f64,
+    force: DVec2,
+    heat: f64,
+    /// `∂Φ/∂n_P` from P's own passes.
+    n_bar: DVec2,
+    shares: Vec<Share>,
+    stats: Vec<PassStat>,
+}
+
+/// What Q gathers: its force and heat from its partners, and the
+/// forces its normal's derivative puts on its neighbours.
+struct Gathered {
+    force: DVec2,
+    heat: f64,
+    spread: Vec<(u32, DVec2)>,
+}
+
+impl Booking<'_> {
+    /// Boundary particle q's entry in the boundary list.
+    fn slot(&self, q: usize) -> usize {
+        self.bd
+            .list
+            .binary_search(&(q as u32))
+            .expect("a boundary particle is listed")
+    }
+
+    /// Pass 1 of boundary particle `p` (entry `kp`): its passes against
+    /// each partner body, what it keeps and what it hands its partners.
+    fn pass1(&self, kp: usize, p: usize) -> P1 {
+        let (model, st, bd) = (self.model, self.st, self.bd);
+        let mut out = P1 {
+            entry: -1.0,
+            force: DVec2::ZERO,
+            heat: 0.0,
+            n_bar: DVec2::ZERO,
+            shares: Vec::new(),
+            stats: Vec::new(),
+        };
+        let (np, op) = (bd.normal[p], model.offset[p]);
+        let sp = st.x[p] + np * op;
+        let (cands, sums) = self.partners(p, sp);
+        let passes: Vec<(&PartnerSums, Pass)> = sums
+            .iter()
+            .filter_map(|s| Some((s, pressure(model, p, np, st.v[p], s)?)))
+            .collect();
+        let deepest = passes.iter().map(|(_, ps)| ps.delta).fold(0.0, f64::max);
+        let cap = yield_overlap(model.bodies[model.body[p] as usize].spacing);
+        let (entry, yielded) = entry_rule(st.entry[p], deepest, cap);
+        out.entry = entry;
+        for (s, ps) in passes {
+            let sat = yielded && ps.delta == deepest;
+            self.book_pass((kp, p), sp, (s, ps, sat), &cands, &mut out);
+        }
+        out
+    }
+
+    /// P's candidates and one set of sums per partner body around it
+    /// (almost always one), its surface point at `sp`.
+    fn partners(&self, p: usize, sp: DVec2) -> (Vec<Cand>, Vec<PartnerSums>) {
+        let (model, st, bd, book) = (self.model, self.st, self.bd, self.book);
+        let mut cands: Vec<Cand> = Vec::new();
+        let mut sums: Vec<PartnerSums> = Vec::new();
+        for &q in self.nb.cross_of(p) {
+            let q = q as usize;
+            if !bd.is_boundary[q] {
+                continue;
+            }
+            let Some((w, gw)) = is_candidate(model, st, bd, p, q) else {
+                continue;
+            };
+            let bq = model.body[q];
+            cands.push(Cand { q, body: bq, w, gw });
+            let k = match sums.iter().position(|s| s.body == bq) {
+                Some(k) => k,
+                None => {
+                    sums.push(PartnerSums {
+                        body: bq,
+                        s: Sums::default(),
+                        swv: DVec2::ZERO,
+                        swb: DVec2::ZERO,
+                    });
+                    sums.len() - 1
+                }
+            };
+            let s = &mut sums[k];
+            let nq = bd.normal[q];
+            s.s.add(w, sp, st.x[q] + nq * model.offset[q], nq, model.offset[q]);
+            s.swv += st.v[q] * w;
+            if let Some(book) = book {
+                s.swb += book[q] * w;
+            }
+        }
+        (cands, sums)
+    }
+
+    /// One pass of P (entry `kp`, surface point `sp`) against partner sums
+    /// `s`: its spring and dashpot, their heat and stored energy, its
+    /// share for the partners; `sat` where its spring has yielded.
+    fn book_pass(
+        &self,
+        (kp, p): (usize, usize),
+        sp: DVec2,
+        (s, mut ps, sat): (&PartnerSums, Pass, bool),
+        cands: &[Cand],
+        out: &mut P1,
+    ) {
+        let (model, st, bd, book, vb) = (self.model, self.st, self.bd, self.book, self.vb);
+        let (np, op) = (bd.normal[p], model.offset[p]);
+        let a = bd.area[p];
+        let rigid = model.rigid(p);
+        ps.offset(out.entry);
+        let (bq, sw) = (s.body, s.s.sw);
+        let n = ps.gap.n;
+        // The spring's derivative, and dΦ/dt at the booking
+        // velocities (forward, through the same derivative).
+        let mut spring = None;
+        let mut phi_dot = 0.0;
+        let phi0 = 0.25 * ps.stiffness * ps.delta * ps.delta * a;
+        let (fade, fade_slope) = pass_fade(model, p, bq, sw);
+        if ps.delta > 0.0 {
+            let gbar = -0.5 * ps.stiffness * ps.delta * a * fade;
+            let obar = 0.25 * ps.delta * ps.delta * a * ps.slope * fade;
+            let mut bar = penalty::gap_bar(np, &s.s, &ps.gap, gbar, obar);
+            bar.sw += phi0 * fade_slope;
+            let mut xp_bar = bar.sp;
+            let np_bar = bar.np + bar.sp * op;
+            for c in cands.iter().filter(|c| c.body == bq) {
+                let (nq, oq) = (bd.normal[c.q], model.offset[c.q]);
+                let d = penalty::candidate(&bar, sp, c.w, st.x[c.q] + nq * oq, nq, oq);
+                xp_bar += c.gw * d.w;
+                phi_dot += (d.x - c.gw * d.w).dot(vb[c.q]) + d.n.dot(self.ndot[self.slot(c.q)]);
+            }
+            phi_dot += xp_bar.dot(vb[p]) + np_bar.dot(self.ndot[kp]);
+            if !ps.clipped {
+                out.force -= xp_bar;
+                out.n_bar += np_bar;
+                spring = Some((bar, sp));
+            }
+        }
+        let w_book = book.map_or(ps.w_rate, |b| (b[p] - s.swb / sw).dot(n));
+        // Dashpot heat ½ z w A w ≥ 0; where the pass lets go, the
+        // spring's energy released.
+        let (mut heat, dash) = if ps.clipped {
+            (-phi_dot, 0.0)
+        } else {
+            (
+                0.5 * ps.z * ps.w_rate * a * w_book,
+                0.5 * ps.z * ps.w_rate * a,
+            )
+        };
+        // A yielded spring pressed further stores nothing more: the
+        // work it takes is heat.
+        if sat && !ps.clipped && phi_dot > 0.0 {
+            heat += phi_dot;
+            phi_dot = 0.0;
+        }
+        out.force -= n * dash;
+        if !rigid {
+            out.heat += heat;
+        }
+        out.shares.push(Share {
+            body: bq,
+            q: n * (dash / sw),
+            eta: if rigid { heat / sw } else { 0.0 },
+            spring,
+        });
+        // What the pass applies along its normal: the dashpot and
+        // the spring as faded (the pressure law's own p where the
+        // pass does not fade).
+        let applied = if fade < 1.0 && !ps.clipped {
+            (ps.z * ps.w_rate + ps.stiffness * ps.delta * fade).max(0.0)
+        } else {
+            ps.p
+        };
+        out.stats.push(PassStat {
+            partner: bq,
+            force: 0.5 * applied * a,
+            pressure: applied,
+            // Finite: a pair with two rigid sides has no pressure.
+            stored: phi0 * fade,
+            heat,
+            spring_rate: phi_dot,
+        });
+    }
+
+    /// Pass 2 of boundary particle `q` (entry `kq`): what its partners'
+    /// passes `pass1` handed it, and its normal's derivative spread.
+    fn pass2(&self, pass1: &[P1], kq: usize, q: usize) -> Gathered {
+        let (model, st, nb, bd) = (self.model, self.st, self.nb, self.bd);
+        let mut f = DVec2::ZERO;
+        let mut heat = 0.0;
+        let mut n_bar = pass1[kq].n_bar;
+        let bq = model.body[q];
+        let (nq, oq) = (bd.normal[q], model.offset[q]);
+        let sq = st.x[q] + nq * oq;
+        for &p in nb.cross_of(q) {
+            if !bd.is_boundary[p as usize] {
+                continue;
+            }
+            let p = p as usize;
+            let Some(share) = pass1[self.slot(p)].shares.iter().find(|s| s.body == bq) else {
+                continue;
+            };
+            let Some((w, gw)) = is_candidate(model, st, bd, p, q) else {
+                continue;
+            };
+            f += share.q * w;
+            heat += share.eta * w;
+            if let Some((bar, sp)) = &share.spring {
+                let d = penalty::candidate(bar, *sp, w, sq, nq, oq);
+                f += gw * d.w - d.x;
+                n_bar += d.n;
+            }
+        }
+        let mut spread = Vec::new();
+        if model.dim == 2 && n_bar != DVec2::ZERO && !model.rigid(q) {
+            // ∂Φ/∂g for g = ∇ψ: g moves with Q against each neighbour
+            // j by V_j ∇∇W, and with j the other way.
+            let b = (n_bar - nq * nq.dot(n_bar)) / bd.grad_norm[q];
+            // In a body of revolution j moves its image across the
+            // axis the mirror way.
+            for (nbr, image) in nb.round_with_images(model, &st.x, q) {
+                let j = nbr.j as usize;
+                let vol = model.reference_volume(j);
+                let xj = if image {
+                    crate::math::mirror(st.x[j])
+                } else {
+                    st.x[j]
+                };
+                let hb = hessian_times(model, q, j, st.x[q] - xj, b) * vol;
+                f += hb;
+                spread.push((nbr.j, if image { crate::math::mirror(-hb) } else { -hb }));
+            }
+        }
+        Gathered {
+            force: f,
+            heat,
+            spread,
+        }
+    }
+}
+
+/// The contact's forces, heat, spread and totals from both passes.
+fn assemble(model: &Model, bd: &Boundary, pass1: &[P1], gathered: Vec<Gathered>) -> ContactForces {
     let mut out = ContactForces {
         entry: bd
             .list
             .iter()
-            .zip(&pass1)
+            .zip(pass1)
             .map(|(&i, p)| (i, p.entry))
             .collect(),
         force: Vec::with_capacity(bd.list.len()),
@@ -310,7 +374,7 @@ pub fn penalty_booked(
         heat: Vec::with_capacity(bd.list.len()),
         stats: ContactStats::default(),
     };
-    for ((&p, own), g) in bd.list.iter().zip(&pass1).zip(gathered) {
+    for ((&p, own), g) in bd.list.iter().zip(pass1).zip(gathered) {
         let p = p as usize;
         out.force.push(own.force + g.force);
         out.heat.push(if model.rigid(p) {
