@@ -414,37 +414,7 @@ impl GpuSolver {
         });
 
         // Neighbour dump (test-only kernel), indexed by original id.
-        let consts = [("DIM", self.model.dim as f64), ("WG", WG as f64)];
-        let p = self.ctx.pipeline("debug", "", "dump_neighbours", &consts);
-        let dump = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("dump"),
-            size: 4 * 128 * nn,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let bind = self.test_bind(&p, &[("dump", &dump)]);
-        let mut enc = dev.create_command_encoder(&Default::default());
-        {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&p.pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            let g = (n as u32).div_ceil(WG);
-            let maxd = self.ctx.limits.max_compute_workgroups_per_dimension;
-            if g <= maxd {
-                pass.dispatch_workgroups(g, 1, 1);
-            } else {
-                pass.dispatch_workgroups(maxd, g.div_ceil(maxd), 1);
-            }
-        }
-        let stage = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("dump readback"),
-            size: 4 * 128 * nn,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        enc.copy_buffer_to_buffer(&dump, 0, &stage, 0, 4 * 128 * nn);
-        self.ctx.queue.submit([enc.finish()]);
-        let dump_data = map_read(&self.ctx, &stage, 4 * 128 * nn);
+        let dump_data = self.dump_neighbours();
         let dump_u: &[u32] = bytemuck::cast_slice(&dump_data);
 
         let meta: &[[u32; 4]] = bytemuck::cast_slice(&first[0]);
@@ -462,42 +432,9 @@ impl GpuSolver {
         // gradient's normals.
         let area: Option<&[f32]> = second.get(3).map(|a| bytemuck::cast_slice(a));
         let cn: Option<&[[f32; 4]]> = second.get(4).map(|a| bytemuck::cast_slice(a));
-        let mut out = StageOutputs {
-            neighbours: vec![Vec::new(); n],
-            visits: vec![0; n],
-            l: vec![[0.0; 4]; n],
-            normal: vec![DVec2::ZERO; n],
-            boundary: vec![false; n],
-            sr2: vec![[0.0; 3]; n],
-            c: vec![0.0; n],
-            flows: vec![false; n],
-            drho: vec![0.0; n],
-            ds: vec![Sym::default(); n],
-            dv_sph: vec![DVec2::ZERO; n],
-            de_sph: vec![0.0; n],
-            area: vec![0.0; n],
-            contact_force: vec![DVec2::ZERO; n],
-            dv: vec![DVec2::ZERO; n],
-            de: vec![0.0; n],
-            dt: ctl.dt as f64,
-            mid_s: Vec::new(),
-            mid_rho: Vec::new(),
-            mid_hist: Vec::new(),
-        };
+        let mut out = StageOutputs::empty(n, ctl.dt as f64);
         if let Some(m) = &mid {
-            let sm: &[[f32; 4]] = bytemuck::cast_slice(&m[0]);
-            let rm: &[[f32; 2]] = bytemuck::cast_slice(&m[1]);
-            let hm: &[[f32; 4]] = bytemuck::cast_slice(&m[2]);
-            out.mid_s = vec![Sym::default(); n];
-            out.mid_rho = vec![0.0; n];
-            out.mid_hist = vec![[0.0; 4]; n];
-            for k in 0..n {
-                let i = meta[k][3] as usize;
-                let mat = self.model.material(i);
-                out.mid_s[i] = sym_of(sm[k]);
-                out.mid_rho[i] = mat.rho0 * (1.0 + rm[k][0] as f64);
-                out.mid_hist[i] = self.history_of(i, hm[k]);
-            }
+            self.fill_mid(&mut out, meta, m);
         }
         let v2 = |a: [f32; 2]| DVec2::new(a[0] as f64, a[1] as f64);
         for k in 0..n {
@@ -533,5 +470,90 @@ impl GpuSolver {
             }
         }
         out
+    }
+
+    /// The midpoint state's stress, density and history (`m`: the
+    /// buffers `sm`, `rm`, `histm`) by original id into `out`.
+    fn fill_mid(&self, out: &mut StageOutputs, meta: &[[u32; 4]], m: &[Vec<u8>]) {
+        let n = self.n;
+        let sm: &[[f32; 4]] = bytemuck::cast_slice(&m[0]);
+        let rm: &[[f32; 2]] = bytemuck::cast_slice(&m[1]);
+        let hm: &[[f32; 4]] = bytemuck::cast_slice(&m[2]);
+        out.mid_s = vec![Sym::default(); n];
+        out.mid_rho = vec![0.0; n];
+        out.mid_hist = vec![[0.0; 4]; n];
+        for k in 0..n {
+            let i = meta[k][3] as usize;
+            let mat = self.model.material(i);
+            out.mid_s[i] = sym_of(sm[k]);
+            out.mid_rho[i] = mat.rho0 * (1.0 + rm[k][0] as f64);
+            out.mid_hist[i] = self.history_of(i, hm[k]);
+        }
+    }
+
+    /// Each particle's neighbour list as the walk visits it (the test-only
+    /// kernel `dump_neighbours`): 128 words a particle by original id, the
+    /// count first and the visits last.
+    fn dump_neighbours(&self) -> Vec<u8> {
+        let (n, nn, dev) = (self.n, self.n as u64, &self.ctx.device);
+        let consts = [("DIM", self.model.dim as f64), ("WG", WG as f64)];
+        let p = self.ctx.pipeline("debug", "", "dump_neighbours", &consts);
+        let dump = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("dump"),
+            size: 4 * 128 * nn,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let bind = self.test_bind(&p, &[("dump", &dump)]);
+        let mut enc = dev.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&p.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            let g = (n as u32).div_ceil(WG);
+            let maxd = self.ctx.limits.max_compute_workgroups_per_dimension;
+            if g <= maxd {
+                pass.dispatch_workgroups(g, 1, 1);
+            } else {
+                pass.dispatch_workgroups(maxd, g.div_ceil(maxd), 1);
+            }
+        }
+        let stage = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("dump readback"),
+            size: 4 * 128 * nn,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        enc.copy_buffer_to_buffer(&dump, 0, &stage, 0, 4 * 128 * nn);
+        self.ctx.queue.submit([enc.finish()]);
+        map_read(&self.ctx, &stage, 4 * 128 * nn)
+    }
+}
+
+impl StageOutputs {
+    /// Outputs of `n` particles, all zero, at the step `dt`.
+    fn empty(n: usize, dt: f64) -> StageOutputs {
+        StageOutputs {
+            neighbours: vec![Vec::new(); n],
+            visits: vec![0; n],
+            l: vec![[0.0; 4]; n],
+            normal: vec![DVec2::ZERO; n],
+            boundary: vec![false; n],
+            sr2: vec![[0.0; 3]; n],
+            c: vec![0.0; n],
+            flows: vec![false; n],
+            drho: vec![0.0; n],
+            ds: vec![Sym::default(); n],
+            dv_sph: vec![DVec2::ZERO; n],
+            de_sph: vec![0.0; n],
+            area: vec![0.0; n],
+            contact_force: vec![DVec2::ZERO; n],
+            dv: vec![DVec2::ZERO; n],
+            de: vec![0.0; n],
+            dt,
+            mid_s: Vec::new(),
+            mid_rho: Vec::new(),
+            mid_hist: Vec::new(),
+        }
     }
 }
