@@ -211,24 +211,29 @@ pub(super) fn trace(
     let periods = [2.0 * sim.bars[0].transit(), 2.0 * sim.bars[1].transit()];
     let masses = [m1.rho0 * l1, m2.rho0 * l2];
 
-    // Interface bookkeeping.
-    let mut in_contact = false;
-    let mut gap = 0.0_f64;
-    let mut t_gap = 0.0_f64;
-    let mut sigma_i = 0.0_f64;
-    let mut t_sigma = 0.0_f64;
-    let mut impulse = 0.0_f64; // ∫ σ_I dt over finished contact steps
-    let mut steps: Vec<StressStep> = Vec::new();
-    let mut first_contact: Option<(f64, f64)> = None;
-    let mut first_sep: Option<f64> = None;
-    let mut last_sep = 0.0_f64;
-    let mut sep_start = 0.0_f64;
-    let mut bmax = [0.0_f64; 2];
-    let mut resolved: Option<BarImpact> = None;
-
-    let mean_vel = |impulse: f64| [v1 + impulse / masses[0], v2 - impulse / masses[1]];
-
-    let mut t_now;
+    let mut iface = Interface {
+        z: [z1, z2],
+        v0: [v1, v2],
+        masses,
+        periods,
+        tol: Tolerances {
+            v: v_tol,
+            gap: gap_tol,
+        },
+        in_contact: false,
+        gap: 0.0,
+        t_gap: 0.0,
+        sigma_i: 0.0,
+        t_sigma: 0.0,
+        impulse: 0.0,
+        steps: Vec::new(),
+        first_contact: None,
+        first_sep: None,
+        last_sep: 0.0,
+        sep_start: 0.0,
+        bmax: [0.0; 2],
+        resolved: None,
+    };
     let mut events = 0usize;
     // First contact is an interface event at t = 0 with the gap closed.
     let mut pending_close = true;
@@ -247,76 +252,8 @@ pub(super) fn trace(
         if sim.absorb(1, RIGHT_GOING, window) {
             sim.free_end(1, RIGHT_END, t);
         }
-
-        // Interface faces: bar 1 right end, bar 2 left end.
-        let vf_before = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
-        let a1 = sim.absorb(0, RIGHT_GOING, window);
-        let a2 = sim.absorb(1, LEFT_GOING, window);
-        if a1 || a2 || pending_close {
-            if !in_contact {
-                gap += (vf_before[1] - vf_before[0]) * (t - t_gap);
-                t_gap = t;
-                if pending_close {
-                    gap = 0.0;
-                }
-            }
-            let f1 = sim.ends[0][RIGHT_END];
-            let f2 = sim.ends[1][LEFT_END];
-            let j1 = f1.sig - z1 * f1.v;
-            let j2 = f2.sig + z2 * f2.v;
-            let sig_star = (z2 * j1 + z1 * j2) / (z1 + z2);
-            let v_star = (j2 - j1) / (z1 + z2);
-            let touching = in_contact || gap <= gap_tol;
-            // A contact that would carry no (or tensile) stress is open: the
-            // faces then move apart or, at most, together without load.
-            let contact = resolved.is_none() && touching && sig_star < -sim.prune;
-            if contact {
-                sim.emit(0, LEFT_GOING, t, sig_star - f1.sig);
-                sim.emit(1, RIGHT_GOING, t, sig_star - f2.sig);
-                gap = 0.0;
-                if first_contact.is_none() {
-                    first_contact = Some((sig_star, v_star));
-                }
-                if !in_contact {
-                    sigma_i = sig_star;
-                    t_sigma = t;
-                } else if (sig_star - sigma_i).abs() > sim.prune {
-                    impulse += sigma_i * (t - t_sigma);
-                    steps.push(StressStep {
-                        t_start: t_sigma,
-                        t_end: t,
-                        stress: sigma_i,
-                    });
-                    sigma_i = sig_star;
-                    t_sigma = t;
-                }
-            } else {
-                sim.emit(0, LEFT_GOING, t, -f1.sig);
-                sim.emit(1, RIGHT_GOING, t, -f2.sig);
-                if in_contact {
-                    impulse += sigma_i * (t - t_sigma);
-                    steps.push(StressStep {
-                        t_start: t_sigma,
-                        t_end: t,
-                        stress: sigma_i,
-                    });
-                    sigma_i = 0.0;
-                    first_sep.get_or_insert(t);
-                    last_sep = t;
-                    sep_start = t;
-                    gap = gap.max(0.0);
-                    t_gap = t;
-                    bmax = [0.0; 2];
-                }
-                let vm = mean_vel(impulse);
-                let vf = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
-                for b in 0..2 {
-                    bmax[b] = bmax[b].max((vf[b] - vm[b]).abs());
-                }
-            }
-            in_contact = contact;
-        }
-        t_now = t;
+        iface.event(&mut sim, t, window, pending_close);
+        let t_now = t;
 
         // Next event: a front arrival or, while separated and closing, the
         // gap reaching zero.
@@ -326,58 +263,23 @@ pub(super) fn trace(
                 t_next = t_next.min(sim.arrival(b, dir));
             }
         }
-        let vf = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
-        let mut t_close = f64::INFINITY;
-        if !in_contact && resolved.is_none() && vf[0] - vf[1] > v_tol {
-            t_close = t_gap + gap.max(0.0) / (vf[0] - vf[1]);
-        }
+        let t_close = iface.closes_at(&sim);
         let closing = t_close <= t_next;
         t_next = t_next.min(t_close);
+        iface.resolve(&sim, t_now, t_next)?;
 
-        // Is the outcome final? Checked on the state that holds on
-        // [t_now, t_next).
-        if resolved.is_none() && !in_contact {
-            let vm = mean_vel(impulse);
-            let mut done = vm[1] >= vm[0] - v_tol;
-            if done && !(sim.quiet(0) && sim.quiet(1)) {
-                let t_check = if t_next.is_finite() { t_next } else { t_now };
-                let gap_t = gap + (vf[1] - vf[0]) * (t_check - t_gap);
-                let mut excursion = 0.0;
-                for b in 0..2 {
-                    if sim.quiet(b) {
-                        continue;
-                    }
-                    if t_check - sep_start < periods[b] {
-                        done = false;
-                    }
-                    excursion += bmax[b] * periods[b];
-                }
-                done = done && gap_t > excursion;
-            }
-            if done {
-                let (contact_stress, interface_velocity) = first_contact?;
-                resolved = Some(BarImpact {
-                    contact_stress,
-                    interface_velocity,
-                    separation_time: last_sep,
-                    final_velocity_1: vm[0],
-                    final_velocity_2: vm[1],
-                });
-            }
-        }
-
-        if resolved.is_some() && (t_next > t_end || t_next.is_infinite()) {
+        if iface.resolved.is_some() && (t_next > t_end || t_next.is_infinite()) {
             let valid_until = if t_next.is_finite() {
                 t_end.max(t_now)
             } else {
                 f64::INFINITY
             };
-            let result = resolved?;
+            let result = iface.resolved?;
             let [b1, b2] = sim.bars;
             return Some(BarImpactHistory {
                 result,
-                first_separation_time: first_sep.unwrap_or(last_sep),
-                contact_steps: steps,
+                first_separation_time: iface.first_sep.unwrap_or(iface.last_sep),
+                contact_steps: iface.steps,
                 valid_until,
                 bars: [b1, b2],
             });
@@ -389,6 +291,172 @@ pub(super) fn trace(
         }
         pending_close = closing;
         t = t_next;
+    }
+}
+
+/// The tracer's tolerances: on velocities and on the gap.
+struct Tolerances {
+    v: f64,
+    gap: f64,
+}
+
+/// The interface's bookkeeping: whether the faces touch, the gap while
+/// they do not, the stress steps while they do, and the outcome once it is
+/// final.
+struct Interface {
+    /// Each bar's impedance, initial velocity, mass and period `2L/c`.
+    z: [f64; 2],
+    v0: [f64; 2],
+    masses: [f64; 2],
+    periods: [f64; 2],
+    tol: Tolerances,
+    in_contact: bool,
+    gap: f64,
+    t_gap: f64,
+    sigma_i: f64,
+    t_sigma: f64,
+    /// `∫ σ_I dt` over finished contact steps.
+    impulse: f64,
+    steps: Vec<StressStep>,
+    first_contact: Option<(f64, f64)>,
+    first_sep: Option<f64>,
+    last_sep: f64,
+    sep_start: f64,
+    bmax: [f64; 2],
+    resolved: Option<BarImpact>,
+}
+
+impl Interface {
+    /// The bars' mean velocities after the impulse so far.
+    fn mean_velocities(&self) -> [f64; 2] {
+        [
+            self.v0[0] + self.impulse / self.masses[0],
+            self.v0[1] - self.impulse / self.masses[1],
+        ]
+    }
+
+    /// The interface's event at `t`: the fronts arriving at the faces
+    /// (within `window`) or the gap closing (`pending_close`), answered by
+    /// a contact or by free faces.
+    fn event(&mut self, sim: &mut BarSim, t: f64, window: f64, pending_close: bool) {
+        let [z1, z2] = self.z;
+        let gap_tol = self.tol.gap;
+        // Interface faces: bar 1 right end, bar 2 left end.
+        let vf_before = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
+        let a1 = sim.absorb(0, RIGHT_GOING, window);
+        let a2 = sim.absorb(1, LEFT_GOING, window);
+        if a1 || a2 || pending_close {
+            if !self.in_contact {
+                self.gap += (vf_before[1] - vf_before[0]) * (t - self.t_gap);
+                self.t_gap = t;
+                if pending_close {
+                    self.gap = 0.0;
+                }
+            }
+            let f1 = sim.ends[0][RIGHT_END];
+            let f2 = sim.ends[1][LEFT_END];
+            let j1 = f1.sig - z1 * f1.v;
+            let j2 = f2.sig + z2 * f2.v;
+            let sig_star = (z2 * j1 + z1 * j2) / (z1 + z2);
+            let v_star = (j2 - j1) / (z1 + z2);
+            let touching = self.in_contact || self.gap <= gap_tol;
+            // A contact that would carry no (or tensile) stress is open: the
+            // faces then move apart or, at most, together without load.
+            let contact = self.resolved.is_none() && touching && sig_star < -sim.prune;
+            if contact {
+                sim.emit(0, LEFT_GOING, t, sig_star - f1.sig);
+                sim.emit(1, RIGHT_GOING, t, sig_star - f2.sig);
+                self.gap = 0.0;
+                if self.first_contact.is_none() {
+                    self.first_contact = Some((sig_star, v_star));
+                }
+                if !self.in_contact {
+                    self.sigma_i = sig_star;
+                    self.t_sigma = t;
+                } else if (sig_star - self.sigma_i).abs() > sim.prune {
+                    self.impulse += self.sigma_i * (t - self.t_sigma);
+                    self.steps.push(StressStep {
+                        t_start: self.t_sigma,
+                        t_end: t,
+                        stress: self.sigma_i,
+                    });
+                    self.sigma_i = sig_star;
+                    self.t_sigma = t;
+                }
+            } else {
+                sim.emit(0, LEFT_GOING, t, -f1.sig);
+                sim.emit(1, RIGHT_GOING, t, -f2.sig);
+                if self.in_contact {
+                    self.impulse += self.sigma_i * (t - self.t_sigma);
+                    self.steps.push(StressStep {
+                        t_start: self.t_sigma,
+                        t_end: t,
+                        stress: self.sigma_i,
+                    });
+                    self.sigma_i = 0.0;
+                    self.first_sep.get_or_insert(t);
+                    self.last_sep = t;
+                    self.sep_start = t;
+                    self.gap = self.gap.max(0.0);
+                    self.t_gap = t;
+                    self.bmax = [0.0; 2];
+                }
+                let vm = self.mean_velocities();
+                let vf = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
+                for b in 0..2 {
+                    self.bmax[b] = self.bmax[b].max((vf[b] - vm[b]).abs());
+                }
+            }
+            self.in_contact = contact;
+        }
+    }
+
+    /// When the gap closes, while the faces are apart and closing and the
+    /// outcome is open (infinite otherwise).
+    fn closes_at(&self, sim: &BarSim) -> f64 {
+        let vf = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
+        if !self.in_contact && self.resolved.is_none() && vf[0] - vf[1] > self.tol.v {
+            self.t_gap + self.gap.max(0.0) / (vf[0] - vf[1])
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Whether the outcome is final, checked on the state that holds on
+    /// `[t_now, t_next)`; `None` where no contact ever happened.
+    fn resolve(&mut self, sim: &BarSim, t_now: f64, t_next: f64) -> Option<()> {
+        let v_tol = self.tol.v;
+        let vf = [sim.ends[0][RIGHT_END].v, sim.ends[1][LEFT_END].v];
+        if self.resolved.is_none() && !self.in_contact {
+            let vm = self.mean_velocities();
+            let mut done = vm[1] >= vm[0] - v_tol;
+            if done && !(sim.quiet(0) && sim.quiet(1)) {
+                let t_check = if t_next.is_finite() { t_next } else { t_now };
+                let gap_t = self.gap + (vf[1] - vf[0]) * (t_check - self.t_gap);
+                let mut excursion = 0.0;
+                for b in 0..2 {
+                    if sim.quiet(b) {
+                        continue;
+                    }
+                    if t_check - self.sep_start < self.periods[b] {
+                        done = false;
+                    }
+                    excursion += self.bmax[b] * self.periods[b];
+                }
+                done = done && gap_t > excursion;
+            }
+            if done {
+                let (contact_stress, interface_velocity) = self.first_contact?;
+                self.resolved = Some(BarImpact {
+                    contact_stress,
+                    interface_velocity,
+                    separation_time: self.last_sep,
+                    final_velocity_1: vm[0],
+                    final_velocity_2: vm[1],
+                });
+            }
+        }
+        Some(())
     }
 }
 
