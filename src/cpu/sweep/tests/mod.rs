@@ -128,46 +128,8 @@ fn sweep_equals_gather() {
 /// the contact take `h_ij` of two different lengths.
 #[test]
 fn sweeps_match_gathers_and_lanes_one_pair_code() {
-    let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
-    let (base, mut st) = (bench.model().clone(), bench.state().clone());
-    for (i, v) in st.v.iter_mut().enumerate() {
-        let a = (i as f64 * 0.618_033_988_7).fract() * std::f64::consts::TAU;
-        *v += DVec2::new(a.cos(), a.sin()) * 0.3;
-    }
-    // Densities and deviators stirred too, so that the principal
-    // stresses take every sign pattern and the artificial stress acts.
-    let rho0 = st.rho[0];
-    for i in 0..st.rho.len() {
-        let a = (i as f64 * 0.414_213_562_3).fract() - 0.5;
-        let b = (i as f64 * 0.732_050_807_6).fract() - 0.5;
-        st.rho[i] *= 1.0 + 2e-3 * a;
-        st.s[i] = Sym {
-            xx: 2e-3 * rho0 * b,
-            yy: -1e-3 * rho0 * a,
-            xy: 1.5e-3 * rho0 * (a + b),
-            zz: 1e-3 * rho0 * (b - a),
-        };
-    }
-    let tensile = |m: &Model, st: &State| {
-        let pts = eos_and_stress(m, st);
-        pts.iter().filter(|p| p.r != Sym::default()).count()
-    };
-    // Every seventh particle failed, and every eleventh intact with a
-    // void open (State::damage_of): it takes no part in the artificial
-    // stress, and no tension.
-    let mut failed = st.clone();
-    failed.damage = (0..st.x.len())
-        .map(|i| if i % 7 == 3 { 1.0 } else { 0.4 })
-        .collect();
-    failed.failed_at = (0..st.x.len())
-        .map(|i| {
-            if i % 11 == 5 && i % 7 != 3 {
-                crate::physics::strength::VOID_OPEN
-            } else {
-                crate::physics::strength::INTACT
-            }
-        })
-        .collect();
+    let (base, st) = stirred_disks_3000();
+    let failed = with_failures(&st);
     // The leapfrog's kinematics (hourglass, "seen"): the viscosity's
     // gradient of other velocities, the control's of the state's.
     let seen_v: Vec<DVec2> =
@@ -175,49 +137,7 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
             .enumerate()
             .map(|(i, v)| *v + DVec2::new(0.1, -0.2) * (i as f64 * 0.271_828).fract())
             .collect();
-    let without_control = [
-        (true, 1.0, None, false),
-        (false, 1.0, None, false),
-        (true, 1.15, None, false),
-        (true, 1.0, Some((0.3, 4.0, ArtPairs::All)), false),
-        (false, 1.15, Some((0.2, 3.5, ArtPairs::All)), false),
-        (true, 1.0, Some((0.3, 4.0, ArtPairs::Close)), false),
-        (false, 1.15, Some((0.2, 3.5, ArtPairs::Close)), false),
-        (true, 1.0, Some((0.3, 4.0, ArtPairs::All)), true),
-        (false, 1.0, Some((0.3, 4.0, ArtPairs::Close)), true),
-        (false, 1.15, Some((0.2, 3.0, ArtPairs::All)), false),
-        (true, 1.0, Some((0.3, 3.0, ArtPairs::Close)), true),
-    ]
-    .map(|(r, h, a, d)| (r, h, a, d, (0.0, false, false)));
-    // The hourglass control: (α_hg, the leapfrog's kinematics, keyed:
-    // the first disk takes it in place of the artificial stress and the
-    // second the term without it, `plastic = "hourglass"`).
-    let with_control = [
-        (true, 1.0, None, false, (0.7, false, false)),
-        (false, 1.15, None, false, (1.0, false, false)),
-        (
-            true,
-            1.0,
-            Some((0.3, 4.0, ArtPairs::Close)),
-            true,
-            (0.7, false, false),
-        ),
-        (true, 1.0, None, false, (0.7, true, false)),
-        (
-            false,
-            1.15,
-            Some((0.3, 4.0, ArtPairs::All)),
-            false,
-            (0.5, false, true),
-        ),
-        (
-            true,
-            1.0,
-            Some((0.3, 4.0, ArtPairs::Close)),
-            true,
-            (0.5, true, true),
-        ),
-    ];
+    let (without_control, with_control) = sweep_cases();
     // Each case with Monaghan's viscosity and with the Riemann form
     // reconstructed at surfaces too.
     for ((reconstruct, h_ratio, art, damaged, (hourglass, seen, keyed)), riemann) in without_control
@@ -320,27 +240,148 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         gathers_match(&model, st, &nb, &one);
         dissipation_is_the_artificial_terms_work(&model, st, &nb, &one);
         if art.is_none() && !damaged && hourglass == 0.0 {
-            // One disk rigid: the one-pair code's zero rates against the
-            // gather's.
-            let mut rigid = model.clone();
-            rigid.bodies[1].rigid = true;
-            rigid.any_rigid = true;
-            let k = kinematics(&rigid, st, &nb);
-            let out = sums((&rigid, st, &nb, &k, &pts), false, None);
-            gathers_match(&rigid, st, &nb, &out);
-            dissipation_is_the_artificial_terms_work(&rigid, st, &nb, &out);
-            // Kept for a later booking (the leapfrog's), the one-pair
-            // code's artificial work at these velocities is the same.
-            let mut kept = vec![[DVec2::ZERO; 2]; nb.store_len()];
-            let (_, _, fixed, c) = sums((&rigid, st, &nb, &k, &pts), false, Some(&mut kept));
-            let at = fixed - (0..rigid.len()).map(|i| c[i].dot(st.v[i])).sum::<f64>();
-            assert!(
-                (at - out.2).abs() <= 1e-12 * out.2.abs(),
-                "kept {at:e} against {:e}",
-                out.2
-            );
+            rigid_disk_matches(&model, st, &nb, &pts);
         }
     }
+}
+
+/// How many particles of `st` carry an artificial stress.
+fn tensile(m: &Model, st: &State) -> usize {
+    let pts = eos_and_stress(m, st);
+    pts.iter().filter(|p| p.r != Sym::default()).count()
+}
+
+/// The 3,000-particle disks in contact, velocities, densities and
+/// deviators stirred.
+fn stirred_disks_3000() -> (Model, State) {
+    let bench = CpuBench::new(&DiskCase::new(3_000).expect("the case")).expect("in contact");
+    let (base, mut st) = (bench.model().clone(), bench.state().clone());
+    for (i, v) in st.v.iter_mut().enumerate() {
+        let a = (i as f64 * 0.618_033_988_7).fract() * std::f64::consts::TAU;
+        *v += DVec2::new(a.cos(), a.sin()) * 0.3;
+    }
+    // Densities and deviators stirred too, so that the principal
+    // stresses take every sign pattern and the artificial stress acts.
+    let rho0 = st.rho[0];
+    for i in 0..st.rho.len() {
+        let a = (i as f64 * 0.414_213_562_3).fract() - 0.5;
+        let b = (i as f64 * 0.732_050_807_6).fract() - 0.5;
+        st.rho[i] *= 1.0 + 2e-3 * a;
+        st.s[i] = Sym {
+            xx: 2e-3 * rho0 * b,
+            yy: -1e-3 * rho0 * a,
+            xy: 1.5e-3 * rho0 * (a + b),
+            zz: 1e-3 * rho0 * (b - a),
+        };
+    }
+    (base, st)
+}
+
+/// `st` with every seventh particle failed, and every eleventh intact with
+/// a void open (State::damage_of): it takes no part in the artificial
+/// stress, and no tension.
+fn with_failures(st: &State) -> State {
+    let mut failed = st.clone();
+    failed.damage = (0..st.x.len())
+        .map(|i| if i % 7 == 3 { 1.0 } else { 0.4 })
+        .collect();
+    failed.failed_at = (0..st.x.len())
+        .map(|i| {
+            if i % 11 == 5 && i % 7 != 3 {
+                crate::physics::strength::VOID_OPEN
+            } else {
+                crate::physics::strength::INTACT
+            }
+        })
+        .collect();
+    failed
+}
+
+/// One case of the sweep tests: the reconstruction, the second disk's
+/// smoothing ratio, the artificial stress `(ε, n, pairs)`, damaged, and
+/// the hourglass control `(α_hg, seen, keyed)`.
+type SweepCase = (
+    bool,
+    f64,
+    Option<(f64, f64, ArtPairs)>,
+    bool,
+    (f64, bool, bool),
+);
+
+/// The sweep tests' cases without the hourglass control and with it.
+fn sweep_cases() -> ([SweepCase; 11], [SweepCase; 6]) {
+    let without_control = [
+        (true, 1.0, None, false),
+        (false, 1.0, None, false),
+        (true, 1.15, None, false),
+        (true, 1.0, Some((0.3, 4.0, ArtPairs::All)), false),
+        (false, 1.15, Some((0.2, 3.5, ArtPairs::All)), false),
+        (true, 1.0, Some((0.3, 4.0, ArtPairs::Close)), false),
+        (false, 1.15, Some((0.2, 3.5, ArtPairs::Close)), false),
+        (true, 1.0, Some((0.3, 4.0, ArtPairs::All)), true),
+        (false, 1.0, Some((0.3, 4.0, ArtPairs::Close)), true),
+        (false, 1.15, Some((0.2, 3.0, ArtPairs::All)), false),
+        (true, 1.0, Some((0.3, 3.0, ArtPairs::Close)), true),
+    ]
+    .map(|(r, h, a, d)| (r, h, a, d, (0.0, false, false)));
+    // The hourglass control: (α_hg, the leapfrog's kinematics, keyed:
+    // the first disk takes it in place of the artificial stress and the
+    // second the term without it, `plastic = "hourglass"`).
+    let with_control = [
+        (true, 1.0, None, false, (0.7, false, false)),
+        (false, 1.15, None, false, (1.0, false, false)),
+        (
+            true,
+            1.0,
+            Some((0.3, 4.0, ArtPairs::Close)),
+            true,
+            (0.7, false, false),
+        ),
+        (true, 1.0, None, false, (0.7, true, false)),
+        (
+            false,
+            1.15,
+            Some((0.3, 4.0, ArtPairs::All)),
+            false,
+            (0.5, false, true),
+        ),
+        (
+            true,
+            1.0,
+            Some((0.3, 4.0, ArtPairs::Close)),
+            true,
+            (0.5, true, true),
+        ),
+    ];
+    (without_control, with_control)
+}
+
+/// One disk rigid: the one-pair code's zero rates against the gather's;
+/// kept for a later booking (the leapfrog's), its artificial work at these
+/// velocities is the same.
+fn rigid_disk_matches(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    pts: &[crate::cpu::kinematics::StressPoint],
+) {
+    let mut rigid = model.clone();
+    rigid.bodies[1].rigid = true;
+    rigid.any_rigid = true;
+    let k = kinematics(&rigid, st, nb);
+    let out = sums((&rigid, st, nb, &k, pts), false, None);
+    gathers_match(&rigid, st, nb, &out);
+    dissipation_is_the_artificial_terms_work(&rigid, st, nb, &out);
+    // Kept for a later booking (the leapfrog's), the one-pair
+    // code's artificial work at these velocities is the same.
+    let mut kept = vec![[DVec2::ZERO; 2]; nb.store_len()];
+    let (_, _, fixed, c) = sums((&rigid, st, nb, &k, pts), false, Some(&mut kept));
+    let at = fixed - (0..rigid.len()).map(|i| c[i].dot(st.v[i])).sum::<f64>();
+    assert!(
+        (at - out.2).abs() <= 1e-12 * out.2.abs(),
+        "kept {at:e} against {:e}",
+        out.2
+    );
 }
 
 /// Where supports adapt (docs/method.md, "Supports that follow the
