@@ -281,30 +281,23 @@ fn entries_of(p: u32) -> Entries {
     return Entries(cown[o], cshare[o], cbar0[k], cbar1[k], ckeep[k], 0.0, 0.0);
 }
 
-// Pass 2 at particle q: the dashpot shares and the spring's derivative its
-// partners left, over the candidate pairs they used; then dPhi/dn_q whole,
-// which turns into forces through the colour gradient the normal is made
-// from: on q here, on its neighbours through the spread (bt: dPhi/dn_q as
-// beta perp(n_q) / |g_q|; q claims its neighbours, spread.wgsl).
-fn pass2_at(q: u32) {
-    // A particle off the boundary has no contact rates: the ledger reads
-    // qrate (which holds the neighbour masks for part of a step;
-    // gpu::mask_home) only behind the boundary flag (advance.wgsl).
-    if (nbo[q].z <= 0.0) {
-        return;
-    }
-    let mq = pinfo[q];
+// What pass 2 gathers at particle q from the partners' passes over the
+// candidate pairs they used: the dashpot shares and the spring's pull
+// (`f`), the heat, and dPhi/dn_q through the partners' sums (`n_bar`).
+// CPU twin: cpu::contact::Booking::pass2.
+struct Gathered {
+    f: vec2<f32>,
+    heat: f32,
+    n_bar: vec2<f32>,
+}
+
+fn gathered(q: u32, mq: vec4<u32>, wk: Walker, cnq: vec4<f32>) -> Gathered {
+    var gt = Gathered(vec2<f32>(0.0), 0.0, vec2<f32>(0.0));
     let bq = mq.z;
-    let bodyq = bodies[bq];
     let oq = bitcast<f32>(mq.y);
-    var f = vec2<f32>(0.0);
-    var heat = 0.0;
-    var n_bar = vec2<f32>(0.0);
     let cs = consts();
-    let wk = walker(q);
-    let cnq = cn[place(q)];
     let nq = cnq.xy;
-    let hq = bodyq.h;
+    let hq = bodies[bq].h;
     let fbq = f32(bq);
     for (var row = 0u; row < scan_rows(); row++) {
         let span = row_span(wk.hm, row);
@@ -332,20 +325,88 @@ fn pass2_at(q: u32) {
                 continue;
             }
             let sh = ep.share;
-            f += sh.xy * w;
-            heat += sh.z * w;
+            gt.f += sh.xy * w;
+            gt.heat += sh.z * w;
             if (ep.bar1.w > 0.0) {
                 // s_q - S_P (cd.d = x_q - x_p).
                 let rel = cd.d + nq * oq - np * op;
                 let cb = cand_bar(ep.bar0, ep.bar1, w, rel, nq, oq);
-                f += -cd.d * (wg.y * cb.w) - cb.x;
-                n_bar += cb.n;
+                gt.f += -cd.d * (wg.y * cb.w) - cb.x;
+                gt.n_bar += cb.n;
             }
         }
     }
+    return gt;
+}
+
+// `f0` plus the force on q of dPhi/dn_q (as `b` = beta perp(n_q)), in
+// that order of summation: g_q moves with q
+// against each neighbour j by V0_j grad grad W (and against j's image and
+// its own in a body of revolution); q claims the neighbours, which gather
+// the opposite pull in the spread (spread.wgsl). CPU twin: the spread of
+// cpu::contact::Booking::pass2.
+fn normal_pull(q: u32, mq: vec4<u32>, wk: Walker, b: vec2<f32>, f0: vec2<f32>) -> vec2<f32> {
+    var f = f0;
+    let bq = mq.z;
+    let bodyq = bodies[bq];
+    let hq = bodyq.h;
+    let rho0 = bodyq.rho0;
+    let cs = consts();
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(wk.hm, row);
+        for (var k = span.start; k < span.end; k++) {
+            let cd = cand(wk, k, cs);
+            let mj = pinfo[cd.j];
+            let pr = body_pair(wk, cd, mj.z, span, hq, bq);
+            if (!pr.inside || pr.dist <= 0.0) {
+                continue;
+            }
+            let vol = spread_volume(mj, rho0);
+            f += hess_times(pr.d, pr.dist, pr.hij, b) * vol;
+            if (AXI) {
+                // And against j's image, which j moves the mirror way
+                // (spread.wgsl).
+                let im = axis_image(wk, cd.rad, pr.d, pr.hij);
+                if (im.inside) {
+                    f += hess_times(im.d, im.dist, im.hij, b) * vol;
+                }
+            }
+            claim_spread(cd.j);
+        }
+    }
+    if (AXI) {
+        // Against its own image.
+        let im = axis_image(wk, wk.rad, vec2<f32>(0.0), hq);
+        if (im.inside) {
+            f += hess_times(im.d, im.dist, im.hij, b) * spread_volume(mq, rho0);
+            claim_spread(q);
+        }
+    }
+    return f;
+}
+
+// Pass 2 at particle q: the dashpot shares and the spring's derivative its
+// partners left, over the candidate pairs they used; then dPhi/dn_q whole,
+// which turns into forces through the colour gradient the normal is made
+// from: on q here, on its neighbours through the spread (bt: dPhi/dn_q as
+// beta perp(n_q) / |g_q|; q claims its neighbours, spread.wgsl).
+fn pass2_at(q: u32) {
+    // A particle off the boundary has no contact rates: the ledger reads
+    // qrate (which holds the neighbour masks for part of a step;
+    // gpu::mask_home) only behind the boundary flag (advance.wgsl).
+    if (nbo[q].z <= 0.0) {
+        return;
+    }
+    let mq = pinfo[q];
+    let bodyq = bodies[mq.z];
+    let wk = walker(q);
+    let cnq = cn[place(q)];
+    let nq = cnq.xy;
+    let gt = gathered(q, mq, wk, cnq);
+    var f = gt.f;
     let eq = entries_of(q);
     let own = eq.own;
-    n_bar += eq.keep.zw;
+    let n_bar = gt.n_bar + eq.keep.zw;
     var beta = 0.0;
     if (DIM == 2u && LEAP != 3u && bodyq.rigid == 0u && cnq.z > 0.0) {
         beta = dot(perp(nq), n_bar) / cnq.z;
@@ -354,42 +415,10 @@ fn pass2_at(q: u32) {
         bt[place(q)] = beta;
     }
     if (beta != 0.0) {
-        // g_q moves with q against each neighbour j by V0_j grad grad W.
-        let b = perp(nq) * beta;
-        let rho0 = bodyq.rho0;
-        for (var row = 0u; row < scan_rows(); row++) {
-            let span = row_span(wk.hm, row);
-            for (var k = span.start; k < span.end; k++) {
-                let cd = cand(wk, k, cs);
-                let mj = pinfo[cd.j];
-                let pr = body_pair(wk, cd, mj.z, span, hq, bq);
-                if (!pr.inside || pr.dist <= 0.0) {
-                    continue;
-                }
-                let vol = spread_volume(mj, rho0);
-                f += hess_times(pr.d, pr.dist, pr.hij, b) * vol;
-                if (AXI) {
-                    // And against j's image, which j moves the mirror way
-                    // (spread.wgsl).
-                    let im = axis_image(wk, cd.rad, pr.d, pr.hij);
-                    if (im.inside) {
-                        f += hess_times(im.d, im.dist, im.hij, b) * vol;
-                    }
-                }
-                claim_spread(cd.j);
-            }
-        }
-        if (AXI) {
-            // Against its own image.
-            let im = axis_image(wk, wk.rad, vec2<f32>(0.0), hq);
-            if (im.inside) {
-                f += hess_times(im.d, im.dist, im.hij, b) * spread_volume(mq, rho0);
-                claim_spread(q);
-            }
-        }
+        f = normal_pull(q, mq, wk, perp(nq) * beta, f);
     }
     let total = eq.keep.xy + f;
-    let booked = own.z + heat;
+    let booked = own.z + gt.heat;
     let m = bitcast<f32>(mq.x);
     // (dashpot heat, spring power) of the particle's passes; a rigid
     // particle books no heat.

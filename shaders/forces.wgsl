@@ -218,53 +218,15 @@ fn two_sum(a: vec2<f32>, x: f32) -> vec2<f32> {
     return vec2<f32>(t, y - (t - a.x));
 }
 
-// Particle i's forces pass (`forces`); returns its artificial dissipation
-// rate m_i d_i (0 where it has none).
-fn forces_of(i: u32) -> f32 {
-    if (LEAP == 2u && CONTACT && i == 0u) {
-        size_contact();
-    }
-    // A zero-length leapfrog step leaves the carried rates as they are.
-    if (i >= params.n || zero_length_pass()) {
-        return 0.0;
-    }
-    let mi = pinfo[i];
-    let bi = mi.z;
-    let body = bodies[bi];
-    let hi = body.h;
-    let rigid = body.rigid != 0u;
-    let surface = nbo[i].z > 0.0;
-    let boundary = CONTACT && surface;
-    // A particle off the boundary at a base state has no entry overlap
-    // (contact.wgsl writes the boundary particles').
-    if (CONTACT && !boundary && !MID && LEAP != 3u) {
-        centry[i] = -1.0;
-    }
-    if (rigid && !boundary) {
-        if (LEAP == 3u) {
-            return 0.0;
-        }
-        if (!MID) {
-            dv[i] = vec2<f32>(0.0);
-            dr[i].y = 0.0;
-        }
-        if (CONTACT && LEAP != 0u) {
-            area[i] = 0.0;
-        }
-        return 0.0;
-    }
-    let cs = consts();
-    let adapt = adapting();
-    var wk = walker(i);
-    if (adapt) {
-        wk = adaptive_walker(i);
-    }
+// What particle i's pair terms read of it (`Own`), its density rho_i (eta_i
+// in a body of revolution, `sum_density`) among them. CPU twin:
+// cpu::forces::Side::of.
+fn own_of(i: u32, mi: vec4<u32>, body: Body, boundary: bool, surface: bool, rad: f32) -> Own {
     var gi = vec4<f32>(0.0);
     if (RECON || HG > 0.0) {
         gi = gradv[i];
     }
-    // rho_i, or eta_i in a body of revolution (`sum_density`).
-    let rho_i = sum_density(body, i, wk.rad);
+    let rho_i = sum_density(body, i, rad);
     var ti = sr2c[i];
     var flows_i = false;
     if (ART_FLOW) {
@@ -289,10 +251,10 @@ fn forces_of(i: u32) -> f32 {
         vhi = vhalf[i];
         ghi = gradh[i];
     }
-    let own = Own(
+    return Own(
         body,
-        hi,
-        rigid,
+        body.h,
+        body.rigid != 0u,
         boundary,
         surface,
         lmat[i],
@@ -311,7 +273,14 @@ fn forces_of(i: u32) -> f32 {
         params.alpha,
         params.beta,
     );
+}
 
+// i's sums over its pairs (and their images across the axis): the pairs
+// of the kinematics pass's masks where they hold, else the walk's. CPU
+// twin: cpu::forces::rates_and_dissipation (one particle's sums).
+fn pair_sums(own: Own, wk: Walker, i: u32, mi: vec4<u32>, adapt: bool) -> Sums {
+    let cs = consts();
+    let hi = own.hi;
     var sums = Sums(vec2<f32>(0.0), 0.0, kernel_w(0.0, hi), vec2<f32>(0.0), vec2<f32>(0.0), 0.0);
     var mask = vec2<u32>(0u, MASK_FULL);
     // Where supports adapt the walk's rows are the walker's own
@@ -348,7 +317,7 @@ fn forces_of(i: u32) -> f32 {
             for (var k = span.start; k < span.end; k++) {
                 let cd = cand(wk, k, cs);
                 let mj = pinfo[cd.j];
-                let pr = body_pair(wk, cd, mj.z, span, hi, bi);
+                let pr = body_pair(wk, cd, mj.z, span, hi, mi.z);
                 if (pr.inside) {
                     add_pair(own, cd.j, mj, pr, false, cd.rad, &sums);
                     add_image(own, wk, cd.j, mj, pr, cd.rad, &sums);
@@ -360,6 +329,87 @@ fn forces_of(i: u32) -> f32 {
         // The walker's own image.
         add_image(own, wk, i, mi, Pair(vec2<f32>(0.0), 0.0, hi, vec2<f32>(0.0), true, 0.0, 0.0), wk.rad, &sums);
     }
+    return sums;
+}
+
+// What the pass writes of i: its rates (or, in the midpoint rule's second
+// evaluation, the step's velocity and energy) and its contact area.
+fn store_rates(i: u32, own: Own, acc: vec2<f32>, de: f32, sw: f32, rad: f32) {
+    let rigid = own.rigid;
+    if (!MID) {
+        if (rigid) {
+            dv[i] = vec2<f32>(0.0);
+            dr[i].y = 0.0;
+        } else {
+            dv[i] = acc;
+            dr[i].y = de;
+            if (LEAP == 2u && !own.boundary) {
+                vkick[i] = vkick[i] + acc * (0.5 * ctl.dt);
+            }
+        }
+    } else if (!rigid && ctl.dt != 0.0) {
+        let w0 = dv[i];
+        let w1 = w0 + acc * ctl.dt;
+        dv[i] = w1;
+        dr[i].y = dr[i].y + de * ctl.dt + compatible_energy(w0, w1, own.v);
+    }
+    if (CONTACT) {
+        if (own.boundary) {
+            var a = 1.0;
+            if (DIM != 1u) {
+                a = line_integral(own.hi) / sw;
+            }
+            if (AXI) {
+                // A ring's.
+                a *= circumference(rad);
+            }
+            area[area_index(i, nbo[i].w)] = a;
+        } else if (LEAP != 0u) {
+            area[i] = 0.0;
+        }
+    }
+}
+
+// Particle i's forces pass (`forces`); returns its artificial dissipation
+// rate m_i d_i (0 where it has none).
+fn forces_of(i: u32) -> f32 {
+    if (LEAP == 2u && CONTACT && i == 0u) {
+        size_contact();
+    }
+    // A zero-length leapfrog step leaves the carried rates as they are.
+    if (i >= params.n || zero_length_pass()) {
+        return 0.0;
+    }
+    let mi = pinfo[i];
+    let body = bodies[mi.z];
+    let rigid = body.rigid != 0u;
+    let surface = nbo[i].z > 0.0;
+    let boundary = CONTACT && surface;
+    // A particle off the boundary at a base state has no entry overlap
+    // (contact.wgsl writes the boundary particles').
+    if (CONTACT && !boundary && !MID && LEAP != 3u) {
+        centry[i] = -1.0;
+    }
+    if (rigid && !boundary) {
+        if (LEAP == 3u) {
+            return 0.0;
+        }
+        if (!MID) {
+            dv[i] = vec2<f32>(0.0);
+            dr[i].y = 0.0;
+        }
+        if (CONTACT && LEAP != 0u) {
+            area[i] = 0.0;
+        }
+        return 0.0;
+    }
+    let adapt = adapting();
+    var wk = walker(i);
+    if (adapt) {
+        wk = adaptive_walker(i);
+    }
+    let own = own_of(i, mi, body, boundary, surface, wk.rad);
+    let sums = pair_sums(own, wk, i, mi, adapt);
     var acc = sums.acc;
     var de = sums.de;
     if (AXI && !rigid) {
@@ -394,37 +444,6 @@ fn forces_of(i: u32) -> f32 {
         }
         return diss;
     }
-    if (!MID) {
-        if (rigid) {
-            dv[i] = vec2<f32>(0.0);
-            dr[i].y = 0.0;
-        } else {
-            dv[i] = acc;
-            dr[i].y = de;
-            if (LEAP == 2u && !boundary) {
-                vkick[i] = vkick[i] + acc * (0.5 * ctl.dt);
-            }
-        }
-    } else if (!rigid && ctl.dt != 0.0) {
-        let w0 = dv[i];
-        let w1 = w0 + acc * ctl.dt;
-        dv[i] = w1;
-        dr[i].y = dr[i].y + de * ctl.dt + compatible_energy(w0, w1, own.v);
-    }
-    if (CONTACT) {
-        if (boundary) {
-            var a = 1.0;
-            if (DIM != 1u) {
-                a = line_integral(hi) / sums.sw;
-            }
-            if (AXI) {
-                // A ring's.
-                a *= circumference(wk.rad);
-            }
-            area[area_index(i, nbo[i].w)] = a;
-        } else if (LEAP != 0u) {
-            area[i] = 0.0;
-        }
-    }
+    store_rates(i, own, acc, de, sums.sw, wk.rad);
     return diss;
 }

@@ -89,16 +89,153 @@ fn add_boundary(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, sums: ptr<fu
     }
 }
 
+// The velocity jumps a pair's artificial terms see: the viscosity's
+// (`vis`, reconstructed where it applies), the momentum's (`vm`, the
+// predicted velocities in a leapfrog step; the artificial stress's heat
+// gate reads these in both passes) and the hourglass control's (`vf`: the
+// forces' in an evaluation, v_{n+1/2} in a leapfrog step, `hg_seen`). The
+// energy sum keeps the true v_ij.
+struct Jumps {
+    vis: vec2<f32>,
+    vm: vec2<f32>,
+    vf: vec2<f32>,
+}
+
+fn seen_jumps(o: Own, j: u32, img: bool, vij: vec2<f32>, d: vec2<f32>) -> Jumps {
+    var vis = vij;
+    if (LEAP == 3u) {
+        var vsj = vstar[j];
+        if (img) {
+            vsj = mirror_vec(vsj);
+        }
+        vis = o.vs - vsj;
+    }
+    let vm = vis;
+    var vf = vis;
+    if (HG_HALF) {
+        var vhj = vhalf[j];
+        if (img) {
+            vhj = mirror_vec(vhj);
+        }
+        vf = o.vh - vhj;
+    }
+    // Not at a surface (h |grad psi| above the threshold) unless the scene
+    // asks: there grad v is one-sided and a contact loads the face
+    // impulsively.
+    if (RECON && (RECON_SURF || (!o.surface && nbo[j].z <= 0.0))) {
+        var gj = gradv[j];
+        if (img) {
+            gj = mirror_mat(gj);
+        }
+        vis = reconstructed_jump(vis, d, o.g, gj);
+    }
+    return Jumps(vis, vm, vf);
+}
+
+// The viscosity's Pi (Monaghan's, or with RELEASE the Riemann form) on
+// approaching pairs; with RELEASE receding ones too, on the linear term.
+// `cj` is j's sound speed. CPU twin:
+// physics::viscosity::viscosity_pi.
+fn pair_pi(o: Own, jumps: Jumps, d: vec2<f32>, hij: f32, cj: f32, bj: Body, j: u32, rj: f32) -> f32 {
+    var vx = dot(jumps.vis, d);
+    var on = vx < 0.0;
+    if (RELEASE) {
+        // The smaller of the seen and the true jump where they agree in
+        // sign: heat, and continuous where either passes zero.
+        let tx = dot(jumps.vm, d);
+        on = vx * tx > 0.0;
+        if (tx * tx < vx * vx) {
+            vx = tx;
+        }
+    }
+    if (!on) {
+        return 0.0;
+    }
+    let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
+    let cm = 0.5 * (o.t.w + cj);
+    let rhom = 0.5 * (o.rho + sum_density(bj, j, rj));
+    var beta = o.beta;
+    if (vx >= 0.0) {
+        beta = 0.0;
+    }
+    return (-o.alpha * cm * muv + beta * muv * muv) / rhom;
+}
+
+// The artificial stress (R_i + R_j) f^n of a pair, where it acts (`on`):
+// where one of its particles is in tension (the trace of R_i + R_j, R
+// negative semi-definite, below zero) and, in the close-pair form, where
+// its gate is open; R_j comes from t_j. It holds intact material together
+// against the tensile instability; a failed particle is bonded to
+// nothing. CPU twin: cpu::forces::art_stress.
+struct ArtPair {
+    on: bool,
+    rf: vec4<f32>,
+}
+
+fn art_pair(o: Own, bj: Body, j: u32, mj: vec4<u32>, rj: f32, pr: Pair, tj: vec4<f32>, flows_j: bool, g: vec2<f32>, vm: vec2<f32>) -> ArtPair {
+    var out = ArtPair(false, vec4<f32>(0.0));
+    let dist = pr.dist;
+    var gate = 1.0;
+    if (ART_CLOSE) {
+        let rho_j = sum_density(bj, j, rj);
+        let vol = 0.5 * (o.vol + bitcast<f32>(mj.x) / rho_j);
+        // kappa^2 <= 1 only shrinks the spacing: a gate shut at 1 is
+        // shut, and most pairs read no kappa. Where supports adapt, in
+        // the pair's metric.
+        var u2 = dist * dist;
+        var vs = vol;
+        if (ADAPT && pr.scale > 0.0) {
+            u2 = pr.q2;
+            vs = vol * pr.scale;
+        }
+        gate = close_gate(u2, vs, 1.0);
+        if (ART_KAPPA && gate > 0.0) {
+            gate = close_gate(u2, vs, min(o.k2, kappa[mj.w]));
+        }
+    }
+    if (gate <= 0.0) {
+        return out;
+    }
+    var rs = o.art;
+    if (bj.art != 0u) {
+        rs += art_of(tj);
+    }
+    if (!(rs.x + rs.y < 0.0 && intact(j))) {
+        return out;
+    }
+    let dp = 0.5 * (o.body.spacing + bj.spacing);
+    var aw = 0.0;
+    if (ADAPT && pr.scale > 0.0) {
+        aw = art_weight(sqrt(pr.q2), dp / (0.5 * (o.hi + bj.h)), 1.0);
+    } else {
+        aw = art_weight(dist, dp, pr.hij);
+    }
+    var rf = rs * (aw * gate);
+    // Where its work may only be heat (everywhere, or at a pair that flows
+    // plastically), the share of it that is, read at the momentum's
+    // velocities (tension::heat_share).
+    if (ART_HEAT || (ART_FLOW && (o.flows || flows_j))) {
+        let rg = sym_mul(rf, g);
+        let scale = HEAT_SPEED * 0.5 * (o.t.w + tj.w) * length(rg);
+        var share = 0.0;
+        if (scale > 0.0) {
+            share = clamp(-dot(vm, rg) / scale, 0.0, 1.0);
+        }
+        rf *= share;
+    }
+    out.on = true;
+    out.rf = rf;
+    return out;
+}
+
 // The momentum and energy terms of a pair (`add_pair`); where supports
 // adapt, `pr` is the pair in its mean metric.
 fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: ptr<function, Sums>) {
-    let hij = pr.hij;
-    let dist = pr.dist;
     var vj = v[j];
     if (img) {
         vj = mirror_vec(vj);
     }
-    if (o.rigid || dist <= 0.0) {
+    if (o.rigid || pr.dist <= 0.0) {
         return;
     }
     // With contact on, j is of i's body (`body_pair`).
@@ -120,63 +257,8 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
     }
     let g = mat_mul(0.5 * (o.l + lj), pr.gw);
     let vij = o.v - vj;
-    // The viscosity (Monaghan's, or with RELEASE the Riemann form); it
-    // sees the reconstructed jump, the energy sum keeps the true v_ij.
-    var vis = vij;
-    if (LEAP == 3u) {
-        var vsj = vstar[j];
-        if (img) {
-            vsj = mirror_vec(vsj);
-        }
-        vis = o.vs - vsj;
-    }
-    // The velocities the momentum saw (the predicted ones in a leapfrog
-    // step): the artificial stress's heat gate reads these in both passes.
-    let vm = vis;
-    // The velocities the hourglass control sees: the forces' in an
-    // evaluation, v_{n+1/2} in a leapfrog step (`hg_seen`).
-    var vf = vis;
-    if (HG_HALF) {
-        var vhj = vhalf[j];
-        if (img) {
-            vhj = mirror_vec(vhj);
-        }
-        vf = o.vh - vhj;
-    }
-    // Not at a surface (h |grad psi| above the threshold) unless the scene
-    // asks: there grad v is one-sided and a contact loads the face
-    // impulsively.
-    if (RECON && (RECON_SURF || (!o.surface && nbo[j].z <= 0.0))) {
-        var gj = gradv[j];
-        if (img) {
-            gj = mirror_mat(gj);
-        }
-        vis = reconstructed_jump(vis, d, o.g, gj);
-    }
-    // Approaching pairs; with RELEASE receding ones too, on the linear
-    // term. CPU twin: physics::viscosity::viscosity_pi.
-    var pi = 0.0;
-    var vx = dot(vis, d);
-    var on = vx < 0.0;
-    if (RELEASE) {
-        // The smaller of the seen and the true jump where they agree in
-        // sign: heat, and continuous where either passes zero.
-        let tx = dot(vm, d);
-        on = vx * tx > 0.0;
-        if (tx * tx < vx * vx) {
-            vx = tx;
-        }
-    }
-    if (on) {
-        let muv = hij * vx / (dot(d, d) + 0.01 * hij * hij);
-        let cm = 0.5 * (o.t.w + tj.w);
-        let rhom = 0.5 * (o.rho + sum_density(bj, j, rj));
-        var beta = o.beta;
-        if (vx >= 0.0) {
-            beta = 0.0;
-        }
-        pi = (-o.alpha * cm * muv + beta * muv * muv) / rhom;
-    }
+    let jumps = seen_jumps(o, j, img, vij, d);
+    let pi = pair_pi(o, jumps, d, pr.hij, tj.w, bj, j, rj);
     // Each side's stress vector (cpu::forces::PairTerms::s): the paper's
     // form keeps the stress terms in t on g; the variational one gives
     // each side its own corrected gradient, sigma/(rho_i rho_j) L grad W
@@ -200,62 +282,14 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
     t.y -= pi;
     // The artificial stress's work, half to each particle of the pair, is
     // booked as heat so total energy stays conserved.
-    // A pair acts only where one of its particles is in tension (the
-    // trace of R_i + R_j, R negative semi-definite, below zero) and, in
-    // the close-pair form, where its gate is open; R_j comes from t_j.
-    // It holds intact material together against the tensile instability;
-    // a failed particle is bonded to nothing.
     var art_work = 0.0;
     var rfg = vec2<f32>(0.0);
     if (ART_STRESS && o.intact) {
-        var gate = 1.0;
-        if (ART_CLOSE) {
-            let rho_j = sum_density(bj, j, rj);
-            let vol = 0.5 * (o.vol + bitcast<f32>(mj.x) / rho_j);
-            // kappa^2 <= 1 only shrinks the spacing: a gate shut at 1 is
-            // shut, and most pairs read no kappa. Where supports adapt, in
-            // the pair's metric.
-            var u2 = dist * dist;
-            var vs = vol;
-            if (ADAPT && pr.scale > 0.0) {
-                u2 = pr.q2;
-                vs = vol * pr.scale;
-            }
-            gate = close_gate(u2, vs, 1.0);
-            if (ART_KAPPA && gate > 0.0) {
-                gate = close_gate(u2, vs, min(o.k2, kappa[mj.w]));
-            }
-        }
-        if (gate > 0.0) {
-            var rs = o.art;
-            if (bj.art != 0u) {
-                rs += art_of(tj);
-            }
-            if (rs.x + rs.y < 0.0 && intact(j)) {
-                let dp = 0.5 * (o.body.spacing + bj.spacing);
-                var aw = 0.0;
-                if (ADAPT && pr.scale > 0.0) {
-                    aw = art_weight(sqrt(pr.q2), dp / (0.5 * (o.hi + bj.h)), 1.0);
-                } else {
-                    aw = art_weight(dist, dp, hij);
-                }
-                var rf = rs * (aw * gate);
-                // Where its work may only be heat (everywhere, or at a pair
-                // that flows plastically), the share of it that is, read at
-                // the momentum's velocities (tension::heat_share).
-                if (ART_HEAT || (ART_FLOW && (o.flows || flows_j))) {
-                    let rg = sym_mul(rf, g);
-                    let scale = HEAT_SPEED * 0.5 * (o.t.w + tj.w) * length(rg);
-                    var share = 0.0;
-                    if (scale > 0.0) {
-                        share = clamp(-dot(vm, rg) / scale, 0.0, 1.0);
-                    }
-                    rf *= share;
-                }
-                t += rf;
-                rfg = sym_mul(rf, g);
-                art_work = 0.5 * dot(vij, rfg);
-            }
+        let art = art_pair(o, bj, j, mj, rj, pr, tj, flows_j, g, jumps.vm);
+        if (art.on) {
+            t += art.rf;
+            rfg = sym_mul(art.rf, g);
+            art_work = 0.5 * dot(vij, rfg);
         }
     }
     var hg = Hourglass(vec2<f32>(0.0), vec2<f32>(0.0));
@@ -267,7 +301,7 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
         if (img) {
             gj = mirror_mat(gj);
         }
-        hg = hourglass(o, bj, vf, d, pr.gw, gj, tj.w, bj.h, sum_density(bj, j, rj));
+        hg = hourglass(o, bj, jumps.vf, d, pr.gw, gj, tj.w, bj.h, sum_density(bj, j, rj));
     }
     let mass_j = bitcast<f32>(mj.x);
     if (LEAP != 3u) {

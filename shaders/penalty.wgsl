@@ -41,46 +41,48 @@ fn cand_bar(bar0: vec4<f32>, bar1: vec4<f32>, w: f32, rel: vec2<f32>, nq: vec2<f
     return CandBar(x, n, wb);
 }
 
-// Pass 1 at particle p: its entries (a particle off the boundary: no
-// partner, nothing else). `count`: whether a particle that meets two partner
-// bodies is counted (once an evaluation).
-fn entries(p: u32, count: bool) -> Entries {
-    // w: the partner body as a float (exact for any realistic count), -1: none.
-    var e = Entries(vec4<f32>(0.0, 0.0, 0.0, -1.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), 0.0, 0.0);
-    let np4 = nbo[p];
-    if (np4.z <= 0.0) {
-        return e;
-    }
-    let mp = pinfo[p];
-    let bp = mp.z;
-    let bodyp = bodies[bp];
-    let op = bitcast<f32>(mp.y);
-    let cnp = cn[place(p)];
-    let np = cnp.xy;
+// What pass 1 reads of particle P throughout: its body, surface offset,
+// normal (`cnp.xy`; `cnp.w` its turning rate), smoothing length and
+// walker.
+struct PassAt {
+    p: u32,
+    bp: u32,
+    op: f32,
+    np: vec2<f32>,
+    cnp: vec4<f32>,
+    hp: f32,
+    wk: Walker,
+}
 
-    var partner = NONE;
-    var multi = false;
-    var sw = 0.0;
-    var sws = vec2<f32>(0.0);
-    var swn = vec2<f32>(0.0);
-    var swv = vec2<f32>(0.0);
-    var swt = 0.0;
-    var swo = 0.0;
-    var swb = vec2<f32>(0.0);
+// P's sums over its candidates in the first partner body it meets, and
+// whether it meets another (CPU twins: cpu::contact::Booking::partners,
+// physics::penalty::Sums::add).
+struct PassSums {
+    partner: u32,
+    multi: bool,
+    sw: f32,
+    sws: vec2<f32>,
+    swn: vec2<f32>,
+    swv: vec2<f32>,
+    swt: f32,
+    swo: f32,
+    swb: vec2<f32>,
+}
+
+fn pass_sums(at: PassAt) -> PassSums {
+    var s = PassSums(NONE, false, 0.0, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0));
     let cs = consts();
-    let wk = walker(p);
-    let hp = bodyp.h;
     for (var row = 0u; row < scan_rows(); row++) {
-        let span = row_span(wk.hm, row);
+        let span = row_span(at.wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
-            let cd = cand(wk, k, cs);
+            let cd = cand(at.wk, k, cs);
             let q = cd.j;
             if (!in_row(cd.cell, span)) {
                 continue;
             }
             let mq = pinfo[q];
             let nq4 = nbo[q];
-            if (mq.z == bp || nq4.z <= 0.0) {
+            if (mq.z == at.bp || nq4.z <= 0.0) {
                 continue;
             }
             let oq = bitcast<f32>(mq.y);
@@ -89,43 +91,53 @@ fn entries(p: u32, count: bool) -> Entries {
             let cq = cn[place(q)];
             let nq = cq.xy;
             let hq = bodies[mq.z].h;
-            let w = candidate(np, nq, d, op, oq, hp, hq, ramp_measure(p, hp, cnp), ramp_measure(q, hq, cq)).x;
+            let w = candidate(at.np, nq, d, at.op, oq, at.hp, hq, ramp_measure(at.p, at.hp, at.cnp), ramp_measure(q, hq, cq)).x;
             if (w < 0.0) {
                 continue;
             }
-            if (partner == NONE) {
-                partner = mq.z;
-            } else if (mq.z != partner) {
-                multi = true;
+            if (s.partner == NONE) {
+                s.partner = mq.z;
+            } else if (mq.z != s.partner) {
+                s.multi = true;
                 continue;
             }
             // s_q - S_P, formed from the precise centre difference.
-            let rel = d + nq * oq - np * op;
-            sw += w;
-            sws += rel * w;
-            swn += nq * w;
-            swv += v[q] * w;
+            let rel = d + nq * oq - at.np * at.op;
+            s.sw += w;
+            s.sws += rel * w;
+            s.swn += nq * w;
+            s.swv += v[q] * w;
             if (LEAP == 3u) {
-                swb += vbook[q] * w;
+                s.swb += vbook[q] * w;
             }
-            swt += dot(nq, -rel) * w;
-            swo += oq * w;
+            s.swt += dot(nq, -rel) * w;
+            s.swo += oq * w;
         }
     }
-    if (multi && count) {
-        atomicAdd(&ctl.multi_partner, 1u);
-    }
-    if (partner == NONE || sw <= 0.0) {
-        return e;
-    }
-    let nlen = length(swn);
-    if (nlen <= 0.0) {
-        return e;
-    }
-    let nbar = swn / nlen;
-    let rr = sws / sw;
-    let tg = swt / sw;
-    let vrel = v[p] - swv / sw;
+    return s;
+}
+
+// The gap of P against the interpolated partner surface, its normal and
+// what the gap's derivative reads: `nbar` (the partners' mean normal, of
+// length `nlen` before normalising), `rr` (the mean of s_q - S_P), `tg`,
+// which normal was chosen (0 n_P, 1 -nbar, 2 their bisector, of length
+// `bl` before normalising). CPU twin: physics::penalty::gap.
+struct Gap {
+    gap: f32,
+    n: vec2<f32>,
+    choice: u32,
+    nbar: vec2<f32>,
+    nlen: f32,
+    rr: vec2<f32>,
+    tg: f32,
+    bl: f32,
+}
+
+// Needs s.sw > 0 and nlen = |s.swn| > 0.
+fn gap_of(np: vec2<f32>, s: PassSums, nlen: f32) -> Gap {
+    let nbar = s.swn / nlen;
+    let rr = s.sws / s.sw;
+    let tg = s.swt / s.sw;
     // Contact normal: of n_P, -nbar and their bisector, the one with the
     // largest projected distance (least penetration; docs/method.md §8.2).
     var n = np;
@@ -147,29 +159,196 @@ fn entries(p: u32, count: bool) -> Entries {
             choice = 2u;
         }
     }
-    let gap = 0.5 * (chord + tg);
+    return Gap(0.5 * (chord + tg), n, choice, nbar, nlen, rr, tg, bl);
+}
+
+// The entry overlap after an evaluation whose raw overlap is `raw`, from
+// the stored one `e_in` (negative: P was off the boundary), with the yield
+// overlap `cap`; and whether the spring has yielded. The entry only
+// shrinks, but follows an overlap more than `cap` beyond it. CPU twin:
+// physics::penalty::entry_rule.
+struct Entry {
+    entry: f32,
+    yielded: bool,
+}
+
+fn entry_rule(e_in: f32, raw: f32, cap: f32) -> Entry {
+    var en = Entry(raw, false);
+    if (e_in >= 0.0) {
+        en.entry = min(e_in, raw);
+        if (raw - en.entry > cap) {
+            en.yielded = true;
+            en.entry = raw - cap;
+        }
+    }
+    return en;
+}
+
+// dPhi/d the sums of a pass (`bar0`: sws, swn; `bar1`: sw, swt, swo, 0),
+// dPhi/dS_P through them (`sp`) and dPhi/dn_P through the choice of the
+// normal (`np`), from gbar = dPhi/dg and obar = dPhi/d(mean offset `ob`);
+// `fade_sw` is the fade's own part of dPhi/dsw. CPU twin:
+// physics::penalty::gap_bar.
+struct SumsBar {
+    bar0: vec4<f32>,
+    bar1: vec4<f32>,
+    sp: vec2<f32>,
+    np: vec2<f32>,
+}
+
+fn gap_bar(s: PassSums, g: Gap, gbar: f32, obar: f32, ob: f32, fade_sw: f32) -> SumsBar {
+    let half = 0.5 * gbar;
+    let n_bar = g.rr * half;
+    let r_bar = g.n * half;
+    let b_sws = r_bar / s.sw;
+    let b_swt = half / s.sw;
+    let b_swo = obar / s.sw;
+    let b_sw = -(dot(r_bar, g.rr) + half * g.tg + obar * ob) / s.sw + fade_sw;
+    var np_bar = vec2<f32>(0.0);
+    var nbar_bar = vec2<f32>(0.0);
+    if (g.choice == 0u) {
+        np_bar = n_bar;
+    } else if (g.choice == 1u) {
+        nbar_bar = -n_bar;
+    } else {
+        let u_bar = (n_bar - g.n * dot(g.n, n_bar)) / g.bl;
+        np_bar = u_bar;
+        nbar_bar = -u_bar;
+    }
+    let b_swn = (nbar_bar - g.nbar * dot(g.nbar, nbar_bar)) / g.nlen;
+    let b_sp = -b_sws * s.sw + s.swn * b_swt;
+    return SumsBar(vec4<f32>(b_sws, b_swn), vec4<f32>(b_sw, b_swt, b_swo, 0.0), b_sp, np_bar);
+}
+
+// The candidates again, each one's share as its pass 2 makes it: dPhi/dx_P
+// (`xp`, from the sums' part `b.sp`) and dPhi/dt over the candidates at
+// their booking velocities. CPU twin: physics::penalty::candidate.
+struct CandSum {
+    xp: vec2<f32>,
+    phi_dot: f32,
+}
+
+fn candidates_bar(at: PassAt, partner: u32, b: SumsBar) -> CandSum {
+    var xp_bar = b.sp;
+    var phi_dot = 0.0;
+    let cs = consts();
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(at.wk.hm, row);
+        for (var k = span.start; k < span.end; k++) {
+            let cd = cand(at.wk, k, cs);
+            let q = cd.j;
+            if (!in_row(cd.cell, span)) {
+                continue;
+            }
+            let mq = pinfo[q];
+            if (mq.z != partner || nbo[q].z <= 0.0) {
+                continue;
+            }
+            let oq = bitcast<f32>(mq.y);
+            let d = -cd.d;
+            let cnq = cn[place(q)];
+            let nq = cnq.xy;
+            let hq = bodies[mq.z].h;
+            let wg = candidate(at.np, nq, d, at.op, oq, at.hp, hq, ramp_measure(at.p, at.hp, at.cnp), ramp_measure(q, hq, cnq));
+            if (wg.x < 0.0) {
+                continue;
+            }
+            let rel = d + nq * oq - at.np * at.op;
+            let cb = cand_bar(b.bar0, b.bar1, wg.x, rel, nq, oq);
+            let gw = -d * wg.y;
+            xp_bar += gw * cb.w;
+            phi_dot += dot(cb.x - gw * cb.w, v_book(q)) + dot(cb.n, perp(nq) * cnq.w);
+        }
+    }
+    return CandSum(xp_bar, phi_dot);
+}
+
+// The fade of a pass whose candidates' weight is `sw`, with the weight of
+// a quarter of a flat surface's as its reference `w_ref`: the pass fades
+// out below it. CPU twin: cpu::contact::pass_fade (and
+// physics::penalty::fade).
+struct Fade {
+    fade: f32,
+    slope: f32,
+    w_ref: f32,
+}
+
+fn pass_fade(sw: f32, hp: f32, spacing_q: f32) -> Fade {
+    var fd = Fade(1.0, 0.0, 1.0);
+    if (DIM == 2u) {
+        fd.w_ref = 0.25 * line_integral(hp) / spacing_q;
+        let fs = sw / fd.w_ref;
+        if (fs < 1.0) {
+            fd.fade = fs * fs * (3.0 - 2.0 * fs);
+            fd.slope = 6.0 * fs * (1.0 - fs);
+        }
+    }
+    return fd;
+}
+
+// The heat a pass books and what is left of dPhi/dt: the dashpot's heat
+// `dash` w at the booking rate (the forces' own, or the leapfrog's
+// v_{n+1}); where the pass lets go, the spring's energy released; a
+// yielded spring pressed further stores nothing more, the work it takes
+// is heat. CPU twin: cpu::contact::Booking::book_pass.
+fn pass_heat(p: u32, s: PassSums, n: vec2<f32>, w_rate: f32, dash: f32, clipped: bool, yielded: bool, phi_dot: f32) -> vec2<f32> {
+    var w_book = w_rate;
+    if (LEAP == 3u) {
+        w_book = dot(vbook[p] - s.swb / s.sw, n);
+    }
+    if (clipped) {
+        return vec2<f32>(-phi_dot, phi_dot);
+    }
+    var heat = dash * w_book;
+    var left = phi_dot;
+    if (yielded && phi_dot > 0.0) {
+        heat += phi_dot;
+        left = 0.0;
+    }
+    return vec2<f32>(heat, left);
+}
+
+// Pass 1 at particle p: its entries (a particle off the boundary: no
+// partner, nothing else). `count`: whether a particle that meets two partner
+// bodies is counted (once an evaluation). CPU twin: cpu::contact::
+// Booking::book_pass.
+fn entries(p: u32, count: bool) -> Entries {
+    // w: the partner body as a float (exact for any realistic count), -1: none.
+    var e = Entries(vec4<f32>(0.0, 0.0, 0.0, -1.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), 0.0, 0.0);
+    if (nbo[p].z <= 0.0) {
+        return e;
+    }
+    let mp = pinfo[p];
+    let bodyp = bodies[mp.z];
+    let cnp = cn[place(p)];
+    let at = PassAt(p, mp.z, bitcast<f32>(mp.y), cnp.xy, cnp, bodyp.h, walker(p));
+    let s = pass_sums(at);
+    if (s.multi && count) {
+        atomicAdd(&ctl.multi_partner, 1u);
+    }
+    let partner = s.partner;
+    let sw = s.sw;
+    if (partner == NONE || sw <= 0.0) {
+        return e;
+    }
+    let nlen = length(s.swn);
+    if (nlen <= 0.0) {
+        return e;
+    }
+    let g = gap_of(at.np, s, nlen);
+    let n = g.n;
+    let vrel = v[p] - s.swv / sw;
     // Round-off counts as touching (CPU twin: physics::penalty::touching).
-    if (gap > 1e-5 * bodyp.spacing) {
+    if (g.gap > 1e-5 * bodyp.spacing) {
         e.own.w = f32(partner);
         return e;
     }
     // The spring measures the overlap beyond the one the particle joined
-    // the surface with; that one only shrinks, but follows an overlap more
-    // than a quarter spacing beyond it, where the spring yields (CPU twin:
-    // the entry rule of cpu::contact::penalty_booked,
+    // the surface with, yielding a quarter spacing beyond it (CPU twin:
     // physics::penalty::yield_overlap).
-    let raw = max(-gap, 0.0);
-    let e_in = centry[p];
-    var yielded = false;
-    e.entry = raw;
-    if (e_in >= 0.0) {
-        e.entry = min(e_in, raw);
-        let cap = 0.25 * bodyp.spacing;
-        if (raw - e.entry > cap) {
-            yielded = true;
-            e.entry = raw - cap;
-        }
-    }
+    let raw = max(-g.gap, 0.0);
+    let en = entry_rule(centry[p], raw, 0.25 * bodyp.spacing);
+    e.entry = en.entry;
     let delta = max(raw - e.entry, 0.0);
     let w_rate = dot(vrel, n);
     let bodyq = bodies[partner];
@@ -181,35 +360,23 @@ fn entries(p: u32, count: bool) -> Entries {
         return e;
     }
     let z = series(bodyp.z, pr, bodyq.z, qr);
-    let ob = swo / sw;
-    let stiffness = 1.0 / (layer(op, bodyp) + layer(ob, bodyq));
+    let ob = s.swo / sw;
+    let stiffness = 1.0 / (layer(at.op, bodyp) + layer(ob, bodyq));
     let push = z * w_rate + stiffness * delta;
     let pres = max(push, 0.0);
     // The dashpot would pull harder than the spring pushes: the pass lets go.
     let clipped = push < 0.0;
     let a = area[area_index(p, nbo[p].w)];
-    // The spring's derivative (physics::penalty::gap_bar) and, through the
-    // same derivative, dPhi/dt at the booking velocities.
+    // The spring's derivative and, through the same derivative, dPhi/dt at
+    // the booking velocities.
     var keep = vec2<f32>(0.0);
     var np_bar = vec2<f32>(0.0);
     var phi_dot = 0.0;
     var bar0 = vec4<f32>(0.0);
     var bar1 = vec4<f32>(0.0);
-    // The pass fades out as its candidates' weight falls below a quarter of
-    // a flat surface's (physics::penalty::fade, cpu::contact::
-    // weight_reference).
     let phi0 = 0.25 * stiffness * delta * delta * a;
-    var fade = 1.0;
-    var fade_slope = 0.0;
-    var w_ref = 1.0;
-    if (DIM == 2u) {
-        w_ref = 0.25 * line_integral(hp) / bodyq.spacing;
-        let fs = sw / w_ref;
-        if (fs < 1.0) {
-            fade = fs * fs * (3.0 - 2.0 * fs);
-            fade_slope = 6.0 * fs * (1.0 - fs);
-        }
-    }
+    let fd = pass_fade(sw, at.hp, bodyq.spacing);
+    let fade = fd.fade;
     if (delta > 0.0) {
         var slope = 0.0;
         if (!qr && ob > 0.25 * bodyq.spacing) {
@@ -217,86 +384,27 @@ fn entries(p: u32, count: bool) -> Entries {
         }
         let gbar = -0.5 * stiffness * delta * a * fade;
         let obar = 0.25 * delta * delta * a * slope * fade;
-        let half = 0.5 * gbar;
-        let n_bar = rr * half;
-        let r_bar = n * half;
-        let b_sws = r_bar / sw;
-        let b_swt = half / sw;
-        let b_swo = obar / sw;
-        let b_sw = -(dot(r_bar, rr) + half * tg + obar * ob) / sw + phi0 * fade_slope / w_ref;
-        var nbar_bar = vec2<f32>(0.0);
-        if (choice == 0u) {
-            np_bar = n_bar;
-        } else if (choice == 1u) {
-            nbar_bar = -n_bar;
-        } else {
-            let u_bar = (n_bar - n * dot(n, n_bar)) / bl;
-            np_bar = u_bar;
-            nbar_bar = -u_bar;
-        }
-        let b_swn = (nbar_bar - nbar * dot(nbar, nbar_bar)) / nlen;
-        let b_sp = -b_sws * sw + swn * b_swt;
-        bar0 = vec4<f32>(b_sws, b_swn);
-        bar1 = vec4<f32>(b_sw, b_swt, b_swo, 0.0);
-        var xp_bar = b_sp;
-        // The candidates again: each one's share, as its pass 2 makes it.
-        for (var row = 0u; row < scan_rows(); row++) {
-            let span = row_span(wk.hm, row);
-            for (var k = span.start; k < span.end; k++) {
-                let cd = cand(wk, k, cs);
-                let q = cd.j;
-                if (!in_row(cd.cell, span)) {
-                    continue;
-                }
-                let mq = pinfo[q];
-                if (mq.z != partner || nbo[q].z <= 0.0) {
-                    continue;
-                }
-                let oq = bitcast<f32>(mq.y);
-                let d = -cd.d;
-                let cnq = cn[place(q)];
-                let nq = cnq.xy;
-                let hq = bodies[mq.z].h;
-                let wg = candidate(np, nq, d, op, oq, hp, hq, ramp_measure(p, hp, cnp), ramp_measure(q, hq, cnq));
-                if (wg.x < 0.0) {
-                    continue;
-                }
-                let rel = d + nq * oq - np * op;
-                let cb = cand_bar(bar0, bar1, wg.x, rel, nq, oq);
-                let gw = -d * wg.y;
-                xp_bar += gw * cb.w;
-                phi_dot += dot(cb.x - gw * cb.w, v_book(q)) + dot(cb.n, perp(nq) * cnq.w);
-            }
-        }
-        np_bar += b_sp * op;
-        phi_dot += dot(xp_bar, v_book(p)) + dot(np_bar, perp(np) * cnp.w);
+        let b = gap_bar(s, g, gbar, obar, ob, phi0 * fd.slope / fd.w_ref);
+        bar0 = b.bar0;
+        bar1 = b.bar1;
+        let cands = candidates_bar(at, partner, b);
+        np_bar = b.np + b.sp * at.op;
+        phi_dot = cands.phi_dot;
+        phi_dot += dot(cands.xp, v_book(p)) + dot(np_bar, perp(at.np) * cnp.w);
         if (!clipped) {
-            keep = -xp_bar;
+            keep = -cands.xp;
             bar1.w = 1.0;
         } else {
             np_bar = vec2<f32>(0.0);
         }
     }
-    // The rate the heat is booked at: the forces' own, or the leapfrog's
-    // v_{n+1}.
-    var w_book = w_rate;
-    if (LEAP == 3u) {
-        w_book = dot(vbook[p] - swb / sw, n);
-    }
-    // Dashpot heat 1/2 z w A w; where the pass lets go, the spring's energy
-    // released.
-    var heat = -phi_dot;
     var dash = 0.0;
     if (!clipped) {
         dash = 0.5 * z * w_rate * a;
-        heat = dash * w_book;
-        // A yielded spring pressed further stores nothing more: the work it
-        // takes is heat.
-        if (yielded && phi_dot > 0.0) {
-            heat += phi_dot;
-            phi_dot = 0.0;
-        }
     }
+    let ph = pass_heat(p, s, n, w_rate, dash, clipped, en.yielded, phi_dot);
+    let heat = ph.x;
+    phi_dot = ph.y;
     keep -= n * dash;
     var own_heat = heat;
     var eta = 0.0;
