@@ -18,25 +18,11 @@ use std::collections::BTreeMap;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let steel = Material {
         shear_modulus: Some(77e9),
-        ..Material::basic(
-            7850.0,
-            Eos::MieGruneisen {
-                c0: 4580.0,
-                s: 1.49,
-                gamma0: 2.02,
-            },
-        )
+        ..Material::basic(7850.0, Eos::mie_gruneisen(4580.0, 1.49, 2.02))
     };
     let aluminium = Material {
         shear_modulus: Some(25e9),
-        ..Material::basic(
-            2790.0,
-            Eos::MieGruneisen {
-                c0: 5330.0,
-                s: 1.34,
-                gamma0: 2.0,
-            },
-        )
+        ..Material::basic(2790.0, Eos::mie_gruneisen(5330.0, 1.34, 2.0))
     };
     let bar = |name: &str, material: &str, from: f64, to: f64, v: f64| Body {
         name: name.into(),

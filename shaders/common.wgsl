@@ -90,6 +90,10 @@ override CAVITATION: bool = false;
 // The strength laws some deformable body uses, a bit `1 << id` each
 // (physics::laws; strength.wgsl's dispatch compiles the others out).
 override STRENGTH_LAWS: u32 = 0u;
+// The equations of state some body uses, a bit `1 << id` each
+// (physics::eos; the dispatch compiles the others out); every one where
+// the host does not say.
+override EOS_LAWS: u32 = 0xffffffffu;
 // The strength or damage laws read the equivalent strain rate.
 override STRAIN_RATE: bool = false;
 // A body of revolution (docs/method.md §12): x is the radius r, y the
@@ -248,8 +252,10 @@ struct Params {
 struct Body {
     rho0: f32,
     k: f32,
-    s: f32,
-    gamma0: f32,
+    // The equation of state's two constants (physics::eos::PressureLaw::
+    // device).
+    eos0: f32,
+    eos1: f32,
     g: f32,
     y0: f32,
     z: f32,
@@ -258,7 +264,8 @@ struct Body {
     spacing: f32,
     h: f32,
     rigid: u32,
-    linear: u32,
+    // The equation of state's number (physics::eos::Eos::device_id).
+    eos: u32,
     elastic: u32,
     // The fewest same-body neighbours a particle keeps its correction
     // with (model::BodyInfo::debris_neighbours).

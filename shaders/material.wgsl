@@ -3,21 +3,9 @@
 // failed particle's stress, sound speeds, von Mises and the perfectly
 // plastic return.
 
-// Mie-Grüneisen or linear pressure (docs/method.md §6), from mu = rho/rho0 - 1.
-fn eos_pressure(b: Body, mu: f32, e: f32) -> f32 {
-    if (b.linear != 0u) {
-        return b.k * mu;
-    }
-    var ph = b.k * mu;
-    if (mu > 0.0) {
-        let sm = b.s - 1.0;
-        let b0 = b.k * (1.0 + 2.0 * sm);
-        let c0 = b.k * (2.0 * sm + 3.0 * sm * sm);
-        ph = mu * (b.k + mu * (b0 + mu * c0));
-    }
-    // The thermal part from e >= 0 only (MaterialModel::pressure).
-    return (1.0 - 0.5 * b.gamma0 * mu) * ph + b.gamma0 * b.rho0 * (1.0 + mu) * max(e, 0.0);
-}
+// The pressure of a body's equation of state, eos_pressure(b, mu, e),
+// its dp/drho and its zero-pressure mu come from the registry (shaders/eos/,
+// gpu::shaders::eos_laws) with mu = rho/rho0 - 1.
 
 // A failed particle's damage (physics::strength::FAILED).
 const FAILED: f32 = 1.0;
@@ -68,16 +56,7 @@ fn sound_speed_of(b: Body, mu: f32, e: f32, d: f32) -> f32 {
 // Longitudinal sound speed with shear modulus `g`, bulk part never below K
 // (as the CPU path).
 fn speed_with_shear(b: Body, mu: f32, e: f32, g: f32) -> f32 {
-    var dpdrho = b.k / b.rho0;
-    if (b.linear == 0u && mu > 0.0) {
-        let sm = b.s - 1.0;
-        let b0 = b.k * (1.0 + 2.0 * sm);
-        let c0 = b.k * (2.0 * sm + 3.0 * sm * sm);
-        let ph = mu * (b.k + mu * (b0 + mu * c0));
-        let dph = b.k + mu * (2.0 * b0 + 3.0 * mu * c0);
-        let d = ((1.0 - 0.5 * b.gamma0 * mu) * dph - 0.5 * b.gamma0 * ph) / b.rho0 + b.gamma0 * max(e, 0.0);
-        dpdrho = max(dpdrho, d);
-    }
+    let dpdrho = eos_dpdrho(b, mu, e);
     let rho = b.rho0 * (1.0 + mu);
     return sqrt((rho * dpdrho + 4.0 * g / 3.0) / rho);
 }

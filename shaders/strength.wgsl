@@ -118,17 +118,6 @@ fn failure_strain(p: Plastic, triax: f32, rate_star: f32, t_star: f32) -> f32 {
     return (p.d1 + p.d2 * exp(p.d3 * triax)) * rf * (1.0 + p.d5 * t_star);
 }
 
-// mu at which a failed particle with specific energy `e` has no pressure
-// (MaterialModel::failed_density_floor).
-fn failed_floor(b: Body, e: f32) -> f32 {
-    if (b.linear != 0u || b.gamma0 == 0.0) {
-        return 0.0;
-    }
-    let ge = b.gamma0 * b.rho0 * max(e, 0.0);
-    let bb = b.k + ge;
-    return -2.0 * ge / (bb + sqrt(bb * bb + 2.0 * b.gamma0 * b.k * ge));
-}
-
 // A particle's stress and history after the update, and its mu (raised to
 // the floor where it fails).
 struct Updated {
@@ -145,7 +134,7 @@ fn strength_update(bi: u32, trial: vec4<f32>, rate: f32, mu: f32, e: f32, h_in: 
     var h = h_in;
     let b = bodies[bi];
     if (failed(h.z)) {
-        return Updated(vec4<f32>(0.0), h, max(mu, failed_floor(b, e)));
+        return Updated(vec4<f32>(0.0), h, max(mu, eos_zero_mu(b, e)));
     }
     let pl = plastic[bi];
     let q = von_mises(trial);
@@ -192,7 +181,7 @@ fn strength_update(bi: u32, trial: vec4<f32>, rate: f32, mu: f32, e: f32, h_in: 
         }
         if (failed(h.z)) {
             s = vec4<f32>(0.0);
-            mu_out = max(mu, failed_floor(b, e));
+            mu_out = max(mu, eos_zero_mu(b, e));
             if (h.w < 0.0) {
                 h.w = t_end;
             }
@@ -211,7 +200,7 @@ fn strength_update(bi: u32, trial: vec4<f32>, rate: f32, mu: f32, e: f32, h_in: 
         }
         if (h.w == VOID_OPEN) {
             s = vec4<f32>(0.0);
-            mu_out = max(mu, failed_floor(b, e));
+            mu_out = max(mu, eos_zero_mu(b, e));
         }
     }
     return Updated(s, h, mu_out);

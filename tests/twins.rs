@@ -1,6 +1,6 @@
 //! Every CPU twin a shader names exists: each `CPU twin: path` (or
-//! `twins:` with a list) in a comment of `shaders/*.wgsl` and
-//! `shaders/laws/*.wgsl` resolves to a
+//! `twins:` with a list) in a comment of `shaders/*.wgsl`,
+//! `shaders/laws/*.wgsl` and `shaders/eos/*.wgsl` resolves to a
 //! module, type, function, constant or field of `src/` where the path
 //! says, so that a twin which moves or is renamed fails here instead of
 //! leaving the shader pointing at nothing.
@@ -241,8 +241,9 @@ fn every_cpu_twin_a_shader_names_exists() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let mut found = 0;
     let mut missing = Vec::new();
-    // The stages' files and the strength laws' (shaders/laws/).
-    let mut names: Vec<PathBuf> = [dir.clone(), dir.join("laws")]
+    // The stages' files, the strength laws' (shaders/laws/) and the
+    // equations of state's (shaders/eos/).
+    let mut names: Vec<PathBuf> = [dir.clone(), dir.join("laws"), dir.join("eos")]
         .iter()
         .flat_map(|d| std::fs::read_dir(d).unwrap())
         .map(|e| e.unwrap().path())

@@ -317,6 +317,7 @@ impl GpuSolver {
             ("FAILURE", self.model.can_fail() as u8 as f64),
             ("CAVITATION", self.model.cavitates() as u8 as f64),
             ("STRENGTH_LAWS", self.model.strength_laws() as f64),
+            ("EOS_LAWS", self.model.eos_laws() as f64),
         ];
         let p = self.ctx.pipeline("debug", "", entry, &consts);
         let len = input.len().max(1) as u64;

@@ -70,8 +70,9 @@ pub struct Params {
 pub struct BodyGpu {
     pub rho0: f32,
     pub k: f32,
-    pub s: f32,
-    pub gamma0: f32,
+    /// The equation of state's constants ([`crate::physics::eos::PressureLaw::device`]).
+    pub eos0: f32,
+    pub eos1: f32,
     pub g: f32,
     pub y0: f32,
     pub z: f32,
@@ -79,7 +80,8 @@ pub struct BodyGpu {
     pub spacing: f32,
     pub h: f32,
     pub rigid: u32,
-    pub linear: u32,
+    /// The equation of state's number ([`crate::physics::eos::Eos::device_id`]).
+    pub eos: u32,
     pub elastic: u32,
     /// The fewest same-body neighbours a particle keeps its correction
     /// with ([`crate::model::BodyInfo::debris_neighbours`]).
@@ -214,7 +216,7 @@ pub fn host_layouts() -> Vec<HostLayout> {
             "Body",
             size_of::<BodyGpu>(),
             offsets!(
-                BodyGpu, rho0, k, s, gamma0, g, y0, z, modulus, spacing, h, rigid, linear, elastic,
+                BodyGpu, rho0, k, eos0, eos1, g, y0, z, modulus, spacing, h, rigid, eos, elastic,
                 debris_n, hg, art
             ),
         ),

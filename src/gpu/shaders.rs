@@ -107,7 +107,8 @@ pub fn source(stage: &str, prelude: &str) -> String {
         .filter(|f| !SHARED_PARTS.contains(f))
         .map(|f| format!("// ---- {f} ----\n{}\n", file(f)))
         .collect();
-    format!("{COMMON}\n{WALK}\n{prelude}\n{spread}\n{strength}\n{penalty}\n{own}// ---- {stage}.wgsl ----\n{body}")
+    let eos = eos_laws();
+    format!("{COMMON}\n{eos}\n{WALK}\n{prelude}\n{spread}\n{strength}\n{penalty}\n{own}// ---- {stage}.wgsl ----\n{body}")
 }
 
 /// Every strength law's WGSL (shaders/laws/) and the dispatch on a
@@ -141,6 +142,36 @@ fn laws() -> String {
         "vec2<f32>",
         "vec2<f32>(0.0)",
     );
+    out
+}
+
+/// Every equation of state's WGSL (shaders/eos/) and the dispatch on a
+/// body's law, written from the registry ([`crate::physics::eos::DEVICE`]):
+/// `eos_pressure`, `eos_dpdrho` and `eos_zero_mu`. A law that no body of the
+/// scene uses is compiled out: the override `EOS_LAWS` has its bit
+/// (`1 << id`) clear.
+fn eos_laws() -> String {
+    use crate::physics::eos::DEVICE;
+    let mut out = String::new();
+    for l in DEVICE {
+        out += &format!("// ---- eos/{}.wgsl ----\n{}\n", l.kind, l.wgsl);
+    }
+    let dispatch = |name: &str, args: &str, params: &str| {
+        let mut f = format!("fn eos_{name}(b: Body, {params}) -> f32 {{\n");
+        for l in DEVICE {
+            f += &format!(
+                "    if ((EOS_LAWS & {}u) != 0u && b.eos == {}u) {{\n        return {}_{name}(b, {args});\n    }}\n",
+                1u32 << l.id,
+                l.id,
+                l.kind
+            );
+        }
+        f + "    return 0.0;\n}\n"
+    };
+    out += "// The equations of state's dispatch (gpu::shaders::eos_laws).\n";
+    out += &dispatch("pressure", "mu, e", "mu: f32, e: f32");
+    out += &dispatch("dpdrho", "mu, e", "mu: f32, e: f32");
+    out += &dispatch("zero_mu", "e", "e: f32");
     out
 }
 

@@ -469,6 +469,14 @@ impl Model {
             .fold(0, |bits, law| bits | 1 << law.device_id())
     }
 
+    /// The equations of state the bodies use, a bit `1 << id` each (the
+    /// device's `EOS_LAWS`).
+    pub fn eos_laws(&self) -> u32 {
+        self.bodies
+            .iter()
+            .fold(0, |bits, b| bits | 1 << b.material.eos.device_id())
+    }
+
     /// Body name and index within the body of global particle `i`.
     pub fn locate(&self, i: usize) -> (&str, usize) {
         let b = &self.bodies[self.body[i] as usize];

@@ -1,21 +1,21 @@
-//! Material model (docs/method.md §6): Mie–Grüneisen or linear pressure, derived
-//! elastic constants, sound speeds and impedances. A scene's material
+//! Material model (docs/method.md §6): the equation of state
+//! ([`crate::physics::eos`]), derived elastic constants, sound speeds and
+//! impedances. A scene's material
 //! becomes one through `MaterialModel::new` (src/scene/model.rs), so that
 //! this module knows nothing of the scene format.
 
 use crate::math::Sym;
+use crate::physics::eos::Eos;
 use crate::physics::laws::{johnson_cook::Failure, StrengthLaw};
 
 /// A material with every derived constant the solver needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MaterialModel {
     pub rho0: f64,
+    /// The bulk sound speed at ρ0 (the equation of state's `c0`).
     pub c0: f64,
-    /// Hugoniot slope `s` (0 for the linear EOS).
-    pub s: f64,
-    /// Grüneisen Γ0 (0 for the linear EOS).
-    pub gamma0: f64,
-    pub linear: bool,
+    /// The equation of state.
+    pub eos: Eos,
     /// Shear modulus G (0: no deviatoric stress).
     pub g: f64,
     /// Yield stress Y0 (infinite: elastic).
@@ -95,46 +95,19 @@ impl MaterialModel {
 
     /// The density at or above which a failed particle with specific
     /// internal energy `e` stays: the density at which its pressure
-    /// vanishes (ρ0 for the linear EOS; for Mie–Grüneisen the root of
-    /// `(1 − Γμ/2) K μ + Γ ρ0 (1 + μ) e = 0` near μ = 0, with `e` taken
-    /// as at least 0 so that it is never above ρ0). A failed particle
+    /// vanishes ([`crate::physics::eos::PressureLaw::zero_pressure_mu`]:
+    /// ρ0 for the linear EOS, never above ρ0). A failed particle
     /// carries no tension, so below it the material would do nothing but
     /// dilate, and its volume `m/ρ` would grow in its neighbours' sums
     /// without bound: an opening crack is void, not stretched metal.
     pub fn failed_density_floor(&self, e: f64) -> f64 {
-        if self.linear || self.gamma0 == 0.0 {
-            return self.rho0;
-        }
-        let (k, g) = (self.k, self.gamma0);
-        let ge = g * self.rho0 * e.max(0.0);
-        // −½ΓK μ² + (K + Γρ0e) μ + Γρ0e = 0, the root near 0, written to
-        // keep its digits: μ = −2c / (b + sqrt(b² − 4ac)).
-        let b = k + ge;
-        let mu = -2.0 * ge / (b + (b * b + 2.0 * g * k * ge).sqrt());
-        self.rho0 * (1.0 + mu)
+        self.rho0 * (1.0 + self.eos.zero_pressure_mu(self.k, self.rho0, e))
     }
 
-    /// Pressure `p(ρ, e)` (docs/method.md §6), compression positive. The
-    /// Grüneisen term takes `e` at least 0: no adiabatic path from the
-    /// reference state lowers the internal energy below it, so a negative
-    /// `e` is a numerical deficit, and as a tension `Γρe` it would feed the
-    /// motion that drew it (a stretched lip's ringing).
+    /// Pressure `p(ρ, e)` (docs/method.md §6), compression positive.
     #[inline]
     pub fn pressure(&self, rho: f64, e: f64) -> f64 {
-        let mu = rho / self.rho0 - 1.0;
-        let a0 = self.k;
-        if self.linear {
-            return a0 * mu;
-        }
-        let ph = if mu > 0.0 {
-            let sm = self.s - 1.0;
-            let b0 = a0 * (1.0 + 2.0 * sm);
-            let c0p = a0 * (2.0 * sm + 3.0 * sm * sm);
-            mu * (a0 + mu * (b0 + mu * c0p))
-        } else {
-            a0 * mu
-        };
-        (1.0 - 0.5 * self.gamma0 * mu) * ph + self.gamma0 * rho * e.max(0.0)
+        self.eos.pressure(self.k, self.rho0, rho, e)
     }
 
     /// Longitudinal sound speed at the current state, for the time step and
@@ -149,18 +122,7 @@ impl MaterialModel {
     #[inline]
     fn speed_with_shear(&self, rho: f64, e: f64, g: f64) -> f64 {
         let mu = rho / self.rho0 - 1.0;
-        let a0 = self.k;
-        let mut dpdrho = a0 / self.rho0;
-        if !self.linear && mu > 0.0 {
-            let sm = self.s - 1.0;
-            let b0 = a0 * (1.0 + 2.0 * sm);
-            let c0p = a0 * (2.0 * sm + 3.0 * sm * sm);
-            let ph = mu * (a0 + mu * (b0 + mu * c0p));
-            let dph = a0 + mu * (2.0 * b0 + 3.0 * mu * c0p);
-            let d = ((1.0 - 0.5 * self.gamma0 * mu) * dph - 0.5 * self.gamma0 * ph) / self.rho0
-                + self.gamma0 * e.max(0.0);
-            dpdrho = dpdrho.max(d);
-        }
+        let dpdrho = self.eos.dp_drho(self.k, self.rho0, mu, e);
         ((rho * dpdrho + 4.0 * g / 3.0) / rho).sqrt()
     }
 }
@@ -209,18 +171,14 @@ mod tests {
     use super::*;
     use crate::scene::{Eos, Material};
 
+    /// The Hugoniot slope of [`steel`].
+    const STEEL_S: f64 = 1.49;
+
     pub fn steel() -> Material {
         Material {
             shear_modulus: Some(77e9),
             yield_stress: Some(600e6),
-            ..Material::basic(
-                7850.0,
-                Eos::MieGruneisen {
-                    c0: 4580.0,
-                    s: 1.49,
-                    gamma0: 2.02,
-                },
-            )
+            ..Material::basic(7850.0, Eos::mie_gruneisen(4580.0, STEEL_S, 2.02))
         }
     }
 
@@ -243,7 +201,7 @@ mod tests {
             );
             last = rho;
         }
-        let lin = MaterialModel::new(&Material::basic(7850.0, Eos::Linear { c0: 4580.0 }));
+        let lin = MaterialModel::new(&Material::basic(7850.0, Eos::linear(4580.0)));
         assert_eq!(lin.failed_density_floor(1e5), 7850.0);
     }
 
@@ -259,14 +217,7 @@ mod tests {
         let a = MaterialModel::new(&Material {
             shear_modulus: Some(25e9),
             yield_stress: Some(550e6),
-            ..Material::basic(
-                2790.0,
-                Eos::MieGruneisen {
-                    c0: 5330.0,
-                    s: 1.34,
-                    gamma0: 2.0,
-                },
-            )
+            ..Material::basic(2790.0, Eos::mie_gruneisen(5330.0, 1.34, 2.0))
         });
         assert!((a.k / 79.26e9 - 1.0).abs() < 1e-3);
         assert!((a.e / 67.9e9 - 1.0).abs() < 1e-3);
@@ -316,7 +267,8 @@ mod tests {
     fn eos_lies_on_the_hugoniot() {
         let s = MaterialModel::new(&steel());
         for mu in [0.005, 0.02, 0.05, 0.1] {
-            let exact = s.rho0 * s.c0 * s.c0 * mu * (1.0 + mu) / (1.0 - (s.s - 1.0) * mu).powi(2);
+            let exact =
+                s.rho0 * s.c0 * s.c0 * mu * (1.0 + mu) / (1.0 - (STEEL_S - 1.0) * mu).powi(2);
             let e_h = exact * mu / (2.0 * s.rho0 * (1.0 + mu));
             let p = s.pressure(s.rho0 * (1.0 + mu), e_h);
             // The remainder starts at a0 (4(s−1)³ + 3(s−1)²) μ⁴: under

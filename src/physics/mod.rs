@@ -4,6 +4,7 @@
 //! mirrored by the shaders of the GPU path); the exact answers of the
 //! validation cases are in [`crate::validation::exact`].
 
+pub mod eos;
 pub mod kernel;
 pub mod laws;
 pub mod material;

@@ -176,18 +176,6 @@ pub enum FailureLaw {
     JohnsonCook(crate::physics::laws::johnson_cook::Failure),
 }
 
-/// Equation of state (docs/method.md §6).
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum Eos {
-    MieGruneisen { c0: f64, s: f64, gamma0: f64 },
-    Linear { c0: f64 },
-}
-
-impl Eos {
-    pub fn c0(&self) -> f64 {
-        match *self {
-            Eos::MieGruneisen { c0, .. } | Eos::Linear { c0 } => c0,
-        }
-    }
-}
+/// Equation of state (docs/method.md §6; one module each in
+/// [`crate::physics::eos`]).
+pub use crate::physics::eos::Eos;

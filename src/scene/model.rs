@@ -1,7 +1,7 @@
 //! A scene's material as the solvers' material model: the derived
 //! constants of physics::material::MaterialModel from the scene's keys.
 
-use super::{Eos, FailureLaw, Material};
+use super::{FailureLaw, Material};
 use crate::physics::material::MaterialModel;
 
 impl MaterialModel {
@@ -9,10 +9,7 @@ impl MaterialModel {
     /// speeds and impedance, and its strength and failure laws.
     pub fn new(mat: &Material) -> Self {
         let rho0 = mat.density;
-        let (c0, s, gamma0, linear) = match mat.eos {
-            Eos::MieGruneisen { c0, s, gamma0 } => (c0, s, gamma0, false),
-            Eos::Linear { c0 } => (c0, 0.0, 0.0, true),
-        };
+        let c0 = mat.eos.c0();
         let g = mat.shear_modulus.unwrap_or(0.0);
         let strength = mat.strength;
         let failure = mat.failure.map(|FailureLaw::JohnsonCook(f)| f);
@@ -34,9 +31,7 @@ impl MaterialModel {
         Self {
             rho0,
             c0,
-            s,
-            gamma0,
-            linear,
+            eos: mat.eos,
             g,
             y0,
             k,

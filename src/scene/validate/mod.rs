@@ -154,11 +154,9 @@ fn validate_materials(scene: &Scene) -> R {
     for (name, m) in &scene.materials {
         let k = |f: &str| format!("materials.{name}.{f}");
         positive(&k("density"), m.density)?;
-        positive(&k("eos.c0"), m.eos.c0())?;
-        if let super::Eos::MieGruneisen { s, gamma0, .. } = m.eos {
-            finite(&k("eos.s"), &[s])?;
-            non_negative(&k("eos.gamma0"), gamma0)?;
-        }
+        m.eos
+            .check()
+            .map_err(|(key, msg)| SceneError::at(k(&format!("eos.{key}")), msg))?;
         if let Some(g) = m.shear_modulus {
             non_negative(&k("shear_modulus"), g)?;
         }

@@ -100,9 +100,7 @@ pub(crate) mod test_support {
         MaterialModel {
             rho0,
             c0,
-            s: 0.0,
-            gamma0: 0.0,
-            linear: true,
+            eos: crate::physics::eos::Eos::linear(c0),
             g,
             y0: f64::INFINITY,
             k,

@@ -69,7 +69,7 @@ fn jump_state(
 ) -> (f64, f64) {
     let eps = mat.rho0 / rho - 1.0;
     let w = (eps - eps_a) / (2.0 * mat.rho0);
-    let g = mat.gamma0 * rho;
+    let g = mat.eos.gruneisen() * rho;
     let p0 = mat.pressure(rho, 0.0);
     let sigma = (-p0 - g * e_a - g * sigma_a * w + s_xx) / (1.0 + g * w);
     let e = e_a + (sigma + sigma_a) * w;
@@ -221,11 +221,7 @@ mod tests {
             yield_stress: Some(600e6),
             ..crate::scene::Material::basic(
                 7850.0,
-                crate::scene::Eos::MieGruneisen {
-                    c0: 4580.0,
-                    s: 1.49,
-                    gamma0: 2.02,
-                },
+                crate::scene::Eos::mie_gruneisen(4580.0, 1.49, 2.02),
             )
         })
     }
