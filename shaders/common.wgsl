@@ -90,6 +90,10 @@ override CAVITATION: bool = false;
 // The strength laws some deformable body uses, a bit `1 << id` each
 // (physics::laws; strength.wgsl's dispatch compiles the others out).
 override STRENGTH_LAWS: u32 = 0u;
+// The damage laws some deformable body uses, a bit `1 << id` each
+// (physics::failure; strength.wgsl's dispatch compiles the others out);
+// every one where the host does not say.
+override FAILURE_LAWS: u32 = 0xffffffffu;
 // The equations of state some body uses, a bit `1 << id` each
 // (physics::eos; the dispatch compiles the others out); every one where
 // the host does not say.

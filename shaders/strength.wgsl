@@ -29,6 +29,8 @@ struct Plastic {
     melt_rise: f32,
     // Taylor–Quinney fraction over the specific heat, K kg/J.
     heat: f32,
+    // The damage law's constants, as its file in shaders/failure/ reads
+    // them.
     d1: f32,
     d2: f32,
     d3: f32,
@@ -38,7 +40,7 @@ struct Plastic {
     spall: f32,
     // Cavitation pressure, Pa (BIG: none).
     cavitation: f32,
-    // 1: Johnson–Cook damage.
+    // The damage law's number (physics::failure registry; 0: none).
     damage: u32,
 }
 
@@ -106,16 +108,6 @@ fn return_increment(p: Plastic, q: f32, g: f32, eps: f32, f: f32) -> f32 {
         }
     }
     return d;
-}
-
-// (D1 + D2 exp(D3 sigma*)) (1 + D4 ln rate*) (1 + D5 T*)
-// (Failure::failure_strain).
-fn failure_strain(p: Plastic, triax: f32, rate_star: f32, t_star: f32) -> f32 {
-    var rf = 1.0;
-    if (rate_star > 1.0) {
-        rf = 1.0 + p.d4 * log(rate_star);
-    }
-    return (p.d1 + p.d2 * exp(p.d3 * triax)) * rf * (1.0 + p.d5 * t_star);
 }
 
 // A particle's stress and history after the update, and its mu (raised to

@@ -243,12 +243,17 @@ fn every_cpu_twin_a_shader_names_exists() {
     let mut missing = Vec::new();
     // The stages' files, the strength laws' (shaders/laws/) and the
     // equations of state's (shaders/eos/).
-    let mut names: Vec<PathBuf> = [dir.clone(), dir.join("laws"), dir.join("eos")]
-        .iter()
-        .flat_map(|d| std::fs::read_dir(d).unwrap())
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "wgsl"))
-        .collect();
+    let mut names: Vec<PathBuf> = [
+        dir.clone(),
+        dir.join("laws"),
+        dir.join("eos"),
+        dir.join("failure"),
+    ]
+    .iter()
+    .flat_map(|d| std::fs::read_dir(d).unwrap())
+    .map(|e| e.unwrap().path())
+    .filter(|p| p.extension().is_some_and(|e| e == "wgsl"))
+    .collect();
     names.sort();
     for path in names {
         let text = std::fs::read_to_string(&path).unwrap();

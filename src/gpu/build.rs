@@ -52,14 +52,8 @@ pub(super) fn plastic_gpu(m: &crate::physics::material::MaterialModel) -> Plasti
             .map_or(f32::MAX, |t| (t - law.room_temperature()) as f32);
     }
     if let Some(f) = &m.failure {
-        p.damage = 1;
-        (p.d1, p.d2, p.d3, p.d4, p.d5) = (
-            f.d1 as f32,
-            f.d2 as f32,
-            f.d3 as f32,
-            f.d4 as f32,
-            f.d5 as f32,
-        );
+        p.damage = f.device_id();
+        [p.d1, p.d2, p.d3, p.d4, p.d5] = f.device();
     }
     p
 }

@@ -318,6 +318,7 @@ impl GpuSolver {
             ("CAVITATION", self.model.cavitates() as u8 as f64),
             ("STRENGTH_LAWS", self.model.strength_laws() as f64),
             ("EOS_LAWS", self.model.eos_laws() as f64),
+            ("FAILURE_LAWS", self.model.failure_laws() as f64),
         ];
         let p = self.ctx.pipeline("debug", "", entry, &consts);
         let len = input.len().max(1) as u64;

@@ -330,6 +330,7 @@ fn override_constants(
         ("CAVITATION", model.cavitates() as u8 as f64),
         ("STRENGTH_LAWS", model.strength_laws() as f64),
         ("EOS_LAWS", model.eos_laws() as f64),
+        ("FAILURE_LAWS", model.failure_laws() as f64),
         ("STRAIN_RATE", model.strain_rate as u8 as f64),
         ("AXI", model.axisymmetric as u8 as f64),
         ("ADAPT", model.adaptive as u8 as f64),

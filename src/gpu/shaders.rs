@@ -111,10 +111,12 @@ pub fn source(stage: &str, prelude: &str) -> String {
     format!("{COMMON}\n{eos}\n{WALK}\n{prelude}\n{spread}\n{strength}\n{penalty}\n{own}// ---- {stage}.wgsl ----\n{body}")
 }
 
-/// Every strength law's WGSL (shaders/laws/) and the dispatch on a
-/// body's law, written from the registry ([`crate::physics::laws::DEVICE`]).
-/// A law that no body of the scene uses is compiled out: the override
-/// `STRENGTH_LAWS` has its bit (`1 << id`) clear.
+/// Every strength law's WGSL (shaders/laws/) and damage law's
+/// (shaders/failure/), and the dispatch on a body's law, written from the
+/// registries ([`crate::physics::laws::DEVICE`],
+/// [`crate::physics::failure::DEVICE`]). A law that no body of the scene
+/// uses is compiled out: the override `STRENGTH_LAWS` (`FAILURE_LAWS`) has
+/// its bit (`1 << id`) clear.
 fn laws() -> String {
     use crate::physics::laws::DEVICE;
     let mut out = String::new();
@@ -133,6 +135,9 @@ fn laws() -> String {
         }
         f + &format!("    return {none};\n}}\n")
     };
+    for l in crate::physics::failure::DEVICE {
+        out += &format!("// ---- failure/{}.wgsl ----\n{}\n", l.kind, l.wgsl);
+    }
     out += "// The laws' dispatch (gpu::shaders::laws).\n";
     out += &dispatch("factor", "rate, rise", "rate: f32, rise: f32", "f32", "1.0");
     out += &dispatch(
@@ -142,6 +147,17 @@ fn laws() -> String {
         "vec2<f32>",
         "vec2<f32>(0.0)",
     );
+    // The damage laws' (a particle with none never asks).
+    out += "fn failure_strain(p: Plastic, triax: f32, rate_star: f32, t_star: f32) -> f32 {\n";
+    for l in crate::physics::failure::DEVICE {
+        out += &format!(
+            "    if ((FAILURE_LAWS & {}u) != 0u && p.damage == {}u) {{\n        return {}_failure_strain(p, triax, rate_star, t_star);\n    }}\n",
+            1u32 << l.id,
+            l.id,
+            l.kind
+        );
+    }
+    out += "    return BIG;\n}\n";
     out
 }
 

@@ -469,6 +469,16 @@ impl Model {
             .fold(0, |bits, law| bits | 1 << law.device_id())
     }
 
+    /// The damage laws the deformable bodies use, a bit `1 << id` each (the
+    /// device's `FAILURE_LAWS`).
+    pub fn failure_laws(&self) -> u32 {
+        self.bodies
+            .iter()
+            .filter(|b| !b.rigid)
+            .filter_map(|b| b.material.failure.as_ref())
+            .fold(0, |bits, law| bits | 1 << law.device_id())
+    }
+
     /// The equations of state the bodies use, a bit `1 << id` each (the
     /// device's `EOS_LAWS`).
     pub fn eos_laws(&self) -> u32 {

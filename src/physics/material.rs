@@ -6,7 +6,8 @@
 
 use crate::math::Sym;
 use crate::physics::eos::Eos;
-use crate::physics::laws::{johnson_cook::Failure, StrengthLaw};
+use crate::physics::failure::FailureLaw;
+use crate::physics::laws::StrengthLaw;
 
 /// A material with every derived constant the solver needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -36,8 +37,8 @@ pub struct MaterialModel {
     /// [`crate::physics::laws::Law::initial_yield`]); `None`: perfect
     /// plasticity at `y0`, or elastic.
     pub strength: Option<StrengthLaw>,
-    /// Johnson–Cook damage.
-    pub failure: Option<Failure>,
+    /// A damage law ([`crate::physics::failure`]).
+    pub failure: Option<FailureLaw>,
     /// The tensile pressure at which a particle fails, Pa (infinite: none).
     pub spall: f64,
     /// The tensile pressure past which a particle opens a void without

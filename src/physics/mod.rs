@@ -5,6 +5,7 @@
 //! validation cases are in [`crate::validation::exact`].
 
 pub mod eos;
+pub mod failure;
 pub mod kernel;
 pub mod laws;
 pub mod material;

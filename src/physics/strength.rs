@@ -171,6 +171,7 @@ pub fn update(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::failure::DamageLaw;
     use crate::scene::Material;
 
     /// 4340 steel of the library; without `strength`, perfectly plastic at
@@ -289,7 +290,7 @@ mod tests {
     /// by Δε_p/ε_f(1.5) and stays positive.
     #[test]
     fn the_triaxiality_bound_keeps_armco_iron_positive() {
-        let f = laws::johnson_cook::Failure {
+        let f = crate::physics::failure::johnson_cook::Failure {
             d1: -2.20,
             d2: 5.43,
             d3: -0.47,

@@ -168,13 +168,8 @@ impl TryFrom<MaterialSpec> for Material {
 /// [`crate::physics::laws`], registered there.
 pub use crate::physics::laws::StrengthLaw;
 
-/// Damage laws.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum FailureLaw {
-    /// Johnson & Cook (1985): `ε_f = (D1 + D2 exp(D3 σ*))(1 + D4 ln ε̇*)(1 + D5 T*)`.
-    JohnsonCook(crate::physics::laws::johnson_cook::Failure),
-}
+/// Damage laws (one module each in [`crate::physics::failure`]).
+pub use crate::physics::failure::FailureLaw;
 
 /// Equation of state (docs/method.md §6; one module each in
 /// [`crate::physics::eos`]).

@@ -1,7 +1,7 @@
 //! A scene's material as the solvers' material model: the derived
 //! constants of physics::material::MaterialModel from the scene's keys.
 
-use super::{FailureLaw, Material};
+use super::Material;
 use crate::physics::material::MaterialModel;
 
 impl MaterialModel {
@@ -12,7 +12,7 @@ impl MaterialModel {
         let c0 = mat.eos.c0();
         let g = mat.shear_modulus.unwrap_or(0.0);
         let strength = mat.strength;
-        let failure = mat.failure.map(|FailureLaw::JohnsonCook(f)| f);
+        let failure = mat.failure;
         let y0 = match &strength {
             Some(law) => law.initial_yield(),
             None => mat.yield_stress.unwrap_or(f64::INFINITY),

@@ -1,16 +1,12 @@
-//! Johnson–Cook strength and failure as plain functions (Johnson & Cook,
-//! 1983 for the flow stress, 1985 for the failure strain):
+//! Johnson–Cook strength (Johnson & Cook, 1983): the flow stress
+//! `σ_y = (A + B ε_pⁿ)(1 + C ln ε̇*)(1 − T*ᵐ)`, with `ε̇* = ε̇_p / ε̇_0`
+//! (rates below the reference give no softening: `ln` of at least 1) and
+//! the homologous temperature `T* = (T − T_room)/(T_melt − T_room)`,
+//! clamped to [0, 1].
 //!
-//! * flow stress `σ_y = (A + B ε_pⁿ)(1 + C ln ε̇*)(1 − T*ᵐ)`, with
-//!   `ε̇* = ε̇_p / ε̇_0` (rates below the reference give no softening:
-//!   `ln` of at least 1) and the homologous temperature
-//!   `T* = (T − T_room)/(T_melt − T_room)`, clamped to [0, 1];
-//! * failure strain `ε_f = (D1 + D2 exp(D3 σ*))(1 + D4 ln ε̇*)(1 + D5 T*)`
-//!   with the stress triaxiality `σ* = −p / σ_vm`;
-//!
-//! The strength law is registered in [`super`] as `kind = "johnson_cook"`;
-//! its device twin is `shaders/laws/johnson_cook.wgsl`. The failure strain
-//! is the damage law of [`crate::scene::FailureLaw`] (strength.wgsl).
+//! The law is registered in [`super`] as `kind = "johnson_cook"`; its
+//! device twin is `shaders/laws/johnson_cook.wgsl`. Johnson and Cook's
+//! damage law is [`crate::physics::failure::johnson_cook`].
 
 use serde::{Deserialize, Serialize};
 
@@ -146,31 +142,6 @@ impl Law for Strength {
     }
 }
 
-/// The failure constants of one material, as a scene writes them
-/// (`failure = { kind = "johnson_cook", d1, … }`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Failure {
-    pub d1: f64,
-    pub d2: f64,
-    pub d3: f64,
-    pub d4: f64,
-    pub d5: f64,
-}
-
-impl Failure {
-    /// The failure strain at stress triaxiality `triax` (−p/σ_vm), the
-    /// dimensionless rate `ε̇*` and homologous temperature `T*`.
-    pub fn failure_strain(&self, triax: f64, rate_star: f64, t_star: f64) -> f64 {
-        let rate = if rate_star > 1.0 {
-            1.0 + self.d4 * rate_star.ln()
-        } else {
-            1.0
-        };
-        (self.d1 + self.d2 * (self.d3 * triax).exp()) * rate * (1.0 + self.d5 * t_star)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -231,23 +202,5 @@ mod tests {
         // Inside the surface: elastic.
         assert_eq!(ret(700e6, 0.0), 0.0);
         assert_eq!(ret(0.9e9, 0.2), 0.0);
-    }
-
-    #[test]
-    fn failure_strain_terms() {
-        // 4340 steel (Johnson & Cook 1985, Table 2).
-        let f = Failure {
-            d1: 0.05,
-            d2: 3.44,
-            d3: -2.12,
-            d4: 0.002,
-            d5: 0.61,
-        };
-        let base = 0.05 + 3.44 * (-2.12f64 / 3.0).exp();
-        assert!((f.failure_strain(1.0 / 3.0, 1.0, 0.0) - base).abs() < 1e-15);
-        let r = f.failure_strain(1.0 / 3.0, 1e4, 0.0) / base;
-        assert!((r - (1.0 + 0.002 * 1e4f64.ln())).abs() < 1e-14);
-        let r = f.failure_strain(1.0 / 3.0, 1.0, 0.5) / base;
-        assert!((r - 1.305).abs() < 1e-14);
     }
 }

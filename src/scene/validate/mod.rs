@@ -320,7 +320,6 @@ fn validate_probes(scene: &Scene, names: &HashSet<&str>) -> R {
 /// The strength, heating and failure keys of one material; `k` makes the
 /// dotted key of a field.
 fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
-    use super::FailureLaw;
     let g = m.shear_modulus.unwrap_or(0.0);
     if let Some(law) = &m.strength {
         if m.yield_stress.is_some() {
@@ -355,44 +354,22 @@ fn validate_strength(m: &super::Material, k: &dyn Fn(&str) -> String) -> R {
             ));
         }
     }
-    if let Some(FailureLaw::JohnsonCook(f)) = m.failure {
-        let (d1, d2, d3, d4, d5) = (f.d1, f.d2, f.d3, f.d4, f.d5);
-        finite(&k("failure"), &[d1, d2, d3, d4, d5])?;
+    if let Some(law) = &m.failure {
+        law.check().map_err(|(key, msg)| {
+            let at = if key.is_empty() {
+                k("failure")
+            } else {
+                k(&format!("failure.{key}"))
+            };
+            SceneError::at(at, msg)
+        })?;
         if m.strength.is_none() && m.yield_stress.is_none() {
             return Err(SceneError::at(
                 k("failure"),
                 "a damage law needs plastic strain: give yield_stress or a strength law",
             ));
         }
-        // ε_f is monotonic in the triaxiality, which the solver bounds:
-        // positive at both bounds, positive everywhere.
-        let bound = crate::physics::strength::TRIAXIALITY_BOUND;
-        for t in [-bound, bound] {
-            let base = d1 + d2 * (d3 * t).exp();
-            if base.is_nan() || base <= 0.0 {
-                return Err(SceneError::at(
-                    k("failure.d1"),
-                    format!(
-                        "the failure strain D1 + D2 exp(D3 σ*) is {base} at the triaxiality σ* = {t} (the solver's bound); it must be > 0"
-                    ),
-                ));
-            }
-        }
-        if d4 < 0.0 {
-            return Err(SceneError::at(
-                k("failure.d4"),
-                format!("must be >= 0 (got {d4}): a negative D4 makes the failure strain non-positive at high rates"),
-            ));
-        }
-        if d5 <= -1.0 {
-            return Err(SceneError::at(
-                k("failure.d5"),
-                format!(
-                    "must be > -1 (got {d5}): the failure strain would be non-positive at the melt"
-                ),
-            ));
-        }
-        if d5 != 0.0 && m.strength.is_some_and(|l| l.melt_temperature().is_none()) {
+        if law.reads_temperature() && m.strength.is_some_and(|l| l.melt_temperature().is_none()) {
             return Err(SceneError::at(
                 k("failure.d5"),
                 "a temperature term needs the strength law's melt_temperature (its T* reads it)",
