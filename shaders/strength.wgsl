@@ -46,7 +46,7 @@ struct Plastic {
 
 @group(0) @binding(79) var<storage, read> plastic: array<Plastic>;
 
-// physics::strength::TRIAXIALITY_BOUND.
+// physics::failure::TRIAXIALITY_BOUND.
 const TRIAXIALITY_BOUND: f32 = 1.5;
 
 // sqrt(2/3 d':d') of a velocity gradient (xx, xy, yx, yy), plane strain

@@ -24,11 +24,7 @@ pub struct History {
     pub damage: f64,
 }
 
-/// Triaxialities beyond this bound use the bound in the failure strain:
-/// past it the material is in near-hydrostatic tension, where the spall
-/// pressure governs, and where the exponential term of some published
-/// constant sets (Armco iron's) turns the failure strain negative.
-pub const TRIAXIALITY_BOUND: f64 = 1.5;
+pub use crate::physics::failure::TRIAXIALITY_BOUND;
 
 /// The default cavitation pressure of a material with a strength law, as
 /// a fraction of Young's modulus: the theoretical strength of a solid,

@@ -10,8 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{DamageLaw, DEVICE_CONSTANTS};
-use crate::physics::strength::TRIAXIALITY_BOUND;
+use super::{DamageLaw, DEVICE_CONSTANTS, TRIAXIALITY_BOUND};
 
 /// The failure constants of one material, as a scene writes them
 /// (`failure = { kind = "johnson_cook", d1, … }`).

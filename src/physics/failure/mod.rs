@@ -4,7 +4,7 @@
 //!
 //! A damage law gives the plastic strain to failure `ε_f` at the stress
 //! triaxiality `σ* = −p/σ_vm` (bounded by
-//! [`crate::physics::strength::TRIAXIALITY_BOUND`]), the dimensionless rate
+//! [`TRIAXIALITY_BOUND`]), the dimensionless rate
 //! `ε̇*` and the homologous temperature `T*`; a particle's damage grows by
 //! `Δε_p/ε_f` and it fails at 1 ([`crate::physics::strength`]). Each law's
 //! module holds its scene keys (the struct), its plain function and its
@@ -31,6 +31,12 @@ pub trait DamageLaw {
     /// The law's constants on the device (`Plastic.d1` … `d5`).
     fn device(&self) -> [f32; DEVICE_CONSTANTS];
 }
+
+/// Triaxialities beyond this bound use the bound in the failure strain:
+/// past it the material is in near-hydrostatic tension, where the spall
+/// pressure governs, and where the exponential term of some published
+/// constant sets (Armco iron's) turns the failure strain negative.
+pub const TRIAXIALITY_BOUND: f64 = 1.5;
 
 /// How many constants a damage law may keep on the device.
 pub const DEVICE_CONSTANTS: usize = 5;
