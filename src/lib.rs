@@ -59,6 +59,7 @@ pub mod ballistic;
 pub mod bench;
 pub mod checkpoint;
 pub mod cpu;
+pub mod doctor;
 pub mod error;
 pub mod gpu;
 pub mod math;

@@ -103,6 +103,13 @@ enum Command {
     /// The ballistic limit of a projectile against a target, by bisection
     /// over whole runs of the scene; each shot's residual velocity.
     Ballistic(BallisticArgs),
+    /// Which GPU the solver can see, and what to install where it sees none.
+    ///
+    /// The graphics loader, driver manifests and adapters found, the limits
+    /// the solver needs, whether `run` takes the GPU path and why not.
+    /// Exit status 0 with a usable hardware adapter, 1 without
+    /// (docs/usage.md, "When the GPU is not found").
+    Doctor,
 }
 
 #[derive(Args)]
@@ -374,6 +381,13 @@ fn command(cli: Cli) -> ExitCode {
         Command::Validate(args) => validate_cmd(args),
         Command::Bench(args) => bench_cmd(args),
         Command::Ballistic(args) => ballistic_cmd(args),
+        Command::Doctor => {
+            let d = sphcontact::doctor::diagnose();
+            for l in &d.lines {
+                println!("{l}");
+            }
+            ExitCode::from(if d.hardware { 0 } else { 1 })
+        }
         Command::Check { scene } => match load(&scene) {
             Ok(s) => {
                 check(&scene, &s);
