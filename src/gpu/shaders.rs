@@ -111,6 +111,36 @@ pub fn source(stage: &str, prelude: &str) -> String {
     format!("{COMMON}\n{eos}\n{WALK}\n{prelude}\n{spread}\n{strength}\n{penalty}\n{own}// ---- {stage}.wgsl ----\n{body}")
 }
 
+/// `// ---- <dir>/<kind>.wgsl ----` and the file, for every law of a
+/// registry.
+fn law_sources(dir: &str, laws: &[crate::physics::DeviceLaw]) -> String {
+    laws.iter()
+        .map(|l| format!("// ---- {dir}/{}.wgsl ----\n{}\n", l.kind, l.wgsl))
+        .collect()
+}
+
+/// The dispatch `head` (a WGSL function's signature) on the law number
+/// `field` of a registry: each law's `<kind>_<call>` behind its bit of the
+/// override `gate`, else `none`.
+fn dispatch(
+    laws: &[crate::physics::DeviceLaw],
+    (gate, field): (&str, &str),
+    head: &str,
+    call: &str,
+    none: &str,
+) -> String {
+    let mut f = format!("{head} {{\n");
+    for l in laws {
+        f += &format!(
+            "    if (({gate} & {}u) != 0u && {field} == {}u) {{\n        return {}_{call};\n    }}\n",
+            1u32 << l.id,
+            l.id,
+            l.kind
+        );
+    }
+    f + &format!("    return {none};\n}}\n")
+}
+
 /// Every strength law's WGSL (shaders/laws/) and damage law's
 /// (shaders/failure/), and the dispatch on a body's law, written from the
 /// registries ([`crate::physics::laws::DEVICE`],
@@ -118,46 +148,32 @@ pub fn source(stage: &str, prelude: &str) -> String {
 /// uses is compiled out: the override `STRENGTH_LAWS` (`FAILURE_LAWS`) has
 /// its bit (`1 << id`) clear.
 fn laws() -> String {
-    use crate::physics::laws::DEVICE;
-    let mut out = String::new();
-    for l in DEVICE {
-        out += &format!("// ---- laws/{}.wgsl ----\n{}\n", l.kind, l.wgsl);
-    }
-    let dispatch = |name: &str, args: &str, params: &str, ret: &str, none: &str| {
-        let mut f = format!("fn law_{name}(p: Plastic, {params}) -> {ret} {{\n");
-        for l in DEVICE {
-            f += &format!(
-                "    if ((STRENGTH_LAWS & {}u) != 0u && p.law == {}u) {{\n        return {}_{name}(p, {args});\n    }}\n",
-                1u32 << l.id,
-                l.id,
-                l.kind
-            );
-        }
-        f + &format!("    return {none};\n}}\n")
-    };
-    for l in crate::physics::failure::DEVICE {
-        out += &format!("// ---- failure/{}.wgsl ----\n{}\n", l.kind, l.wgsl);
-    }
+    use crate::physics::{failure, laws};
+    let strength = ("STRENGTH_LAWS", "p.law");
+    let mut out = law_sources("laws", laws::DEVICE) + &law_sources("failure", failure::DEVICE);
     out += "// The laws' dispatch (gpu::shaders::laws).\n";
-    out += &dispatch("factor", "rate, rise", "rate: f32, rise: f32", "f32", "1.0");
     out += &dispatch(
-        "curve",
-        "f, eps",
-        "f: f32, eps: f32",
-        "vec2<f32>",
+        laws::DEVICE,
+        strength,
+        "fn law_factor(p: Plastic, rate: f32, rise: f32) -> f32",
+        "factor(p, rate, rise)",
+        "1.0",
+    );
+    out += &dispatch(
+        laws::DEVICE,
+        strength,
+        "fn law_curve(p: Plastic, f: f32, eps: f32) -> vec2<f32>",
+        "curve(p, f, eps)",
         "vec2<f32>(0.0)",
     );
     // The damage laws' (a particle with none never asks).
-    out += "fn failure_strain(p: Plastic, triax: f32, rate_star: f32, t_star: f32) -> f32 {\n";
-    for l in crate::physics::failure::DEVICE {
-        out += &format!(
-            "    if ((FAILURE_LAWS & {}u) != 0u && p.damage == {}u) {{\n        return {}_failure_strain(p, triax, rate_star, t_star);\n    }}\n",
-            1u32 << l.id,
-            l.id,
-            l.kind
-        );
-    }
-    out += "    return BIG;\n}\n";
+    out += &dispatch(
+        failure::DEVICE,
+        ("FAILURE_LAWS", "p.damage"),
+        "fn failure_strain(p: Plastic, triax: f32, rate_star: f32, t_star: f32) -> f32",
+        "failure_strain(p, triax, rate_star, t_star)",
+        "BIG",
+    );
     out
 }
 
@@ -168,26 +184,30 @@ fn laws() -> String {
 /// (`1 << id`) clear.
 fn eos_laws() -> String {
     use crate::physics::eos::DEVICE;
-    let mut out = String::new();
-    for l in DEVICE {
-        out += &format!("// ---- eos/{}.wgsl ----\n{}\n", l.kind, l.wgsl);
-    }
-    let dispatch = |name: &str, args: &str, params: &str| {
-        let mut f = format!("fn eos_{name}(b: Body, {params}) -> f32 {{\n");
-        for l in DEVICE {
-            f += &format!(
-                "    if ((EOS_LAWS & {}u) != 0u && b.eos == {}u) {{\n        return {}_{name}(b, {args});\n    }}\n",
-                1u32 << l.id,
-                l.id,
-                l.kind
-            );
-        }
-        f + "    return 0.0;\n}\n"
-    };
+    let gate = ("EOS_LAWS", "b.eos");
+    let mut out = law_sources("eos", DEVICE);
     out += "// The equations of state's dispatch (gpu::shaders::eos_laws).\n";
-    out += &dispatch("pressure", "mu, e", "mu: f32, e: f32");
-    out += &dispatch("dpdrho", "mu, e", "mu: f32, e: f32");
-    out += &dispatch("zero_mu", "e", "e: f32");
+    out += &dispatch(
+        DEVICE,
+        gate,
+        "fn eos_pressure(b: Body, mu: f32, e: f32) -> f32",
+        "pressure(b, mu, e)",
+        "0.0",
+    );
+    out += &dispatch(
+        DEVICE,
+        gate,
+        "fn eos_dpdrho(b: Body, mu: f32, e: f32) -> f32",
+        "dpdrho(b, mu, e)",
+        "0.0",
+    );
+    out += &dispatch(
+        DEVICE,
+        gate,
+        "fn eos_zero_mu(b: Body, e: f32) -> f32",
+        "zero_mu(b, e)",
+        "0.0",
+    );
     out
 }
 

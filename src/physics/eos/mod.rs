@@ -8,10 +8,8 @@
 //! closed-form tests; its WGSL file `shaders/eos/<kind>.wgsl` holds
 //! `<kind>_pressure`, `<kind>_dpdrho` and `<kind>_zero_mu`, the device
 //! twins of [`PressureLaw::pressure`], [`PressureLaw::dp_drho`] and
-//! [`PressureLaw::zero_pressure_mu`]; one line of [`eos_laws!`] below
+//! [`PressureLaw::zero_pressure_mu`]; one line of its `law_registry!` below
 //! registers both.
-
-use serde::{Deserialize, Serialize};
 
 /// What the solver asks of an equation of state. `k = ρ0 c0²` is the bulk
 /// modulus at the reference density `rho0`.
@@ -50,59 +48,10 @@ pub trait PressureLaw {
 /// How many constants an equation of state may keep on the device.
 pub const DEVICE_CONSTANTS: usize = 2;
 
-/// An equation of state as the device knows it: its number (`Body.eos`),
-/// its kind and its WGSL.
-pub struct DeviceEos {
-    pub id: u32,
-    pub kind: &'static str,
-    pub wgsl: &'static str,
-}
-
-/// The registry: one line per law, `id => Variant(module)`. The module's
-/// `Eos` is the law's scene keys; its name is the scene's `kind` and the
-/// stem of its WGSL file. Ids are the device's.
-macro_rules! eos_laws {
-    ($($id:literal => $variant:ident($module:ident)),* $(,)?) => {
-        $(pub mod $module;)*
-
-        /// A material's equation of state, as a scene names it
-        /// (`eos = { kind = "<module>", … }`).
-        #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-        #[serde(tag = "kind", rename_all = "snake_case")]
-        pub enum Eos {
-            $($variant($module::Eos)),*
-        }
-
-        /// The law's functions: `eos.pressure(…)`.
-        impl std::ops::Deref for Eos {
-            type Target = dyn PressureLaw;
-
-            fn deref(&self) -> &Self::Target {
-                match self {
-                    $(Self::$variant(l) => l),*
-                }
-            }
-        }
-
-        impl Eos {
-            /// The law's number on the device.
-            pub fn device_id(&self) -> u32 {
-                match self {
-                    $(Self::$variant(_) => $id),*
-                }
-            }
-        }
-
-        /// Every law's device side, in the registry's order.
-        pub const DEVICE: &[DeviceEos] = &[$(DeviceEos {
-            id: $id,
-            kind: stringify!($module),
-            wgsl: include_str!(concat!("../../../shaders/eos/", stringify!($module), ".wgsl")),
-        }),*];
-    };
-}
-
-eos_laws! {
+law_registry! {
+    /// A material's equation of state, as a scene names it
+    /// (`eos = { kind = "<module>", … }`).
+    enum Eos: dyn PressureLaw, keys Eos, shaders "eos";
     0 => MieGruneisen(mie_gruneisen),
     1 => Linear(linear),
 }
@@ -126,32 +75,15 @@ mod tests {
     /// the functions the registry's dispatch calls.
     #[test]
     fn every_eos_file_is_registered_and_defines_its_functions() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders/eos");
-        let mut on_disk: Vec<String> = std::fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().into_string().unwrap())
-            .collect();
-        on_disk.sort();
-        let mut listed: Vec<String> = super::DEVICE
-            .iter()
-            .map(|l| format!("{}.wgsl", l.kind))
-            .collect();
-        listed.sort();
-        assert_eq!(on_disk, listed);
-        for l in super::DEVICE {
-            for f in [
+        super::super::check_registry(
+            "eos",
+            super::DEVICE,
+            &[
                 "pressure(b: Body, mu: f32, e: f32)",
                 "dpdrho(b: Body, mu: f32, e: f32)",
                 "zero_mu(b: Body, e: f32)",
-            ] {
-                let sig = format!("fn {}_{f}", l.kind);
-                assert!(l.wgsl.contains(&sig), "{}.wgsl: no `{sig}`", l.kind);
-            }
-        }
-        let mut ids: Vec<u32> = super::DEVICE.iter().map(|l| l.id).collect();
-        ids.sort();
-        ids.dedup();
-        assert_eq!(ids.len(), super::DEVICE.len(), "ids are distinct");
-        assert!(ids.iter().all(|&i| i < 32), "an id is a bit of EOS_LAWS");
+            ],
+            None,
+        );
     }
 }

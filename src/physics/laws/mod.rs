@@ -9,10 +9,8 @@
 //! plastic strain alone. Each law's module holds its scene keys (the
 //! struct), its plain functions and their closed-form tests; its WGSL file
 //! `shaders/laws/<kind>.wgsl` holds `<kind>_factor` and `<kind>_curve`,
-//! the device twins of the two; one line of [`strength_laws!`] below
+//! the device twins of the two; one line of its `law_registry!` below
 //! registers both.
-
-use serde::{Deserialize, Serialize};
 
 /// What the stress update asks of a strength law.
 pub trait Law {
@@ -65,59 +63,13 @@ pub trait Law {
 /// How many constants a law may keep on the device.
 pub const DEVICE_CONSTANTS: usize = 8;
 
-/// A law as the device knows it: its number (`Plastic.law`), its kind and
-/// its WGSL.
-pub struct DeviceLaw {
-    pub id: u32,
-    pub kind: &'static str,
-    pub wgsl: &'static str,
-}
+pub use super::DeviceLaw;
 
-/// The registry: one line per law, `id => Variant(module)`. The module's
-/// `Strength` is the law's scene keys; its name is the scene's `kind` and
-/// the stem of its WGSL file. Ids are the device's: 0 is "no law".
-macro_rules! strength_laws {
-    ($($id:literal => $variant:ident($module:ident)),* $(,)?) => {
-        $(pub mod $module;)*
-
-        /// A material's strength law, as a scene names it
-        /// (`strength = { kind = "<module>", … }`).
-        #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-        #[serde(tag = "kind", rename_all = "snake_case")]
-        pub enum StrengthLaw {
-            $($variant($module::Strength)),*
-        }
-
-        /// The law's functions: `law.factor(…)`.
-        impl std::ops::Deref for StrengthLaw {
-            type Target = dyn Law;
-
-            fn deref(&self) -> &Self::Target {
-                match self {
-                    $(Self::$variant(l) => l),*
-                }
-            }
-        }
-
-        impl StrengthLaw {
-            /// The law's number on the device.
-            pub fn device_id(&self) -> u32 {
-                match self {
-                    $(Self::$variant(_) => $id),*
-                }
-            }
-        }
-
-        /// Every law's device side, in the registry's order.
-        pub const DEVICE: &[DeviceLaw] = &[$(DeviceLaw {
-            id: $id,
-            kind: stringify!($module),
-            wgsl: include_str!(concat!("../../../shaders/laws/", stringify!($module), ".wgsl")),
-        }),*];
-    };
-}
-
-strength_laws! {
+law_registry! {
+    /// A material's strength law, as a scene names it
+    /// (`strength = { kind = "<module>", … }`). Device number 0 is "no
+    /// law".
+    enum StrengthLaw: dyn Law, keys Strength, shaders "laws";
     1 => JohnsonCook(johnson_cook),
     2 => ModifiedJohnsonCook(modified_johnson_cook),
     3 => ZerilliArmstrong(zerilli_armstrong),
@@ -218,28 +170,11 @@ mod tests {
     /// the two functions the registry's dispatch calls.
     #[test]
     fn every_law_file_is_registered_and_defines_its_functions() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders/laws");
-        let mut on_disk: Vec<String> = std::fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().into_string().unwrap())
-            .collect();
-        on_disk.sort();
-        let mut listed: Vec<String> = super::DEVICE
-            .iter()
-            .map(|l| format!("{}.wgsl", l.kind))
-            .collect();
-        listed.sort();
-        assert_eq!(on_disk, listed);
-        for l in super::DEVICE {
-            for f in ["factor", "curve"] {
-                let sig = format!("fn {}_{f}(p: Plastic, ", l.kind);
-                assert!(l.wgsl.contains(&sig), "{}.wgsl: no `{sig}…`", l.kind);
-            }
-            assert!(l.id > 0, "0 is no law");
-        }
-        let mut ids: Vec<u32> = super::DEVICE.iter().map(|l| l.id).collect();
-        ids.sort();
-        ids.dedup();
-        assert_eq!(ids.len(), super::DEVICE.len(), "ids are distinct");
+        super::super::check_registry(
+            "laws",
+            super::DEVICE,
+            &["factor(p: Plastic, ", "curve(p: Plastic, "],
+            Some(0),
+        );
     }
 }
