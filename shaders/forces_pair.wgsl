@@ -133,8 +133,9 @@ fn seen_jumps(o: Own, j: u32, img: bool, vij: vec2<f32>, d: vec2<f32>) -> Jumps 
 }
 
 // The viscosity's Pi (Monaghan's, or with RELEASE the Riemann form) on
-// approaching pairs; with RELEASE receding ones too, on the linear term.
-// `cj` is j's sound speed. CPU twin:
+// approaching pairs; with RELEASE receding ones too, on the linear term,
+// unless a failed particle or an open void is in the pair (an opening
+// crack carries no traction). `cj` is j's sound speed. CPU twin:
 // physics::viscosity::viscosity_pi.
 fn pair_pi(o: Own, jumps: Jumps, d: vec2<f32>, hij: f32, cj: f32, bj: Body, j: u32, rj: f32) -> f32 {
     var vx = dot(jumps.vis, d);
@@ -143,7 +144,7 @@ fn pair_pi(o: Own, jumps: Jumps, d: vec2<f32>, hij: f32, cj: f32, bj: Body, j: u
         // The smaller of the seen and the true jump where they agree in
         // sign: heat, and continuous where either passes zero.
         let tx = dot(jumps.vm, d);
-        on = vx * tx > 0.0;
+        on = vx * tx > 0.0 && (tx < 0.0 || (o.intact && intact(j)));
         if (tx * tx < vx * vx) {
             vx = tx;
         }

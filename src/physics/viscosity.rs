@@ -56,7 +56,10 @@ pub fn reconstructed_jump(vij: DVec2, xij: DVec2, gv_i: &Mat2, gv_j: &Mat2) -> D
 /// linear term alone, on the smaller of `w·x` and `v·x` where they agree
 /// in sign and on nothing where they differ: its work on the pair,
 /// `Π v·G`, is heat and never negative, and it stays continuous as either
-/// jump passes zero (a switch there would follow round-off).
+/// jump passes zero (a switch there would follow round-off). A pair that
+/// is not `bonded` (a failed particle or an open void in it) is an
+/// opening crack, which carries no traction: the Riemann form leaves it
+/// alone while it recedes (on approach it acts as on any pair).
 #[inline]
 #[allow(clippy::too_many_arguments)]
 pub fn viscosity_pi(
@@ -69,11 +72,12 @@ pub fn viscosity_pi(
     c_mean: f64,
     rho_mean: f64,
     release: bool,
+    bonded: bool,
 ) -> f64 {
     let mut wx = w.dot(xij);
     let on = if release {
         let vx = v.dot(xij);
-        let on = wx * vx > 0.0;
+        let on = wx * vx > 0.0 && (bonded || vx < 0.0);
         if vx * vx < wx * wx {
             wx = vx;
         }
@@ -107,7 +111,7 @@ mod tests {
         let x = DVec2::new(1.0e-4, 0.3e-4);
         let v = DVec2::new(2.0, 0.5);
         assert!(v.dot(x) > 0.0);
-        let pi = |w: DVec2, release| viscosity_pi(0.75, 0.75, H, x, w, w, C, RHO, release);
+        let pi = |w: DVec2, release| viscosity_pi(0.75, 0.75, H, x, w, w, C, RHO, release, true);
         assert_eq!(pi(v, false), 0.0);
         let mu = H * v.dot(x) / (x.length_squared() + 0.01 * H * H);
         let linear = -0.75 * C * mu / RHO;
@@ -120,6 +124,20 @@ mod tests {
         // Approaching: the linear term the same size, plus the quadratic.
         assert!(pi(-v, true) > -linear);
         assert_eq!(pi(-v, true).to_bits(), pi(-v, false).to_bits());
+    }
+
+    /// A pair with a failed particle or an open void is an opening crack:
+    /// the Riemann form leaves it alone while it recedes, and on approach
+    /// acts on it as on a bonded pair, bit for bit.
+    #[test]
+    fn an_opening_crack_takes_no_release_damping() {
+        let x = DVec2::new(1.0e-4, 0.3e-4);
+        let v = DVec2::new(2.0, 0.5);
+        let pi = |w: DVec2, bonded| viscosity_pi(0.75, 0.75, H, x, w, w, C, RHO, true, bonded);
+        assert!(pi(v, true) < 0.0);
+        assert_eq!(pi(v, false), 0.0);
+        assert!(pi(-v, false) > 0.0);
+        assert_eq!(pi(-v, false).to_bits(), pi(-v, true).to_bits());
     }
 
     /// Its work on the pair, `Π v·G` with `G` along `−x`, is heat
@@ -139,7 +157,7 @@ mod tests {
             let x = DVec2::new(next(), next()) * 2.0 * H;
             let v = DVec2::new(next(), next()) * 50.0;
             let w = v * (1.0 + next()) + DVec2::new(next(), next()) * 20.0;
-            let pi = viscosity_pi(0.75, 0.75, H, x, w, v, C, RHO, true);
+            let pi = viscosity_pi(0.75, 0.75, H, x, w, v, C, RHO, true, true);
             assert!(pi * v.dot(x) <= 0.0, "{x} {v} {w}: {pi}");
             let (wx, vx) = (w.dot(x), v.dot(x));
             if wx * vx < 0.0 {
@@ -148,7 +166,7 @@ mod tests {
             } else if pi != 0.0 {
                 acted += 1;
                 // Never more than the true jump would give.
-                let full = viscosity_pi(0.75, 0.75, H, x, v, v, C, RHO, true);
+                let full = viscosity_pi(0.75, 0.75, H, x, v, v, C, RHO, true, true);
                 if vx * vx < wx * wx {
                     assert_eq!(pi.to_bits(), full.to_bits());
                 } else {
@@ -166,7 +184,8 @@ mod tests {
     fn riemann_form_is_continuous_at_the_switch() {
         let x = DVec2::new(1.0e-4, 0.0);
         let w = DVec2::new(3.0, 0.0);
-        let pi = |vx: f64| viscosity_pi(0.75, 0.75, H, x, w, DVec2::new(vx, 1.0), C, RHO, true);
+        let pi =
+            |vx: f64| viscosity_pi(0.75, 0.75, H, x, w, DVec2::new(vx, 1.0), C, RHO, true, true);
         let scale = pi(3.0).abs();
         for vx in [1e-9, 1e-12, -1e-12, -1e-9] {
             assert!(pi(vx).abs() < 1e-8 * scale, "{vx}: {}", pi(vx));

@@ -213,11 +213,12 @@ fn target_velocity(out: &RunOutput, x0: &[glam::DVec2], pick: impl Fn(f64) -> bo
 /// beyond it carries the superposed pulses' 2 u_p, the flyer's speed, and
 /// no stress.
 ///
-/// Measured (CPU midpoint): first failure at +0.04 % of the time; the
-/// failed particles, 10, in pairs over 7.93–8.09 mm (the smeared fronts
-/// crack the material more than once), centred 0.5 Δx from the plane,
-/// the first of them 5.5 Δx right of it, where the ringing behind the
-/// reflected front overshoots; the scab at −0.7 % of the flyer's speed.
+/// Measured (CPU, leapfrog): first failure at +0.04 % of the time; the
+/// failed particles, 10, in pairs over 7.925–8.085 mm (the smeared
+/// fronts crack the material more than once), centred 0.5 Δx from the
+/// plane, the first of them 7.5 Δx right of it, where the ringing behind
+/// the reflected front overshoots; the scab at −0.68 % of the flyer's
+/// speed (midpoint rule: +0.05 %, 7.945–8.085 mm, −0.76 %).
 fn spalls_at_the_plane(coarsen: f64) {
     let scene = coarsened(with_spall(2.0e9), coarsen);
     let mat = material(&scene, "steel");
@@ -331,9 +332,9 @@ fn scab_and_rest(scene: &Scene, out: &RunOutput) -> (f64, f64) {
 /// none (`inf`) the plane holds its tension and the far part of the target
 /// does not fly free.
 ///
-/// Measured at the scene's spacing (CPU): the scab at −1.96 % of the
-/// flyer's speed, the rest at 1.23 m/s (midpoint rule −2.17 %, 1.30 m/s,
-/// lavapipe the same); without cavitation the far part at rest at the end. The
+/// Measured at the scene's spacing (CPU): the scab at −0.80 % of the
+/// flyer's speed, the rest at 0.58 m/s (midpoint rule −0.97 %, 0.68 m/s);
+/// without cavitation the far part at rest at the end. The
 /// run without cavitation, which holds no device code of its own, is the
 /// CPU's only where `contrast` is false.
 fn cavitates_at_the_plane(coarsen: f64, contrast: bool) {
@@ -383,10 +384,9 @@ fn target_cavitates_at_the_plane_midpoint() {
 
 /// The device at twice the spacing (the scene's own takes minutes on a
 /// software adapter: `_gpu_fine`), held to its CPU twin there: the scab
-/// and the rest within 0.5 % of the flyer's speed of the CPU's. At that
-/// spacing the smeared fronts put the scab below the 3 % the scene's
-/// spacing meets (measured on both backends: leapfrog −3.61 %, midpoint
-/// rule −2.87 %).
+/// and the rest within 0.5 % of the flyer's speed of the CPU's (measured
+/// on both backends at that spacing: the scab at −1.66 %, the rest at
+/// 0.96 m/s).
 #[test]
 fn target_cavitates_at_the_plane_gpu() {
     let scene = coarsened(with_cavitation(2.0e9), 2.0);

@@ -83,3 +83,4 @@ mod impedance;
 mod jitter;
 mod ringing;
 mod rod;
+mod spall;

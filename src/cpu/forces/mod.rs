@@ -172,6 +172,7 @@ pub(in crate::cpu) fn pair_terms_of(
         0.5 * (pi_.c + pj.c),
         0.5 * (st.rho[i] + st.rho[j]),
         model.av_release,
+        bonded(st, i, j),
     );
     // The stress terms (docs/method.md §4): the paper's form keeps them in
     // `t` on G; the variational one gives each side its own gradient.
@@ -237,6 +238,15 @@ pub(in crate::cpu) fn pair_terms_of(
     }
 }
 
+/// Whether neither particle of the pair `(i, j)` has failed or has a void
+/// open ([`State::damage_of`]): only then is the pair material, bonded
+/// across.
+#[inline]
+fn bonded(st: &State, i: usize, j: usize) -> bool {
+    st.damage.is_empty()
+        || !(strength::failed(st.damage_of(i)) || strength::failed(st.damage_of(j)))
+}
+
 /// The artificial stress of the pair `(i, j)` (stress points `pi_`,
 /// `pj`), scaled by its weight and gate, and to its heat share where its
 /// work may only be heat: `None` where neither particle is in tension,
@@ -253,11 +263,7 @@ fn art_stress(
     (xij, vij, g): (DVec2, DVec2, DVec2),
     (hij, h0): (f64, f64),
 ) -> Option<Sym> {
-    let bonded = || {
-        st.damage.is_empty()
-            || !(strength::failed(st.damage_of(i)) || strength::failed(st.damage_of(j)))
-    };
-    let a = model.artificial_stress.filter(|_| bonded())?;
+    let a = model.artificial_stress.filter(|_| bonded(st, i, j))?;
     let rs = pi_.r.add_scaled(&pj.r, 1.0);
     let r2 = xij.length_squared();
     let gate = match a.pairs {

@@ -6,7 +6,7 @@
 
 use glam::DVec2;
 
-use super::lane_terms::{art_rows, hg_rows, lane_terms, partners, LaneTerms};
+use super::lane_terms::{art_rows, hg_rows, intact_rows, lane_terms, partners, LaneTerms};
 use crate::cpu::forces::{pair_terms, PairTerms};
 use crate::cpu::forces::{vectors_of, PairVectors};
 use crate::cpu::kinematics::Kinematics;
@@ -179,6 +179,7 @@ pub(super) fn sums_into<E: EnergyTerms>(
     if lanes {
         assert!(lanes_serve(model), "the lane code serves this scene");
         let rec = partners(model, st, l, gv, surface, pts);
+        let intact = intact_rows(st);
         let art = art_rows(model, st, pts);
         let hg = hg_rows(model, st, kin);
         nb.sweep_chunks_store(
@@ -187,7 +188,7 @@ pub(super) fn sums_into<E: EnergyTerms>(
             &mut acc,
             slots,
             |i, c, ai, piece, base, slots| {
-                let t = lane_terms(&rec, art.as_ref(), hg.as_ref(), model, i, c);
+                let t = lane_terms(&rec, &intact, art.as_ref(), hg.as_ref(), model, i, c);
                 for (k, slot) in slots.iter_mut().enumerate() {
                     if c.inside & (1 << k) == 0 {
                         *slot = E::default();

@@ -89,14 +89,26 @@ pub(super) fn partners(
 pub(super) struct ArtRows {
     pub(super) rows: Vec<[f64; 4]>,
     pub(super) tension: Vec<bool>,
-    /// 1 for a particle that has not failed, 0 for one that has (which
-    /// takes no part in the term); empty while no particle has failed.
-    pub(super) intact: Vec<f64>,
     /// Whether each particle's pairs take only the term's heat
     /// ([`Model::art_heats`]: a body that can yield, or a particle that
     /// flows) where `work = "yielding"` or `"plastic"` can find one; empty
     /// otherwise.
     pub(super) flows: Vec<bool>,
+}
+
+/// 1 for each particle that has not failed, 0 for one that has or has a
+/// void open (`State::damage_of`: no more bonded than a failed one);
+/// empty while no particle is either. A pair with a particle at 0 takes
+/// no artificial stress, nor the Riemann form's damping while it recedes.
+pub(super) fn intact_rows(st: &State) -> Vec<f64> {
+    let broken = |i: usize| strength::failed(st.damage_of(i));
+    if (0..st.damage.len()).any(broken) {
+        (0..st.damage.len())
+            .map(|i| if broken(i) { 0.0 } else { 1.0 })
+            .collect()
+    } else {
+        Vec::new()
+    }
 }
 
 /// The [`ArtRows`] of one momentum pass, when the scene has the
@@ -111,16 +123,6 @@ pub(super) fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option
             ([r.xx, r.xy, r.yy, model.spacing_of(i)], r.xx + r.yy < 0.0)
         })
         .unzip();
-    // A particle with a void open is no more bonded than a failed one
-    // (State::damage_of).
-    let broken = |i: usize| strength::failed(st.damage_of(i));
-    let intact = if (0..st.damage.len()).any(broken) {
-        (0..st.damage.len())
-            .map(|i| if broken(i) { 0.0 } else { 1.0 })
-            .collect()
-    } else {
-        Vec::new()
-    };
     let flows = if model.art_keyed_on_flow() {
         (0..model.len())
             .into_par_iter()
@@ -132,7 +134,6 @@ pub(super) fn art_rows(model: &Model, st: &State, pts: &[StressPoint]) -> Option
     Some(ArtRows {
         rows,
         tension,
-        intact,
         flows,
     })
 }
@@ -274,9 +275,10 @@ fn viscosity_jump(p: &PairLanes, me: &Partner, r: &[&Partner; LANES], model: &Mo
 }
 
 /// Monaghan's Π (`viscosity_pi`) on the jump `(wx, wy)` the viscosity
-/// sees.
+/// sees; `bonded`, where some particle is not intact, 1 on the lanes
+/// whose pair is bonded and 0 on the others.
 #[inline(always)]
-fn viscosity_pi(p: &PairLanes, model: &Model, (wx, wy): (F4, F4)) -> F4 {
+fn viscosity_pi(p: &PairLanes, model: &Model, (wx, wy): (F4, F4), bonded: Option<F4>) -> F4 {
     let (xx, xy, vx, vy, hij) = (p.xx, p.xy, p.vx, p.vy, p.hij);
     let rho_mean = 0.5 * (p.ri[0] + p.rj[0]);
     let mut wdx = wx * xx + wy * xy;
@@ -285,7 +287,10 @@ fn viscosity_pi(p: &PairLanes, model: &Model, (wx, wy): (F4, F4)) -> F4 {
         // The smaller of the seen and the true jump where they agree in
         // sign (viscosity_pi).
         let vdx = vx * xx + vy * xy;
-        let on = F4::splat(0.0).lt(wdx * vdx);
+        let mut on = F4::splat(0.0).lt(wdx * vdx);
+        if let Some(b) = bonded {
+            on = on.and(F4::splat(0.0).lt(b).or(vdx.lt(F4::splat(0.0))));
+        }
         wdx = (vdx * vdx).lt(wdx * wdx).select(vdx, wdx);
         let approach = wdx.lt(F4::splat(0.0));
         (approach.select(F4::splat(model.beta), F4::splat(0.0)), on)
@@ -347,7 +352,7 @@ fn art_heat_lanes(a: &ArtificialStress, art: &ArtRows, i: usize, c: &Chunk) -> O
 #[inline(always)]
 fn art_lanes(
     p: &PairLanes,
-    (art, a): (&ArtRows, &ArtificialStress),
+    (art, a, intact): (&ArtRows, &ArtificialStress, &[f64]),
     model: &Model,
     i: usize,
     c: &Chunk,
@@ -371,8 +376,8 @@ fn art_lanes(
     if let Some(gate) = gate {
         on = on.and(F4::splat(0.0).lt(gate));
     }
-    if !art.intact.is_empty() {
-        let ok = F4::gather(|k| art.intact[c.j[k] as usize]);
+    if !intact.is_empty() {
+        let ok = F4::gather(|k| intact[c.j[k] as usize]);
         on = on.and(F4::splat(0.0).lt(ok));
     }
     if on.bits() == 0 {
@@ -498,6 +503,7 @@ fn hourglass_lanes(p: &PairLanes, hg: &HgRows, model: &Model, i: usize, c: &Chun
 #[inline(always)]
 pub(super) fn lane_terms(
     rec: &[Partner],
+    intact: &[f64],
     art: Option<&ArtRows>,
     hg: Option<&HgRows>,
     model: &Model,
@@ -508,7 +514,14 @@ pub(super) fn lane_terms(
     let me = &rec[i];
     let p = PairLanes::of(me, &r, c);
     let (vx, vy, gx, gy) = (p.vx, p.vy, p.gx, p.gy);
-    let pi = viscosity_pi(&p, model, viscosity_jump(&p, me, &r, model));
+    let bonded = (model.av_release && !intact.is_empty()).then(|| {
+        if intact[i] > 0.0 {
+            F4::gather(|k| intact[c.j[k] as usize])
+        } else {
+            F4::splat(0.0)
+        }
+    });
+    let pi = viscosity_pi(&p, model, viscosity_jump(&p, me, &r, model), bonded);
     // t = σ_i/ρ_i² + σ_j/ρ_j² − Π I (+ (R_i + R_j) f^n), t G, and each
     // side's energy term. The paper's form keeps the stress terms in t;
     // the variational one gives each side its own gradient
@@ -521,9 +534,11 @@ pub(super) fn lane_terms(
     } else {
         [sixx + sjxx - pi, siyy + sjyy - pi, sixy + sjxy]
     };
-    let bonded = |art: &ArtRows| art.intact.is_empty() || art.intact[i] > 0.0;
-    let art_on = match (art.filter(|a| bonded(a)), model.artificial_stress.as_ref()) {
-        (Some(art), Some(a)) => art_lanes(&p, (art, a), model, i, c, &mut t),
+    let art_on = match (
+        art.filter(|_| intact.is_empty() || intact[i] > 0.0),
+        model.artificial_stress.as_ref(),
+    ) {
+        (Some(art), Some(a)) => art_lanes(&p, (art, a, intact), model, i, c, &mut t),
         _ => None,
     };
     let [txx, tyy, txy] = t;
