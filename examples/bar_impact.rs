@@ -52,6 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             support: None,
             support_band: None,
             dispersion_correction: 0.0,
+            gravity: None,
         },
         artificial_stress: None,
         artificial_viscosity: None,

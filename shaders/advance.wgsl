@@ -112,7 +112,11 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         }
         return;
     }
-    v_w[i] = v[i] + (v_w[i] + spread / bitcast<f32>(mi.x)) * k;
+    var a = v_w[i] + spread / bitcast<f32>(mi.x);
+    if (GRAVITY) {
+        a += gravity();
+    }
+    v_w[i] = v[i] + a * k;
     var rn = r[i] + r_w[i] * k;
     var sn = plastic_return(s[i] + s_w[i] * k, b);
     if (HISTORY) {
@@ -265,7 +269,11 @@ fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
         }
         var vh = v_w[i];
         if (bodies[pinfo[i].z].rigid == 0u) {
-            vh = vh + acc[i] * h;
+            var a = acc[i];
+            if (GRAVITY) {
+                a += gravity();
+            }
+            vh = vh + a * h;
             v_w[i] = vh;
             r_w[i].y = r_w[i].y + rdt[i].y * h + kick_energy(acc[i], h);
         }

@@ -43,6 +43,12 @@ override RECON_SURF: bool = false;
 override VARIATIONAL: bool = true;
 // The viscosity acts on receding pairs too (`form = "riemann"`).
 override RELEASE: bool = false;
+// A body force per unit mass on the deformable particles
+// (`[simulation] gravity`, Model::gravity), added where their velocities
+// are kicked; none (false) compiles it out.
+override GRAVITY: bool = false;
+override GX: f32 = 0.0;
+override GY: f32 = 0.0;
 // The hourglass control's coefficient (docs/method.md, "Hourglass
 // control"), 0 off; it also reads the stored velocity gradient.
 override HG: f32 = 0.0;
@@ -435,4 +441,9 @@ fn outer(a: vec2<f32>, b: vec2<f32>) -> vec4<f32> {
 fn kick_energy(a: vec2<f32>, h: f32) -> f32 {
     let k = a * h;
     return -0.5 * dot(k, k);
+}
+
+// The body force per unit mass (GRAVITY).
+fn gravity() -> vec2<f32> {
+    return vec2<f32>(GX, GY);
 }

@@ -343,13 +343,25 @@ fn store_rates(i: u32, own: Own, acc: vec2<f32>, de: f32, sw: f32, rad: f32) {
         } else {
             dv[i] = acc;
             dr[i].y = de;
+            // The second half kick, where a's last part is added (for a
+            // boundary particle the contact's); the body force's here.
             if (LEAP == 2u && !own.boundary) {
-                vkick[i] = vkick[i] + acc * (0.5 * ctl.dt);
+                var a = acc;
+                if (GRAVITY) {
+                    a += gravity();
+                }
+                vkick[i] = vkick[i] + a * (0.5 * ctl.dt);
+            } else if (LEAP == 2u && GRAVITY) {
+                vkick[i] = vkick[i] + gravity() * (0.5 * ctl.dt);
             }
         }
     } else if (!rigid && ctl.dt != 0.0) {
         let w0 = dv[i];
-        let w1 = w0 + acc * ctl.dt;
+        var a = acc;
+        if (GRAVITY) {
+            a += gravity();
+        }
+        let w1 = w0 + a * ctl.dt;
         dv[i] = w1;
         dr[i].y = dr[i].y + de * ctl.dt + compatible_energy(w0, w1, own.v);
     }

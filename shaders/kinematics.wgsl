@@ -139,7 +139,11 @@ struct KinSums {
 fn predicted(j: u32) -> vec2<f32> {
     let b = bodies[pinfo[j].z];
     let c = predictor_weight(sqrt(b.modulus / b.rho0), b.h, ctl.dt);
-    return v[j] + acc[j] * ((c - 0.5) * ctl.dt);
+    var a = acc[j];
+    if (GRAVITY && b.rigid == 0u) {
+        a += gravity();
+    }
+    return v[j] + a * ((c - 0.5) * ctl.dt);
 }
 
 // What particle i's kinematic walk reads of itself.

@@ -101,6 +101,14 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
         }
         return o.m * min(o.e, 0.0);
     }
+    if (code == 12u) {
+        // The body force's potential against the grid origin (the plan
+        // takes off its value as placed: gpu::probes).
+        if (!GRAVITY || o.rigid) {
+            return 0.0;
+        }
+        return o.m * dot(gravity(), position_rel(i));
+    }
     if (code == 11u) {
         // The artificial dissipation booked so far: each forces
         // workgroup's sum (forces.wgsl, dheat), taken by its first particle.

@@ -86,7 +86,8 @@ pub fn particle_value(model: &Model, st: &State, i: usize, q: ParticleQuantity) 
 
 /// Energies of the whole system (docs/scenes.md, "Probes": `energy`): kinetic,
 /// internal (dashpot heat included: it is booked into `e`), cumulative
-/// dashpot heat, and total = kinetic + internal + stored penalty energy.
+/// dashpot heat, and total = kinetic + internal + stored penalty energy
+/// (+ the potential energy in the body force, with one).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Energies {
     pub kinetic: f64,
@@ -97,11 +98,13 @@ pub struct Energies {
     /// the hourglass control ([`State::dissipation`]).
     pub dissipation: f64,
     pub stored: f64,
+    /// [`Model::potential_energy`] (0 without gravity).
+    pub potential: f64,
 }
 
 impl Energies {
     pub fn total(&self) -> f64 {
-        self.kinetic + self.internal + self.stored
+        self.kinetic + self.internal + self.stored + self.potential
     }
 }
 
@@ -110,6 +113,7 @@ pub fn energies(model: &Model, st: &State, diag: &Diagnostics) -> Energies {
         contact_heat: st.heat,
         dissipation: st.dissipation,
         stored: diag.contact.stored,
+        potential: model.potential_energy(st),
         ..Default::default()
     };
     for i in 0..model.len() {
@@ -180,6 +184,7 @@ pub fn evaluate(probes: &[Resolved], model: &Model, st: &State, diag: &Diagnosti
                     EnergyQuantity::Internal => e.internal,
                     EnergyQuantity::ContactHeat => e.contact_heat,
                     EnergyQuantity::ArtificialDissipation => e.dissipation,
+                    EnergyQuantity::Potential => e.potential,
                     EnergyQuantity::Total => e.total(),
                 }
             }

@@ -46,7 +46,10 @@ pub(super) fn advance(
                 *s = base.s[i];
                 return;
             }
-            *v = base.v[i] + r.dv[i] * k;
+            *v = match model.gravity {
+                None => base.v[i] + r.dv[i] * k,
+                Some(g) => base.v[i] + (r.dv[i] + g) * k,
+            };
             *rho = base.rho[i] + r.drho[i] * k;
             *e = base.e[i] + r.de[i] * k;
             if whole {

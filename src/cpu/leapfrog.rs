@@ -107,7 +107,7 @@ impl CpuSolver {
         // made at until the booking below), then the work on v_{n+1}.
         half.v.par_iter_mut().enumerate().for_each(|(i, v)| {
             if !model.rigid(i) {
-                *v += dv[i] * h;
+                *v += model.gravity.map_or(dv[i], |g| dv[i] + g) * h;
             }
         });
         let v_next = &half.v;
@@ -171,11 +171,15 @@ fn kick_drift(model: &Model, st: &State, kn: &Rates, dt: f64, half: &mut State, 
                 *e = st.e[i];
                 *vp = *v;
             } else {
-                *v = st.v[i] + kn.dv[i] * h;
+                // The body force kicks the velocity, but its work is
+                // the potential's: the compatible term is the internal
+                // forces' alone (docs/method.md §9, "Gravity").
+                let a = model.gravity.map_or(kn.dv[i], |g| kn.dv[i] + g);
+                *v = st.v[i] + a * h;
                 *e = st.e[i] + kn.de[i] * h + kick_energy(kn.dv[i], h);
                 let c =
                     viscosity::predictor_weight(model.alpha, model.material(i).c_l, model.h[i], dt);
-                *vp = *v + kn.dv[i] * ((c - 0.5) * dt);
+                *vp = *v + a * ((c - 0.5) * dt);
             }
             *x = st.x[i] + *v * dt;
         });

@@ -29,6 +29,7 @@ mod code {
     pub const HEAT: u32 = 9;
     pub const OWED: u32 = 10;
     pub const DISSIPATION: u32 = 11;
+    pub const POTENTIAL: u32 = 12;
 }
 
 /// How a probe value is made from a ring row.
@@ -39,8 +40,13 @@ enum Expr {
     Slot(usize, f64, f64),
     /// `value + shift` (the shift as for `Slot`).
     Particle(usize, f64),
-    /// Kinetic + internal + stored penalty energy.
-    Total(usize, usize, Option<usize>),
+    /// Kinetic + internal + stored penalty energy (+ the potential).
+    Total(usize, usize, Option<usize>, Option<(usize, f64)>),
+    /// The potential energy in the body force: `zero − slot`.
+    Potential(usize, f64),
+    /// A value that is zero by construction (the potential without a body
+    /// force).
+    Zero,
 }
 
 /// The device-side form of a scene's probes.
@@ -146,10 +152,15 @@ impl ProbePlan {
                     EnergyQuantity::ArtificialDissipation => {
                         Expr::Slot(plan.slot([code::DISSIPATION, NONE, NONE, 0]), 1.0, 0.0)
                     }
+                    EnergyQuantity::Potential => match plan.potential(model, origin) {
+                        Some((k, zero)) => Expr::Potential(k, zero),
+                        None => Expr::Zero,
+                    },
                     EnergyQuantity::Total => Expr::Total(
                         plan.slot([code::KINETIC, NONE, NONE, 0]),
                         plan.slot([code::INTERNAL, NONE, NONE, 0]),
                         plan.stored,
+                        plan.potential(model, origin),
                     ),
                 },
             };
@@ -211,6 +222,19 @@ impl ProbePlan {
         plan
     }
 
+    /// With gravity, the slot of `Σ m g·(x − origin)` over the deformable
+    /// particles and its value as placed, in f64
+    /// ([`Model::gravity_ref`]): the potential is their difference.
+    fn potential(&mut self, model: &Model, origin: DVec2) -> Option<(usize, f64)> {
+        let g = model.gravity?;
+        let mass: f64 = (0..model.len())
+            .filter(|&i| !model.rigid(i))
+            .map(|i| model.mass[i])
+            .sum();
+        let zero = g.dot(model.gravity_ref - origin * mass);
+        Some((self.slot([code::POTENTIAL, NONE, NONE, 0]), zero))
+    }
+
     fn slot(&mut self, s: [u32; 4]) -> usize {
         match self.slots.iter().position(|x| *x == s) {
             Some(k) => k,
@@ -237,7 +261,11 @@ impl ProbePlan {
         match *e {
             Expr::Slot(k, scale, shift) => slot(k) * scale + shift,
             Expr::Particle(k, shift) => row[3 + self.slots.len() + k] as f64 + shift,
-            Expr::Total(k, i, s) => slot(k) + slot(i) + s.map_or(0.0, slot),
+            Expr::Total(k, i, s, u) => {
+                slot(k) + slot(i) + s.map_or(0.0, slot) + u.map_or(0.0, |(k, zero)| zero - slot(k))
+            }
+            Expr::Potential(k, zero) => zero - slot(k),
+            Expr::Zero => 0.0,
         }
     }
 
@@ -245,7 +273,7 @@ impl ProbePlan {
     /// probe of quantity `total` reads it; 0 without the guard).
     pub fn guarded_energy(&self, row: &[f32]) -> f64 {
         self.energy.map_or(0.0, |(k, i, _)| {
-            self.value(&Expr::Total(k, i, self.stored), row)
+            self.value(&Expr::Total(k, i, self.stored, None), row)
         })
     }
 

@@ -53,6 +53,10 @@ impl Model {
         }
         model.read_placement(scene, &state);
         model.domain = Model::domain_of(&model, &state, scene.simulation.end_time);
+        model.gravity_ref = (0..model.len())
+            .filter(|&i| !model.rigid(i))
+            .map(|i| state.x[i] * model.mass[i])
+            .sum();
         model.energy_guard = Model::guards_energy(&model);
         model.energy_floor = ENERGY_FLOOR
             * (0..model.len())
@@ -118,6 +122,11 @@ impl Model {
             band: sim.band(),
             variational: sim.stress_form == crate::scene::StressForm::Variational,
             area0: Vec::new(),
+            gravity: sim
+                .gravity
+                .as_ref()
+                .map(|g| DVec2::new(g[0], g.get(1).copied().unwrap_or(0.0))),
+            gravity_ref: DVec2::ZERO,
         }
     }
 

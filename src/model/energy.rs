@@ -20,12 +20,27 @@ impl Model {
     /// [`Model::energy_lower`] below. Both solvers check each state at the start
     /// of the step that leaves it, with the evaluation they make there
     /// anyway. Not watched when a rigid body moves (it does work on what it
-    /// pushes).
+    /// pushes), nor under gravity (a body released at rest starts with no
+    /// energy for the band to scale with, and draws it from its height).
     pub fn guards_energy(model: &Model) -> bool {
-        !model
-            .bodies
-            .iter()
-            .any(|b| b.rigid && b.velocity0 != DVec2::ZERO)
+        model.gravity.is_none()
+            && !model
+                .bodies
+                .iter()
+                .any(|b| b.rigid && b.velocity0 != DVec2::ZERO)
+    }
+
+    /// The deformable particles' potential energy in the body force,
+    /// `−Σ m g·(x − x₀)` (zero as placed; 0 without gravity).
+    pub fn potential_energy(&self, st: &State) -> f64 {
+        let Some(g) = self.gravity else {
+            return 0.0;
+        };
+        let mx: DVec2 = (0..self.len())
+            .filter(|&i| !self.rigid(i))
+            .map(|i| st.x[i] * self.mass[i])
+            .sum();
+        -g.dot(mx - self.gravity_ref)
     }
 
     /// The guard's limit from the total energy `e0` of the first state.

@@ -131,6 +131,12 @@ pub struct Model {
     /// The variational stress terms (docs/method.md §4,
     /// [`crate::scene::StressForm`]); `false`: the paper's eq. 6.
     pub variational: bool,
+    /// The body force per unit mass on the deformable particles
+    /// (`[simulation] gravity`), `None` without one.
+    pub gravity: Option<DVec2>,
+    /// `Σ m x` of the deformable particles as placed: the potential
+    /// energy's zero ([`Model::potential_energy`]).
+    pub gravity_ref: DVec2,
 }
 
 /// The energy guard's factor ([`Model::guards_energy`]).

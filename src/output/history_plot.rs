@@ -47,6 +47,7 @@ pub fn unit(probe: &Probe, dim: u32) -> &'static str {
             | EnergyQuantity::Internal
             | EnergyQuantity::ContactHeat
             | EnergyQuantity::ArtificialDissipation
+            | EnergyQuantity::Potential
             | EnergyQuantity::Total => per("J/m", "J/m²"),
         },
     }

@@ -411,6 +411,10 @@ pub struct EnergyLedger {
     pub internal: f64,
     /// Energy stored in the penalty springs at the end.
     pub spring: f64,
+    /// The deformable bodies' potential energy in the body force at the
+    /// end, zero as placed (`[simulation] gravity`; absent without it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub potential: Option<f64>,
     /// Heat the contact's dashpot dissipated (part of `internal`).
     pub dashpot_heat: f64,
     /// Work the viscosity, the artificial stress and the hourglass
@@ -419,17 +423,25 @@ pub struct EnergyLedger {
     /// Work the penalty springs absorbed and did not store
     /// (`energy_spring_loss`).
     pub spring_loss: f64,
-    /// `kinetic + internal + spring + spring_loss − initial`.
+    /// `kinetic + internal + spring (+ potential) + spring_loss − initial`.
     pub residual: f64,
 }
 
 impl EnergyLedger {
-    pub fn new(initial: f64, end: &crate::probe::Energies, spring_loss: f64) -> Self {
+    /// `gravity`: whether the scene has a body force (the ledger then
+    /// names the potential energy).
+    pub fn new(
+        initial: f64,
+        end: &crate::probe::Energies,
+        spring_loss: f64,
+        gravity: bool,
+    ) -> Self {
         EnergyLedger {
             initial,
             kinetic: end.kinetic,
             internal: end.internal,
             spring: end.stored,
+            potential: gravity.then_some(end.potential),
             dashpot_heat: end.contact_heat,
             artificial_dissipation: end.dissipation,
             spring_loss,

@@ -205,7 +205,12 @@ impl RunSetup<'_> {
             energy_initial: e0,
             energy_final: end_energy.total(),
             energy_spring_loss: spring_loss,
-            energy: crate::output::EnergyLedger::new(e0, &end_energy, spring_loss),
+            energy: crate::output::EnergyLedger::new(
+                e0,
+                &end_energy,
+                spring_loss,
+                model.gravity.is_some(),
+            ),
             bodies: (0..model.bodies.len())
                 .map(|b| {
                     let (m, mv, _, _) = probe::body_means(model, st, b);

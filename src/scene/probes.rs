@@ -73,6 +73,9 @@ pub enum EnergyQuantity {
     ContactHeat,
     /// The artificial terms' work so far ([`crate::model::State::dissipation`]).
     ArtificialDissipation,
+    /// The deformable bodies' potential energy in the body force
+    /// (`[simulation] gravity`), zero as placed.
+    Potential,
     Total,
 }
 

@@ -46,6 +46,11 @@ pub struct Simulation {
     /// dispersion correction"): 0 (the default) is off.
     #[serde(default)]
     pub dispersion_correction: f64,
+    /// A uniform body force per unit mass on every deformable particle,
+    /// m/s², one component per dimension (in a body of revolution along
+    /// the axis only); absent: none.
+    #[serde(default)]
+    pub gravity: Option<Vec<f64>>,
 }
 
 pub fn default_cfl() -> f64 {

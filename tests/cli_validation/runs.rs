@@ -117,6 +117,23 @@ fn dispersion_correction_runs_on_the_cpu_path() {
     check_says(tmp.path(), &plain, "dispersion  uncorrected");
 }
 
+/// `check` names a body force, and a run with one books its potential
+/// energy in summary.json's ledger; a run without names none.
+#[test]
+fn gravity_is_checked_and_booked() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = BASE_1D.replacen("dimension = 1", "dimension = 1\ngravity = [-9.81]", 1);
+    let scene = write_scene(tmp.path(), "gravity", &text);
+    check_says(tmp.path(), &scene, "gravity     [-9.81] m/s²");
+    let (_, dir) = run_into(tmp.path(), &scene, "cpu", tmp.path().join("g"));
+    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(summary.contains("\"potential\":"), "{summary}");
+    let plain = write_scene(tmp.path(), "plain", BASE_1D);
+    let (_, dir) = run_into(tmp.path(), &plain, "cpu", tmp.path().join("p"));
+    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(!summary.contains("\"potential\""), "{summary}");
+}
+
 /// The leapfrog runs by default; the midpoint rule (scene key or
 /// `--integrator`) runs on both paths, and the summary names it.
 #[test]

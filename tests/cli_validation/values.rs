@@ -132,6 +132,25 @@ fn non_positive_and_negative_values() {
             "simulation.dispersion_correction",
         )
         .two_d(),
+        case(
+            "gravity_of_the_wrong_dimension",
+            &[("dimension = 1", "dimension = 1\ngravity = [0.0, -9.81]")],
+            "simulation.gravity",
+        ),
+        case(
+            "gravity_not_finite",
+            &[("dimension = 1", "dimension = 1\ngravity = [nan]")],
+            "simulation.gravity",
+        ),
+        case(
+            "gravity_across_the_axis_of_a_body_of_revolution",
+            &[(
+                "dimension = 2",
+                "dimension = 2\ngeometry = \"axisymmetric\"\ngravity = [9.81, 0.0]",
+            )],
+            "simulation.gravity",
+        )
+        .two_d(),
     ]);
 }
 

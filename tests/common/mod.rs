@@ -186,7 +186,7 @@ pub fn assert_conserved(scene: &Scene, out: &RunOutput) {
     // penalty spring lost (reported, and bounded by the tests that make
     // contact) is what they started with, up to the time integration.
     let l = &s.energy;
-    let held = l.kinetic + l.internal + l.spring;
+    let held = l.kinetic + l.internal + l.spring + l.potential.unwrap_or(0.0);
     assert!(
         (held - s.energy_final).abs() <= 1e-12 * s.energy_final.abs().max(1e-300)
             && l.initial == s.energy_initial

@@ -98,6 +98,12 @@ fn gpu_histories_are_bitwise_repeatable() {
             Some(3.0e-6),
             Integrator::Midpoint,
         ),
+        // A body force.
+        (
+            "scenes/boundaries/bar_under_gravity.toml",
+            Some(2.0e-6),
+            Integrator::Leapfrog,
+        ),
     ] {
         let mut scene = load(path);
         scene.simulation.integrator = integrator;

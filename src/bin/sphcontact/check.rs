@@ -121,6 +121,14 @@ fn print_numerics(scene: &Scene, model: &Model) {
             "fixed: round, radius 2h".to_string()
         }
     );
+    if let Some(g) = model.gravity {
+        let g = if model.dim == 1 {
+            format!("[{}]", g.x)
+        } else {
+            format!("[{}, {}]", g.x, g.y)
+        };
+        println!("gravity     {g} m/s² on the deformable bodies (the energy guard off)");
+    }
     let av = scene.viscosity();
     println!(
         "viscosity   {}, alpha {}, beta {}, {}; hourglass control {}",

@@ -112,6 +112,18 @@ fn validate_simulation(scene: &Scene) -> R {
             }
         }
     }
+    if let Some(g) = &sim.gravity {
+        dimension_of("simulation.gravity", g, dim)?;
+        if scene.axisymmetric() && g[0] != 0.0 {
+            return Err(SceneError::at(
+                "simulation.gravity",
+                format!(
+                    "in a body of revolution gravity acts along the axis: its first (radial) component must be 0 (got {})",
+                    g[0]
+                ),
+            ));
+        }
+    }
     let theta = sim.dispersion_correction;
     dispersion_correction_in_range(theta)
         .map_err(|e| SceneError::at("simulation.dispersion_correction", e))?;
