@@ -34,6 +34,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         jitter: None,
         seed: None,
         velocity_field: None,
+        constraints: vec![],
     };
     let scene = Scene {
         title: Some("steel striker onto a long aluminium bar".into()),

@@ -5,7 +5,10 @@ use glam::DVec2;
 
 use crate::model::Diagnostics;
 use crate::model::{Model, State};
-use crate::scene::{BodyQuantity, ContactQuantity, EnergyQuantity, ParticleQuantity, Probe, Scene};
+use crate::scene::{
+    BodyQuantity, ConstraintQuantity, ContactQuantity, EnergyQuantity, ParticleQuantity, Probe,
+    Scene,
+};
 
 /// A probe with its body and particle resolved to indices.
 #[derive(Debug, Clone)]
@@ -14,6 +17,8 @@ pub enum Resolved {
     Body(usize, BodyQuantity),
     Contact(u32, u32, ContactQuantity),
     Energy(EnergyQuantity),
+    /// A constraint by its index in [`Model::held`].
+    Constraint(usize, ConstraintQuantity),
 }
 
 /// Resolve the scene's probes (a `particle` probe picks the particle of its
@@ -55,6 +60,18 @@ pub fn resolve(scene: &Scene, model: &Model, st0: &State) -> Vec<Resolved> {
                 *quantity,
             ),
             Probe::Energy { quantity, .. } => Resolved::Energy(*quantity),
+            Probe::Constraint {
+                constraint,
+                quantity,
+                ..
+            } => Resolved::Constraint(
+                model
+                    .held
+                    .iter()
+                    .position(|c| &c.name == constraint)
+                    .expect("validated: probes name known constraints"),
+                *quantity,
+            ),
         })
         .collect()
 }
@@ -175,6 +192,13 @@ pub fn evaluate(probes: &[Resolved], model: &Model, st: &State, diag: &Diagnosti
                 match q {
                     ContactQuantity::Force => force,
                     ContactQuantity::PressureMax => pmax,
+                }
+            }
+            Resolved::Constraint(k, q) => {
+                let f = diag.held_force.get(k).copied().unwrap_or_default();
+                match q {
+                    ConstraintQuantity::ForceX => f.x,
+                    ConstraintQuantity::ForceY => f.y,
                 }
             }
             Resolved::Energy(q) => {

@@ -62,6 +62,8 @@ impl Record for State {
         self.failed_at.put(w);
         self.metric.put(w);
         self.carried.put(w);
+        self.held_impulse.put(w);
+        self.held_work.put(w);
     }
     fn get(r: &mut Reader) -> Result<Self, String> {
         Ok(State {
@@ -85,6 +87,8 @@ impl Record for State {
             failed_at: Record::get(r)?,
             metric: Record::get(r)?,
             carried: Record::get(r)?,
+            held_impulse: Record::get(r)?,
+            held_work: Record::get(r)?,
         })
     }
 }
@@ -155,6 +159,7 @@ impl Record for (Rates, Diagnostics) {
         (d.correction_fallback as u64).put(w);
         (d.boundary_count as u64).put(w);
         d.contact.put(w);
+        d.held_force.put(w);
     }
     fn get(r: &mut Reader) -> Result<Self, String> {
         let rates = Rates {
@@ -170,6 +175,7 @@ impl Record for (Rates, Diagnostics) {
             correction_fallback: r.u64()? as usize,
             boundary_count: r.u64()? as usize,
             contact: Record::get(r)?,
+            held_force: Record::get(r)?,
         };
         Ok((rates, diag))
     }

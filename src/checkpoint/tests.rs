@@ -104,6 +104,7 @@ fn small() -> Checkpoint {
                     },
                     correction_fallback: 1,
                     boundary_count: 2,
+                    held_force: vec![DVec2::new(0.5, -1.5)],
                 },
             )),
             state,

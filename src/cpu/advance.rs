@@ -50,6 +50,7 @@ pub(super) fn advance(
                 None => base.v[i] + r.dv[i] * k,
                 Some(g) => base.v[i] + (r.dv[i] + g) * k,
             };
+            *v = model.hold(i, *v);
             *rho = base.rho[i] + r.drho[i] * k;
             *e = base.e[i] + r.de[i] * k;
             if whole {
@@ -64,6 +65,11 @@ pub(super) fn advance(
     out.dissipation = base.dissipation + r.dissipation_rate * k;
     out.spring_work = base.spring_work + r.spring_rate * k;
     out.entry.clone_from(&base.entry);
+    out.held_impulse.clone_from(&base.held_impulse);
+    out.held_work = base.held_work;
+    if whole {
+        model.book_held(&r.dv, k, out);
+    }
 }
 
 /// The midpoint rule's compatible energy (docs/method.md §9): the

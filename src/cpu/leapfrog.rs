@@ -107,7 +107,7 @@ impl CpuSolver {
         // made at until the booking below), then the work on v_{n+1}.
         half.v.par_iter_mut().enumerate().for_each(|(i, v)| {
             if !model.rigid(i) {
-                *v += model.gravity.map_or(dv[i], |g| dv[i] + g) * h;
+                *v = model.hold(i, *v + model.gravity.map_or(dv[i], |g| dv[i] + g) * h);
             }
         });
         let v_next = &half.v;
@@ -138,10 +138,16 @@ impl CpuSolver {
         next.heat = half.heat + heat_rate * h;
         next.dissipation = half.dissipation + dissipation_rate * h;
         next.spring_work = half.spring_work + spring_rate * h;
+        next.held_impulse.clone_from(&half.held_impulse);
+        next.held_work = half.held_work;
+        model.book_held(&dv, h, &mut next);
         next.t = st.t + dt;
         next.step = st.step + 1;
         // The next step's size, at the state it starts from.
         diag.cfl_dt = cfl_dt;
+        if !model.held.is_empty() {
+            diag.held_force = model.held_forces(&dv);
+        }
         self.scratch = half;
         self.spare = std::mem::replace(&mut self.state, next);
         let rates = Rates {
@@ -174,12 +180,14 @@ fn kick_drift(model: &Model, st: &State, kn: &Rates, dt: f64, half: &mut State, 
                 // The body force kicks the velocity, but its work is
                 // the potential's: the compatible term is the internal
                 // forces' alone (docs/method.md §9, "Gravity").
+                // A held component's kinetic energy does not change: the
+                // compatible term takes the moving part alone.
                 let a = model.gravity.map_or(kn.dv[i], |g| kn.dv[i] + g);
-                *v = st.v[i] + a * h;
-                *e = st.e[i] + kn.de[i] * h + kick_energy(kn.dv[i], h);
+                *v = model.hold(i, st.v[i] + a * h);
+                *e = st.e[i] + kn.de[i] * h + kick_energy(model.moving_part(i, kn.dv[i]), h);
                 let c =
                     viscosity::predictor_weight(model.alpha, model.material(i).c_l, model.h[i], dt);
-                *vp = *v + a * ((c - 0.5) * dt);
+                *vp = model.hold(i, *v + a * ((c - 0.5) * dt));
             }
             *x = st.x[i] + *v * dt;
         });
@@ -192,6 +200,9 @@ fn kick_drift(model: &Model, st: &State, kn: &Rates, dt: f64, half: &mut State, 
     half.heat = st.heat + kn.heat_rate * h;
     half.dissipation = st.dissipation + kn.dissipation_rate * h;
     half.spring_work = st.spring_work + kn.spring_rate * h;
+    half.held_impulse.clone_from(&st.held_impulse);
+    half.held_work = st.held_work;
+    model.book_held(&kn.dv, h, half);
 }
 
 /// Step 2's second half: `ρ` and `s` at n+1 (with the radial return and
@@ -214,7 +225,7 @@ fn to_next(
         }
         // The predicted energy takes back the first half kick's
         // compatible term, which the second is expected to return.
-        *e = half.e[i] + kn.de[i] * h - kick_energy(kn.dv[i], h);
+        *e = half.e[i] + kn.de[i] * h - kick_energy(model.moving_part(i, kn.dv[i]), h);
         *rho = density_after(half.rho[i], k.drho[i], dt);
         *s = plastic_return(model, i, half.s[i].add_scaled(&k.ds[i], dt));
     };
@@ -264,7 +275,7 @@ fn finish_energy(
                 // Checked too: a rigid body may leave the domain.
                 return (f64::INFINITY, sane(model, i, x, v, *e, rho, 0.0));
             }
-            *e = half.e[i] + de[i] * h - kick_energy(dv[i], h);
+            *e = half.e[i] + de[i] * h - kick_energy(model.moving_part(i, dv[i]), h);
             let hs = support_h(model, &next.metric, i);
             let dt = material::cfl_step(model.cfl, hs, pts[i].c, v.length());
             (

@@ -200,6 +200,9 @@ fn evaluate_at(
         stage::enter(Stage::Reduce, Role::Step);
         diag.cfl_dt = cfl_step(model, st, &pts);
     }
+    if !model.held.is_empty() {
+        diag.held_force = model.held_forces(&dv);
+    }
     (
         Rates {
             dv,

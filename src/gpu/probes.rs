@@ -139,6 +139,9 @@ impl ProbePlan {
                         }
                     }
                 }
+                // The GPU path refuses a scene with constraints
+                // (run::check_backend) before it plans probes.
+                Resolved::Constraint(..) => Expr::Zero,
                 Resolved::Energy(q) => match q {
                     EnergyQuantity::Kinetic => {
                         Expr::Slot(plan.slot([code::KINETIC, NONE, NONE, 0]), 1.0, 0.0)

@@ -51,6 +51,7 @@ impl Model {
         } else if model.adaptive {
             state.metric = model.h.iter().map(|&h| Metric::round(h)).collect();
         }
+        model.finish_held(&mut state);
         model.read_placement(scene, &state);
         model.domain = Model::domain_of(&model, &state, scene.simulation.end_time);
         model.gravity_ref = (0..model.len())
@@ -127,6 +128,8 @@ impl Model {
                 .as_ref()
                 .map(|g| DVec2::new(g[0], g.get(1).copied().unwrap_or(0.0))),
             gravity_ref: DVec2::ZERO,
+            held: Vec::new(),
+            held_of: Vec::new(),
         }
     }
 
@@ -192,6 +195,7 @@ impl Model {
                 av.hourglass
             },
         });
+        self.add_held(b, start..self.mass.len(), &state.x);
     }
 
     /// What the particles as placed in `state` set: the contact's step and

@@ -20,10 +20,12 @@ impl Model {
     /// [`Model::energy_lower`] below. Both solvers check each state at the start
     /// of the step that leaves it, with the evaluation they make there
     /// anyway. Not watched when a rigid body moves (it does work on what it
-    /// pushes), nor under gravity (a body released at rest starts with no
-    /// energy for the band to scale with, and draws it from its height).
+    /// pushes), nor where a constraint drives a region, nor under gravity
+    /// (a body released at rest starts with no energy for the band to
+    /// scale with, and draws it from its height).
     pub fn guards_energy(model: &Model) -> bool {
         model.gravity.is_none()
+            && !model.held_moves()
             && !model
                 .bodies
                 .iter()

@@ -137,6 +137,43 @@ pub struct Model {
     /// `Σ m x` of the deformable particles as placed: the potential
     /// energy's zero ([`Model::potential_energy`]).
     pub gravity_ref: DVec2,
+    /// The clamped and driven regions (`[[bodies.constraints]]`), in the
+    /// scene's order.
+    pub held: Vec<Held>,
+    /// Each particle's constraint, `k + 1` (0: free); empty without any.
+    pub held_of: Vec<u32>,
+}
+
+/// A clamped or driven region as the solvers apply it
+/// (docs/method.md, "Constraints").
+#[derive(Debug, Clone, PartialEq)]
+pub struct Held {
+    pub name: String,
+    /// 1 in each component it holds, 0 in a free one.
+    pub mask: DVec2,
+    /// Its velocity in the held components.
+    pub velocity: DVec2,
+    /// The particles it holds.
+    pub particles: Vec<usize>,
+}
+
+impl Held {
+    /// `v` with the held components at the region's velocity.
+    #[inline]
+    pub fn hold(&self, v: DVec2) -> DVec2 {
+        DVec2::new(
+            if self.mask.x > 0.0 {
+                self.velocity.x
+            } else {
+                v.x
+            },
+            if self.mask.y > 0.0 {
+                self.velocity.y
+            } else {
+                v.y
+            },
+        )
+    }
 }
 
 /// The energy guard's factor ([`Model::guards_energy`]).
@@ -190,6 +227,12 @@ pub struct State {
     /// ([`crate::physics::strength::VOID_OPEN`]); empty unless
     /// [`Model::history`].
     pub failed_at: Vec<f64>,
+    /// Each constraint's impulse on its region so far, N·s (per unit area
+    /// in 1-D, per unit thickness in 2-D); empty without constraints.
+    pub held_impulse: Vec<DVec2>,
+    /// The work the constraints have done on the bodies so far, J (per
+    /// unit area in 1-D, per unit thickness in 2-D).
+    pub held_work: f64,
     /// Each particle's support metric ([`Metric`]) where supports adapt
     /// ([`Model::adaptive`]) and one of them is not round; empty otherwise
     /// (the bodies' round supports of `h`). Within a band every support
@@ -239,6 +282,8 @@ impl State {
             failed_at: Vec::new(),
             metric: Vec::new(),
             carried: Vec::new(),
+            held_impulse: Vec::new(),
+            held_work: 0.0,
         }
     }
 
@@ -283,6 +328,7 @@ impl State {
 
 mod build;
 mod energy;
+mod held;
 #[cfg(test)]
 mod tests;
 
@@ -511,6 +557,9 @@ pub struct Diagnostics {
     pub correction_fallback: usize,
     /// Boundary particles, when the contact runs.
     pub boundary_count: usize,
+    /// Each constraint's force on its region at this state
+    /// ([`Model::held_forces`]); empty without constraints.
+    pub held_force: Vec<DVec2>,
 }
 
 /// Totals per pair of bodies (`a < b`), and the energies of the contact.

@@ -50,6 +50,7 @@ pub fn unit(probe: &Probe, dim: u32) -> &'static str {
             | EnergyQuantity::Potential
             | EnergyQuantity::Total => per("J/m", "J/m²"),
         },
+        Probe::Constraint { .. } => per("N/m", "N/m²"),
     }
 }
 

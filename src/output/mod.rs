@@ -382,6 +382,10 @@ pub struct Summary {
     /// cannot support a corrected gradient, which carry no deviatoric
     /// stress and no tension while they are so.
     pub debris: DebrisSummary,
+    /// The clamped and driven regions: each one's impulse on its region
+    /// and its work (docs/scenes.md, "Constraints"); absent without any.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub constraints: Vec<ConstraintSummary>,
     /// Snapshots written (0 without `output.snapshot_interval`), their
     /// bytes on disk and the wall seconds they took (inside
     /// `wall_seconds`): the boundary set or the device readback, and the
@@ -393,6 +397,19 @@ pub struct Summary {
     /// "completed" or "failed".
     pub status: String,
     pub error: Option<String>,
+}
+
+/// One constraint's account over the run.
+#[derive(Debug, Clone, Serialize)]
+pub struct ConstraintSummary {
+    pub name: String,
+    /// Particles it holds.
+    pub particles: usize,
+    /// Its impulse on its region, N·s/m² (1-D) or N·s/m (2-D), one
+    /// component per dimension.
+    pub impulse: Vec<f64>,
+    /// The work it did on the bodies, J/m² or J/m.
+    pub work: f64,
 }
 
 /// Where the energy of a run went (J per unit area in 1-D, per unit
@@ -423,18 +440,25 @@ pub struct EnergyLedger {
     /// Work the penalty springs absorbed and did not store
     /// (`energy_spring_loss`).
     pub spring_loss: f64,
-    /// `kinetic + internal + spring (+ potential) + spring_loss − initial`.
+    /// The work the clamped and driven regions did on the bodies (absent
+    /// without constraints).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub constraint_work: Option<f64>,
+    /// `kinetic + internal + spring (+ potential) + spring_loss − initial
+    /// (− constraint_work)`.
     pub residual: f64,
 }
 
 impl EnergyLedger {
     /// `gravity`: whether the scene has a body force (the ledger then
-    /// names the potential energy).
+    /// names the potential energy); `held`: the constraints' work, where
+    /// the scene has some.
     pub fn new(
         initial: f64,
         end: &crate::probe::Energies,
         spring_loss: f64,
         gravity: bool,
+        held: Option<f64>,
     ) -> Self {
         EnergyLedger {
             initial,
@@ -445,7 +469,8 @@ impl EnergyLedger {
             dashpot_heat: end.contact_heat,
             artificial_dissipation: end.dissipation,
             spring_loss,
-            residual: end.total() + spring_loss - initial,
+            constraint_work: held,
+            residual: end.total() + spring_loss - initial - held.unwrap_or(0.0),
         }
     }
 }

@@ -109,18 +109,26 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    // The dispersion correction runs on the CPU path alone so far.
+    // The dispersion correction and the constraints run on the CPU path
+    // alone so far.
     let theta = scene.simulation.dispersion_correction;
-    if theta > 0.0 {
+    let cpu_only = if theta > 0.0 {
+        Some(format!("dispersion_correction = {theta}"))
+    } else {
+        scene
+            .bodies
+            .iter()
+            .find(|b| !b.constraints.is_empty())
+            .map(|b| format!("body '{}''s constraints", b.name))
+    };
+    if let Some(what) = cpu_only {
         return match backend {
             Backend::Gpu => Err(RunError::Backend {
                 backend: "gpu",
-                message: format!(
-                    "dispersion_correction = {theta} runs on the CPU path only; use --backend cpu (or auto)"
-                ),
+                message: format!("{what}: the CPU path only so far; use --backend cpu (or auto)"),
             }),
             _ => Ok(cpu(matches!(backend, Backend::Auto).then(|| {
-                format!("backend auto: dispersion_correction = {theta} runs on the CPU path only; running it")
+                format!("backend auto: {what}: the CPU path only so far; running it")
             }))),
         };
     }

@@ -210,6 +210,7 @@ impl RunSetup<'_> {
                 &end_energy,
                 spring_loss,
                 model.gravity.is_some(),
+                (!model.held.is_empty()).then_some(st.held_work),
             ),
             bodies: (0..model.bodies.len())
                 .map(|b| {
@@ -225,6 +226,17 @@ impl RunSetup<'_> {
                 .collect(),
             out_of_range,
             debris,
+            constraints: model
+                .held
+                .iter()
+                .zip(&st.held_impulse)
+                .map(|(c, j)| crate::output::ConstraintSummary {
+                    name: c.name.clone(),
+                    particles: c.particles.len(),
+                    impulse: vec_of(*j, dim),
+                    work: c.velocity.dot(*j),
+                })
+                .collect(),
             snapshots,
             snapshot_bytes,
             snapshot_seconds,

@@ -31,6 +31,81 @@ pub struct Body {
     /// imploding or expanding shell, say).
     #[serde(default)]
     pub velocity_field: Option<VelocityField>,
+    /// Regions of the body whose particles move at a prescribed velocity
+    /// (clamped, driven), the whole run.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub constraints: Vec<Constraint>,
+}
+
+/// A clamped or driven region of a body (`[[bodies.constraints]]`): the
+/// particles placed inside `region` move at `velocity` (or, `fixed`, stay
+/// at rest), in every component but those listed `free`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Constraint {
+    /// What probes call it; absent: `"<body>[k]"`, k its place in the
+    /// body's list.
+    #[serde(default)]
+    pub name: Option<String>,
+    pub region: Region,
+    /// The prescribed velocity, m/s, one component per dimension.
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
+    /// At rest: the velocity zero.
+    #[serde(default)]
+    pub fixed: bool,
+    /// Components left free (`"x"`, `"y"`): a roller.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub free: Vec<Axis>,
+}
+
+/// A component of a vector.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Axis {
+    X,
+    Y,
+}
+
+/// A part of the plane (or of the line, in 1-D) that picks particles.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Region {
+    Segment {
+        from: f64,
+        to: f64,
+    },
+    Rectangle {
+        min: Vec<f64>,
+        max: Vec<f64>,
+    },
+    Disk {
+        center: Vec<f64>,
+        radius: f64,
+    },
+    /// A closed outline, the last vertex joined to the first.
+    Polygon {
+        vertices: Vec<Vec<f64>>,
+    },
+}
+
+impl Region {
+    /// Whether `p` lies in the region (its boundary included).
+    pub fn contains(&self, p: glam::DVec2) -> bool {
+        let at = |v: &[f64]| glam::DVec2::new(v[0], v.get(1).copied().unwrap_or(0.0));
+        match self {
+            Region::Segment { from, to } => p.x >= from.min(*to) && p.x <= from.max(*to),
+            Region::Rectangle { min, max } => {
+                let (a, b) = (at(min), at(max));
+                p.x >= a.x && p.x <= b.x && (min.len() < 2 || (p.y >= a.y && p.y <= b.y))
+            }
+            Region::Disk { center, radius } => (p - at(center)).length() <= *radius,
+            Region::Polygon { vertices } => {
+                let ring: Vec<glam::DVec2> = vertices.iter().map(|v| at(v)).collect();
+                outline::contains(&ring, p)
+            }
+        }
+    }
 }
 
 /// An initial velocity that varies over a body.

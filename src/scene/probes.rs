@@ -79,6 +79,15 @@ pub enum EnergyQuantity {
     Total,
 }
 
+/// What a `constraint` probe records of a held region.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ConstraintQuantity {
+    /// The force the constraint puts on its region.
+    ForceX,
+    ForceY,
+}
+
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Probe {
@@ -102,6 +111,12 @@ pub enum Probe {
         name: String,
         quantity: EnergyQuantity,
     },
+    /// A clamped or driven region (`[[bodies.constraints]]`), by its name.
+    Constraint {
+        name: String,
+        constraint: String,
+        quantity: ConstraintQuantity,
+    },
 }
 
 impl Probe {
@@ -110,7 +125,8 @@ impl Probe {
             Probe::Particle { name, .. }
             | Probe::Body { name, .. }
             | Probe::Contact { name, .. }
-            | Probe::Energy { name, .. } => name,
+            | Probe::Energy { name, .. }
+            | Probe::Constraint { name, .. } => name,
         }
     }
 }

@@ -223,6 +223,21 @@ fn cpu_resume_with_the_dispersion_correction_gives_the_same_bytes() {
     }
 }
 
+/// A bar driven at one end and clamped at the other under a body force,
+/// on both integrators: the constraints' impulses and work and the
+/// leapfrog's carried forces on the regions ride in the checkpoint.
+#[test]
+fn cpu_resume_with_constraints_and_gravity_gives_the_same_bytes() {
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        let mut scene = load("scenes/boundaries/bar_driven_clamped.toml");
+        scene.simulation.end_time = 1.0e-5;
+        scene.simulation.gravity = Some(vec![1.0e6]);
+        scene.simulation.integrator = integrator;
+        scene.output.snapshot_interval = Some(3.0e-6);
+        resume_matches_of(scene, Backend::Cpu);
+    }
+}
+
 /// Two coarse spheres as bodies of revolution (R/Δx = 10, closing at
 /// 80 m/s), on both integrators: the state's `η = 2π r ρ` and the
 /// leapfrog's carried rates, mirror terms included, resume to the same

@@ -134,6 +134,33 @@ fn gravity_is_checked_and_booked() {
     assert!(!summary.contains("\"potential\""), "{summary}");
 }
 
+/// Constraints run on the CPU path alone so far: `--backend gpu` refuses
+/// them (exit 2, naming them and the way out), `auto` runs the CPU path
+/// with one warning line, and `check` lists each with its particles.
+#[test]
+fn constraints_run_on_the_cpu_path() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = BASE_1D.replacen(
+        "shape = { kind = \"segment\", from = -0.001, to = 0.0 }",
+        "shape = { kind = \"segment\", from = -0.001, to = 0.0 }\n\n[[bodies.constraints]]\nname = \"grip\"\nregion = { kind = \"segment\", from = -0.001, to = -0.0008 }\nvelocity = [10.0]",
+        1,
+    );
+    let scene = write_scene(tmp.path(), "held", &text);
+    let run = |backend: &str| run_into(tmp.path(), &scene, backend, tmp.path().join(backend));
+    let (out, _) = run("gpu");
+    refused(&out, &["constraints", "--backend cpu"]);
+    let (out, dir) = run("auto");
+    let warning = the_warning(&out);
+    assert!(warning.contains("CPU path only"), "{warning}");
+    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(summary.contains("\"constraint_work\":"), "{summary}");
+    check_says(
+        tmp.path(),
+        &scene,
+        "constraint 'grip': 2 particles held at [10] m/s",
+    );
+}
+
 /// The leapfrog runs by default; the midpoint rule (scene key or
 /// `--integrator`) runs on both paths, and the summary names it.
 #[test]

@@ -133,6 +133,41 @@ fn non_positive_and_negative_values() {
         )
         .two_d(),
         case(
+            "constraint_without_velocity",
+            &[("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", concat!("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", "\n\n[[bodies.constraints]]\nregion = { kind = \"segment\", from = -0.001, to = -0.0008 }\n"))],
+            "bodies[0].constraints[0].velocity",
+        ),
+        case(
+            "constraint_with_velocity_and_fixed",
+            &[("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", concat!("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", "\n\n[[bodies.constraints]]\nregion = { kind = \"segment\", from = -0.001, to = -0.0008 }\nvelocity = [1.0]\nfixed = true\n"))],
+            "bodies[0].constraints[0].fixed",
+        ),
+        case(
+            "constraint_leaving_everything_free",
+            &[("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", concat!("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", "\n\n[[bodies.constraints]]\nregion = { kind = \"segment\", from = -0.001, to = -0.0008 }\nfixed = true\nfree = [\"x\"]\n"))],
+            "bodies[0].constraints[0].free",
+        ),
+        case(
+            "constraint_region_of_the_wrong_dimension",
+            &[("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", concat!("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", "\n\n[[bodies.constraints]]\nregion = { kind = \"disk\", center = [0.0, 0.0], radius = 0.001 }\nfixed = true\n"))],
+            "bodies[0].constraints[0].region",
+        ),
+        case(
+            "constraint_region_holding_no_particle",
+            &[("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", concat!("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", "\n\n[[bodies.constraints]]\nregion = { kind = \"segment\", from = 0.5, to = 0.6 }\nfixed = true\n"))],
+            "bodies[0].constraints[0].region",
+        ),
+        case(
+            "constraints_overlapping",
+            &[("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", concat!("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", "\n\n[[bodies.constraints]]\nregion = { kind = \"segment\", from = -0.001, to = -0.0007 }\nfixed = true\n", "\n\n[[bodies.constraints]]\nregion = { kind = \"segment\", from = -0.0008, to = -0.0005 }\nfixed = true\n"))],
+            "bodies[0].constraints[1].region",
+        ),
+        case(
+            "constraint_probe_of_an_unknown_constraint",
+            &[("quantity = \"total\"", "quantity = \"total\"\n\n[[probes]]\nname = \"f\"\nkind = \"constraint\"\nconstraint = \"clamp\"\nquantity = \"force_x\"")],
+            "probes[2].constraint",
+        ),
+        case(
             "gravity_of_the_wrong_dimension",
             &[("dimension = 1", "dimension = 1\ngravity = [0.0, -9.81]")],
             "simulation.gravity",

@@ -229,6 +229,33 @@ fn print_bodies(scene: &Scene, model: &Model) {
                 center.get(1).copied().unwrap_or(0.0)
             );
         }
+        for c in model
+            .held
+            .iter()
+            .filter(|c| b.range.contains(&c.particles[0]))
+        {
+            let comp = |m: f64, v: f64| {
+                if m > 0.0 {
+                    v.to_string()
+                } else {
+                    "free".to_string()
+                }
+            };
+            let v = if model.dim == 1 {
+                format!("[{}]", comp(c.mask.x, c.velocity.x))
+            } else {
+                format!(
+                    "[{}, {}]",
+                    comp(c.mask.x, c.velocity.x),
+                    comp(c.mask.y, c.velocity.y)
+                )
+            };
+            println!(
+                "            constraint '{}': {} particles held at {v} m/s",
+                c.name,
+                c.particles.len()
+            );
+        }
         if let Some(j) = sb.jitter.filter(|&j| j > 0.0) {
             println!(
                 "            jitter ±{j} Δx per coordinate (seed {}), mass from the nominal cells",

@@ -10,7 +10,9 @@ use super::{place_bodies, Interaction, Probe, Scene, Shape};
 use crate::error::SceneError;
 use crate::physics::material::{cfl_step, MaterialModel};
 
+mod constraints;
 mod shapes;
+pub use constraints::constraint_name;
 use shapes::{validate_particles, validate_revolution, validate_shape};
 
 type R = Result<(), SceneError>;
@@ -188,6 +190,7 @@ fn validate_bodies(scene: &Scene) -> Result<HashSet<&str>, SceneError> {
         return Err(SceneError::at("bodies", "at least one body is required"));
     }
     let mut names = HashSet::new();
+    let mut constraint_names = HashSet::new();
     for (i, b) in scene.bodies.iter().enumerate() {
         let k = |f: &str| format!("bodies[{i}].{f}");
         if b.name.is_empty() {
@@ -250,6 +253,7 @@ fn validate_bodies(scene: &Scene) -> Result<HashSet<&str>, SceneError> {
             }
         }
         validate_shape(&b.shape, dim, &k("shape"))?;
+        constraints::validate_constraints(b, i, dim, &mut constraint_names)?;
         if scene.axisymmetric() {
             validate_revolution(&b.shape, &k("shape"))?;
         }
@@ -324,6 +328,31 @@ fn validate_probes(scene: &Scene, names: &HashSet<&str>) -> R {
                 }
             }
             Probe::Energy { .. } => {}
+            Probe::Constraint { constraint, .. } => {
+                let defined: Vec<String> = scene
+                    .bodies
+                    .iter()
+                    .flat_map(|b| {
+                        b.constraints
+                            .iter()
+                            .enumerate()
+                            .map(move |(k, c)| constraint_name(b, k, c))
+                    })
+                    .collect();
+                if !defined.contains(constraint) {
+                    return Err(SceneError::at(
+                        format!("probes[{i}].constraint"),
+                        format!(
+                            "unknown constraint '{constraint}' (the scene defines: {})",
+                            if defined.is_empty() {
+                                "none".to_string()
+                            } else {
+                                defined.join(", ")
+                            }
+                        ),
+                    ));
+                }
+            }
         }
     }
     Ok(())
@@ -431,6 +460,7 @@ fn validate_placement(scene: &Scene) -> R {
                 ),
             ));
         }
+        constraints::validate_constrained(&scene.bodies[i], i, &p.positions)?;
         if let Some(field) = &scene.bodies[i].velocity_field {
             if let Some(x) = p.positions.iter().find(|&&x| field.at(x).is_none()) {
                 return Err(SceneError::at(
