@@ -110,6 +110,8 @@ pub struct Energies {
     pub kinetic: f64,
     pub internal: f64,
     pub contact_heat: f64,
+    /// The frictional part of `contact_heat`.
+    pub friction_heat: f64,
     /// Cumulative artificial dissipation (booked into `e`, part of
     /// `internal`): the work of the viscosity, the artificial stress and
     /// the hourglass control ([`State::dissipation`]).
@@ -128,6 +130,7 @@ impl Energies {
 pub fn energies(model: &Model, st: &State, diag: &Diagnostics) -> Energies {
     let mut e = Energies {
         contact_heat: st.heat,
+        friction_heat: st.friction_heat,
         dissipation: st.dissipation,
         stored: diag.contact.stored,
         potential: model.potential_energy(st),
@@ -148,6 +151,24 @@ pub fn momentum(model: &Model, st: &State) -> DVec2 {
         .filter(|&i| !model.rigid(i))
         .map(|i| st.v[i] * model.mass[i])
         .sum()
+}
+
+/// Body `b`'s angular momentum about its centre of mass over its moment
+/// of inertia about it, rad/s (0 for a body that is one point).
+pub fn angular_velocity(model: &Model, st: &State, b: usize) -> f64 {
+    let (m, mv, xc, _) = body_means(model, st, b);
+    let vc = mv / m;
+    let (mut l, mut inertia) = (0.0, 0.0);
+    for i in model.bodies[b].range.clone() {
+        let (r, v) = (st.x[i] - xc, st.v[i] - vc);
+        l += model.mass[i] * r.perp_dot(v);
+        inertia += model.mass[i] * r.length_squared();
+    }
+    if inertia > 0.0 {
+        l / inertia
+    } else {
+        0.0
+    }
 }
 
 /// Mass, momentum and mass-weighted mean position and velocity of a body.
@@ -185,6 +206,7 @@ pub fn evaluate(probes: &[Resolved], model: &Model, st: &State, diag: &Diagnosti
                     BodyQuantity::KineticEnergy => ke,
                     BodyQuantity::MomentumX => mv.x,
                     BodyQuantity::MomentumY => mv.y,
+                    BodyQuantity::AngularVelocity => angular_velocity(model, st, b),
                 }
             }
             Resolved::Contact(a, b, q) => {
@@ -192,6 +214,8 @@ pub fn evaluate(probes: &[Resolved], model: &Model, st: &State, diag: &Diagnosti
                 match q {
                     ContactQuantity::Force => force,
                     ContactQuantity::PressureMax => pmax,
+                    ContactQuantity::TangentialForce => diag.contact.tangential(a, b).0,
+                    ContactQuantity::SlipRate => diag.contact.tangential(a, b).1,
                 }
             }
             Resolved::Constraint(k, q) => {
@@ -207,6 +231,7 @@ pub fn evaluate(probes: &[Resolved], model: &Model, st: &State, diag: &Diagnosti
                     EnergyQuantity::Kinetic => e.kinetic,
                     EnergyQuantity::Internal => e.internal,
                     EnergyQuantity::ContactHeat => e.contact_heat,
+                    EnergyQuantity::FrictionHeat => e.friction_heat,
                     EnergyQuantity::ArtificialDissipation => e.dissipation,
                     EnergyQuantity::Potential => e.potential,
                     EnergyQuantity::Total => e.total(),

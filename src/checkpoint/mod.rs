@@ -41,7 +41,8 @@ use crate::scene::{Backend, Scene};
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\n";
-/// Version 12: a scene without `support` adapts its supports, and a state
+/// Version 14: a state's tangential slips and frictional heat, and the
+/// friction the leapfrog carries. (Version 12: a scene without `support` adapts its supports, and a state
 /// whose supports are all round holds none (a version 11 checkpoint
 /// resumed would change its physics). (Version 11: the carried ellipses
 /// of supports that adapt within a band, and an adaptive scene without
@@ -56,7 +57,7 @@ const MAGIC: &[u8; 8] = b"SPHCKPT\n";
 /// (Version 5: a scene without `[artificial_stress]` runs the default
 /// close-pair form, so a version 4 checkpoint resumed would change its
 /// physics.)
-const VERSION: u64 = 13;
+const VERSION: u64 = 14;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]

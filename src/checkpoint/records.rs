@@ -4,6 +4,7 @@
 
 use super::codec::{record, Reader, Record, Writer};
 use super::{CpuState, GpuState, Ledger, RecorderState, SolverState};
+use crate::cpu::contact::Friction;
 use crate::cpu::neighbours::Neighbours;
 use crate::cpu::Rates;
 use crate::gpu::RawDevice;
@@ -56,6 +57,9 @@ impl Record for State {
         self.dissipation.put(w);
         self.spring_work.put(w);
         self.entry.put(w);
+        self.slip.put(w);
+        self.slip_stiffness.put(w);
+        self.friction_heat.put(w);
         self.eps_p.put(w);
         self.temperature.put(w);
         self.damage.put(w);
@@ -81,6 +85,9 @@ impl Record for State {
             dissipation: Record::get(r)?,
             spring_work: Record::get(r)?,
             entry: Record::get(r)?,
+            slip: Record::get(r)?,
+            slip_stiffness: Record::get(r)?,
+            friction_heat: Record::get(r)?,
             eps_p: Record::get(r)?,
             temperature: Record::get(r)?,
             damage: Record::get(r)?,
@@ -124,6 +131,13 @@ impl Record for ContactStats {
         self.stored.put(w);
         self.heat_rate.put(w);
         self.spring_rate.put(w);
+        self.friction_rate.put(w);
+        w.u64(self.tangential.len() as u64);
+        for &(a, b, t) in &self.tangential {
+            a.put(w);
+            b.put(w);
+            t.iter().for_each(|x| x.put(w));
+        }
     }
     fn get(r: &mut Reader) -> Result<Self, String> {
         let np = r.count(24)?;
@@ -140,6 +154,17 @@ impl Record for ContactStats {
             stored: Record::get(r)?,
             heat_rate: Record::get(r)?,
             spring_rate: Record::get(r)?,
+            friction_rate: Record::get(r)?,
+            tangential: {
+                let n = r.count(32)?;
+                (0..n)
+                    .map(|_| {
+                        let a: u32 = Record::get(r)?;
+                        let b: u32 = Record::get(r)?;
+                        Ok((a, b, [r.f64()?, r.f64()?, r.f64()?]))
+                    })
+                    .collect::<Result<_, String>>()?
+            },
         })
     }
 }
@@ -155,6 +180,8 @@ impl Record for (Rates, Diagnostics) {
         r.heat_rate.put(w);
         r.spring_rate.put(w);
         r.dissipation_rate.put(w);
+        r.friction_rate.put(w);
+        put_friction(&r.friction, w);
         d.cfl_dt.put(w);
         (d.correction_fallback as u64).put(w);
         (d.boundary_count as u64).put(w);
@@ -168,6 +195,8 @@ impl Record for (Rates, Diagnostics) {
             heat_rate: Record::get(r)?,
             spring_rate: Record::get(r)?,
             dissipation_rate: Record::get(r)?,
+            friction_rate: Record::get(r)?,
+            friction: get_friction(r)?,
             ..Default::default()
         };
         let diag = Diagnostics {
@@ -179,6 +208,38 @@ impl Record for (Rates, Diagnostics) {
         };
         Ok((rates, diag))
     }
+}
+
+/// The carried rates' friction: its length, then each entry's particle,
+/// stiffness, limit and rate.
+fn put_friction(f: &[(u32, Friction)], w: &mut Writer) {
+    w.u64(f.len() as u64);
+    for &(i, fr) in f {
+        i.put(w);
+        fr.stiffness.put(w);
+        fr.cap.put(w);
+        fr.rate.put(w);
+    }
+}
+
+fn get_friction(r: &mut Reader) -> Result<Vec<(u32, Friction)>, String> {
+    let n = r.count(28)?;
+    (0..n)
+        .map(|_| {
+            let i: u32 = Record::get(r)?;
+            let stiffness = Record::get(r)?;
+            let cap = Record::get(r)?;
+            let rate = Record::get(r)?;
+            Ok((
+                i,
+                Friction {
+                    stiffness,
+                    cap,
+                    rate,
+                },
+            ))
+        })
+        .collect()
 }
 
 /// A number that may be unset, as NaN when it is.

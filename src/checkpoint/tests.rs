@@ -92,6 +92,15 @@ fn small() -> Checkpoint {
                     de: vec![0.5; state.x.len()],
                     heat_rate: 0.25,
                     spring_rate: -0.125,
+                    friction_rate: 0.0625,
+                    friction: vec![(
+                        1,
+                        crate::cpu::contact::Friction {
+                            stiffness: 2.0,
+                            cap: 1e-6,
+                            rate: -0.5,
+                        },
+                    )],
                     ..Default::default()
                 },
                 Diagnostics {
@@ -101,6 +110,8 @@ fn small() -> Checkpoint {
                         stored: 4.0,
                         heat_rate: 0.25,
                         spring_rate: -0.125,
+                        friction_rate: 0.0625,
+                        tangential: vec![(0, 1, [0.5, 0.25, 2.0])],
                     },
                     correction_fallback: 1,
                     boundary_count: 2,

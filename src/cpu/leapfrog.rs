@@ -5,7 +5,6 @@
 use rayon::prelude::*;
 
 use crate::cpu::neighbours::Neighbours;
-use crate::model::ContactStats;
 use crate::physics::viscosity;
 
 use super::*;
@@ -98,7 +97,7 @@ impl CpuSolver {
             stage::enter(Stage::Contact, Role::Next);
             diag.boundary_count = bd.list.len();
             next.entry.clone_from(&st.entry);
-            let c = contact::penalty(model, &next, nb, bd);
+            let c = contact::penalty_ahead(model, &next, nb, bd, None, h);
             c.add_forces(model, bd, &mut dv);
             contact::write_entries(&c.entry, &mut next.entry);
         }
@@ -121,11 +120,15 @@ impl CpuSolver {
         if let Some(m) = &mirrors {
             dissipation_rate += m.add_energy(model, nb, &pts, v_next, &mut de);
         }
+        let mut friction = Vec::new();
         if let Some(bd) = bd {
             stage::enter(Stage::Contact, Role::Book);
-            diag.contact = book_contact(model, &next, nb, &bd, v_next, &mut de);
+            let c = book_contact(model, &next, nb, &bd, (v_next, h), &mut de);
+            diag.contact = c.stats;
+            friction = c.friction;
         }
         let (heat_rate, spring_rate) = (diag.contact.heat_rate, diag.contact.spring_rate);
+        let friction_rate = diag.contact.friction_rate;
         std::mem::swap(&mut next.v, &mut half.v);
         carry_supports(model, st, &lv, dt, &mut next.metric, &mut next.carried);
         stage::enter(Stage::Advance, Role::Finish);
@@ -138,6 +141,15 @@ impl CpuSolver {
         next.heat = half.heat + heat_rate * h;
         next.dissipation = half.dissipation + dissipation_rate * h;
         next.spring_work = half.spring_work + spring_rate * h;
+        if model.friction > 0.0 {
+            // The slip at n+1 from the rate booked at v_{n+1}, returned
+            // onto the Coulomb limit found there.
+            next.friction_heat = half.friction_heat + friction_rate * h;
+            contact::advance_slip(&half.slip, &friction, h, &mut next.slip);
+            next.slip_stiffness.clone_from(&half.slip_stiffness);
+            contact::return_slip(model, &friction, &mut next);
+            diag.contact.stored += contact::slip_stored(&next);
+        }
         next.held_impulse.clone_from(&half.held_impulse);
         next.held_work = half.held_work;
         model.book_held(&dv, h, &mut next);
@@ -154,6 +166,8 @@ impl CpuSolver {
             heat_rate,
             spring_rate,
             dissipation_rate,
+            friction_rate,
+            friction,
             ..Rates::of_motion(dv, de)
         };
         self.current = Some((rates, diag));
@@ -200,6 +214,14 @@ fn kick_drift(model: &Model, st: &State, kn: &Rates, dt: f64, half: &mut State, 
     half.heat = st.heat + kn.heat_rate * h;
     half.dissipation = st.dissipation + kn.dissipation_rate * h;
     half.spring_work = st.spring_work + kn.spring_rate * h;
+    if model.friction > 0.0 {
+        // The slip at n+½, which the contact at n+1 looks ahead from.
+        half.friction_heat = st.friction_heat + kn.friction_rate * h;
+        contact::advance_slip(&st.slip, &kn.friction, h, &mut half.slip);
+        next.slip.clone_from(&half.slip);
+        half.slip_stiffness.clone_from(&st.slip_stiffness);
+        next.slip_stiffness.clone_from(&st.slip_stiffness);
+    }
     half.held_impulse.clone_from(&st.held_impulse);
     half.held_work = st.held_work;
     model.book_held(&kn.dv, h, half);
@@ -330,15 +352,15 @@ fn book_contact(
     next: &State,
     nb: &Neighbours,
     bd: &forces::Boundary,
-    v: &[DVec2],
+    (v, h): (&[DVec2], f64),
     de: &mut [f64],
-) -> ContactStats {
-    let c = contact::penalty_booked(model, next, nb, bd, Some(v));
+) -> contact::ContactForces {
+    let c = contact::penalty_ahead(model, next, nb, bd, Some(v), h);
     for (k, &i) in bd.list.iter().enumerate() {
         let i = i as usize;
         if !model.rigid(i) {
             de[i] += c.heat[k] / model.mass[i];
         }
     }
-    c.stats
+    c
 }

@@ -79,6 +79,12 @@ pub struct Rates {
     /// (`(particle, overlap)`, [`contact::write_entries`]); empty without
     /// contact and in the leapfrog's carried rates.
     pub entry: Vec<(u32, f64)>,
+    /// The frictional heat rate (part of `heat_rate`).
+    pub friction_rate: f64,
+    /// The boundary particles' friction at the evaluated state, whose
+    /// slip rates advance [`State::slip`] ([`contact::advance_slip`]);
+    /// empty without friction.
+    pub friction: Vec<(u32, contact::Friction)>,
     /// The velocity gradient the supports are carried with
     /// ([`Kinematics::lv`](kinematics::Kinematics::lv)); empty with round
     /// supports and in the leapfrog's carried rates.
@@ -106,6 +112,8 @@ impl Rates {
             spring_rate: 0.0,
             dissipation_rate: 0.0,
             entry: Vec::new(),
+            friction_rate: 0.0,
+            friction: Vec::new(),
             lv: Vec::new(),
             debris: Vec::new(),
         }
@@ -178,11 +186,13 @@ fn evaluate_at(
     let mut heat_rate = 0.0;
     let mut spring_rate = 0.0;
     let mut entry = Vec::new();
+    let mut friction = Vec::new();
     if let Some(bd) = boundary {
         stage::enter(Stage::Contact, role);
         diag.boundary_count = bd.list.len();
-        let c = contact::penalty(model, st, nb, &bd);
+        let mut c = contact::penalty(model, st, nb, &bd);
         entry.clone_from(&c.entry);
+        friction = std::mem::take(&mut c.friction);
         // Contact terms exist on boundary particles and, through the
         // normals, on their neighbours.
         c.add_forces(model, &bd, &mut dv);
@@ -214,6 +224,8 @@ fn evaluate_at(
             spring_rate,
             dissipation_rate,
             entry,
+            friction_rate: diag.contact.friction_rate,
+            friction,
             lv,
             debris: fallback,
         },
@@ -356,11 +368,14 @@ impl CpuSolver {
                 self.state.frame(),
                 Role::Base,
             );
-            let (r, d) = evaluate_with(&self.model, &self.state, &self.nb);
+            let (r, mut d) = evaluate_with(&self.model, &self.state, &self.nb);
             if self.model.contact {
                 // The base state's entries (the rule is applied anew at
                 // the midpoint, and stored only here).
                 contact::write_entries(&r.entry, &mut self.state.entry);
+            }
+            if self.model.friction > 0.0 {
+                d.contact.stored += contact::slip_stored(&self.state);
             }
             self.current = Some((r, d));
         }
@@ -433,6 +448,10 @@ impl CpuSolver {
         let mut next = std::mem::take(&mut self.spare);
         stage::enter(Stage::Advance, Role::FullStep);
         advance(&self.model, &self.state, &half.v, &k2, dt, true, &mut next);
+        if self.model.friction > 0.0 {
+            // Onto the limit the step's evaluation found.
+            contact::return_slip(&self.model, &k2.friction, &mut next);
+        }
         carry_supports(
             &self.model,
             &self.state,

@@ -101,6 +101,12 @@ impl GpuSolver {
                 model.dispersion
             ));
         }
+        if model.friction > 0.0 {
+            return Err(format!(
+                "contact.friction = {} runs on the CPU path only",
+                model.friction
+            ));
+        }
         let n = model.len();
         let frame = frame.unwrap_or_else(|| frame_of(&model, state));
         let (origin, cell) = (frame.origin, frame.cell);

@@ -125,6 +125,11 @@ impl ProbePlan {
                         BodyQuantity::KineticEnergy => (code::KINETIC, 1.0, 0.0),
                         BodyQuantity::MomentumX => (code::MVX, 1.0, 0.0),
                         BodyQuantity::MomentumY => (code::MVY, 1.0, 0.0),
+                        // The GPU path refuses it (run::choose_backend).
+                        BodyQuantity::AngularVelocity => {
+                            plan.exprs.push(Expr::Zero);
+                            continue;
+                        }
                     };
                     Expr::Slot(plan.slot([c, b, NONE, 0]), scale, shift)
                 }
@@ -137,6 +142,9 @@ impl ProbePlan {
                         ContactQuantity::PressureMax => {
                             Expr::Slot(plan.slot([code::PAIR_PMAX, a, b, 1]), 1.0, 0.0)
                         }
+                        // No friction runs on the GPU path (run::choose_backend
+                        // refuses it): none of either.
+                        ContactQuantity::TangentialForce | ContactQuantity::SlipRate => Expr::Zero,
                     }
                 }
                 // The GPU path refuses a scene with constraints
@@ -152,6 +160,8 @@ impl ProbePlan {
                     EnergyQuantity::ContactHeat => {
                         Expr::Slot(plan.slot([code::HEAT, NONE, NONE, 0]), 1.0, 0.0)
                     }
+                    // The GPU path refuses friction (run::choose_backend).
+                    EnergyQuantity::FrictionHeat => Expr::Zero,
                     EnergyQuantity::ArtificialDissipation => {
                         Expr::Slot(plan.slot([code::DISSIPATION, NONE, NONE, 0]), 1.0, 0.0)
                     }

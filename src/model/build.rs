@@ -75,6 +75,12 @@ impl Model {
         if model.contact {
             // Bodies that start overlapping are pushed apart (entry 0).
             state.entry = vec![0.0; model.len()];
+            if model.friction > 0.0 {
+                state.slip = vec![0.0; model.len()];
+                state.slip_stiffness = vec![0.0; model.len()];
+            }
+        } else {
+            model.friction = 0.0;
         }
         (model, state)
     }
@@ -110,6 +116,7 @@ impl Model {
             body: Vec::with_capacity(n),
             offset: Vec::with_capacity(n),
             contact: sim.interaction == Interaction::Penalty && scene.bodies.len() > 1,
+            friction: cs.friction,
             contact_dt: f64::INFINITY,
             plastic: false,
             history: false,

@@ -85,6 +85,9 @@ pub struct Model {
     pub offset: Vec<f64>,
     /// `true` when the penalty contact runs: penalty mode and two or more bodies.
     pub contact: bool,
+    /// The Coulomb coefficient of every contact (`[contact] friction`;
+    /// 0: frictionless, and the state carries no slip).
+    pub friction: f64,
     /// The longest step the penalty spring allows
     /// ([`contact_step`](crate::physics::penalty::contact_step), over every
     /// pair of bodies and both sides); infinite without contact. Both
@@ -215,6 +218,17 @@ pub struct State {
     /// which its spring does not push against; negative: not a boundary
     /// particle at the last step's start. Empty without contact.
     pub entry: Vec<f64>,
+    /// Each boundary particle's elastic tangential slip against the
+    /// partner it presses on, m, along `t = ẑ × n` of its pass
+    /// (docs/method.md §8.6); empty without friction.
+    pub slip: Vec<f64>,
+    /// The tangential spring each slip was stored in at the last return,
+    /// `f A k_t` (N/m per unit thickness): the stored energy is
+    /// `Σ ½ f A k_t u²`; empty without friction.
+    pub slip_stiffness: Vec<f64>,
+    /// Cumulative frictional heat (already booked into `e` and counted in
+    /// [`State::heat`]), J (per unit thickness in 2-D).
+    pub friction_heat: f64,
     /// Equivalent plastic strain; empty unless [`Model::history`].
     pub eps_p: Vec<f64>,
     /// Temperature, K (0 for materials without a strength law); empty
@@ -276,6 +290,9 @@ impl State {
             dissipation: 0.0,
             spring_work: 0.0,
             entry: Vec::new(),
+            slip: Vec::new(),
+            slip_stiffness: Vec::new(),
+            friction_heat: 0.0,
             eps_p: Vec::new(),
             temperature: Vec::new(),
             damage: Vec::new(),
@@ -574,6 +591,13 @@ pub struct ContactStats {
     /// Rate of change of the stored energy, `Σ dΦ/dt` over the passes at
     /// the booking velocities: the springs' absorbed power.
     pub spring_rate: f64,
+    /// The frictional heat rate (part of `heat_rate`; docs/method.md §8.6).
+    pub friction_rate: f64,
+    /// With friction, `(a, b, [tangential force, Σ A |slip rate|, Σ A])`
+    /// over the frictional passes of each pair: the first the friction
+    /// force (`Σ f τ A`, positive against the slide of a on b along the
+    /// passes' tangents), the other two the contact area's mean slip rate.
+    pub tangential: Vec<(u32, u32, [f64; 3])>,
 }
 
 impl ContactStats {
@@ -583,6 +607,27 @@ impl ContactStats {
             .iter()
             .find(|p| p.0 == a && p.1 == b)
             .map_or((0.0, 0.0), |p| (p.2, p.3))
+    }
+
+    /// The friction force of the pair of bodies a, b and the mean slip rate
+    /// of its frictional passes (zeros where it has none).
+    pub fn tangential(&self, a: u32, b: u32) -> (f64, f64) {
+        let (a, b) = (a.min(b), a.max(b));
+        self.tangential
+            .iter()
+            .find(|p| p.0 == a && p.1 == b)
+            .map_or((0.0, 0.0), |p| {
+                let [f, slip, area] = p.2;
+                (f, if area > 0.0 { slip / area } else { 0.0 })
+            })
+    }
+
+    pub(crate) fn add_tangential(&mut self, a: u32, b: u32, t: [f64; 3]) {
+        let (a, b) = (a.min(b), a.max(b));
+        match self.tangential.iter_mut().find(|x| x.0 == a && x.1 == b) {
+            Some(x) => (0..3).for_each(|k| x.2[k] += t[k]),
+            None => self.tangential.push((a, b, t)),
+        }
     }
 
     pub(crate) fn add(&mut self, a: u32, b: u32, force: f64, p: f64) {

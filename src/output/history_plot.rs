@@ -37,15 +37,19 @@ pub fn unit(probe: &Probe, dim: u32) -> &'static str {
             BodyQuantity::PositionX | BodyQuantity::PositionY => "m",
             BodyQuantity::KineticEnergy => per("J/m", "J/m²"),
             BodyQuantity::MomentumX | BodyQuantity::MomentumY => per("kg/s", "kg/(m s)"),
+            BodyQuantity::AngularVelocity => "rad/s",
         },
         Probe::Contact { quantity, .. } => match quantity {
             ContactQuantity::Force => per("N/m", "N/m²"),
             ContactQuantity::PressureMax => "Pa",
+            ContactQuantity::TangentialForce => per("N/m", "N/m²"),
+            ContactQuantity::SlipRate => "m/s",
         },
         Probe::Energy { quantity, .. } => match quantity {
             EnergyQuantity::Kinetic
             | EnergyQuantity::Internal
             | EnergyQuantity::ContactHeat
+            | EnergyQuantity::FrictionHeat
             | EnergyQuantity::ArtificialDissipation
             | EnergyQuantity::Potential
             | EnergyQuantity::Total => per("J/m", "J/m²"),

@@ -432,8 +432,12 @@ pub struct EnergyLedger {
     /// end, zero as placed (`[simulation] gravity`; absent without it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub potential: Option<f64>,
-    /// Heat the contact's dashpot dissipated (part of `internal`).
+    /// Heat the contact's dashpots and friction dissipated (part of
+    /// `internal`).
     pub dashpot_heat: f64,
+    /// The frictional part of `dashpot_heat` (absent without friction).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction_heat: Option<f64>,
     /// Work the viscosity, the artificial stress and the hourglass
     /// control booked into the internal energy (part of `internal`).
     pub artificial_dissipation: f64,
@@ -452,13 +456,15 @@ pub struct EnergyLedger {
 impl EnergyLedger {
     /// `gravity`: whether the scene has a body force (the ledger then
     /// names the potential energy); `held`: the constraints' work, where
-    /// the scene has some.
+    /// the scene has some; `friction`: the frictional heat, where the
+    /// scene has friction.
     pub fn new(
         initial: f64,
         end: &crate::probe::Energies,
         spring_loss: f64,
         gravity: bool,
         held: Option<f64>,
+        friction: Option<f64>,
     ) -> Self {
         EnergyLedger {
             initial,
@@ -467,6 +473,7 @@ impl EnergyLedger {
             spring: end.stored,
             potential: gravity.then_some(end.potential),
             dashpot_heat: end.contact_heat,
+            friction_heat: friction,
             artificial_dissipation: end.dissipation,
             spring_loss,
             constraint_work: held,

@@ -109,11 +109,24 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    // The dispersion correction and the constraints run on the CPU path
-    // alone so far.
+    // The dispersion correction, friction and the constraints run on the
+    // CPU path alone so far.
     let theta = scene.simulation.dispersion_correction;
+    let mu = scene.contact_settings().friction;
     let cpu_only = if theta > 0.0 {
         Some(format!("dispersion_correction = {theta}"))
+    } else if mu > 0.0 {
+        Some(format!("contact.friction = {mu}"))
+    } else if let Some(p) = scene.probes.iter().find(|p| {
+        matches!(
+            p,
+            crate::scene::Probe::Body {
+                quantity: crate::scene::BodyQuantity::AngularVelocity,
+                ..
+            }
+        )
+    }) {
+        Some(format!("probe '{}' (angular_velocity)", p.name()))
     } else {
         scene
             .bodies

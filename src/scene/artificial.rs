@@ -186,12 +186,21 @@ pub struct ContactSettings {
     /// Boundary-particle threshold on `h |∇ψ|` (docs/method.md §8.1).
     #[serde(default = "default_boundary_threshold")]
     pub boundary_threshold: f64,
+    /// Coulomb coefficient `μ` of every contact, rigid walls included
+    /// (docs/method.md §8.6); 0: frictionless.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub friction: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Default for ContactSettings {
     fn default() -> Self {
         Self {
             boundary_threshold: default_boundary_threshold(),
+            friction: 0.0,
         }
     }
 }

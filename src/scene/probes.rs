@@ -56,6 +56,9 @@ pub enum BodyQuantity {
     KineticEnergy,
     MomentumX,
     MomentumY,
+    /// The angular momentum about the centre of mass over the moment of
+    /// inertia about it, rad/s (counter-clockwise positive; CPU path).
+    AngularVelocity,
 }
 
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
@@ -63,6 +66,10 @@ pub enum BodyQuantity {
 pub enum ContactQuantity {
     Force,
     PressureMax,
+    /// The friction force ([`crate::model::ContactStats::tangential`]).
+    TangentialForce,
+    /// The area-weighted mean slip rate of the frictional passes.
+    SlipRate,
 }
 
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
@@ -71,6 +78,8 @@ pub enum EnergyQuantity {
     Kinetic,
     Internal,
     ContactHeat,
+    /// The frictional part of `ContactHeat` ([`crate::model::State::friction_heat`]).
+    FrictionHeat,
     /// The artificial terms' work so far ([`crate::model::State::dissipation`]).
     ArtificialDissipation,
     /// The deformable bodies' potential energy in the body force

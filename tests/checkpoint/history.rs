@@ -132,3 +132,49 @@ fn gpu_resume_keeps_a_plastic_rod_on_its_wall() {
         }
     })
 }
+
+/// The disk sliding on its wall with friction
+/// (scenes/friction/disk_wall_oblique.toml), checkpointed at 7 µs with
+/// every contact particle's slip and the leapfrog's carried friction in
+/// flight, and resumed: the same history bytes and final state (slips and
+/// frictional heat included) on both integrators.
+#[test]
+fn cpu_resume_keeps_a_disk_sliding() {
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        let mut scene = load("scenes/friction/disk_wall_oblique.toml");
+        scene.simulation.integrator = integrator;
+        let tmp = tempfile::tempdir().unwrap();
+        let (full, ck) = (tmp.path().join("full"), tmp.path().join("ck"));
+        let whole = run_scene(&scene, None, &write_opts(&full, Backend::Cpu, None)).expect("runs");
+        run_scene(&scene, None, &write_opts(&ck, Backend::Cpu, Some(7.0e-6))).expect("runs");
+        let saved = sphcontact::checkpoint::Checkpoint::read(&ck).expect("a checkpoint");
+        assert!(
+            (7.0e-6..7.1e-6).contains(&saved.time()),
+            "{:e}",
+            saved.time()
+        );
+        std::fs::remove_file(ck.join("summary.json")).unwrap();
+        let opts = RunOptions {
+            silent: true,
+            ..Default::default()
+        };
+        let resumed = resume_run(&ck, &opts).expect("resumes");
+        if read(full.join("history.csv")) != read(ck.join("history.csv")) {
+            let a = String::from_utf8(read(full.join("history.csv"))).unwrap();
+            let b = String::from_utf8(read(ck.join("history.csv"))).unwrap();
+            let k = a.lines().zip(b.lines()).position(|(x, y)| x != y).unwrap();
+            panic!(
+                "{integrator:?}\n{}\n{}",
+                a.lines().nth(k).unwrap(),
+                b.lines().nth(k).unwrap()
+            );
+        }
+        assert!(whole.state == resumed.state, "final states differ");
+        assert!(whole.state.friction_heat > 0.0);
+        // The run with the checkpoint slid through it.
+        let (names, rows) = read_history(&full.join("history.csv"));
+        let col = names.iter().position(|n| n == "friction_force").unwrap();
+        let at = rows.iter().position(|r| r[0] >= saved.time()).unwrap();
+        assert!(rows[at][col] > 0.0, "{:?}", rows[at]);
+    }
+}

@@ -161,6 +161,34 @@ fn constraints_run_on_the_cpu_path() {
     );
 }
 
+/// Friction runs on the CPU path alone so far: `--backend gpu` refuses
+/// it (exit 2, naming the key and the way out), `auto` runs the CPU path
+/// with one warning line and books the frictional heat in summary.json's
+/// ledger, and `check` names it; a run without friction names none.
+#[test]
+fn friction_runs_on_the_cpu_path() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = BASE_1D.replacen(
+        "[materials.steel]",
+        "[contact]\nfriction = 0.2\n\n[materials.steel]",
+        1,
+    );
+    let scene = write_scene(tmp.path(), "rubbing", &text);
+    let run = |backend: &str| run_into(tmp.path(), &scene, backend, tmp.path().join(backend));
+    let (out, _) = run("gpu");
+    refused(&out, &["contact.friction", "--backend cpu"]);
+    let (out, dir) = run("auto");
+    let warning = the_warning(&out);
+    assert!(warning.contains("CPU path only"), "{warning}");
+    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(summary.contains("\"friction_heat\":"), "{summary}");
+    check_says(tmp.path(), &scene, "Coulomb friction μ 0.2 on every pair");
+    let plain = write_scene(tmp.path(), "plain", BASE_1D);
+    let (_, dir) = run_into(tmp.path(), &plain, "cpu", tmp.path().join("p"));
+    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(!summary.contains("\"friction_heat\""), "{summary}");
+}
+
 /// The leapfrog runs by default; the midpoint rule (scene key or
 /// `--integrator`) runs on both paths, and the summary names it.
 #[test]

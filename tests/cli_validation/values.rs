@@ -133,6 +133,14 @@ fn non_positive_and_negative_values() {
         )
         .two_d(),
         case(
+            "negative_friction",
+            &[(
+                "[materials.steel]",
+                "[contact]\nfriction = -0.1\n\n[materials.steel]",
+            )],
+            "contact.friction",
+        ),
+        case(
             "constraint_without_velocity",
             &[("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", concat!("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", "\n\n[[bodies.constraints]]\nregion = { kind = \"segment\", from = -0.001, to = -0.0008 }\n"))],
             "bodies[0].constraints[0].velocity",

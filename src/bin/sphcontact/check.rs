@@ -301,6 +301,12 @@ fn print_contact(scene: &Scene, model: &Model, dt: f64) {
             );
         }
     }
+    if model.friction > 0.0 {
+        println!(
+            "            Coulomb friction μ {} on every pair (CPU path only)",
+            model.friction
+        );
+    }
     println!(
         "            step limit of the stiffest spring {:.4e} s (ω Δt = {}){}",
         model.contact_dt,

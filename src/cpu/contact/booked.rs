@@ -71,6 +71,21 @@ pub fn penalty_booked(
     bd: &Boundary,
     book: Option<&[DVec2]>,
 ) -> ContactForces {
+    penalty_ahead(model, st, nb, bd, book, 0.0)
+}
+
+/// [`penalty_booked`] with friction's slip looked `horizon` ahead where
+/// it sticks (docs/method.md §8.6): the leapfrog's contact at `n+1`
+/// holds `u_{n+½}` in `st.slip` and the slip it moves the bodies with is
+/// `u_{n+½} + ½Δt w`, the slip at `n+1` were the pass to stick.
+pub fn penalty_ahead(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    bd: &Boundary,
+    book: Option<&[DVec2]>,
+    horizon: f64,
+) -> ContactForces {
     let vb = book.unwrap_or(&st.v);
     let bk = Booking {
         model,
@@ -78,6 +93,7 @@ pub fn penalty_booked(
         nb,
         bd,
         book,
+        horizon,
         vb,
         ndot: normal_rates(model, st, nb, bd, vb),
     };
@@ -99,17 +115,24 @@ pub fn penalty_booked(
         .enumerate()
         .map(|(kq, &q)| bk.pass2(&pass1, kq, q as usize))
         .collect();
-    assemble(model, bd, &pass1, gathered)
+    let mut out = assemble(model, bd, &pass1, &gathered);
+    if model.friction > 0.0 {
+        friction::add(&bk, &pass1, &gathered, &mut out);
+    }
+    out
 }
 
 /// What one evaluation's booked passes read.
-struct Booking<'a> {
-    model: &'a Model,
-    st: &'a State,
-    nb: &'a Neighbours,
-    bd: &'a Boundary,
+pub(super) struct Booking<'a> {
+    pub(super) model: &'a Model,
+    pub(super) st: &'a State,
+    pub(super) nb: &'a Neighbours,
+    pub(super) bd: &'a Boundary,
     /// The booking velocities, if not the state's.
-    book: Option<&'a [DVec2]>,
+    pub(super) book: Option<&'a [DVec2]>,
+    /// How far ahead friction's slip is taken where it sticks
+    /// ([`penalty_ahead`]).
+    pub(super) horizon: f64,
     /// The velocities the work is booked at.
     vb: &'a [DVec2],
     /// How fast each boundary particle's normal turns at `vb`.
@@ -117,27 +140,34 @@ struct Booking<'a> {
 }
 
 /// Pass 1's result for one boundary particle P.
-struct P1 {
+pub(super) struct P1 {
     entry: f64,
-    force: DVec2,
+    pub(super) force: DVec2,
     heat: f64,
     /// `∂Φ/∂n_P` from P's own passes.
     n_bar: DVec2,
     shares: Vec<Share>,
     stats: Vec<PassStat>,
+    /// With friction, the partners P may rub on: their sums, the contact
+    /// normal, and the normal force P's own pass against them applies
+    /// (`½ p A`, 0 without one) ([`friction`](super::friction)).
+    pub(super) rubs: Vec<(PartnerSums, DVec2, f64)>,
 }
 
 /// What Q gathers: its force and heat from its partners, and the
 /// forces its normal's derivative puts on its neighbours.
-struct Gathered {
-    force: DVec2,
+pub(super) struct Gathered {
+    pub(super) force: DVec2,
     heat: f64,
     spread: Vec<(u32, DVec2)>,
+    /// With friction, the normal force the passes of each partner body
+    /// applied, shared to Q by weight as their dashpots' are.
+    pub(super) normal: Vec<(u32, f64)>,
 }
 
 impl Booking<'_> {
     /// Boundary particle q's entry in the boundary list.
-    fn slot(&self, q: usize) -> usize {
+    pub(super) fn slot(&self, q: usize) -> usize {
         self.bd
             .list
             .binary_search(&(q as u32))
@@ -155,6 +185,7 @@ impl Booking<'_> {
             n_bar: DVec2::ZERO,
             shares: Vec::new(),
             stats: Vec::new(),
+            rubs: Vec::new(),
         };
         let (np, op) = (bd.normal[p], model.offset[p]);
         let sp = st.x[p] + np * op;
@@ -167,9 +198,31 @@ impl Booking<'_> {
         let cap = yield_overlap(model.bodies[model.body[p] as usize].spacing);
         let (entry, yielded) = entry_rule(st.entry[p], deepest, cap);
         out.entry = entry;
+        // The pass that presses hardest (almost always the only one).
+        let mut hardest: Option<(&PartnerSums, DVec2, f64)> = None;
+        let a = bd.area[p];
         for (s, ps) in passes {
             let sat = yielded && ps.delta == deepest;
-            self.book_pass((kp, p), sp, (s, ps, sat), &cands, &mut out);
+            let n = ps.gap.n;
+            let applied = self.book_pass((kp, p), sp, (s, ps, sat), &cands, &mut out);
+            if applied > hardest.map_or(0.0, |h| h.2) {
+                hardest = Some((s, n, applied));
+            }
+        }
+        if model.friction > 0.0 && !model.rigid(p) {
+            // Every partner P may rub on: the partners' passes may press
+            // on P where its own pass against them does not.
+            out.rubs = sums
+                .iter()
+                .filter_map(|s| {
+                    let own = hardest.filter(|h| h.0.body == s.body);
+                    let n = match own {
+                        Some(h) => h.1,
+                        None => penalty::gap(np, &s.s)?.n,
+                    };
+                    Some((*s, n, own.map_or(0.0, |h| 0.5 * h.2 * a)))
+                })
+                .collect();
         }
         out
     }
@@ -223,7 +276,7 @@ impl Booking<'_> {
         (s, mut ps, sat): (&PartnerSums, Pass, bool),
         cands: &[Cand],
         out: &mut P1,
-    ) {
+    ) -> f64 {
         let (model, st, bd, book, vb) = (self.model, self.st, self.bd, self.book, self.vb);
         let (np, op) = (bd.normal[p], model.offset[p]);
         let a = bd.area[p];
@@ -278,12 +331,6 @@ impl Booking<'_> {
         if !rigid {
             out.heat += heat;
         }
-        out.shares.push(Share {
-            body: bq,
-            q: n * (dash / sw),
-            eta: if rigid { heat / sw } else { 0.0 },
-            spring,
-        });
         // What the pass applies along its normal: the dashpot and
         // the spring as faded (the pressure law's own p where the
         // pass does not fade).
@@ -292,6 +339,13 @@ impl Booking<'_> {
         } else {
             ps.p
         };
+        out.shares.push(Share {
+            body: bq,
+            q: n * (dash / sw),
+            eta: if rigid { heat / sw } else { 0.0 },
+            spring,
+            normal: 0.5 * applied * a / sw,
+        });
         out.stats.push(PassStat {
             partner: bq,
             force: 0.5 * applied * a,
@@ -301,6 +355,7 @@ impl Booking<'_> {
             heat,
             spring_rate: phi_dot,
         });
+        applied
     }
 
     /// Pass 2 of boundary particle `q` (entry `kq`): what its partners'
@@ -310,6 +365,7 @@ impl Booking<'_> {
         let mut f = DVec2::ZERO;
         let mut heat = 0.0;
         let mut n_bar = pass1[kq].n_bar;
+        let mut normal = Vec::new();
         let bq = model.body[q];
         let (nq, oq) = (bd.normal[q], model.offset[q]);
         let sq = st.x[q] + nq * oq;
@@ -326,6 +382,13 @@ impl Booking<'_> {
             };
             f += share.q * w;
             heat += share.eta * w;
+            if model.friction > 0.0 {
+                let bp = model.body[p];
+                match normal.iter_mut().find(|x: &&mut (u32, f64)| x.0 == bp) {
+                    Some(x) => x.1 += share.normal * w,
+                    None => normal.push((bp, share.normal * w)),
+                }
+            }
             if let Some((bar, sp)) = &share.spring {
                 let d = penalty::candidate(bar, *sp, w, sq, nq, oq);
                 f += gw * d.w - d.x;
@@ -356,12 +419,13 @@ impl Booking<'_> {
             force: f,
             heat,
             spread,
+            normal,
         }
     }
 }
 
 /// The contact's forces, heat, spread and totals from both passes.
-fn assemble(model: &Model, bd: &Boundary, pass1: &[P1], gathered: Vec<Gathered>) -> ContactForces {
+fn assemble(model: &Model, bd: &Boundary, pass1: &[P1], gathered: &[Gathered]) -> ContactForces {
     let mut out = ContactForces {
         entry: bd
             .list
@@ -372,6 +436,7 @@ fn assemble(model: &Model, bd: &Boundary, pass1: &[P1], gathered: Vec<Gathered>)
         force: Vec::with_capacity(bd.list.len()),
         spread: Vec::new(),
         heat: Vec::with_capacity(bd.list.len()),
+        friction: Vec::new(),
         stats: ContactStats::default(),
     };
     for ((&p, own), g) in bd.list.iter().zip(pass1).zip(gathered) {
@@ -382,7 +447,7 @@ fn assemble(model: &Model, bd: &Boundary, pass1: &[P1], gathered: Vec<Gathered>)
         } else {
             own.heat + g.heat
         });
-        out.spread.extend(g.spread);
+        out.spread.extend_from_slice(&g.spread);
         for s in &own.stats {
             out.stats.add(model.body[p], s.partner, s.force, s.pressure);
             out.stats.stored += s.stored;

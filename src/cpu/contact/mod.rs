@@ -10,8 +10,9 @@
 //! Every pass is a gather over neighbours: no atomics on the GPU.
 
 mod booked;
+mod friction;
 
-pub use booked::penalty_booked;
+pub use booked::{penalty_ahead, penalty_booked};
 
 use glam::DVec2;
 use rayon::prelude::*;
@@ -100,6 +101,9 @@ struct Share {
     eta: f64,
     /// The spring's derivative and P's surface point, where the spring acts.
     spring: Option<(SumsBar, DVec2)>,
+    /// `½ p A / ΣW`: the normal force the pass applies, per unit weight
+    /// (what friction's limit reads, [`friction`]).
+    normal: f64,
 }
 
 /// Contact result of one evaluation.
@@ -118,7 +122,82 @@ pub struct ContactForces {
     /// Each boundary particle's entry overlap after this evaluation
     /// (`(particle, overlap)`, entries as `force`; [`State::entry`]).
     pub entry: Vec<(u32, f64)>,
+    /// Each boundary particle's friction (`(particle, friction)`, entries
+    /// as `force`); empty without friction.
+    pub friction: Vec<(u32, Friction)>,
     pub stats: ContactStats,
+}
+
+/// One boundary particle's friction in an evaluation (docs/method.md §8.6).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Friction {
+    /// The tangential spring `f A k_t` of its frictional pass, N/m per
+    /// unit thickness (0: none, and its slip lets go).
+    pub stiffness: f64,
+    /// The largest elastic slip the Coulomb limit allows, `μ p / k_t`.
+    pub cap: f64,
+    /// The slip's rate at the booking velocities: the relative tangential
+    /// velocity while the pass sticks, 0 while it slides.
+    pub rate: f64,
+}
+
+/// The Coulomb return at the end of a step (docs/method.md §8.6): each
+/// boundary particle's slip in `st` clipped to the limit the step's
+/// evaluation `friction` found, with that evaluation's stiffness; a
+/// particle without a frictional pass lets its slip go. The spring energy
+/// released, `½ f A k_t (u² − u_c²)`, is heat in the particle's internal
+/// energy (and in `st.heat` and `st.friction_heat`), taken from the work
+/// the springs absorbed (`st.spring_work`).
+pub fn return_slip(model: &Model, friction: &[(u32, Friction)], st: &mut State) {
+    let mut released = 0.0;
+    let mut held = vec![false; st.slip.len()];
+    let mut release = |i: usize, q: f64, e: &mut [f64]| {
+        e[i] += q / model.mass[i];
+        released += q;
+    };
+    for &(i, fr) in friction {
+        let i = i as usize;
+        if fr.stiffness == 0.0 {
+            continue;
+        }
+        held[i] = true;
+        let u = st.slip[i];
+        let uc = u.clamp(-fr.cap, fr.cap);
+        release(i, 0.5 * fr.stiffness * (u * u - uc * uc), &mut st.e);
+        st.slip[i] = uc;
+        st.slip_stiffness[i] = fr.stiffness;
+    }
+    for (i, held) in held.into_iter().enumerate() {
+        if !held && (st.slip[i] != 0.0 || st.slip_stiffness[i] != 0.0) {
+            let u = st.slip[i];
+            release(i, 0.5 * st.slip_stiffness[i] * u * u, &mut st.e);
+            st.slip[i] = 0.0;
+            st.slip_stiffness[i] = 0.0;
+        }
+    }
+    // The springs had absorbed it (`spring_work`); it is heat now.
+    st.spring_work -= released;
+    st.heat += released;
+    st.friction_heat += released;
+}
+
+/// The tangential springs' stored energy in a state, `Σ ½ f A k_t u²`.
+pub fn slip_stored(st: &State) -> f64 {
+    st.slip
+        .iter()
+        .zip(&st.slip_stiffness)
+        .map(|(u, c)| 0.5 * c * u * u)
+        .sum()
+}
+
+/// `slip = base + k · rate` over the frictional passes of `friction`
+/// (the integrators' update of [`State::slip`]).
+pub fn advance_slip(base: &[f64], friction: &[(u32, Friction)], k: f64, out: &mut Vec<f64>) {
+    out.clear();
+    out.extend_from_slice(base);
+    for &(i, fr) in friction {
+        out[i as usize] += fr.rate * k;
+    }
 }
 
 /// Writes the entry overlaps of every particle into `out` (a state's
@@ -151,6 +230,19 @@ impl ContactForces {
     }
 }
 
+/// Shear impedance `√(ρ0 G)` and shear modulus of a body (∞ when
+/// rigid; docs/method.md §8.6).
+#[inline]
+fn shear_constants(model: &Model, b: u32) -> (f64, f64) {
+    let info = &model.bodies[b as usize];
+    if info.rigid {
+        (f64::INFINITY, f64::INFINITY)
+    } else {
+        let m = &info.material;
+        ((m.rho0 * m.g).sqrt(), m.g)
+    }
+}
+
 /// Impedance and constrained modulus of a body (∞ when rigid, docs/method.md §8.5).
 #[inline]
 fn body_constants(model: &Model, b: u32) -> (f64, f64) {
@@ -179,7 +271,7 @@ fn pass_fade(model: &Model, p: usize, partner: u32, sw: f64) -> (f64, f64) {
 
 /// P's kernel-weighted sums over the candidates of one partner body.
 #[derive(Debug, Clone, Copy)]
-struct PartnerSums {
+pub(super) struct PartnerSums {
     body: u32,
     s: Sums,
     /// `ΣW v_q`

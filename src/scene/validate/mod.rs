@@ -147,6 +147,7 @@ fn validate_simulation(scene: &Scene) -> R {
     }
     if let Some(c) = &scene.contact {
         positive("contact.boundary_threshold", c.boundary_threshold)?;
+        non_negative("contact.friction", c.friction)?;
     }
     if let Some(v) = scene.output.history_interval {
         positive("output.history_interval", v)?;
