@@ -255,3 +255,34 @@ fn a_taylor_bar_spreads_less_on_a_wall_that_grips() {
 fn a_taylor_bar_spreads_less_on_a_wall_that_grips_16_across() {
     taylor_bar_grips(2.0);
 }
+
+/// `[[contact.pairs]]`: a pair's own coefficient is the friction between
+/// those two bodies. The disk with no friction of its own but 0.1 with
+/// the wall runs the shipped scene's history to the bit; with 0.1 for
+/// every pair but 0 with the wall, the frictionless run's motion.
+#[test]
+fn a_pairs_own_friction_is_the_friction_between_them() {
+    let shipped = load("scenes/friction/disk_wall_oblique.toml");
+    let with_pair = |all: f64, pair: f64| {
+        let mut scene = shipped.clone();
+        let c = scene.contact.as_mut().unwrap();
+        c.friction = all;
+        c.pairs = vec![sphcontact::scene::ContactPair {
+            bodies: ["wall".into(), "disk".into()],
+            friction: pair,
+        }];
+        run(&scene)
+    };
+    let reference = run(&shipped);
+    let paired = with_pair(0.0, 0.1);
+    assert_eq!(paired.history.rows, reference.history.rows);
+    let mut frictionless = shipped.clone();
+    frictionless.contact.as_mut().unwrap().friction = 0.0;
+    let free = run(&frictionless);
+    let excused = with_pair(0.1, 0.0);
+    for name in ["velocity_x", "velocity_y", "spin", "contact_force"] {
+        assert_eq!(column(&excused, name), column(&free, name), "{name}");
+    }
+    assert!(column(&excused, "friction_heat").iter().all(|&h| h == 0.0));
+    assert!(*column(&paired, "friction_heat").last().unwrap() > 0.0);
+}

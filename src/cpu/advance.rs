@@ -65,7 +65,7 @@ pub(super) fn advance(
     out.dissipation = base.dissipation + r.dissipation_rate * k;
     out.spring_work = base.spring_work + r.spring_rate * k;
     out.entry.clone_from(&base.entry);
-    if model.friction > 0.0 {
+    if model.rubs {
         out.friction_heat = base.friction_heat + r.friction_rate * k;
         super::contact::advance_slip(&base.slip, &r.friction, k, &mut out.slip);
         out.slip_stiffness.clone_from(&base.slip_stiffness);

@@ -141,7 +141,7 @@ impl CpuSolver {
         next.heat = half.heat + heat_rate * h;
         next.dissipation = half.dissipation + dissipation_rate * h;
         next.spring_work = half.spring_work + spring_rate * h;
-        if model.friction > 0.0 {
+        if model.rubs {
             // The slip at n+1 from the rate booked at v_{n+1}, returned
             // onto the Coulomb limit found there.
             next.friction_heat = half.friction_heat + friction_rate * h;
@@ -214,7 +214,7 @@ fn kick_drift(model: &Model, st: &State, kn: &Rates, dt: f64, half: &mut State, 
     half.heat = st.heat + kn.heat_rate * h;
     half.dissipation = st.dissipation + kn.dissipation_rate * h;
     half.spring_work = st.spring_work + kn.spring_rate * h;
-    if model.friction > 0.0 {
+    if model.rubs {
         // The slip at n+½, which the contact at n+1 looks ahead from.
         half.friction_heat = st.friction_heat + kn.friction_rate * h;
         contact::advance_slip(&st.slip, &kn.friction, h, &mut half.slip);

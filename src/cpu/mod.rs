@@ -374,7 +374,7 @@ impl CpuSolver {
                 // the midpoint, and stored only here).
                 contact::write_entries(&r.entry, &mut self.state.entry);
             }
-            if self.model.friction > 0.0 {
+            if self.model.rubs {
                 d.contact.stored += contact::slip_stored(&self.state);
             }
             self.current = Some((r, d));
@@ -448,7 +448,7 @@ impl CpuSolver {
         let mut next = std::mem::take(&mut self.spare);
         stage::enter(Stage::Advance, Role::FullStep);
         advance(&self.model, &self.state, &half.v, &k2, dt, true, &mut next);
-        if self.model.friction > 0.0 {
+        if self.model.rubs {
             // Onto the limit the step's evaluation found.
             contact::return_slip(&self.model, &k2.friction, &mut next);
         }

@@ -101,11 +101,8 @@ impl GpuSolver {
                 model.dispersion
             ));
         }
-        if model.friction > 0.0 {
-            return Err(format!(
-                "contact.friction = {} runs on the CPU path only",
-                model.friction
-            ));
+        if model.rubs {
+            return Err("contact friction runs on the CPU path only".to_string());
         }
         let n = model.len();
         let frame = frame.unwrap_or_else(|| frame_of(&model, state));

@@ -75,12 +75,11 @@ impl Model {
         if model.contact {
             // Bodies that start overlapping are pushed apart (entry 0).
             state.entry = vec![0.0; model.len()];
-            if model.friction > 0.0 {
+            model.rubs = model.friction > 0.0 || model.friction_pairs.iter().any(|p| p.2 > 0.0);
+            if model.rubs {
                 state.slip = vec![0.0; model.len()];
                 state.slip_stiffness = vec![0.0; model.len()];
             }
-        } else {
-            model.friction = 0.0;
         }
         (model, state)
     }
@@ -117,6 +116,22 @@ impl Model {
             offset: Vec::with_capacity(n),
             contact: sim.interaction == Interaction::Penalty && scene.bodies.len() > 1,
             friction: cs.friction,
+            friction_pairs: cs
+                .pairs
+                .iter()
+                .map(|p| {
+                    let id = |n: &String| {
+                        scene
+                            .bodies
+                            .iter()
+                            .position(|b| &b.name == n)
+                            .expect("validated: a known body") as u32
+                    };
+                    let (a, b) = (id(&p.bodies[0]), id(&p.bodies[1]));
+                    (a.min(b), a.max(b), p.friction)
+                })
+                .collect(),
+            rubs: false,
             contact_dt: f64::INFINITY,
             plastic: false,
             history: false,

@@ -86,8 +86,14 @@ pub struct Model {
     /// `true` when the penalty contact runs: penalty mode and two or more bodies.
     pub contact: bool,
     /// The Coulomb coefficient of every contact (`[contact] friction`;
-    /// 0: frictionless, and the state carries no slip).
+    /// 0: frictionless) but the pairs of [`Model::friction_pairs`].
     pub friction: f64,
+    /// `(a, b, μ)` with `a < b`: the pairs of bodies with their own
+    /// coefficient (`[[contact.pairs]]`).
+    pub friction_pairs: Vec<(u32, u32, f64)>,
+    /// Whether any pair of bodies rubs: the state then carries the slips
+    /// and the contact's friction pass runs.
+    pub rubs: bool,
     /// The longest step the penalty spring allows
     /// ([`contact_step`](crate::physics::penalty::contact_step), over every
     /// pair of bodies and both sides); infinite without contact. Both
@@ -350,6 +356,15 @@ mod held;
 mod tests;
 
 impl Model {
+    /// The Coulomb coefficient between bodies a and b.
+    pub fn friction_between(&self, a: u32, b: u32) -> f64 {
+        let (a, b) = (a.min(b), a.max(b));
+        self.friction_pairs
+            .iter()
+            .find(|p| p.0 == a && p.1 == b)
+            .map_or(self.friction, |p| p.2)
+    }
+
     /// The density of particle i at position `x` from its state's
     /// [`State::rho`]: itself in plane strain, `η / 2π r` in a body of
     /// revolution.

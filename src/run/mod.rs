@@ -112,11 +112,14 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
     // The dispersion correction, friction and the constraints run on the
     // CPU path alone so far.
     let theta = scene.simulation.dispersion_correction;
-    let mu = scene.contact_settings().friction;
+    let cs = scene.contact_settings();
+    let (mu, pair_mu) = (cs.friction, cs.pairs.iter().any(|p| p.friction > 0.0));
     let cpu_only = if theta > 0.0 {
         Some(format!("dispersion_correction = {theta}"))
     } else if mu > 0.0 {
         Some(format!("contact.friction = {mu}"))
+    } else if pair_mu {
+        Some("contact.pairs' friction".to_string())
     } else if let Some(p) = scene.probes.iter().find(|p| {
         matches!(
             p,

@@ -211,7 +211,7 @@ impl RunSetup<'_> {
                 spring_loss,
                 model.gravity.is_some(),
                 (!model.held.is_empty()).then_some(st.held_work),
-                (model.friction > 0.0).then_some(st.friction_heat),
+                model.rubs.then_some(st.friction_heat),
             ),
             bodies: (0..model.bodies.len())
                 .map(|b| {

@@ -180,7 +180,7 @@ impl Default for ArtificialViscosity {
 }
 
 /// Penalty contact settings (docs/method.md §8.3); an optional addition to the contract.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSettings {
     /// Boundary-particle threshold on `h |∇ψ|` (docs/method.md §8.1).
@@ -189,6 +189,19 @@ pub struct ContactSettings {
     /// Coulomb coefficient `μ` of every contact, rigid walls included
     /// (docs/method.md §8.6); 0: frictionless.
     #[serde(default, skip_serializing_if = "is_zero")]
+    pub friction: f64,
+    /// Pairs of bodies whose Coulomb coefficient is not `friction`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pairs: Vec<ContactPair>,
+}
+
+/// One pair of bodies' own contact settings (`[[contact.pairs]]`).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ContactPair {
+    /// The two bodies, by name.
+    pub bodies: [String; 2],
+    /// Their Coulomb coefficient.
     pub friction: f64,
 }
 
@@ -201,6 +214,7 @@ impl Default for ContactSettings {
         Self {
             boundary_threshold: default_boundary_threshold(),
             friction: 0.0,
+            pairs: Vec::new(),
         }
     }
 }

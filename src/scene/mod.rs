@@ -110,7 +110,7 @@ impl Scene {
     }
 
     pub fn contact_settings(&self) -> ContactSettings {
-        self.contact.unwrap_or_default()
+        self.contact.clone().unwrap_or_default()
     }
 
     pub fn history_interval(&self) -> f64 {

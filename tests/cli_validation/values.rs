@@ -141,6 +141,38 @@ fn non_positive_and_negative_values() {
             "contact.friction",
         ),
         case(
+            "friction_pair_with_an_unknown_body",
+            &[(
+                "[materials.steel]",
+                "[contact]\n[[contact.pairs]]\nbodies = [\"left\", \"middle\"]\nfriction = 0.1\n\n[materials.steel]",
+            )],
+            "contact.pairs[0].bodies",
+        ),
+        case(
+            "friction_pair_of_one_body",
+            &[(
+                "[materials.steel]",
+                "[contact]\n[[contact.pairs]]\nbodies = [\"left\", \"left\"]\nfriction = 0.1\n\n[materials.steel]",
+            )],
+            "contact.pairs[0].bodies",
+        ),
+        case(
+            "friction_pair_named_twice",
+            &[(
+                "[materials.steel]",
+                "[contact]\n[[contact.pairs]]\nbodies = [\"left\", \"right\"]\nfriction = 0.1\n[[contact.pairs]]\nbodies = [\"right\", \"left\"]\nfriction = 0.2\n\n[materials.steel]",
+            )],
+            "contact.pairs[1].bodies",
+        ),
+        case(
+            "negative_pair_friction",
+            &[(
+                "[materials.steel]",
+                "[contact]\n[[contact.pairs]]\nbodies = [\"left\", \"right\"]\nfriction = -0.5\n\n[materials.steel]",
+            )],
+            "contact.pairs[0].friction",
+        ),
+        case(
             "constraint_without_velocity",
             &[("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", concat!("shape = { kind = \"segment\", from = -0.001, to = 0.0 }", "\n\n[[bodies.constraints]]\nregion = { kind = \"segment\", from = -0.001, to = -0.0008 }\n"))],
             "bodies[0].constraints[0].velocity",

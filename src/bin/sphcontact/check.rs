@@ -307,6 +307,12 @@ fn print_contact(scene: &Scene, model: &Model, dt: f64) {
             model.friction
         );
     }
+    for &(a, b, mu) in &model.friction_pairs {
+        println!(
+            "            Coulomb friction μ {mu} between {} and {} (CPU path only)",
+            model.bodies[a as usize].name, model.bodies[b as usize].name
+        );
+    }
     println!(
         "            step limit of the stiffest spring {:.4e} s (ω Δt = {}){}",
         model.contact_dt,

@@ -116,7 +116,7 @@ pub fn penalty_ahead(
         .map(|(kq, &q)| bk.pass2(&pass1, kq, q as usize))
         .collect();
     let mut out = assemble(model, bd, &pass1, &gathered);
-    if model.friction > 0.0 {
+    if model.rubs {
         friction::add(&bk, &pass1, &gathered, &mut out);
     }
     out
@@ -209,7 +209,7 @@ impl Booking<'_> {
                 hardest = Some((s, n, applied));
             }
         }
-        if model.friction > 0.0 && !model.rigid(p) {
+        if model.rubs && !model.rigid(p) {
             // Every partner P may rub on: the partners' passes may press
             // on P where its own pass against them does not.
             out.rubs = sums
@@ -382,7 +382,7 @@ impl Booking<'_> {
             };
             f += share.q * w;
             heat += share.eta * w;
-            if model.friction > 0.0 {
+            if model.rubs {
                 let bp = model.body[p];
                 match normal.iter_mut().find(|x: &&mut (u32, f64)| x.0 == bp) {
                     Some(x) => x.1 += share.normal * w,

@@ -111,6 +111,10 @@ fn rub(bk: &Booking, p: usize, own: &P1, gathered: &Gathered) -> Rub {
     };
     let (model, st, bd) = (bk.model, bk.st, bk.bd);
     let (bp, bq) = (model.body[p], s.body);
+    let mu = model.friction_between(bp, bq);
+    if mu == 0.0 {
+        return Rub::default();
+    }
     let t = n.perp();
     let a = bd.area[p];
     let f = if model.bodies[bq as usize].rigid {
@@ -132,7 +136,7 @@ fn rub(bk: &Booking, p: usize, own: &P1, gathered: &Gathered) -> Rub {
     let zt = series(za, zb);
     let w = (st.v[p] - s.swv / sw).dot(t);
     let w_book = bk.book.map_or(w, |b| (b[p] - s.swb / sw).dot(t));
-    let limit = model.friction * normal / a;
+    let limit = mu * normal / a;
     // The slip the Coulomb limit allows: the state's slip is returned
     // onto it at this state ([`return_slip`]).
     let cap = if kt > 0.0 { limit / kt } else { 0.0 };

@@ -71,6 +71,7 @@ pub fn validate(scene: &Scene) -> R {
     validate_materials(scene)?;
     let names = validate_bodies(scene)?;
     validate_probes(scene, &names)?;
+    validate_contact_pairs(scene, &names)?;
     validate_placement(scene)
 }
 
@@ -264,6 +265,41 @@ fn validate_bodies(scene: &Scene) -> Result<HashSet<&str>, SceneError> {
         }
     }
     Ok(names)
+}
+
+/// Each `[[contact.pairs]]` entry: two distinct known bodies, a pair named
+/// once, a coefficient ≥ 0.
+fn validate_contact_pairs(scene: &Scene, names: &HashSet<&str>) -> R {
+    let Some(c) = &scene.contact else {
+        return Ok(());
+    };
+    let mut seen = HashSet::new();
+    for (k, p) in c.pairs.iter().enumerate() {
+        let key = format!("contact.pairs[{k}].bodies");
+        for b in &p.bodies {
+            if !names.contains(b.as_str()) {
+                return Err(SceneError::at(
+                    key,
+                    format!(
+                        "unknown body '{b}' (the scene defines: {})",
+                        listed(scene.bodies.iter().map(|b| &b.name))
+                    ),
+                ));
+            }
+        }
+        let [a, b] = &p.bodies;
+        if a == b {
+            return Err(SceneError::at(key, format!("names '{a}' twice")));
+        }
+        if !seen.insert((a.min(b), a.max(b))) {
+            return Err(SceneError::at(
+                key,
+                format!("the pair '{a}', '{b}' is named twice"),
+            ));
+        }
+        non_negative(&format!("contact.pairs[{k}].friction"), p.friction)?;
+    }
+    Ok(())
 }
 
 /// Each probe's keys, against the bodies' `names`.
