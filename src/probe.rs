@@ -154,9 +154,14 @@ pub fn momentum(model: &Model, st: &State) -> DVec2 {
 }
 
 /// Body `b`'s angular momentum about its centre of mass over its moment
-/// of inertia about it, rad/s (0 for a body that is one point).
-pub fn angular_velocity(model: &Model, st: &State, b: usize) -> f64 {
-    let (m, mv, xc, _) = body_means(model, st, b);
+/// of inertia about it, rad/s (0 for a body that is one point), from its
+/// mass, momentum and centre ([`body_means`]).
+pub fn angular_velocity(
+    model: &Model,
+    st: &State,
+    b: usize,
+    (m, mv, xc): (f64, DVec2, DVec2),
+) -> f64 {
     let vc = mv / m;
     let (mut l, mut inertia) = (0.0, 0.0);
     for i in model.bodies[b].range.clone() {
@@ -206,7 +211,7 @@ pub fn evaluate(probes: &[Resolved], model: &Model, st: &State, diag: &Diagnosti
                     BodyQuantity::KineticEnergy => ke,
                     BodyQuantity::MomentumX => mv.x,
                     BodyQuantity::MomentumY => mv.y,
-                    BodyQuantity::AngularVelocity => angular_velocity(model, st, b),
+                    BodyQuantity::AngularVelocity => angular_velocity(model, st, b, (m, mv, mx)),
                 }
             }
             Resolved::Contact(a, b, q) => {

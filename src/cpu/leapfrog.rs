@@ -146,7 +146,6 @@ impl CpuSolver {
             // onto the Coulomb limit found there.
             next.friction_heat = half.friction_heat + friction_rate * h;
             contact::advance_slip(&half.slip, &friction, h, &mut next.slip);
-            next.slip_stiffness.clone_from(&half.slip_stiffness);
             contact::return_slip(model, &friction, &mut next);
             diag.contact.stored += contact::slip_stored(&next);
         }
@@ -218,8 +217,8 @@ fn kick_drift(model: &Model, st: &State, kn: &Rates, dt: f64, half: &mut State, 
         // The slip at n+½, which the contact at n+1 looks ahead from.
         half.friction_heat = st.friction_heat + kn.friction_rate * h;
         contact::advance_slip(&st.slip, &kn.friction, h, &mut half.slip);
+        // The state at n+1 keeps the springs of n until its return.
         next.slip.clone_from(&half.slip);
-        half.slip_stiffness.clone_from(&st.slip_stiffness);
         next.slip_stiffness.clone_from(&st.slip_stiffness);
     }
     half.held_impulse.clone_from(&st.held_impulse);

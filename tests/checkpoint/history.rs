@@ -37,6 +37,17 @@ fn rod_with_failures(integrator: Integrator) -> Scene {
     scene
 }
 
+/// The run in `ck`, killed after its checkpoint (its summary gone),
+/// resumed.
+fn resume_killed(ck: &Path) -> sphcontact::run::RunOutput {
+    std::fs::remove_file(ck.join("summary.json")).unwrap();
+    let opts = RunOptions {
+        silent: true,
+        ..Default::default()
+    };
+    resume_run(ck, &opts).expect("resumes")
+}
+
 /// Run `scene` whole and with a checkpoint at a time in `at`, resume the
 /// latter from it: the same history, final state (plastic strain,
 /// temperature, damage and failure times included) and summary, with
@@ -63,12 +74,7 @@ fn resume_keeps_the_history(
         "checkpoint at {:e} s",
         saved.time()
     );
-    std::fs::remove_file(ck.join("summary.json")).unwrap();
-    let opts = RunOptions {
-        silent: true,
-        ..Default::default()
-    };
-    let resumed = resume_run(&ck, &opts).expect("resumes");
+    let resumed = resume_killed(&ck);
     assert!(read(full.join("history.csv")) == read(ck.join("history.csv")));
     assert!(whole
         .state
@@ -153,23 +159,15 @@ fn cpu_resume_keeps_a_disk_sliding() {
             "{:e}",
             saved.time()
         );
-        std::fs::remove_file(ck.join("summary.json")).unwrap();
-        let opts = RunOptions {
-            silent: true,
-            ..Default::default()
-        };
-        let resumed = resume_run(&ck, &opts).expect("resumes");
-        if read(full.join("history.csv")) != read(ck.join("history.csv")) {
-            let a = String::from_utf8(read(full.join("history.csv"))).unwrap();
-            let b = String::from_utf8(read(ck.join("history.csv"))).unwrap();
-            let k = a.lines().zip(b.lines()).position(|(x, y)| x != y).unwrap();
-            panic!(
-                "{integrator:?}\n{}\n{}",
-                a.lines().nth(k).unwrap(),
-                b.lines().nth(k).unwrap()
-            );
-        }
-        assert!(whole.state == resumed.state, "final states differ");
+        let resumed = resume_killed(&ck);
+        assert!(
+            read(full.join("history.csv")) == read(ck.join("history.csv")),
+            "{integrator:?}"
+        );
+        assert!(
+            whole.state == resumed.state,
+            "{integrator:?}: final states differ"
+        );
         assert!(whole.state.friction_heat > 0.0);
         // The run with the checkpoint slid through it.
         let (names, rows) = read_history(&full.join("history.csv"));

@@ -109,13 +109,13 @@ pub fn penalty_ahead(
     // Pass 2: every boundary particle Q gathers what its partners handed it,
     // over exactly the candidate set each of them used; then its normal's
     // derivative, complete, turns into forces on Q and its neighbours.
-    let gathered: Vec<Gathered> = bd
+    let mut gathered: Vec<Gathered> = bd
         .list
         .par_iter()
         .enumerate()
         .map(|(kq, &q)| bk.pass2(&pass1, kq, q as usize))
         .collect();
-    let mut out = assemble(model, bd, &pass1, &gathered);
+    let mut out = assemble(model, bd, &pass1, &mut gathered);
     if model.rubs {
         friction::add(&bk, &pass1, &gathered, &mut out);
     }
@@ -344,7 +344,11 @@ impl Booking<'_> {
             q: n * (dash / sw),
             eta: if rigid { heat / sw } else { 0.0 },
             spring,
-            normal: 0.5 * applied * a / sw,
+            normal: if model.rubs {
+                0.5 * applied * a / sw
+            } else {
+                0.0
+            },
         });
         out.stats.push(PassStat {
             partner: bq,
@@ -425,7 +429,13 @@ impl Booking<'_> {
 }
 
 /// The contact's forces, heat, spread and totals from both passes.
-fn assemble(model: &Model, bd: &Boundary, pass1: &[P1], gathered: &[Gathered]) -> ContactForces {
+/// The spreads are moved out of `gathered`; friction reads the rest.
+fn assemble(
+    model: &Model,
+    bd: &Boundary,
+    pass1: &[P1],
+    gathered: &mut [Gathered],
+) -> ContactForces {
     let mut out = ContactForces {
         entry: bd
             .list
@@ -447,7 +457,7 @@ fn assemble(model: &Model, bd: &Boundary, pass1: &[P1], gathered: &[Gathered]) -
         } else {
             own.heat + g.heat
         });
-        out.spread.extend_from_slice(&g.spread);
+        out.spread.append(&mut g.spread);
         for s in &own.stats {
             out.stats.add(model.body[p], s.partner, s.force, s.pressure);
             out.stats.stored += s.stored;
