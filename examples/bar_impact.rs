@@ -72,6 +72,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             history_interval: Some(1e-9),
             ..Default::default()
         },
+        symmetry: vec![],
     };
     // The same checks a scene file gets.
     sphcontact::scene::validate(&scene)?;

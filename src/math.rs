@@ -28,6 +28,59 @@ pub fn mirror(x: DVec2) -> DVec2 {
     DVec2::new(-x.x, x.y)
 }
 
+/// A reflection across a line normal to a coordinate axis: the axis of a
+/// body of revolution (`r = 0`) or a symmetry plane (`[[symmetry]]`).
+/// Tensors reflect alike across either line (`P T P` with `P = diag(−1,
+/// 1)` or `diag(1, −1)` flips the off-diagonal entries):
+/// [`mirror_mat`], [`mirror_sym`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mirror {
+    /// The coordinate the reflection reverses: 0 (a line `x = at`) or 1
+    /// (a line `y = at`).
+    pub axis: usize,
+    /// Where the line crosses that coordinate, m.
+    pub at: f64,
+}
+
+impl Mirror {
+    /// The axis `r = 0` of a body of revolution.
+    pub const AXIS: Mirror = Mirror { axis: 0, at: 0.0 };
+
+    /// The mirror image of a point.
+    #[inline]
+    pub fn point(&self, x: DVec2) -> DVec2 {
+        // Through 0 the image is the plain negation ([`mirror`]'s bits).
+        let r = |c: f64| {
+            if self.at == 0.0 {
+                -c
+            } else {
+                2.0 * self.at - c
+            }
+        };
+        if self.axis == 0 {
+            DVec2::new(r(x.x), x.y)
+        } else {
+            DVec2::new(x.x, r(x.y))
+        }
+    }
+
+    /// The mirror image of a vector (a velocity, a force).
+    #[inline]
+    pub fn vector(&self, v: DVec2) -> DVec2 {
+        if self.axis == 0 {
+            DVec2::new(-v.x, v.y)
+        } else {
+            DVec2::new(v.x, -v.y)
+        }
+    }
+
+    /// How far `x` lies from the line.
+    #[inline]
+    pub fn distance(&self, x: DVec2) -> f64 {
+        (x[self.axis] - self.at).abs()
+    }
+}
+
 /// The mirror image of a tensor `T`: `P T P` with `P = diag(−1, 1)`.
 #[inline]
 pub fn mirror_mat(m: &Mat2) -> Mat2 {

@@ -1,5 +1,6 @@
 //! Bodies of revolution on the CPU (docs/method.md §12): the axis as a
-//! mirror and the hoop terms.
+//! mirror and the hoop terms; the same mirror serves a symmetry plane
+//! (docs/method.md §13), without the hoop.
 //!
 //! The kernel sums run in the r–z plane with each particle's area
 //! `V = m / η` (`η = 2π r ρ`, [`crate::model::State::rho`]). Near the axis
@@ -16,7 +17,7 @@ use rayon::prelude::*;
 use super::forces::{pair_terms_of, vectors_of, Side};
 use super::kinematics::{gradient_weight, Kinematics, Seen, StressPoint, Sums};
 use super::neighbours::Neighbours;
-use crate::math::{mirror, Mat2};
+use crate::math::{Mat2, Mirror};
 use crate::model::{Model, State};
 
 /// The mirror partners' energy vectors, one per slot of the lists' image
@@ -41,8 +42,9 @@ pub(super) fn add_momentum(
     pts: &[StressPoint],
     dv: &mut [DVec2],
 ) -> KeptMirrors {
+    let m = model.mirror.unwrap_or(Mirror::AXIS);
     let side = |k| Side::of(st, kin, pts, k);
-    let image = |k: usize| side(k).mirrored();
+    let image = |k: usize| side(k).mirrored(&m);
     // One slice of the kept vectors for each row, filled in parallel.
     let mut kept = vec![[DVec2::ZERO; 2]; nb.images.len()];
     let mut rows = Vec::new();
@@ -71,11 +73,13 @@ pub(super) fn add_momentum(
     for (i, dvi) in terms {
         dv[i] += dvi;
     }
-    dv.par_iter_mut().enumerate().for_each(|(i, dv)| {
-        if !model.rigid(i) {
-            dv.x -= pts[i].hoop;
-        }
-    });
+    if model.axisymmetric {
+        dv.par_iter_mut().enumerate().for_each(|(i, dv)| {
+            if !model.rigid(i) {
+                dv.x -= pts[i].hoop;
+            }
+        });
+    }
     KeptMirrors(kept)
 }
 
@@ -107,6 +111,7 @@ impl KeptMirrors {
         de: &mut [f64],
     ) -> f64 {
         let mut diss = 0.0;
+        let m = model.mirror.unwrap_or(Mirror::AXIS);
         for i in nb.image_rows().filter(|&i| !model.rigid(i)) {
             let base = nb.image_start[i] as usize;
             let (mut sum, mut art) = (0.0, 0.0);
@@ -114,7 +119,7 @@ impl KeptMirrors {
                 let [x, a] = self.0[base + k];
                 if x != DVec2::ZERO {
                     let j = j as usize;
-                    let wij = w[i] - mirror(w[j]);
+                    let wij = w[i] - m.vector(w[j]);
                     sum -= model.mass[j] * wij.dot(x);
                     art -= model.mass[j] * wij.dot(a);
                 }
@@ -122,11 +127,13 @@ impl KeptMirrors {
             de[i] += sum;
             diss += model.mass[i] * art;
         }
-        de.par_iter_mut().enumerate().for_each(|(i, de)| {
-            if !model.rigid(i) {
-                *de += pts[i].hoop * w[i].x;
-            }
-        });
+        if model.axisymmetric {
+            de.par_iter_mut().enumerate().for_each(|(i, de)| {
+                if !model.rigid(i) {
+                    *de += pts[i].hoop * w[i].x;
+                }
+            });
+        }
         diss
     }
 }
@@ -143,17 +150,18 @@ pub(super) fn add_kinematics<S: Seen>(
     vel: &[S::Vel],
     sums: &mut [Sums<S>],
 ) {
+    let (m, axi) = (model.mirror.unwrap_or(Mirror::AXIS), model.axisymmetric);
     for i in nb.image_rows() {
         let sum = &mut sums[i];
         for (b, _) in nb.images_of(model, st.frame(), i) {
             let j = b.j as usize;
-            let vj = S::mirror(vel[j]);
+            let vj = S::mirror(vel[j], &m);
             let gi = b.gw * gradient_weight(model, st, vol, i, j);
-            sum.m += Mat2::outer(gi, mirror(st.x[j]) - st.x[i]);
+            sum.m += Mat2::outer(gi, m.point(st.x[j]) - st.x[i]);
             sum.gsum += Mat2::outer(S::v(vj) - S::v(vel[i]), gi);
             sum.n += u32::from(b.q2 > 0.0);
             if st.round_supports() {
-                sum.add_colour(b.gw, b.w, vol[j], true);
+                sum.add_colour(b.gw, b.w, vol[j], axi);
             }
             sum.seen.add(vj, vel[i], gi);
         }
@@ -161,7 +169,7 @@ pub(super) fn add_kinematics<S: Seen>(
             // The colour gradient keeps the round supports
             // (kinematics::round_colour).
             for (b, _) in nb.images_of(model, crate::model::Frame::round(&st.x), i) {
-                sum.add_colour(b.gw, b.w, vol[b.j as usize], true);
+                sum.add_colour(b.gw, b.w, vol[b.j as usize], axi);
             }
         }
     }

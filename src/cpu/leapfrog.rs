@@ -79,7 +79,8 @@ impl CpuSolver {
             s
         });
         let mirrors = model
-            .axisymmetric
+            .mirror
+            .is_some()
             .then(|| axis::add_momentum(model, &next, nb, &k, &pts, &mut dv));
         // Nothing below reads L but the correction's work (4).
         let extra = extra.map(|s| (s, std::mem::take(&mut k.l)));

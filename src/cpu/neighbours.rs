@@ -70,15 +70,23 @@ pub struct Neighbours {
     /// Particles per chunk of the sweep; near means in the same or an
     /// adjacent chunk.
     pub chunk: usize,
-    /// Bodies of revolution: each particle's candidate images across the
-    /// axis (docs/method.md §12), row i `image_start[i]..image_start[i + 1]`
-    /// of `images`: itself first, then the SPH candidates whose mirror
+    /// Bodies of revolution and symmetry planes: each particle's candidate
+    /// images across the axis or the plane (docs/method.md §12, §13), row
+    /// i `image_start[i]..image_start[i + 1]` of `images`: itself first, then the SPH candidates whose mirror
     /// image lay within `2 h_ij + skin` of it at the build (an image is
     /// never nearer than its particle, so they are all candidates). Empty
-    /// in plane strain. Derived from the rows and `x_ref`
+    /// without a mirror. Derived from the rows and `x_ref`
     /// ([`Neighbours::index_images`]), not saved.
     pub image_start: Vec<u32>,
     pub images: Vec<u32>,
+    /// With a symmetry plane and the penalty contact, each particle's
+    /// contact candidates' images (docs/method.md §13): row i
+    /// `cross_image_start[i]..cross_image_start[i + 1]` of `cross_images`,
+    /// the particles of other bodies whose mirror image lay within
+    /// `2 h_ij + skin` of it at the build. Empty otherwise (the axis of a
+    /// body of revolution has none). Derived as the image rows are.
+    pub cross_image_start: Vec<u32>,
+    pub cross_images: Vec<u32>,
     /// Where supports adapt, each particle's support at the build: a row
     /// holds the partners that can enter the pair's support before any
     /// support grows by [`REACH_MARGIN`] in some direction or any particle
@@ -105,7 +113,7 @@ impl Neighbours {
 
     /// [`Neighbours::of`] and then [`Neighbours::images_of`]: each partner
     /// of particle i with whether it is a mirror image across the axis
-    /// (none is in plane strain).
+    /// (none is without a mirror).
     #[inline]
     pub fn with_images<'a>(
         &'a self,
@@ -129,11 +137,12 @@ impl Neighbours {
         i: usize,
     ) -> impl Iterator<Item = (Nbr, usize)> + 'a {
         let inv_hi = 1.0 / model.h[i];
+        let m = model.mirror.unwrap_or(crate::math::Mirror::AXIS);
         self.image_candidates(i)
             .iter()
             .enumerate()
             .filter_map(move |(slot, &j)| {
-                let d = f.x[i] - crate::math::mirror(f.x[j as usize]);
+                let d = f.x[i] - m.point(f.x[j as usize]);
                 let k = if f.metric.is_empty() {
                     let inv_h = pair_inv_h(model.h[i], model.h[j as usize], inv_hi);
                     kernel::w_grad_q(model.dim, d, d.length_squared(), inv_h)
@@ -175,7 +184,7 @@ impl Neighbours {
             .chain(self.images_of(model, f, i).map(|(b, _)| (b, true)))
     }
 
-    /// Particle i's candidate images (empty in plane strain).
+    /// Particle i's candidate images (none without a mirror).
     #[inline]
     pub fn image_candidates(&self, i: usize) -> &[u32] {
         match self.image_start.get(i..i + 2) {
@@ -193,12 +202,13 @@ impl Neighbours {
             .map(|(i, _)| i)
     }
 
-    /// Builds the image rows of a body of revolution from the candidate
-    /// rows and the positions at the build (after [`Neighbours::index_rows`],
-    /// whose row order they keep); clears them in plane strain.
+    /// Builds the image rows across the model's mirror (a body of
+    /// revolution's axis, a symmetry plane) from the candidate rows and the
+    /// positions at the build (after [`Neighbours::index_rows`], whose row
+    /// order they keep); clears them without one.
     pub fn index_images(&mut self, model: &Model) {
         let (mut start, mut images) = (Vec::new(), Vec::new());
-        if model.axisymmetric {
+        if let Some(m) = model.mirror {
             let x = &self.x_ref;
             let h_max = model.h.iter().cloned().fold(0.0, f64::max);
             // As the rows (a mirror image's support is its particle's,
@@ -212,13 +222,14 @@ impl Neighbours {
             };
             start.push(0);
             for i in 0..x.len() {
-                // An image lies at least x_i from the particle.
-                if x[i].x < reach {
+                // Every image lies at least as far from the particle as
+                // the particle lies from the line.
+                if m.distance(x[i]) < reach {
                     let cands = std::iter::once(i as u32).chain(self.candidates(i).iter().copied());
                     for j in cands {
                         let j_ = j as usize;
                         let round = model.h[i] + model.h[j_] + self.skin;
-                        let d = x[i] - crate::math::mirror(x[j_]);
+                        let d = x[i] - m.point(x[j_]);
                         let near = if adaptive {
                             near_adaptive(d, &q[i], &q[j_].mirror(), round, self.skin)
                         } else {
@@ -234,6 +245,46 @@ impl Neighbours {
         }
         self.image_start = start;
         self.images = images;
+        self.index_cross_images(model);
+    }
+
+    /// The contact candidates' image rows ([`Neighbours::cross_images`])
+    /// across a symmetry plane, from the contact rows: a pair of bodies
+    /// cut by the plane meets across it as well.
+    fn index_cross_images(&mut self, model: &Model) {
+        let (mut start, mut images) = (Vec::new(), Vec::new());
+        if let Some(m) = model.mirror.filter(|_| !model.axisymmetric) {
+            if !self.cross_start.is_empty() {
+                let x = &self.x_ref;
+                let h_max = model.h.iter().cloned().fold(0.0, f64::max);
+                let reach = 2.0 * h_max + self.skin;
+                start.push(0);
+                for i in 0..x.len() {
+                    if m.distance(x[i]) < reach {
+                        for &j in self.cross_of(i) {
+                            let j_ = j as usize;
+                            let round = model.h[i] + model.h[j_] + self.skin;
+                            if (x[i] - m.point(x[j_])).length_squared() < round * round {
+                                images.push(j);
+                            }
+                        }
+                    }
+                    start.push(images.len() as u32);
+                }
+            }
+        }
+        self.cross_image_start = start;
+        self.cross_images = images;
+    }
+
+    /// The particles of other bodies whose images are contact candidates
+    /// of particle i (none without a symmetry plane).
+    #[inline]
+    pub fn cross_images_of(&self, i: usize) -> &[u32] {
+        match self.cross_image_start.get(i..i + 2) {
+            Some(&[a, b]) => &self.cross_images[a as usize..b as usize],
+            _ => &[],
+        }
     }
 
     /// Raw candidate SPH partners of `i` (a superset of [`Neighbours::of`]).
@@ -280,6 +331,8 @@ impl Neighbours {
             + size_of_val(&self.visited[..])
             + size_of_val(&self.image_start[..])
             + size_of_val(&self.images[..])
+            + size_of_val(&self.cross_image_start[..])
+            + size_of_val(&self.cross_images[..])
             + size_of_val(&self.support_ref[..])
     }
 }

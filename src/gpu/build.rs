@@ -104,6 +104,9 @@ impl GpuSolver {
         if model.rubs {
             return Err("contact friction runs on the CPU path only".to_string());
         }
+        if model.mirror.is_some() && !model.axisymmetric {
+            return Err("a symmetry plane runs on the CPU path only".to_string());
+        }
         let n = model.len();
         let frame = frame.unwrap_or_else(|| frame_of(&model, state));
         let (origin, cell) = (frame.origin, frame.cell);

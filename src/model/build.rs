@@ -141,6 +141,11 @@ impl Model {
             energy_guard: false,
             energy_floor: 0.0,
             axisymmetric: scene.axisymmetric(),
+            mirror: if scene.axisymmetric() {
+                Some(crate::math::Mirror::AXIS)
+            } else {
+                scene.symmetry_plane().map(|s| s.mirror())
+            },
             adaptive: sim.adaptive(),
             band: sim.band(),
             variational: sim.stress_form == crate::scene::StressForm::Variational,
@@ -325,13 +330,13 @@ impl Model {
                             g -= gw * self.reference_volume(j);
                         }
                     };
-                    // A body of revolution's images across the axis `r = 0`
-                    // fill the neighbourhood as they do in the solver's
+                    // The images across the axis of a body of revolution
+                    // or a symmetry plane fill the neighbourhood as they do in the solver's
                     // boundary test (an image is never nearer than its
                     // particle, so the cells around x_i hold every one
                     // within reach).
-                    if self.axisymmetric {
-                        add(x[i] - DVec2::new(-x[j].x, x[j].y));
+                    if let Some(m) = self.mirror {
+                        add(x[i] - m.point(x[j]));
                     }
                     if j != i {
                         let d = x[i] - x[j];

@@ -124,6 +124,10 @@ pub struct Model {
     /// Bodies of revolution (docs/method.md §12): `x` is the radius, masses
     /// are rings', and [`State::rho`] holds `η = 2π r ρ`.
     pub axisymmetric: bool,
+    /// The line the kernel sums see mirror images across: the axis of a
+    /// body of revolution or the scene's symmetry plane
+    /// (docs/method.md §12, §13); none otherwise.
+    pub mirror: Option<crate::math::Mirror>,
     /// Each particle's area in the r–z plane as placed, `m / (2π r₀ ρ₀)`:
     /// its reference volume in the kernel sums of a body of revolution
     /// ([`Model::reference_volume`]). Empty in plane strain.

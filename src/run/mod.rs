@@ -109,8 +109,8 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    // The dispersion correction, friction and the constraints run on the
-    // CPU path alone so far.
+    // The dispersion correction, friction, symmetry planes and the
+    // constraints run on the CPU path alone so far.
     let theta = scene.simulation.dispersion_correction;
     let cs = scene.contact_settings();
     let (mu, pair_mu) = (cs.friction, cs.pairs.iter().any(|p| p.friction > 0.0));
@@ -120,6 +120,8 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         Some(format!("contact.friction = {mu}"))
     } else if pair_mu {
         Some("contact.pairs' friction".to_string())
+    } else if !scene.symmetry.is_empty() {
+        Some("a symmetry plane ([[symmetry]])".to_string())
     } else if let Some(p) = scene.probes.iter().find(|p| {
         matches!(
             p,

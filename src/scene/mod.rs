@@ -15,6 +15,7 @@ mod place;
 mod probes;
 mod simulation;
 mod surface;
+mod symmetry;
 mod toml_errors;
 pub mod validate;
 
@@ -24,6 +25,7 @@ pub use material::{Eos, FailureLaw, Material, MaterialSpec, StrengthLaw};
 pub use place::{place_bodies, PlacedBody};
 pub use probes::*;
 pub use simulation::*;
+pub use symmetry::Symmetry;
 pub use validate::validate;
 
 use serde::{Deserialize, Serialize};
@@ -53,6 +55,9 @@ pub struct Scene {
     pub probes: Vec<Probe>,
     #[serde(default)]
     pub output: Output,
+    /// Symmetry planes (`[[symmetry]]`): at most one so far.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub symmetry: Vec<Symmetry>,
 }
 
 impl Scene {
@@ -103,6 +108,11 @@ impl Scene {
     /// Whether the scene's bodies are bodies of revolution.
     pub fn axisymmetric(&self) -> bool {
         self.simulation.geometry == Geometry::Axisymmetric
+    }
+
+    /// The scene's symmetry plane, if it has one.
+    pub fn symmetry_plane(&self) -> Option<&Symmetry> {
+        self.symmetry.first()
     }
 
     pub fn viscosity(&self) -> ArtificialViscosity {

@@ -189,6 +189,32 @@ fn friction_runs_on_the_cpu_path() {
     assert!(!summary.contains("\"friction_heat\""), "{summary}");
 }
 
+/// A symmetry plane runs on the CPU path: `--backend gpu` refuses it
+/// with exit 2, `auto` runs it with one warning, and `check` names the
+/// plane and the half.
+#[test]
+fn symmetry_runs_on_the_cpu_path() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = BASE_2D.replacen(
+        "[materials.steel]",
+        "[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [0.0, 0.0]\n\n[materials.steel]",
+        1,
+    );
+    let scene = write_scene(tmp.path(), "halved", &text);
+    let run = |backend: &str| run_into(tmp.path(), &scene, backend, tmp.path().join(backend));
+    let (out, _) = run("gpu");
+    refused(&out, &["symmetry", "--backend cpu"]);
+    let (out, dir) = run("auto");
+    let warning = the_warning(&out);
+    assert!(warning.contains("CPU path only"), "{warning}");
+    assert!(dir.join("summary.json").exists());
+    check_says(
+        tmp.path(),
+        &scene,
+        "symmetry    the plane x = 0 m, modelling x > 0",
+    );
+}
+
 /// The leapfrog runs by default; the midpoint rule (scene key or
 /// `--integrator`) runs on both paths, and the summary names it.
 #[test]

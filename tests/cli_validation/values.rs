@@ -357,6 +357,110 @@ fn wrong_dimensions() {
     ]);
 }
 
+/// A symmetry plane: its keys, and what it does not run with.
+#[test]
+fn symmetry_planes() {
+    const PLANE: &str =
+        "[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [0.0, 0.0]\n\n[materials.steel]";
+    check_cases(&[
+        case(
+            "symmetry_in_1d",
+            &[(
+                "[materials.steel]",
+                "[[symmetry]]\nnormal = [1.0]\npoint = [0.0]\n\n[materials.steel]",
+            )],
+            "symmetry[0]",
+        ),
+        case(
+            "symmetry_twice",
+            &[(
+                "[materials.steel]",
+                "[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [0.0, 0.0]\n[[symmetry]]\nnormal = [0.0, 1.0]\npoint = [0.0, 0.0]\n\n[materials.steel]",
+            )],
+            "symmetry[1]",
+        )
+        .two_d(),
+        case(
+            "symmetry_oblique_normal",
+            &[(
+                "[materials.steel]",
+                "[[symmetry]]\nnormal = [0.6, 0.8]\npoint = [0.0, 0.0]\n\n[materials.steel]",
+            )],
+            "symmetry[0].normal",
+        )
+        .two_d(),
+        case(
+            "symmetry_normal_1d_in_2d",
+            &[(
+                "[materials.steel]",
+                "[[symmetry]]\nnormal = [1.0]\npoint = [0.0, 0.0]\n\n[materials.steel]",
+            )],
+            "symmetry[0].normal",
+        )
+        .two_d(),
+        case(
+            "symmetry_point_not_finite",
+            &[(
+                "[materials.steel]",
+                "[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [nan, 0.0]\n\n[materials.steel]",
+            )],
+            "symmetry[0].point",
+        )
+        .two_d(),
+        case(
+            "symmetry_of_a_body_of_revolution",
+            &[
+                ("dimension = 2", "dimension = 2\ngeometry = \"axisymmetric\""),
+                ("min = [-0.001, -0.001]", "min = [0.0, -0.001]"),
+                (
+                    "[materials.steel]",
+                    "[[symmetry]]\nnormal = [0.0, 1.0]\npoint = [0.0, 0.0]\n\n[materials.steel]",
+                ),
+            ],
+            "symmetry[0]",
+        )
+        .two_d(),
+        case(
+            "symmetry_with_gravity_across_it",
+            &[
+                ("dimension = 2", "dimension = 2\ngravity = [1.0, -9.81]"),
+                ("[materials.steel]", PLANE),
+            ],
+            "simulation.gravity",
+        )
+        .two_d(),
+        case(
+            "symmetry_with_friction",
+            &[(
+                "[materials.steel]",
+                "[contact]\nfriction = 0.1\n\n[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [0.0, 0.0]\n\n[materials.steel]",
+            )],
+            "contact.friction",
+        )
+        .two_d(),
+        case(
+            "symmetry_through_particles",
+            &[(
+                "[materials.steel]",
+                "[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [1.0e-4, 0.0]\n\n[materials.steel]",
+            )],
+            "bodies[0].shape",
+        )
+        .also(&["on the symmetry plane"])
+        .two_d(),
+        case(
+            "symmetry_beyond_a_body",
+            &[(
+                "[materials.steel]",
+                "[[symmetry]]\nnormal = [0.0, -1.0]\npoint = [0.0, -0.0011]\n\n[materials.steel]",
+            )],
+            "bodies[0].shape",
+        )
+        .also(&["beyond the symmetry plane"])
+        .two_d(),
+    ]);
+}
+
 /// Names: unknown materials and bodies, duplicate body and probe names.
 #[test]
 fn names() {

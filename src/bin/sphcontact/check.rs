@@ -27,6 +27,15 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
         format!("{:?}", sim.correction).to_lowercase(),
         sim.smoothing_ratio
     );
+    if let Some(s) = scene.symmetry_plane() {
+        let (k, sign) = s.axis();
+        let axis = ["x", "y"][k];
+        println!(
+            "symmetry    the plane {axis} = {at} m, modelling {axis} {} {at} m; the other half is its mirror image (CPU path only; masses, forces and energies are the modelled half's)",
+            if sign > 0.0 { ">" } else { "<" },
+            at = s.point[k],
+        );
+    }
     print_numerics(scene, &model);
     print_bodies(scene, &model);
     let placed = sphcontact::scene::place_bodies(scene);

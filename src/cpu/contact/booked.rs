@@ -33,11 +33,12 @@ fn normal_rates(
         .map(|&p| {
             let p = p as usize;
             let mut gdot = DVec2::ZERO;
+            let m = model.mirror.unwrap_or(crate::math::Mirror::AXIS);
             for (b, image) in nb.round_with_images(model, &st.x, p) {
                 let j = b.j as usize;
                 let vol = model.reference_volume(j);
                 let (xj, vj) = if image {
-                    (crate::math::mirror(st.x[j]), crate::math::mirror(v[j]))
+                    (m.point(st.x[j]), m.vector(v[j]))
                 } else {
                     (st.x[j], v[j])
                 };
@@ -96,6 +97,7 @@ pub fn penalty_ahead(
         horizon,
         vb,
         ndot: normal_rates(model, st, nb, bd, vb),
+        plane: model.mirror.filter(|_| !model.axisymmetric),
     };
     // Pass 1: every boundary particle against each partner body around it
     // (entry k for particle `bd.list[k]`; only boundary particles have
@@ -122,6 +124,15 @@ pub fn penalty_ahead(
     out
 }
 
+/// A contact candidate as P sees it ([`Booking::seen`]).
+struct Seen {
+    x: DVec2,
+    n: DVec2,
+    v: DVec2,
+    vb: DVec2,
+    book: Option<DVec2>,
+}
+
 /// What one evaluation's booked passes read.
 pub(super) struct Booking<'a> {
     pub(super) model: &'a Model,
@@ -137,6 +148,9 @@ pub(super) struct Booking<'a> {
     vb: &'a [DVec2],
     /// How fast each boundary particle's normal turns at `vb`.
     ndot: Vec<DVec2>,
+    /// The symmetry plane the passes also meet their partners' images
+    /// across (none for the axis of a body of revolution).
+    plane: Option<crate::math::Mirror>,
 }
 
 /// Pass 1's result for one boundary particle P.
@@ -230,7 +244,7 @@ impl Booking<'_> {
     /// P's candidates and one set of sums per partner body around it
     /// (almost always one), its surface point at `sp`.
     fn partners(&self, p: usize, sp: DVec2) -> (Vec<Cand>, Vec<PartnerSums>) {
-        let (model, st, bd, book) = (self.model, self.st, self.bd, self.book);
+        let (model, st, bd) = (self.model, self.st, self.bd);
         let mut cands: Vec<Cand> = Vec::new();
         let mut sums: Vec<PartnerSums> = Vec::new();
         for &q in self.nb.cross_of(p) {
@@ -241,29 +255,98 @@ impl Booking<'_> {
             let Some((w, gw)) = is_candidate(model, st, bd, p, q) else {
                 continue;
             };
-            let bq = model.body[q];
-            cands.push(Cand { q, body: bq, w, gw });
-            let k = match sums.iter().position(|s| s.body == bq) {
-                Some(k) => k,
-                None => {
-                    sums.push(PartnerSums {
-                        body: bq,
-                        s: Sums::default(),
-                        swv: DVec2::ZERO,
-                        swb: DVec2::ZERO,
-                    });
-                    sums.len() - 1
+            self.add_partner(&mut cands, &mut sums, sp, (q, false), (w, gw));
+        }
+        // Across a symmetry plane, the partners' images.
+        if let Some(m) = self.plane {
+            for &q in self.nb.cross_images_of(p) {
+                let q = q as usize;
+                if !bd.is_boundary[q] {
+                    continue;
                 }
-            };
-            let s = &mut sums[k];
-            let nq = bd.normal[q];
-            s.s.add(w, sp, st.x[q] + nq * model.offset[q], nq, model.offset[q]);
-            s.swv += st.v[q] * w;
-            if let Some(book) = book {
-                s.swb += book[q] * w;
+                let Some((w, gw)) = is_image_candidate(model, st, bd, &m, p, q) else {
+                    continue;
+                };
+                self.add_partner(&mut cands, &mut sums, sp, (q, true), (w, gw));
             }
         }
         (cands, sums)
+    }
+
+    /// What P sees of candidate q (its image where `image`): position,
+    /// normal, velocity and booking velocities.
+    #[inline]
+    fn seen(&self, q: usize, image: bool) -> Seen {
+        let (st, bd) = (self.st, self.bd);
+        let s = Seen {
+            x: st.x[q],
+            n: bd.normal[q],
+            v: st.v[q],
+            vb: self.vb[q],
+            book: self.book.map(|b| b[q]),
+        };
+        match self.plane.filter(|_| image) {
+            Some(m) => Seen {
+                x: m.point(s.x),
+                n: m.vector(s.n),
+                v: m.vector(s.v),
+                vb: m.vector(s.vb),
+                book: s.book.map(|b| m.vector(b)),
+            },
+            None => s,
+        }
+    }
+
+    /// How fast candidate q's normal turns, as P sees it (its image's
+    /// where `image`).
+    #[inline]
+    fn ndot_of(&self, q: usize, image: bool) -> DVec2 {
+        let nd = self.ndot[self.slot(q)];
+        match self.plane.filter(|_| image) {
+            Some(m) => m.vector(nd),
+            None => nd,
+        }
+    }
+
+    /// Adds candidate q (its image where `image`), of weight `w` and
+    /// gradient `gw`, to P's candidates and its partner body's sums.
+    fn add_partner(
+        &self,
+        cands: &mut Vec<Cand>,
+        sums: &mut Vec<PartnerSums>,
+        sp: DVec2,
+        (q, image): (usize, bool),
+        (w, gw): (f64, DVec2),
+    ) {
+        let model = self.model;
+        let bq = model.body[q];
+        cands.push(Cand {
+            q,
+            body: bq,
+            w,
+            gw,
+            image,
+        });
+        let k = match sums.iter().position(|s| s.body == bq) {
+            Some(k) => k,
+            None => {
+                sums.push(PartnerSums {
+                    body: bq,
+                    s: Sums::default(),
+                    swv: DVec2::ZERO,
+                    swb: DVec2::ZERO,
+                });
+                sums.len() - 1
+            }
+        };
+        let s = &mut sums[k];
+        let c = self.seen(q, image);
+        let oq = model.offset[q];
+        s.s.add(w, sp, c.x + c.n * oq, c.n, oq);
+        s.swv += c.v * w;
+        if let Some(b) = c.book {
+            s.swb += b * w;
+        }
     }
 
     /// One pass of P (entry `kp`, surface point `sp`) against partner sums
@@ -277,7 +360,7 @@ impl Booking<'_> {
         cands: &[Cand],
         out: &mut P1,
     ) -> f64 {
-        let (model, st, bd, book, vb) = (self.model, self.st, self.bd, self.book, self.vb);
+        let (model, bd, book, vb) = (self.model, self.bd, self.book, self.vb);
         let (np, op) = (bd.normal[p], model.offset[p]);
         let a = bd.area[p];
         let rigid = model.rigid(p);
@@ -298,10 +381,10 @@ impl Booking<'_> {
             let mut xp_bar = bar.sp;
             let np_bar = bar.np + bar.sp * op;
             for c in cands.iter().filter(|c| c.body == bq) {
-                let (nq, oq) = (bd.normal[c.q], model.offset[c.q]);
-                let d = penalty::candidate(&bar, sp, c.w, st.x[c.q] + nq * oq, nq, oq);
+                let (q, oq) = (self.seen(c.q, c.image), model.offset[c.q]);
+                let d = penalty::candidate(&bar, sp, c.w, q.x + q.n * oq, q.n, oq);
                 xp_bar += c.gw * d.w;
-                phi_dot += (d.x - c.gw * d.w).dot(vb[c.q]) + d.n.dot(self.ndot[self.slot(c.q)]);
+                phi_dot += (d.x - c.gw * d.w).dot(q.vb) + d.n.dot(self.ndot_of(c.q, c.image));
             }
             phi_dot += xp_bar.dot(vb[p]) + np_bar.dot(self.ndot[kp]);
             if !ps.clipped {
@@ -399,24 +482,46 @@ impl Booking<'_> {
                 n_bar += d.n;
             }
         }
+        // Across a symmetry plane: the passes of the partners whose images
+        // met q's, as they saw q's image (its force and the derivative
+        // by its normal mirrored back).
+        if let Some(m) = self.plane {
+            let (sx, nx) = (m.point(st.x[q]) + m.vector(nq) * oq, m.vector(nq));
+            for &p in nb.cross_images_of(q) {
+                let p = p as usize;
+                if !bd.is_boundary[p] {
+                    continue;
+                }
+                let Some(share) = pass1[self.slot(p)].shares.iter().find(|s| s.body == bq) else {
+                    continue;
+                };
+                let Some((w, gw)) = is_image_candidate(model, st, bd, &m, p, q) else {
+                    continue;
+                };
+                f += m.vector(share.q * w);
+                heat += share.eta * w;
+                if let Some((bar, sp)) = &share.spring {
+                    let d = penalty::candidate(bar, *sp, w, sx, nx, oq);
+                    f += m.vector(gw * d.w - d.x);
+                    n_bar += m.vector(d.n);
+                }
+            }
+        }
         let mut spread = Vec::new();
         if model.dim == 2 && n_bar != DVec2::ZERO && !model.rigid(q) {
             // ∂Φ/∂g for g = ∇ψ: g moves with Q against each neighbour
             // j by V_j ∇∇W, and with j the other way.
             let b = (n_bar - nq * nq.dot(n_bar)) / bd.grad_norm[q];
-            // In a body of revolution j moves its image across the
-            // axis the mirror way.
+            // j moves its image across the axis of a body of
+            // revolution or a symmetry plane the mirror way.
+            let m = model.mirror.unwrap_or(crate::math::Mirror::AXIS);
             for (nbr, image) in nb.round_with_images(model, &st.x, q) {
                 let j = nbr.j as usize;
                 let vol = model.reference_volume(j);
-                let xj = if image {
-                    crate::math::mirror(st.x[j])
-                } else {
-                    st.x[j]
-                };
+                let xj = if image { m.point(st.x[j]) } else { st.x[j] };
                 let hb = hessian_times(model, q, j, st.x[q] - xj, b) * vol;
                 f += hb;
-                spread.push((nbr.j, if image { crate::math::mirror(-hb) } else { -hb }));
+                spread.push((nbr.j, if image { m.vector(-hb) } else { -hb }));
             }
         }
         Gathered {

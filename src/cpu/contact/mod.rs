@@ -42,9 +42,41 @@ pub fn is_candidate(
     q: usize,
 ) -> Option<(f64, DVec2)> {
     // d = x_P − x_q from either side of the pair: the same bits in both passes.
-    let d = st.x[p] - st.x[q];
+    candidate_at(model, bd, (p, q), st.x[p] - st.x[q], bd.normal[q])
+}
+
+/// [`is_candidate`] of P against the mirror image of q across a symmetry
+/// plane `m` (docs/method.md §13): q at `m(x_q)` with normal `m(n_q)`.
+/// Both passes compute it from P's side, so with the same bits.
+#[inline]
+fn is_image_candidate(
+    model: &Model,
+    st: &State,
+    bd: &Boundary,
+    m: &crate::math::Mirror,
+    p: usize,
+    q: usize,
+) -> Option<(f64, DVec2)> {
+    candidate_at(
+        model,
+        bd,
+        (p, q),
+        st.x[p] - m.point(st.x[q]),
+        m.vector(bd.normal[q]),
+    )
+}
+
+/// The contact test of P and q at `d = x_P − x_q`, q's normal `nq`.
+#[inline]
+fn candidate_at(
+    model: &Model,
+    bd: &Boundary,
+    (p, q): (usize, usize),
+    d: DVec2,
+    nq: DVec2,
+) -> Option<(f64, DVec2)> {
     let hpq = 0.5 * (model.h[p] + model.h[q]);
-    let (np, nq) = (bd.normal[p], bd.normal[q]);
+    let np = bd.normal[p];
     if np.dot(nq) >= 0.0 {
         return None;
     }
@@ -287,6 +319,8 @@ struct Cand {
     body: u32,
     w: f64,
     gw: DVec2,
+    /// Whether the candidate is q's mirror image across a symmetry plane.
+    image: bool,
 }
 
 /// What one pass of P adds to the statistics.

@@ -15,7 +15,7 @@ use glam::DVec2;
 
 use super::kinematics::{Kinematics, StressPoint};
 use super::neighbours::{Nbr, Neighbours};
-use crate::math::{mirror, mirror_mat, mirror_sym, Mat2, Sym};
+use crate::math::{mirror_mat, mirror_sym, Mat2, Mirror, Sym};
 use crate::model::{Model, State};
 use crate::physics::strength;
 use crate::scene::ArtPairs;
@@ -105,17 +105,17 @@ impl Side {
         }
     }
 
-    /// The side of this particle's mirror image across the axis of a body
-    /// of revolution: its position, velocities and gradients mirrored, its
-    /// stress's `rz` entries reversed.
+    /// The side of this particle's mirror image across `m` (the axis of
+    /// a body of revolution, a symmetry plane): its position, velocities
+    /// and gradients mirrored, its stress's shear entries reversed.
     #[inline]
-    pub(in crate::cpu) fn mirrored(&self) -> Side {
+    pub(in crate::cpu) fn mirrored(&self, m: &Mirror) -> Side {
         Side {
-            x: mirror(self.x),
-            v: mirror(self.v),
+            x: m.point(self.x),
+            v: m.vector(self.v),
             l: mirror_mat(&self.l),
             gv: mirror_mat(&self.gv),
-            vh: mirror(self.vh),
+            vh: m.vector(self.vh),
             gh: mirror_mat(&self.gh),
             pt: StressPoint {
                 sr2: mirror_sym(&self.pt.sr2),
@@ -401,12 +401,13 @@ pub fn rates_and_dissipation(
                 dd -= mj * p.vij.dot(p.a + p.hg[0]);
             }
             // The mirror images across the axis of a body of revolution
-            // (none in plane strain) as more neighbours, and the hoop
-            // stress's acceleration and its work.
+            // or a symmetry plane (none without) as more neighbours, and
+            // the hoop stress's acceleration and its work.
             let side_i = Side::of(st, kin, pts, i);
+            let m = model.mirror.unwrap_or(Mirror::AXIS);
             for (b, _) in nb.images_of(model, st.frame(), i) {
                 let j = b.j as usize;
-                let image = Side::of(st, kin, pts, j).mirrored();
+                let image = Side::of(st, kin, pts, j).mirrored(&m);
                 let p = pair_terms_of(model, st, &kin.surface, (i, &side_i), (j, &image), &b);
                 let mj = model.mass[j];
                 dv += p.tg * mj;

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use std::borrow::Cow;
 
 use super::neighbours::Neighbours;
-use crate::math::{mirror, Mat2, Sym};
+use crate::math::{Mat2, Mirror, Sym};
 use crate::model::{Model, State};
 use crate::physics::kernel;
 use crate::physics::{material, strength, tension};
@@ -107,8 +107,8 @@ pub(in crate::cpu) trait Seen: Copy + Default + Send + Sync {
     /// the `seen` ones.
     fn vel<'a>(v: &'a [DVec2], seen: &[DVec2]) -> Cow<'a, [Self::Vel]>;
     fn v(vel: Self::Vel) -> DVec2;
-    /// The velocities of a particle's mirror image across the axis.
-    fn mirror(vel: Self::Vel) -> Self::Vel;
+    /// The velocities of a particle's mirror image across `m`.
+    fn mirror(vel: Self::Vel, m: &Mirror) -> Self::Vel;
     fn add(&mut self, vj: Self::Vel, vi: Self::Vel, g: DVec2);
     fn sum(self) -> Option<Mat2>;
 }
@@ -123,8 +123,8 @@ impl Seen for () {
         vel
     }
     #[inline]
-    fn mirror(vel: DVec2) -> DVec2 {
-        mirror(vel)
+    fn mirror(vel: DVec2, m: &Mirror) -> DVec2 {
+        m.vector(vel)
     }
     #[inline]
     fn add(&mut self, _: DVec2, _: DVec2, _: DVec2) {}
@@ -143,8 +143,8 @@ impl Seen for Mat2 {
         vel[0]
     }
     #[inline]
-    fn mirror(vel: [DVec2; 2]) -> [DVec2; 2] {
-        vel.map(mirror)
+    fn mirror(vel: [DVec2; 2], m: &Mirror) -> [DVec2; 2] {
+        vel.map(|v| m.vector(v))
     }
     #[inline]
     fn add(&mut self, vj: [DVec2; 2], vi: [DVec2; 2], g: DVec2) {
@@ -197,14 +197,15 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
                 sum.n += u32::from(b.q2 > 0.0);
             }
             // The mirror images across the axis of a body of revolution
-            // (none in plane strain), as more neighbours; `round_colour`
-            // redoes the colour where supports adapt.
+            // or a symmetry plane (none without), as more neighbours;
+            // `round_colour` redoes the colour where supports adapt.
+            let m = model.mirror.unwrap_or(Mirror::AXIS);
             for (b, _) in nb.images_of(model, st.frame(), i) {
                 let j = b.j as usize;
                 let gm = b.gw * gradient_weight(model, st, &vol, i, j);
-                sum.m += Mat2::outer(gm, mirror(st.x[j]) - st.x[i]);
-                sum.gsum += Mat2::outer(mirror(st.v[j]) - st.v[i], gm);
-                sum.add_colour(b.gw, b.w, vol[j], true);
+                sum.m += Mat2::outer(gm, m.point(st.x[j]) - st.x[i]);
+                sum.gsum += Mat2::outer(m.vector(st.v[j]) - st.v[i], gm);
+                sum.add_colour(b.gw, b.w, vol[j], model.axisymmetric);
                 sum.n += u32::from(b.q2 > 0.0);
             }
             sum

@@ -46,6 +46,7 @@ pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
         .map(|(i, b)| {
             let rho0 = scene.materials[&b.material].density;
             let axisymmetric = scene.axisymmetric();
+            let plane = scene.symmetry_plane();
             let mut placed = match &b.shape {
                 Shape::Particles { file } => from_file(
                     file,
@@ -56,7 +57,7 @@ pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
                     axisymmetric,
                 ),
                 shape => {
-                    let mut placed = place(shape, b.spacing, rho0, axisymmetric);
+                    let mut placed = place(shape, b.spacing, rho0, axisymmetric, plane);
                     if let Some(fraction) = b.jitter.filter(|&j| j > 0.0) {
                         jitter(
                             &mut placed,
@@ -72,6 +73,9 @@ pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
                     placed
                 }
             };
+            if let Some(s) = plane {
+                cut(&mut placed, s);
+            }
             if let Some(field) = &b.velocity_field {
                 apply_field(&mut placed, b.velocity.as_deref(), field);
             }
@@ -255,19 +259,41 @@ fn annulus_offset(r_in: f64, r_out: f64, r: f64) -> f64 {
     }
 }
 
+/// Keeps the particles of `placed` that `keep` marks (its velocities
+/// too, where it has them).
+fn pick(placed: &mut PlacedBody, keep: &[bool]) {
+    fn pick<T>(v: &mut Vec<T>, keep: &[bool]) {
+        let mut k = keep.iter();
+        v.retain(|_| *k.next().unwrap_or(&true));
+    }
+    pick(&mut placed.positions, keep);
+    pick(&mut placed.masses, keep);
+    pick(&mut placed.offsets, keep);
+    if !placed.velocities.is_empty() {
+        pick(&mut placed.velocities, keep);
+    }
+}
+
+/// The half of a body on the modelled side of a symmetry plane: the rest
+/// is its mirror image. Particles within round-off of the plane stay, for
+/// validation to refuse by name.
+fn cut(placed: &mut PlacedBody, plane: &super::Symmetry) {
+    let tol = 1e-9 * placed.spacing;
+    let keep: Vec<bool> = placed
+        .positions
+        .iter()
+        .map(|&p| plane.side(p) >= -tol)
+        .collect();
+    pick(placed, &keep);
+}
+
 /// A body of revolution from its placed cross-section: the particles at
 /// `r > 0` (a shape across the axis is symmetric about it: the rest are
 /// their mirror images), each with the mass of its ring, `2π r` times its
 /// mass per unit thickness.
 fn revolve(placed: &mut PlacedBody) {
     let keep: Vec<bool> = placed.positions.iter().map(|p| p.x > 0.0).collect();
-    fn pick<T>(v: &mut Vec<T>, keep: &[bool]) {
-        let mut k = keep.iter();
-        v.retain(|_| *k.next().unwrap_or(&true));
-    }
-    pick(&mut placed.positions, &keep);
-    pick(&mut placed.masses, &keep);
-    pick(&mut placed.offsets, &keep);
+    pick(placed, &keep);
     for (m, p) in placed.masses.iter_mut().zip(&placed.positions) {
         *m *= circumference(p.x);
     }
@@ -277,11 +303,29 @@ fn revolve(placed: &mut PlacedBody) {
 /// plane of a body of revolution when `axisymmetric`: the axis is no
 /// surface, and a disk or ring centred on it on the polar lattice is placed
 /// on half rings whose particles lie off the axis. The masses are still per
-/// unit thickness ([`revolve`] makes them rings').
-fn place(shape: &Shape, dx: f64, rho0: f64, axisymmetric: bool) -> PlacedBody {
+/// unit thickness ([`revolve`] makes them rings'). A disk or ring centred
+/// on a symmetry `plane` is likewise placed on half rings off it.
+fn place(
+    shape: &Shape,
+    dx: f64,
+    rho0: f64,
+    axisymmetric: bool,
+    plane: Option<&super::Symmetry>,
+) -> PlacedBody {
     let mut out = PlacedBody {
         spacing: dx,
         ..Default::default()
+    };
+    // The direction of the half rings of a disk or ring centred on the
+    // axis or the plane.
+    let half = |center: &[f64]| {
+        if axisymmetric {
+            (center[0] == 0.0).then_some(DVec2::X)
+        } else {
+            plane
+                .filter(|s| s.side(DVec2::new(center[0], center[1])) == 0.0)
+                .map(|s| s.unit_normal())
+        }
     };
     match shape {
         Shape::Segment { from, to } => {
@@ -315,7 +359,7 @@ fn place(shape: &Shape, dx: f64, rho0: f64, axisymmetric: bool) -> PlacedBody {
             *lattice,
             dx,
             rho0,
-            axisymmetric && center[0] == 0.0,
+            half(center),
         ),
         Shape::Ring {
             center,
@@ -329,7 +373,7 @@ fn place(shape: &Shape, dx: f64, rho0: f64, axisymmetric: bool) -> PlacedBody {
             *lattice,
             dx,
             rho0,
-            axisymmetric && center[0] == 0.0,
+            half(center),
         ),
         Shape::Polygon {
             vertices,
@@ -415,7 +459,7 @@ fn annulus(
     lattice: Lattice,
     dx: f64,
     rho0: f64,
-    half: bool,
+    half: Option<DVec2>,
 ) {
     let c = DVec2::new(center[0], center[1]);
     // (From the lattice's own radius, not |p − c|, which differs from it
@@ -449,7 +493,7 @@ fn annulus(
                 // docs/scenes.md: max(1, round(2π r_k K / radius)) for a disk; for a
                 // ring the same rule reads 2π r_k / dr.
                 let ring_area = PI * ((r + 0.5 * dr).powi(2) - (r - 0.5 * dr).powi(2));
-                if half {
+                if let Some(n) = half {
                     // The same spacing along the half ring, the particles
                     // at the middles of its arcs, the outermost about
                     // dr/2 from the axis; a disk's innermost half ring
@@ -463,7 +507,10 @@ fn annulus(
                     let m = rho0 * 0.5 * ring_area / count as f64;
                     for q in 0..count {
                         let th = PI * ((q as f64 + 0.5) / count as f64 - 0.5);
-                        out.positions.push(c + r * DVec2::new(th.cos(), th.sin()));
+                        // Turned from +x to the half's direction n.
+                        let u = DVec2::new(th.cos(), th.sin());
+                        out.positions
+                            .push(c + r * DVec2::new(n.x * u.x - n.y * u.y, n.y * u.x + n.x * u.y));
                         out.masses.push(m);
                         out.offsets.push(offset(r));
                     }

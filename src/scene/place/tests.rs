@@ -10,6 +10,7 @@ fn segment_cells_and_offsets() {
         5e-5,
         7850.0,
         false,
+        None,
     );
     assert_eq!(b.positions.len(), 100);
     assert!((b.positions[0].x - (-0.005 + 2.5e-5)).abs() < 1e-15);
@@ -29,9 +30,9 @@ fn jitter_bounds_offsets_and_determinism() {
         from: -0.005,
         to: 0.0,
     };
-    let regular = place(&shape, 5e-5, 7850.0, false);
+    let regular = place(&shape, 5e-5, 7850.0, false, None);
     let jittered = |seed| {
-        let mut b = place(&shape, 5e-5, 7850.0, false);
+        let mut b = place(&shape, 5e-5, 7850.0, false, None);
         jitter(&mut b, &shape, 0.1, seed, false);
         b
     };
@@ -64,8 +65,8 @@ fn jitter_bounds_offsets_and_determinism() {
         radius: 5e-3,
         lattice: Lattice::Square,
     };
-    let regular = place(&disk, 2.5e-4, 7850.0, false);
-    let mut b = place(&disk, 2.5e-4, 7850.0, false);
+    let regular = place(&disk, 2.5e-4, 7850.0, false, None);
+    let mut b = place(&disk, 2.5e-4, 7850.0, false, None);
     jitter(&mut b, &disk, 0.3, 1, false);
     let moved = |f: fn(DVec2) -> f64| {
         b.positions
@@ -89,6 +90,7 @@ fn disk_mass_both_lattices() {
             2.5e-4,
             7850.0,
             false,
+            None,
         );
         let m: f64 = b.masses.iter().sum();
         let exact = 7850.0 * PI * 25e-6;
@@ -120,6 +122,7 @@ fn hollow_sphere_half_rings_are_filled() {
         dx,
         1845.0,
         true,
+        None,
     );
     for k in 0..10 {
         let r = r_in + (k as f64 + 0.5) * dx;
@@ -134,5 +137,45 @@ fn hollow_sphere_half_rings_are_filled() {
     }
     let m: f64 = b.masses.iter().sum();
     let half = 1845.0 * 0.5 * PI * (r_out * r_out - r_in * r_in);
+    assert!((m / half - 1.0).abs() < 1e-12, "{m} vs {half}");
+}
+
+/// A polar disk centred on a symmetry plane is placed on half rings
+/// turned to the plane's normal, none on the plane: the half of the disk
+/// on the modelled side, with half its mass; the axis's half rings
+/// turned a quarter turn.
+#[test]
+fn polar_disk_on_a_symmetry_plane_is_placed_on_half_rings() {
+    let (c, r, dx, rho) = ([0.003, -0.002], 0.005, 2e-4, 7850.0);
+    let disk = Shape::Disk {
+        center: c.to_vec(),
+        radius: r,
+        lattice: Lattice::Polar,
+    };
+    let plane = crate::scene::Symmetry {
+        normal: vec![0.0, -1.0],
+        point: vec![0.0, c[1]],
+    };
+    let b = place(&disk, dx, rho, false, Some(&plane));
+    let axis = place(
+        &Shape::Disk {
+            center: vec![0.0, 0.0],
+            radius: r,
+            lattice: Lattice::Polar,
+        },
+        dx,
+        rho,
+        true,
+        None,
+    );
+    assert_eq!(b.positions.len(), axis.positions.len());
+    for (p, q) in b.positions.iter().zip(&axis.positions) {
+        // The axis's half ring (x > 0) turned to face −y.
+        let turned = DVec2::new(c[0] + q.y, c[1] - q.x);
+        assert!((*p - turned).length() < 1e-15, "{p} vs {turned}");
+        assert!(plane.side(*p) > 0.1 * dx, "{p} lies on the plane");
+    }
+    let m: f64 = b.masses.iter().sum();
+    let half = rho * 0.5 * PI * r * r;
     assert!((m / half - 1.0).abs() < 1e-12, "{m} vs {half}");
 }

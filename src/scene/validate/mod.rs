@@ -72,6 +72,7 @@ pub fn validate(scene: &Scene) -> R {
     let names = validate_bodies(scene)?;
     validate_probes(scene, &names)?;
     validate_contact_pairs(scene, &names)?;
+    validate_symmetry(scene)?;
     validate_placement(scene)
 }
 
@@ -302,6 +303,71 @@ fn validate_contact_pairs(scene: &Scene, names: &HashSet<&str>) -> R {
     Ok(())
 }
 
+/// The symmetry plane's keys (docs/scenes.md, "Symmetry planes"), and
+/// what does not run with one.
+fn validate_symmetry(scene: &Scene) -> R {
+    let Some(p) = scene.symmetry_plane() else {
+        return Ok(());
+    };
+    if scene.symmetry.len() > 1 {
+        return Err(SceneError::at(
+            "symmetry[1]",
+            "one symmetry plane per scene so far (two would need the images across the corner as well)",
+        ));
+    }
+    if scene.dim() != 2 {
+        return Err(SceneError::at(
+            "symmetry[0]",
+            format!(
+                "needs dimension = 2 (got {}; in 1-D a rigid wall is the symmetry point)",
+                scene.dim()
+            ),
+        ));
+    }
+    if scene.axisymmetric() {
+        return Err(SceneError::at(
+            "symmetry[0]",
+            "is not available for bodies of revolution (geometry = \"axisymmetric\") so far",
+        ));
+    }
+    dimension_of("symmetry[0].normal", &p.normal, 2)?;
+    dimension_of("symmetry[0].point", &p.point, 2)?;
+    let n = &p.normal;
+    if !(n[0] == 0.0 && n[1].abs() == 1.0 || n[1] == 0.0 && n[0].abs() == 1.0) {
+        return Err(SceneError::at(
+            "symmetry[0].normal",
+            format!(
+                "must be [1, 0], [-1, 0], [0, 1] or [0, -1], pointing into the modelled half (got [{}, {}])",
+                n[0], n[1]
+            ),
+        ));
+    }
+    let (k, _) = p.axis();
+    if let Some(g) = scene.simulation.gravity.as_ref().filter(|g| g[k] != 0.0) {
+        return Err(SceneError::at(
+            "simulation.gravity",
+            format!(
+                "has a component normal to the symmetry plane ({}), which the mirrored half would feel reversed",
+                g[k]
+            ),
+        ));
+    }
+    if scene.simulation.dispersion_correction > 0.0 {
+        return Err(SceneError::at(
+            "simulation.dispersion_correction",
+            "is not available with a symmetry plane so far",
+        ));
+    }
+    let cs = scene.contact_settings();
+    if cs.friction > 0.0 || cs.pairs.iter().any(|p| p.friction > 0.0) {
+        return Err(SceneError::at(
+            "contact.friction",
+            "friction is not available with a symmetry plane so far",
+        ));
+    }
+    Ok(())
+}
+
 /// Each probe's keys, against the bodies' `names`.
 fn validate_probes(scene: &Scene, names: &HashSet<&str>) -> R {
     let dim = scene.simulation.dimension as usize;
@@ -492,10 +558,27 @@ fn validate_placement(scene: &Scene) -> R {
             return Err(SceneError::at(
                 format!("bodies[{i}].shape"),
                 format!(
-                    "body '{}' has no particle (the shape is smaller than its spacing)",
-                    scene.bodies[i].name
+                    "body '{}' has no particle ({})",
+                    scene.bodies[i].name,
+                    if scene.symmetry.is_empty() {
+                        "the shape is smaller than its spacing"
+                    } else {
+                        "the shape is smaller than its spacing, or lies beyond the symmetry plane"
+                    }
                 ),
             ));
+        }
+        if let Some(s) = scene.symmetry_plane() {
+            let tol = 1e-9 * p.spacing;
+            if let Some(x) = p.positions.iter().find(|&&x| s.side(x) <= tol) {
+                return Err(SceneError::at(
+                    format!("bodies[{i}].shape"),
+                    format!(
+                        "body '{}' has a particle on the symmetry plane, at ({}, {}): place its lattice so that the plane falls between particles (a whole number of cells on each side)",
+                        scene.bodies[i].name, x.x, x.y
+                    ),
+                ));
+            }
         }
         constraints::validate_constrained(&scene.bodies[i], i, &p.positions)?;
         if let Some(field) = &scene.bodies[i].velocity_field {

@@ -1,0 +1,181 @@
+//! Symmetry planes (`[[symmetry]]`, docs/method.md §13): a scene cut along
+//! a plane of its symmetry is the whole scene's half, to round-off, when
+//! its lattice is symmetric about the plane: the paper's two disks cut
+//! along their line of centres (contact across the cut), and the
+//! penetration cut along its axis of impact. (The GPU path refuses a
+//! symmetry plane: tests/cli_validation/runs.rs.)
+
+#[path = "common/mod.rs"]
+mod common;
+use common::*;
+
+use sphcontact::run::RunOutput;
+use sphcontact::scene::{Scene, Symmetry};
+
+/// The shipped half scene at `half`, checked to be the scene at `whole`
+/// cut by the plane through the origin with `normal`.
+fn shipped(whole: &str, half: &str, normal: [f64; 2]) -> (Scene, Scene) {
+    let (w, mut h) = (load(whole), load(half));
+    h.title.clone_from(&w.title);
+    assert_eq!(h, cut(&w, normal), "{half} is not {whole} cut");
+    (w, h)
+}
+
+/// `scene` cut by the plane through the origin with `normal`, keeping
+/// the half it points to.
+fn cut(scene: &Scene, normal: [f64; 2]) -> Scene {
+    let mut s = scene.clone();
+    s.symmetry.push(Symmetry {
+        normal: normal.to_vec(),
+        point: vec![0.0, 0.0],
+    });
+    s
+}
+
+/// Asserts that `half` ran the half of `full` on the side `normal`
+/// points to: each body half the mass, the ledger's every term half the
+/// whole's, every half particle where a particle of the whole ended, and
+/// none beyond the plane. `tol`: relative.
+fn is_the_half(full: &RunOutput, half: &RunOutput, normal: glam::DVec2, tol: f64) {
+    let (f, h) = (&full.summary, &half.summary);
+    assert_eq!(h.status, "completed");
+    for (bf, bh) in f.bodies.iter().zip(&h.bodies) {
+        assert!(
+            (2.0 * bh.mass - bf.mass).abs() <= 1e-12 * bf.mass,
+            "{}: mass {} of {}",
+            bh.name,
+            bh.mass,
+            bf.mass
+        );
+    }
+    let (lf, lh) = (&f.energy, &h.energy);
+    let e0 = lf.initial;
+    for (name, a, b) in [
+        ("kinetic", lf.kinetic, lh.kinetic),
+        ("internal", lf.internal, lh.internal),
+        ("dashpot heat", lf.dashpot_heat, lh.dashpot_heat),
+        (
+            "artificial dissipation",
+            lf.artificial_dissipation,
+            lh.artificial_dissipation,
+        ),
+        ("spring loss", lf.spring_loss, lh.spring_loss),
+    ] {
+        assert!(
+            (2.0 * b - a).abs() <= tol * e0,
+            "{name}: the half's {b:e} against the whole's {a:e}"
+        );
+    }
+    let (xf, xh) = (&full.state.x, &half.state.x);
+    let scale = xf.iter().map(|x| x.length()).fold(0.0, f64::max);
+    for x in xh {
+        assert!(x.dot(normal) > 0.0, "a particle crossed the plane: {x}");
+        let nearest = xf
+            .iter()
+            .map(|y| (*x - *y).length())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest <= tol * scale,
+            "the half's particle at {x} is {nearest:e} m from every particle of the whole"
+        );
+    }
+}
+
+/// The half's own books: the momentum along the plane kept (the plane
+/// takes the momentum normal to it, as the image's contact and stress
+/// would), and the energy ledger closed as a whole scene's
+/// ([`assert_conserved`]'s CPU bound); `speed`, the fastest body's.
+fn books(half: &RunOutput, normal: glam::DVec2, speed: f64) {
+    let s = &half.summary;
+    let t = normal.perp();
+    let along = |m: &[f64]| glam::DVec2::new(m[0], m[1]).dot(t);
+    let (p0, p1) = (along(&s.momentum_initial), along(&s.momentum_final));
+    let scale: f64 = s.bodies.iter().map(|b| b.mass).sum::<f64>() * speed;
+    assert!(
+        (p1 - p0).abs() <= 1e-12 * scale,
+        "momentum along the plane drifted: {p0} -> {p1}"
+    );
+    let drift = s.energy_balance().abs();
+    assert!(drift < 1e-10, "energy drift {drift:e}");
+    assert!(s.energy.dashpot_heat >= 0.0 && s.energy.artificial_dissipation >= 0.0);
+}
+
+/// The largest difference of two history columns, the half's doubled
+/// where `double`, over the whole's largest magnitude.
+fn column_gap(full: &RunOutput, half: &RunOutput, name: &str, double: bool) -> f64 {
+    let (a, b) = (column(full, name), column(half, name));
+    assert_eq!(a.len(), b.len());
+    let k = if double { 2.0 } else { 1.0 };
+    let peak = a.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    a.iter()
+        .zip(&b)
+        .map(|(x, y)| (k * y - x).abs())
+        .fold(0.0, f64::max)
+        / peak
+}
+
+/// The paper's square-lattice disks cut along their line of centres
+/// (scenes/symmetry/disks_square_half.toml):
+/// the contact point lies on the plane, and each half disk meets the
+/// other's image across it. Measured: the contact force 3e-14 of its
+/// peak from the whole's, the contact time the same row for row.
+fn half_disks() {
+    let (full, half) = shipped(
+        "scenes/paper/disks_square.toml",
+        "scenes/symmetry/disks_square_half.toml",
+        [0.0, 1.0],
+    );
+    let (a, b) = (run(&full), run(&half));
+    books(&b, glam::DVec2::Y, 5.0);
+    is_the_half(&a, &b, glam::DVec2::Y, 1e-9);
+    let force = column_gap(&a, &b, "contact_force", true);
+    assert!(force <= 1e-9, "contact force off by {force:e} of its peak");
+    let touching = |o: &RunOutput| -> Vec<bool> {
+        column(o, "contact_force")
+            .iter()
+            .map(|&f| f > 0.0)
+            .collect()
+    };
+    assert_eq!(touching(&a), touching(&b), "the contact times differ");
+    for v in ["velocity_left", "velocity_right"] {
+        let gap = column_gap(&a, &b, v, false);
+        assert!(gap <= 1e-9, "{v} off by {gap:e}");
+    }
+}
+
+#[test]
+fn half_disks_give_the_whole_pairs_contact() {
+    half_disks();
+}
+
+#[test]
+fn half_disks_give_the_whole_pairs_contact_midpoint() {
+    on_midpoint(half_disks);
+}
+
+/// The tungsten rod into the steel plate cut along its axis of impact
+/// (scenes/symmetry/tungsten_rod_steel_plate_half.toml, here at Δx 0.2
+/// mm and to 15 µs, through the plate's first half): plastic flow,
+/// erosion by failure and contact all meet across the plane. Measured
+/// at 30 µs: the residual velocity 1e-13 from the whole's.
+#[test]
+fn half_penetration_gives_the_whole_residual_velocity() {
+    let (mut full, mut half) = shipped(
+        "scenes/penetration/tungsten_rod_steel_plate.toml",
+        "scenes/symmetry/tungsten_rod_steel_plate_half.toml",
+        [1.0, 0.0],
+    );
+    for s in [&mut full, &mut half] {
+        for b in &mut s.bodies {
+            b.spacing = 2e-4;
+        }
+        s.simulation.end_time = 1.5e-5;
+    }
+    let (a, b) = (run(&full), run(&half));
+    books(&b, glam::DVec2::X, 1200.0);
+    is_the_half(&a, &b, glam::DVec2::X, 1e-9);
+    for v in ["velocity_rod", "velocity_plate"] {
+        let gap = column_gap(&a, &b, v, false);
+        assert!(gap <= 1e-9, "{v} off by {gap:e}");
+    }
+}
