@@ -28,56 +28,103 @@ pub fn mirror(x: DVec2) -> DVec2 {
     DVec2::new(-x.x, x.y)
 }
 
-/// A reflection across a line normal to a coordinate axis: the axis of a
-/// body of revolution (`r = 0`) or a symmetry plane (`[[symmetry]]`).
-/// Tensors reflect alike across either line (`P T P` with `P = diag(−1,
-/// 1)` or `diag(1, −1)` flips the off-diagonal entries):
-/// [`mirror_mat`], [`mirror_sym`].
+/// A mirror image across lines normal to the coordinate axes: the axis
+/// of a body of revolution (`r = 0`), a symmetry plane (`[[symmetry]]`),
+/// or both at once (the image across the corner they make). Positions
+/// reflect across each line; vectors reverse each component a line is
+/// normal to; a tensor's off-diagonal entries reverse across one line
+/// (`P T P` with `P = diag(−1, 1)` or `diag(1, −1)`) and not across two
+/// (`P = −I`): [`Mirror::shears`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Mirror {
-    /// The coordinate the reflection reverses: 0 (a line `x = at`) or 1
-    /// (a line `y = at`).
-    pub axis: usize,
-    /// Where the line crosses that coordinate, m.
-    pub at: f64,
+    /// Which coordinates the image reverses.
+    pub flip: [bool; 2],
+    /// Where each reversed coordinate's line lies, m.
+    pub at: [f64; 2],
 }
 
 impl Mirror {
     /// The axis `r = 0` of a body of revolution.
-    pub const AXIS: Mirror = Mirror { axis: 0, at: 0.0 };
+    pub const AXIS: Mirror = Mirror {
+        flip: [true, false],
+        at: [0.0, 0.0],
+    };
+
+    /// The reflection across the line where coordinate `axis` is `at`.
+    pub fn across(axis: usize, at: f64) -> Mirror {
+        let mut m = Mirror {
+            flip: [false; 2],
+            at: [0.0; 2],
+        };
+        m.flip[axis] = true;
+        m.at[axis] = at;
+        m
+    }
+
+    /// This image reflected again across `o`'s lines (lines normal to
+    /// other axes than this one's).
+    pub fn then(&self, o: &Mirror) -> Mirror {
+        let mut m = *self;
+        for k in 0..2 {
+            if o.flip[k] {
+                m.flip[k] = true;
+                m.at[k] = o.at[k];
+            }
+        }
+        m
+    }
 
     /// The mirror image of a point.
     #[inline]
     pub fn point(&self, x: DVec2) -> DVec2 {
         // Through 0 the image is the plain negation ([`mirror`]'s bits).
-        let r = |c: f64| {
-            if self.at == 0.0 {
-                -c
-            } else {
-                2.0 * self.at - c
-            }
+        let r = |k: usize, c: f64| match (self.flip[k], self.at[k]) {
+            (false, _) => c,
+            (true, 0.0) => -c,
+            (true, a) => 2.0 * a - c,
         };
-        if self.axis == 0 {
-            DVec2::new(r(x.x), x.y)
-        } else {
-            DVec2::new(x.x, r(x.y))
-        }
+        DVec2::new(r(0, x.x), r(1, x.y))
     }
 
     /// The mirror image of a vector (a velocity, a force).
     #[inline]
     pub fn vector(&self, v: DVec2) -> DVec2 {
-        if self.axis == 0 {
-            DVec2::new(-v.x, v.y)
+        let s = |k: usize, c: f64| if self.flip[k] { -c } else { c };
+        DVec2::new(s(0, v.x), s(1, v.y))
+    }
+
+    /// Whether the image reverses a tensor's off-diagonal entries (across
+    /// one line, not across two).
+    #[inline]
+    pub fn shears(&self) -> bool {
+        self.flip[0] != self.flip[1]
+    }
+
+    /// The mirror image of a tensor.
+    #[inline]
+    pub fn mat(&self, m: &Mat2) -> Mat2 {
+        if self.shears() {
+            mirror_mat(m)
         } else {
-            DVec2::new(v.x, -v.y)
+            *m
         }
     }
 
-    /// How far `x` lies from the line.
+    /// The mirror image of a symmetric tensor.
     #[inline]
-    pub fn distance(&self, x: DVec2) -> f64 {
-        (x[self.axis] - self.at).abs()
+    pub fn sym(&self, s: &Sym) -> Sym {
+        if self.shears() {
+            mirror_sym(s)
+        } else {
+            *s
+        }
+    }
+
+    /// Whether `x` lies within `reach` of every line of the image (an
+    /// image lies at least that far from its particle's neighbours).
+    #[inline]
+    pub fn within(&self, x: DVec2, reach: f64) -> bool {
+        (0..2).all(|k| !self.flip[k] || (x[k] - self.at[k]).abs() < reach)
     }
 }
 

@@ -16,8 +16,8 @@ use rayon::prelude::*;
 
 use super::forces::{pair_terms_of, vectors_of, Side};
 use super::kinematics::{gradient_weight, Kinematics, Seen, StressPoint, Sums};
-use super::neighbours::Neighbours;
-use crate::math::{Mat2, Mirror};
+use super::neighbours::{image_entry, Neighbours};
+use crate::math::Mat2;
 use crate::model::{Model, State};
 
 /// The mirror partners' energy vectors, one per slot of the lists' image
@@ -42,9 +42,7 @@ pub(super) fn add_momentum(
     pts: &[StressPoint],
     dv: &mut [DVec2],
 ) -> KeptMirrors {
-    let m = model.mirror.unwrap_or(Mirror::AXIS);
     let side = |k| Side::of(st, kin, pts, k);
-    let image = |k: usize| side(k).mirrored(&m);
     // One slice of the kept vectors for each row, filled in parallel.
     let mut kept = vec![[DVec2::ZERO; 2]; nb.images.len()];
     let mut rows = Vec::new();
@@ -60,9 +58,9 @@ pub(super) fn add_momentum(
         .map(|(i, row)| {
             let a = side(i);
             let mut dvi = DVec2::ZERO;
-            for (b, slot) in nb.images_of(model, st.frame(), i) {
+            for (b, slot, m) in nb.images_of(model, st.frame(), i) {
                 let j = b.j as usize;
-                let im = image(j);
+                let im = side(j).mirrored(&m);
                 let p = pair_terms_of(model, st, &kin.surface, (i, &a), (j, &im), &b);
                 dvi += p.tg * model.mass[j];
                 row[slot] = [vectors_of(&p)[0], p.a + p.hg[0]];
@@ -111,15 +109,15 @@ impl KeptMirrors {
         de: &mut [f64],
     ) -> f64 {
         let mut diss = 0.0;
-        let m = model.mirror.unwrap_or(Mirror::AXIS);
         for i in nb.image_rows().filter(|&i| !model.rigid(i)) {
             let base = nb.image_start[i] as usize;
             let (mut sum, mut art) = (0.0, 0.0);
-            for (k, &j) in nb.image_candidates(i).iter().enumerate() {
+            for (k, &e) in nb.image_candidates(i).iter().enumerate() {
                 let [x, a] = self.0[base + k];
                 if x != DVec2::ZERO {
+                    let (j, kind) = image_entry(e);
                     let j = j as usize;
-                    let wij = w[i] - m.vector(w[j]);
+                    let wij = w[i] - model.images[kind].vector(w[j]);
                     sum -= model.mass[j] * wij.dot(x);
                     art -= model.mass[j] * wij.dot(a);
                 }
@@ -150,10 +148,10 @@ pub(super) fn add_kinematics<S: Seen>(
     vel: &[S::Vel],
     sums: &mut [Sums<S>],
 ) {
-    let (m, axi) = (model.mirror.unwrap_or(Mirror::AXIS), model.axisymmetric);
+    let axi = model.axisymmetric;
     for i in nb.image_rows() {
         let sum = &mut sums[i];
-        for (b, _) in nb.images_of(model, st.frame(), i) {
+        for (b, _, m) in nb.images_of(model, st.frame(), i) {
             let j = b.j as usize;
             let vj = S::mirror(vel[j], &m);
             let gi = b.gw * gradient_weight(model, st, vol, i, j);
@@ -168,7 +166,7 @@ pub(super) fn add_kinematics<S: Seen>(
         if !st.round_supports() {
             // The colour gradient keeps the round supports
             // (kinematics::round_colour).
-            for (b, _) in nb.images_of(model, crate::model::Frame::round(&st.x), i) {
+            for (b, _, _) in nb.images_of(model, crate::model::Frame::round(&st.x), i) {
                 sum.add_colour(b.gw, b.w, vol[b.j as usize], axi);
             }
         }

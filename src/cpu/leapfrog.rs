@@ -78,9 +78,7 @@ impl CpuSolver {
             dispersion::add_forces(model, &next, nb, &k.l, &s, &mut dv);
             s
         });
-        let mirrors = model
-            .mirror
-            .is_some()
+        let mirrors = (!model.images.is_empty())
             .then(|| axis::add_momentum(model, &next, nb, &k, &pts, &mut dv));
         // Nothing below reads L but the correction's work (4).
         let extra = extra.map(|s| (s, std::mem::take(&mut k.l)));

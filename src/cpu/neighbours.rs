@@ -11,6 +11,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::math::cells::CellList;
+use crate::math::Mirror;
 use crate::model::{Frame, Model};
 use crate::physics::kernel;
 use crate::physics::support::Metric;
@@ -112,36 +113,38 @@ impl Neighbours {
     }
 
     /// [`Neighbours::of`] and then [`Neighbours::images_of`]: each partner
-    /// of particle i with whether it is a mirror image across the axis
-    /// (none is without a mirror).
+    /// of particle i with the mirror it is an image across, if it is one
+    /// (none is without mirrors).
     #[inline]
     pub fn with_images<'a>(
         &'a self,
         model: &'a Model,
         f: Frame<'a>,
         i: usize,
-    ) -> impl Iterator<Item = (Nbr, bool)> + 'a {
+    ) -> impl Iterator<Item = (Nbr, Option<Mirror>)> + 'a {
         self.of(model, f, i)
-            .map(|b| (b, false))
-            .chain(self.images_of(model, f, i).map(|(b, _)| (b, true)))
+            .map(|b| (b, None))
+            .chain(self.images_of(model, f, i).map(|(b, _, m)| (b, Some(m))))
     }
 
-    /// The mirror images of particle i's partners across the axis
-    /// ([`Neighbours::images`]) that lie within `2 h_ij` at positions `x`,
-    /// with `W` and `∇_i W` at `x_i − x̄_j`, and each one's slot in the row.
+    /// The mirror images of particle i's partners ([`Neighbours::images`])
+    /// that lie within `2 h_ij` at positions `x`, with `W` and `∇_i W` at
+    /// `x_i − x̄_j`, each one's slot in the row and the mirror it is an
+    /// image across (`j` the particle's own index).
     #[inline]
     pub fn images_of<'a>(
         &'a self,
         model: &'a Model,
         f: Frame<'a>,
         i: usize,
-    ) -> impl Iterator<Item = (Nbr, usize)> + 'a {
+    ) -> impl Iterator<Item = (Nbr, usize, Mirror)> + 'a {
         let inv_hi = 1.0 / model.h[i];
-        let m = model.mirror.unwrap_or(crate::math::Mirror::AXIS);
         self.image_candidates(i)
             .iter()
             .enumerate()
-            .filter_map(move |(slot, &j)| {
+            .filter_map(move |(slot, &e)| {
+                let (j, kind) = image_entry(e);
+                let m = model.images[kind];
                 let d = f.x[i] - m.point(f.x[j as usize]);
                 let k = if f.metric.is_empty() {
                     let inv_h = pair_inv_h(model.h[i], model.h[j as usize], inv_hi);
@@ -149,7 +152,7 @@ impl Neighbours {
                         .map(|(w, gw, q2)| (w, gw, q2, 0.0))
                 } else {
                     // The image's support is the particle's, mirrored.
-                    let qj = f.metric[j as usize].mirror();
+                    let qj = f.metric[j as usize].mirrored(&m);
                     kernel::w_grad_pair(model.dim, d, &f.metric[i], &qj)
                 };
                 k.map(|(w, gw, q2, scale)| {
@@ -162,6 +165,7 @@ impl Neighbours {
                             scale,
                         },
                         slot,
+                        m,
                     )
                 })
             })
@@ -177,14 +181,12 @@ impl Neighbours {
         model: &'a Model,
         x: &'a [DVec2],
         i: usize,
-    ) -> impl Iterator<Item = (Nbr, bool)> + 'a {
-        let f = Frame::round(x);
-        self.of(model, f, i)
-            .map(|b| (b, false))
-            .chain(self.images_of(model, f, i).map(|(b, _)| (b, true)))
+    ) -> impl Iterator<Item = (Nbr, Option<Mirror>)> + 'a {
+        self.with_images(model, Frame::round(x), i)
     }
 
-    /// Particle i's candidate images (none without a mirror).
+    /// Particle i's candidate images (none without a mirror), as entries
+    /// ([`image_entry`]).
     #[inline]
     pub fn image_candidates(&self, i: usize) -> &[u32] {
         match self.image_start.get(i..i + 2) {
@@ -208,7 +210,7 @@ impl Neighbours {
     /// order they keep); clears them without one.
     pub fn index_images(&mut self, model: &Model) {
         let (mut start, mut images) = (Vec::new(), Vec::new());
-        if let Some(m) = model.mirror {
+        if !model.images.is_empty() {
             let x = &self.x_ref;
             let h_max = model.h.iter().cloned().fold(0.0, f64::max);
             // As the rows (a mirror image's support is its particle's,
@@ -222,21 +224,24 @@ impl Neighbours {
             };
             start.push(0);
             for i in 0..x.len() {
-                // Every image lies at least as far from the particle as
-                // the particle lies from the line.
-                if m.distance(x[i]) < reach {
+                for (kind, m) in model.images.iter().enumerate() {
+                    // Every image lies at least as far from the particle
+                    // as the particle lies from each of its lines.
+                    if !m.within(x[i], reach) {
+                        continue;
+                    }
                     let cands = std::iter::once(i as u32).chain(self.candidates(i).iter().copied());
                     for j in cands {
                         let j_ = j as usize;
                         let round = model.h[i] + model.h[j_] + self.skin;
                         let d = x[i] - m.point(x[j_]);
                         let near = if adaptive {
-                            near_adaptive(d, &q[i], &q[j_].mirror(), round, self.skin)
+                            near_adaptive(d, &q[i], &q[j_].mirrored(m), round, self.skin)
                         } else {
                             d.length_squared() < round * round
                         };
                         if near {
-                            images.push(j);
+                            images.push(j | (kind as u32) << KIND_SHIFT);
                         }
                     }
                 }
@@ -253,14 +258,14 @@ impl Neighbours {
     /// cut by the plane meets across it as well.
     fn index_cross_images(&mut self, model: &Model) {
         let (mut start, mut images) = (Vec::new(), Vec::new());
-        if let Some(m) = model.mirror.filter(|_| !model.axisymmetric) {
+        if let Some(m) = model.plane {
             if !self.cross_start.is_empty() {
                 let x = &self.x_ref;
                 let h_max = model.h.iter().cloned().fold(0.0, f64::max);
                 let reach = 2.0 * h_max + self.skin;
                 start.push(0);
                 for i in 0..x.len() {
-                    if m.distance(x[i]) < reach {
+                    if m.within(x[i], reach) {
                         for &j in self.cross_of(i) {
                             let j_ = j as usize;
                             let round = model.h[i] + model.h[j_] + self.skin;
@@ -335,6 +340,16 @@ impl Neighbours {
             + size_of_val(&self.cross_images[..])
             + size_of_val(&self.support_ref[..])
     }
+}
+
+/// Where an image row's entry keeps its image's kind (an index into
+/// [`Model::images`]): the bits above the particle's index.
+const KIND_SHIFT: u32 = 30;
+
+/// An image row's entry: the particle's index and its image's kind.
+#[inline]
+pub fn image_entry(e: u32) -> (u32, usize) {
+    (e & ((1 << KIND_SHIFT) - 1), (e >> KIND_SHIFT) as usize)
 }
 
 /// Candidate `j` of particle `i` if it lies within the pair's support in

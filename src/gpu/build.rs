@@ -104,7 +104,7 @@ impl GpuSolver {
         if model.rubs {
             return Err("contact friction runs on the CPU path only".to_string());
         }
-        if model.mirror.is_some() && !model.axisymmetric {
+        if model.plane.is_some() {
             return Err("a symmetry plane runs on the CPU path only".to_string());
         }
         let n = model.len();

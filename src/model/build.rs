@@ -141,11 +141,17 @@ impl Model {
             energy_guard: false,
             energy_floor: 0.0,
             axisymmetric: scene.axisymmetric(),
-            mirror: if scene.axisymmetric() {
-                Some(crate::math::Mirror::AXIS)
-            } else {
-                scene.symmetry_plane().map(|s| s.mirror())
+            images: {
+                use crate::math::Mirror;
+                let plane = scene.symmetry_plane().map(|s| s.mirror());
+                match (scene.axisymmetric(), plane) {
+                    (true, Some(p)) => vec![Mirror::AXIS, p, Mirror::AXIS.then(&p)],
+                    (true, None) => vec![Mirror::AXIS],
+                    (false, Some(p)) => vec![p],
+                    (false, None) => Vec::new(),
+                }
             },
+            plane: scene.symmetry_plane().map(|s| s.mirror()),
             adaptive: sim.adaptive(),
             band: sim.band(),
             variational: sim.stress_form == crate::scene::StressForm::Variational,
@@ -335,7 +341,7 @@ impl Model {
                     // boundary test (an image is never nearer than its
                     // particle, so the cells around x_i hold every one
                     // within reach).
-                    if let Some(m) = self.mirror {
+                    for m in &self.images {
                         add(x[i] - m.point(x[j]));
                     }
                     if j != i {

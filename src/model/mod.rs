@@ -124,10 +124,14 @@ pub struct Model {
     /// Bodies of revolution (docs/method.md §12): `x` is the radius, masses
     /// are rings', and [`State::rho`] holds `η = 2π r ρ`.
     pub axisymmetric: bool,
-    /// The line the kernel sums see mirror images across: the axis of a
-    /// body of revolution or the scene's symmetry plane
-    /// (docs/method.md §12, §13); none otherwise.
-    pub mirror: Option<crate::math::Mirror>,
+    /// The mirror images the kernel sums see (docs/method.md §12, §13):
+    /// across the axis of a body of revolution, across the scene's
+    /// symmetry plane, and with both across the corner they make (in that
+    /// order, the lists' image kinds); none otherwise.
+    pub images: Vec<crate::math::Mirror>,
+    /// The scene's symmetry plane, across which the contact also meets
+    /// the partners' images.
+    pub plane: Option<crate::math::Mirror>,
     /// Each particle's area in the r–z plane as placed, `m / (2π r₀ ρ₀)`:
     /// its reference volume in the kernel sums of a body of revolution
     /// ([`Model::reference_volume`]). Empty in plane strain.

@@ -85,12 +85,23 @@ impl Metric {
         }
     }
 
-    /// The mirror image across the axis `x = 0` (bodies of revolution).
+    /// The mirror image across the axis `x = 0` (bodies of revolution)
+    /// or any one line normal to a coordinate axis.
     #[inline]
     pub fn mirror(&self) -> Metric {
         Metric {
             xy: -self.xy,
             ..*self
+        }
+    }
+
+    /// The mirror image by `m` (across one line or two).
+    #[inline]
+    pub fn mirrored(&self, m: &crate::math::Mirror) -> Metric {
+        if m.shears() {
+            self.mirror()
+        } else {
+            *self
         }
     }
 

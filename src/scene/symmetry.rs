@@ -28,10 +28,7 @@ impl Symmetry {
     /// The reflection across the plane.
     pub fn mirror(&self) -> Mirror {
         let (axis, _) = self.axis();
-        Mirror {
-            axis,
-            at: self.point[axis],
-        }
+        Mirror::across(axis, self.point[axis])
     }
 
     /// How far `x` lies on the modelled side of the plane (negative

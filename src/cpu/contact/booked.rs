@@ -33,14 +33,12 @@ fn normal_rates(
         .map(|&p| {
             let p = p as usize;
             let mut gdot = DVec2::ZERO;
-            let m = model.mirror.unwrap_or(crate::math::Mirror::AXIS);
             for (b, image) in nb.round_with_images(model, &st.x, p) {
                 let j = b.j as usize;
                 let vol = model.reference_volume(j);
-                let (xj, vj) = if image {
-                    (m.point(st.x[j]), m.vector(v[j]))
-                } else {
-                    (st.x[j], v[j])
+                let (xj, vj) = match image {
+                    Some(m) => (m.point(st.x[j]), m.vector(v[j])),
+                    None => (st.x[j], v[j]),
                 };
                 gdot -= hessian_times(model, p, j, st.x[p] - xj, v[p] - vj) * vol;
             }
@@ -97,7 +95,7 @@ pub fn penalty_ahead(
         horizon,
         vb,
         ndot: normal_rates(model, st, nb, bd, vb),
-        plane: model.mirror.filter(|_| !model.axisymmetric),
+        plane: model.plane,
     };
     // Pass 1: every boundary particle against each partner body around it
     // (entry k for particle `bd.list[k]`; only boundary particles have
@@ -514,14 +512,13 @@ impl Booking<'_> {
             let b = (n_bar - nq * nq.dot(n_bar)) / bd.grad_norm[q];
             // j moves its image across the axis of a body of
             // revolution or a symmetry plane the mirror way.
-            let m = model.mirror.unwrap_or(crate::math::Mirror::AXIS);
             for (nbr, image) in nb.round_with_images(model, &st.x, q) {
                 let j = nbr.j as usize;
                 let vol = model.reference_volume(j);
-                let xj = if image { m.point(st.x[j]) } else { st.x[j] };
+                let xj = image.map_or(st.x[j], |m| m.point(st.x[j]));
                 let hb = hessian_times(model, q, j, st.x[q] - xj, b) * vol;
                 f += hb;
-                spread.push((nbr.j, if image { m.vector(-hb) } else { -hb }));
+                spread.push((nbr.j, image.map_or(-hb, |m| m.vector(-hb))));
             }
         }
         Gathered {

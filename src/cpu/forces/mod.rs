@@ -15,7 +15,7 @@ use glam::DVec2;
 
 use super::kinematics::{Kinematics, StressPoint};
 use super::neighbours::{Nbr, Neighbours};
-use crate::math::{mirror_mat, mirror_sym, Mat2, Mirror, Sym};
+use crate::math::{Mat2, Mirror, Sym};
 use crate::model::{Model, State};
 use crate::physics::strength;
 use crate::scene::ArtPairs;
@@ -113,13 +113,13 @@ impl Side {
         Side {
             x: m.point(self.x),
             v: m.vector(self.v),
-            l: mirror_mat(&self.l),
-            gv: mirror_mat(&self.gv),
+            l: m.mat(&self.l),
+            gv: m.mat(&self.gv),
             vh: m.vector(self.vh),
-            gh: mirror_mat(&self.gh),
+            gh: m.mat(&self.gh),
             pt: StressPoint {
-                sr2: mirror_sym(&self.pt.sr2),
-                r: mirror_sym(&self.pt.r),
+                sr2: m.sym(&self.pt.sr2),
+                r: m.sym(&self.pt.r),
                 ..self.pt
             },
         }
@@ -404,8 +404,7 @@ pub fn rates_and_dissipation(
             // or a symmetry plane (none without) as more neighbours, and
             // the hoop stress's acceleration and its work.
             let side_i = Side::of(st, kin, pts, i);
-            let m = model.mirror.unwrap_or(Mirror::AXIS);
-            for (b, _) in nb.images_of(model, st.frame(), i) {
+            for (b, _, m) in nb.images_of(model, st.frame(), i) {
                 let j = b.j as usize;
                 let image = Side::of(st, kin, pts, j).mirrored(&m);
                 let p = pair_terms_of(model, st, &kin.surface, (i, &side_i), (j, &image), &b);

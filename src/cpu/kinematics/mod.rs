@@ -199,8 +199,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
             // The mirror images across the axis of a body of revolution
             // or a symmetry plane (none without), as more neighbours;
             // `round_colour` redoes the colour where supports adapt.
-            let m = model.mirror.unwrap_or(Mirror::AXIS);
-            for (b, _) in nb.images_of(model, st.frame(), i) {
+            for (b, _, m) in nb.images_of(model, st.frame(), i) {
                 let j = b.j as usize;
                 let gm = b.gw * gradient_weight(model, st, &vol, i, j);
                 sum.m += Mat2::outer(gm, m.point(st.x[j]) - st.x[i]);

@@ -46,7 +46,7 @@ pub fn rates_and_dissipation(
     pts: &[StressPoint],
 ) -> (Vec<DVec2>, Vec<f64>, f64) {
     let (mut dv, mut de, mut d, _) = sums((model, st, nb, kin, pts), lanes_serve(model), None);
-    if model.mirror.is_some() {
+    if !model.images.is_empty() {
         d += crate::cpu::axis::add_rates(model, st, nb, kin, pts, (&mut dv, &mut de));
     }
     (dv, de, d)

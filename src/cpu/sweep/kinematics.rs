@@ -75,7 +75,7 @@ fn kinematics_in<S: Seen>(
                 sj.n += near;
             }
         });
-        if model.mirror.is_some() {
+        if !model.images.is_empty() {
             crate::cpu::axis::add_kinematics(model, st, nb, &vol, &vel, &mut sums);
         }
         return finish(model, st, sums);
@@ -100,7 +100,7 @@ fn kinematics_in<S: Seen>(
             sj.n += near;
         }
     });
-    if model.mirror.is_some() {
+    if !model.images.is_empty() {
         crate::cpu::axis::add_kinematics(model, st, nb, &vol, &vel, &mut sums);
     }
     finish(model, st, sums)

@@ -319,8 +319,8 @@ fn place(
     // The direction of the half rings of a disk or ring centred on the
     // axis or the plane.
     let half = |center: &[f64]| {
-        if axisymmetric {
-            (center[0] == 0.0).then_some(DVec2::X)
+        if axisymmetric && center[0] == 0.0 {
+            Some(DVec2::X)
         } else {
             plane
                 .filter(|s| s.side(DVec2::new(center[0], center[1])) == 0.0)

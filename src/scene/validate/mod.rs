@@ -6,7 +6,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::{place_bodies, Interaction, Probe, Scene, Shape};
+use super::{place_bodies, Interaction, Lattice, Probe, Scene, Shape};
 use crate::error::SceneError;
 use crate::physics::material::{cfl_step, MaterialModel};
 
@@ -324,12 +324,6 @@ fn validate_symmetry(scene: &Scene) -> R {
             ),
         ));
     }
-    if scene.axisymmetric() {
-        return Err(SceneError::at(
-            "symmetry[0]",
-            "is not available for bodies of revolution (geometry = \"axisymmetric\") so far",
-        ));
-    }
     dimension_of("symmetry[0].normal", &p.normal, 2)?;
     dimension_of("symmetry[0].point", &p.point, 2)?;
     let n = &p.normal;
@@ -343,6 +337,35 @@ fn validate_symmetry(scene: &Scene) -> R {
         ));
     }
     let (k, _) = p.axis();
+    if scene.axisymmetric() && k == 0 {
+        return Err(SceneError::at(
+            "symmetry[0].normal",
+            "in a body of revolution a symmetry plane is normal to the axis ([0, 1] or [0, -1]): the axis itself is already a mirror",
+        ));
+    }
+    if scene.axisymmetric() {
+        // Quarter rings are not a lattice the placement builds.
+        for (i, b) in scene.bodies.iter().enumerate() {
+            if let Shape::Disk {
+                center,
+                lattice: Lattice::Polar,
+                ..
+            }
+            | Shape::Ring {
+                center,
+                lattice: Lattice::Polar,
+                ..
+            } = &b.shape
+            {
+                if center[0] == 0.0 && center.get(1) == Some(&p.point[1]) {
+                    return Err(SceneError::at(
+                        format!("bodies[{i}].shape.lattice"),
+                        "a polar disk or ring centred on both the axis and the symmetry plane would need quarter rings: use lattice = \"square\", or a particles file",
+                    ));
+                }
+            }
+        }
+    }
     if let Some(g) = scene.simulation.gravity.as_ref().filter(|g| g[k] != 0.0) {
         return Err(SceneError::at(
             "simulation.gravity",
