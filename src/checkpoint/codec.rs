@@ -123,6 +123,20 @@ impl Record for u32 {
     }
 }
 
+impl Record for bool {
+    const MIN: usize = 1;
+    fn put(&self, w: &mut Writer) {
+        w.0.push(u8::from(*self));
+    }
+    fn get(r: &mut Reader) -> Result<Self, String> {
+        match r.take(1)?[0] {
+            0 => Ok(false),
+            1 => Ok(true),
+            b => Err(format!("a flag reads {b}, neither 0 nor 1")),
+        }
+    }
+}
+
 impl Record for f64 {
     const MIN: usize = 8;
     fn put(&self, w: &mut Writer) {

@@ -57,7 +57,7 @@ const MAGIC: &[u8; 8] = b"SPHCKPT\n";
 /// (Version 5: a scene without `[artificial_stress]` runs the default
 /// close-pair form, so a version 4 checkpoint resumed would change its
 /// physics.)
-const VERSION: u64 = 14;
+const VERSION: u64 = 15;
 
 /// What the summary of the whole run needs from its start.
 #[derive(Debug, Clone, PartialEq)]

@@ -59,6 +59,7 @@ impl Record for State {
         self.entry.put(w);
         self.slip.put(w);
         self.slip_stiffness.put(w);
+        self.sliding.put(w);
         self.friction_heat.put(w);
         self.eps_p.put(w);
         self.temperature.put(w);
@@ -87,6 +88,7 @@ impl Record for State {
             entry: Record::get(r)?,
             slip: Record::get(r)?,
             slip_stiffness: Record::get(r)?,
+            sliding: Record::get(r)?,
             friction_heat: Record::get(r)?,
             eps_p: Record::get(r)?,
             temperature: Record::get(r)?,
@@ -219,23 +221,26 @@ fn put_friction(f: &[(u32, Friction)], w: &mut Writer) {
         fr.stiffness.put(w);
         fr.cap.put(w);
         fr.rate.put(w);
+        fr.sliding.put(w);
     }
 }
 
 fn get_friction(r: &mut Reader) -> Result<Vec<(u32, Friction)>, String> {
-    let n = r.count(28)?;
+    let n = r.count(29)?;
     (0..n)
         .map(|_| {
             let i: u32 = Record::get(r)?;
             let stiffness = Record::get(r)?;
             let cap = Record::get(r)?;
             let rate = Record::get(r)?;
+            let sliding = Record::get(r)?;
             Ok((
                 i,
                 Friction {
                     stiffness,
                     cap,
                     rate,
+                    sliding,
                 },
             ))
         })

@@ -99,6 +99,7 @@ fn small() -> Checkpoint {
                             stiffness: 2.0,
                             cap: 1e-6,
                             rate: -0.5,
+                            sliding: true,
                         },
                     )],
                     ..Default::default()

@@ -69,6 +69,7 @@ pub(super) fn advance(
         out.friction_heat = base.friction_heat + r.friction_rate * k;
         super::contact::advance_slip(&base.slip, &r.friction, k, &mut out.slip);
         out.slip_stiffness.clone_from(&base.slip_stiffness);
+        out.sliding.clone_from(&base.sliding);
     }
     out.held_impulse.clone_from(&base.held_impulse);
     out.held_work = base.held_work;

@@ -219,6 +219,7 @@ fn kick_drift(model: &Model, st: &State, kn: &Rates, dt: f64, half: &mut State, 
         // The state at n+1 keeps the springs of n until its return.
         next.slip.clone_from(&half.slip);
         next.slip_stiffness.clone_from(&st.slip_stiffness);
+        next.sliding.clone_from(&st.sliding);
     }
     half.held_impulse.clone_from(&st.held_impulse);
     half.held_work = st.held_work;

@@ -75,9 +75,12 @@ impl Model {
         if model.contact {
             // Bodies that start overlapping are pushed apart (entry 0).
             state.entry = vec![0.0; model.len()];
-            model.rubs = model.friction > 0.0 || model.friction_pairs.iter().any(|p| p.2 > 0.0);
+            // The static coefficient is never below the sliding one.
+            model.rubs = model.friction.sticking > 0.0
+                || model.friction_pairs.iter().any(|p| p.2.sticking > 0.0);
             if model.rubs {
                 state.slip = vec![0.0; model.len()];
+                state.sliding = vec![false; model.len()];
                 state.slip_stiffness = vec![0.0; model.len()];
             }
         }
@@ -115,7 +118,10 @@ impl Model {
             body: Vec::with_capacity(n),
             offset: Vec::with_capacity(n),
             contact: sim.interaction == Interaction::Penalty && scene.bodies.len() > 1,
-            friction: cs.friction,
+            friction: Coulomb {
+                sliding: cs.friction,
+                sticking: cs.static_friction.unwrap_or(cs.friction),
+            },
             friction_pairs: cs
                 .pairs
                 .iter()
@@ -128,7 +134,11 @@ impl Model {
                             .expect("validated: a known body") as u32
                     };
                     let (a, b) = (id(&p.bodies[0]), id(&p.bodies[1]));
-                    (a.min(b), a.max(b), p.friction)
+                    let mu = Coulomb {
+                        sliding: p.friction,
+                        sticking: p.static_friction.unwrap_or(p.friction),
+                    };
+                    (a.min(b), a.max(b), mu)
                 })
                 .collect(),
             rubs: false,

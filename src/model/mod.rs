@@ -42,6 +42,14 @@ pub struct BodyInfo {
 /// GPU path's return (about 1e-7), far below any elastic approach to it.
 pub const YIELD_TOL: f64 = 1e-5;
 
+/// A pair of bodies' Coulomb coefficients (docs/method.md §8.6): the
+/// sliding `μ` and the static `μ_s ≥ μ` a sticking contact holds to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Coulomb {
+    pub sliding: f64,
+    pub sticking: f64,
+}
+
 /// Everything constant during a run.
 #[derive(Debug, Clone)]
 pub struct Model {
@@ -85,12 +93,13 @@ pub struct Model {
     pub offset: Vec<f64>,
     /// `true` when the penalty contact runs: penalty mode and two or more bodies.
     pub contact: bool,
-    /// The Coulomb coefficient of every contact (`[contact] friction`;
-    /// 0: frictionless) but the pairs of [`Model::friction_pairs`].
-    pub friction: f64,
-    /// `(a, b, μ)` with `a < b`: the pairs of bodies with their own
-    /// coefficient (`[[contact.pairs]]`).
-    pub friction_pairs: Vec<(u32, u32, f64)>,
+    /// The Coulomb coefficients of every contact (`[contact] friction`
+    /// and `static_friction`; 0: frictionless) but the pairs of
+    /// [`Model::friction_pairs`].
+    pub friction: Coulomb,
+    /// `(a, b, coefficients)` with `a < b`: the pairs of bodies with their
+    /// own (`[[contact.pairs]]`).
+    pub friction_pairs: Vec<(u32, u32, Coulomb)>,
     /// Whether any pair of bodies rubs: the state then carries the slips
     /// and the contact's friction pass runs.
     pub rubs: bool,
@@ -232,6 +241,10 @@ pub struct State {
     /// which its spring does not push against; negative: not a boundary
     /// particle at the last step's start. Empty without contact.
     pub entry: Vec<f64>,
+    /// Whether each boundary particle's friction slid at the last return
+    /// (it then holds to the sliding coefficient until it sticks again,
+    /// docs/method.md §8.6); empty without friction.
+    pub sliding: Vec<bool>,
     /// Each boundary particle's elastic tangential slip against the
     /// partner it presses on, m, along `t = ẑ × n` of its pass
     /// (docs/method.md §8.6); empty without friction.
@@ -305,6 +318,7 @@ impl State {
             spring_work: 0.0,
             entry: Vec::new(),
             slip: Vec::new(),
+            sliding: Vec::new(),
             slip_stiffness: Vec::new(),
             friction_heat: 0.0,
             eps_p: Vec::new(),
@@ -364,8 +378,8 @@ mod held;
 mod tests;
 
 impl Model {
-    /// The Coulomb coefficient between bodies a and b.
-    pub fn friction_between(&self, a: u32, b: u32) -> f64 {
+    /// The Coulomb coefficients between bodies a and b.
+    pub fn friction_between(&self, a: u32, b: u32) -> Coulomb {
         let (a, b) = (a.min(b), a.max(b));
         self.friction_pairs
             .iter()

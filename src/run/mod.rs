@@ -113,11 +113,19 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
     // constraints run on the CPU path alone so far.
     let theta = scene.simulation.dispersion_correction;
     let cs = scene.contact_settings();
-    let (mu, pair_mu) = (cs.friction, cs.pairs.iter().any(|p| p.friction > 0.0));
+    let mu = cs.friction.max(cs.static_friction.unwrap_or(0.0));
+    let pair_mu = cs
+        .pairs
+        .iter()
+        .any(|p| p.friction.max(p.static_friction.unwrap_or(0.0)) > 0.0);
     let cpu_only = if theta > 0.0 {
         Some(format!("dispersion_correction = {theta}"))
     } else if mu > 0.0 {
-        Some(format!("contact.friction = {mu}"))
+        Some(if cs.friction > 0.0 {
+            format!("contact.friction = {}", cs.friction)
+        } else {
+            format!("contact.static_friction = {mu}")
+        })
     } else if pair_mu {
         Some("contact.pairs' friction".to_string())
     } else if !scene.symmetry.is_empty() {

@@ -190,6 +190,10 @@ pub struct ContactSettings {
     /// (docs/method.md §8.6); 0: frictionless.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub friction: f64,
+    /// The static coefficient `μ_s ≥ μ` a sticking contact holds to
+    /// before it slides at `friction` (docs/method.md §8.6); none: `μ`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_friction: Option<f64>,
     /// Pairs of bodies whose Coulomb coefficient is not `friction`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub pairs: Vec<ContactPair>,
@@ -203,6 +207,9 @@ pub struct ContactPair {
     pub bodies: [String; 2],
     /// Their Coulomb coefficient.
     pub friction: f64,
+    /// Their static coefficient; none: their `friction`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_friction: Option<f64>,
 }
 
 fn is_zero(v: &f64) -> bool {
@@ -214,6 +221,7 @@ impl Default for ContactSettings {
         Self {
             boundary_threshold: default_boundary_threshold(),
             friction: 0.0,
+            static_friction: None,
             pairs: Vec::new(),
         }
     }

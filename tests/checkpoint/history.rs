@@ -142,13 +142,16 @@ fn gpu_resume_keeps_a_plastic_rod_on_its_wall() {
 /// The disk sliding on its wall with friction
 /// (scenes/friction/disk_wall_oblique.toml), checkpointed at 7 µs with
 /// every contact particle's slip and the leapfrog's carried friction in
-/// flight, and resumed: the same history bytes and final state (slips and
+/// flight (with a static coefficient, the particles' sliding flags too),
+/// and resumed: the same history bytes and final state (slips and
 /// frictional heat included) on both integrators.
 #[test]
 fn cpu_resume_keeps_a_disk_sliding() {
     for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
         let mut scene = load("scenes/friction/disk_wall_oblique.toml");
         scene.simulation.integrator = integrator;
+        // Each particle's sliding flag rides through the checkpoint too.
+        scene.contact.as_mut().unwrap().static_friction = Some(0.3);
         let tmp = tempfile::tempdir().unwrap();
         let (full, ck) = (tmp.path().join("full"), tmp.path().join("ck"));
         let whole = run_scene(&scene, None, &write_opts(&full, Backend::Cpu, None)).expect("runs");

@@ -141,6 +141,22 @@ fn non_positive_and_negative_values() {
             "contact.friction",
         ),
         case(
+            "static_friction_below_friction",
+            &[(
+                "[materials.steel]",
+                "[contact]\nfriction = 0.3\nstatic_friction = 0.2\n\n[materials.steel]",
+            )],
+            "contact.static_friction",
+        ),
+        case(
+            "pair_static_friction_below_its_friction",
+            &[(
+                "[materials.steel]",
+                "[contact]\n[[contact.pairs]]\nbodies = [\"left\", \"right\"]\nfriction = 0.1\nstatic_friction = 0.05\n\n[materials.steel]",
+            )],
+            "contact.pairs[0].static_friction",
+        ),
+        case(
             "friction_pair_with_an_unknown_body",
             &[(
                 "[materials.steel]",

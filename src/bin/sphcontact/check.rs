@@ -310,16 +310,25 @@ fn print_contact(scene: &Scene, model: &Model, dt: f64) {
             );
         }
     }
-    if model.friction > 0.0 {
+    let coulomb = |mu: sphcontact::model::Coulomb| {
+        if mu.sticking > mu.sliding {
+            format!("μ {} (static {})", mu.sliding, mu.sticking)
+        } else {
+            format!("μ {}", mu.sliding)
+        }
+    };
+    if model.friction.sticking > 0.0 {
         println!(
-            "            Coulomb friction μ {} on every pair (CPU path only)",
-            model.friction
+            "            Coulomb friction {} on every pair (CPU path only)",
+            coulomb(model.friction)
         );
     }
     for &(a, b, mu) in &model.friction_pairs {
         println!(
-            "            Coulomb friction μ {mu} between {} and {} (CPU path only)",
-            model.bodies[a as usize].name, model.bodies[b as usize].name
+            "            Coulomb friction {} between {} and {} (CPU path only)",
+            coulomb(mu),
+            model.bodies[a as usize].name,
+            model.bodies[b as usize].name
         );
     }
     println!(

@@ -112,7 +112,7 @@ fn rub(bk: &Booking, p: usize, own: &P1, gathered: &Gathered) -> Rub {
     let (model, st, bd) = (bk.model, bk.st, bk.bd);
     let (bp, bq) = (model.body[p], s.body);
     let mu = model.friction_between(bp, bq);
-    if mu == 0.0 {
+    if mu.sticking == 0.0 {
         return Rub::default();
     }
     let t = n.perp();
@@ -136,17 +136,25 @@ fn rub(bk: &Booking, p: usize, own: &P1, gathered: &Gathered) -> Rub {
     let zt = series(za, zb);
     let w = (st.v[p] - s.swv / sw).dot(t);
     let w_book = bk.book.map_or(w, |b| (b[p] - s.swb / sw).dot(t));
-    let limit = mu * normal / a;
-    // The slip the Coulomb limit allows: the state's slip is returned
-    // onto it at this state ([`return_slip`]).
-    let cap = if kt > 0.0 { limit / kt } else { 0.0 };
+    // The sliding limit, and the limit a sticking pass holds to: the
+    // static one unless the particle slid at the last return.
+    let limit = mu.sliding * normal / a;
+    let hold = if st.sliding[p] {
+        limit
+    } else {
+        mu.sticking * normal / a
+    };
+    // The slip each limit allows: the state's slip is returned onto the
+    // step's at this state ([`return_slip`]).
+    let cap_of = |l: f64| if kt > 0.0 { l / kt } else { 0.0 };
+    let (cap, cap_hold) = (cap_of(limit), cap_of(hold));
     let u0 = st.slip[p];
     let c = f * a * kt;
     // Sticking, the slip `horizon` ahead; sliding, where it is (both
-    // held to the limit).
-    let u_stick = (u0 + bk.horizon * w).clamp(-cap, cap);
+    // held to their limit).
+    let u_stick = (u0 + bk.horizon * w).clamp(-cap_hold, cap_hold);
     let trial = kt * u_stick + zt * w;
-    let stick = trial.abs() <= limit;
+    let stick = trial.abs() <= hold;
     let u = if stick { u_stick } else { u0.clamp(-cap, cap) };
     let (tau, rate, heat, spring) = if stick {
         // Sticking: the spring stores, the dashpot heats.
@@ -168,8 +176,9 @@ fn rub(bk: &Booking, p: usize, own: &P1, gathered: &Gathered) -> Rub {
         share: Some((bq, force / sw)),
         friction: Friction {
             stiffness: c,
-            cap,
+            cap: if stick { cap_hold } else { cap },
             rate,
+            sliding: !stick,
         },
         stat: Some((bq, [f * a * tau, a * (w_book - rate).abs(), a])),
     }

@@ -171,6 +171,9 @@ pub struct Friction {
     /// The slip's rate at the booking velocities: the relative tangential
     /// velocity while the pass sticks, 0 while it slides.
     pub rate: f64,
+    /// Whether the pass slides (it holds to the sliding coefficient until
+    /// it sticks again).
+    pub sliding: bool,
 }
 
 /// The Coulomb return at the end of a step (docs/method.md §8.6): each
@@ -198,6 +201,7 @@ pub fn return_slip(model: &Model, friction: &[(u32, Friction)], st: &mut State) 
         release(i, 0.5 * fr.stiffness * (u * u - uc * uc), &mut st.e);
         st.slip[i] = uc;
         st.slip_stiffness[i] = fr.stiffness;
+        st.sliding[i] = fr.sliding;
     }
     for (i, held) in held.into_iter().enumerate() {
         if !held && (st.slip[i] != 0.0 || st.slip_stiffness[i] != 0.0) {
@@ -205,6 +209,9 @@ pub fn return_slip(model: &Model, friction: &[(u32, Friction)], st: &mut State) 
             release(i, 0.5 * st.slip_stiffness[i] * u * u, &mut st.e);
             st.slip[i] = 0.0;
             st.slip_stiffness[i] = 0.0;
+        }
+        if !held {
+            st.sliding[i] = false;
         }
     }
     // The springs had absorbed it (`spring_work`); it is heat now.

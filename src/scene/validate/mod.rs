@@ -33,6 +33,18 @@ fn non_negative(key: &str, v: f64) -> R {
     }
 }
 
+/// A static coefficient, if given, is finite and no smaller than the
+/// sliding one `mu`.
+fn static_at_least(key: &str, v: Option<f64>, mu: f64) -> R {
+    match v {
+        Some(s) if !(s.is_finite() && s >= mu) => Err(SceneError::at(
+            key,
+            format!("must be >= the sliding coefficient friction = {mu} (got {s})"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 fn finite(key: &str, v: &[f64]) -> R {
     match v.iter().find(|x| !x.is_finite()) {
         Some(x) => Err(SceneError::at(key, format!("must be finite (got {x})"))),
@@ -150,6 +162,7 @@ fn validate_simulation(scene: &Scene) -> R {
     if let Some(c) = &scene.contact {
         positive("contact.boundary_threshold", c.boundary_threshold)?;
         non_negative("contact.friction", c.friction)?;
+        static_at_least("contact.static_friction", c.static_friction, c.friction)?;
     }
     if let Some(v) = scene.output.history_interval {
         positive("output.history_interval", v)?;
@@ -299,6 +312,11 @@ fn validate_contact_pairs(scene: &Scene, names: &HashSet<&str>) -> R {
             ));
         }
         non_negative(&format!("contact.pairs[{k}].friction"), p.friction)?;
+        static_at_least(
+            &format!("contact.pairs[{k}].static_friction"),
+            p.static_friction,
+            p.friction,
+        )?;
     }
     Ok(())
 }
@@ -382,7 +400,10 @@ fn validate_symmetry(scene: &Scene) -> R {
         ));
     }
     let cs = scene.contact_settings();
-    if cs.friction > 0.0 || cs.pairs.iter().any(|p| p.friction > 0.0) {
+    let rubs = |mu: f64, s: Option<f64>| mu > 0.0 || s.is_some_and(|s| s > 0.0);
+    if rubs(cs.friction, cs.static_friction)
+        || cs.pairs.iter().any(|p| rubs(p.friction, p.static_friction))
+    {
         return Err(SceneError::at(
             "contact.friction",
             "friction is not available with a symmetry plane so far",
