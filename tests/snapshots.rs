@@ -398,3 +398,73 @@ fn run_draws_its_history() {
     );
     assert!(scene.probes.len() >= 5, "a panel a probe");
 }
+
+/// The images of a GIF file, walking its blocks (GIF89a: the screen
+/// descriptor and its colour table, then extensions and images, each
+/// image a descriptor, its colour table and its data sub-blocks).
+fn gif_images(b: &[u8]) -> usize {
+    let table = |flags: u8| {
+        if flags & 0x80 != 0 {
+            3 << ((flags & 7) + 1)
+        } else {
+            0
+        }
+    };
+    let sub_blocks = |mut i: usize| {
+        while b[i] != 0 {
+            i += 1 + b[i] as usize;
+        }
+        i + 1
+    };
+    let (mut i, mut images) = (13 + table(b[10]), 0);
+    loop {
+        match b[i] {
+            0x21 => i = sub_blocks(i + 2),
+            0x2c => {
+                images += 1;
+                i = sub_blocks(i + 10 + table(b[i + 9]) + 1);
+            }
+            0x3b => return images,
+            x => panic!("not a GIF block at byte {i}: {x:#x}"),
+        }
+    }
+}
+
+/// `sphcontact render` (docs/usage.md, "Particle pictures"): its reader
+/// gives back the last snapshot's time, positions and velocities as the
+/// run ended, to the bit; it draws one frame a snapshot; an unknown field
+/// and a range upside down are refused with the reason.
+#[test]
+fn render_reads_each_snapshot_back_and_draws_it() {
+    use sphcontact::output::render;
+    let scene = disks(2e-6, 1e-6, "penalty");
+    let tmp = tempfile::tempdir().unwrap();
+    let out = run_on(&scene, Backend::Cpu, Some(tmp.path()));
+    let files = render::snapshot_files(tmp.path()).unwrap();
+    assert_eq!(files.len(), 3);
+    let last = render::read_vtu(files.last().unwrap()).unwrap();
+    assert_eq!(last.time, out.state.t);
+    assert_eq!(last.x, out.state.x);
+    let vx: Vec<f64> = out.state.v.iter().map(|v| v.x).collect();
+    assert_eq!(last.field("velocity_x").unwrap(), vx);
+    let speed: Vec<f64> = out.state.v.iter().map(|v| v.length()).collect();
+    assert_eq!(last.field("speed").unwrap(), speed);
+    let mut frames = render::render(tmp.path(), "speed", None, true).unwrap();
+    assert_eq!(frames.len(), 4);
+    let gif = frames.pop().unwrap();
+    let b = std::fs::read(&gif).unwrap();
+    assert_eq!(&b[..6], b"GIF89a", "{}", gif.display());
+    let le = |i: usize| u16::from_le_bytes([b[i], b[i + 1]]);
+    assert_eq!((le(6), le(8)), (1000, 800));
+    assert_eq!(gif_images(&b), 3, "one image a snapshot");
+    for f in &frames {
+        let b = std::fs::read(f).unwrap();
+        assert_eq!(&b[..8], b"\x89PNG\r\n\x1a\n");
+        let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+        assert_eq!((be(16), be(20)), (1000, 800));
+    }
+    let unknown = render::render(tmp.path(), "spead", None, false).unwrap_err();
+    assert!(unknown.contains("unknown field 'spead'") && unknown.contains("speed"));
+    let upside = render::render(tmp.path(), "speed", Some((1.0, 0.0)), false).unwrap_err();
+    assert!(upside.contains("--range"), "{upside}");
+}

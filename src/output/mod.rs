@@ -2,6 +2,7 @@
 //! the particle snapshots ([`vtk`]).
 
 pub mod history_plot;
+pub mod render;
 pub mod vtk;
 
 use serde::Serialize;

@@ -41,15 +41,52 @@ pub fn field_plot(
     value_label: &str,
     field: &Field,
 ) -> Result<(), PlotError> {
+    check_lengths(field)?;
+    guarded(|| {
+        let root = BitMapBackend::new(path, FIELD_SIZE).into_drawing_area();
+        draw_field(&root, title, [x_label, y_label, value_label], field)
+    })
+}
+
+/// [`field_plot`]'s pictures of `frames` (each a title and a field) as
+/// one animated GIF, `delay_ms` between frames.
+pub fn field_animation(
+    path: &Path,
+    frames: &[(String, Field)],
+    [x_label, y_label, value_label]: [&str; 3],
+    delay_ms: u32,
+) -> Result<(), PlotError> {
+    for (_, f) in frames {
+        check_lengths(f)?;
+    }
+    guarded(|| {
+        let root = BitMapBackend::gif(path, FIELD_SIZE, delay_ms)
+            .map_err(|e| PlotError::Draw(e.to_string()))?
+            .into_drawing_area();
+        for (title, f) in frames {
+            draw_field(&root, title, [x_label, y_label, value_label], f)?;
+        }
+        Ok(())
+    })
+}
+
+fn check_lengths(field: &Field) -> Result<(), PlotError> {
     let (n, ny, nv) = (field.x.len(), field.y.len(), field.value.len());
     if ny != n || nv != n {
         let msg = format!("field lengths differ: x {n}, y {ny}, value {nv}");
         return Err(PlotError::Input(msg));
     }
-    guarded(|| draw_field(path, title, [x_label, y_label, value_label], field))
+    Ok(())
 }
 
-fn draw_field(path: &Path, title: &str, labels: [&str; 3], f: &Field) -> Result<(), PlotError> {
+/// Draws one picture on `root` and presents it (a PNG's file, a GIF's
+/// next frame).
+fn draw_field(
+    root: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    title: &str,
+    labels: [&str; 3],
+    f: &Field,
+) -> Result<(), PlotError> {
     let pts: Vec<(f64, f64, f64)> = (0..f.x.len())
         .map(|i| (f.x[i], f.y[i], f.value[i]))
         .filter(|p| usable(p.0) && usable(p.1))
@@ -57,13 +94,12 @@ fn draw_field(path: &Path, title: &str, labels: [&str; 3], f: &Field) -> Result<
     let mut xa = Axis::new(pts.iter().map(|p| p.0), false);
     let mut ya = Axis::new(pts.iter().map(|p| p.1), false);
     // The colour bar spans the data exactly unless that range is degenerate.
-    let (lo, hi) = extent(pts.iter().map(|p| p.2));
+    let (lo, hi) = f.range.unwrap_or_else(|| extent(pts.iter().map(|p| p.2)));
     let va = if lo < hi {
         Axis { lo, hi, log: false }
     } else {
         Axis::new(pts.iter().map(|p| p.2), false)
     };
-    let root = BitMapBackend::new(path, FIELD_SIZE).into_drawing_area();
     root.fill(&WHITE)?;
     let body = if title.is_empty() {
         root.clone()
@@ -71,9 +107,9 @@ fn draw_field(path: &Path, title: &str, labels: [&str; 3], f: &Field) -> Result<
         root.titled(title, font(24))?
     };
     let tick = font(16);
-    let bar_w = va.label_width(&root, &tick) + 100;
+    let bar_w = va.label_width(root, &tick) + 100;
     let (main, bar) = body.split_horizontally(body.dim_in_pixel().0.saturating_sub(bar_w));
-    let (margin, x_area, y_area) = (12, 62, ya.label_width(&root, &tick) + 48);
+    let (margin, x_area, y_area) = (12, 62, ya.label_width(root, &tick) + 48);
     let build = |xr: Range<f64>, yr: Range<f64>| {
         ChartBuilder::on(&main)
             .margin(margin)
@@ -103,25 +139,18 @@ fn draw_field(path: &Path, title: &str, labels: [&str; 3], f: &Field) -> Result<
         .y_desc(labels[1]);
     mesh.x_label_formatter(&fx).y_label_formatter(&fy).draw()?;
     let colour = |v: f64| match v.is_finite() {
-        true => viridis((v - va.lo) / (va.hi - va.lo)),
+        true => viridis(((v - va.lo) / (va.hi - va.lo)).clamp(0.0, 1.0)),
         false => RGBColor(150, 150, 150),
     };
+    // Each particle a filled cell of its spacing (at least a pixel): cells
+    // tile a lattice into a field without the gaps round markers leave.
     let s = spacing(&pts);
-    if 0.5 * s * scale >= 3.0 {
-        // Slightly over half the spacing closes most of the lattice gaps.
-        let r = (0.55 * s * scale).min(40.0).round() as i32;
-        let dot = |&(x, y, v): &(f64, f64, f64)| Circle::new((x, y), r, colour(v).filled());
-        chart.draw_series(pts.iter().map(dot))?;
-    } else {
-        // At a few pixels per particle circles become blobs with holes between
-        // them, whereas squares tile a lattice into a smooth field.
-        let h = 0.5 * s.max(1.0 / scale);
-        let square = |&(x, y, v): &(f64, f64, f64)| {
-            Rectangle::new([(x - h, y - h), (x + h, y + h)], colour(v).filled())
-        };
-        chart.draw_series(pts.iter().map(square))?;
-    }
-    close_frame(&root, chart.plotting_area().get_pixel_range())?;
+    let h = 0.5 * s.max(1.0 / scale);
+    let square = |&(x, y, v): &(f64, f64, f64)| {
+        Rectangle::new([(x - h, y - h), (x + h, y + h)], colour(v).filled())
+    };
+    chart.draw_series(pts.iter().map(square))?;
+    close_frame(root, chart.plotting_area().get_pixel_range())?;
     // Colour bar: a narrow chart whose y axis is the value, labelled on the
     // right, spanning the same rows of pixels as the main plotting area.
     let mut cb = ChartBuilder::on(&bar)

@@ -18,7 +18,7 @@ mod style;
 #[cfg(test)]
 mod tests;
 
-pub use field::field_plot;
+pub use field::{field_animation, field_plot};
 pub use line::{line_plot, panel_plot};
 pub use style::font_available;
 
@@ -97,6 +97,8 @@ pub struct Field {
     pub x: Vec<f64>,
     pub y: Vec<f64>,
     pub value: Vec<f64>,
+    /// The colour bar's span; none: the values' own.
+    pub range: Option<(f64, f64)>,
 }
 
 /// Pixel size of field plots: a square-ish plotting area plus a colour bar.

@@ -70,7 +70,12 @@ fn field_plot_of_many_particles() {
         .collect();
     value[7] = f64::NAN;
     let start = std::time::Instant::now();
-    let f = Field { x, y, value };
+    let f = Field {
+        x,
+        y,
+        value,
+        range: None,
+    };
     field_plot(&d.join("f.png"), "σ field", "x (m)", "y (m)", "σ (Pa)", &f).unwrap();
     eprintln!("{n} particles drawn in {:?}", start.elapsed());
     assert_eq!(png_size(&d.join("f.png")), FIELD_SIZE);
@@ -109,6 +114,7 @@ fn degenerate_input_is_not_a_panic() {
             x: vec![1.0],
             y: vec![2.0],
             value: vec![f64::NAN],
+            range: None,
         },
     )
     .unwrap();

@@ -189,7 +189,12 @@ fn von_mises_at_peak(
         "Fig. 8: von Mises stress at peak force (t = {:.2} µs), polar, R/Δx = {r}",
         tp * 1e6
     );
-    let field = Field { x, y, value: vm };
+    let field = Field {
+        x,
+        y,
+        value: vm,
+        range: None,
+    };
     let path = rep.out.join("fig8_von_mises.png");
     if let Err(e) = plot::field_plot(
         &path,

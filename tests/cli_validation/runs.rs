@@ -215,6 +215,15 @@ fn symmetry_runs_on_the_cpu_path() {
     );
 }
 
+/// `render` on a directory without snapshots exits 2 and says how to get
+/// them.
+#[test]
+fn render_without_snapshots_says_why() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = sphcontact(tmp.path(), &["render", tmp.path().to_str().unwrap()]);
+    refused(&out, &["snapshot_interval"]);
+}
+
 /// The leapfrog runs by default; the midpoint rule (scene key or
 /// `--integrator`) runs on both paths, and the summary names it.
 #[test]

@@ -110,6 +110,28 @@ enum Command {
     /// Exit status 0 with a usable hardware adapter, 1 without
     /// (docs/usage.md, "When the GPU is not found").
     Doctor,
+    /// Draw a finished run's snapshots as pictures of one particle field.
+    ///
+    /// Each snapshot in OUT/snapshots/ becomes OUT/frames/FIELD_NNNNNN.png:
+    /// the particles as filled cells of their spacing, coloured by the
+    /// field on one scale for every frame, with its colour bar and unit
+    /// and the snapshot's time (docs/usage.md, "Particle pictures").
+    Render {
+        /// The run's output directory (it needs output.snapshot_interval).
+        out: PathBuf,
+        /// The field: density, pressure, stress_xx, stress_yy, stress_xy,
+        /// von_mises, internal_energy, plastic_strain, temperature, damage,
+        /// failure_time, velocity_x, velocity_y, speed, body, boundary.
+        #[arg(long, default_value = "von_mises")]
+        field: String,
+        /// The colour scale's ends (default: the field's least and
+        /// greatest over every snapshot).
+        #[arg(long, num_args = 2, value_names = ["LOW", "HIGH"], allow_negative_numbers = true)]
+        range: Option<Vec<f64>>,
+        /// Also join the frames into OUT/frames/FIELD.gif (10 frames a second).
+        #[arg(long)]
+        gif: bool,
+    },
 }
 
 #[derive(Args)]
@@ -381,6 +403,28 @@ fn command(cli: Cli) -> ExitCode {
         Command::Validate(args) => validate_cmd(args),
         Command::Bench(args) => bench_cmd(args),
         Command::Ballistic(args) => ballistic_cmd(args),
+        Command::Render {
+            out,
+            field,
+            range,
+            gif,
+        } => {
+            let range = range.map(|r| (r[0], r[1]));
+            match sphcontact::output::render::render(&out, &field, range, gif) {
+                Ok(files) => {
+                    println!(
+                        "{} files of {field} in {}",
+                        files.len(),
+                        out.join("frames").display()
+                    );
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
         Command::Doctor => {
             let d = sphcontact::doctor::diagnose();
             for l in &d.lines {
