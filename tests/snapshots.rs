@@ -463,6 +463,17 @@ fn render_reads_each_snapshot_back_and_draws_it() {
         let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
         assert_eq!((be(16), be(20)), (1000, 800));
     }
+    // `output.snapshot_png` draws the von Mises frames at the run's end.
+    let mut drawn = scene.clone();
+    drawn.output.snapshot_png = true;
+    let tmp2 = tempfile::tempdir().unwrap();
+    run_on(&drawn, Backend::Cpu, Some(tmp2.path()));
+    for k in 0..3 {
+        assert!(tmp2
+            .path()
+            .join(format!("frames/von_mises_{k:06}.png"))
+            .exists());
+    }
     let unknown = render::render(tmp.path(), "spead", None, false).unwrap_err();
     assert!(unknown.contains("unknown field 'spead'") && unknown.contains("speed"));
     let upside = render::render(tmp.path(), "speed", Some((1.0, 0.0)), false).unwrap_err();

@@ -338,6 +338,12 @@ fn run_from(
         if let Err(e) = crate::output::history_plot::write(d, &scene, &rec.history) {
             warn(opts, &mut late, format!("history.png not drawn: {e}"));
         }
+        let drew = rec.snaps.as_ref().is_some_and(|s| s.series.count() > 0);
+        if scene.output.snapshot_png && drew {
+            if let Err(e) = crate::output::render::render(d, "von_mises", None, false) {
+                warn(opts, &mut late, format!("snapshot pictures not drawn: {e}"));
+            }
+        }
     }
     let wall = start.wall_before + rec.start.elapsed().as_secs_f64();
     let snapshots = rec.snaps.as_ref().map_or((0, 0, 0.0), |s| {

@@ -152,4 +152,8 @@ pub struct Output {
     /// s; optional.
     #[serde(default)]
     pub snapshot_interval: Option<f64>,
+    /// Draw each snapshot as a PNG of the von Mises stress when the run
+    /// ends (`sphcontact render`'s frames).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub snapshot_png: bool,
 }

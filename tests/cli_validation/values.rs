@@ -141,6 +141,14 @@ fn non_positive_and_negative_values() {
             "contact.friction",
         ),
         case(
+            "snapshot_png_without_snapshots",
+            &[(
+                "[materials.steel]",
+                "[output]\nsnapshot_png = true\n\n[materials.steel]",
+            )],
+            "output.snapshot_png",
+        ),
+        case(
             "static_friction_below_friction",
             &[(
                 "[materials.steel]",

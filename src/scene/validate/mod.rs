@@ -167,6 +167,12 @@ fn validate_simulation(scene: &Scene) -> R {
     if let Some(v) = scene.output.history_interval {
         positive("output.history_interval", v)?;
     }
+    if scene.output.snapshot_png && scene.output.snapshot_interval.is_none() {
+        return Err(SceneError::at(
+            "output.snapshot_png",
+            "draws the snapshots, and needs output.snapshot_interval to write them",
+        ));
+    }
     if let Some(v) = scene.output.snapshot_interval {
         positive("output.snapshot_interval", v)?;
     }
