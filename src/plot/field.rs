@@ -142,10 +142,12 @@ fn draw_field(
         true => viridis(((v - va.lo) / (va.hi - va.lo)).clamp(0.0, 1.0)),
         false => RGBColor(150, 150, 150),
     };
-    // Each particle a filled cell of its spacing (at least a pixel): cells
-    // tile a lattice into a field without the gaps round markers leave.
+    // Each particle a filled cell of its spacing (at least a pixel), 1.4
+    // times as wide: cells tile a square lattice, and the overlap closes
+    // the pinholes where a polar lattice's rings meet (1.2 left some on
+    // the paper's disks at R/Δx = 50).
     let s = spacing(&pts);
-    let h = 0.5 * s.max(1.0 / scale);
+    let h = 0.7 * s.max(1.0 / scale);
     let square = |&(x, y, v): &(f64, f64, f64)| {
         Rectangle::new([(x - h, y - h), (x + h, y + h)], colour(v).filled())
     };
