@@ -91,6 +91,18 @@ fn adaptive_supports_run_on_both_paths() {
     assert!(stdout.contains("support     adaptive"), "{stdout}");
 }
 
+/// A scene with something the CPU path alone runs: `--backend gpu`
+/// refuses it (exit 2, naming `key` and the way out), `auto` runs it on
+/// the CPU path with one warning line. Returns auto's output directory.
+fn cpu_path_only(tmp: &Path, scene: &Path, key: &str) -> PathBuf {
+    let (out, _) = run_into(tmp, scene, "gpu", tmp.join("gpu"));
+    refused(&out, &[key, "--backend cpu"]);
+    let (out, dir) = run_into(tmp, scene, "auto", tmp.join("auto"));
+    let warning = the_warning(&out);
+    assert!(warning.contains("CPU path only"), "{warning}");
+    dir
+}
+
 /// The dispersion correction runs on the CPU path alone so far: `--backend
 /// gpu` refuses it (exit 2, naming the key and the way out) before any
 /// adapter is asked for, `auto` runs it on the CPU path with one warning
@@ -104,12 +116,7 @@ fn dispersion_correction_runs_on_the_cpu_path() {
         1,
     );
     let scene = write_scene(tmp.path(), "dispersion", &text);
-    let run = |backend: &str| run_into(tmp.path(), &scene, backend, tmp.path().join(backend));
-    let (out, _) = run("gpu");
-    refused(&out, &["dispersion_correction", "--backend cpu"]);
-    let (out, dir) = run("auto");
-    let warning = the_warning(&out);
-    assert!(warning.contains("CPU path only"), "{warning}");
+    let dir = cpu_path_only(tmp.path(), &scene, "dispersion_correction");
     let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
     check_says(tmp.path(), &scene, "dispersion  corrected, theta 0.7");
@@ -146,12 +153,7 @@ fn constraints_run_on_the_cpu_path() {
         1,
     );
     let scene = write_scene(tmp.path(), "held", &text);
-    let run = |backend: &str| run_into(tmp.path(), &scene, backend, tmp.path().join(backend));
-    let (out, _) = run("gpu");
-    refused(&out, &["constraints", "--backend cpu"]);
-    let (out, dir) = run("auto");
-    let warning = the_warning(&out);
-    assert!(warning.contains("CPU path only"), "{warning}");
+    let dir = cpu_path_only(tmp.path(), &scene, "constraints");
     let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     assert!(summary.contains("\"constraint_work\":"), "{summary}");
     check_says(
@@ -174,12 +176,7 @@ fn friction_runs_on_the_cpu_path() {
         1,
     );
     let scene = write_scene(tmp.path(), "rubbing", &text);
-    let run = |backend: &str| run_into(tmp.path(), &scene, backend, tmp.path().join(backend));
-    let (out, _) = run("gpu");
-    refused(&out, &["contact.friction", "--backend cpu"]);
-    let (out, dir) = run("auto");
-    let warning = the_warning(&out);
-    assert!(warning.contains("CPU path only"), "{warning}");
+    let dir = cpu_path_only(tmp.path(), &scene, "contact.friction");
     let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     assert!(summary.contains("\"friction_heat\":"), "{summary}");
     check_says(tmp.path(), &scene, "Coulomb friction μ 0.2 on every pair");
@@ -201,12 +198,7 @@ fn symmetry_runs_on_the_cpu_path() {
         1,
     );
     let scene = write_scene(tmp.path(), "halved", &text);
-    let run = |backend: &str| run_into(tmp.path(), &scene, backend, tmp.path().join(backend));
-    let (out, _) = run("gpu");
-    refused(&out, &["symmetry", "--backend cpu"]);
-    let (out, dir) = run("auto");
-    let warning = the_warning(&out);
-    assert!(warning.contains("CPU path only"), "{warning}");
+    let dir = cpu_path_only(tmp.path(), &scene, "symmetry");
     assert!(dir.join("summary.json").exists());
     check_says(
         tmp.path(),
