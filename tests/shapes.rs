@@ -307,11 +307,11 @@ fn a_circle_on_the_boundary_lattice_runs_as_the_polar_disk() {
                 vec![center[0] + radius * a.cos(), center[1] + radius * a.sin()]
             })
             .collect();
-        b.shape = sphcontact::scene::Shape::Polygon {
+        b.shape = sphcontact::scene::Shape::polygon(
             vertices,
-            holes: Vec::new(),
-            lattice: sphcontact::scene::PolygonLattice::Boundary,
-        };
+            Vec::new(),
+            sphcontact::scene::PolygonLattice::Boundary,
+        );
     }
     let poly = parse(&poly.to_toml());
     let (mp, _) = Model::new(&poly);

@@ -192,13 +192,35 @@ pub enum Shape {
     /// A closed outline (`[[x, y], ...]`, the last vertex joined to the
     /// first, either orientation) with optional holes, filled on the square
     /// lattice fitted to the outline's bounding box or in layers that
-    /// follow the boundary ([`PolygonLattice`]).
+    /// follow the boundary ([`PolygonLattice`]). The outline and holes are
+    /// typed, or read from a drawn section (`file`, an SVG or DXF file,
+    /// [`super::drawing`]) when the scene is loaded, which fills
+    /// `vertices` and `holes` and clears the drawing's keys.
     Polygon {
+        #[serde(default)]
         vertices: Vec<Vec<f64>>,
         #[serde(default, skip_serializing_if = "Vec::is_empty")]
         holes: Vec<Vec<Vec<f64>>>,
         #[serde(default)]
         lattice: PolygonLattice,
+        /// A drawn section; a relative path is taken from the scene
+        /// file's folder.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        file: Option<PathBuf>,
+        /// Metres per drawing unit (absent: the unit the drawing states).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        scale: Option<f64>,
+        /// The drawing's part to read: an SVG element's id or label, a
+        /// DXF layer (absent: the whole drawing).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        layer: Option<String>,
+        /// Largest distance, m, between a drawn curve and the chords that
+        /// replace it (absent: a twentieth of the spacing).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        tolerance: Option<f64>,
+        /// Added to every drawn point after scaling, m.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        offset: Option<Vec<f64>>,
     },
     /// Particles read from a CSV file ([`particles_file`]); a relative path
     /// is taken from the scene file's folder.
@@ -208,6 +230,24 @@ pub enum Shape {
 }
 
 impl Shape {
+    /// A typed polygon: its outline, holes and lattice.
+    pub fn polygon(
+        vertices: Vec<Vec<f64>>,
+        holes: Vec<Vec<Vec<f64>>>,
+        lattice: PolygonLattice,
+    ) -> Shape {
+        Shape::Polygon {
+            vertices,
+            holes,
+            lattice,
+            file: None,
+            scale: None,
+            layer: None,
+            tolerance: None,
+            offset: None,
+        }
+    }
+
     pub fn kind(&self) -> &'static str {
         match self {
             Shape::Segment { .. } => "segment",

@@ -6,6 +6,7 @@
 
 mod artificial;
 mod body;
+pub mod drawing;
 pub mod library;
 mod material;
 mod model;
@@ -86,11 +87,14 @@ impl Scene {
     pub fn from_toml_in(text: &str, origin: &str, base: &Path) -> Result<Scene, SceneError> {
         let mut scene: Scene =
             toml::from_str(text).map_err(|e| SceneError::parse(origin, text, &e))?;
-        for b in &mut scene.bodies {
+        for (i, b) in scene.bodies.iter_mut().enumerate() {
             if let Shape::Particles { file } = &mut b.shape {
                 let joined = base.join(&*file);
                 *file = std::path::absolute(&joined).unwrap_or(joined);
             }
+            read_drawing(b, base)
+                .map_err(|(key, m)| SceneError::at(format!("bodies[{i}].shape.{key}"), m))
+                .map_err(|e| e.in_file(origin))?;
         }
         validate(&scene).map_err(|e| e.in_file(origin))?;
         Ok(scene)
@@ -128,4 +132,81 @@ impl Scene {
             .history_interval
             .unwrap_or(self.simulation.end_time / 1000.0)
     }
+}
+
+/// A polygon drawn in a file ([`drawing`]): its outline and holes read
+/// into `vertices` and `holes`, the drawing's keys then cleared, so the
+/// scene (and a checkpoint's copy of it) no longer needs the file. A
+/// failure names the key and says why.
+fn read_drawing(b: &mut Body, base: &Path) -> Result<(), (&'static str, String)> {
+    let spacing = b.spacing;
+    let Shape::Polygon {
+        vertices,
+        holes,
+        file,
+        scale,
+        layer,
+        tolerance,
+        offset,
+        ..
+    } = &mut b.shape
+    else {
+        return Ok(());
+    };
+    let Some(path) = file.take() else {
+        for (key, given) in [
+            ("scale", scale.is_some()),
+            ("layer", layer.is_some()),
+            ("tolerance", tolerance.is_some()),
+            ("offset", offset.is_some()),
+        ] {
+            if given {
+                return Err((key, "applies to a drawn section: give `file` too".into()));
+            }
+        }
+        return Ok(());
+    };
+    if !vertices.is_empty() || !holes.is_empty() {
+        return Err((
+            "file",
+            "give the outline either as `vertices` (and `holes`) or as a drawn `file`, not both"
+                .into(),
+        ));
+    }
+    let positive = |key: &'static str, v: Option<f64>| match v {
+        Some(x) if !(x.is_finite() && x > 0.0) => {
+            Err((key, format!("must be a positive number (got {x})")))
+        }
+        _ => Ok(()),
+    };
+    positive("scale", *scale)?;
+    positive("tolerance", *tolerance)?;
+    let offset = match offset.take() {
+        None => glam::DVec2::ZERO,
+        Some(o) if o.len() == 2 && o.iter().all(|x| x.is_finite()) => glam::DVec2::new(o[0], o[1]),
+        Some(o) => {
+            return Err((
+                "offset",
+                format!("must be two finite numbers, m (got {o:?})"),
+            ))
+        }
+    };
+    // A spacing that is not positive is reported by the body's check.
+    if !(spacing.is_finite() && spacing > 0.0) {
+        return Ok(());
+    }
+    let joined = base.join(&path);
+    let section = drawing::read(&drawing::Request {
+        file: &joined,
+        scale: *scale,
+        layer: layer.as_deref(),
+        tolerance: tolerance.unwrap_or(spacing / 20.0),
+        offset,
+    })
+    .map_err(|m| ("file", m))?;
+    let coords = |ring: &[glam::DVec2]| ring.iter().map(|p| vec![p.x, p.y]).collect::<Vec<_>>();
+    *vertices = coords(&section.outline);
+    *holes = section.holes.iter().map(|h| coords(h)).collect();
+    (*scale, *layer, *tolerance) = (None, None, None);
+    Ok(())
 }

@@ -379,6 +379,7 @@ fn place(
             vertices,
             holes,
             lattice: PolygonLattice::Boundary,
+            ..
         } => {
             let poly = Polygon::new(vertices, holes);
             let surface = poly.clone().off_axis(axisymmetric);
@@ -392,6 +393,7 @@ fn place(
             vertices,
             holes,
             lattice: PolygonLattice::Square,
+            ..
         } => {
             // The square lattice fitted to the outline's bounding box, as a
             // rectangle's: a rectangle drawn as a polygon places the same
