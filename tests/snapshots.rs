@@ -449,7 +449,16 @@ fn render_reads_each_snapshot_back_and_draws_it() {
     assert_eq!(last.field("velocity_x").unwrap(), vx);
     let speed: Vec<f64> = out.state.v.iter().map(|v| v.length()).collect();
     assert_eq!(last.field("speed").unwrap(), speed);
-    let mut frames = render::render(tmp.path(), "speed", None, true).unwrap();
+    // The bodies' names come from the run's summary.json.
+    let names = render::Drawing::names_of_run(tmp.path());
+    let want: Vec<String> = scene.bodies.iter().map(|b| b.name.clone()).collect();
+    assert_eq!(names.as_ref(), Some(&want));
+    let drawing = render::Drawing {
+        names,
+        boundary: true,
+        window: None,
+    };
+    let mut frames = render::render(tmp.path(), "speed", None, true, &drawing).unwrap();
     assert_eq!(frames.len(), 4);
     let gif = frames.pop().unwrap();
     let b = std::fs::read(&gif).unwrap();
@@ -474,8 +483,22 @@ fn render_reads_each_snapshot_back_and_draws_it() {
             .join(format!("frames/von_mises_{k:06}.png"))
             .exists());
     }
-    let unknown = render::render(tmp.path(), "spead", None, false).unwrap_err();
+    let unknown =
+        render::render(tmp.path(), "spead", None, false, &Default::default()).unwrap_err();
     assert!(unknown.contains("unknown field 'spead'") && unknown.contains("speed"));
-    let upside = render::render(tmp.path(), "speed", Some((1.0, 0.0)), false).unwrap_err();
+    let upside = render::render(
+        tmp.path(),
+        "speed",
+        Some((1.0, 0.0)),
+        false,
+        &Default::default(),
+    )
+    .unwrap_err();
     assert!(upside.contains("--range"), "{upside}");
+    let window = render::Drawing {
+        window: Some([0.0, 1.0, 1.0, 0.0]),
+        ..Default::default()
+    };
+    let e = render::render(tmp.path(), "speed", None, false, &window).unwrap_err();
+    assert!(e.contains("--window 0 1 1 0"), "{e}");
 }

@@ -201,15 +201,70 @@ fn time_label(t: f64) -> String {
 /// Milliseconds between an animation's frames.
 pub const GIF_DELAY_MS: u32 = 100;
 
+/// How the frames are drawn: what goes over the particles, and which
+/// part of the plane they show.
+#[derive(Debug, Clone, Default)]
+pub struct Drawing {
+    /// The bodies' names, in the scene's order, each written on its body;
+    /// `None`: no names.
+    pub names: Option<Vec<String>>,
+    /// A black dot on each particle of the contact boundary.
+    pub boundary: bool,
+    /// The part of the plane shown, `[x_min, x_max, y_min, y_max]` (m);
+    /// `None`: all the particles.
+    pub window: Option<[f64; 4]>,
+}
+
+impl Drawing {
+    /// The names a finished run's `summary.json` gives its bodies (none
+    /// when it cannot be read: a run that was stopped).
+    pub fn names_of_run(out: &Path) -> Option<Vec<String>> {
+        let text = std::fs::read_to_string(out.join("summary.json")).ok()?;
+        let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+        json["bodies"]
+            .as_array()?
+            .iter()
+            .map(|b| b["name"].as_str().map(str::to_string))
+            .collect()
+    }
+}
+
+/// Each body's label: its name at the particle nearest its particles'
+/// centroid (on the body, whatever its shape).
+fn labels(snap: &Snapshot, names: &[String]) -> Vec<(f64, f64, String)> {
+    let Some(body) = snap.field("body") else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for (k, name) in names.iter().enumerate() {
+        let mine: Vec<DVec2> = (0..snap.x.len())
+            .filter(|&i| body[i] == k as f64 && snap.x[i].is_finite())
+            .map(|i| snap.x[i])
+            .collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let c = mine.iter().sum::<DVec2>() / mine.len() as f64;
+        let at = mine
+            .iter()
+            .min_by(|a, b| a.distance_squared(c).total_cmp(&b.distance_squared(c)))
+            .expect("a body with particles");
+        out.push((at.x, at.y, name.clone()));
+    }
+    out
+}
+
 /// Draws field `name` of every snapshot in `out` into `out/frames/`
 /// (`<name>_NNNNNN.png`, and with `gif` all of them as `<name>.gif`), one
 /// colour scale for all of them: `range`, or the field's least and
-/// greatest over every snapshot. Returns the files written.
+/// greatest over every snapshot, with `drawing` drawn over the
+/// particles. Returns the files written.
 pub fn render(
     out: &Path,
     name: &str,
     range: Option<(f64, f64)>,
     gif: bool,
+    drawing: &Drawing,
 ) -> Result<Vec<PathBuf>, String> {
     let Some(&(_, unit)) = FIELDS.iter().find(|f| f.0 == name) else {
         let known: Vec<&str> = FIELDS.iter().map(|f| f.0).collect();
@@ -218,6 +273,14 @@ pub fn render(
             known.join(", ")
         ));
     };
+    if let Some(w) = drawing.window {
+        if !(w.iter().all(|v| v.is_finite()) && w[0] < w[1] && w[2] < w[3]) {
+            return Err(format!(
+                "--window {} {} {} {}: needs finite values, each minimum below its maximum",
+                w[0], w[1], w[2], w[3]
+            ));
+        }
+    }
     if let Some((a, b)) = range {
         if !(a.is_finite() && b.is_finite() && a < b) {
             return Err(format!(
@@ -251,11 +314,26 @@ pub fn render(
     let pictures: Vec<(String, Field)> = frames
         .into_iter()
         .map(|(snap, v)| {
+            let marked = match drawing.boundary {
+                true => snap
+                    .field("boundary")
+                    .map(|b| b.iter().map(|&b| b != 0.0).collect())
+                    .unwrap_or_default(),
+                false => Vec::new(),
+            };
+            let labels = drawing
+                .names
+                .as_deref()
+                .map(|n| labels(&snap, n))
+                .unwrap_or_default();
             let field = Field {
                 x: snap.x.iter().map(|p| p.x).collect(),
                 y: snap.x.iter().map(|p| p.y).collect(),
                 value: v,
                 range: range.0.is_finite().then_some(range),
+                marked,
+                labels,
+                window: drawing.window,
             };
             (format!("{name}, {}", time_label(snap.time)), field)
         })

@@ -87,12 +87,26 @@ fn draw_field(
     labels: [&str; 3],
     f: &Field,
 ) -> Result<(), PlotError> {
+    let shown = |x: f64, y: f64| {
+        usable(x)
+            && usable(y)
+            && f.window
+                .is_none_or(|w| x >= w[0] && x <= w[1] && y >= w[2] && y <= w[3])
+    };
     let pts: Vec<(f64, f64, f64)> = (0..f.x.len())
         .map(|i| (f.x[i], f.y[i], f.value[i]))
-        .filter(|p| usable(p.0) && usable(p.1))
+        .filter(|p| shown(p.0, p.1))
         .collect();
-    let mut xa = Axis::new(pts.iter().map(|p| p.0), false);
-    let mut ya = Axis::new(pts.iter().map(|p| p.1), false);
+    let (mut xa, mut ya) = match f.window {
+        Some(w) => (
+            Axis::new([w[0], w[1]].into_iter(), false),
+            Axis::new([w[2], w[3]].into_iter(), false),
+        ),
+        None => (
+            Axis::new(pts.iter().map(|p| p.0), false),
+            Axis::new(pts.iter().map(|p| p.1), false),
+        ),
+    };
     // The colour bar spans the data exactly unless that range is degenerate.
     let (lo, hi) = f.range.unwrap_or_else(|| extent(pts.iter().map(|p| p.2)));
     let va = if lo < hi {
@@ -152,6 +166,29 @@ fn draw_field(
         Rectangle::new([(x - h, y - h), (x + h, y + h)], colour(v).filled())
     };
     chart.draw_series(pts.iter().map(square))?;
+    // Marks: a dot a third of a cell wide, at least 3 pixels.
+    let dot = (0.35 * s).max(1.5 / scale);
+    let marked = (0..f.marked.len().min(f.x.len()))
+        .filter(|&i| f.marked[i] && shown(f.x[i], f.y[i]))
+        .map(|i| {
+            let (x, y) = (f.x[i], f.y[i]);
+            Rectangle::new([(x - dot, y - dot), (x + dot, y + dot)], BLACK.filled())
+        });
+    chart.draw_series(marked)?;
+    // Labels on a pale box, centred on their points.
+    let text = font(18);
+    for (x, y, label) in f.labels.iter().filter(|l| shown(l.0, l.1)) {
+        let (w, h) = root.estimate_text_size(label, &text)?;
+        let (w, h) = (w as i32, h as i32);
+        let tag = EmptyElement::at((*x, *y))
+            + Rectangle::new(
+                [(-w / 2 - 5, -h / 2 - 3), (w / 2 + 5, h / 2 + 3)],
+                WHITE.mix(0.85).filled(),
+            )
+            + Rectangle::new([(-w / 2 - 5, -h / 2 - 3), (w / 2 + 5, h / 2 + 3)], BLACK)
+            + Text::new(label.clone(), (-w / 2, -h / 2), text.clone());
+        chart.plotting_area().draw(&tag)?;
+    }
     close_frame(root, chart.plotting_area().get_pixel_range())?;
     // Colour bar: a narrow chart whose y axis is the value, labelled on the
     // right, spanning the same rows of pixels as the main plotting area.

@@ -99,6 +99,14 @@ pub struct Field {
     pub value: Vec<f64>,
     /// The colour bar's span; none: the values' own.
     pub range: Option<(f64, f64)>,
+    /// Particles marked with a black dot (the contact boundary, say);
+    /// empty: none.
+    pub marked: Vec<bool>,
+    /// Text written at points (x, y, text): the bodies' names, say.
+    pub labels: Vec<(f64, f64, String)>,
+    /// The part of the plane drawn, `[x_min, x_max, y_min, y_max]`;
+    /// `None`: all the particles.
+    pub window: Option<[f64; 4]>,
 }
 
 /// Pixel size of field plots: a square-ish plotting area plus a colour bar.

@@ -75,6 +75,7 @@ fn field_plot_of_many_particles() {
         y,
         value,
         range: None,
+        ..Field::default()
     };
     field_plot(&d.join("f.png"), "σ field", "x (m)", "y (m)", "σ (Pa)", &f).unwrap();
     eprintln!("{n} particles drawn in {:?}", start.elapsed());
@@ -115,6 +116,7 @@ fn degenerate_input_is_not_a_panic() {
             y: vec![2.0],
             value: vec![f64::NAN],
             range: None,
+            ..Field::default()
         },
     )
     .unwrap();
@@ -156,4 +158,124 @@ fn labels_ranges_and_colours() {
     assert_eq!(viridis(1.0), rgb(VIRIDIS[10]));
     let pts = [(1.0, 1.0), (2.0, f64::NAN), (3.0, 3.0), (4.0, 4.0)];
     assert_eq!(runs(&pts, false, false).len(), 2);
+}
+
+/// The RGB pixels of a PNG, row by row.
+fn pixels(path: &Path) -> (usize, Vec<[u8; 3]>) {
+    let decoder = png::Decoder::new(std::fs::File::open(path).unwrap());
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    let px = buf[..info.buffer_size()]
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    (info.width as usize, px)
+}
+
+/// Every particle's cell is painted: a polar disk at R/Δx = 50 (where
+/// rings meet at angles) and a square-lattice block draw as solid
+/// figures, without a background pixel inside; marks and labels then go
+/// on top.
+#[test]
+fn field_cells_leave_no_gaps() {
+    let Some(d) = dir("gaps") else { return };
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    let rings = 50;
+    let dr = 1.0 / rings as f64;
+    for k in 0..rings {
+        let r = (k as f64 + 0.5) * dr;
+        let n = (std::f64::consts::TAU * r / dr).round().max(1.0) as usize;
+        for j in 0..n {
+            let a = std::f64::consts::TAU * j as f64 / n as f64;
+            x.push(r * a.cos());
+            y.push(r * a.sin());
+        }
+    }
+    let disk = x.len();
+    for j in 0..50 {
+        for i in 0..100 {
+            x.push(1.5 + (i as f64 + 0.5) * dr);
+            y.push(-0.5 + (j as f64 + 0.5) * dr);
+        }
+    }
+    let mut f = Field {
+        value: vec![0.5; x.len()],
+        x,
+        y,
+        range: Some((0.0, 1.0)),
+        ..Field::default()
+    };
+    let plain = d.join("plain.png");
+    field_plot(&plain, "gaps", "x", "y", "v", &f).unwrap();
+    let (w, px) = pixels(&plain);
+    let paint = viridis(0.5);
+    let painted = |p: [u8; 3]| p == [paint.0, paint.1, paint.2];
+    // The figures' pixel boxes: the disk left of the gap, the block right.
+    let boxes = |keep: &dyn Fn(usize) -> bool| {
+        let mut b = (usize::MAX, usize::MAX, 0, 0);
+        for (i, &p) in px.iter().enumerate() {
+            let (c, r) = (i % w, i / w);
+            if painted(p) && keep(c) {
+                b = (b.0.min(c), b.1.min(r), b.2.max(c), b.3.max(r));
+            }
+        }
+        b
+    };
+    let mut cols: Vec<usize> = (0..px.len())
+        .filter(|&i| painted(px[i]))
+        .map(|i| i % w)
+        .collect();
+    cols.sort_unstable();
+    cols.dedup();
+    // Column gaps: between the disk and the block, and before the colour
+    // bar (drawn in the same colours).
+    let gaps: Vec<usize> = cols
+        .windows(2)
+        .filter(|c| c[1] > c[0] + 5)
+        .map(|c| c[1])
+        .collect();
+    let (split, bar) = (gaps[0], gaps[1]);
+    let (l, t, r, b) = boxes(&|c| c < split);
+    let (cx, cy) = ((l + r) as f64 / 2.0, (t + b) as f64 / 2.0);
+    let radius = (r - l) as f64 / 2.0;
+    assert!(radius > 100.0, "{radius}");
+    assert!(((b - t) as f64 / 2.0 - radius).abs() <= 1.5, "equal aspect");
+    let mut holes = 0;
+    for row in t..=b {
+        for col in l..=r {
+            let d = ((col as f64 - cx).powi(2) + (row as f64 - cy).powi(2)).sqrt();
+            if d < radius - 2.0 && !painted(px[row * w + col]) {
+                holes += 1;
+            }
+        }
+    }
+    assert_eq!(holes, 0, "background pixels inside the disk");
+    let (l, t, r, b) = boxes(&|c| c >= split && c < bar);
+    assert!(((r - l) as f64 / (b - t) as f64 - 2.0).abs() < 0.03);
+    let inside = (t..=b).flat_map(|row| (l..=r).map(move |col| row * w + col));
+    assert!(inside.clone().all(|i| painted(px[i])), "gaps in the block");
+    // Marks on the disk's outer ring and a label: black dots of at least
+    // 3 × 3 pixels each, and the label's box.
+    let outer = (disk - (std::f64::consts::TAU * (rings as f64 - 0.5)).round() as usize)..disk;
+    f.marked = (0..f.x.len()).map(|i| outer.contains(&i)).collect();
+    f.labels = vec![(0.0, 0.0, "disk".into())];
+    let over = d.join("over.png");
+    field_plot(&over, "gaps", "x", "y", "v", &f).unwrap();
+    let (_, px2) = pixels(&over);
+    let black = |v: &[[u8; 3]]| v.iter().filter(|p| **p == [0, 0, 0]).count();
+    assert!(
+        black(&px2) >= black(&px) + 9 * outer.len(),
+        "{} black pixels, {} before, {} marks",
+        black(&px2),
+        black(&px),
+        outer.len()
+    );
+    let at = |v: &[[u8; 3]]| v[cy as usize * w + cx as usize];
+    assert!(
+        painted(at(&px)) && !painted(at(&px2)),
+        "the label covers the centre"
+    );
+    std::fs::remove_dir_all(d).ok();
 }

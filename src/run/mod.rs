@@ -340,7 +340,12 @@ fn run_from(
         }
         let drew = rec.snaps.as_ref().is_some_and(|s| s.series.count() > 0);
         if scene.output.snapshot_png && drew {
-            if let Err(e) = crate::output::render::render(d, "von_mises", None, false) {
+            let drawing = crate::output::render::Drawing {
+                names: Some(scene.bodies.iter().map(|b| b.name.clone()).collect()),
+                boundary: false,
+                window: None,
+            };
+            if let Err(e) = crate::output::render::render(d, "von_mises", None, false, &drawing) {
                 warn(opts, &mut late, format!("snapshot pictures not drawn: {e}"));
             }
         }

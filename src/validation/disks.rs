@@ -194,6 +194,7 @@ fn von_mises_at_peak(
         y,
         value: vm,
         range: None,
+        ..Field::default()
     };
     let path = rep.out.join("fig8_von_mises.png");
     if let Err(e) = plot::field_plot(

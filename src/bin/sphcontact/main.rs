@@ -131,6 +131,15 @@ enum Command {
         /// Also join the frames into OUT/frames/FIELD.gif (10 frames a second).
         #[arg(long)]
         gif: bool,
+        /// Mark the contact boundary's particles with black dots.
+        #[arg(long)]
+        boundary: bool,
+        /// Leave the bodies' names (read from OUT/summary.json) off.
+        #[arg(long)]
+        no_names: bool,
+        /// Show only this part of the plane, m (default: every particle).
+        #[arg(long, num_args = 4, value_names = ["XMIN", "XMAX", "YMIN", "YMAX"], allow_negative_numbers = true)]
+        window: Option<Vec<f64>>,
     },
 }
 
@@ -408,9 +417,18 @@ fn command(cli: Cli) -> ExitCode {
             field,
             range,
             gif,
+            boundary,
+            no_names,
+            window,
         } => {
+            use sphcontact::output::render::{render, Drawing};
             let range = range.map(|r| (r[0], r[1]));
-            match sphcontact::output::render::render(&out, &field, range, gif) {
+            let drawing = Drawing {
+                names: (!no_names).then(|| Drawing::names_of_run(&out)).flatten(),
+                boundary,
+                window: window.map(|w| [w[0], w[1], w[2], w[3]]),
+            };
+            match render(&out, &field, range, gif, &drawing) {
                 Ok(files) => {
                     println!(
                         "{} files of {field} in {}",
