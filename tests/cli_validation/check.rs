@@ -209,6 +209,16 @@ fn check_prints_the_derived_set_up() {
         stdout.contains("leapfrog (one evaluation a step)"),
         "{stdout}"
     );
+    // A polygon's outline, read from a drawing in millimetres, in metres.
+    let drawn = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/shapes/rings_drawn.toml");
+    let out = sphcontact(tmp.path(), &["check", drawn.to_str().unwrap()]);
+    let drawn = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        drawn.contains(
+            "polygon of 64 vertices, 1 hole, x in [-1.0000e-2, 0.0000e0] m, y in [-5.0000e-3, 5.0000e-3] m"
+        ),
+        "{drawn}"
+    );
     // check runs nothing and writes nothing.
     assert!(std::fs::read_dir(tmp.path()).unwrap().next().is_none());
 }

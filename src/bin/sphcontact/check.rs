@@ -225,6 +225,27 @@ fn print_bodies(scene: &Scene, model: &Model) {
             b.velocity0.y,
             if b.rigid { ", rigid" } else { "" }
         );
+        if let sphcontact::scene::Shape::Polygon {
+            vertices, holes, ..
+        } = &sb.shape
+        {
+            // The outline's extent: where a drawing's unit went wrong, it
+            // shows here.
+            let span = |k: usize| {
+                vertices
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                        (lo.min(p[k]), hi.max(p[k]))
+                    })
+            };
+            let ((x0, x1), (y0, y1)) = (span(0), span(1));
+            println!(
+                "            polygon of {} vertices, {} hole{}, x in [{x0:.4e}, {x1:.4e}] m, y in [{y0:.4e}, {y1:.4e}] m",
+                vertices.len(),
+                holes.len(),
+                if holes.len() == 1 { "" } else { "s" }
+            );
+        }
         if let Some(sphcontact::scene::VelocityField::Radial {
             center,
             speed,
