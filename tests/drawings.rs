@@ -226,6 +226,28 @@ fn curves_are_cut_within_the_tolerance_and_units_are_read() {
             assert!((n as f64) < 1.5 * fewest + 8.0, "{file}: {n} vs {fewest}");
         }
     }
+    // A rounded rectangle, ry taking rx: its area w h − (4 − π) r², less
+    // what the chords cut off (at most the perimeter times the tolerance).
+    let rounded = svg("10mm", r#"<rect x="1" y="1" width="4" height="2" rx="1"/>"#);
+    let s = scene_with(dir.path(), "rounded.svg", &rounded, &keys).unwrap();
+    let Shape::Polygon { vertices, .. } = &s.bodies[0].shape else {
+        panic!("a polygon");
+    };
+    let n = vertices.len();
+    let area = 0.5
+        * (0..n)
+            .map(|k| {
+                let (a, b) = (&vertices[k], &vertices[(k + 1) % n]);
+                a[0] * b[1] - b[0] * a[1]
+            })
+            .sum::<f64>()
+            .abs();
+    let want = (8.0 - (4.0 - std::f64::consts::PI)) * 1e-6;
+    let perimeter = (4.0 + 2.0 * std::f64::consts::PI) * 1e-3;
+    assert!(
+        area <= want && want - area <= perimeter * tol,
+        "{area} vs {want}"
+    );
     // An inch drawing, a scale that overrides the stated unit, and an
     // offset.
     let square = r#"<polygon points="0,0 1,0 1,1 0,1"/>"#;

@@ -29,6 +29,21 @@ pub(super) fn read(file: &Path, req: &Request) -> Result<(Unit, Vec<Loop>), Stri
         if req.layer.is_some_and(|l| l != e.common.layer) {
             continue;
         }
+        // Annotations draw no outline.
+        if matches!(
+            e.specific,
+            EntityType::Text(_)
+                | EntityType::MText(_)
+                | EntityType::RotatedDimension(_)
+                | EntityType::RadialDimension(_)
+                | EntityType::DiameterDimension(_)
+                | EntityType::AngularThreePointDimension(_)
+                | EntityType::OrdinateDimension(_)
+                | EntityType::Leader(_)
+                | EntityType::ModelPoint(_)
+        ) {
+            continue;
+        }
         let name = name(e);
         let mut closed = |points: Vec<DVec2>| {
             loops.push(Loop {
@@ -95,16 +110,6 @@ pub(super) fn read(file: &Path, req: &Request) -> Result<(Unit, Vec<Loop>), Stri
                     points: mirrored(points, a.normal.z),
                 });
             }
-            // Annotations draw no outline.
-            EntityType::Text(_)
-            | EntityType::MText(_)
-            | EntityType::RotatedDimension(_)
-            | EntityType::RadialDimension(_)
-            | EntityType::DiameterDimension(_)
-            | EntityType::AngularThreePointDimension(_)
-            | EntityType::OrdinateDimension(_)
-            | EntityType::Leader(_)
-            | EntityType::ModelPoint(_) => {}
             EntityType::Insert(_) => {
                 return Err(format!(
                     "{name}: a block reference is not read; explode it into its entities"
@@ -168,10 +173,14 @@ fn stated(units: Units) -> Result<Unit, String> {
 
 /// "LWPOLYLINE (handle 2F, layer 'plate')".
 fn name(e: &Entity) -> String {
-    let debug = format!("{:?}", e.specific);
     let kind = match &e.specific {
         EntityType::LwPolyline(_) => "LWPOLYLINE".to_string(),
-        _ => debug
+        EntityType::Polyline(_) => "POLYLINE".to_string(),
+        EntityType::Line(_) => "LINE".to_string(),
+        EntityType::Arc(_) => "ARC".to_string(),
+        EntityType::Circle(_) => "CIRCLE".to_string(),
+        // Any other kind is named only in its error: its variant's name.
+        other => format!("{other:?}")
             .split(['(', ' ', '{'])
             .next()
             .unwrap_or("entity")

@@ -354,12 +354,15 @@ impl Reader<'_, '_> {
     fn rect(&self, n: Node, t: Affine) -> Result<Vec<DVec2>, String> {
         let [x, y, w, h] = ["x", "y", "width", "height"].map(|k| self.number(n, k));
         let (x, y, w, h) = (x?, y?, w?, h?);
-        let (rx, ry) = match (n.attribute("rx"), n.attribute("ry")) {
-            (None, None) => (0.0, 0.0),
-            (Some(_), None) => (self.number(n, "rx")?, self.number(n, "rx")?),
-            (None, Some(_)) => (self.number(n, "ry")?, self.number(n, "ry")?),
-            _ => (self.number(n, "rx")?, self.number(n, "ry")?),
+        // A radius not given takes the other's (0 when neither is).
+        let key = |k: &'static str, other: &'static str| match n.has_attribute(k) {
+            true => k,
+            false => other,
         };
+        let (rx, ry) = (
+            self.number(n, key("rx", "ry"))?,
+            self.number(n, key("ry", "rx"))?,
+        );
         let (rx, ry) = (rx.min(w / 2.0), ry.min(h / 2.0));
         if rx <= 0.0 || ry <= 0.0 {
             return Ok([(x, y), (x + w, y), (x + w, y + h), (x, y + h)]
