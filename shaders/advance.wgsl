@@ -36,6 +36,29 @@
 // With LGRAD the kinematics' packed dt l (common.wgsl), else the
 // viscosity's kept gradient (`gradv`, a vec4<f32> a particle) bound here.
 @group(0) @binding(84) var<storage, read> lgrad: array<vec2<u32>>;
+// The impulse the regions gave each held particle (common.wgsl, HELD), by
+// original index: (hi x, hi y, lo x, lo y).
+@group(0) @binding(95) var<storage, read_write> held_w: array<vec4<f32>>;
+
+// Add `j` to held particle i's impulse (CPU twin: Model::book_held).
+fn add_held_impulse(i: u32, j: vec2<f32>) {
+    let id = pinfo[i].w;
+    let q = held_w[id];
+    let x = two_sum(q.xz, j.x);
+    let y = two_sum(q.yw, j.y);
+    held_w[id] = vec4<f32>(x.x, y.x, x.y, y.y);
+}
+
+// The leapfrog's half kick by a (the body force's included) over h of
+// held particle i: its region's impulse, -m a h in the held components.
+fn book_held_kick(i: u32, a: vec2<f32>, h: f32) {
+    if (HELD) {
+        let mask = held_mask(i);
+        if (any(mask != vec2<f32>(0.0))) {
+            add_held_impulse(i, -a * mask * (bitcast<f32>(pinfo[i].x) * h));
+        }
+    }
+}
 
 // Where supports adapt, the slot of the next step's largest major
 // semi-axis (common.wgsl), cleared by a pass before the step's end.
@@ -116,7 +139,7 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (GRAVITY) {
         a += gravity();
     }
-    v_w[i] = v[i] + a * k;
+    v_w[i] = hold(i, v[i] + a * k);
     var rn = r[i] + r_w[i] * k;
     var sn = plastic_return(s[i] + s_w[i] * k, b);
     if (HISTORY) {
@@ -176,6 +199,21 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         // The compatible energy of this last kick (common.wgsl).
         rn.y += compatible_energy(w0, vn, vm[i]);
         r_w[i] = rn;
+    }
+    if (HELD) {
+        // The step's kicks (the forces', the contact's, the spread's) left
+        // the held components free; they go back to the region's velocity
+        // here in one kick whose compatible energy returns what the
+        // others booked for them (the sum is the twin's, which books none
+        // there), and whose impulse is the region's.
+        let w = vn;
+        vn = hold(i, w);
+        if (any(vn != w)) {
+            v_w[i] = vn;
+            rn.y += compatible_energy(w, vn, vm[i]);
+            r_w[i] = rn;
+            add_held_impulse(i, (vn - w) * bitcast<f32>(mi.x));
+        }
     }
     if (HISTORY) {
         let up = strength_update(mi.z, s_w[i], rate_of(i), rn.x, rn.y, hist_w[i], ctl.t_hi + ctl.t_lo + dt);
@@ -273,9 +311,10 @@ fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
             if (GRAVITY) {
                 a += gravity();
             }
-            vh = vh + a * h;
+            vh = hold(i, vh + a * h);
             v_w[i] = vh;
-            r_w[i].y = r_w[i].y + rdt[i].y * h + kick_energy(acc[i], h);
+            r_w[i].y = r_w[i].y + rdt[i].y * h + kick_energy(moving_part(i, acc[i]), h);
+            book_held_kick(i, a, h);
         }
         un = un + vh * dt;
         u_w[i] = un;
@@ -305,7 +344,12 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let b = bodies[pinfo[i].z];
     if (b.rigid == 0u) {
         // acc holds a_{n+1}, which kicked the particle to v_{n+1}.
-        e = e + q.y * (0.5 * ctl.dt) - kick_energy(acc[i], 0.5 * ctl.dt);
+        e = e + q.y * (0.5 * ctl.dt) - kick_energy(moving_part(i, acc[i]), 0.5 * ctl.dt);
+        var a = acc[i];
+        if (GRAVITY) {
+            a += gravity();
+        }
+        book_held_kick(i, a, 0.5 * ctl.dt);
     }
     if (ADAPT) {
         carry_support(i, b.rigid != 0u, b.h, ctl.dt);

@@ -49,6 +49,11 @@ override RELEASE: bool = false;
 override GRAVITY: bool = false;
 override GX: f32 = 0.0;
 override GY: f32 = 0.0;
+// Clamped and driven regions (`[[bodies.constraints]]`, Model::held): a
+// held particle's held components move at its region's velocity (`hold`);
+// NHELD regions in `held`. None (false) compiles them out.
+override HELD: bool = false;
+override NHELD: u32 = 0u;
 // The hourglass control's coefficient (docs/method.md, "Hourglass
 // control"), 0 off; it also reads the stored velocity gradient.
 override HG: f32 = 0.0;
@@ -443,7 +448,65 @@ fn kick_energy(a: vec2<f32>, h: f32) -> f32 {
     return -0.5 * dot(k, k);
 }
 
+// A compensated sum (hi, lo) plus x.
+fn two_sum(a: vec2<f32>, x: f32) -> vec2<f32> {
+    let y = x + a.y;
+    let t = a.x + y;
+    return vec2<f32>(t, y - (t - a.x));
+}
+
 // The body force per unit mass (GRAVITY).
 fn gravity() -> vec2<f32> {
     return vec2<f32>(GX, GY);
+}
+
+// The regions (HELD; gpu::make::make_held): NHELD entries of (held
+// components, bit 0 x and bit 1 y; velocity x, y as f32 bits; 0), then
+// each particle's region k + 1 (0: free) by original index.
+@group(0) @binding(94) var<storage, read> held: array<u32>;
+
+// Particle i's region entry's start in `held`, or NONE where it is free.
+fn region_at(i: u32) -> u32 {
+    if (!HELD) {
+        return NONE;
+    }
+    let k = held[4u * NHELD + pinfo[i].w];
+    if (k == 0u) {
+        return NONE;
+    }
+    return 4u * (k - 1u);
+}
+
+// 1 in each component particle i's region holds, 0 in a free one.
+fn held_mask(i: u32) -> vec2<f32> {
+    let t = region_at(i);
+    if (t == NONE) {
+        return vec2<f32>(0.0);
+    }
+    let b = held[t];
+    return vec2<f32>(f32(b & 1u), f32((b >> 1u) & 1u));
+}
+
+// v with particle i's held components at its region's velocity (CPU twin:
+// Model::hold).
+fn hold(i: u32, v: vec2<f32>) -> vec2<f32> {
+    let t = region_at(i);
+    if (t == NONE) {
+        return v;
+    }
+    let b = held[t];
+    return vec2<f32>(
+        select(v.x, bitcast<f32>(held[t + 1u]), (b & 1u) != 0u),
+        select(v.y, bitcast<f32>(held[t + 2u]), (b & 2u) != 0u),
+    );
+}
+
+// The part of particle i's acceleration a that moves it: a less its held
+// components, whose kinetic energy does not change (the leapfrog's
+// compatible terms; CPU twin: Model::moving_part).
+fn moving_part(i: u32, a: vec2<f32>) -> vec2<f32> {
+    if (!HELD) {
+        return a;
+    }
+    return a * (vec2<f32>(1.0) - held_mask(i));
 }

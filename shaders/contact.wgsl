@@ -82,7 +82,7 @@
 
 fn kick(q: u32, rigid: bool) {
     if (!rigid) {
-        vkick[q] = vkick[q] + dv[q] * (0.5 * ctl.dt);
+        vkick[q] = hold(q, vkick[q] + dv[q] * (0.5 * ctl.dt));
     }
 }
 
@@ -475,6 +475,6 @@ fn contact_spread(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
     let m = bitcast<f32>(pinfo[j].x);
     dv[j] += f / m;
     if (LEAP == 2u) {
-        vkick[j] = vkick[j] + f * (0.5 * ctl.dt / m);
+        vkick[j] = hold(j, vkick[j] + f * (0.5 * ctl.dt / m));
     }
 }

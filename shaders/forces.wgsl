@@ -211,13 +211,6 @@ fn book_dissipation(lid: u32, w: u32, d: f32) {
     dheat[w] = b;
 }
 
-// A compensated sum (hi, lo) plus x.
-fn two_sum(a: vec2<f32>, x: f32) -> vec2<f32> {
-    let y = x + a.y;
-    let t = a.x + y;
-    return vec2<f32>(t, y - (t - a.x));
-}
-
 // What particle i's pair terms read of it (`Own`), its density rho_i (eta_i
 // in a body of revolution, `sum_density`) among them. CPU twin:
 // cpu::forces::Side::of.
@@ -350,9 +343,9 @@ fn store_rates(i: u32, own: Own, acc: vec2<f32>, de: f32, sw: f32, rad: f32) {
                 if (GRAVITY) {
                     a += gravity();
                 }
-                vkick[i] = vkick[i] + a * (0.5 * ctl.dt);
+                vkick[i] = hold(i, vkick[i] + a * (0.5 * ctl.dt));
             } else if (LEAP == 2u && GRAVITY) {
-                vkick[i] = vkick[i] + gravity() * (0.5 * ctl.dt);
+                vkick[i] = hold(i, vkick[i] + gravity() * (0.5 * ctl.dt));
             }
         }
     } else if (!rigid && ctl.dt != 0.0) {

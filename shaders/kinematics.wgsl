@@ -143,7 +143,7 @@ fn predicted(j: u32) -> vec2<f32> {
     if (GRAVITY && b.rigid == 0u) {
         a += gravity();
     }
-    return v[j] + a * ((c - 0.5) * ctl.dt);
+    return hold(j, v[j] + a * ((c - 0.5) * ctl.dt));
 }
 
 // What particle i's kinematic walk reads of itself.
@@ -535,7 +535,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     // The predicted energy takes back the first half kick's compatible
     // term, as the second (to come) is expected to return it
     // (common.wgsl, kick_energy; CPU twin: cpu::leapfrog).
-    let e1 = r[i].y + rdt[i].y * h - kick_energy(acc[i], h);
+    let e1 = r[i].y + rdt[i].y * h - kick_energy(moving_part(i, acc[i]), h);
     var d1 = 0.0;
     if (HISTORY) {
         var rate = 0.0;

@@ -22,6 +22,12 @@
 @group(0) @binding(76) var<storage, read> hist: array<vec4<f32>>;
 // The artificial dissipation by workgroup of the forces pass (DISS).
 @group(0) @binding(89) var<storage, read> dheat: array<vec4<f32>>;
+// The rates of the evaluation at the observed state, which the held slots
+// read (HELD): the leapfrog's carried a_n, the midpoint rule's in the
+// midpoint buffer before advance_half turns it into the midpoint state
+// (the spread already in: gpu::encode, encode_contact).
+@group(0) @binding(51) var<storage, read> acc: array<vec2<f32>>;
+@group(0) @binding(35) var<storage, read> vm: array<vec2<f32>>;
 
 // The scene's observation slots are constants the host puts before this
 // file (gpu::probes::ProbePlan::wgsl): NSLOTS, and for each slot its code
@@ -108,6 +114,24 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
             return 0.0;
         }
         return o.m * dot(gravity(), position_rel(i));
+    }
+    if (code == 13u || code == 14u) {
+        // Region a's force on its particles, -sum m (a + g) over its held
+        // components (CPU twin: Model::held_forces).
+        if (!HELD || o.rigid || region_at(i) != 4u * a) {
+            return 0.0;
+        }
+        var rate: vec2<f32>;
+        if (LEAP != 0u) {
+            rate = acc[i];
+        } else {
+            rate = vm[i];
+        }
+        if (GRAVITY) {
+            rate += gravity();
+        }
+        let f = -o.m * rate * held_mask(i);
+        return select(f.y, f.x, code == 13u);
     }
     if (code == 11u) {
         // The artificial dissipation booked so far: each forces

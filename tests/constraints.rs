@@ -4,12 +4,25 @@
 //! solution, the regions' impulses against the momentum the bar takes,
 //! and the energy ledger with their work; a strip driven into a block
 //! against the 1-D plateau stress; a clamped cantilever struck at its tip
-//! against Timoshenko's first bending frequency; the GPU path refuses
-//! them.
+//! against Timoshenko's first bending frequency; on both backends and
+//! both integrators.
 
 #[path = "common/mod.rs"]
 mod common;
 use common::*;
+use sphcontact::scene::Backend;
+
+/// What the momentum and the ledger may miss by, relative: 1e-12 on the
+/// CPU path; on the GPU, what `steps` steps of f32 kicks may round away,
+/// `2 N ε` (ε = 2⁻²⁴), each kick's rounding of a velocity or an energy
+/// being at most ε of it.
+fn closure(steps: u64) -> f64 {
+    if backend() == Backend::Gpu {
+        2.0 * steps as f64 * f32::EPSILON as f64
+    } else {
+        1e-12
+    }
+}
 
 /// What the bar did, against the exact answer (measured / exact − 1 over
 /// the middle 60 % of each plateau).
@@ -29,6 +42,8 @@ struct Bar {
     /// The ledger's residual (kinetic + internal − initial − the regions'
     /// work) over their work.
     residual: f64,
+    /// The bound on the last two (`closure`).
+    closure: f64,
 }
 
 fn driven_and_clamped() -> Bar {
@@ -65,6 +80,7 @@ fn driven_and_clamped() -> Bar {
         clamp: mean("clamp_force", back_9, end) / (-2.0 * sigma) - 1.0,
         momentum: (gained - impulse) / gained,
         residual: s.energy.residual / work,
+        closure: closure(s.steps),
     };
     println!("{:?}: {bar:?}", backend());
     let booked = s.energy.constraint_work.expect("the ledger names it");
@@ -76,8 +92,8 @@ fn driven_and_clamped() -> Bar {
 }
 
 /// Each plateau and force within 1 % of the wave solution, the momentum
-/// the regions' to round-off (1e-12), the ledger closed to 1e-12 of
-/// their work.
+/// the regions' to round-off (1e-12 on the CPU, `closure` on the GPU), the
+/// ledger closed as closely relative to their work.
 ///
 /// Measured (leapfrog): the driven plateau −0.28 %, the driver +0.07 %,
 /// the doubled plateau at the clamp −0.01 %, the clamp +0.14 %; momentum
@@ -92,8 +108,8 @@ fn holds(b: &Bar) {
     ] {
         assert!(e.abs() < 0.01, "{what}: {b:?}");
     }
-    assert!(b.momentum.abs() < 1e-12, "{b:?}");
-    assert!(b.residual.abs() < 1e-12, "{b:?}");
+    assert!(b.momentum.abs() < b.closure, "{b:?}");
+    assert!(b.residual.abs() < b.closure, "{b:?}");
 }
 
 #[test]
@@ -106,13 +122,22 @@ fn bar_driven_at_one_end_and_clamped_at_the_other_midpoint() {
     on_midpoint(|| holds(&driven_and_clamped()));
 }
 
+#[test]
+fn bar_driven_at_one_end_and_clamped_at_the_other_gpu() {
+    on_gpu(|| holds(&driven_and_clamped()));
+}
+
+#[test]
+fn bar_driven_at_one_end_and_clamped_at_the_other_gpu_midpoint() {
+    on_midpoint(|| on_gpu(|| holds(&driven_and_clamped())));
+}
+
 /// A held component stays at the region's velocity, a free one moves:
 /// a plate (2-D) whose left edge is on rollers (`fixed`, `free = ["y"]`)
 /// under a body force along y and x falls freely along y while its edge
 /// stays put in x; the momentum along x is the body force's impulse and
 /// the roller's, along y the body force's alone.
-#[test]
-fn a_roller_holds_one_component() {
+fn roller() {
     let scene = parse(
         r#"
 title = "plate on a roller"
@@ -159,19 +184,36 @@ quantity = "force_y"
     let p = &out.summary.momentum_final;
     let j = &out.summary.constraints[0].impulse;
     println!("roller: momentum {p:?}, impulse {j:?}");
-    assert!((p[0] - (mass * 1.0e5 * t + j[0])).abs() < 1e-12 * mass * 1.0e5 * t);
-    assert!((p[1] - mass * -2.0e5 * t).abs() < 1e-12 * mass * 2.0e5 * t);
+    let tol = closure(out.summary.steps);
+    assert!((p[0] - (mass * 1.0e5 * t + j[0])).abs() < tol * mass * 1.0e5 * t);
+    assert!((p[1] - mass * -2.0e5 * t).abs() < tol * mass * 2.0e5 * t);
     assert!(j[0] < 0.0 && j[1] == 0.0);
     assert!(column(&out, "fy").iter().all(|&f| f == 0.0));
     assert!(column(&out, "fx").iter().any(|&f| f < 0.0));
     // The roller does no work: it holds its edge at rest.
     assert_eq!(out.summary.constraints[0].work, 0.0);
-    // Closed as the suite holds every CPU ledger (assert_conserved: 1e-10).
+    // Closed as the suite holds every CPU ledger (assert_conserved: 1e-10),
+    // or to the GPU's rounding.
     let l = &out.summary.energy;
     assert!(
-        l.residual.abs() < 1e-10 * l.potential.unwrap().abs(),
+        l.residual.abs() < tol.max(1e-10) * l.potential.unwrap().abs(),
         "{l:?}"
     );
+}
+
+#[test]
+fn a_roller_holds_one_component() {
+    roller();
+}
+
+#[test]
+fn a_roller_holds_one_component_gpu() {
+    on_gpu(roller);
+}
+
+#[test]
+fn a_roller_holds_one_component_gpu_midpoint() {
+    on_midpoint(|| on_gpu(roller));
 }
 
 /// What the driven strip did to the block, against ρ c_L v (measured /
@@ -189,6 +231,8 @@ struct Piston {
     momentum: f64,
     /// The ledger's residual over the driver's work.
     residual: f64,
+    /// The bound on the last two (`closure`).
+    closure: f64,
 }
 
 fn strip_into_block() -> Piston {
@@ -223,6 +267,7 @@ fn strip_into_block() -> Piston {
         driver: mean("driver_force", 0.0, end) / sigma - 1.0,
         momentum: (gained - driver.impulse[0]) / gained,
         residual: s.energy.residual / driver.work,
+        closure: closure(s.steps),
     };
     println!("{:?}: {p:?}", backend());
     p
@@ -244,8 +289,8 @@ fn piston_holds(p: &Piston) {
     ] {
         assert!(e.abs() < 0.01, "{what}: {p:?}");
     }
-    assert!(p.momentum.abs() < 1e-12, "{p:?}");
-    assert!(p.residual.abs() < 1e-12, "{p:?}");
+    assert!(p.momentum.abs() < p.closure, "{p:?}");
+    assert!(p.residual.abs() < p.closure, "{p:?}");
 }
 
 #[test]
@@ -256,6 +301,16 @@ fn strip_driven_into_a_block_gives_the_plateau_stress() {
 #[test]
 fn strip_driven_into_a_block_gives_the_plateau_stress_midpoint() {
     on_midpoint(|| piston_holds(&strip_into_block()));
+}
+
+#[test]
+fn strip_driven_into_a_block_gives_the_plateau_stress_gpu() {
+    on_gpu(|| piston_holds(&strip_into_block()));
+}
+
+#[test]
+fn strip_driven_into_a_block_gives_the_plateau_stress_gpu_midpoint() {
+    on_midpoint(|| on_gpu(|| piston_holds(&strip_into_block())));
 }
 
 /// The first bending frequency (rad/s) of a clamped–free Timoshenko beam
@@ -420,6 +475,26 @@ fn struck_cantilever_converges_on_its_bending_frequency() {
     let e8 = cantilever(Some(1.25e-4));
     assert!(e8.abs() < 0.08, "8 through the depth: {e8:+.4}");
     assert!(e4.abs() > 2.5 * e8.abs(), "{e4:+.4} then {e8:+.4}");
+}
+
+/// The coarse cantilever (4 particles through the depth) on the GPU path,
+/// both integrators: its clamp, its striker's contact and its ringing
+/// are the CPU path's, the frequency within 0.5 % of the CPU's −21.3 %
+/// (about 5 minutes on a software adapter).
+///
+/// Measured: −21.33 % on both integrators against the CPU's −21.31 %.
+#[test]
+#[ignore]
+fn struck_cantilever_rings_as_on_the_cpu_gpu() {
+    let cpu = cantilever(Some(2.5e-4));
+    on_gpu(|| {
+        let gpu = cantilever(Some(2.5e-4));
+        assert!((gpu - cpu).abs() < 0.005, "{gpu:+.4} against {cpu:+.4}");
+        on_midpoint(|| {
+            let mid = cantilever(Some(2.5e-4));
+            assert!((mid - cpu).abs() < 0.005, "{mid:+.4} against {cpu:+.4}");
+        });
+    });
 }
 
 /// The shipped scene, 16 particles through the depth, rings within 3 % of

@@ -86,6 +86,12 @@ device_buffers! {
     Kappa => kappa,
     /// Each particle's area as placed (bodies of revolution).
     Area0 => area0,
+    /// The clamped and driven regions: each one's (held components,
+    /// velocity), then each particle's region by original index.
+    Held => held,
+    /// The impulse each held particle's region gave it so far, by
+    /// original index (compensated: hi, lo).
+    HeldW => held_w,
     /// The hoop stress's acceleration of an evaluation.
     Hoop => hoop,
     /// The base pass's debris, a bit a particle.

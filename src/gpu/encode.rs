@@ -48,12 +48,23 @@ impl GpuSolver {
         let e = &self.k.eval[var as usize];
         pass.run(&e.kinematics);
         pass.run(&e.forces);
-        if let Some(c) = &e.contact {
-            pass.run(&c.pass1);
-            pass.run(&c.pass2);
-            if let Some(spread) = c.spread.as_ref().filter(|_| self.k.leap.is_some()) {
-                pass.run(spread);
-            }
+        self.encode_contact(pass, var);
+    }
+
+    /// An evaluation's contact passes, and the spread where it is a pass
+    /// of its own: in the leapfrog's first evaluation, and in the midpoint
+    /// rule's at the base state where regions are held, whose forces the
+    /// reductions then read whole (reduce.wgsl, held slots); advance_half
+    /// finds nothing left to gather.
+    fn encode_contact(&self, pass: &mut impl Dispatches, var: Var) {
+        let Some(c) = &self.k.eval[var as usize].contact else {
+            return;
+        };
+        pass.run(&c.pass1);
+        pass.run(&c.pass2);
+        let own_spread = self.k.leap.is_some() || !self.model.held.is_empty();
+        if let Some(spread) = c.spread.as_ref().filter(|_| own_spread) {
+            pass.run(spread);
         }
     }
 
@@ -180,12 +191,7 @@ impl GpuSolver {
                 .iter()
                 .flat_map(ContactKernels::all)
                 .for_each(|k| pass.run(k)),
-            (Stage::Contact, _, None) => {
-                if let Some(c) = &ev.contact {
-                    pass.run(&c.pass1);
-                    pass.run(&c.pass2);
-                }
-            }
+            (Stage::Contact, _, None) => self.encode_contact(pass, var),
             (Stage::Reduce, _, _) => self.encode_reduce(pass),
             (Stage::Advance, Role::HalfStep, None) => {
                 pass.run(k.advance_half.as_ref().expect(midpoint))

@@ -326,6 +326,8 @@ fn override_constants(
         ("GRAVITY", model.gravity.is_some() as u8 as f64),
         ("GX", model.gravity.map_or(0.0, |g| g.x)),
         ("GY", model.gravity.map_or(0.0, |g| g.y)),
+        ("HELD", !model.held.is_empty() as u8 as f64),
+        ("NHELD", model.held.len() as f64),
         ("VARIATIONAL", model.variational as u8 as f64),
         ("HG", model.hourglass),
         ("HISTORY", model.history as u8 as f64),

@@ -311,6 +311,9 @@ pub(super) fn make_state(
         let k2: Vec<f32> = model.close_scale.iter().map(|&k| k as f32).collect();
         mk.make(Buf::Kappa, 4 * nn, Some(bytemuck::cast_slice(&k2)))?;
     }
+    if !model.held.is_empty() {
+        make_held(mk, model, state)?;
+    }
     if model.axisymmetric {
         // Each particle's area as placed, by original index (the
         // contact normals' reference volumes), and the hoop stress's
@@ -320,6 +323,39 @@ pub(super) fn make_state(
         mk.make(Buf::Area0, 4 * nn, Some(bytemuck::cast_slice(&a0)))?;
         mk.make(Buf::Hoop, 4 * nn, None)?;
     }
+    Ok(())
+}
+
+/// The clamped and driven regions (common.wgsl, HELD), by original index,
+/// never permuted: each region's held components (bit 0 x, bit 1 y) and
+/// velocity, then each particle's region (`Model::held_of`); and the
+/// impulse the regions gave each particle, a state's region impulse in
+/// its first particle's entry.
+fn make_held(mk: &mut Maker, model: &Model, state: &State) -> Result<(), String> {
+    let mut table: Vec<u32> = Vec::with_capacity(4 * model.held.len() + model.len());
+    for c in &model.held {
+        let mask = (c.mask.x > 0.0) as u32 | ((c.mask.y > 0.0) as u32) << 1;
+        let (vx, vy) = (c.velocity.x as f32, c.velocity.y as f32);
+        table.extend([mask, vx.to_bits(), vy.to_bits(), 0]);
+    }
+    table.extend(&model.held_of);
+    mk.make(
+        Buf::Held,
+        4 * table.len() as u64,
+        Some(bytemuck::cast_slice(&table)),
+    )?;
+    let mut w = vec![[0f32; 4]; model.len()];
+    for (c, j) in model.held.iter().zip(&state.held_impulse) {
+        if let Some(&i) = c.particles.first() {
+            let ((xh, xl), (yh, yl)) = (split(j.x), split(j.y));
+            w[i] = [xh, yh, xl, yl];
+        }
+    }
+    mk.make(
+        Buf::HeldW,
+        16 * model.len() as u64,
+        Some(bytemuck::cast_slice(&w)),
+    )?;
     Ok(())
 }
 

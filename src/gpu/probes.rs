@@ -11,7 +11,9 @@ use glam::DVec2;
 
 use crate::model::Model;
 use crate::probe::Resolved;
-use crate::scene::{BodyQuantity, ContactQuantity, EnergyQuantity, ParticleQuantity};
+use crate::scene::{
+    BodyQuantity, ConstraintQuantity, ContactQuantity, EnergyQuantity, ParticleQuantity,
+};
 
 const NONE: u32 = u32::MAX;
 
@@ -30,6 +32,8 @@ mod code {
     pub const OWED: u32 = 10;
     pub const DISSIPATION: u32 = 11;
     pub const POTENTIAL: u32 = 12;
+    pub const HELD_FX: u32 = 13;
+    pub const HELD_FY: u32 = 14;
 }
 
 /// How a probe value is made from a ring row.
@@ -147,9 +151,15 @@ impl ProbePlan {
                         ContactQuantity::TangentialForce | ContactQuantity::SlipRate => Expr::Zero,
                     }
                 }
-                // The GPU path refuses a scene with constraints
-                // (run::check_backend) before it plans probes.
-                Resolved::Constraint(..) => Expr::Zero,
+                // The force that holds region k against the rates of the
+                // state's evaluation (Model::held_forces).
+                Resolved::Constraint(k, q) => {
+                    let c = match q {
+                        ConstraintQuantity::ForceX => code::HELD_FX,
+                        ConstraintQuantity::ForceY => code::HELD_FY,
+                    };
+                    Expr::Slot(plan.slot([c, k as u32, NONE, 0]), 1.0, 0.0)
+                }
                 Resolved::Energy(q) => match q {
                     EnergyQuantity::Kinetic => {
                         Expr::Slot(plan.slot([code::KINETIC, NONE, NONE, 0]), 1.0, 0.0)

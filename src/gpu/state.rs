@@ -204,6 +204,9 @@ impl GpuSolver {
         if self.model.dissipates() {
             names.push((Buf::Dheat, 16 * particle_groups(self.n)));
         }
+        if !self.model.held.is_empty() {
+            names.push((Buf::HeldW, 16 * n));
+        }
         names
     }
 
@@ -289,6 +292,30 @@ impl GpuSolver {
         if self.model.dissipates() {
             let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index(Buf::Dheat)].as_ref());
             st.dissipation = q.iter().map(|x| x[0] as f64 + x[1] as f64).sum();
+        }
+        if !self.model.held.is_empty() {
+            // By original index (make::make_held).
+            let w: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index(Buf::HeldW)].as_ref());
+            let m = &self.model;
+            st.held_impulse = m
+                .held
+                .iter()
+                .map(|c| {
+                    c.particles
+                        .iter()
+                        .map(|&i| {
+                            let q = w[i].map(f64::from);
+                            DVec2::new(q[0] + q[2], q[1] + q[3])
+                        })
+                        .sum()
+                })
+                .collect();
+            st.held_work = m
+                .held
+                .iter()
+                .zip(&st.held_impulse)
+                .map(|(c, j)| c.velocity.dot(*j))
+                .sum();
         }
         if self.model.adaptive {
             let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index(Buf::Metric)].as_ref());

@@ -110,7 +110,7 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
     // The dispersion correction, friction, symmetry planes and the
-    // constraints run on the CPU path alone so far.
+    // angular velocity probe run on the CPU path alone so far.
     let theta = scene.simulation.dispersion_correction;
     let cs = scene.contact_settings();
     let mu = cs.friction.max(cs.static_friction.unwrap_or(0.0));
@@ -130,22 +130,20 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         Some("contact.pairs' friction".to_string())
     } else if !scene.symmetry.is_empty() {
         Some("a symmetry plane ([[symmetry]])".to_string())
-    } else if let Some(p) = scene.probes.iter().find(|p| {
-        matches!(
-            p,
-            crate::scene::Probe::Body {
-                quantity: crate::scene::BodyQuantity::AngularVelocity,
-                ..
-            }
-        )
-    }) {
-        Some(format!("probe '{}' (angular_velocity)", p.name()))
     } else {
         scene
-            .bodies
+            .probes
             .iter()
-            .find(|b| !b.constraints.is_empty())
-            .map(|b| format!("body '{}''s constraints", b.name))
+            .find(|p| {
+                matches!(
+                    p,
+                    crate::scene::Probe::Body {
+                        quantity: crate::scene::BodyQuantity::AngularVelocity,
+                        ..
+                    }
+                )
+            })
+            .map(|p| format!("probe '{}' (angular_velocity)", p.name()))
     };
     if let Some(what) = cpu_only {
         return match backend {

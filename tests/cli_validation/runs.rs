@@ -141,11 +141,11 @@ fn gravity_is_checked_and_booked() {
     assert!(!summary.contains("\"potential\""), "{summary}");
 }
 
-/// Constraints run on the CPU path alone so far: `--backend gpu` refuses
-/// them (exit 2, naming them and the way out), `auto` runs the CPU path
-/// with one warning line, and `check` lists each with its particles.
+/// Constraints run on both paths: `--backend gpu` runs them and books
+/// the regions' work in summary.json's ledger, and `check` lists each with
+/// its particles.
 #[test]
-fn constraints_run_on_the_cpu_path() {
+fn constraints_run_on_the_gpu_path() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_1D.replacen(
         "shape = { kind = \"segment\", from = -0.001, to = 0.0 }",
@@ -153,8 +153,10 @@ fn constraints_run_on_the_cpu_path() {
         1,
     );
     let scene = write_scene(tmp.path(), "held", &text);
-    let dir = cpu_path_only(tmp.path(), &scene, "constraints");
+    let (o, dir) = run_into(tmp.path(), &scene, "gpu", tmp.path().join("g"));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(summary.contains("\"backend\": \"gpu\""), "{summary}");
     assert!(summary.contains("\"constraint_work\":"), "{summary}");
     check_says(
         tmp.path(),
