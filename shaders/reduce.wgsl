@@ -142,6 +142,19 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
         let d = dheat[i / WG];
         return d.x + d.y;
     }
+    if (code >= 15u) {
+        // Body a's sums about its centre as placed (gpu::probes, SPIN).
+        if (o.body != a) {
+            return 0.0;
+        }
+        let r = position_rel(i) - SLOT_C[SLOT_B[sl]];
+        switch code {
+            case 15u: { return o.m * (r.x * o.v.y - r.y * o.v.x); }
+            case 16u: { return o.m * dot(r, r); }
+            case 17u: { return o.m * r.x; }
+            default: { return o.m * r.y; }
+        }
+    }
     if (code <= 5u) {
         if (a != NONE && o.body != a) {
             return 0.0;

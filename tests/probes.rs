@@ -42,6 +42,7 @@ const BODY: &[&str] = &[
     "kinetic_energy",
     "momentum_x",
     "momentum_y",
+    "angular_velocity",
 ];
 
 const CONTACT: &[&str] = &["force", "pressure_max"];
@@ -167,7 +168,25 @@ fn columns_hold_the_final_state(out: &RunOutput, tol: f64) {
         .clone()
         .map(|k| 0.5 * model.mass[k] * st.v[k].length_squared())
         .sum();
-    let body = [mv.x / m, mv.y / m, mx.x / m, mx.y / m, ke_rod, mv.x, mv.y];
+    // About the centre of mass: Σ m r × v over Σ m |r|².
+    let (xc, vc) = (mx / m, mv / m);
+    let (spin, inertia) = rod.clone().fold((0.0, 0.0), |(l, j), k| {
+        let (r, v) = (st.x[k] - xc, st.v[k] - vc);
+        (
+            l + model.mass[k] * r.perp_dot(v),
+            j + model.mass[k] * r.length_squared(),
+        )
+    });
+    let body = [
+        mv.x / m,
+        mv.y / m,
+        mx.x / m,
+        mx.y / m,
+        ke_rod,
+        mv.x,
+        mv.y,
+        spin / inertia,
+    ];
     let kinetic: f64 = (0..model.len())
         .map(|k| 0.5 * model.mass[k] * st.v[k].length_squared())
         .sum();

@@ -34,6 +34,12 @@ mod code {
     pub const POTENTIAL: u32 = 12;
     pub const HELD_FX: u32 = 13;
     pub const HELD_FY: u32 = 14;
+    /// About a body's centre as placed (`SLOT_C`): `Σ m r × v`, `Σ m |r|²`
+    /// and `Σ m r`.
+    pub const SPIN: u32 = 15;
+    pub const INERTIA: u32 = 16;
+    pub const MRX: u32 = 17;
+    pub const MRY: u32 = 18;
 }
 
 /// How a probe value is made from a ring row.
@@ -48,6 +54,10 @@ enum Expr {
     Total(usize, usize, Option<usize>, Option<(usize, f64)>),
     /// The potential energy in the body force: `zero − slot`.
     Potential(usize, f64),
+    /// A body's angular velocity about its centre of mass from its sums
+    /// about its centre as placed: `Σ m r × v`, `Σ m |r|²`, `Σ m r` (x, y),
+    /// `Σ m v` (x, y), and its mass.
+    Spin([usize; 6], f64),
     /// A value that is zero by construction (the potential without a body
     /// force).
     Zero,
@@ -60,6 +70,9 @@ pub struct ProbePlan {
     pub slots: Vec<[u32; 4]>,
     /// `(original particle index, quantity code)`.
     pub particles: Vec<[u32; 2]>,
+    /// The centres the angular slots take their sums about (their `b`
+    /// indexes it), relative to the grid origin.
+    centres: Vec<[f32; 2]>,
     exprs: Vec<Expr>,
     /// The slot of the stored penalty energy (always present with contact).
     pub stored: Option<usize>,
@@ -129,9 +142,9 @@ impl ProbePlan {
                         BodyQuantity::KineticEnergy => (code::KINETIC, 1.0, 0.0),
                         BodyQuantity::MomentumX => (code::MVX, 1.0, 0.0),
                         BodyQuantity::MomentumY => (code::MVY, 1.0, 0.0),
-                        // The GPU path refuses it (run::choose_backend).
                         BodyQuantity::AngularVelocity => {
-                            plan.exprs.push(Expr::Zero);
+                            let e = plan.spin(model, b as usize, origin, mass);
+                            plan.exprs.push(e);
                             continue;
                         }
                     };
@@ -214,6 +227,20 @@ impl ProbePlan {
                 format!("    (*acc)[{v}] = combine({v}u, (*acc)[{v}], slot_value({k}u, i, o));\n")
             })
             .collect();
+        let centres = if self.centres.is_empty() {
+            "array<vec2<f32>, 1>(vec2<f32>(0.0))".to_string()
+        } else {
+            let items: Vec<String> = self
+                .centres
+                .iter()
+                .map(|c| format!("vec2<f32>({:?}, {:?})", c[0], c[1]))
+                .collect();
+            format!(
+                "array<vec2<f32>, {}>({})",
+                self.centres.len(),
+                items.join(", ")
+            )
+        };
         format!(
             "// The scene's observation slots (gpu::probes::ProbePlan::wgsl).\n\
              const NSLOTS: u32 = {n}u;\n\
@@ -221,6 +248,8 @@ impl ProbePlan {
              const SLOT_A = {};\n\
              const SLOT_B = {};\n\
              const SLOT_OP = {};\n\
+             // The centres of the angular slots (SLOT_B indexes them).\n\
+             const SLOT_C = {centres};\n\
              // Particle i's value of every slot folded into `acc`.\n\
              fn fold_slots(acc: ptr<function, array<f32, NVALS>>, i: u32, o: Obs) {{\n{fold}}}\n",
             column(0),
@@ -233,15 +262,17 @@ impl ProbePlan {
     /// A plan with one slot of every code, to check reduce.wgsl alone.
     pub fn sample() -> Self {
         let mut plan = ProbePlan::default();
-        for c in code::MVX..=code::HEAT {
+        for c in code::MVX..=code::MRY {
             let op = (c == code::PAIR_PMAX) as u32;
-            let (a, b) = if c == code::PAIR_FORCE || c == code::PAIR_PMAX {
-                (0, 1)
-            } else {
-                (NONE, NONE)
+            let (a, b) = match c {
+                code::PAIR_FORCE | code::PAIR_PMAX => (0, 1),
+                code::HELD_FX | code::HELD_FY => (0, NONE),
+                code::SPIN..=code::MRY => (0, 0),
+                _ => (NONE, NONE),
             };
             plan.slot([c, a, b, op]);
         }
+        plan.centres.push([0.0, 0.0]);
         plan
     }
 
@@ -256,6 +287,32 @@ impl ProbePlan {
             .sum();
         let zero = g.dot(model.gravity_ref - origin * mass);
         Some((self.slot([code::POTENTIAL, NONE, NONE, 0]), zero))
+    }
+
+    /// Body `b`'s angular velocity (of mass `mass`; CPU twin:
+    /// `probe::angular_velocity`): its sums about its centre as placed,
+    /// where `r` stays of the body's size, moved to its centre of mass in
+    /// f64 by the host.
+    fn spin(&mut self, model: &Model, b: usize, origin: DVec2, mass: f64) -> Expr {
+        let c = model.bodies[b].centre0 - origin;
+        let c = [c.x as f32, c.y as f32];
+        let k = match self.centres.iter().position(|x| *x == c) {
+            Some(k) => k,
+            None => {
+                self.centres.push(c);
+                self.centres.len() - 1
+            }
+        } as u32;
+        let b = b as u32;
+        let slots = [
+            self.slot([code::SPIN, b, k, 0]),
+            self.slot([code::INERTIA, b, k, 0]),
+            self.slot([code::MRX, b, k, 0]),
+            self.slot([code::MRY, b, k, 0]),
+            self.slot([code::MVX, b, NONE, 0]),
+            self.slot([code::MVY, b, NONE, 0]),
+        ];
+        Expr::Spin(slots, mass)
     }
 
     fn slot(&mut self, s: [u32; 4]) -> usize {
@@ -288,6 +345,18 @@ impl ProbePlan {
                 slot(k) + slot(i) + s.map_or(0.0, slot) + u.map_or(0.0, |(k, zero)| zero - slot(k))
             }
             Expr::Potential(k, zero) => zero - slot(k),
+            Expr::Spin([l, i, rx, ry, px, py], m) => {
+                // About the centre of mass: L − M c × V, I − M |c|², c the
+                // centre of mass from the centre as placed.
+                let c = DVec2::new(slot(rx), slot(ry)) / m;
+                let p = DVec2::new(slot(px), slot(py));
+                let inertia = slot(i) - m * c.length_squared();
+                if inertia > 0.0 {
+                    (slot(l) - c.perp_dot(p)) / inertia
+                } else {
+                    0.0
+                }
+            }
             Expr::Zero => 0.0,
         }
     }

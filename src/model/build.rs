@@ -223,6 +223,9 @@ impl Model {
         // A body that can yield takes the hourglass control in place of
         // the artificial stress where the scene says so.
         let keyed = yields && art.plastic == ArtPlastic::Hourglass;
+        let range = start..self.mass.len();
+        let mass: f64 = self.mass[range.clone()].iter().sum();
+        let moment: DVec2 = range.clone().map(|i| state.x[i] * self.mass[i]).sum();
         self.bodies.push(BodyInfo {
             name: b.name.clone(),
             material,
@@ -236,6 +239,11 @@ impl Model {
                 art.plastic_hourglass
             } else {
                 av.hourglass
+            },
+            centre0: if mass > 0.0 {
+                moment / mass
+            } else {
+                DVec2::ZERO
             },
         });
         self.add_held(b, start..self.mass.len(), &state.x);

@@ -35,6 +35,11 @@ pub struct BodyInfo {
     /// The hourglass control's coefficient on the body's families of
     /// pairs (0: none; [`Model::hourglass`] is the largest).
     pub hourglass: f64,
+    /// The body's centre of mass as placed: the point the GPU's
+    /// reductions take its angular momentum about before the host moves
+    /// it to the centre of mass (`gpu::probes`), which keeps the f32 sums
+    /// free of the cancellation about a distant origin.
+    pub centre0: DVec2,
 }
 
 /// How far below the yield stress a von Mises stress still counts as on

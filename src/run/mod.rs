@@ -109,8 +109,8 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    // The dispersion correction, friction, symmetry planes and the
-    // angular velocity probe run on the CPU path alone so far.
+    // The dispersion correction, friction and symmetry planes run on the
+    // CPU path alone so far.
     let theta = scene.simulation.dispersion_correction;
     let cs = scene.contact_settings();
     let mu = cs.friction.max(cs.static_friction.unwrap_or(0.0));
@@ -131,19 +131,7 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
     } else if !scene.symmetry.is_empty() {
         Some("a symmetry plane ([[symmetry]])".to_string())
     } else {
-        scene
-            .probes
-            .iter()
-            .find(|p| {
-                matches!(
-                    p,
-                    crate::scene::Probe::Body {
-                        quantity: crate::scene::BodyQuantity::AngularVelocity,
-                        ..
-                    }
-                )
-            })
-            .map(|p| format!("probe '{}' (angular_velocity)", p.name()))
+        None
     };
     if let Some(what) = cpu_only {
         return match backend {
