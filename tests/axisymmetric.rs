@@ -208,7 +208,10 @@ fn a_bar_carries_a_pulse_at_the_bar_wave_speed_on_the_gpu() {
 }
 
 fn bar_pulse() {
-    let scene = load("scenes/axisymmetric/bar_pulse.toml");
+    let mut scene = load("scenes/axisymmetric/bar_pulse.toml");
+    // The front passes 45 mm at 8.8 µs: the rows after 10 µs, which the
+    // scene keeps to show the pulse on, are not read here.
+    scene.simulation.end_time = 1.0e-5;
     let steel = material(&scene, "steel");
     let c0 = (steel.e / steel.rho0).sqrt();
     let out = run(&scene);
