@@ -203,3 +203,53 @@ fn step_work_on_the_bench_lattice() {
         );
     }
 }
+
+/// Constraints cost only the scenes that hold a region: on the benchmark's
+/// disks (about 2e4 particles) a clamp over part of one disk adds 20 bytes
+/// a particle (each particle's region and its impulse) and, in the
+/// midpoint rule with contact, one dispatch a step (the base evaluation's
+/// spread as a pass of its own, before the reductions read the region's
+/// force); the leapfrog's step keeps its dispatches.
+#[test]
+fn constraints_cost_only_where_held() {
+    let Some(ctx) = gpu() else { return };
+    let case = sphcontact::bench::DiskCase::new(20_000).expect("the benchmark case");
+    let n = case.particles();
+    let clamped = |mut model: Model, state: &mut State| {
+        let particles: Vec<usize> = model.bodies[0].range.clone().take(40).collect();
+        model.held_of = vec![0; n];
+        for &i in &particles {
+            model.held_of[i] = 1;
+            state.v[i] = DVec2::ZERO;
+        }
+        model.held.push(sphcontact::model::Held {
+            name: "clamp".into(),
+            mask: DVec2::ONE,
+            velocity: DVec2::ZERO,
+            particles,
+        });
+        state.held_impulse = vec![DVec2::ZERO];
+        model
+    };
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        let mut model = case.model.clone();
+        model.integrator = integrator;
+        let free = GpuSolver::new(ctx.clone(), model.clone(), &case.state, &case.probes, 1.0)
+            .expect("fits")
+            .step_work();
+        let mut state = case.state.clone();
+        let model = clamped(model, &mut state);
+        let held = GpuSolver::new(ctx.clone(), model, &state, &case.probes, 1.0)
+            .expect("fits")
+            .step_work();
+        let extra = held.device_bytes_per_particle - free.device_bytes_per_particle;
+        println!(
+            "{integrator:?}: {} then {} dispatches, {extra:.4} bytes a particle more",
+            free.dispatches, held.dispatches
+        );
+        assert!((extra - 20.0).abs() < 0.01, "{extra} bytes a particle");
+        let spread = (integrator == Integrator::Midpoint) as u32;
+        assert_eq!(held.dispatches, free.dispatches + spread, "{integrator:?}");
+        assert_eq!(held.walks, free.walks, "{integrator:?}");
+    }
+}
