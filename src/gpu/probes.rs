@@ -42,6 +42,17 @@ mod code {
     pub const MRY: u32 = 18;
 }
 
+/// Where `x` is in `list`, pushed at its end if it is not there.
+fn index_of<T: PartialEq>(list: &mut Vec<T>, x: T) -> usize {
+    match list.iter().position(|y| *y == x) {
+        Some(k) => k,
+        None => {
+            list.push(x);
+            list.len() - 1
+        }
+    }
+}
+
 /// How a probe value is made from a ring row.
 #[derive(Debug, Clone)]
 enum Expr {
@@ -295,14 +306,7 @@ impl ProbePlan {
     /// f64 by the host.
     fn spin(&mut self, model: &Model, b: usize, origin: DVec2, mass: f64) -> Expr {
         let c = model.bodies[b].centre0 - origin;
-        let c = [c.x as f32, c.y as f32];
-        let k = match self.centres.iter().position(|x| *x == c) {
-            Some(k) => k,
-            None => {
-                self.centres.push(c);
-                self.centres.len() - 1
-            }
-        } as u32;
+        let k = index_of(&mut self.centres, [c.x as f32, c.y as f32]) as u32;
         let b = b as u32;
         let slots = [
             self.slot([code::SPIN, b, k, 0]),
@@ -316,13 +320,7 @@ impl ProbePlan {
     }
 
     fn slot(&mut self, s: [u32; 4]) -> usize {
-        match self.slots.iter().position(|x| *x == s) {
-            Some(k) => k,
-            None => {
-                self.slots.push(s);
-                self.slots.len() - 1
-            }
-        }
+        index_of(&mut self.slots, s)
     }
 
     /// Floats per ring row: time (hi, lo), dt, slots, particle probes.

@@ -231,7 +231,7 @@ impl Model {
             material,
             rigid: b.rigid,
             spacing: p.spacing,
-            range: start..self.mass.len(),
+            range: range.clone(),
             velocity0: v0,
             debris_neighbours: 0,
             art: !keyed,
@@ -246,7 +246,7 @@ impl Model {
                 DVec2::ZERO
             },
         });
-        self.add_held(b, start..self.mass.len(), &state.x);
+        self.add_held(b, range, &state.x);
     }
 
     /// What the particles as placed in `state` set: the contact's step and
