@@ -40,6 +40,50 @@
 // original index: (hi x, hi y, lo x, lo y).
 @group(0) @binding(95) var<storage, read_write> held_w: array<vec4<f32>>;
 
+// Coulomb friction (RUB; contact.wgsl): each particle's elastic slip by
+// original index, and each particle's friction in the evaluation before.
+@group(0) @binding(96) var<storage, read_write> slip: array<vec4<f32>>;
+@group(0) @binding(97) var<storage, read> frub: array<vec4<f32>>;
+
+// Particle i's slip rate in the evaluation before: its rub pass's where
+// it was on the boundary, else none.
+fn slip_rate(i: u32) -> f32 {
+    if (nbo[i].z > 0.0) {
+        return frub[i].z;
+    }
+    return 0.0;
+}
+
+// The Coulomb return at the step's end (CPU twin: cpu::contact::
+// return_slip, after advance_slip): the slip u + dt rate clipped to the
+// limit of the step's evaluation, with its spring and whether it slid; a
+// particle without a frictional pass lets its slip go. The spring energy
+// released is heat in the particle (returned, specific), in the contact's
+// ledger (taken from the springs' work) and in the frictional heat.
+fn return_slip(i: u32, dt: f32) -> f32 {
+    let id = pinfo[i].w;
+    var sl = slip[id];
+    let u = sl.x + slip_rate(i) * dt;
+    var fr = vec4<f32>(0.0);
+    if (nbo[i].z > 0.0) {
+        fr = frub[i];
+    }
+    var released = 0.0;
+    if (fr.x != 0.0) {
+        let uc = clamp(u, -fr.y, fr.y);
+        released = 0.5 * fr.x * (u * u - uc * uc);
+        sl = vec4<f32>(uc, select(fr.x, -fr.x, fr.w > 0.0), uc, sl.w + released);
+    } else {
+        released = 0.5 * abs(sl.y) * u * u;
+        sl = vec4<f32>(0.0, 0.0, 0.0, sl.w + released);
+    }
+    slip[id] = sl;
+    if (released != 0.0) {
+        qheat_w[i] = qheat_w[i] + vec2<f32>(released, -released);
+    }
+    return released / bitcast<f32>(pinfo[i].x);
+}
+
 // Add `j` to held particle i's impulse (CPU twin: Model::book_held).
 fn add_held_impulse(i: u32, j: vec2<f32>) {
     let id = pinfo[i].w;
@@ -123,6 +167,11 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     }
     clear_next_top(i);
     let k = 0.5 * ctl.dt;
+    if (RUB) {
+        // The slip at the midpoint (cpu::contact::advance_slip).
+        let id = pinfo[i].w;
+        slip[id].z = slip[id].x + slip_rate(i) * k;
+    }
     let mi = pinfo[i];
     let b = bodies[mi.z];
     u_w[i] = u[i] + v[i] * k;
@@ -221,6 +270,10 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         rn.x = up.mu;
         r_w[i] = rn;
         hist_w[i] = up.h;
+    }
+    if (RUB) {
+        rn.y += return_slip(i, dt);
+        r_w[i] = rn;
     }
     check(i, un, vn, rn);
 }

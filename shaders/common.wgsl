@@ -54,6 +54,10 @@ override GY: f32 = 0.0;
 // NHELD regions in `held`. None (false) compiles them out.
 override HELD: bool = false;
 override NHELD: u32 = 0u;
+// Coulomb friction (`[contact] friction`, Model::rubs; docs/method.md
+// §8.6): the contact's rub passes and each particle's elastic slip
+// (contact.wgsl, `slip`). None (false) compiles them out.
+override RUB: bool = false;
 // The hourglass control's coefficient (docs/method.md, "Hourglass
 // control"), 0 off; it also reads the stored velocity gradient.
 override HG: f32 = 0.0;

@@ -1,4 +1,5 @@
-// Penalty contact (docs/method.md §8), two gathers, no atomics.
+// Penalty contact (docs/method.md §8), two gathers (four with friction:
+// the rub pass and its gather, at the end of this file), no atomics.
 // Pass 1: each boundary particle P interpolates the partner body's surface
 // points s_q = x_q + o_q n_q with kernel weights, takes the gap as the mean
 // of the chord and tangent-line estimates, and the pressure
@@ -79,6 +80,29 @@
 // midpoint rule's first, the leapfrog's force passes; the forces pass
 // marks the particles off the boundary).
 @group(0) @binding(74) var<storage, read_write> centry: array<f32>;
+
+// Coulomb friction (RUB; docs/method.md §8.6). Each particle's elastic
+// slip, by original index (never permuted): (u at the state, the spring
+// f A k_t of the pass that last held it (negative while that pass slid),
+// u at the midpoint (MID), the frictional heat booked so far). The
+// advance passes move and return it (advance.wgsl); the rub pass books
+// the heat of the midpoint rule's second evaluation into `w`.
+@group(0) @binding(96) var<storage, read_write> slip: array<vec4<f32>>;
+// Each particle's friction in this evaluation (c = f A k_t, the largest
+// elastic slip the limit allows, the slip rate, 1 where it slides): what
+// the advance passes move and return the slip with. Written at boundary
+// particles; its readers look at the boundary flag first.
+@group(0) @binding(97) var<storage, read_write> frub: array<vec4<f32>>;
+// Pass 1 -> the rub pass, on the list (Entries::rub0, rub1).
+@group(0) @binding(98) var<storage, read_write> crub0: array<vec4<f32>>;
+@group(0) @binding(99) var<storage, read_write> crub1: array<vec4<f32>>;
+// The rub pass -> its gather and the reductions, on the list: the force
+// per unit weight a particle hands its partner's candidates, its friction
+// force f tau A and A |slip rate|.
+@group(0) @binding(100) var<storage, read_write> crubo: array<vec4<f32>>;
+// The Coulomb coefficients (sliding, static) of each pair of bodies, a row
+// a body (Model::friction_between).
+@group(0) @binding(101) var<storage, read> coulomb: array<vec2<f32>>;
 
 fn kick(q: u32, rigid: bool) {
     if (!rigid) {
@@ -179,49 +203,67 @@ fn series(a: f32, ra: bool, b: f32, rb: bool) -> f32 {
     return a * b / (a + b);
 }
 
-// The particles a thread of a contact pass handles: in a leapfrog step
-// (LEAP >= 2) the boundary particles the kinematics pass listed (`surf`),
-// one a thread and a workgroup a `WG` of them (the forces pass sized the
-// indirect dispatch); otherwise one particle a thread, every particle. A
-// thread strides past the most workgroups a dispatch may have. Only
+// The entries (first, end, stride) a thread of a contact pass handles, each
+// the particle `walked` names: in a leapfrog step (LEAP >= 2) the boundary
+// particles the kinematics pass listed (`surf`), one a thread and a
+// workgroup a `WG` of them (the forces pass sized the indirect dispatch);
+// otherwise one particle a thread, every particle. A thread strides past
+// the most workgroups a dispatch may have. Only
 // boundary particles (nbo.z > 0) take part: the others' entries are left
 // as they are, and their readers look at the boundary flag first
 // (reduce.wgsl; advance.wgsl for qrate).
-fn contact_walkers(gid: vec3<u32>, nwg: vec3<u32>, pass2: bool) {
+fn contact_walkers(gid: vec3<u32>, nwg: vec3<u32>) -> vec3<u32> {
     if (zero_length_pass()) {
-        return;
+        return vec3<u32>(0u, 0u, 1u);
     }
     if (LEAP >= 2u) {
-        let end = min(surf_args[0], params.surf_cap);
-        for (var k = gid.x; k < end; k += nwg.x * WG) {
-            let p = surf[k];
-            if (pass2) {
-                pass2_at(p);
-            } else {
-                pass1_at(p);
-            }
-        }
-        return;
+        return vec3<u32>(gid.x, min(surf_args[0], params.surf_cap), nwg.x * WG);
     }
     let p = flat_index(gid, nwg);
-    if (p >= params.n) {
-        return;
-    }
-    if (pass2) {
-        pass2_at(p);
-    } else {
-        pass1_at(p);
-    }
+    return vec3<u32>(p, min(p + 1u, params.n), 1u);
 }
 
+// The particle of entry k of a range of `contact_walkers`.
+fn walked(k: u32) -> u32 {
+    if (LEAP >= 2u) {
+        return surf[k];
+    }
+    return k;
+}
+
+// Each pass its own entry point, so that each binds only the buffers it
+// reads (the union would pass a software adapter's 32).
 @compute @workgroup_size(WG)
 fn contact_pass1(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    contact_walkers(gid, nwg, false);
+    let r = contact_walkers(gid, nwg);
+    for (var k = r.x; k < r.y; k += r.z) {
+        pass1_at(walked(k));
+    }
 }
 
 @compute @workgroup_size(WG)
 fn contact_pass2(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    contact_walkers(gid, nwg, true);
+    let r = contact_walkers(gid, nwg);
+    for (var k = r.x; k < r.y; k += r.z) {
+        pass2_at(walked(k));
+    }
+}
+
+// With friction (RUB): the rub pass, then its gather, after pass 2.
+@compute @workgroup_size(WG)
+fn contact_rub(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let r = contact_walkers(gid, nwg);
+    for (var k = r.x; k < r.y; k += r.z) {
+        rub_at(walked(k));
+    }
+}
+
+@compute @workgroup_size(WG)
+fn contact_rub_gather(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let r = contact_walkers(gid, nwg);
+    for (var k = r.x; k < r.y; k += r.z) {
+        rub_gather_at(walked(k));
+    }
 }
 
 // The leapfrog's booking of particle q's (dashpot heat, spring power): the
@@ -270,6 +312,10 @@ fn pass1_at(p: u32) {
         cbar0[k] = e.bar0;
         cbar1[k] = e.bar1;
         ckeep[k] = e.keep;
+        if (RUB) {
+            crub0[k] = e.rub0;
+            crub1[k] = e.rub1;
+        }
     }
     store_energy(p, e.stored);
 }
@@ -278,7 +324,7 @@ fn pass1_at(p: u32) {
 fn entries_of(p: u32) -> Entries {
     let k = place(p);
     let o = own_at(p);
-    return Entries(cown[o], cshare[o], cbar0[k], cbar1[k], ckeep[k], 0.0, 0.0);
+    return Entries(cown[o], cshare[o], cbar0[k], cbar1[k], ckeep[k], 0.0, 0.0, vec4<f32>(0.0), vec4<f32>(0.0));
 }
 
 // What pass 2 gathers at particle q from the partners' passes over the
@@ -477,4 +523,196 @@ fn contact_spread(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
     if (LEAP == 2u) {
         vkick[j] = hold(j, vkick[j] + f * (0.5 * ctl.dt / m));
     }
+}
+
+// The shear layer of a body's surface (thickness o, at least spacing/4)
+// over its shear modulus, a rigid side adding no compliance (CPU twin:
+// physics::penalty::spring_stiffness with cpu::contact::shear_constants).
+fn shear_layer(o: f32, b: Body) -> f32 {
+    if (b.rigid != 0u) {
+        return 0.0;
+    }
+    return max(o, 0.25 * b.spacing) / b.g;
+}
+
+// Rates from a contact pass at particle q (not rigid): the force `f`, the
+// heat `heat` and the springs' power `spring`, as pass 2 adds its own
+// (the midpoint's second evaluation books them with the step).
+fn add_rates(q: u32, f: vec2<f32>, heat: f32, spring: f32) {
+    let m = bitcast<f32>(pinfo[q].x);
+    if (!MID) {
+        dv[q] += f / m;
+        dr[q].y += heat / m;
+    } else if (ctl.dt != 0.0) {
+        let w0 = dv[q];
+        let w1 = w0 + f * (ctl.dt / m);
+        dv[q] = w1;
+        dr[q].y += heat * (ctl.dt / m) + compatible_energy(w0, w1, v[q]);
+        qheat_w[q] = qheat_w[q] + vec2<f32>(heat, spring) * ctl.dt;
+    }
+}
+
+// The normal force the passes of partner body `bq` apply at particle p,
+// shared to p by weight over the candidate pairs they used (pass 1's
+// rub1.w), as pass 2 gathers their dashpots' (CPU twin:
+// cpu::contact::Booking::pass2, `normal`).
+fn shared_normal(p: u32, mp: vec4<u32>, wk: Walker, cnp: vec4<f32>, bq: u32) -> f32 {
+    var normal = 0.0;
+    let bp = mp.z;
+    let op = bitcast<f32>(mp.y);
+    let cs = consts();
+    let np = cnp.xy;
+    let hp = bodies[bp].h;
+    let fbp = f32(bp);
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(wk.hm, row);
+        for (var k = span.start; k < span.end; k++) {
+            let cd = cand(wk, k, cs);
+            let j = cd.j;
+            if (!in_row(cd.cell, span)) {
+                continue;
+            }
+            let mj = pinfo[j];
+            if (mj.z != bq || nbo[j].z <= 0.0) {
+                continue;
+            }
+            let cj = cn[place(j)];
+            let hj = bodies[bq].h;
+            let w = candidate(cj.xy, np, cd.d, bitcast<f32>(mj.y), op, hj, hp, ramp_measure(j, hj, cj), ramp_measure(p, hp, cnp)).x;
+            if (w < 0.0 || cown[own_at(j)].w != fbp) {
+                continue;
+            }
+            normal += crub1[place(j)].w * w;
+        }
+    }
+    return normal;
+}
+
+// The rub pass at boundary particle p (CPU twin: cpu::contact::friction,
+// `rub`): a spring on p's elastic slip and a dashpot on the relative
+// tangential velocity, their traction held to the Coulomb limit mu N / A,
+// N the normal force on p (its own pass's and its partner's shared to
+// it). p keeps -f tau A t and hands +f tau A t to its candidates by
+// weight (the gather); f is 1/2 against a deformable partner, which rubs
+// back with the other half, 1 against a rigid one.
+fn rub_at(p: u32) {
+    if (nbo[p].z <= 0.0) {
+        return;
+    }
+    let k = place(p);
+    var hand = vec4<f32>(0.0);
+    var fr = vec4<f32>(0.0);
+    let mp = pinfo[p];
+    let bodyp = bodies[mp.z];
+    let own = cown[own_at(p)];
+    let r0 = crub0[k];
+    let r1 = crub1[k];
+    if (bodyp.rigid == 0u && own.w >= 0.0 && r0.w > 0.0) {
+        let bq = u32(own.w);
+        let cnp = cn[k];
+        let normal = r1.z + shared_normal(p, mp, walker(p), cnp, bq);
+        let mu = coulomb[mp.z * arrayLength(&bodies) + bq];
+        if (normal > 0.0 && mu.y > 0.0) {
+            let bodyq = bodies[bq];
+            let qr = bodyq.rigid != 0u;
+            let t = perp(r0.xy);
+            let a = area[area_index(p, nbo[p].w)];
+            let f = select(0.5, 1.0, qr);
+            let kt = 1.0 / (shear_layer(bitcast<f32>(mp.y), bodyp) + shear_layer(r0.z, bodyq));
+            let zt = series(sqrt(bodyp.rho0 * bodyp.g), false, sqrt(bodyq.rho0 * bodyq.g), qr);
+            let w = r1.x;
+            let w_book = r1.y;
+            let sl = slip[mp.w];
+            // The sliding limit, and the limit a sticking pass holds to:
+            // the static one unless the particle slid at the last return.
+            let limit = mu.x * normal / a;
+            var limit_held = mu.y * normal / a;
+            if (sl.y < 0.0) {
+                limit_held = limit;
+            }
+            var cap = 0.0;
+            var cap_hold = 0.0;
+            if (kt > 0.0) {
+                cap = limit / kt;
+                cap_hold = limit_held / kt;
+            }
+            var u0 = sl.x;
+            if (MID) {
+                u0 = sl.z;
+            }
+            let c = f * a * kt;
+            let u_stick = clamp(u0, -cap_hold, cap_hold);
+            let trial = kt * u_stick + zt * w;
+            let stick = abs(trial) <= limit_held;
+            var tau = trial;
+            var rate = w_book;
+            var heat = 0.0;
+            var spring = 0.0;
+            if (stick) {
+                // Sticking: the spring stores, the dashpot heats.
+                let d = f * a * zt * w * w_book;
+                heat = max(d, 0.0);
+                spring = c * u_stick * w_book + min(d, 0.0);
+            } else {
+                // Sliding: the traction's work is heat, but where the
+                // booking velocity has turned against it, which goes to
+                // the spring's ledger so that heat is never negative.
+                tau = select(-limit, limit, trial >= 0.0);
+                rate = 0.0;
+                let d = f * a * tau * w_book;
+                heat = max(d, 0.0);
+                spring = min(d, 0.0);
+            }
+            let force = t * (f * a * tau);
+            add_rates(p, -force, heat, spring);
+            if (MID && ctl.dt != 0.0) {
+                slip[mp.w].w = sl.w + heat * ctl.dt;
+            }
+            hand = vec4<f32>(force / r0.w, f * a * tau, a * abs(w_book - rate));
+            fr = vec4<f32>(c, select(cap, cap_hold, stick), rate, select(1.0, 0.0, stick));
+        }
+    }
+    crubo[k] = hand;
+    frub[p] = fr;
+}
+
+// The rub's gather at boundary particle q (not rigid): the forces the
+// particles rubbing on its body handed it, over exactly their candidate
+// sets (CPU twin: cpu::contact::friction, `handed`).
+fn rub_gather_at(q: u32) {
+    let mq = pinfo[q];
+    let bq = mq.z;
+    if (nbo[q].z <= 0.0 || bodies[bq].rigid != 0u) {
+        return;
+    }
+    let wk = walker(q);
+    let cnq = cn[place(q)];
+    let nq = cnq.xy;
+    let oq = bitcast<f32>(mq.y);
+    let hq = bodies[bq].h;
+    let fbq = f32(bq);
+    let cs = consts();
+    var f = vec2<f32>(0.0);
+    for (var row = 0u; row < scan_rows(); row++) {
+        let span = row_span(wk.hm, row);
+        for (var k = span.start; k < span.end; k++) {
+            let cd = cand(wk, k, cs);
+            let p = cd.j;
+            if (!in_row(cd.cell, span)) {
+                continue;
+            }
+            let mp = pinfo[p];
+            if (mp.z == bq || nbo[p].z <= 0.0) {
+                continue;
+            }
+            let cp = cn[place(p)];
+            let hp = bodies[mp.z].h;
+            let w = candidate(cp.xy, nq, cd.d, bitcast<f32>(mp.y), oq, hp, hq, ramp_measure(p, hp, cp), ramp_measure(q, hq, cnq)).x;
+            if (w < 0.0 || cown[own_at(p)].w != fbq) {
+                continue;
+            }
+            f += crubo[place(p)].xy * w;
+        }
+    }
+    add_rates(q, f, 0.0, 0.0);
 }

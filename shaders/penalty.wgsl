@@ -23,6 +23,13 @@ struct Entries {
     stored: f32,
     // The particle's entry overlap after this evaluation.
     entry: f32,
+    // With friction (RUB), what the rub pass reads (contact.wgsl, rub_at):
+    // the contact normal, the partners' mean offset and the sum of the
+    // weights (`rub0`); the relative tangential velocity along perp(n) at
+    // the forces' and the booking's velocities, the normal force the pass
+    // applies, and that force per unit weight for the partners (`rub1`).
+    rub0: vec4<f32>,
+    rub1: vec4<f32>,
 }
 
 // One candidate's share of the spring's derivative (physics::penalty::
@@ -314,7 +321,7 @@ fn pass_heat(p: u32, s: PassSums, n: vec2<f32>, w_rate: f32, dash: f32, clipped:
 // Booking::book_pass.
 fn entries(p: u32, count: bool) -> Entries {
     // w: the partner body as a float (exact for any realistic count), -1: none.
-    var e = Entries(vec4<f32>(0.0, 0.0, 0.0, -1.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), 0.0, 0.0);
+    var e = Entries(vec4<f32>(0.0, 0.0, 0.0, -1.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), 0.0, 0.0, vec4<f32>(0.0), vec4<f32>(0.0));
     if (nbo[p].z <= 0.0) {
         return e;
     }
@@ -338,6 +345,17 @@ fn entries(p: u32, count: bool) -> Entries {
     let g = gap_of(at.np, s, nlen);
     let n = g.n;
     let vrel = v[p] - s.swv / sw;
+    if (RUB) {
+        // Whether or not the pass presses: the partners' may (CPU twin:
+        // cpu::contact::Booking::pass1, `rubs`).
+        let t = perp(n);
+        var w_book = dot(vrel, t);
+        if (LEAP == 3u) {
+            w_book = dot(vbook[p] - s.swb / sw, t);
+        }
+        e.rub0 = vec4<f32>(n, s.swo / sw, sw);
+        e.rub1 = vec4<f32>(dot(vrel, t), w_book, 0.0, 0.0);
+    }
     // Round-off counts as touching (CPU twin: physics::penalty::touching).
     if (g.gap > 1e-5 * bodyp.spacing) {
         e.own.w = f32(partner);
@@ -419,6 +437,11 @@ fn entries(p: u32, count: bool) -> Entries {
         applied = max(z * w_rate + stiffness * delta * fade, 0.0);
     }
     e.own = vec4<f32>(-n * (0.5 * applied * a), own_heat, f32(partner));
+    if (RUB) {
+        let normal = 0.5 * applied * a;
+        e.rub1.z = normal;
+        e.rub1.w = normal / sw;
+    }
     e.share = vec4<f32>(n * (dash / sw), eta, phi_dot);
     e.bar0 = bar0;
     e.bar1 = bar1;

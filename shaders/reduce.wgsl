@@ -28,6 +28,12 @@
 // (the spread already in: gpu::encode, encode_contact).
 @group(0) @binding(51) var<storage, read> acc: array<vec2<f32>>;
 @group(0) @binding(35) var<storage, read> vm: array<vec2<f32>>;
+// Coulomb friction (RUB; contact.wgsl): each particle's slip by original
+// index, its friction in the evaluation, and on the list what its rub
+// pass found.
+@group(0) @binding(96) var<storage, read> slip: array<vec4<f32>>;
+@group(0) @binding(97) var<storage, read> frub: array<vec4<f32>>;
+@group(0) @binding(100) var<storage, read> crubo: array<vec4<f32>>;
 
 // The scene's observation slots are constants the host puts before this
 // file (gpu::probes::ProbePlan::wgsl): NSLOTS, and for each slot its code
@@ -142,6 +148,33 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
         let d = dheat[i / WG];
         return d.x + d.y;
     }
+    if (code >= 19u) {
+        // Friction (gpu::probes, FRICTION_HEAT on).
+        if (!RUB || o.rigid) {
+            return 0.0;
+        }
+        if (code == 19u) {
+            return slip[pinfo[i].w].w;
+        }
+        // A rubbing particle's pass against the pair's other body.
+        if (nbo[i].z <= 0.0 || frub[i].x <= 0.0) {
+            return 0.0;
+        }
+        let fa = f32(a);
+        let fb = f32(SLOT_B[sl]);
+        let body = f32(o.body);
+        let partner = cown[i].w;
+        if (!((body == fa && partner == fb) || (body == fb && partner == fa))) {
+            return 0.0;
+        }
+        let place = nbo[i].w;
+        let h = crubo[u32(place)];
+        switch code {
+            case 20u: { return h.z; }
+            case 21u: { return h.w; }
+            default: { return area[area_index(i, place)]; }
+        }
+    }
     if (code >= 15u) {
         // Body a's sums about its centre as placed (gpu::probes, SPIN).
         if (o.body != a) {
@@ -205,10 +238,16 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
         // The stored spring energy, left by the contact in sr2c.x
         // (contact.wgsl, store_energy).
         case 8u: {
-            if (LEAP != 0u && nbo[i].z <= 0.0) {
-                return 0.0;
+            // And the tangential springs' (contact.wgsl, slip).
+            var stored = 0.0;
+            if (RUB) {
+                let sl = slip[pinfo[i].w];
+                stored = 0.5 * abs(sl.y) * sl.x * sl.x;
             }
-            return sr2c[i].x;
+            if (LEAP != 0u && nbo[i].z <= 0.0) {
+                return stored;
+            }
+            return sr2c[i].x + stored;
         }
         default: { return qheat[i].x; }
     }

@@ -126,6 +126,7 @@ pub(super) const ADVANCE_FULL: Aliases = &[
     ("r_w", Buf::R),
     ("s_w", Buf::S),
     ("u", Buf::Um),
+    ("qheat_w", Buf::Qheat),
 ];
 
 /// The midpoint rule's reorder: the state gathered into scratch that is

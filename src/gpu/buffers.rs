@@ -146,6 +146,15 @@ device_buffers! {
     Claim => claim,
     /// The contact's entry overlaps.
     Centry => centry,
+    /// Coulomb friction: each particle's elastic slip by original index,
+    /// its friction in an evaluation, what the rub pass reads and hands
+    /// on the list, and the coefficients of each pair of bodies.
+    Slip => slip,
+    Frub => frub,
+    Crub0 => crub0,
+    Crub1 => crub1,
+    Crubo => crubo,
+    Coulomb => coulomb,
     /// The contact's gather buffers (in pass scratch where there is some,
     /// `make::contact_homes`).
     Cshare => cshare,

@@ -151,12 +151,18 @@ pub(super) struct Eval {
 pub(super) struct ContactKernels {
     pub(super) pass1: Kernel,
     pub(super) pass2: Kernel,
+    /// With friction, the rub pass and its gather (contact.wgsl, RUB),
+    /// after pass 2.
+    pub(super) rub: Option<[Kernel; 2]>,
     pub(super) spread: Option<Kernel>,
 }
 
 impl ContactKernels {
     pub(super) fn all(&self) -> impl Iterator<Item = &Kernel> {
-        [&self.pass1, &self.pass2].into_iter().chain(&self.spread)
+        [&self.pass1, &self.pass2]
+            .into_iter()
+            .chain(self.rub.iter().flatten())
+            .chain(&self.spread)
     }
 }
 

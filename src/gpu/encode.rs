@@ -62,6 +62,7 @@ impl GpuSolver {
         };
         pass.run(&c.pass1);
         pass.run(&c.pass2);
+        c.rub.iter().flatten().for_each(|k| pass.run(k));
         let own_spread = self.k.leap.is_some() || !self.model.held.is_empty();
         if let Some(spread) = c.spread.as_ref().filter(|_| own_spread) {
             pass.run(spread);

@@ -150,6 +150,14 @@ fn eval_kernels(
                 Some(ContactKernels {
                     pass1: contact_kernel("contact_pass1")?.walking(Walk::Boundary),
                     pass2: contact_kernel("contact_pass2")?.walking(Walk::Boundary),
+                    rub: if model.rubs {
+                        Some([
+                            contact_kernel("contact_rub")?.walking(Walk::Boundary),
+                            contact_kernel("contact_rub_gather")?.walking(Walk::Boundary),
+                        ])
+                    } else {
+                        None
+                    },
                     spread: match var {
                         Var::Base => Some(eval_kernel("contact", "contact_spread")?),
                         Var::Mid => None,
@@ -206,6 +214,9 @@ fn leap_kernels(
             Some(a) => Some(ContactKernels {
                 pass1: step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
                 pass2: step("contact", "contact_pass2", &listed_at_n1)?.listed(a),
+                // The GPU path runs friction with the midpoint rule alone
+                // (build::check_supported).
+                rub: None,
                 spread: Some(step("contact", "contact_spread", aliases::AT_N1)?),
             }),
             None => None,
@@ -328,6 +339,7 @@ fn override_constants(
         ("GY", model.gravity.map_or(0.0, |g| g.y)),
         ("HELD", !model.held.is_empty() as u8 as f64),
         ("NHELD", model.held.len() as f64),
+        ("RUB", model.rubs as u8 as f64),
         ("VARIATIONAL", model.variational as u8 as f64),
         ("HG", model.hourglass),
         ("HISTORY", model.history as u8 as f64),

@@ -490,6 +490,9 @@ pub(super) fn make_contact(
     mk.make(Buf::Claim, 4 * nn.div_ceil(32), None)?;
     let entry: Vec<f32> = state.entry.iter().map(|&e| e as f32).collect();
     mk.make(Buf::Centry, 4 * nn, Some(bytemuck::cast_slice(&entry)))?;
+    if model.rubs {
+        make_friction(mk, model, state, cap)?;
+    }
     // The two gather buffers share memory with pass scratch where
     // the scene has it (below); the rest get their own.
     for (name, home) in contact_homes(model) {
@@ -497,6 +500,43 @@ pub(super) fn make_contact(
             mk.make(name, 16 * nn, None)?;
         }
     }
+    Ok(())
+}
+
+/// Coulomb friction's buffers (contact.wgsl, RUB): each particle's slip
+/// by original index, never permuted, `(u, f A k_t` (negative while it
+/// slides), `u` at the midpoint, its frictional heat`)`, a state's
+/// frictional heat in the first particle's entry; each particle's friction
+/// in an evaluation; what the rub pass reads and hands on, on the list;
+/// the coefficients of each pair of bodies, a row a body.
+fn make_friction(mk: &mut Maker, model: &Model, state: &State, cap: u64) -> Result<(), String> {
+    let n = model.len();
+    let mut slip = vec![[0f32; 4]; n];
+    for (i, q) in slip.iter_mut().enumerate() {
+        let c = state.slip_stiffness[i] as f32;
+        let u = state.slip[i] as f32;
+        *q = [u, if state.sliding[i] { -c } else { c }, u, 0.0];
+    }
+    if let Some(q) = slip.first_mut() {
+        q[3] = state.friction_heat as f32;
+    }
+    mk.make(Buf::Slip, 16 * n as u64, Some(bytemuck::cast_slice(&slip)))?;
+    mk.make(Buf::Frub, 16 * n as u64, None)?;
+    for name in [Buf::Crub0, Buf::Crub1, Buf::Crubo] {
+        mk.make(name, 16 * cap, None)?;
+    }
+    let nb = model.bodies.len() as u32;
+    let table: Vec<[f32; 2]> = (0..nb * nb)
+        .map(|k| {
+            let c = model.friction_between(k / nb, k % nb);
+            [c.sliding as f32, c.sticking as f32]
+        })
+        .collect();
+    mk.make(
+        Buf::Coulomb,
+        8 * table.len() as u64,
+        Some(bytemuck::cast_slice(&table)),
+    )?;
     Ok(())
 }
 

@@ -40,6 +40,12 @@ mod code {
     pub const INERTIA: u32 = 16;
     pub const MRX: u32 = 17;
     pub const MRY: u32 = 18;
+    /// Coulomb friction: the frictional heat booked; over a pair's
+    /// rubbing particles, `Σ f τ A`, `Σ A |slip rate|` and `Σ A`.
+    pub const FRICTION_HEAT: u32 = 19;
+    pub const TANGENTIAL: u32 = 20;
+    pub const SLIP_AREA: u32 = 21;
+    pub const RUB_AREA: u32 = 22;
 }
 
 /// Where `x` is in `list`, pushed at its end if it is not there.
@@ -69,6 +75,8 @@ enum Expr {
     /// about its centre as placed: `Σ m r × v`, `Σ m |r|²`, `Σ m r` (x, y),
     /// `Σ m v` (x, y), and its mass.
     Spin([usize; 6], f64),
+    /// `slot / slot` (0 where the second is not positive).
+    Ratio(usize, usize),
     /// A value that is zero by construction (the potential without a body
     /// force).
     Zero,
@@ -170,9 +178,15 @@ impl ProbePlan {
                         ContactQuantity::PressureMax => {
                             Expr::Slot(plan.slot([code::PAIR_PMAX, a, b, 1]), 1.0, 0.0)
                         }
-                        // No friction runs on the GPU path (run::choose_backend
-                        // refuses it): none of either.
-                        ContactQuantity::TangentialForce | ContactQuantity::SlipRate => Expr::Zero,
+                        // Without friction, none of either.
+                        _ if !model.rubs => Expr::Zero,
+                        ContactQuantity::TangentialForce => {
+                            Expr::Slot(plan.slot([code::TANGENTIAL, a, b, 0]), 1.0, 0.0)
+                        }
+                        ContactQuantity::SlipRate => Expr::Ratio(
+                            plan.slot([code::SLIP_AREA, a, b, 0]),
+                            plan.slot([code::RUB_AREA, a, b, 0]),
+                        ),
                     }
                 }
                 // The force that holds region k against the rates of the
@@ -194,7 +208,9 @@ impl ProbePlan {
                     EnergyQuantity::ContactHeat => {
                         Expr::Slot(plan.slot([code::HEAT, NONE, NONE, 0]), 1.0, 0.0)
                     }
-                    // The GPU path refuses friction (run::choose_backend).
+                    EnergyQuantity::FrictionHeat if model.rubs => {
+                        Expr::Slot(plan.slot([code::FRICTION_HEAT, NONE, NONE, 0]), 1.0, 0.0)
+                    }
                     EnergyQuantity::FrictionHeat => Expr::Zero,
                     EnergyQuantity::ArtificialDissipation => {
                         Expr::Slot(plan.slot([code::DISSIPATION, NONE, NONE, 0]), 1.0, 0.0)
@@ -351,6 +367,14 @@ impl ProbePlan {
                 let inertia = slot(i) - m * c.length_squared();
                 if inertia > 0.0 {
                     (slot(l) - c.perp_dot(p)) / inertia
+                } else {
+                    0.0
+                }
+            }
+            Expr::Ratio(a, b) => {
+                let d = slot(b);
+                if d > 0.0 {
+                    slot(a) / d
                 } else {
                     0.0
                 }

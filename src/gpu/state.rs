@@ -207,6 +207,9 @@ impl GpuSolver {
         if !self.model.held.is_empty() {
             names.push((Buf::HeldW, 16 * n));
         }
+        if self.model.rubs {
+            names.push((Buf::Slip, 16 * n));
+        }
         names
     }
 
@@ -316,6 +319,14 @@ impl GpuSolver {
                 .zip(&st.held_impulse)
                 .map(|(c, j)| c.velocity.dot(*j))
                 .sum();
+        }
+        if self.model.rubs {
+            // By original index (make::make_friction).
+            let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index(Buf::Slip)].as_ref());
+            st.slip = q.iter().map(|x| x[0] as f64).collect();
+            st.slip_stiffness = q.iter().map(|x| x[1].abs() as f64).collect();
+            st.sliding = q.iter().map(|x| x[1] < 0.0).collect();
+            st.friction_heat = q.iter().map(|x| x[3] as f64).sum();
         }
         if self.model.adaptive {
             let q: &[[f32; 4]] = bytemuck::cast_slice(d[self.state_index(Buf::Metric)].as_ref());

@@ -165,12 +165,14 @@ fn constraints_run_on_the_gpu_path() {
     );
 }
 
-/// Friction runs on the CPU path alone so far: `--backend gpu` refuses
-/// it (exit 2, naming the key and the way out), `auto` runs the CPU path
-/// with one warning line and books the frictional heat in summary.json's
-/// ledger, and `check` names it; a run without friction names none.
+/// Friction with the leapfrog runs on the CPU path alone so far:
+/// `--backend gpu` refuses it (exit 2, naming the key and the way out),
+/// `auto` runs the CPU path with one warning line and books the frictional
+/// heat in summary.json's ledger, and `check` names it; with the midpoint
+/// rule the GPU path runs it and books the same; a run without friction
+/// names none.
 #[test]
-fn friction_runs_on_the_cpu_path() {
+fn friction_runs_on_the_cpu_path_and_with_the_midpoint_rule_on_the_gpu() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_1D.replacen(
         "[materials.steel]",
@@ -182,6 +184,20 @@ fn friction_runs_on_the_cpu_path() {
     let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     assert!(summary.contains("\"friction_heat\":"), "{summary}");
     check_says(tmp.path(), &scene, "Coulomb friction μ 0.2 on every pair");
+    let midpoint = write_scene(
+        tmp.path(),
+        "rubbing_midpoint",
+        &text.replacen(
+            "dimension = 1",
+            "dimension = 1\nintegrator = \"midpoint\"",
+            1,
+        ),
+    );
+    let (o, dir) = run_into(tmp.path(), &midpoint, "gpu", tmp.path().join("m"));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(summary.contains("\"backend\": \"gpu\""), "{summary}");
+    assert!(summary.contains("\"friction_heat\":"), "{summary}");
     let plain = write_scene(tmp.path(), "plain", BASE_1D);
     let (_, dir) = run_into(tmp.path(), &plain, "cpu", tmp.path().join("p"));
     let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();

@@ -417,3 +417,32 @@ fn stages_match_cpu_with_debris() {
     }
     check_state(model, st, true);
 }
+
+/// Coulomb friction (contact.wgsl, RUB): the oblique disk of
+/// scenes/friction/disk_wall_oblique.toml part-way through its contact,
+/// sliding (μ = 0.1 at 45°, its slips at the limit) and sticking (μ = 1
+/// at 20°, its slips inside it): the rub pass and its gather against
+/// cpu::contact's friction, in the contact's forces and the full rates.
+#[test]
+fn stages_match_cpu_with_friction() {
+    if gpu().is_none() {
+        return;
+    }
+    for (mu, degrees) in [(0.1, 45.0), (1.0, 20.0)] {
+        let mut scene = load("scenes/friction/disk_wall_oblique.toml");
+        scene.contact.as_mut().unwrap().friction = mu;
+        let v0 = DVec2::from_angle(f64::to_radians(degrees)) * 5.0;
+        scene.bodies[0].velocity = Some(vec![v0.x, v0.y]);
+        let (model, st) = state_of(&scene, 3e-6);
+        let nb = neighbours::find(&model, st.frame());
+        let k = kinematics::kinematics(&model, &st, &nb);
+        let bd = forces::boundary_of(&model, &st.x, &nb, &k);
+        let c = contact::penalty(&model, &st, &nb, &bd);
+        let (normal, _) = c.stats.pair(0, 1);
+        let (tangential, _) = c.stats.tangential(0, 1);
+        println!("μ {mu}: normal {normal:e}, tangential {tangential:e}");
+        assert!(tangential.abs() > 0.05 * mu * normal, "the disk rubs");
+        assert!(st.slip.iter().any(|&u| u != 0.0), "slips carried");
+        check_state(model, st, true);
+    }
+}
