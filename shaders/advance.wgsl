@@ -40,42 +40,40 @@
 // original index: (hi x, hi y, lo x, lo y).
 @group(0) @binding(95) var<storage, read_write> held_w: array<vec4<f32>>;
 
-// Coulomb friction (RUB; contact.wgsl): each particle's elastic slip by
-// original index, and each particle's friction in the evaluation before.
+// Coulomb friction (RUB; contact.wgsl): each particle's elastic slip, and
+// its friction in the evaluation before, by original index.
 @group(0) @binding(96) var<storage, read_write> slip: array<vec4<f32>>;
-@group(0) @binding(97) var<storage, read> frub: array<vec4<f32>>;
+@group(0) @binding(97) var<storage, read_write> frub: array<vec4<f32>>;
 
-// Particle i's slip rate in the evaluation before: its rub pass's where
-// it was on the boundary, else none.
-fn slip_rate(i: u32) -> f32 {
+// Particle i's friction in the evaluation before: its rub pass's where it
+// was on the boundary, else none.
+fn friction_of(i: u32) -> vec4<f32> {
     if (nbo[i].z > 0.0) {
-        return frub[i].z;
+        return frub[pinfo[i].w];
     }
-    return 0.0;
+    return vec4<f32>(0.0);
 }
 
 // The Coulomb return at the step's end (CPU twin: cpu::contact::
-// return_slip, after advance_slip): the slip u + dt rate clipped to the
-// limit of the step's evaluation, with its spring and whether it slid; a
-// particle without a frictional pass lets its slip go. The spring energy
-// released is heat in the particle (returned, specific), in the contact's
-// ledger (taken from the springs' work) and in the frictional heat.
-fn return_slip(i: u32, dt: f32) -> f32 {
+// return_slip, after advance_slip) of particle i, its slip advanced to
+// `u` by the rate of its friction `fr`, the frictional heat by `heat`:
+// the slip clipped to the limit of the step's evaluation, with its spring
+// and whether it slid; a particle without a frictional pass lets its
+// slip go. The spring energy released is heat in the particle (returned,
+// specific), in the contact's ledger (taken from the springs' work) and in
+// the frictional heat.
+fn return_slip(i: u32, u: f32, fr: vec4<f32>, heat: f32) -> f32 {
     let id = pinfo[i].w;
     var sl = slip[id];
-    let u = sl.x + slip_rate(i) * dt;
-    var fr = vec4<f32>(0.0);
-    if (nbo[i].z > 0.0) {
-        fr = frub[i];
-    }
     var released = 0.0;
     if (fr.x != 0.0) {
+        let c = abs(fr.x);
         let uc = clamp(u, -fr.y, fr.y);
-        released = 0.5 * fr.x * (u * u - uc * uc);
-        sl = vec4<f32>(uc, select(fr.x, -fr.x, fr.w > 0.0), uc, sl.w + released);
+        released = 0.5 * c * (u * u - uc * uc);
+        sl = vec4<f32>(uc, fr.x, uc, sl.w + heat + released);
     } else {
         released = 0.5 * abs(sl.y) * u * u;
-        sl = vec4<f32>(0.0, 0.0, 0.0, sl.w + released);
+        sl = vec4<f32>(0.0, 0.0, 0.0, sl.w + heat + released);
     }
     slip[id] = sl;
     if (released != 0.0) {
@@ -170,7 +168,7 @@ fn advance_half(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (RUB) {
         // The slip at the midpoint (cpu::contact::advance_slip).
         let id = pinfo[i].w;
-        slip[id].z = slip[id].x + slip_rate(i) * k;
+        slip[id].z = slip[id].x + friction_of(i).z * k;
     }
     let mi = pinfo[i];
     let b = bodies[mi.z];
@@ -272,7 +270,9 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         hist_w[i] = up.h;
     }
     if (RUB) {
-        rn.y += return_slip(i, dt);
+        // The step's rates are the midpoint's.
+        let fr = friction_of(i);
+        rn.y += return_slip(i, slip[pinfo[i].w].x + fr.z * dt, fr, fr.w * dt);
         r_w[i] = rn;
     }
     check(i, un, vn, rn);
@@ -368,6 +368,15 @@ fn kick_drift_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
             v_w[i] = vh;
             r_w[i].y = r_w[i].y + rdt[i].y * h + kick_energy(moving_part(i, acc[i]), h);
             book_held_kick(i, a, h);
+            if (RUB) {
+                // The slip at n+1/2 and the frictional heat's first half
+                // step, at the rates the last step's booking carried
+                // (zero where it found no friction; finish).
+                let id = pinfo[i].w;
+                let fr = frub[id];
+                let sl = slip[id];
+                slip[id] = vec4<f32>(sl.x + fr.z * h, sl.y, sl.z, sl.w + fr.w * h);
+            }
         }
         un = un + vh * dt;
         u_w[i] = un;
@@ -406,6 +415,15 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     }
     if (ADAPT) {
         carry_support(i, b.rigid != 0u, b.h, ctl.dt);
+    }
+    if (RUB && b.rigid == 0u) {
+        // The slip at n+1 from the rate booked at v_{n+1}, returned onto
+        // the limit found there; what the booking found carries to the
+        // next step's first half, none where it found no friction.
+        let h = 0.5 * ctl.dt;
+        let fr = friction_of(i);
+        e += return_slip(i, slip[pinfo[i].w].x + fr.z * h, fr, fr.w * h);
+        frub[pinfo[i].w] = fr;
     }
     r_w[i] = vec2<f32>(q.x, e);
     check(i, u_w[i], v_w[i], vec2<f32>(q.x, e));

@@ -85,19 +85,23 @@
 // slip, by original index (never permuted): (u at the state, the spring
 // f A k_t of the pass that last held it (negative while that pass slid),
 // u at the midpoint (MID), the frictional heat booked so far). The
-// advance passes move and return it (advance.wgsl); the rub pass books
-// the heat of the midpoint rule's second evaluation into `w`.
-@group(0) @binding(96) var<storage, read_write> slip: array<vec4<f32>>;
-// Each particle's friction in this evaluation (c = f A k_t, the largest
-// elastic slip the limit allows, the slip rate, 1 where it slides): what
-// the advance passes move and return the slip with. Written at boundary
+// advance passes move it, return it and book the heat (advance.wgsl).
+// In a leapfrog step the state's u is u_{n+1/2}, which its passes at n+1
+// look half a step ahead from.
+@group(0) @binding(96) var<storage, read> slip: array<vec4<f32>>;
+// Each particle's friction in this evaluation, by original index: the
+// spring c = f A k_t (negative where the pass slides), the largest elastic
+// slip the limit allows, the slip rate and the frictional heat rate; what
+// the advance passes move and return the slip with (the leapfrog carries
+// its booking's to the next step's first half). Written at boundary
 // particles; its readers look at the boundary flag first.
 @group(0) @binding(97) var<storage, read_write> frub: array<vec4<f32>>;
 // Pass 1 -> the rub pass, on the list (Entries::rub0, rub1).
 @group(0) @binding(98) var<storage, read_write> crub0: array<vec4<f32>>;
 @group(0) @binding(99) var<storage, read_write> crub1: array<vec4<f32>>;
-// The rub pass -> its gather and the reductions, on the list: the force
-// per unit weight a particle hands its partner's candidates, its friction
+// The rub pass -> its gather and the reductions, by original index (the
+// leapfrog's next step's reductions read its booking's): the force per
+// unit weight a particle hands its partner's candidates, its friction
 // force f tau A and A |slip rate|.
 @group(0) @binding(100) var<storage, read_write> crubo: array<vec4<f32>>;
 // The Coulomb coefficients (sliding, static) of each pair of bodies, a row
@@ -290,6 +294,11 @@ fn pass1_at(p: u32) {
     if (!MID && LEAP != 3u && nbo[p].z > 0.0) {
         centry[p] = e.entry;
     }
+    if (RUB && nbo[p].z > 0.0) {
+        let k = place(p);
+        crub0[k] = e.rub0;
+        crub1[k] = e.rub1;
+    }
     if (LEAP == 3u && !RIGID) {
         // The booking without rigid bodies: no partner hands this particle
         // heat, so its own pass books everything pass 2 would.
@@ -312,10 +321,6 @@ fn pass1_at(p: u32) {
         cbar0[k] = e.bar0;
         cbar1[k] = e.bar1;
         ckeep[k] = e.keep;
-        if (RUB) {
-            crub0[k] = e.rub0;
-            crub1[k] = e.rub1;
-        }
     }
     store_energy(p, e.stored);
 }
@@ -474,7 +479,11 @@ fn pass2_at(q: u32) {
             if (bodyq.rigid == 0u) {
                 dv[q] += total / m;
             }
-            kick(q, bodyq.rigid != 0u);
+            // With friction the rub's gather kicks, once the particle's
+            // acceleration is whole.
+            if (!RUB) {
+                kick(q, bodyq.rigid != 0u);
+            }
         } else {
             book(q, rates);
         }
@@ -536,10 +545,28 @@ fn shear_layer(o: f32, b: Body) -> f32 {
 }
 
 // Rates from a contact pass at particle q (not rigid): the force `f`, the
-// heat `heat` and the springs' power `spring`, as pass 2 adds its own
-// (the midpoint's second evaluation books them with the step).
+// heat `heat` and the springs' power `spring`, as pass 2 adds its own:
+// the leapfrog's force passes (LEAP = 2) the force alone, its booking
+// (LEAP = 3) the heat and the power alone, with the ledger's half step
+// and the rates its next step's first half takes (`book`); the leapfrog's
+// first evaluation (LEAP = 1) carries those rates too; the midpoint's
+// second evaluation books them with the step.
 fn add_rates(q: u32, f: vec2<f32>, heat: f32, spring: f32) {
     let m = bitcast<f32>(pinfo[q].x);
+    if (LEAP == 3u) {
+        let rates = vec2<f32>(heat, spring);
+        dr[q].y = dr[q].y + heat / m;
+        qheat_w[q] = qheat_w[q] + rates * (0.5 * ctl.dt);
+        qrate[q] = qrate[q] + rates;
+        return;
+    }
+    if (LEAP == 2u) {
+        dv[q] += f / m;
+        return;
+    }
+    if (LEAP == 1u) {
+        qrate[q] = qrate[q] + vec2<f32>(heat, spring);
+    }
     if (!MID) {
         dv[q] += f / m;
         dr[q].y += heat / m;
@@ -640,6 +667,11 @@ fn rub_at(p: u32) {
             if (MID) {
                 u0 = sl.z;
             }
+            // Sticking, the slip where it will be at n+1 in a leapfrog
+            // step (u0 is u_{n+1/2}), where it is otherwise.
+            if (LEAP >= 2u) {
+                u0 += 0.5 * ctl.dt * w;
+            }
             let c = f * a * kt;
             let u_stick = clamp(u0, -cap_hold, cap_hold);
             let trial = kt * u_stick + zt * w;
@@ -665,15 +697,12 @@ fn rub_at(p: u32) {
             }
             let force = t * (f * a * tau);
             add_rates(p, -force, heat, spring);
-            if (MID && ctl.dt != 0.0) {
-                slip[mp.w].w = sl.w + heat * ctl.dt;
-            }
             hand = vec4<f32>(force / r0.w, f * a * tau, a * abs(w_book - rate));
-            fr = vec4<f32>(c, select(cap, cap_hold, stick), rate, select(1.0, 0.0, stick));
+            fr = vec4<f32>(select(-c, c, stick), select(cap, cap_hold, stick), rate, heat);
         }
     }
-    crubo[k] = hand;
-    frub[p] = fr;
+    crubo[mp.w] = hand;
+    frub[mp.w] = fr;
 }
 
 // The rub's gather at boundary particle q (not rigid): the forces the
@@ -711,8 +740,11 @@ fn rub_gather_at(q: u32) {
             if (w < 0.0 || cown[own_at(p)].w != fbq) {
                 continue;
             }
-            f += crubo[place(p)].xy * w;
+            f += crubo[mp.w].xy * w;
         }
     }
     add_rates(q, f, 0.0, 0.0);
+    if (LEAP == 2u) {
+        kick(q, false);
+    }
 }

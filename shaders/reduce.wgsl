@@ -28,9 +28,9 @@
 // (the spread already in: gpu::encode, encode_contact).
 @group(0) @binding(51) var<storage, read> acc: array<vec2<f32>>;
 @group(0) @binding(35) var<storage, read> vm: array<vec2<f32>>;
-// Coulomb friction (RUB; contact.wgsl): each particle's slip by original
-// index, its friction in the evaluation, and on the list what its rub
-// pass found.
+// Coulomb friction (RUB; contact.wgsl): each particle's slip, its
+// friction in the evaluation and what its rub pass found, by original
+// index.
 @group(0) @binding(96) var<storage, read> slip: array<vec4<f32>>;
 @group(0) @binding(97) var<storage, read> frub: array<vec4<f32>>;
 @group(0) @binding(100) var<storage, read> crubo: array<vec4<f32>>;
@@ -157,7 +157,7 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
             return slip[pinfo[i].w].w;
         }
         // A rubbing particle's pass against the pair's other body.
-        if (nbo[i].z <= 0.0 || frub[i].x <= 0.0) {
+        if (nbo[i].z <= 0.0 || frub[pinfo[i].w].x == 0.0) {
             return 0.0;
         }
         let fa = f32(a);
@@ -167,12 +167,11 @@ fn slot_value(sl: u32, i: u32, o: Obs) -> f32 {
         if (!((body == fa && partner == fb) || (body == fb && partner == fa))) {
             return 0.0;
         }
-        let place = nbo[i].w;
-        let h = crubo[u32(place)];
+        let h = crubo[pinfo[i].w];
         switch code {
             case 20u: { return h.z; }
             case 21u: { return h.w; }
-            default: { return area[area_index(i, place)]; }
+            default: { return area[area_index(i, nbo[i].w)]; }
         }
     }
     if (code >= 15u) {

@@ -2,9 +2,8 @@
 //! disk striking a rigid wall obliquely, against the rigid-body answer of
 //! a contact that slides throughout and, at a steep angle and μ = 1, a
 //! contact that sticks; the frictional heat and the energy ledger; the
-//! Taylor bar's face on a wall that grips. The GPU path runs the oblique
-//! impacts with the midpoint rule (its leapfrog refuses friction:
-//! tests/cli_validation/runs.rs).
+//! Taylor bar's face on a wall that grips; the oblique impacts on the GPU
+//! path too.
 
 #[path = "common/mod.rs"]
 mod common;
@@ -187,10 +186,23 @@ fn sticks(o: &Oblique) {
 /// 1e-4 of the initial, the ledger closed, and the angular momentum about
 /// the struck point within 2 %.
 fn books_and_turns(o: &Oblique) {
-    assert!(o.heat > 0.0 && o.heat_drop <= 0.0, "{o:?}");
+    // Each particle's heat never falls (contact.wgsl books none below
+    // zero); the GPU path's probe is their f32 sum, whose rounding may
+    // take a few ulps off from one row to the next.
+    let round_off = if backend() == Backend::Gpu {
+        4.0 * f64::from(f32::EPSILON)
+    } else {
+        0.0
+    };
+    assert!(o.heat > 0.0 && o.heat_drop <= round_off, "{o:?}");
     assert!(o.total < 1e-4, "{o:?}");
     assert!(o.residual.abs() < 1e-6, "{o:?}");
     assert!(o.about_contact.abs() < 0.02, "{o:?}");
+}
+
+#[test]
+fn a_disk_sliding_on_a_wall_loses_mu_times_its_normal_change_gpu() {
+    on_gpu(|| slides(&oblique(0.1, 45.0)));
 }
 
 #[test]
@@ -209,6 +221,14 @@ fn a_disk_striking_a_wall_steeply_sticks_midpoint() {
 }
 
 #[test]
+fn a_disk_striking_a_wall_steeply_sticks_gpu() {
+    on_gpu(|| sticks(&oblique(1.0, 20.0)));
+}
+
+/// A minute on a software adapter; the midpoint's sticking evaluation is
+/// held in tests/gpu_stages/parity.rs.
+#[test]
+#[ignore]
 fn a_disk_striking_a_wall_steeply_sticks_gpu_midpoint() {
     on_gpu(|| on_midpoint(|| sticks(&oblique(1.0, 20.0))));
 }

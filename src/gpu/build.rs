@@ -101,13 +101,6 @@ impl GpuSolver {
                 model.dispersion
             ));
         }
-        if model.rubs && model.integrator == Integrator::Leapfrog {
-            return Err(
-                "contact friction runs on the GPU path with integrator = \"midpoint\" only; \
-                 the leapfrog's runs on the CPU path"
-                    .to_string(),
-            );
-        }
         if model.plane.is_some() {
             return Err("a symmetry plane runs on the CPU path only".to_string());
         }

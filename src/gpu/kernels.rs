@@ -214,23 +214,29 @@ fn leap_kernels(
             Some(a) => Some(ContactKernels {
                 pass1: step("contact", "contact_pass1", &listed_at_n1)?.listed(a),
                 pass2: step("contact", "contact_pass2", &listed_at_n1)?.listed(a),
-                // The GPU path runs friction with the midpoint rule alone
-                // (build::check_supported).
-                rub: None,
+                rub: if model.rubs {
+                    Some([
+                        step("contact", "contact_rub", &listed_at_n1)?.listed(a),
+                        step("contact", "contact_rub_gather", &listed_at_n1)?.listed(a),
+                    ])
+                } else {
+                    None
+                },
                 spread: Some(step("contact", "contact_spread", aliases::AT_N1)?),
             }),
             None => None,
         },
         book: match &surf_args {
             Some(a) => {
-                let passes: &[(&str, &'static str)] = if model.any_rigid {
-                    &[
-                        ("contact_pass1", "book_pass1"),
-                        ("contact_pass2", "book_pass2"),
-                    ]
-                } else {
-                    &[("contact_pass1", "book_pass1")]
-                };
+                let mut passes: Vec<(&str, &'static str)> = vec![("contact_pass1", "book_pass1")];
+                if model.any_rigid {
+                    passes.push(("contact_pass2", "book_pass2"));
+                }
+                // The rub's heat and rates at v_{n+1} (its forces are the
+                // step's: no gather).
+                if model.rubs {
+                    passes.push(("contact_rub", "book_rub"));
+                }
                 passes
                     .iter()
                     .map(|&(entry, role)| Ok(book("contact", entry)?.listed(a).labelled(role)))

@@ -507,8 +507,9 @@ pub(super) fn make_contact(
 /// by original index, never permuted, `(u, f A k_t` (negative while it
 /// slides), `u` at the midpoint, its frictional heat`)`, a state's
 /// frictional heat in the first particle's entry; each particle's friction
-/// in an evaluation; what the rub pass reads and hands on, on the list;
-/// the coefficients of each pair of bodies, a row a body.
+/// in an evaluation and what its rub pass hands on, by original index;
+/// what the rub pass reads, on the list; the coefficients of each pair of
+/// bodies, a row a body.
 fn make_friction(mk: &mut Maker, model: &Model, state: &State, cap: u64) -> Result<(), String> {
     let n = model.len();
     let mut slip = vec![[0f32; 4]; n];
@@ -521,8 +522,10 @@ fn make_friction(mk: &mut Maker, model: &Model, state: &State, cap: u64) -> Resu
         q[3] = state.friction_heat as f32;
     }
     mk.make(Buf::Slip, 16 * n as u64, Some(bytemuck::cast_slice(&slip)))?;
-    mk.make(Buf::Frub, 16 * n as u64, None)?;
-    for name in [Buf::Crub0, Buf::Crub1, Buf::Crubo] {
+    for name in [Buf::Frub, Buf::Crubo] {
+        mk.make(name, 16 * n as u64, None)?;
+    }
+    for name in [Buf::Crub0, Buf::Crub1] {
         mk.make(name, 16 * cap, None)?;
     }
     let nb = model.bodies.len() as u32;

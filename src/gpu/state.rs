@@ -209,6 +209,12 @@ impl GpuSolver {
         }
         if self.model.rubs {
             names.push((Buf::Slip, 16 * n));
+            // The leapfrog carries its booking's friction to the next
+            // step's first half and reductions.
+            if self.k.leap.is_some() {
+                names.push((Buf::Frub, 16 * n));
+                names.push((Buf::Crubo, 16 * n));
+            }
         }
         names
     }

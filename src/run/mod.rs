@@ -109,26 +109,11 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    // The dispersion correction, symmetry planes and the leapfrog's
-    // friction run on the CPU path alone so far.
+    // The dispersion correction and symmetry planes run on the CPU path
+    // alone so far.
     let theta = scene.simulation.dispersion_correction;
-    let cs = scene.contact_settings();
-    let mu = cs.friction.max(cs.static_friction.unwrap_or(0.0));
-    let pair_mu = cs
-        .pairs
-        .iter()
-        .any(|p| p.friction.max(p.static_friction.unwrap_or(0.0)) > 0.0);
-    let leapfrog = opts.integrator.unwrap_or(scene.simulation.integrator) == Integrator::Leapfrog;
     let cpu_only = if theta > 0.0 {
         Some(format!("dispersion_correction = {theta}"))
-    } else if mu > 0.0 && leapfrog {
-        Some(if cs.friction > 0.0 {
-            format!("contact.friction = {} with the leapfrog", cs.friction)
-        } else {
-            format!("contact.static_friction = {mu} with the leapfrog")
-        })
-    } else if pair_mu && leapfrog {
-        Some("contact.pairs' friction with the leapfrog".to_string())
     } else if !scene.symmetry.is_empty() {
         Some("a symmetry plane ([[symmetry]])".to_string())
     } else {

@@ -180,36 +180,46 @@ fn cpu_resume_keeps_a_disk_sliding() {
     }
 }
 
-/// The same on the GPU path with the midpoint rule, at twice the spacing
-/// (a software adapter's time is the step count's), checkpointed at the
-/// end of the batch past 7 µs: the slips, springs, sliding flags and
-/// frictional heat ride in the device's part of the checkpoint (`slip`).
+/// The same on the GPU path, at twice the spacing (a software adapter's
+/// time is the step count's), checkpointed at the end of the batch past
+/// 7 µs: the slips, springs, sliding flags and frictional heat ride in the
+/// device's part of the checkpoint (`slip`), and the leapfrog's carried
+/// friction too (`frub`).
 #[test]
 fn gpu_resume_keeps_a_disk_sliding() {
     on_gpu(|| {
-        let mut scene = load("scenes/friction/disk_wall_oblique.toml");
-        scene.simulation.integrator = Integrator::Midpoint;
-        scene.contact.as_mut().unwrap().static_friction = Some(0.3);
-        for b in &mut scene.bodies {
-            b.spacing *= 2.0;
+        for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+            let mut scene = load("scenes/friction/disk_wall_oblique.toml");
+            scene.simulation.integrator = integrator;
+            scene.contact.as_mut().unwrap().static_friction = Some(0.3);
+            for b in &mut scene.bodies {
+                b.spacing *= 2.0;
+            }
+            let tmp = tempfile::tempdir().unwrap();
+            let (full, ck) = (tmp.path().join("full"), tmp.path().join("ck"));
+            let whole =
+                run_scene(&scene, None, &write_opts(&full, Backend::Gpu, None)).expect("runs");
+            run_scene(&scene, None, &write_opts(&ck, Backend::Gpu, Some(7.0e-6))).expect("runs");
+            let saved = sphcontact::checkpoint::Checkpoint::read(&ck).expect("a checkpoint");
+            assert!(
+                (7.0e-6..1.0e-5).contains(&saved.time()),
+                "{:e}",
+                saved.time()
+            );
+            let resumed = resume_killed(&ck);
+            assert!(
+                read(full.join("history.csv")) == read(ck.join("history.csv")),
+                "{integrator:?}"
+            );
+            assert!(
+                whole.state == resumed.state,
+                "{integrator:?}: final states differ"
+            );
+            assert!(whole.state.friction_heat > 0.0);
+            let (names, rows) = read_history(&full.join("history.csv"));
+            let col = names.iter().position(|n| n == "friction_force").unwrap();
+            let at = rows.iter().position(|r| r[0] >= saved.time()).unwrap();
+            assert!(rows[at][col] > 0.0, "{:?}", rows[at]);
         }
-        let tmp = tempfile::tempdir().unwrap();
-        let (full, ck) = (tmp.path().join("full"), tmp.path().join("ck"));
-        let whole = run_scene(&scene, None, &write_opts(&full, Backend::Gpu, None)).expect("runs");
-        run_scene(&scene, None, &write_opts(&ck, Backend::Gpu, Some(7.0e-6))).expect("runs");
-        let saved = sphcontact::checkpoint::Checkpoint::read(&ck).expect("a checkpoint");
-        assert!(
-            (7.0e-6..1.0e-5).contains(&saved.time()),
-            "{:e}",
-            saved.time()
-        );
-        let resumed = resume_killed(&ck);
-        assert!(read(full.join("history.csv")) == read(ck.join("history.csv")));
-        assert!(whole.state == resumed.state, "final states differ");
-        assert!(whole.state.friction_heat > 0.0);
-        let (names, rows) = read_history(&full.join("history.csv"));
-        let col = names.iter().position(|n| n == "friction_force").unwrap();
-        let at = rows.iter().position(|r| r[0] >= saved.time()).unwrap();
-        assert!(rows[at][col] > 0.0, "{:?}", rows[at]);
     })
 }

@@ -165,14 +165,12 @@ fn constraints_run_on_the_gpu_path() {
     );
 }
 
-/// Friction with the leapfrog runs on the CPU path alone so far:
-/// `--backend gpu` refuses it (exit 2, naming the key and the way out),
-/// `auto` runs the CPU path with one warning line and books the frictional
-/// heat in summary.json's ledger, and `check` names it; with the midpoint
-/// rule the GPU path runs it and books the same; a run without friction
-/// names none.
+/// Friction runs on both paths: `--backend gpu` runs it on either
+/// integrator and books the frictional heat in summary.json's ledger, as
+/// the CPU path does, and `check` names it; a run without friction names
+/// none.
 #[test]
-fn friction_runs_on_the_cpu_path_and_with_the_midpoint_rule_on_the_gpu() {
+fn friction_runs_on_both_paths() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_1D.replacen(
         "[materials.steel]",
@@ -180,9 +178,6 @@ fn friction_runs_on_the_cpu_path_and_with_the_midpoint_rule_on_the_gpu() {
         1,
     );
     let scene = write_scene(tmp.path(), "rubbing", &text);
-    let dir = cpu_path_only(tmp.path(), &scene, "contact.friction");
-    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    assert!(summary.contains("\"friction_heat\":"), "{summary}");
     check_says(tmp.path(), &scene, "Coulomb friction μ 0.2 on every pair");
     let midpoint = write_scene(
         tmp.path(),
@@ -193,11 +188,18 @@ fn friction_runs_on_the_cpu_path_and_with_the_midpoint_rule_on_the_gpu() {
             1,
         ),
     );
-    let (o, dir) = run_into(tmp.path(), &midpoint, "gpu", tmp.path().join("m"));
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    assert!(summary.contains("\"backend\": \"gpu\""), "{summary}");
-    assert!(summary.contains("\"friction_heat\":"), "{summary}");
+    for (scene, backend, out) in [
+        (&scene, "cpu", "c"),
+        (&scene, "gpu", "g"),
+        (&midpoint, "gpu", "m"),
+    ] {
+        let (o, dir) = run_into(tmp.path(), scene, backend, tmp.path().join(out));
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+        let named = format!("\"backend\": \"{backend}\"");
+        assert!(summary.contains(&named), "{summary}");
+        assert!(summary.contains("\"friction_heat\":"), "{summary}");
+    }
     let plain = write_scene(tmp.path(), "plain", BASE_1D);
     let (_, dir) = run_into(tmp.path(), &plain, "cpu", tmp.path().join("p"));
     let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();

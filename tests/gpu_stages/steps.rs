@@ -49,6 +49,26 @@ fn leapfrog_steps_match_cpu_with_riemann_viscosity() {
     leapfrog_steps_from(model, st, 0.0);
 }
 
+/// [`leapfrog_steps_match_cpu`] with Coulomb friction (contact.wgsl, RUB):
+/// the oblique disk of scenes/friction/disk_wall_oblique.toml 3 µs into its
+/// contact, sliding (μ = 0.1 at 45°) and sticking (μ = 1 at 20°): the rub
+/// passes at n+1 looking half a step ahead, the booking's rates at
+/// v_{n+1}, and the slips moved and returned.
+#[test]
+fn leapfrog_steps_match_cpu_with_friction() {
+    if gpu().is_none() {
+        return;
+    }
+    for (mu, degrees) in [(0.1, 45.0), (1.0, 20.0)] {
+        let mut scene = load("scenes/friction/disk_wall_oblique.toml");
+        scene.contact.as_mut().unwrap().friction = mu;
+        let v0 = DVec2::from_angle(f64::to_radians(degrees)) * 5.0;
+        scene.bodies[0].velocity = Some(vec![v0.x, v0.y]);
+        let (model, st) = state_of(&scene, 3e-6);
+        leapfrog_steps_from(model, st, 0.0);
+    }
+}
+
 /// The coarse penetration (Δx = 0.2 mm) 5 µs into the plate, both bodies
 /// in plastic flow, on the leapfrog: its Mie–Grüneisen pressure reads the
 /// predicted energy, so this holds the device's predicted energy (the
@@ -157,6 +177,14 @@ fn leapfrog_steps_from(mut model: Model, st: State, hourglass: f64) {
                 tol,
                 &none,
             );
+        }
+        if model.rubs {
+            // The slips themselves: a sliding particle's stays where the
+            // return put it (its change is the f32 rounding of its value).
+            let n = model.len();
+            let (g, c): (Vec<f64>, Vec<f64>) = (0..n).map(|i| (gs.slip[i], c.slip[i])).unzip();
+            assert!(c.iter().any(|&u| u != 0.0), "step {step}: slips carried");
+            assert_field(&format!("step {step}: slip"), &g, &c, 1e-3, &none);
         }
         before = c.clone();
     }

@@ -255,41 +255,51 @@ fn constraints_cost_only_where_held() {
 }
 
 /// Coulomb friction costs only where a scene rubs: on the paper's disks
-/// (about 2e4 particles) with μ = 0.1, the midpoint rule adds 32 bytes a
-/// particle (its slip by original index and its friction in an
-/// evaluation) and three 16-byte entries a place on the list of boundary
-/// particles (under 3 bytes a particle here), and two contact walks (the
-/// rub pass and its gather) an evaluation; the other walks stay as they
-/// were.
+/// (about 2e4 particles) with μ = 0.1, 48 bytes a particle (its slip, its
+/// friction in an evaluation and what its rub hands on, by original index)
+/// and two 16-byte entries a place on the list of boundary particles
+/// (under 2 bytes a particle here); the midpoint rule's evaluations each add two contact
+/// walks (the rub pass and its gather), the leapfrog's step those two and
+/// its booking's rub pass; the other walks stay as they were.
 #[test]
 fn friction_costs_only_where_it_rubs() {
     let Some(ctx) = gpu() else { return };
     let case = sphcontact::bench::DiskCase::new(20_000).expect("the benchmark case");
     let n = case.particles();
-    let mut model = case.model.clone();
-    model.integrator = Integrator::Midpoint;
-    let free = GpuSolver::new(ctx.clone(), model.clone(), &case.state, &case.probes, 1.0)
-        .expect("fits")
-        .step_work();
-    model.friction = sphcontact::model::Coulomb {
-        sliding: 0.1,
-        sticking: 0.1,
-    };
-    model.rubs = true;
-    let mut state = case.state.clone();
-    state.slip = vec![0.0; n];
-    state.slip_stiffness = vec![0.0; n];
-    state.sliding = vec![false; n];
-    let rubbing = GpuSolver::new(ctx, model, &state, &case.probes, 1.0)
-        .expect("fits")
-        .step_work();
-    let extra = rubbing.device_bytes_per_particle - free.device_bytes_per_particle;
-    println!(
-        "{} then {} dispatches, {extra:.4} bytes a particle more",
-        free.dispatches, rubbing.dispatches
-    );
-    assert!(extra > 32.0 && extra < 35.0, "{extra} bytes a particle");
-    assert_eq!(rubbing.dispatches, free.dispatches + 4);
-    assert_eq!(rubbing.contact_walks, free.contact_walks + 4);
-    assert_eq!(rubbing.walks, free.walks);
+    for (integrator, passes) in [(Integrator::Midpoint, 4), (Integrator::Leapfrog, 3)] {
+        let mut model = case.model.clone();
+        model.integrator = integrator;
+        let free = GpuSolver::new(ctx.clone(), model.clone(), &case.state, &case.probes, 1.0)
+            .expect("fits")
+            .step_work();
+        model.friction = sphcontact::model::Coulomb {
+            sliding: 0.1,
+            sticking: 0.1,
+        };
+        model.rubs = true;
+        let mut state = case.state.clone();
+        state.slip = vec![0.0; n];
+        state.slip_stiffness = vec![0.0; n];
+        state.sliding = vec![false; n];
+        let rubbing = GpuSolver::new(ctx.clone(), model, &state, &case.probes, 1.0)
+            .expect("fits")
+            .step_work();
+        let extra = rubbing.device_bytes_per_particle - free.device_bytes_per_particle;
+        println!(
+            "{integrator:?}: {} then {} dispatches, {extra:.4} bytes a particle more",
+            free.dispatches, rubbing.dispatches
+        );
+        assert!(extra > 48.0 && extra < 50.0, "{extra} bytes a particle");
+        assert_eq!(
+            rubbing.dispatches,
+            free.dispatches + passes,
+            "{integrator:?}"
+        );
+        assert_eq!(
+            rubbing.contact_walks,
+            free.contact_walks + passes,
+            "{integrator:?}"
+        );
+        assert_eq!(rubbing.walks, free.walks, "{integrator:?}");
+    }
 }
