@@ -309,7 +309,25 @@ fn a_taylor_bar_spreads_less_on_a_wall_that_grips_16_across() {
 /// every pair but 0 with the wall, the frictionless run's motion.
 #[test]
 fn a_pairs_own_friction_is_the_friction_between_them() {
-    let shipped = load("scenes/friction/disk_wall_oblique.toml");
+    pairs_own_friction(load("scenes/friction/disk_wall_oblique.toml"));
+}
+
+/// The same on the GPU path (the coefficients' table), at twice the
+/// spacing: a pair excused from friction in a scene that rubs runs the rub
+/// passes to no effect, to the bit.
+#[test]
+fn a_pairs_own_friction_is_the_friction_between_them_on_the_gpu() {
+    let mut shipped = load("scenes/friction/disk_wall_oblique.toml");
+    for b in &mut shipped.bodies {
+        b.spacing *= 2.0;
+    }
+    on_gpu(|| pairs_own_friction(shipped));
+}
+
+/// A pair's own coefficient in place of the scene's: 0.1 for the disk and
+/// its wall alone is the scene's 0.1, and 0 for them in a scene of 0.1 is
+/// no friction, history for history.
+fn pairs_own_friction(shipped: sphcontact::Scene) {
     let with_pair = |all: f64, pair: f64| {
         let mut scene = shipped.clone();
         let c = scene.contact.as_mut().unwrap();
