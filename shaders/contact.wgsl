@@ -332,6 +332,28 @@ fn entries_of(p: u32) -> Entries {
     return Entries(cown[o], cshare[o], cbar0[k], cbar1[k], ckeep[k], 0.0, 0.0, vec4<f32>(0.0), vec4<f32>(0.0));
 }
 
+// The weight (W, (dW/dr)/r) of the candidate pair of walker q (its
+// meta `mq`, normal entry `cnq`) and the particle p its walk meets (`cd`,
+// cd.d = x_q - x_p), where p is a boundary particle of body `partner` (NONE:
+// of any body but q's) whose passes point at q's body; x < 0: no such
+// pair. What every gather over a partner's candidate sets reads (pass 2,
+// the rub's normal force and its gather).
+fn partner_weight(q: u32, mq: vec4<u32>, cnq: vec4<f32>, cd: Cand, partner: u32) -> vec2<f32> {
+    let p = cd.j;
+    let mp = pinfo[p];
+    if (mp.z == mq.z || (partner != NONE && mp.z != partner) || nbo[p].z <= 0.0) {
+        return vec2<f32>(-1.0, 0.0);
+    }
+    let cp = cn[place(p)];
+    let hp = bodies[mp.z].h;
+    let hq = bodies[mq.z].h;
+    let wg = candidate(cp.xy, cnq.xy, cd.d, bitcast<f32>(mp.y), bitcast<f32>(mq.y), hp, hq, ramp_measure(p, hp, cp), ramp_measure(q, hq, cnq));
+    if (wg.x < 0.0 || cown[own_at(p)].w != f32(mq.z)) {
+        return vec2<f32>(-1.0, 0.0);
+    }
+    return wg;
+}
+
 // What pass 2 gathers at particle q from the partners' passes over the
 // candidate pairs they used: the dashpot shares and the spring's pull
 // (`f`), the heat, and dPhi/dn_q through the partners' sums (`n_bar`).
@@ -344,37 +366,25 @@ struct Gathered {
 
 fn gathered(q: u32, mq: vec4<u32>, wk: Walker, cnq: vec4<f32>) -> Gathered {
     var gt = Gathered(vec2<f32>(0.0), 0.0, vec2<f32>(0.0));
-    let bq = mq.z;
     let oq = bitcast<f32>(mq.y);
     let cs = consts();
     let nq = cnq.xy;
-    let hq = bodies[bq].h;
-    let fbq = f32(bq);
     for (var row = 0u; row < scan_rows(); row++) {
         let span = row_span(wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
             let cd = cand(wk, k, cs);
-            let p = cd.j;
             if (!in_row(cd.cell, span)) {
                 continue;
             }
-            let mp = pinfo[p];
-            if (mp.z == bq || nbo[p].z <= 0.0) {
-                continue;
-            }
-            let cp = cn[place(p)];
-            let np = cp.xy;
-            let op = bitcast<f32>(mp.y);
-            let hp = bodies[mp.z].h;
-            let wg = candidate(np, nq, cd.d, op, oq, hp, hq, ramp_measure(p, hp, cp), ramp_measure(q, hq, cnq));
+            let wg = partner_weight(q, mq, cnq, cd, NONE);
             let w = wg.x;
             if (w < 0.0) {
                 continue;
             }
+            let p = cd.j;
+            let np = cn[place(p)].xy;
+            let op = bitcast<f32>(pinfo[p].y);
             let ep = entries_of(p);
-            if (ep.own.w != fbq) {
-                continue;
-            }
             let sh = ep.share;
             gt.f += sh.xy * w;
             gt.heat += sh.z * w;
@@ -585,31 +595,18 @@ fn add_rates(q: u32, f: vec2<f32>, heat: f32, spring: f32) {
 // cpu::contact::Booking::pass2, `normal`).
 fn shared_normal(p: u32, mp: vec4<u32>, wk: Walker, cnp: vec4<f32>, bq: u32) -> f32 {
     var normal = 0.0;
-    let bp = mp.z;
-    let op = bitcast<f32>(mp.y);
     let cs = consts();
-    let np = cnp.xy;
-    let hp = bodies[bp].h;
-    let fbp = f32(bp);
     for (var row = 0u; row < scan_rows(); row++) {
         let span = row_span(wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
             let cd = cand(wk, k, cs);
-            let j = cd.j;
             if (!in_row(cd.cell, span)) {
                 continue;
             }
-            let mj = pinfo[j];
-            if (mj.z != bq || nbo[j].z <= 0.0) {
-                continue;
+            let w = partner_weight(p, mp, cnp, cd, bq).x;
+            if (w >= 0.0) {
+                normal += crub1[place(cd.j)].w * w;
             }
-            let cj = cn[place(j)];
-            let hj = bodies[bq].h;
-            let w = candidate(cj.xy, np, cd.d, bitcast<f32>(mj.y), op, hj, hp, ramp_measure(j, hj, cj), ramp_measure(p, hp, cnp)).x;
-            if (w < 0.0 || cown[own_at(j)].w != fbp) {
-                continue;
-            }
-            normal += crub1[place(j)].w * w;
         }
     }
     return normal;
@@ -710,37 +707,24 @@ fn rub_at(p: u32) {
 // sets (CPU twin: cpu::contact::friction, `handed`).
 fn rub_gather_at(q: u32) {
     let mq = pinfo[q];
-    let bq = mq.z;
-    if (nbo[q].z <= 0.0 || bodies[bq].rigid != 0u) {
+    if (nbo[q].z <= 0.0 || bodies[mq.z].rigid != 0u) {
         return;
     }
     let wk = walker(q);
     let cnq = cn[place(q)];
-    let nq = cnq.xy;
-    let oq = bitcast<f32>(mq.y);
-    let hq = bodies[bq].h;
-    let fbq = f32(bq);
     let cs = consts();
     var f = vec2<f32>(0.0);
     for (var row = 0u; row < scan_rows(); row++) {
         let span = row_span(wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
             let cd = cand(wk, k, cs);
-            let p = cd.j;
             if (!in_row(cd.cell, span)) {
                 continue;
             }
-            let mp = pinfo[p];
-            if (mp.z == bq || nbo[p].z <= 0.0) {
-                continue;
+            let w = partner_weight(q, mq, cnq, cd, NONE).x;
+            if (w >= 0.0) {
+                f += crubo[pinfo[cd.j].w].xy * w;
             }
-            let cp = cn[place(p)];
-            let hp = bodies[mp.z].h;
-            let w = candidate(cp.xy, nq, cd.d, bitcast<f32>(mp.y), oq, hp, hq, ramp_measure(p, hp, cp), ramp_measure(q, hq, cnq)).x;
-            if (w < 0.0 || cown[own_at(p)].w != fbq) {
-                continue;
-            }
-            f += crubo[mp.w].xy * w;
         }
     }
     add_rates(q, f, 0.0, 0.0);

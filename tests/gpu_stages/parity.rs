@@ -429,11 +429,7 @@ fn stages_match_cpu_with_friction() {
         return;
     }
     for (mu, degrees) in [(0.1, 45.0), (1.0, 20.0)] {
-        let mut scene = load("scenes/friction/disk_wall_oblique.toml");
-        scene.contact.as_mut().unwrap().friction = mu;
-        let v0 = DVec2::from_angle(f64::to_radians(degrees)) * 5.0;
-        scene.bodies[0].velocity = Some(vec![v0.x, v0.y]);
-        let (model, st) = state_of(&scene, 3e-6);
+        let (model, st) = oblique_disk_at_3_us(mu, degrees);
         let nb = neighbours::find(&model, st.frame());
         let k = kinematics::kinematics(&model, &st, &nb);
         let bd = forces::boundary_of(&model, &st.x, &nb, &k);
