@@ -51,6 +51,13 @@ impl Model {
         } else if model.adaptive {
             state.metric = model.h.iter().map(|&h| Metric::round(h)).collect();
         }
+        if model.share.iter().all(|&s| s == 1.0) {
+            model.share.clear();
+        }
+        // A particle on the plane is its own mirror image: it moves along it.
+        for (i, v) in state.v.iter_mut().enumerate() {
+            *v = model.along_plane(i, *v);
+        }
         model.finish_held(&mut state);
         model.read_placement(scene, &state);
         model.domain = Model::domain_of(&model, &state, scene.simulation.end_time);
@@ -162,6 +169,7 @@ impl Model {
                 }
             },
             plane: scene.symmetry_plane().map(|s| s.mirror()),
+            share: Vec::new(),
             adaptive: sim.adaptive(),
             band: sim.band(),
             variational: sim.stress_form == crate::scene::StressForm::Variational,
@@ -213,6 +221,11 @@ impl Model {
             if self.axisymmetric {
                 self.area0
                     .push(p.masses[k] / state.rho[state.rho.len() - 1]);
+            }
+            if let Some(m) = self.plane {
+                // Its own image: on the plane, placed with half its mass.
+                let x = p.positions[k];
+                self.share.push(if m.point(x) == x { 0.5 } else { 1.0 });
             }
         }
         let yields = !b.rigid && material.y0.is_finite();
@@ -413,7 +426,7 @@ impl Model {
             .iter()
             .enumerate()
             .map(|(i, &Neighbourhood { nearest2: d2, .. })| {
-                let v0 = self.reference_volume(i);
+                let v0 = self.reference_volume(i) / self.share(i);
                 let s2 = if self.dim == 1 { v0 * v0 } else { v0 };
                 // Within round-off of the volume's side is the lattice
                 // spacing itself.

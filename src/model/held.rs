@@ -7,22 +7,38 @@ use super::*;
 impl Model {
     /// `v` with particle `i`'s held components at its constraint's
     /// velocity (unchanged for a free particle).
+    /// A particle on a symmetry plane moves along it too.
     #[inline]
     pub fn hold(&self, i: usize, v: DVec2) -> DVec2 {
-        match self.held_of.get(i) {
+        let v = match self.held_of.get(i) {
             Some(&k) if k > 0 => self.held[k as usize - 1].hold(v),
             _ => v,
-        }
+        };
+        self.along_plane(i, v)
     }
 
     /// The part of an acceleration `a` of particle `i` that moves it: `a`
-    /// less its held components. The leapfrog's compatible kick terms
-    /// take it, since a held component's kinetic energy does not change.
+    /// less its held components (and its component normal to a symmetry
+    /// plane it lies on). The leapfrog's compatible kick terms take it,
+    /// since a held component's kinetic energy does not change.
     #[inline]
     pub fn moving_part(&self, i: usize, a: DVec2) -> DVec2 {
-        match self.held_of.get(i) {
+        let a = match self.held_of.get(i) {
             Some(&k) if k > 0 => a * (DVec2::ONE - self.held[k as usize - 1].mask),
             _ => a,
+        };
+        self.along_plane(i, a)
+    }
+
+    /// `v` of particle `i` without its component normal to the symmetry
+    /// plane where the particle lies on it (its own mirror image: the
+    /// pairs with its neighbours' images cancel that component but for
+    /// round-off, which would carry it off the plane); `v` elsewhere.
+    #[inline]
+    pub(crate) fn along_plane(&self, i: usize, v: DVec2) -> DVec2 {
+        match self.plane {
+            Some(m) if self.share(i) < 1.0 => (v + m.vector(v)) * 0.5,
+            _ => v,
         }
     }
 

@@ -146,6 +146,11 @@ pub struct Model {
     /// The scene's symmetry plane, across which the contact also meets
     /// the partners' images.
     pub plane: Option<crate::math::Mirror>,
+    /// Each particle's share of itself on the modelled side of the
+    /// symmetry plane: ½ for one on the plane, whose mirror image is its
+    /// other half (docs/method.md §13, "Particles on the plane"), 1
+    /// elsewhere; empty where no particle lies on it ([`Model::share`]).
+    pub share: Vec<f64>,
     /// Each particle's area in the r–z plane as placed, `m / (2π r₀ ρ₀)`:
     /// its reference volume in the kernel sums of a body of revolution
     /// ([`Model::reference_volume`]). Empty in plane strain.
@@ -426,6 +431,15 @@ impl Model {
         } else {
             self.mass[j] / self.material(j).rho0
         }
+    }
+
+    /// Particle i's share of itself on the modelled side of the symmetry
+    /// plane ([`Model::share`]): what its mass, volume and contact area
+    /// are of the whole particle's, and what weighs it in the sums that
+    /// count particles rather than their volumes.
+    #[inline]
+    pub fn share(&self, i: usize) -> f64 {
+        self.share.get(i).copied().unwrap_or(1.0)
     }
 
     pub fn len(&self) -> usize {

@@ -479,16 +479,6 @@ fn symmetry_planes() {
         )
         .two_d(),
         case(
-            "symmetry_through_particles",
-            &[(
-                "[materials.steel]",
-                "[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [1.0e-4, 0.0]\n\n[materials.steel]",
-            )],
-            "bodies[0].shape",
-        )
-        .also(&["on the symmetry plane"])
-        .two_d(),
-        case(
             "symmetry_beyond_a_body",
             &[(
                 "[materials.steel]",

@@ -88,8 +88,11 @@ fn candidate_at(
     if model.dim == 1 {
         return Some((w, gw));
     }
+    // A candidate on a symmetry plane weighs its share; its image, met
+    // as a candidate too, the rest.
     let r = surface_ramp(ramp_measure(model, bd, p), model.boundary_threshold)
-        * surface_ramp(ramp_measure(model, bd, q), model.boundary_threshold);
+        * surface_ramp(ramp_measure(model, bd, q), model.boundary_threshold)
+        * model.share(q);
     if r <= 0.0 {
         return None;
     }

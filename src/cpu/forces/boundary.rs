@@ -87,13 +87,15 @@ pub fn boundary(
         .map(|&i| {
             let i = i as usize;
             let h = model.h[i];
-            let mut sw = kernel::w(2, 0.0, h);
+            // A particle on a symmetry plane counts for its share here, its
+            // image for the rest, and represents its share of the area.
+            let mut sw = model.share(i) * kernel::w(2, 0.0, h);
             let mut g = DVec2::ZERO;
             for (b, _) in nb.round_with_images(model, x, i) {
                 let j = b.j as usize;
                 g -= b.gw * model.reference_volume(j);
                 if is_boundary[j] {
-                    sw += b.w;
+                    sw += model.share(j) * b.w;
                 }
             }
             let a = if model.dim == 1 {
@@ -102,7 +104,7 @@ pub fn boundary(
                 kernel::line_integral_2d(h) / sw * crate::math::circumference(x[i].x)
             } else {
                 kernel::line_integral_2d(h) / sw
-            };
+            } * model.share(i);
             (g, a)
         })
         .collect();

@@ -269,7 +269,10 @@ fn art_stress(
     let gate = match a.pairs {
         ArtPairs::All => 1.0,
         ArtPairs::Close => {
-            let vol = 0.5 * (model.mass[i] / st.rho[i] + model.mass[j] / st.rho[j]);
+            // The whole particles' volumes, on a symmetry plane too.
+            let vol = 0.5
+                * (model.mass[i] / (st.rho[i] * model.share(i))
+                    + model.mass[j] / (st.rho[j] * model.share(j)));
             let ks = &model.close_scale;
             let k2 = if ks.is_empty() { 1.0 } else { ks[i].min(ks[j]) };
             if !st.round_supports() {

@@ -309,7 +309,12 @@ fn art_gate(p: &PairLanes, a: &ArtificialStress, model: &Model, i: usize, c: &Ch
     match a.pairs {
         ArtPairs::All => None,
         ArtPairs::Close => {
-            let (mi, mj, rhoi, rhoj) = (p.ri[2], p.rj[2], p.ri[0], p.rj[0]);
+            let (mut mi, mut mj, rhoi, rhoj) = (p.ri[2], p.rj[2], p.ri[0], p.rj[0]);
+            if !model.share.is_empty() {
+                // The whole particles' volumes, on a symmetry plane too.
+                mi /= model.share(i);
+                mj = mj / F4::gather(|k| model.share(c.j[k] as usize));
+            }
             let vol = (mi / rhoi + mj / rhoj) * 0.5;
             let (u, vol) = match c.scale {
                 None => (p.xx * p.xx + p.xy * p.xy, vol),

@@ -57,7 +57,7 @@ pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
                     axisymmetric,
                 ),
                 shape => {
-                    let mut placed = place(shape, b.spacing, rho0, axisymmetric, plane);
+                    let mut placed = place(shape, b.spacing, rho0, axisymmetric);
                     if let Some(fraction) = b.jitter.filter(|&j| j > 0.0) {
                         jitter(
                             &mut placed,
@@ -275,8 +275,9 @@ fn pick(placed: &mut PlacedBody, keep: &[bool]) {
 }
 
 /// The half of a body on the modelled side of a symmetry plane: the rest
-/// is its mirror image. Particles within round-off of the plane stay, for
-/// validation to refuse by name.
+/// is its mirror image. A particle within round-off of the plane is put
+/// on it with half its mass, the half on this side (docs/method.md §13,
+/// "Particles on the plane").
 fn cut(placed: &mut PlacedBody, plane: &super::Symmetry) {
     let tol = 1e-9 * placed.spacing;
     let keep: Vec<bool> = placed
@@ -285,6 +286,13 @@ fn cut(placed: &mut PlacedBody, plane: &super::Symmetry) {
         .map(|&p| plane.side(p) >= -tol)
         .collect();
     pick(placed, &keep);
+    let (k, _) = plane.axis();
+    for (x, m) in placed.positions.iter_mut().zip(&mut placed.masses) {
+        if plane.side(*x).abs() <= tol {
+            x[k] = plane.point[k];
+            *m *= 0.5;
+        }
+    }
 }
 
 /// A body of revolution from its placed cross-section: the particles at
@@ -303,30 +311,16 @@ fn revolve(placed: &mut PlacedBody) {
 /// plane of a body of revolution when `axisymmetric`: the axis is no
 /// surface, and a disk or ring centred on it on the polar lattice is placed
 /// on half rings whose particles lie off the axis. The masses are still per
-/// unit thickness ([`revolve`] makes them rings'). A disk or ring centred
-/// on a symmetry `plane` is likewise placed on half rings off it.
-fn place(
-    shape: &Shape,
-    dx: f64,
-    rho0: f64,
-    axisymmetric: bool,
-    plane: Option<&super::Symmetry>,
-) -> PlacedBody {
+/// unit thickness ([`revolve`] makes them rings').
+fn place(shape: &Shape, dx: f64, rho0: f64, axisymmetric: bool) -> PlacedBody {
     let mut out = PlacedBody {
         spacing: dx,
         ..Default::default()
     };
     // The direction of the half rings of a disk or ring centred on the
-    // axis or the plane.
-    let half = |center: &[f64]| {
-        if axisymmetric && center[0] == 0.0 {
-            Some(DVec2::X)
-        } else {
-            plane
-                .filter(|s| s.side(DVec2::new(center[0], center[1])) == 0.0)
-                .map(|s| s.unit_normal())
-        }
-    };
+    // axis. (One centred on a symmetry plane is placed whole and cut: its
+    // particles on the plane are halved, [`cut`].)
+    let half = |center: &[f64]| (axisymmetric && center[0] == 0.0).then_some(DVec2::X);
     match shape {
         Shape::Segment { from, to } => {
             let surface = surface_distance(shape, axisymmetric);

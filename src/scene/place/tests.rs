@@ -10,7 +10,6 @@ fn segment_cells_and_offsets() {
         5e-5,
         7850.0,
         false,
-        None,
     );
     assert_eq!(b.positions.len(), 100);
     assert!((b.positions[0].x - (-0.005 + 2.5e-5)).abs() < 1e-15);
@@ -30,9 +29,9 @@ fn jitter_bounds_offsets_and_determinism() {
         from: -0.005,
         to: 0.0,
     };
-    let regular = place(&shape, 5e-5, 7850.0, false, None);
+    let regular = place(&shape, 5e-5, 7850.0, false);
     let jittered = |seed| {
-        let mut b = place(&shape, 5e-5, 7850.0, false, None);
+        let mut b = place(&shape, 5e-5, 7850.0, false);
         jitter(&mut b, &shape, 0.1, seed, false);
         b
     };
@@ -65,8 +64,8 @@ fn jitter_bounds_offsets_and_determinism() {
         radius: 5e-3,
         lattice: Lattice::Square,
     };
-    let regular = place(&disk, 2.5e-4, 7850.0, false, None);
-    let mut b = place(&disk, 2.5e-4, 7850.0, false, None);
+    let regular = place(&disk, 2.5e-4, 7850.0, false);
+    let mut b = place(&disk, 2.5e-4, 7850.0, false);
     jitter(&mut b, &disk, 0.3, 1, false);
     let moved = |f: fn(DVec2) -> f64| {
         b.positions
@@ -90,7 +89,6 @@ fn disk_mass_both_lattices() {
             2.5e-4,
             7850.0,
             false,
-            None,
         );
         let m: f64 = b.masses.iter().sum();
         let exact = 7850.0 * PI * 25e-6;
@@ -122,7 +120,6 @@ fn hollow_sphere_half_rings_are_filled() {
         dx,
         1845.0,
         true,
-        None,
     );
     for k in 0..10 {
         let r = r_in + (k as f64 + 0.5) * dx;
@@ -140,12 +137,11 @@ fn hollow_sphere_half_rings_are_filled() {
     assert!((m / half - 1.0).abs() < 1e-12, "{m} vs {half}");
 }
 
-/// A polar disk centred on a symmetry plane is placed on half rings
-/// turned to the plane's normal, none on the plane: the half of the disk
-/// on the modelled side, with half its mass; the axis's half rings
-/// turned a quarter turn.
+/// A polar disk centred on a symmetry plane is the whole disk cut: the
+/// whole lattice's particles on the modelled side, those on the plane put
+/// exactly on it with half their mass, and half the disk's mass in all.
 #[test]
-fn polar_disk_on_a_symmetry_plane_is_placed_on_half_rings() {
+fn polar_disk_on_a_symmetry_plane_is_the_whole_disk_cut() {
     let (c, r, dx, rho) = ([0.003, -0.002], 0.005, 2e-4, 7850.0);
     let disk = Shape::Disk {
         center: c.to_vec(),
@@ -156,26 +152,30 @@ fn polar_disk_on_a_symmetry_plane_is_placed_on_half_rings() {
         normal: vec![0.0, -1.0],
         point: vec![0.0, c[1]],
     };
-    let b = place(&disk, dx, rho, false, Some(&plane));
-    let axis = place(
-        &Shape::Disk {
-            center: vec![0.0, 0.0],
-            radius: r,
-            lattice: Lattice::Polar,
-        },
-        dx,
-        rho,
-        true,
-        None,
-    );
-    assert_eq!(b.positions.len(), axis.positions.len());
-    for (p, q) in b.positions.iter().zip(&axis.positions) {
-        // The axis's half ring (x > 0) turned to face −y.
-        let turned = DVec2::new(c[0] + q.y, c[1] - q.x);
-        assert!((*p - turned).length() < 1e-15, "{p} vs {turned}");
-        assert!(plane.side(*p) > 0.1 * dx, "{p} lies on the plane");
+    let whole = place(&disk, dx, rho, false);
+    let mut b = whole.clone();
+    cut(&mut b, &plane);
+    let tol = 1e-9 * dx;
+    let kept: Vec<usize> = (0..whole.positions.len())
+        .filter(|&k| plane.side(whole.positions[k]) >= -tol)
+        .collect();
+    assert_eq!(b.positions.len(), kept.len());
+    let mut on = 0;
+    for (k, (p, m)) in kept.iter().zip(b.positions.iter().zip(&b.masses)) {
+        let (q, mq) = (whole.positions[*k], whole.masses[*k]);
+        if plane.side(q).abs() <= tol {
+            on += 1;
+            assert_eq!(p.y, c[1], "{q} not put on the plane");
+            assert_eq!(p.x, q.x);
+            assert_eq!(*m, 0.5 * mq);
+        } else {
+            assert!(plane.side(*p) > 0.1 * dx, "{p} lies near the plane");
+            assert_eq!((*p, *m), (q, mq));
+        }
     }
+    // The centre and the rings' particles on the diameter.
+    assert!(on > (r / dx) as usize, "{on} particles on the plane");
     let m: f64 = b.masses.iter().sum();
-    let half = rho * 0.5 * PI * r * r;
+    let half = 0.5 * whole.masses.iter().sum::<f64>();
     assert!((m / half - 1.0).abs() < 1e-12, "{m} vs {half}");
 }

@@ -618,18 +618,6 @@ fn validate_placement(scene: &Scene) -> R {
                 ),
             ));
         }
-        if let Some(s) = scene.symmetry_plane() {
-            let tol = 1e-9 * p.spacing;
-            if let Some(x) = p.positions.iter().find(|&&x| s.side(x) <= tol) {
-                return Err(SceneError::at(
-                    format!("bodies[{i}].shape"),
-                    format!(
-                        "body '{}' has a particle on the symmetry plane, at ({}, {}): place its lattice so that the plane falls between particles (a whole number of cells on each side)",
-                        scene.bodies[i].name, x.x, x.y
-                    ),
-                ));
-            }
-        }
         constraints::validate_constrained(&scene.bodies[i], i, &p.positions)?;
         if let Some(field) = &scene.bodies[i].velocity_field {
             if let Some(x) = p.positions.iter().find(|&&x| field.at(x).is_none()) {
