@@ -131,18 +131,20 @@ fn a_sphere_on_a_rigid_wall_is_two_spheres_at_twice_the_speed() {
 /// reaches 0.1 m/s by then).
 #[test]
 fn a_free_sphere_keeps_its_motion() {
-    free_sphere(1e-9);
+    free_sphere(1e-9, 2.0e-5);
 }
 
-/// The same on the device, to the same 1e-9 m/s (measured 2.6e-13 m/s
-/// through the run, lavapipe: the axis's forces cancel in f32 too).
+/// The same on the device for its first 5 µs (a minute and more on a
+/// software adapter for the whole 20), to the same 1e-9 m/s (measured
+/// 2.6e-13 m/s through the whole run, lavapipe: the axis's forces
+/// cancel in f32 too).
 #[test]
 fn a_free_sphere_keeps_its_motion_on_the_gpu() {
-    on_gpu(|| free_sphere(1e-9));
+    on_gpu(|| free_sphere(1e-9, 5.0e-6));
 }
 
-fn free_sphere(tol: f64) {
-    let scene = parse(
+fn free_sphere(tol: f64, end_time: f64) {
+    let mut scene = parse(
         r#"
 [simulation]
 dimension = 2
@@ -172,6 +174,7 @@ at = [0.0001, 0.0001]
 quantity = "velocity_y"
 "#,
     );
+    scene.simulation.end_time = end_time;
     let out = run(&scene);
     let (vr, vz) = (column(&out, "vr"), column(&out, "vz"));
     let worst = vr
@@ -202,7 +205,11 @@ fn a_bar_carries_a_pulse_at_the_bar_wave_speed() {
     bar_pulse();
 }
 
+/// The same on the device: four minutes on a software adapter, whose
+/// hoop terms the default suite holds to the CPU's in
+/// `the_coarse_taylor_bars_first_10_us_on_the_gpu_are_the_cpus`.
 #[test]
+#[ignore]
 fn a_bar_carries_a_pulse_at_the_bar_wave_speed_on_the_gpu() {
     on_gpu(bar_pulse);
 }
@@ -242,7 +249,11 @@ fn a_solid_cylinder_under_radial_load_follows_lame() {
     lame();
 }
 
+/// The same on the device: two minutes on a software adapter; a body of
+/// revolution on a rigid body runs on both paths in the default suite in
+/// `the_coarse_taylor_bars_first_10_us_on_the_gpu_are_the_cpus`.
 #[test]
+#[ignore]
 fn a_solid_cylinder_under_radial_load_follows_lame_on_the_gpu() {
     on_gpu(lame);
 }

@@ -205,7 +205,11 @@ fn a_disk_sliding_on_a_wall_loses_mu_times_its_normal_change_gpu() {
     on_gpu(|| slides(&oblique(0.1, 45.0)));
 }
 
+/// Two minutes on a software adapter; the midpoint's rub passes are held
+/// to the CPU's in tests/gpu_stages/parity.rs, and its sliding disk
+/// resumed on the device in tests/checkpoint/history.rs.
 #[test]
+#[ignore]
 fn a_disk_sliding_on_a_wall_loses_mu_times_its_normal_change_gpu_midpoint() {
     on_gpu(|| on_midpoint(|| slides(&oblique(0.1, 45.0))));
 }
@@ -220,13 +224,15 @@ fn a_disk_striking_a_wall_steeply_sticks_midpoint() {
     on_midpoint(|| sticks(&oblique(1.0, 20.0)));
 }
 
+/// A minute on a software adapter; the sticking contact's rub passes are
+/// held to the CPU's in tests/gpu_stages (an evaluation on the midpoint
+/// rule, steps on the leapfrog).
 #[test]
+#[ignore]
 fn a_disk_striking_a_wall_steeply_sticks_gpu() {
     on_gpu(|| sticks(&oblique(1.0, 20.0)));
 }
 
-/// A minute on a software adapter; the midpoint's sticking evaluation is
-/// held in tests/gpu_stages/parity.rs.
 #[test]
 #[ignore]
 fn a_disk_striking_a_wall_steeply_sticks_gpu_midpoint() {

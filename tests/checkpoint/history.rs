@@ -134,7 +134,7 @@ fn gpu_resume_keeps_a_plastic_rod_on_its_wall() {
         for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
             let scene = rod_with_failures(integrator);
             // The device checkpoints at the end of a batch of steps.
-            resume_keeps_the_history(scene, 1.5e-5..2.5e-5, Backend::Gpu, Uninterrupted::Run);
+            resume_keeps_the_history(scene, 1.5e-5..2.5e-5, Backend::Gpu, Uninterrupted::Kept);
         }
     })
 }
@@ -143,40 +143,12 @@ fn gpu_resume_keeps_a_plastic_rod_on_its_wall() {
 /// (scenes/friction/disk_wall_oblique.toml), checkpointed at 7 µs with
 /// every contact particle's slip and the leapfrog's carried friction in
 /// flight (with a static coefficient, the particles' sliding flags too),
-/// and resumed: the same history bytes and final state (slips and
-/// frictional heat included) on both integrators.
+/// and resumed: the history the run wrote and its final state (slips and
+/// frictional heat included) again, on both integrators.
 #[test]
 fn cpu_resume_keeps_a_disk_sliding() {
     for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
-        let mut scene = load("scenes/friction/disk_wall_oblique.toml");
-        scene.simulation.integrator = integrator;
-        // Each particle's sliding flag rides through the checkpoint too.
-        scene.contact.as_mut().unwrap().static_friction = Some(0.3);
-        let tmp = tempfile::tempdir().unwrap();
-        let (full, ck) = (tmp.path().join("full"), tmp.path().join("ck"));
-        let whole = run_scene(&scene, None, &write_opts(&full, Backend::Cpu, None)).expect("runs");
-        run_scene(&scene, None, &write_opts(&ck, Backend::Cpu, Some(7.0e-6))).expect("runs");
-        let saved = sphcontact::checkpoint::Checkpoint::read(&ck).expect("a checkpoint");
-        assert!(
-            (7.0e-6..7.1e-6).contains(&saved.time()),
-            "{:e}",
-            saved.time()
-        );
-        let resumed = resume_killed(&ck);
-        assert!(
-            read(full.join("history.csv")) == read(ck.join("history.csv")),
-            "{integrator:?}"
-        );
-        assert!(
-            whole.state == resumed.state,
-            "{integrator:?}: final states differ"
-        );
-        assert!(whole.state.friction_heat > 0.0);
-        // The run with the checkpoint slid through it.
-        let (names, rows) = read_history(&full.join("history.csv"));
-        let col = names.iter().position(|n| n == "friction_force").unwrap();
-        let at = rows.iter().position(|r| r[0] >= saved.time()).unwrap();
-        assert!(rows[at][col] > 0.0, "{:?}", rows[at]);
+        resume_keeps_a_disk_sliding(Backend::Cpu, integrator, 1.0, 7.0e-6..7.1e-6);
     }
 }
 
@@ -189,37 +161,46 @@ fn cpu_resume_keeps_a_disk_sliding() {
 fn gpu_resume_keeps_a_disk_sliding() {
     on_gpu(|| {
         for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
-            let mut scene = load("scenes/friction/disk_wall_oblique.toml");
-            scene.simulation.integrator = integrator;
-            scene.contact.as_mut().unwrap().static_friction = Some(0.3);
-            for b in &mut scene.bodies {
-                b.spacing *= 2.0;
-            }
-            let tmp = tempfile::tempdir().unwrap();
-            let (full, ck) = (tmp.path().join("full"), tmp.path().join("ck"));
-            let whole =
-                run_scene(&scene, None, &write_opts(&full, Backend::Gpu, None)).expect("runs");
-            run_scene(&scene, None, &write_opts(&ck, Backend::Gpu, Some(7.0e-6))).expect("runs");
-            let saved = sphcontact::checkpoint::Checkpoint::read(&ck).expect("a checkpoint");
-            assert!(
-                (7.0e-6..1.0e-5).contains(&saved.time()),
-                "{:e}",
-                saved.time()
-            );
-            let resumed = resume_killed(&ck);
-            assert!(
-                read(full.join("history.csv")) == read(ck.join("history.csv")),
-                "{integrator:?}"
-            );
-            assert!(
-                whole.state == resumed.state,
-                "{integrator:?}: final states differ"
-            );
-            assert!(whole.state.friction_heat > 0.0);
-            let (names, rows) = read_history(&full.join("history.csv"));
-            let col = names.iter().position(|n| n == "friction_force").unwrap();
-            let at = rows.iter().position(|r| r[0] >= saved.time()).unwrap();
-            assert!(rows[at][col] > 0.0, "{:?}", rows[at]);
+            resume_keeps_a_disk_sliding(Backend::Gpu, integrator, 2.0, 7.0e-6..1.0e-5);
         }
     })
+}
+
+/// The sliding disk at `coarsen` times the scene's spacing, checkpointed
+/// at a time in `at` on `backend` and resumed ([`Uninterrupted::Kept`]:
+/// that the checkpoint leaves the steps alone is the other tests').
+fn resume_keeps_a_disk_sliding(
+    backend: Backend,
+    integrator: Integrator,
+    coarsen: f64,
+    at: std::ops::Range<f64>,
+) {
+    let mut scene = load("scenes/friction/disk_wall_oblique.toml");
+    scene.simulation.integrator = integrator;
+    // Each particle's sliding flag rides through the checkpoint too.
+    scene.contact.as_mut().unwrap().static_friction = Some(0.3);
+    for b in &mut scene.bodies {
+        b.spacing *= coarsen;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let (full, ck) = (tmp.path().join("full"), tmp.path().join("ck"));
+    let whole = run_scene(&scene, None, &write_opts(&ck, backend, Some(at.start))).expect("runs");
+    copy_outputs(&ck, &full);
+    let saved = sphcontact::checkpoint::Checkpoint::read(&ck).expect("a checkpoint");
+    assert!(at.contains(&saved.time()), "{:e}", saved.time());
+    let resumed = resume_killed(&ck);
+    assert!(
+        read(full.join("history.csv")) == read(ck.join("history.csv")),
+        "{integrator:?}"
+    );
+    assert!(
+        whole.state == resumed.state,
+        "{integrator:?}: final states differ"
+    );
+    assert!(whole.state.friction_heat > 0.0);
+    // The run slid through its checkpoint.
+    let (names, rows) = read_history(&full.join("history.csv"));
+    let col = names.iter().position(|n| n == "friction_force").unwrap();
+    let at = rows.iter().position(|r| r[0] >= saved.time()).unwrap();
+    assert!(rows[at][col] > 0.0, "{:?}", rows[at]);
 }

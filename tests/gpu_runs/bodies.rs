@@ -27,7 +27,7 @@ fn spheres_gpu_match_cpu_at_the_scene_spacing() {
 }
 
 /// The ball denting the plate of [`bodies_of_revolution_gpu_match_cpu`]
-/// (minutes on a software adapter; the default suite keeps its first 5 µs
+/// (minutes on a software adapter; the default suite keeps its first 2 µs
 /// in [`gpu_histories_are_bitwise_repeatable`] and plastic flow in a body
 /// of revolution in the stage tests).
 #[test]

@@ -90,18 +90,18 @@ fn gpu_histories_are_bitwise_repeatable() {
         // contact from the start; the ball dents the plate at once).
         (
             "scenes/axisymmetric/spheres_hertz.toml",
-            Some(4.0e-6),
+            Some(2.0e-6),
             Integrator::Leapfrog,
         ),
         (
             "scenes/axisymmetric/ball_on_plate.toml",
-            Some(3.0e-6),
+            Some(2.0e-6),
             Integrator::Midpoint,
         ),
         // A body force.
         (
             "scenes/boundaries/bar_under_gravity.toml",
-            Some(2.0e-6),
+            Some(1.0e-6),
             Integrator::Leapfrog,
         ),
     ] {
