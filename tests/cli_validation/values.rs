@@ -446,21 +446,6 @@ fn symmetry_planes() {
         .also(&["already a mirror"])
         .two_d(),
         case(
-            "symmetry_through_a_polar_sphere",
-            &[
-                ("dimension = 2", "dimension = 2\ngeometry = \"axisymmetric\""),
-                ("min = [-0.001, -0.001]", "min = [0.0, -0.001]"),
-                ("radius = 0.001, lattice = \"square\"", "radius = 0.001, lattice = \"polar\""),
-                (
-                    "[materials.steel]",
-                    "[[symmetry]]\nnormal = [0.0, 1.0]\npoint = [0.0, 0.001]\n\n[materials.steel]",
-                ),
-            ],
-            "bodies[1].shape.lattice",
-        )
-        .also(&["quarter rings"])
-        .two_d(),
-        case(
             "symmetry_with_gravity_across_it",
             &[
                 ("dimension = 2", "dimension = 2\ngravity = [1.0, -9.81]"),

@@ -6,7 +6,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::{place_bodies, Interaction, Lattice, Probe, Scene, Shape};
+use super::{place_bodies, Interaction, Probe, Scene, Shape};
 use crate::error::SceneError;
 use crate::physics::material::{cfl_step, MaterialModel};
 
@@ -366,29 +366,6 @@ fn validate_symmetry(scene: &Scene) -> R {
             "symmetry[0].normal",
             "in a body of revolution a symmetry plane is normal to the axis ([0, 1] or [0, -1]): the axis itself is already a mirror",
         ));
-    }
-    if scene.axisymmetric() {
-        // Quarter rings are not a lattice the placement builds.
-        for (i, b) in scene.bodies.iter().enumerate() {
-            if let Shape::Disk {
-                center,
-                lattice: Lattice::Polar,
-                ..
-            }
-            | Shape::Ring {
-                center,
-                lattice: Lattice::Polar,
-                ..
-            } = &b.shape
-            {
-                if center[0] == 0.0 && center.get(1) == Some(&p.point[1]) {
-                    return Err(SceneError::at(
-                        format!("bodies[{i}].shape.lattice"),
-                        "a polar disk or ring centred on both the axis and the symmetry plane would need quarter rings: use lattice = \"square\", or a particles file",
-                    ));
-                }
-            }
-        }
     }
     if let Some(g) = scene.simulation.gravity.as_ref().filter(|g| g[k] != 0.0) {
         return Err(SceneError::at(
