@@ -37,12 +37,4 @@ impl Symmetry {
         let (k, s) = self.axis();
         s * (x[k] - self.point[k])
     }
-
-    /// The plane's unit normal.
-    pub fn unit_normal(&self) -> DVec2 {
-        let (k, s) = self.axis();
-        let mut n = DVec2::ZERO;
-        n[k] = s;
-        n
-    }
 }
