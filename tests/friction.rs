@@ -74,11 +74,7 @@ struct Oblique {
 /// The scene at friction `mu` and `degrees` from the wall's normal (as
 /// shipped: 0.1, 45°).
 fn oblique(mu: f64, degrees: f64) -> Oblique {
-    let mut scene = load("scenes/friction/disk_wall_oblique.toml");
-    scene.contact.as_mut().unwrap().friction = mu;
-    let speed = glam::DVec2::from_slice(scene.bodies[0].velocity.as_deref().unwrap()).length();
-    let v0 = glam::DVec2::from_angle(degrees.to_radians()) * speed;
-    scene.bodies[0].velocity = Some(vec![v0.x, v0.y]);
+    let (scene, v0) = oblique_disk(mu, degrees);
     let radius = 0.005;
     let out = run(&scene);
     assert_eq!(out.summary.status, "completed");

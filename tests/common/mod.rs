@@ -17,6 +17,18 @@ pub fn load(path: &str) -> Scene {
     Scene::from_file(&root.join(path)).expect("a valid scene")
 }
 
+/// The oblique disk of scenes/friction/disk_wall_oblique.toml at friction
+/// `mu`, its speed as shipped turned to `degrees` from the wall's normal
+/// (as shipped: 0.1, 45°). Returns the scene and the disk's velocity.
+pub fn oblique_disk(mu: f64, degrees: f64) -> (Scene, glam::DVec2) {
+    let mut scene = load("scenes/friction/disk_wall_oblique.toml");
+    scene.contact.as_mut().unwrap().friction = mu;
+    let speed = glam::DVec2::from_slice(scene.bodies[0].velocity.as_deref().unwrap()).length();
+    let v0 = glam::DVec2::from_angle(degrees.to_radians()) * speed;
+    scene.bodies[0].velocity = Some(vec![v0.x, v0.y]);
+    (scene, v0)
+}
+
 /// `scene` with the hourglass control at `alpha` in place of the
 /// artificial stress (docs/method.md, "Hourglass control").
 pub fn with_hourglass_control(scene: &mut Scene, alpha: f64) {

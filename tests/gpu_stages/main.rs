@@ -115,11 +115,7 @@ fn state_of(scene: &sphcontact::Scene, t: f64) -> (Model, State) {
 /// at 5 m/s, `degrees` from the wall's normal with friction `mu`, 3 µs
 /// into the contact on the CPU path.
 fn oblique_disk_at_3_us(mu: f64, degrees: f64) -> (Model, State) {
-    let mut scene = load("scenes/friction/disk_wall_oblique.toml");
-    scene.contact.as_mut().unwrap().friction = mu;
-    let v0 = DVec2::from_angle(f64::to_radians(degrees)) * 5.0;
-    scene.bodies[0].velocity = Some(vec![v0.x, v0.y]);
-    state_of(&scene, 3e-6)
+    state_of(&oblique_disk(mu, degrees).0, 3e-6)
 }
 
 fn check_stages(path: &str, t: f64) {
