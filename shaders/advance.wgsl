@@ -247,19 +247,22 @@ fn advance_full(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         rn.y += compatible_energy(w0, vn, vm[i]);
         r_w[i] = rn;
     }
-    if (HELD) {
+    if (HELD || ONPLANE) {
         // The step's kicks (the forces', the contact's, the spread's) left
         // the held components free; they go back to the region's velocity
         // here in one kick whose compatible energy returns what the
         // others booked for them (the sum is the twin's, which books none
-        // there), and whose impulse is the region's.
+        // there), and whose impulse is the region's. A particle on a
+        // symmetry plane likewise drops its normal component.
         let w = vn;
         vn = hold(i, w);
+        if (HELD && any(vn != w)) {
+            add_held_impulse(i, (vn - w) * bitcast<f32>(mi.x));
+        }
         if (any(vn != w)) {
             v_w[i] = vn;
             rn.y += compatible_energy(w, vn, vm[i]);
             r_w[i] = rn;
-            add_held_impulse(i, (vn - w) * bitcast<f32>(mi.x));
         }
     }
     if (HISTORY) {

@@ -120,8 +120,16 @@ override STRAIN_RATE: bool = false;
 // neighbours by their ring's mass over eta_i = 2 pi r_i rho_i (kinematics)
 // and by their areas m/eta (colour gradient, viscosity, close-pair gate),
 // and a particle within reach of the axis adds its neighbours' mirror
-// images across it (and its own) to its sums (`axis_image`).
+// images across it (and its own) to its sums (`image_pair`).
 override AXI: bool = false;
+// A symmetry plane (`[[symmetry]]`, docs/method.md §13): the coordinate
+// it reverses, 1 x and 2 y (0: none), at `params.plane_cell`. A particle
+// within reach of it meets its neighbours' images across it (and its
+// own), as at the axis; with AXI too, across the axis, the plane and both
+// (`image_flip`). ONPLANE: some particle lies on the plane, with half its
+// mass (`plane_share`); it moves along it (`along_plane`).
+override PLANE: u32 = 0u;
+override ONPLANE: bool = false;
 // Supports that follow the deformation (docs/method.md, "Supports that
 // follow the deformation"): each particle's metric Q in `metric`, a pair's
 // kernel in their mean metric; the surface set and the contact's normals
@@ -265,6 +273,12 @@ struct Params {
     // The longest step the penalty spring allows (Model::contact_dt;
     // the largest f32 without contact).
     contact_dt: f32,
+    // A symmetry plane (PLANE) in cells of the grid along the coordinate
+    // it reverses (a whole number, as `axis_cell`).
+    plane_cell: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // Per-body constants (mirrored by `gpu::layout::BodyGpu`).
@@ -411,18 +425,26 @@ fn circumference(r: f32) -> f32 {
     return 2.0 * PI * r;
 }
 
-// Mirror images across the axis of a body of revolution, (r, z) -> (-r, z):
-// of a vector, of a symmetric tensor (xx, yy, xy, zz) and of a 2x2 matrix
-// (xx, xy, yx, yy), P T P with P = diag(-1, 1).
-fn mirror_vec(a: vec2<f32>) -> vec2<f32> {
-    return vec2<f32>(-a.x, a.y);
+// Mirror images (`image_flip`: bit 0 reverses x, bit 1 y; the axis of a
+// body of revolution is x's): of a vector, of a symmetric tensor (xx, yy,
+// xy, zz) and of a 2x2 matrix (xx, xy, yx, yy), P T P with P diagonal.
+// Reversing both coordinates keeps a tensor's off-diagonal entries.
+fn mirror_vec(f: u32, a: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(select(a.x, -a.x, (f & 1u) != 0u), select(a.y, -a.y, (f & 2u) != 0u));
 }
 
-fn mirror_sym(t: vec4<f32>) -> vec4<f32> {
-    return vec4<f32>(t.x, t.y, -t.z, t.w);
+fn shears(f: u32) -> bool {
+    return f == 1u || f == 2u;
 }
 
-fn mirror_mat(m: vec4<f32>) -> vec4<f32> {
+fn mirror_sym(f: u32, t: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(t.x, t.y, select(t.z, -t.z, shears(f)), t.w);
+}
+
+fn mirror_mat(f: u32, m: vec4<f32>) -> vec4<f32> {
+    if (!shears(f)) {
+        return m;
+    }
     return vec4<f32>(m.x, -m.y, -m.z, m.w);
 }
 
@@ -469,12 +491,35 @@ fn gravity() -> vec2<f32> {
 // each particle's region k + 1 (0: free) by original index.
 @group(0) @binding(94) var<storage, read> held: array<u32>;
 
+// A particle's word in `held`: its region (REGION_BITS) and, where it lies
+// on a symmetry plane (ONPLANE), ON_PLANE.
+const REGION_BITS: u32 = 0x7fffffffu;
+const ON_PLANE: u32 = 0x80000000u;
+
+// Particle i's share of itself on the modelled side of the symmetry plane
+// (Model::share): 1/2 on the plane, 1 elsewhere.
+fn plane_share(i: u32) -> f32 {
+    if (!ONPLANE) {
+        return 1.0;
+    }
+    return select(1.0, 0.5, (held[4u * NHELD + pinfo[i].w] & ON_PLANE) != 0u);
+}
+
+// v of particle i without its component normal to the symmetry plane where
+// it lies on it (CPU twin: Model::along_plane).
+fn along_plane(i: u32, v: vec2<f32>) -> vec2<f32> {
+    if (!ONPLANE || plane_share(i) == 1.0) {
+        return v;
+    }
+    return vec2<f32>(select(v.x, 0.0, PLANE == 1u), select(v.y, 0.0, PLANE == 2u));
+}
+
 // Particle i's region entry's start in `held`, or NONE where it is free.
 fn region_at(i: u32) -> u32 {
     if (!HELD) {
         return NONE;
     }
-    let k = held[4u * NHELD + pinfo[i].w];
+    let k = held[4u * NHELD + pinfo[i].w] & REGION_BITS;
     if (k == 0u) {
         return NONE;
     }
@@ -493,16 +538,17 @@ fn held_mask(i: u32) -> vec2<f32> {
 
 // v with particle i's held components at its region's velocity (CPU twin:
 // Model::hold).
+// A particle on a symmetry plane moves along it too.
 fn hold(i: u32, v: vec2<f32>) -> vec2<f32> {
     let t = region_at(i);
     if (t == NONE) {
-        return v;
+        return along_plane(i, v);
     }
     let b = held[t];
-    return vec2<f32>(
+    return along_plane(i, vec2<f32>(
         select(v.x, bitcast<f32>(held[t + 1u]), (b & 1u) != 0u),
         select(v.y, bitcast<f32>(held[t + 2u]), (b & 2u) != 0u),
-    );
+    ));
 }
 
 // The part of particle i's acceleration a that moves it: a less its held
@@ -510,7 +556,7 @@ fn hold(i: u32, v: vec2<f32>) -> vec2<f32> {
 // compatible terms; CPU twin: Model::moving_part).
 fn moving_part(i: u32, a: vec2<f32>) -> vec2<f32> {
     if (!HELD) {
-        return a;
+        return along_plane(i, a);
     }
-    return a * (vec2<f32>(1.0) - held_mask(i));
+    return along_plane(i, a * (vec2<f32>(1.0) - held_mask(i)));
 }

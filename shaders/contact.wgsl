@@ -151,9 +151,9 @@ fn own_at(p: u32) -> u32 {
 // passes call it with the same arguments in the same order, so both see
 // the same weight.
 // gp, gq are the two particles' ramp_measure: the weight is ramped by how
-// far each stands above the boundary threshold.
+// far each stands above the boundary threshold; sq is q's plane_share.
 // CPU twin: cpu::contact::is_candidate, surface_ramp.
-fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32, gp: f32, gq: f32) -> vec2<f32> {
+fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f32, hq: f32, gp: f32, gq: f32, sq: f32) -> vec2<f32> {
     let hpq = 0.5 * (hp + hq);
     let dist = length(d);
     if (dist >= 2.0 * hpq || dot(np, nq) >= 0.0 || max(dot(np, d), -dot(nq, d)) > op + oq + hpq) {
@@ -162,6 +162,11 @@ fn candidate(np: vec2<f32>, nq: vec2<f32>, d: vec2<f32>, op: f32, oq: f32, hp: f
     var r = 1.0;
     if (DIM != 1u) {
         r = surface_ramp(gp) * surface_ramp(gq);
+        if (ONPLANE) {
+            // A candidate on a symmetry plane weighs its share; its image,
+            // met as a candidate too, the rest.
+            r *= sq;
+        }
         if (r <= 0.0) {
             return vec2<f32>(-1.0, 0.0);
         }
@@ -339,7 +344,12 @@ fn entries_of(p: u32) -> Entries {
 // pair. What every gather over a partner's candidate sets reads (pass 2,
 // the rub's normal force and its gather).
 fn partner_weight(q: u32, mq: vec4<u32>, cnq: vec4<f32>, cd: Cand, partner: u32) -> vec2<f32> {
-    let p = cd.j;
+    return pair_weight(q, mq, cnq, cnq.xy, cd.d, cd.j, partner);
+}
+
+// `partner_weight` of walker q, as p's pass saw it (q's normal `nq` and
+// x_q - x_p `d`: its own, or its image's across a symmetry plane).
+fn pair_weight(q: u32, mq: vec4<u32>, cnq: vec4<f32>, nq: vec2<f32>, d: vec2<f32>, p: u32, partner: u32) -> vec2<f32> {
     let mp = pinfo[p];
     if (mp.z == mq.z || (partner != NONE && mp.z != partner) || nbo[p].z <= 0.0) {
         return vec2<f32>(-1.0, 0.0);
@@ -347,11 +357,18 @@ fn partner_weight(q: u32, mq: vec4<u32>, cnq: vec4<f32>, cd: Cand, partner: u32)
     let cp = cn[place(p)];
     let hp = bodies[mp.z].h;
     let hq = bodies[mq.z].h;
-    let wg = candidate(cp.xy, cnq.xy, cd.d, bitcast<f32>(mp.y), bitcast<f32>(mq.y), hp, hq, ramp_measure(p, hp, cp), ramp_measure(q, hq, cnq));
+    let wg = candidate(cp.xy, nq, d, bitcast<f32>(mp.y), bitcast<f32>(mq.y), hp, hq, ramp_measure(p, hp, cp), ramp_measure(q, hq, cnq), plane_share(q));
     if (wg.x < 0.0 || cown[own_at(p)].w != f32(mq.z)) {
         return vec2<f32>(-1.0, 0.0);
     }
     return wg;
+}
+
+// x_q - x_p of the image of walker q across the symmetry plane and
+// candidate p at offsets `op` (`cd_d` = x_q - x_p): the same bits as p's
+// pass forms (`image_sep`).
+fn image_sep_of_walker(wk: Walker, op: vec2<f32>, cd_d: vec2<f32>) -> vec2<f32> {
+    return mirror_vec(PLANE, image_d(wk, PLANE, op, cd_d));
 }
 
 // What pass 2 gathers at particle q from the partners' passes over the
@@ -377,27 +394,42 @@ fn gathered(q: u32, mq: vec4<u32>, wk: Walker, cnq: vec4<f32>) -> Gathered {
                 continue;
             }
             let wg = partner_weight(q, mq, cnq, cd, NONE);
-            let w = wg.x;
-            if (w < 0.0) {
-                continue;
+            if (wg.x >= 0.0) {
+                gather_from(&gt, 0u, cd.j, wg, cd.d, nq, oq);
             }
-            let p = cd.j;
-            let np = cn[place(p)].xy;
-            let op = bitcast<f32>(pinfo[p].y);
-            let ep = entries_of(p);
-            let sh = ep.share;
-            gt.f += sh.xy * w;
-            gt.heat += sh.z * w;
-            if (ep.bar1.w > 0.0) {
-                // s_q - S_P (cd.d = x_q - x_p).
-                let rel = cd.d + nq * oq - np * op;
-                let cb = cand_bar(ep.bar0, ep.bar1, w, rel, nq, oq);
-                gt.f += -cd.d * (wg.y * cb.w) - cb.x;
-                gt.n_bar += cb.n;
+            if (PLANE != 0u) {
+                // Across a symmetry plane: p's pass as it saw q's image,
+                // its force and the derivative by q's normal mirrored back.
+                let d = image_sep_of_walker(wk, cd.off, cd.d);
+                let nqi = mirror_vec(PLANE, nq);
+                let wi = pair_weight(q, mq, cnq, nqi, d, cd.j, NONE);
+                if (wi.x >= 0.0) {
+                    gather_from(&gt, PLANE, cd.j, wi, d, nqi, oq);
+                }
             }
         }
     }
     return gt;
+}
+
+// What q gathers from partner p's pass over their candidate pair of weight
+// `wg` (W, (dW/dr)/r), as the pass saw q (x_q - x_p `d`, normal `nq`),
+// mirrored back by `flip` where it saw q's image.
+fn gather_from(gt: ptr<function, Gathered>, flip: u32, p: u32, wg: vec2<f32>, d: vec2<f32>, nq: vec2<f32>, oq: f32) {
+    let w = wg.x;
+    let np = cn[place(p)].xy;
+    let op = bitcast<f32>(pinfo[p].y);
+    let ep = entries_of(p);
+    let sh = ep.share;
+    (*gt).f += mirror_vec(flip, sh.xy * w);
+    (*gt).heat += sh.z * w;
+    if (ep.bar1.w > 0.0) {
+        // s_q - S_P.
+        let rel = d + nq * oq - np * op;
+        let cb = cand_bar(ep.bar0, ep.bar1, w, rel, nq, oq);
+        (*gt).f += mirror_vec(flip, -d * (wg.y * cb.w) - cb.x);
+        (*gt).n_bar += mirror_vec(flip, cb.n);
+    }
 }
 
 // `f0` plus the force on q of dPhi/dn_q (as `b` = beta perp(n_q)), in
@@ -424,10 +456,10 @@ fn normal_pull(q: u32, mq: vec4<u32>, wk: Walker, b: vec2<f32>, f0: vec2<f32>) -
             }
             let vol = spread_volume(mj, rho0);
             f += hess_times(pr.d, pr.dist, pr.hij, b) * vol;
-            if (AXI) {
-                // And against j's image, which j moves the mirror way
-                // (spread.wgsl).
-                let im = axis_image(wk, cd.rad, pr.d, pr.hij);
+            // And against j's images, which j moves the mirror way
+            // (spread.wgsl).
+            for (var m = 0u; m < image_count(); m++) {
+                let im = image_pair(wk, m, cd.off, pr.d, pr.hij);
                 if (im.inside) {
                     f += hess_times(im.d, im.dist, im.hij, b) * vol;
                 }
@@ -435,9 +467,9 @@ fn normal_pull(q: u32, mq: vec4<u32>, wk: Walker, b: vec2<f32>, f0: vec2<f32>) -
             claim_spread(cd.j);
         }
     }
-    if (AXI) {
-        // Against its own image.
-        let im = axis_image(wk, wk.rad, vec2<f32>(0.0), hq);
+    // Against its own images.
+    for (var m = 0u; m < image_count(); m++) {
+        let im = image_pair(wk, m, wk.off, vec2<f32>(0.0), hq);
         if (im.inside) {
             f += hess_times(im.d, im.dist, im.hij, b) * spread_volume(mq, rho0);
             claim_spread(q);

@@ -110,16 +110,15 @@ fn intact(j: u32) -> bool {
     return !(FAILURE || CAVITATION) || !failed(damage_seen(hist[j]));
 }
 
-// The pair of i and the mirror image of its partner j (pair `pr`, j at
-// radius `rj`) across the axis of a body of revolution, where it is within
-// reach (nothing in plane strain).
-fn add_image(o: Own, wk: Walker, j: u32, mj: vec4<u32>, pr: Pair, rj: f32, sums: ptr<function, Sums>) {
-    if (!AXI) {
-        return;
-    }
-    let im = axis_image(wk, rj, pr.d, pr.hij);
-    if (im.inside) {
-        add_pair(o, j, mj, im, true, rj, sums);
+// The pairs of i and the mirror images of its partner j (pair `pr`, j at
+// radius `rj` and offsets `oj`) across the axis of a body of revolution
+// and a symmetry plane, where they are within reach.
+fn add_images(o: Own, wk: Walker, j: u32, mj: vec4<u32>, pr: Pair, rj: f32, oj: vec2<f32>, sums: ptr<function, Sums>) {
+    for (var m = 0u; m < image_count(); m++) {
+        let im = image_pair(wk, m, oj, pr.d, pr.hij);
+        if (im.inside) {
+            add_pair(o, j, mj, im, image_flip(m), rj, sums);
+        }
     }
 }
 
@@ -142,34 +141,39 @@ fn adaptive_forces(own: Own, wk: Walker, i: u32, mi: vec4<u32>, cs: Consts, sums
             }
             let round = body_pair(wk, cd, mj.z, span, hi, bi);
             if (round.inside) {
-                add_boundary(own, j, mj, round, false, sums);
-                if (AXI) {
-                    let ri = axis_image(wk, cd.rad, round.d, round.hij);
+                add_boundary(own, j, mj, round, 0u, sums);
+                for (var m = 0u; m < image_count(); m++) {
+                    let ri = image_pair(wk, m, cd.off, round.d, round.hij);
                     if (ri.inside) {
-                        add_boundary(own, j, mj, ri, true, sums);
+                        add_boundary(own, j, mj, ri, image_flip(m), sums);
                     }
                 }
             }
             let pr = sph_pair(wk, cd, mj.z, span, hi, bi);
             if (pr.inside) {
-                add_sph(own, j, mj, pr, false, cd.rad, sums);
+                add_sph(own, j, mj, pr, 0u, cd.rad, sums);
             }
-            if (AXI) {
-                let img = axis_image_metric(wk, cd.rad, cd.d, support_of(j, body_h(hi, mj.z)), hi);
-                if (img.inside) {
-                    add_sph(own, j, mj, img, true, cd.rad, sums);
+            if (image_count() > 0u) {
+                let qj = support_of(j, body_h(hi, mj.z));
+                for (var m = 0u; m < image_count(); m++) {
+                    let img = image_pair_metric(wk, m, cd.off, cd.d, qj, hi);
+                    if (img.inside) {
+                        add_sph(own, j, mj, img, image_flip(m), cd.rad, sums);
+                    }
                 }
             }
         }
     }
-    if (AXI) {
-        let own_round = axis_image(wk, wk.rad, vec2<f32>(0.0), hi);
+    for (var m = 0u; m < image_count(); m++) {
+        let own_round = image_pair(wk, m, wk.off, vec2<f32>(0.0), hi);
         if (own_round.inside) {
-            add_boundary(own, i, mi, own_round, true, sums);
+            add_boundary(own, i, mi, own_round, image_flip(m), sums);
         }
-        let own_img = axis_image_metric(wk, wk.rad, vec2<f32>(0.0), wk.q, hi);
+    }
+    for (var m = 0u; m < image_count(); m++) {
+        let own_img = image_pair_metric(wk, m, wk.off, vec2<f32>(0.0), wk.q, hi);
         if (own_img.inside) {
-            add_sph(own, i, mi, own_img, true, wk.rad, sums);
+            add_sph(own, i, mi, own_img, image_flip(m), wk.rad, sums);
         }
     }
 }
@@ -265,6 +269,7 @@ fn own_of(i: u32, mi: vec4<u32>, body: Body, boundary: bool, surface: bool, rad:
         flows_i,
         params.alpha,
         params.beta,
+        plane_share(i),
     );
 }
 
@@ -274,7 +279,13 @@ fn own_of(i: u32, mi: vec4<u32>, body: Body, boundary: bool, surface: bool, rad:
 fn pair_sums(own: Own, wk: Walker, i: u32, mi: vec4<u32>, adapt: bool) -> Sums {
     let cs = consts();
     let hi = own.hi;
-    var sums = Sums(vec2<f32>(0.0), 0.0, kernel_w(0.0, hi), vec2<f32>(0.0), vec2<f32>(0.0), 0.0);
+    // A particle on a symmetry plane counts for its share here, its image
+    // for the rest.
+    var sw0 = kernel_w(0.0, hi);
+    if (ONPLANE) {
+        sw0 *= own.share;
+    }
+    var sums = Sums(vec2<f32>(0.0), 0.0, sw0, vec2<f32>(0.0), vec2<f32>(0.0), 0.0);
     var mask = vec2<u32>(0u, MASK_FULL);
     // Where supports adapt the walk's rows are the walker's own
     // (`adaptive_forces`), which the masks' row map does not follow; while
@@ -298,11 +309,16 @@ fn pair_sums(own: Own, wk: Walker, i: u32, mi: vec4<u32>, adapt: bool) -> Sums {
             let mj = pinfo[j];
             let pr = pair_at(pair_d(wk, j, cs), pair_h(hi, mj.z));
             var rj = 0.0;
-            if (AXI) {
-                rj = radius_of(j);
+            var oj = vec2<f32>(0.0);
+            if (image_count() > 0u) {
+                oj = offsets_of(j);
+                rj = oj.x;
             }
-            add_pair(own, j, mj, pr, false, rj, &sums);
-            add_image(own, wk, j, mj, pr, rj, &sums);
+            if (!AXI) {
+                rj = 0.0;
+            }
+            add_pair(own, j, mj, pr, 0u, rj, &sums);
+            add_images(own, wk, j, mj, pr, rj, oj, &sums);
         }
     } else {
         for (var row = 0u; row < scan_rows(); row++) {
@@ -312,15 +328,15 @@ fn pair_sums(own: Own, wk: Walker, i: u32, mi: vec4<u32>, adapt: bool) -> Sums {
                 let mj = pinfo[cd.j];
                 let pr = body_pair(wk, cd, mj.z, span, hi, mi.z);
                 if (pr.inside) {
-                    add_pair(own, cd.j, mj, pr, false, cd.rad, &sums);
-                    add_image(own, wk, cd.j, mj, pr, cd.rad, &sums);
+                    add_pair(own, cd.j, mj, pr, 0u, cd.rad, &sums);
+                    add_images(own, wk, cd.j, mj, pr, cd.rad, cd.off, &sums);
                 }
             }
         }
     }
-    if (AXI && !adapt) {
-        // The walker's own image.
-        add_image(own, wk, i, mi, Pair(vec2<f32>(0.0), 0.0, hi, vec2<f32>(0.0), true, 0.0, 0.0), wk.rad, &sums);
+    if (!adapt) {
+        // The walker's own images.
+        add_images(own, wk, i, mi, Pair(vec2<f32>(0.0), 0.0, hi, vec2<f32>(0.0), true, 0.0, 0.0), wk.rad, wk.off, &sums);
     }
     return sums;
 }
@@ -367,6 +383,10 @@ fn store_rates(i: u32, own: Own, acc: vec2<f32>, de: f32, sw: f32, rad: f32) {
             if (AXI) {
                 // A ring's.
                 a *= circumference(rad);
+            }
+            if (ONPLANE) {
+                // On a symmetry plane, its share of the area.
+                a *= own.share;
             }
             area[area_index(i, nbo[i].w)] = a;
         } else if (LEAP != 0u) {

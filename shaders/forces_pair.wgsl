@@ -46,6 +46,9 @@ struct Own {
     flows: bool,
     alpha: f32,
     beta: f32,
+    // Its share of itself on the modelled side of a symmetry plane
+    // (`plane_share`).
+    share: f32,
 }
 
 // The sums of the walk.
@@ -61,26 +64,33 @@ struct Sums {
     dd: f32,
 }
 
-// Add the SPH pair (i, j) (inside the support) to the sums; `img`: the
-// pair of i and j's mirror image across the axis (`axis_image`), which
-// has j's values mirrored, at radius `rj` (bodies of revolution).
-fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: ptr<function, Sums>) {
+// Add the SPH pair (i, j) (inside the support) to the sums; `img`: 0 for
+// j itself, else the coordinates the mirror image of j the pair is with
+// reverses (`image_flip`), which has j's values mirrored; j at radius `rj`
+// (bodies of revolution).
+fn add_pair(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: u32, rj: f32, sums: ptr<function, Sums>) {
     add_boundary(o, j, mj, pr, img, sums);
     add_sph(o, j, mj, pr, img, rj, sums);
 }
 
 // A boundary particle's contact area and normal terms of a pair with the
 // round supports of the bodies' h (`add_pair`).
-fn add_boundary(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, sums: ptr<function, Sums>) {
+fn add_boundary(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: u32, sums: ptr<function, Sums>) {
     let hij = pr.hij;
     let dist = pr.dist;
     if (o.boundary && nbo[j].z > 0.0 && LEAP != 3u) {
-        (*sums).sw += kernel_w(dist, hij);
+        // A particle on a symmetry plane counts for its share, its image
+        // for the rest.
+        if (ONPLANE) {
+            (*sums).sw += plane_share(j) * kernel_w(dist, hij);
+        } else {
+            (*sums).sw += kernel_w(dist, hij);
+        }
     }
     if (o.boundary && dist > 0.0) {
         var vj = v[j];
-        if (img) {
-            vj = mirror_vec(vj);
+        if (img != 0u) {
+            vj = mirror_vec(img, vj);
         }
         // With contact on, j is of i's body.
         let v0 = reference_volume(mj, o.body.rho0);
@@ -101,12 +111,12 @@ struct Jumps {
     vf: vec2<f32>,
 }
 
-fn seen_jumps(o: Own, j: u32, img: bool, vij: vec2<f32>, d: vec2<f32>) -> Jumps {
+fn seen_jumps(o: Own, j: u32, img: u32, vij: vec2<f32>, d: vec2<f32>) -> Jumps {
     var vis = vij;
     if (LEAP == 3u) {
         var vsj = vstar[j];
-        if (img) {
-            vsj = mirror_vec(vsj);
+        if (img != 0u) {
+            vsj = mirror_vec(img, vsj);
         }
         vis = o.vs - vsj;
     }
@@ -114,8 +124,8 @@ fn seen_jumps(o: Own, j: u32, img: bool, vij: vec2<f32>, d: vec2<f32>) -> Jumps 
     var vf = vis;
     if (HG_HALF) {
         var vhj = vhalf[j];
-        if (img) {
-            vhj = mirror_vec(vhj);
+        if (img != 0u) {
+            vhj = mirror_vec(img, vhj);
         }
         vf = o.vh - vhj;
     }
@@ -124,8 +134,8 @@ fn seen_jumps(o: Own, j: u32, img: bool, vij: vec2<f32>, d: vec2<f32>) -> Jumps 
     // impulsively.
     if (RECON && (RECON_SURF || (!o.surface && nbo[j].z <= 0.0))) {
         var gj = gradv[j];
-        if (img) {
-            gj = mirror_mat(gj);
+        if (img != 0u) {
+            gj = mirror_mat(img, gj);
         }
         vis = reconstructed_jump(vis, d, o.g, gj);
     }
@@ -179,7 +189,11 @@ fn art_pair(o: Own, bj: Body, j: u32, mj: vec4<u32>, rj: f32, pr: Pair, tj: vec4
     var gate = 1.0;
     if (ART_CLOSE) {
         let rho_j = sum_density(bj, j, rj);
-        let vol = 0.5 * (o.vol + bitcast<f32>(mj.x) / rho_j);
+        var vol = 0.5 * (o.vol + bitcast<f32>(mj.x) / rho_j);
+        if (ONPLANE) {
+            // The whole particles' volumes, on a symmetry plane too.
+            vol = 0.5 * (o.vol / o.share + bitcast<f32>(mj.x) / (rho_j * plane_share(j)));
+        }
         // kappa^2 <= 1 only shrinks the spacing: a gate shut at 1 is
         // shut, and most pairs read no kappa. Where supports adapt, in
         // the pair's metric.
@@ -231,10 +245,10 @@ fn art_pair(o: Own, bj: Body, j: u32, mj: vec4<u32>, rj: f32, pr: Pair, tj: vec4
 
 // The momentum and energy terms of a pair (`add_pair`); where supports
 // adapt, `pr` is the pair in its mean metric.
-fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: ptr<function, Sums>) {
+fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: u32, rj: f32, sums: ptr<function, Sums>) {
     var vj = v[j];
-    if (img) {
-        vj = mirror_vec(vj);
+    if (img != 0u) {
+        vj = mirror_vec(img, vj);
     }
     if (o.rigid || pr.dist <= 0.0) {
         return;
@@ -252,9 +266,9 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
         flows_j = tj.w < 0.0;
         tj.w = abs(tj.w);
     }
-    if (img) {
-        lj = mirror_mat(lj);
-        tj = mirror_sym(tj);
+    if (img != 0u) {
+        lj = mirror_mat(img, lj);
+        tj = mirror_sym(img, tj);
     }
     let g = mat_mul(0.5 * (o.l + lj), pr.gw);
     let vij = o.v - vj;
@@ -299,8 +313,8 @@ fn add_sph(o: Own, j: u32, mj: vec4<u32>, pr: Pair, img: bool, rj: f32, sums: pt
         if (HG_HALF) {
             gj = gradh[j];
         }
-        if (img) {
-            gj = mirror_mat(gj);
+        if (img != 0u) {
+            gj = mirror_mat(img, gj);
         }
         hg = hourglass(o, bj, jumps.vf, d, pr.gw, gj, tj.w, bj.h, sum_density(bj, j, rj));
     }

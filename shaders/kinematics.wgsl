@@ -180,20 +180,28 @@ fn add_kin(o: KinOwn, gw: vec2<f32>, d: vec2<f32>, mass: f32, vol: f32, vj: vec2
     }
 }
 
-// The mirror image of particle j (radius rj, mass and volume as `add_kin`)
-// in walker `wk`'s sums, where it is within reach.
-fn add_kin_image(o: KinOwn, wk: Walker, j: u32, rj: f32, d: vec2<f32>, hij: f32, mass: f32, vol: f32, ks: ptr<function, KinSums>) {
-    let im = axis_image(wk, rj, d, hij);
-    if (!im.inside) {
-        return;
+// The mirror images of particle j (radius rj, offsets oj, mass and volume
+// as `add_kin`) in walker `wk`'s sums, where they are within reach.
+fn add_kin_images(o: KinOwn, wk: Walker, j: u32, rj: f32, oj: vec2<f32>, d: vec2<f32>, hij: f32, mass: f32, vol: f32, ks: ptr<function, KinSums>) {
+    for (var m = 0u; m < image_count(); m++) {
+        let im = image_pair(wk, m, oj, d, hij);
+        if (!im.inside) {
+            continue;
+        }
+        let f = image_flip(m);
+        var vsj = vec2<f32>(0.0);
+        if (o.seen) {
+            vsj = mirror_vec(f, predicted(j));
+        }
+        var area = vol;
+        if (AXI) {
+            area = vol / circumference(rj);
+        }
+        add_kin(o, im.gw, im.d, mass, area, mirror_vec(f, v[j]), vsj, ks);
+        if (AXI) {
+            (*ks).psi += kernel_w(im.dist, im.hij) * area;
+        }
     }
-    var vsj = vec2<f32>(0.0);
-    if (o.seen) {
-        vsj = mirror_vec(predicted(j));
-    }
-    let area = vol / circumference(rj);
-    add_kin(o, im.gw, im.d, mass, area, mirror_vec(v[j]), vsj, ks);
-    (*ks).psi += kernel_w(im.dist, im.hij) * area;
 }
 
 fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
@@ -244,18 +252,20 @@ fn kinematic_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
                 let area = vol / circumference(cd.rad);
                 add_kin(o, pr.gw, pr.d, mass, area, vj, vsj, &ks);
                 ks.psi += kernel_w(pr.dist, pr.hij) * area;
-                add_kin_image(o, wk, j, cd.rad, pr.d, pr.hij, mass, vol, &ks);
             } else {
                 add_kin(o, pr.gw, pr.d, mass, vol, vj, vsj, &ks);
             }
+            add_kin_images(o, wk, j, cd.rad, cd.off, pr.d, pr.hij, mass, vol, &ks);
         }
     }
-    if (AXI) {
-        // The walker's own image, and itself in the colour function.
+    if (image_count() > 0u) {
+        // The walker's own images, and itself in the colour function.
         let mi = pinfo[i];
         let vi = volume(i, mi, rho0);
-        add_kin_image(o, wk, i, wk.rad, vec2<f32>(0.0), hi, bitcast<f32>(mi.x), vi, &ks);
-        ks.psi += kernel_w(0.0, hi) * vi / circumference(wk.rad);
+        add_kin_images(o, wk, i, wk.rad, wk.off, vec2<f32>(0.0), hi, bitcast<f32>(mi.x), vi, &ks);
+        if (AXI) {
+            ks.psi += kernel_w(0.0, hi) * vi / circumference(wk.rad);
+        }
     }
     if (first > MASK_BITS) {
         mask.y |= MASK_FULL;
@@ -296,11 +306,13 @@ fn adaptive_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
             let pr = sph_pair(wk, cd, mj.z, span, hi, bi);
             let round = body_pair(wk, cd, mj.z, span, hi, bi);
             let valid = j != i && in_row(cd.cell, span) && !(CONTACT && mj.z != bi);
-            var img = Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0);
-            if (AXI && valid) {
-                img = axis_image_metric(wk, cd.rad, cd.d, support_of(j, body_h(hi, mj.z)), hi);
+            var qj = vec4<f32>(0.0);
+            var hit = 0u;
+            if (image_count() > 0u && valid) {
+                qj = support_of(j, body_h(hi, mj.z));
+                hit = metric_images(wk, cd.off, cd.d, qj, hi);
             }
-            let any = pr.inside || round.inside || img.inside;
+            let any = pr.inside || round.inside || hit != 0u;
             if (LEAP != 0u && any && k + off < MASK_BITS) {
                 mask = mask_set(mask, k + off);
             }
@@ -309,17 +321,19 @@ fn adaptive_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
             }
             let mass = bitcast<f32>(mj.x);
             let vol = volume(j, mj, rho0);
-            add_adaptive(o, wk, j, cd.rad, mass, vol, pr, round, img, &ks);
+            add_adaptive(o, wk, Mirrored(j, cd.rad, cd.off, cd.d, qj, hi, hit), mass, vol, pr, round, &ks);
         }
     }
-    if (AXI) {
-        // The walker's own image, both ways.
+    if (image_count() > 0u) {
+        // The walker's own images, both ways.
         let mi = pinfo[i];
         let own = Pair(vec2<f32>(0.0), 0.0, hi, vec2<f32>(0.0), true, 0.0, 0.0);
-        let img = axis_image_metric(wk, wk.rad, vec2<f32>(0.0), wk.q, hi);
+        let hit = metric_images(wk, wk.off, vec2<f32>(0.0), wk.q, hi);
         let vi = volume(i, mi, rho0);
-        add_adaptive(o, wk, i, wk.rad, bitcast<f32>(mi.x), vi, Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0), own, img, &ks);
-        ks.psi += kernel_w(0.0, hi) * vi / circumference(wk.rad);
+        add_adaptive(o, wk, Mirrored(i, wk.rad, wk.off, vec2<f32>(0.0), wk.q, hi, hit), bitcast<f32>(mi.x), vi, Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0), own, &ks);
+        if (AXI) {
+            ks.psi += kernel_w(0.0, hi) * vi / circumference(wk.rad);
+        }
     }
     if (first > MASK_BITS) {
         mask.y |= MASK_FULL;
@@ -328,14 +342,41 @@ fn adaptive_walk(i: u32, hi: f32, bi: u32, rigid: bool, rho0: f32) -> KinSums {
     return ks;
 }
 
-// A candidate's terms in an adaptive walk: the metric pair `pr` and, in a
-// body of revolution, the metric pair with its image `img` to the gradient
-// sums; the round pair `round` and its image to the colour gradient.
-// `round` with zero distance stands for the walker's own image.
-fn add_adaptive(o: KinOwn, wk: Walker, j: u32, rj: f32, mass: f32, vol: f32, pr: Pair, round: Pair, img: Pair, ks: ptr<function, KinSums>) {
+// Which of the images of a particle of metric `qj` (offsets `oj`,
+// separation `d` from the walker) are metric pairs of the walker, a bit
+// each.
+fn metric_images(wk: Walker, oj: vec2<f32>, d: vec2<f32>, qj: vec4<f32>, h0: f32) -> u32 {
+    var hit = 0u;
+    for (var m = 0u; m < image_count(); m++) {
+        if (image_pair_metric(wk, m, oj, d, qj, h0).inside) {
+            hit |= 1u << m;
+        }
+    }
+    return hit;
+}
+
+// A particle j as its images are met: its radius, offsets, separation
+// from the walker, metric, and which images are metric pairs
+// (`metric_images`).
+struct Mirrored {
+    j: u32,
+    rj: f32,
+    oj: vec2<f32>,
+    d: vec2<f32>,
+    qj: vec4<f32>,
+    h0: f32,
+    hit: u32,
+}
+
+// A candidate's terms in an adaptive walk: the metric pair `pr` and the
+// metric pairs with its images (mirrored metrics) to the gradient sums;
+// the round pair `round` and its round images to the colour gradient.
+// `round` with zero distance stands for the walker's own images.
+fn add_adaptive(o: KinOwn, wk: Walker, c: Mirrored, mass: f32, vol: f32, pr: Pair, round: Pair, ks: ptr<function, KinSums>) {
+    let j = c.j;
     var area = vol;
     if (AXI) {
-        area = vol / circumference(rj);
+        area = vol / circumference(c.rj);
     }
     if (round.inside) {
         if (round.dist > 0.0) {
@@ -344,11 +385,13 @@ fn add_adaptive(o: KinOwn, wk: Walker, j: u32, rj: f32, mass: f32, vol: f32, pr:
                 (*ks).psi += kernel_w(round.dist, round.hij) * area;
             }
         }
-        if (AXI) {
-            let ri = axis_image(wk, rj, round.d, round.hij);
+        for (var m = 0u; m < image_count(); m++) {
+            let ri = image_pair(wk, m, c.oj, round.d, round.hij);
             if (ri.inside) {
                 (*ks).gpsi -= ri.gw * area;
-                (*ks).psi += kernel_w(ri.dist, ri.hij) * area;
+                if (AXI) {
+                    (*ks).psi += kernel_w(ri.dist, ri.hij) * area;
+                }
             }
         }
     }
@@ -363,8 +406,12 @@ fn add_adaptive(o: KinOwn, wk: Walker, j: u32, rj: f32, mass: f32, vol: f32, pr:
     if (pr.inside && pr.dist > 0.0) {
         add_grad(o, pr.gw, pr.d, mass, area, vj, vsj, ks);
     }
-    if (img.inside) {
-        add_grad(o, img.gw, img.d, mass, area, mirror_vec(vj), mirror_vec(vsj), ks);
+    for (var m = 0u; m < image_count(); m++) {
+        if ((c.hit & (1u << m)) != 0u) {
+            let f = image_flip(m);
+            let img = image_pair_metric(wk, m, c.oj, c.d, c.qj, c.h0);
+            add_grad(o, img.gw, img.d, mass, area, mirror_vec(f, vj), mirror_vec(f, vsj), ks);
+        }
     }
 }
 

@@ -79,6 +79,7 @@ struct PassSums {
 fn pass_sums(at: PassAt) -> PassSums {
     var s = PassSums(NONE, false, 0.0, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0));
     let cs = consts();
+    let gp = ramp_measure(at.p, at.hp, at.cnp);
     for (var row = 0u; row < scan_rows(); row++) {
         let span = row_span(at.wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
@@ -93,35 +94,64 @@ fn pass_sums(at: PassAt) -> PassSums {
                 continue;
             }
             let oq = bitcast<f32>(mq.y);
+            let cq = cn[place(q)];
+            let hq = bodies[mq.z].h;
+            let gq = ramp_measure(q, hq, cq);
+            let sq = plane_share(q);
+            var vb = vec2<f32>(0.0);
+            if (LEAP == 3u) {
+                vb = vbook[q];
+            }
             // x_q - x_p.
             let d = -cd.d;
-            let cq = cn[place(q)];
-            let nq = cq.xy;
-            let hq = bodies[mq.z].h;
-            let w = candidate(at.np, nq, d, at.op, oq, at.hp, hq, ramp_measure(at.p, at.hp, at.cnp), ramp_measure(q, hq, cq)).x;
-            if (w < 0.0) {
-                continue;
+            let w = candidate(at.np, cq.xy, d, at.op, oq, at.hp, hq, ramp_measure(at.p, at.hp, at.cnp), gq, sq).x;
+            if (w >= 0.0) {
+                sum_candidate(at, &s, mq.z, w, d, cq.xy, oq, v[q], vb);
             }
-            if (s.partner == NONE) {
-                s.partner = mq.z;
-            } else if (mq.z != s.partner) {
-                s.multi = true;
-                continue;
+            if (PLANE != 0u) {
+                // Across a symmetry plane: q's image, at the mirror point
+                // with its normal and velocities mirrored.
+                let di = image_sep(at.wk, cd.off, cd.d);
+                let nqi = mirror_vec(PLANE, cq.xy);
+                let wi = candidate(at.np, nqi, di, at.op, oq, at.hp, hq, gp, gq, sq).x;
+                if (wi >= 0.0) {
+                    sum_candidate(at, &s, mq.z, wi, di, nqi, oq, mirror_vec(PLANE, v[q]), mirror_vec(PLANE, vb));
+                }
             }
-            // s_q - S_P, formed from the precise centre difference.
-            let rel = d + nq * oq - at.np * at.op;
-            s.sw += w;
-            s.sws += rel * w;
-            s.swn += nq * w;
-            s.swv += v[q] * w;
-            if (LEAP == 3u) {
-                s.swb += vbook[q] * w;
-            }
-            s.swt += dot(nq, -rel) * w;
-            s.swo += oq * w;
         }
     }
     return s;
+}
+
+// x_q - x_p of the image of candidate q (offsets `oq`, `cd_d` = x_p - x_q)
+// across the symmetry plane, from walker P: along the plane's normal
+// -(off_p + off_q), along it -cd_d. Pass 2 forms the same bits from q's
+// side (contact.wgsl, image_sep_of_walker).
+fn image_sep(wk: Walker, oq: vec2<f32>, cd_d: vec2<f32>) -> vec2<f32> {
+    return -image_d(wk, PLANE, oq, cd_d);
+}
+
+// Candidate q of body `bq` (or its image) of weight `w`, x_q - x_p `d`,
+// normal `nq`, offset `oq`, velocity `vq` and booking velocity `vb`, in
+// P's sums: the first partner body P meets, others counted.
+fn sum_candidate(at: PassAt, s: ptr<function, PassSums>, bq: u32, w: f32, d: vec2<f32>, nq: vec2<f32>, oq: f32, vq: vec2<f32>, vb: vec2<f32>) {
+    if ((*s).partner == NONE) {
+        (*s).partner = bq;
+    } else if (bq != (*s).partner) {
+        (*s).multi = true;
+        return;
+    }
+    // s_q - S_P, formed from the precise centre difference.
+    let rel = d + nq * oq - at.np * at.op;
+    (*s).sw += w;
+    (*s).sws += rel * w;
+    (*s).swn += nq * w;
+    (*s).swv += vq * w;
+    if (LEAP == 3u) {
+        (*s).swb += vb * w;
+    }
+    (*s).swt += dot(nq, -rel) * w;
+    (*s).swo += oq * w;
 }
 
 // The gap of P against the interpolated partner surface, its normal and
@@ -236,8 +266,7 @@ struct CandSum {
 }
 
 fn candidates_bar(at: PassAt, partner: u32, b: SumsBar) -> CandSum {
-    var xp_bar = b.sp;
-    var phi_dot = 0.0;
+    var cs_ = CandSum(b.sp, 0.0);
     let cs = consts();
     for (var row = 0u; row < scan_rows(); row++) {
         let span = row_span(at.wk.hm, row);
@@ -256,18 +285,35 @@ fn candidates_bar(at: PassAt, partner: u32, b: SumsBar) -> CandSum {
             let cnq = cn[place(q)];
             let nq = cnq.xy;
             let hq = bodies[mq.z].h;
-            let wg = candidate(at.np, nq, d, at.op, oq, at.hp, hq, ramp_measure(at.p, at.hp, at.cnp), ramp_measure(q, hq, cnq));
-            if (wg.x < 0.0) {
-                continue;
+            let gq = ramp_measure(q, hq, cnq);
+            let sq = plane_share(q);
+            let wg = candidate(at.np, nq, d, at.op, oq, at.hp, hq, ramp_measure(at.p, at.hp, at.cnp), gq, sq);
+            if (wg.x >= 0.0) {
+                bar_candidate(at, b, &cs_, wg, d, nq, oq, v_book(q), cnq.w);
             }
-            let rel = d + nq * oq - at.np * at.op;
-            let cb = cand_bar(b.bar0, b.bar1, wg.x, rel, nq, oq);
-            let gw = -d * wg.y;
-            xp_bar += gw * cb.w;
-            phi_dot += dot(cb.x - gw * cb.w, v_book(q)) + dot(cb.n, perp(nq) * cnq.w);
+            if (PLANE != 0u) {
+                // q's image (pass_sums): its normal turns the other way.
+                let di = image_sep(at.wk, cd.off, cd.d);
+                let nqi = mirror_vec(PLANE, nq);
+                let wi = candidate(at.np, nqi, di, at.op, oq, at.hp, hq, ramp_measure(at.p, at.hp, at.cnp), gq, sq);
+                if (wi.x >= 0.0) {
+                    bar_candidate(at, b, &cs_, wi, di, nqi, oq, mirror_vec(PLANE, v_book(q)), -cnq.w);
+                }
+            }
         }
     }
-    return CandSum(xp_bar, phi_dot);
+    return cs_;
+}
+
+// One candidate's (or image's) share of dPhi/dx_P and dPhi/dt: weight
+// `wg`, x_q - x_p `d`, normal `nq` turning at `rate`, offset `oq`,
+// booking velocity `vb`.
+fn bar_candidate(at: PassAt, b: SumsBar, c: ptr<function, CandSum>, wg: vec2<f32>, d: vec2<f32>, nq: vec2<f32>, oq: f32, vb: vec2<f32>, rate: f32) {
+    let rel = d + nq * oq - at.np * at.op;
+    let cb = cand_bar(b.bar0, b.bar1, wg.x, rel, nq, oq);
+    let gw = -d * wg.y;
+    (*c).xp += gw * cb.w;
+    (*c).phi_dot += dot(cb.x - gw * cb.w, vb) + dot(cb.n, perp(nq) * rate);
 }
 
 // The fade of a pass whose candidates' weight is `sw`, with the weight of

@@ -65,24 +65,26 @@ fn spread_force(j: u32) -> vec2<f32> {
             if (beta != 0.0) {
                 let b = perp(cn[k].xy) * beta;
                 f -= hess_times(pr.d, pr.dist, pr.hij, b);
-                if (AXI) {
-                    // P's pull on j's image, mirrored: j against P's image
-                    // with P's pull mirrored.
-                    let im = axis_image(wk, cd.rad, pr.d, pr.hij);
+                // P's pull on j's images, mirrored: j against P's images
+                // with P's pull mirrored.
+                for (var m = 0u; m < image_count(); m++) {
+                    let im = image_pair(wk, m, cd.off, pr.d, pr.hij);
                     if (im.inside) {
-                        f -= hess_times(im.d, im.dist, im.hij, mirror_vec(b));
+                        f -= hess_times(im.d, im.dist, im.hij, mirror_vec(image_flip(m), b));
                     }
                 }
             }
         }
     }
-    if (AXI && nbo[j].z > 0.0) {
-        // j's own normal turns with its own image.
+    if (image_count() > 0u && nbo[j].z > 0.0) {
+        // j's own normal turns with its own images.
         let k = u32(nbo[j].w);
         let beta = bt[k];
-        let im = axis_image(wk, wk.rad, vec2<f32>(0.0), body.h);
-        if (beta != 0.0 && im.inside) {
-            f -= hess_times(im.d, im.dist, im.hij, mirror_vec(perp(cn[k].xy) * beta));
+        for (var m = 0u; m < image_count(); m++) {
+            let im = image_pair(wk, m, wk.off, vec2<f32>(0.0), body.h);
+            if (beta != 0.0 && im.inside) {
+                f -= hess_times(im.d, im.dist, im.hij, mirror_vec(image_flip(m), perp(cn[k].xy) * beta));
+            }
         }
     }
     return f * spread_volume(mj, body.rho0);

@@ -138,9 +138,10 @@ fn consts() -> Consts {
     return Consts(params.n, params.cell, params.inv_cell);
 }
 
-// The walking particle: its index, reference, displacement, grid home and
-// (bodies of revolution; else 0) radius; where supports adapt its metric
-// and the radius in cells its walk reaches (else the round support's).
+// The walking particle: its index, reference, displacement, grid home,
+// (bodies of revolution; else 0) radius and offsets from the image lines
+// (`offsets_at`); where supports adapt its metric and the radius in cells
+// its walk reaches (else the round support's).
 struct Walker {
     i: u32,
     a: vec4<f32>,
@@ -149,12 +150,14 @@ struct Walker {
     rad: f32,
     q: vec4<f32>,
     reach: f32,
+    off: vec2<f32>,
 }
 
 fn walker(i: u32) -> Walker {
     let a = x0[i];
     let un = u[i];
-    return Walker(i, a, un, home_at(a, un), radius_at(a, un), vec4<f32>(0.0), params.reach);
+    let rad = radius_at(a, un);
+    return Walker(i, a, un, home_at(a, un), rad, vec4<f32>(0.0), params.reach, offsets_at(a, un, rad));
 }
 
 // The walker of the SPH sums where supports adapt: its metric, and the
@@ -191,29 +194,68 @@ fn radius_of(j: u32) -> f32 {
     return radius_at(x0[j], u[j]);
 }
 
-// The pair of walker `w` and the mirror image across the axis of a particle
-// at radius `rj` whose pair with w has separation `d` (its image's is
-// (r_i + r_j, d.y)), at smoothing length `hij`; not inside where the image
-// lies beyond the support (most pairs: the test needs no square root) or
-// in plane strain. An image is never nearer than its particle, so the
-// images within reach are those of the pairs within reach, and of the
-// walker itself (d = 0, rj = r_i).
-fn axis_image(w: Walker, rj: f32, d: vec2<f32>, hij: f32) -> Pair {
-    let dr = w.rad + rj;
-    if (!AXI || dr >= 2.0 * hij) {
-        return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0);
+// A particle's offsets from the lines its images are mirrored across,
+// along the coordinate each reverses (0 along one none reverses): the
+// radius `rad` from the axis (AXI), and from the symmetry plane (PLANE),
+// each its whole cells from the line (exact) and its place in the cell.
+fn offsets_at(a: vec4<f32>, un: vec2<f32>, rad: f32) -> vec2<f32> {
+    var o = vec2<f32>(rad, 0.0);
+    if (PLANE == 1u) {
+        o.x = (a.x - params.plane_cell) * params.cell + (a.z + un.x);
+    } else if (PLANE == 2u) {
+        o.y = (a.y - params.plane_cell) * params.cell + (a.w + un.y);
     }
-    return pair_at(vec2<f32>(dr, d.y), hij);
+    return o;
 }
 
-// `axis_image` where supports adapt: the pair of the walker and the image
-// of a particle of metric `qj`, whose own metric is `qj` mirrored; `h0`
-// the round support's h.
-fn axis_image_metric(w: Walker, rj: f32, d: vec2<f32>, qj: vec4<f32>, h0: f32) -> Pair {
+// How many mirror images a particle has: across the axis of a body of
+// revolution, a symmetry plane, and both where there are both.
+fn image_count() -> u32 {
+    let p = select(0u, 1u, PLANE != 0u);
+    if (AXI) {
+        return 1u + 2u * p;
+    }
+    return p;
+}
+
+// The coordinates image `m` reverses (mirror_vec): the axis's x first.
+fn image_flip(m: u32) -> u32 {
     if (!AXI) {
+        return PLANE;
+    }
+    return select(1u, PLANE | select(0u, 1u, m == 2u), m > 0u);
+}
+
+// The separation from walker `w` of the image under `flip` of a particle at
+// offsets `oj` whose own separation from w is `d`: each reversed
+// coordinate's is the sum of their offsets (x_i - (2 l - x_j)).
+fn image_d(w: Walker, flip: u32, oj: vec2<f32>, d: vec2<f32>) -> vec2<f32> {
+    let s = w.off + oj;
+    return vec2<f32>(select(d.x, s.x, (flip & 1u) != 0u), select(d.y, s.y, (flip & 2u) != 0u));
+}
+
+// The pair of walker `w` and image `m` of a particle at offsets `oj` whose
+// pair with w has separation `d`, at smoothing length `hij`; not inside
+// where the image lies beyond the support along a reversed coordinate
+// (most pairs: the test needs no square root). An image is never nearer
+// than its particle, so the images within reach are those of the pairs
+// within reach, and of the walker itself (d = 0, oj = w.off).
+fn image_pair(w: Walker, m: u32, oj: vec2<f32>, d: vec2<f32>, hij: f32) -> Pair {
+    let f = image_flip(m);
+    let di = image_d(w, f, oj, d);
+    if (((f & 1u) != 0u && abs(di.x) >= 2.0 * hij) || ((f & 2u) != 0u && abs(di.y) >= 2.0 * hij)) {
         return Pair(vec2<f32>(0.0), 0.0, 0.0, vec2<f32>(0.0), false, 0.0, 0.0);
     }
-    return pair_metric(vec2<f32>(w.rad + rj, d.y), w.q, vec4<f32>(qj.x, -qj.y, qj.z, 0.0), h0);
+    return pair_at(di, hij);
+}
+
+// `image_pair` where supports adapt: the pair of the walker and image `m`
+// of a particle of metric `qj`, whose own metric is `qj` mirrored; `h0`
+// the round support's h.
+fn image_pair_metric(w: Walker, m: u32, oj: vec2<f32>, d: vec2<f32>, qj: vec4<f32>, h0: f32) -> Pair {
+    let f = image_flip(m);
+    let qm = vec4<f32>(qj.x, select(qj.y, -qj.y, shears(f)), qj.z, 0.0);
+    return pair_metric(image_d(w, f, oj, d), w.q, qm, h0);
 }
 
 // Candidate j at place k of a row's range (a range that wraps past the
@@ -227,8 +269,10 @@ struct Cand {
     j: u32,
     cell: vec2<i32>,
     d: vec2<f32>,
-    // Its radius in a body of revolution (0 in plane strain).
+    // Its radius in a body of revolution (0 in plane strain), and its
+    // offsets from the image lines (`offsets_at`).
     rad: f32,
+    off: vec2<f32>,
 }
 
 fn cand(w: Walker, k: u32, c: Consts) -> Cand {
@@ -236,7 +280,15 @@ fn cand(w: Walker, k: u32, c: Consts) -> Cand {
     let b = x0[j];
     let uj = u[j];
     let cell = home_in(b, uj, c.inv_cell).cell;
-    return Cand(j, cell, pair_diff(w, b, uj, c), radius_at(b, uj));
+    let rad = radius_at(b, uj);
+    return Cand(j, cell, pair_diff(w, b, uj, c), rad, offsets_at(b, uj, rad));
+}
+
+// Particle j's offsets from the image lines.
+fn offsets_of(j: u32) -> vec2<f32> {
+    let b = x0[j];
+    let uj = u[j];
+    return offsets_at(b, uj, radius_at(b, uj));
 }
 
 // The particle at place k of the sorted list, run on past `n` where a row

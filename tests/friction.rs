@@ -284,8 +284,14 @@ fn taylor_bar_grips(coarsen: f64) {
         assert!(b.1 > a.1, "μ {mu}: length {} after {}", b.1, a.1);
         assert!(b.2 > 0.0, "μ {mu}: heat {}", b.2);
     }
+    // The ledger's bound on each path (`assert_conserved`).
+    let bound = if backend() == Backend::Gpu {
+        1e-5
+    } else {
+        1e-12
+    };
     for (mu, r) in &runs {
-        assert!(r.3.abs() < 1e-12, "μ {mu}: residual {}", r.3);
+        assert!(r.3.abs() < bound, "μ {mu}: residual {}", r.3);
     }
 }
 
@@ -303,6 +309,14 @@ fn a_taylor_bar_spreads_less_on_a_wall_that_grips() {
 #[ignore]
 fn a_taylor_bar_spreads_less_on_a_wall_that_grips_16_across() {
     taylor_bar_grips(2.0);
+}
+
+/// The same on the GPU path at 8 particles across the radius (minutes a
+/// run on a software adapter).
+#[test]
+#[ignore]
+fn a_taylor_bar_spreads_less_on_a_wall_that_grips_gpu() {
+    on_gpu(|| taylor_bar_grips(4.0));
 }
 
 /// `[[contact.pairs]]`: a pair's own coefficient is the friction between

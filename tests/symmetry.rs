@@ -3,8 +3,8 @@
 //! its lattice is symmetric about the plane (a particle on the plane kept
 //! with half its mass): the paper's two disks on either lattice cut
 //! along their line of centres (contact across the cut), and the
-//! penetration cut along its axis of impact. (The GPU path refuses a
-//! symmetry plane: tests/cli_validation/runs.rs.)
+//! penetration cut along its axis of impact. (The GPU path's twin:
+//! tests/gpu_stages/parity.rs and tests/gpu_runs/symmetry.rs.)
 
 #[path = "common/mod.rs"]
 mod common;

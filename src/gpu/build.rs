@@ -101,9 +101,6 @@ impl GpuSolver {
                 model.dispersion
             ));
         }
-        if model.plane.is_some() {
-            return Err("a symmetry plane runs on the CPU path only".to_string());
-        }
         let n = model.len();
         let frame = frame.unwrap_or_else(|| frame_of(&model, state));
         let (origin, cell) = (frame.origin, frame.cell);
@@ -208,11 +205,25 @@ fn frame_of(model: &Model, state: &State) -> Frame {
         // `radius_at`), as exact as a pair difference.
         origin.x = -2.0 * cell;
     }
+    if let Some((k, at)) = plane_line(model) {
+        // A symmetry plane on a cell boundary too: a particle's offset
+        // from it is its whole cells from it plus its offset in the cell
+        // (walk.wgsl, `offsets_at`).
+        origin[k] = at - ((at - origin[k]) / cell).ceil() * cell;
+    }
     Frame {
         origin,
         cell,
         row_stride: ((hi.x - origin.x) / cell).floor() as u32 + 3,
     }
+}
+
+/// The coordinate a symmetry plane reverses and where its line lies.
+fn plane_line(model: &Model) -> Option<(usize, f64)> {
+    model.plane.map(|m| {
+        let k = usize::from(!m.flip[0]);
+        (k, m.at[k])
+    })
 }
 
 /// The uniform constants of a scene's step.
@@ -287,6 +298,9 @@ fn params_of(
         reach_margin: REACH_MARGIN as f32,
         energy_owed: plan.energy.map_or(0, |e| e.2 as u32),
         contact_dt: model.contact_dt.min(f32::MAX as f64) as f32,
+        plane_cell: plane_line(model)
+            .map_or(0.0, |(k, at)| ((at - origin[k]) / cell).round() as f32),
+        ..Params::default()
     }
 }
 

@@ -356,6 +356,13 @@ fn override_constants(
         ("FAILURE_LAWS", model.failure_laws() as f64),
         ("STRAIN_RATE", model.strain_rate as u8 as f64),
         ("AXI", model.axisymmetric as u8 as f64),
+        (
+            "PLANE",
+            model
+                .plane
+                .map_or(0.0, |m| if m.flip[0] { 1.0 } else { 2.0 }),
+        ),
+        ("ONPLANE", !model.share.is_empty() as u8 as f64),
         ("ADAPT", model.adaptive as u8 as f64),
         ("LGRAD", (support_gradient == Buf::Lgrad) as u8 as f64),
         ("ADAPT_ROWS", adaptive_rows() as f64),

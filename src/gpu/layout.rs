@@ -62,6 +62,12 @@ pub struct Params {
     /// The longest step the penalty spring allows
     /// ([`crate::model::Model::contact_dt`]; `f32::MAX` without contact).
     pub contact_dt: f32,
+    /// A symmetry plane in cells from the grid origin along the coordinate
+    /// it reverses, a whole number (0 without one).
+    pub plane_cell: f32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 /// `Body` in common.wgsl: per-body constants.
@@ -209,7 +215,11 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 axis_cell,
                 reach_margin,
                 energy_owed,
-                contact_dt
+                contact_dt,
+                plane_cell,
+                pad0,
+                pad1,
+                pad2
             ),
         ),
         (

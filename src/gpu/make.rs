@@ -311,7 +311,7 @@ pub(super) fn make_state(
         let k2: Vec<f32> = model.close_scale.iter().map(|&k| k as f32).collect();
         mk.make(Buf::Kappa, 4 * nn, Some(bytemuck::cast_slice(&k2)))?;
     }
-    if !model.held.is_empty() {
+    if !model.held.is_empty() || !model.share.is_empty() {
         make_held(mk, model, state)?;
     }
     if model.axisymmetric {
@@ -338,7 +338,20 @@ fn make_held(mk: &mut Maker, model: &Model, state: &State) -> Result<(), String>
         let (vx, vy) = (c.velocity.x as f32, c.velocity.y as f32);
         table.extend([mask, vx.to_bits(), vy.to_bits(), 0]);
     }
-    table.extend(&model.held_of);
+    // A particle on a symmetry plane: its word's top bit (common.wgsl,
+    // ON_PLANE).
+    table.extend((0..model.len()).map(|i| {
+        let k = model.held_of.get(i).copied().unwrap_or(0);
+        k | if model.share(i) < 1.0 { 1 << 31 } else { 0 }
+    }));
+    if model.held.is_empty() {
+        mk.make(
+            Buf::Held,
+            4 * table.len() as u64,
+            Some(bytemuck::cast_slice(&table)),
+        )?;
+        return Ok(());
+    }
     mk.make(
         Buf::Held,
         4 * table.len() as u64,

@@ -109,13 +109,10 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    // The dispersion correction and symmetry planes run on the CPU path
-    // alone so far.
+    // The dispersion correction runs on the CPU path alone so far.
     let theta = scene.simulation.dispersion_correction;
     let cpu_only = if theta > 0.0 {
         Some(format!("dispersion_correction = {theta}"))
-    } else if !scene.symmetry.is_empty() {
-        Some("a symmetry plane ([[symmetry]])".to_string())
     } else {
         None
     };

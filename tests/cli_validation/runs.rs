@@ -206,11 +206,11 @@ fn friction_runs_on_both_paths() {
     assert!(!summary.contains("\"friction_heat\""), "{summary}");
 }
 
-/// A symmetry plane runs on the CPU path: `--backend gpu` refuses it
-/// with exit 2, `auto` runs it with one warning, and `check` names the
-/// plane and the half.
+/// A symmetry plane runs on either path (`--backend cpu`, and `--backend
+/// gpu` on whatever adapter there is), and `check` names the plane and
+/// the half.
 #[test]
-fn symmetry_runs_on_the_cpu_path() {
+fn symmetry_runs_on_both_paths() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_2D.replacen(
         "[materials.steel]",
@@ -218,8 +218,25 @@ fn symmetry_runs_on_the_cpu_path() {
         1,
     );
     let scene = write_scene(tmp.path(), "halved", &text);
-    let dir = cpu_path_only(tmp.path(), &scene, "symmetry");
-    assert!(dir.join("summary.json").exists());
+    let backends: &[&str] = if sphcontact::gpu::shared_context().is_ok() {
+        &["cpu", "gpu"]
+    } else {
+        &["cpu"]
+    };
+    for &b in backends {
+        let (out, dir) = run_into(tmp.path(), &scene, b, tmp.path().join(b));
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{b}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+        assert!(
+            summary.contains(&format!("\"backend\": \"{b}\"")),
+            "{summary}"
+        );
+    }
     check_says(
         tmp.path(),
         &scene,

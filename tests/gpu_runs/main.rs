@@ -9,6 +9,7 @@ mod common;
 mod bodies;
 mod penetration;
 mod repeat;
+mod symmetry;
 use common::*;
 use sphcontact::run::{run_scene, RunOptions, RunOutput};
 use sphcontact::scene::{Backend, Integrator, Scene};
@@ -200,13 +201,11 @@ fn contact_time(o: &RunOutput) -> f64 {
 
 /// Disks: peak contact force, contact time, final velocities, to 10 µs
 /// (the contact is over by 9).
-fn compare_disks_with(path: &str, integrator: Integrator) {
+fn compare_disks_with(path: &str, integrator: Integrator) -> Option<RunOutput> {
     let mut scene = load(path);
     scene.simulation.integrator = integrator;
     scene.simulation.end_time = 1.0e-5;
-    let Some((cpu, gpu_out)) = both_scene(path, &scene) else {
-        return;
-    };
+    let (cpu, gpu_out) = both_scene(path, &scene)?;
     assert_eq!(gpu_out.summary.steps, cpu.summary.steps, "step counts");
     close(
         "peak force",
@@ -221,6 +220,7 @@ fn compare_disks_with(path: &str, integrator: Integrator) {
         ELASTIC,
     );
     close_at_end(&gpu_out, &cpu, ["velocity_left", "velocity_right"], ELASTIC);
+    Some(gpu_out)
 }
 
 /// The polar disks on the midpoint rule here (the bars above take both

@@ -73,6 +73,26 @@ fn stages_match_cpu_spheres_axisymmetric() {
     check_stages("scenes/axisymmetric/spheres_hertz.toml", 8e-6);
 }
 
+/// The paper's polar disks cut along their line of centres
+/// (scenes/symmetry/disks_polar_half.toml) 3 µs into their contact: each
+/// particle near the plane meets its neighbours' images and its own, the
+/// particles on the plane weigh half in the contact's sums, and each half
+/// disk's contact passes take the other's images across the cut.
+#[test]
+fn stages_match_cpu_across_a_symmetry_plane() {
+    check_stages("scenes/symmetry/disks_polar_half.toml", 3e-6);
+}
+
+/// A steel tube swaged onto a rod, bodies of revolution cut at their
+/// mid-plane (scenes/symmetry/tube_onto_rod_half.toml), 0.4 µs into the
+/// fit: a particle near the axis and the plane meets three images
+/// (across the axis, the plane and both), and the contact meets the
+/// partner's images across the plane.
+#[test]
+fn stages_match_cpu_across_a_symmetry_plane_axisymmetric() {
+    check_stages("scenes/symmetry/tube_onto_rod_half.toml", 4e-7);
+}
+
 /// The bilinear Taylor bar (16 across) spread on its wall at 40 µs: in a
 /// body of revolution the surface test is taken relative to the colour
 /// function (docs/method.md §8.1), and here that decides particles the
@@ -173,6 +193,18 @@ fn stages_match_cpu_with_adaptive_supports_axisymmetric() {
     adaptive_parity(
         "scenes/axisymmetric/taylor_bar_bilinear.toml",
         5.0e-6,
+        sphcontact::physics::support::Band::NONE,
+    );
+}
+
+/// The same across a symmetry plane: the rod and plate cut along the axis
+/// of impact (scenes/symmetry/tungsten_rod_steel_plate_half.toml), the
+/// images' supports the particles' mirrored.
+#[test]
+fn stages_match_cpu_with_adaptive_supports_across_a_symmetry_plane() {
+    adaptive_parity(
+        "scenes/symmetry/tungsten_rod_steel_plate_half.toml",
+        1.0e-6,
         sphcontact::physics::support::Band::NONE,
     );
 }

@@ -31,7 +31,7 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
         let (k, sign) = s.axis();
         let axis = ["x", "y"][k];
         println!(
-            "symmetry    the plane {axis} = {at} m, modelling {axis} {} {at} m; the other half is its mirror image (CPU path only; masses, forces and energies are the modelled half's)",
+            "symmetry    the plane {axis} = {at} m, modelling {axis} {} {at} m; the other half is its mirror image (masses, forces and energies are the modelled half's)",
             if sign > 0.0 { ">" } else { "<" },
             at = s.point[k],
         );
@@ -340,13 +340,13 @@ fn print_contact(scene: &Scene, model: &Model, dt: f64) {
     };
     if model.friction.sticking > 0.0 {
         println!(
-            "            Coulomb friction {} on every pair (CPU path only)",
+            "            Coulomb friction {} on every pair",
             coulomb(model.friction)
         );
     }
     for &(a, b, mu) in &model.friction_pairs {
         println!(
-            "            Coulomb friction {} between {} and {} (CPU path only)",
+            "            Coulomb friction {} between {} and {}",
             coulomb(mu),
             model.bodies[a as usize].name,
             model.bodies[b as usize].name
