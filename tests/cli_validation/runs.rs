@@ -58,22 +58,16 @@ fn no_adapter_gpu_refuses_and_auto_falls_back() {
     assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
 }
 
-/// A scene whose supports adapt runs on either path (`--backend cpu`, and
-/// `--backend gpu` on whatever adapter there is), and `check` names the
-/// supports.
-#[test]
-fn adaptive_supports_run_on_both_paths() {
-    let tmp = tempfile::tempdir().unwrap();
-    let text = BASE_1D.replacen("dimension = 1", "dimension = 1\nsupport = \"adaptive\"", 1);
-    let scene = write_scene(tmp.path(), "adaptive", &text);
-    let run = |backend: &str| run_into(tmp.path(), &scene, backend, tmp.path().join(backend));
+/// `scene` runs to completion with `--backend cpu` and, on whatever
+/// adapter there is, `--backend gpu`, each summary naming its backend.
+fn runs_on_both_paths(tmp: &Path, scene: &Path) {
     let backends: &[&str] = if sphcontact::gpu::shared_context().is_ok() {
         &["cpu", "gpu"]
     } else {
         &["cpu"]
     };
     for &b in backends {
-        let (out, dir) = run(b);
+        let (out, dir) = run_into(tmp, scene, b, tmp.join(b));
         assert_eq!(
             out.status.code(),
             Some(0),
@@ -86,6 +80,17 @@ fn adaptive_supports_run_on_both_paths() {
             "{summary}"
         );
     }
+}
+
+/// A scene whose supports adapt runs on either path (`--backend cpu`, and
+/// `--backend gpu` on whatever adapter there is), and `check` names the
+/// supports.
+#[test]
+fn adaptive_supports_run_on_both_paths() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = BASE_1D.replacen("dimension = 1", "dimension = 1\nsupport = \"adaptive\"", 1);
+    let scene = write_scene(tmp.path(), "adaptive", &text);
+    runs_on_both_paths(tmp.path(), &scene);
     let out = sphcontact(tmp.path(), &["check", scene.to_str().unwrap()]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("support     adaptive"), "{stdout}");
@@ -218,25 +223,7 @@ fn symmetry_runs_on_both_paths() {
         1,
     );
     let scene = write_scene(tmp.path(), "halved", &text);
-    let backends: &[&str] = if sphcontact::gpu::shared_context().is_ok() {
-        &["cpu", "gpu"]
-    } else {
-        &["cpu"]
-    };
-    for &b in backends {
-        let (out, dir) = run_into(tmp.path(), &scene, b, tmp.path().join(b));
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{b}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-        assert!(
-            summary.contains(&format!("\"backend\": \"{b}\"")),
-            "{summary}"
-        );
-    }
+    runs_on_both_paths(tmp.path(), &scene);
     check_says(
         tmp.path(),
         &scene,
