@@ -61,6 +61,18 @@ impl Mirror {
         m
     }
 
+    /// The images a particle has across `axis` (a body of revolution's)
+    /// and `planes` (each reversing its own coordinate): each mirror's,
+    /// then each pair's composition (the corner's), axis first.
+    pub fn images(axis: Option<Mirror>, planes: &[Mirror]) -> Vec<Mirror> {
+        let lines: Vec<Mirror> = axis.into_iter().chain(planes.iter().copied()).collect();
+        let mut out = lines.clone();
+        if let [a, b] = lines[..] {
+            out.push(a.then(&b));
+        }
+        out
+    }
+
     /// This image reflected again across `o`'s lines (lines normal to
     /// other axes than this one's).
     pub fn then(&self, o: &Mirror) -> Mirror {

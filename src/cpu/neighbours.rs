@@ -83,8 +83,9 @@ pub struct Neighbours {
     /// With a symmetry plane and the penalty contact, each particle's
     /// contact candidates' images (docs/method.md §13): row i
     /// `cross_image_start[i]..cross_image_start[i + 1]` of `cross_images`,
-    /// the particles of other bodies whose mirror image lay within
-    /// `2 h_ij + skin` of it at the build. Empty otherwise (the axis of a
+    /// the particles of other bodies whose mirror image (of a kind of
+    /// `Model::contact_images`, [`image_entry`]) lay within `2 h_ij +
+    /// skin` of it at the build. Empty otherwise (the axis of a
     /// body of revolution has none). Derived as the image rows are.
     pub cross_image_start: Vec<u32>,
     pub cross_images: Vec<u32>,
@@ -258,24 +259,25 @@ impl Neighbours {
     /// cut by the plane meets across it as well.
     fn index_cross_images(&mut self, model: &Model) {
         let (mut start, mut images) = (Vec::new(), Vec::new());
-        if let Some(m) = model.plane {
-            if !self.cross_start.is_empty() {
-                let x = &self.x_ref;
-                let h_max = model.h.iter().cloned().fold(0.0, f64::max);
-                let reach = 2.0 * h_max + self.skin;
-                start.push(0);
-                for i in 0..x.len() {
-                    if m.within(x[i], reach) {
-                        for &j in self.cross_of(i) {
-                            let j_ = j as usize;
-                            let round = model.h[i] + model.h[j_] + self.skin;
-                            if (x[i] - m.point(x[j_])).length_squared() < round * round {
-                                images.push(j);
-                            }
+        if !model.contact_images.is_empty() && !self.cross_start.is_empty() {
+            let x = &self.x_ref;
+            let h_max = model.h.iter().cloned().fold(0.0, f64::max);
+            let reach = 2.0 * h_max + self.skin;
+            start.push(0);
+            for i in 0..x.len() {
+                for (kind, m) in model.contact_images.iter().enumerate() {
+                    if !m.within(x[i], reach) {
+                        continue;
+                    }
+                    for &j in self.cross_of(i) {
+                        let j_ = j as usize;
+                        let round = model.h[i] + model.h[j_] + self.skin;
+                        if (x[i] - m.point(x[j_])).length_squared() < round * round {
+                            images.push(j | (kind as u32) << KIND_SHIFT);
                         }
                     }
-                    start.push(images.len() as u32);
                 }
+                start.push(images.len() as u32);
             }
         }
         self.cross_image_start = start;
@@ -283,7 +285,8 @@ impl Neighbours {
     }
 
     /// The particles of other bodies whose images are contact candidates
-    /// of particle i (none without a symmetry plane).
+    /// of particle i (none without a symmetry plane), as entries
+    /// ([`image_entry`]: the kind indexes `Model::contact_images`).
     #[inline]
     pub fn cross_images_of(&self, i: usize) -> &[u32] {
         match self.cross_image_start.get(i..i + 2) {

@@ -101,6 +101,9 @@ impl GpuSolver {
                 model.dispersion
             ));
         }
+        if model.planes.len() > 1 {
+            return Err("two symmetry planes run on the CPU path only so far".to_string());
+        }
         let n = model.len();
         let frame = frame.unwrap_or_else(|| frame_of(&model, state));
         let (origin, cell) = (frame.origin, frame.cell);
@@ -220,7 +223,7 @@ fn frame_of(model: &Model, state: &State) -> Frame {
 
 /// The coordinate a symmetry plane reverses and where its line lies.
 fn plane_line(model: &Model) -> Option<(usize, f64)> {
-    model.plane.map(|m| {
+    model.planes.first().map(|m| {
         let k = usize::from(!m.flip[0]);
         (k, m.at[k])
     })

@@ -359,7 +359,8 @@ fn override_constants(
         (
             "PLANE",
             model
-                .plane
+                .planes
+                .first()
                 .map_or(0.0, |m| if m.flip[0] { 1.0 } else { 2.0 }),
         ),
         ("ONPLANE", !model.share.is_empty() as u8 as f64),

@@ -53,6 +53,7 @@ impl Model {
         }
         if model.share.iter().all(|&s| s == 1.0) {
             model.share.clear();
+            model.on_plane.clear();
         }
         // A particle on the plane is its own mirror image: it moves along it.
         for (i, v) in state.v.iter_mut().enumerate() {
@@ -101,6 +102,7 @@ impl Model {
         let av = scene.viscosity();
         let cs = scene.contact_settings();
         let art = scene.artificial_stress.unwrap_or(ArtificialStress::DEFAULT);
+        let planes: Vec<_> = scene.symmetry.iter().map(|s| s.mirror()).collect();
         Model {
             dim: scene.dim(),
             interaction: sim.interaction,
@@ -158,17 +160,13 @@ impl Model {
             energy_guard: false,
             energy_floor: 0.0,
             axisymmetric: scene.axisymmetric(),
-            images: {
-                use crate::math::Mirror;
-                let plane = scene.symmetry_plane().map(|s| s.mirror());
-                match (scene.axisymmetric(), plane) {
-                    (true, Some(p)) => vec![Mirror::AXIS, p, Mirror::AXIS.then(&p)],
-                    (true, None) => vec![Mirror::AXIS],
-                    (false, Some(p)) => vec![p],
-                    (false, None) => Vec::new(),
-                }
-            },
-            plane: scene.symmetry_plane().map(|s| s.mirror()),
+            images: crate::math::Mirror::images(
+                scene.axisymmetric().then_some(crate::math::Mirror::AXIS),
+                &planes,
+            ),
+            contact_images: crate::math::Mirror::images(None, &planes),
+            planes,
+            on_plane: Vec::new(),
             share: Vec::new(),
             adaptive: sim.adaptive(),
             band: sim.band(),
@@ -222,10 +220,19 @@ impl Model {
                 self.area0
                     .push(p.masses[k] / state.rho[state.rho.len() - 1]);
             }
-            if let Some(m) = self.plane {
-                // Its own image: on the plane, placed with half its mass.
+            if !self.planes.is_empty() {
+                // Its own image: on a plane, placed with half its mass
+                // (on two, a quarter).
                 let x = p.positions[k];
-                self.share.push(if m.point(x) == x { 0.5 } else { 1.0 });
+                let on = self
+                    .planes
+                    .iter()
+                    .filter(|m| m.point(x) == x)
+                    .fold(0u8, |b, m| {
+                        b | u8::from(m.flip[0]) | u8::from(m.flip[1]) << 1
+                    });
+                self.on_plane.push(on);
+                self.share.push(0.5f64.powi(on.count_ones() as i32));
             }
         }
         let yields = !b.rigid && material.y0.is_finite();

@@ -30,14 +30,17 @@ impl Model {
         self.along_plane(i, a)
     }
 
-    /// `v` of particle `i` without its component normal to the symmetry
-    /// plane where the particle lies on it (its own mirror image: the
+    /// `v` of particle `i` without its components normal to the symmetry
+    /// planes it lies on (its own mirror image: the
     /// pairs with its neighbours' images cancel that component but for
     /// round-off, which would carry it off the plane); `v` elsewhere.
     #[inline]
     pub(crate) fn along_plane(&self, i: usize, v: DVec2) -> DVec2 {
-        match self.plane {
-            Some(m) if self.share(i) < 1.0 => (v + m.vector(v)) * 0.5,
+        match self.on_plane.get(i) {
+            Some(&on) if on != 0 => DVec2::new(
+                if on & 1 != 0 { 0.0 } else { v.x },
+                if on & 2 != 0 { 0.0 } else { v.y },
+            ),
             _ => v,
         }
     }

@@ -143,13 +143,22 @@ pub struct Model {
     /// symmetry plane, and with both across the corner they make (in that
     /// order, the lists' image kinds); none otherwise.
     pub images: Vec<crate::math::Mirror>,
-    /// The scene's symmetry plane, across which the contact also meets
-    /// the partners' images.
-    pub plane: Option<crate::math::Mirror>,
+    /// The scene's symmetry planes (at most one per coordinate), each
+    /// reversing its own coordinate.
+    pub planes: Vec<crate::math::Mirror>,
+    /// The images across the symmetry planes alone, across which the
+    /// contact also meets the partners' images: each plane's, and with two
+    /// the corner's (both reversed).
+    pub contact_images: Vec<crate::math::Mirror>,
+    /// Each particle's symmetry planes it lies on, a bit per coordinate
+    /// the plane reverses (bit 0: x); empty where no particle lies on one
+    /// ([`Model::along_plane`]).
+    pub on_plane: Vec<u8>,
     /// Each particle's share of itself on the modelled side of the
-    /// symmetry plane: ½ for one on the plane, whose mirror image is its
-    /// other half (docs/method.md §13, "Particles on the plane"), 1
-    /// elsewhere; empty where no particle lies on it ([`Model::share`]).
+    /// symmetry planes: ½ for one on a plane, whose mirror image is its
+    /// other half (docs/method.md §13, "Particles on the plane"), ¼ for
+    /// one on two, 1 elsewhere; empty where no particle lies on one
+    /// ([`Model::share`]).
     pub share: Vec<f64>,
     /// Each particle's area in the r–z plane as placed, `m / (2π r₀ ρ₀)`:
     /// its reference volume in the kernel sums of a body of revolution

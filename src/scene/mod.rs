@@ -56,7 +56,7 @@ pub struct Scene {
     pub probes: Vec<Probe>,
     #[serde(default)]
     pub output: Output,
-    /// Symmetry planes (`[[symmetry]]`): at most one so far.
+    /// Symmetry planes (`[[symmetry]]`): at most one per coordinate axis.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub symmetry: Vec<Symmetry>,
 }
@@ -112,11 +112,6 @@ impl Scene {
     /// Whether the scene's bodies are bodies of revolution.
     pub fn axisymmetric(&self) -> bool {
         self.simulation.geometry == Geometry::Axisymmetric
-    }
-
-    /// The scene's symmetry plane, if it has one.
-    pub fn symmetry_plane(&self) -> Option<&Symmetry> {
-        self.symmetry.first()
     }
 
     pub fn viscosity(&self) -> ArtificialViscosity {

@@ -231,6 +231,28 @@ fn symmetry_runs_on_both_paths() {
     );
 }
 
+/// Two symmetry planes (a quadrant) run on the CPU path alone so far:
+/// `--backend gpu` refuses them (exit 2), `auto` runs the CPU path with
+/// one warning line, and `check` names both planes.
+#[test]
+fn two_symmetry_planes_run_on_the_cpu_path() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = BASE_2D.replacen(
+        "[materials.steel]",
+        "[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [0.0, 0.0]\n[[symmetry]]\nnormal = [0.0, 1.0]\npoint = [0.0, -0.002]\n\n[materials.steel]",
+        1,
+    );
+    let scene = write_scene(tmp.path(), "quadrant", &text);
+    let dir = cpu_path_only(tmp.path(), &scene, "symmetry");
+    assert!(dir.join("summary.json").exists());
+    for plane in [
+        "symmetry    the plane x = 0 m, modelling x > 0",
+        "symmetry    the plane y = -0.002 m, modelling y > -0.002 m",
+    ] {
+        check_says(tmp.path(), &scene, plane);
+    }
+}
+
 /// `render` on a directory without snapshots exits 2 and says how to get
 /// them.
 #[test]

@@ -396,12 +396,12 @@ fn symmetry_planes() {
             "symmetry[0]",
         ),
         case(
-            "symmetry_twice",
+            "symmetry_twice_on_one_axis",
             &[(
                 "[materials.steel]",
-                "[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [0.0, 0.0]\n[[symmetry]]\nnormal = [0.0, 1.0]\npoint = [0.0, 0.0]\n\n[materials.steel]",
+                "[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [0.0, 0.0]\n[[symmetry]]\nnormal = [-1.0, 0.0]\npoint = [0.01, 0.0]\n\n[materials.steel]",
             )],
-            "symmetry[1]",
+            "symmetry[1].normal",
         )
         .two_d(),
         case(

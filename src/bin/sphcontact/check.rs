@@ -27,7 +27,7 @@ pub(crate) fn check(path: &Path, scene: &Scene) {
         format!("{:?}", sim.correction).to_lowercase(),
         sim.smoothing_ratio
     );
-    if let Some(s) = scene.symmetry_plane() {
+    for s in &scene.symmetry {
         let (k, sign) = s.axis();
         let axis = ["x", "y"][k];
         println!(

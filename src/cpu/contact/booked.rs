@@ -95,7 +95,7 @@ pub fn penalty_ahead(
         horizon,
         vb,
         ndot: normal_rates(model, st, nb, bd, vb),
-        plane: model.plane,
+        mirrors: &model.contact_images,
     };
     // Pass 1: every boundary particle against each partner body around it
     // (entry k for particle `bd.list[k]`; only boundary particles have
@@ -146,9 +146,9 @@ pub(super) struct Booking<'a> {
     vb: &'a [DVec2],
     /// How fast each boundary particle's normal turns at `vb`.
     ndot: Vec<DVec2>,
-    /// The symmetry plane the passes also meet their partners' images
-    /// across (none for the axis of a body of revolution).
-    plane: Option<crate::math::Mirror>,
+    /// The images across the symmetry planes that the passes also meet
+    /// their partners' (none for the axis of a body of revolution).
+    mirrors: &'a [crate::math::Mirror],
 }
 
 /// Pass 1's result for one boundary particle P.
@@ -253,28 +253,27 @@ impl Booking<'_> {
             let Some((w, gw)) = is_candidate(model, st, bd, p, q) else {
                 continue;
             };
-            self.add_partner(&mut cands, &mut sums, sp, (q, false), (w, gw));
+            self.add_partner(&mut cands, &mut sums, sp, (q, None), (w, gw));
         }
-        // Across a symmetry plane, the partners' images.
-        if let Some(m) = self.plane {
-            for &q in self.nb.cross_images_of(p) {
-                let q = q as usize;
-                if !bd.is_boundary[q] {
-                    continue;
-                }
-                let Some((w, gw)) = is_image_candidate(model, st, bd, &m, p, q) else {
-                    continue;
-                };
-                self.add_partner(&mut cands, &mut sums, sp, (q, true), (w, gw));
+        // Across the symmetry planes, the partners' images.
+        for &e in self.nb.cross_images_of(p) {
+            let (q, kind) = image_entry(e);
+            let (q, m) = (q as usize, self.mirrors[kind]);
+            if !bd.is_boundary[q] {
+                continue;
             }
+            let Some((w, gw)) = is_image_candidate(model, st, bd, &m, p, q) else {
+                continue;
+            };
+            self.add_partner(&mut cands, &mut sums, sp, (q, Some(m)), (w, gw));
         }
         (cands, sums)
     }
 
-    /// What P sees of candidate q (its image where `image`): position,
-    /// normal, velocity and booking velocities.
+    /// What P sees of candidate q (its image across `image` where given):
+    /// position, normal, velocity and booking velocities.
     #[inline]
-    fn seen(&self, q: usize, image: bool) -> Seen {
+    fn seen(&self, q: usize, image: Option<crate::math::Mirror>) -> Seen {
         let (st, bd) = (self.st, self.bd);
         let s = Seen {
             x: st.x[q],
@@ -283,7 +282,7 @@ impl Booking<'_> {
             vb: self.vb[q],
             book: self.book.map(|b| b[q]),
         };
-        match self.plane.filter(|_| image) {
+        match image {
             Some(m) => Seen {
                 x: m.point(s.x),
                 n: m.vector(s.n),
@@ -296,11 +295,11 @@ impl Booking<'_> {
     }
 
     /// How fast candidate q's normal turns, as P sees it (its image's
-    /// where `image`).
+    /// across `image` where given).
     #[inline]
-    fn ndot_of(&self, q: usize, image: bool) -> DVec2 {
+    fn ndot_of(&self, q: usize, image: Option<crate::math::Mirror>) -> DVec2 {
         let nd = self.ndot[self.slot(q)];
-        match self.plane.filter(|_| image) {
+        match image {
             Some(m) => m.vector(nd),
             None => nd,
         }
@@ -313,7 +312,7 @@ impl Booking<'_> {
         cands: &mut Vec<Cand>,
         sums: &mut Vec<PartnerSums>,
         sp: DVec2,
-        (q, image): (usize, bool),
+        (q, image): (usize, Option<crate::math::Mirror>),
         (w, gw): (f64, DVec2),
     ) {
         let model = self.model;
@@ -480,29 +479,29 @@ impl Booking<'_> {
                 n_bar += d.n;
             }
         }
-        // Across a symmetry plane: the passes of the partners whose images
-        // met q's, as they saw q's image (its force and the derivative
-        // by its normal mirrored back).
-        if let Some(m) = self.plane {
+        // Across the symmetry planes: the passes of the partners whose
+        // images met q's, as they saw q's image (its force and the
+        // derivative by its normal mirrored back; a pair meets across the
+        // same mirror from either side).
+        for &e in nb.cross_images_of(q) {
+            let (p, kind) = image_entry(e);
+            let (p, m) = (p as usize, self.mirrors[kind]);
+            if !bd.is_boundary[p] {
+                continue;
+            }
+            let Some(share) = pass1[self.slot(p)].shares.iter().find(|s| s.body == bq) else {
+                continue;
+            };
+            let Some((w, gw)) = is_image_candidate(model, st, bd, &m, p, q) else {
+                continue;
+            };
             let (sx, nx) = (m.point(st.x[q]) + m.vector(nq) * oq, m.vector(nq));
-            for &p in nb.cross_images_of(q) {
-                let p = p as usize;
-                if !bd.is_boundary[p] {
-                    continue;
-                }
-                let Some(share) = pass1[self.slot(p)].shares.iter().find(|s| s.body == bq) else {
-                    continue;
-                };
-                let Some((w, gw)) = is_image_candidate(model, st, bd, &m, p, q) else {
-                    continue;
-                };
-                f += m.vector(share.q * w);
-                heat += share.eta * w;
-                if let Some((bar, sp)) = &share.spring {
-                    let d = penalty::candidate(bar, *sp, w, sx, nx, oq);
-                    f += m.vector(gw * d.w - d.x);
-                    n_bar += m.vector(d.n);
-                }
+            f += m.vector(share.q * w);
+            heat += share.eta * w;
+            if let Some((bar, sp)) = &share.spring {
+                let d = penalty::candidate(bar, *sp, w, sx, nx, oq);
+                f += m.vector(gw * d.w - d.x);
+                n_bar += m.vector(d.n);
             }
         }
         let mut spread = Vec::new();

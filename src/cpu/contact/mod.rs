@@ -18,7 +18,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::forces::Boundary;
-use super::neighbours::{pair_inv_h, Neighbours};
+use super::neighbours::{image_entry, pair_inv_h, Neighbours};
 use crate::model::{ContactStats, Model, State};
 use crate::physics::kernel;
 use crate::physics::material::series;
@@ -329,8 +329,9 @@ struct Cand {
     body: u32,
     w: f64,
     gw: DVec2,
-    /// Whether the candidate is q's mirror image across a symmetry plane.
-    image: bool,
+    /// The mirror (one of `Model::contact_images`) where the candidate is
+    /// q's image across a symmetry plane.
+    image: Option<crate::math::Mirror>,
 }
 
 /// What one pass of P adds to the statistics.

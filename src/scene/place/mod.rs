@@ -46,7 +46,6 @@ pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
         .map(|(i, b)| {
             let rho0 = scene.materials[&b.material].density;
             let axisymmetric = scene.axisymmetric();
-            let plane = scene.symmetry_plane();
             let mut placed = match &b.shape {
                 Shape::Particles { file } => from_file(
                     file,
@@ -73,7 +72,7 @@ pub fn place_bodies(scene: &Scene) -> Vec<PlacedBody> {
                     placed
                 }
             };
-            if let Some(s) = plane {
+            for s in &scene.symmetry {
                 cut(&mut placed, s);
             }
             if let Some(field) = &b.velocity_field {

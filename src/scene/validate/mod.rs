@@ -330,51 +330,56 @@ fn validate_contact_pairs(scene: &Scene, names: &HashSet<&str>) -> R {
 /// The symmetry plane's keys (docs/scenes.md, "Symmetry planes"), and
 /// what does not run with one.
 fn validate_symmetry(scene: &Scene) -> R {
-    let Some(p) = scene.symmetry_plane() else {
+    if scene.symmetry.is_empty() {
         return Ok(());
-    };
-    if scene.symmetry.len() > 1 {
-        return Err(SceneError::at(
-            "symmetry[1]",
-            "one symmetry plane per scene so far (two would need the images across the corner as well)",
-        ));
     }
-    if scene.dim() != 2 {
-        return Err(SceneError::at(
-            "symmetry[0]",
-            format!(
-                "needs dimension = 2 (got {}; in 1-D a rigid wall is the symmetry point)",
-                scene.dim()
-            ),
-        ));
-    }
-    dimension_of("symmetry[0].normal", &p.normal, 2)?;
-    dimension_of("symmetry[0].point", &p.point, 2)?;
-    let n = &p.normal;
-    if !(n[0] == 0.0 && n[1].abs() == 1.0 || n[1] == 0.0 && n[0].abs() == 1.0) {
-        return Err(SceneError::at(
-            "symmetry[0].normal",
-            format!(
-                "must be [1, 0], [-1, 0], [0, 1] or [0, -1], pointing into the modelled half (got [{}, {}])",
-                n[0], n[1]
-            ),
-        ));
-    }
-    let (k, _) = p.axis();
-    if scene.axisymmetric() && k == 0 {
-        return Err(SceneError::at(
-            "symmetry[0].normal",
-            "in a body of revolution a symmetry plane is normal to the axis ([0, 1] or [0, -1]): the axis itself is already a mirror",
-        ));
-    }
-    if let Some(g) = scene.simulation.gravity.as_ref().filter(|g| g[k] != 0.0) {
-        return Err(SceneError::at(
-            "simulation.gravity",
-            format!(
-                "has a component normal to the symmetry plane ({}), which the mirrored half would feel reversed",
-                g[k]
-            ),
-        ));
+    let mut seen = [false; 2];
+    for (i, p) in scene.symmetry.iter().enumerate() {
+        let key = |k: &str| format!("symmetry[{i}]{k}");
+        if scene.dim() != 2 {
+            return Err(SceneError::at(
+                key(""),
+                format!(
+                    "needs dimension = 2 (got {}; in 1-D a rigid wall is the symmetry point)",
+                    scene.dim()
+                ),
+            ));
+        }
+        dimension_of(&key(".normal"), &p.normal, 2)?;
+        dimension_of(&key(".point"), &p.point, 2)?;
+        let n = &p.normal;
+        if !(n[0] == 0.0 && n[1].abs() == 1.0 || n[1] == 0.0 && n[0].abs() == 1.0) {
+            return Err(SceneError::at(
+                key(".normal"),
+                format!(
+                    "must be [1, 0], [-1, 0], [0, 1] or [0, -1], pointing into the modelled half (got [{}, {}])",
+                    n[0], n[1]
+                ),
+            ));
+        }
+        let (k, _) = p.axis();
+        if std::mem::replace(&mut seen[k], true) {
+            return Err(SceneError::at(
+                key(".normal"),
+                "one symmetry plane per coordinate axis: another plane already has this normal's axis",
+            ));
+        }
+        if scene.axisymmetric() && k == 0 {
+            return Err(SceneError::at(
+                key(".normal"),
+                "in a body of revolution a symmetry plane is normal to the axis ([0, 1] or [0, -1]): the axis itself is already a mirror",
+            ));
+        }
+        if let Some(g) = scene.simulation.gravity.as_ref().filter(|g| g[k] != 0.0) {
+            return Err(SceneError::at(
+                "simulation.gravity",
+                format!(
+                    "has a component normal to the symmetry plane {key} ({}), which the mirrored half would feel reversed",
+                    g[k],
+                    key = key("")
+                ),
+            ));
+        }
     }
     if scene.simulation.dispersion_correction > 0.0 {
         return Err(SceneError::at(
