@@ -308,14 +308,14 @@ fn pair_sums(own: Own, wk: Walker, i: u32, mi: vec4<u32>, adapt: bool) -> Sums {
             let j = sorted_at(k, cs);
             let mj = pinfo[j];
             let pr = pair_at(pair_d(wk, j, cs), pair_h(hi, mj.z));
-            var rj = 0.0;
             var oj = vec2<f32>(0.0);
             if (image_count() > 0u) {
                 oj = offsets_of(j);
-                rj = oj.x;
             }
-            if (!AXI) {
-                rj = 0.0;
+            // Its radius: the offset from the axis (0 in plane strain).
+            var rj = 0.0;
+            if (AXI) {
+                rj = oj.x;
             }
             add_pair(own, j, mj, pr, 0u, rj, &sums);
             add_images(own, wk, j, mj, pr, rj, oj, &sums);

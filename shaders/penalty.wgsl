@@ -104,7 +104,7 @@ fn pass_sums(at: PassAt) -> PassSums {
             }
             // x_q - x_p.
             let d = -cd.d;
-            let w = candidate(at.np, cq.xy, d, at.op, oq, at.hp, hq, ramp_measure(at.p, at.hp, at.cnp), gq, sq).x;
+            let w = candidate(at.np, cq.xy, d, at.op, oq, at.hp, hq, gp, gq, sq).x;
             if (w >= 0.0) {
                 sum_candidate(at, &s, mq.z, w, d, cq.xy, oq, v[q], vb);
             }
@@ -268,6 +268,7 @@ struct CandSum {
 fn candidates_bar(at: PassAt, partner: u32, b: SumsBar) -> CandSum {
     var cs_ = CandSum(b.sp, 0.0);
     let cs = consts();
+    let gp = ramp_measure(at.p, at.hp, at.cnp);
     for (var row = 0u; row < scan_rows(); row++) {
         let span = row_span(at.wk.hm, row);
         for (var k = span.start; k < span.end; k++) {
@@ -287,7 +288,7 @@ fn candidates_bar(at: PassAt, partner: u32, b: SumsBar) -> CandSum {
             let hq = bodies[mq.z].h;
             let gq = ramp_measure(q, hq, cnq);
             let sq = plane_share(q);
-            let wg = candidate(at.np, nq, d, at.op, oq, at.hp, hq, ramp_measure(at.p, at.hp, at.cnp), gq, sq);
+            let wg = candidate(at.np, nq, d, at.op, oq, at.hp, hq, gp, gq, sq);
             if (wg.x >= 0.0) {
                 bar_candidate(at, b, &cs_, wg, d, nq, oq, v_book(q), cnq.w);
             }
@@ -295,7 +296,7 @@ fn candidates_bar(at: PassAt, partner: u32, b: SumsBar) -> CandSum {
                 // q's image (pass_sums): its normal turns the other way.
                 let di = image_sep(at.wk, cd.off, cd.d);
                 let nqi = mirror_vec(PLANE, nq);
-                let wi = candidate(at.np, nqi, di, at.op, oq, at.hp, hq, ramp_measure(at.p, at.hp, at.cnp), gq, sq);
+                let wi = candidate(at.np, nqi, di, at.op, oq, at.hp, hq, gp, gq, sq);
                 if (wi.x >= 0.0) {
                     bar_candidate(at, b, &cs_, wi, di, nqi, oq, mirror_vec(PLANE, v_book(q)), -cnq.w);
                 }
