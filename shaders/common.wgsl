@@ -122,12 +122,14 @@ override STRAIN_RATE: bool = false;
 // and a particle within reach of the axis adds its neighbours' mirror
 // images across it (and its own) to its sums (`image_pair`).
 override AXI: bool = false;
-// A symmetry plane (`[[symmetry]]`, docs/method.md §13): the coordinate
-// it reverses, 1 x and 2 y (0: none), at `params.plane_cell`. A particle
-// within reach of it meets its neighbours' images across it (and its
-// own), as at the axis; with AXI too, across the axis, the plane and both
-// (`image_flip`). ONPLANE: some particle lies on the plane, with half its
-// mass (`plane_share`); it moves along it (`along_plane`).
+// The symmetry planes (`[[symmetry]]`, docs/method.md §13): the
+// coordinates they reverse, bit 0 x and bit 1 y (0: none; 3: a quadrant),
+// at `params.plane_x` and `params.plane_y`. A particle within reach of one
+// meets its neighbours' images across it (and its own), as at the axis;
+// with two lines (AXI and a plane, or two planes), across each and across
+// both (`image_flip`). ONPLANE: some particle lies on a plane, with half
+// its mass (a quarter on two: `plane_share`); it moves along it
+// (`along_plane`).
 override PLANE: u32 = 0u;
 override ONPLANE: bool = false;
 // Supports that follow the deformation (docs/method.md, "Supports that
@@ -273,10 +275,11 @@ struct Params {
     // The longest step the penalty spring allows (Model::contact_dt;
     // the largest f32 without contact).
     contact_dt: f32,
-    // A symmetry plane (PLANE) in cells of the grid along the coordinate
-    // it reverses (a whole number, as `axis_cell`).
-    plane_cell: f32,
-    pad0: u32,
+    // The symmetry planes (PLANE) in cells of the grid: the one reversing
+    // x at x = plane_x, the one reversing y at y = plane_y (whole
+    // numbers, as `axis_cell`).
+    plane_x: f32,
+    plane_y: f32,
     pad1: u32,
     pad2: u32,
 }
@@ -491,27 +494,37 @@ fn gravity() -> vec2<f32> {
 // each particle's region k + 1 (0: free) by original index.
 @group(0) @binding(94) var<storage, read> held: array<u32>;
 
-// A particle's word in `held`: its region (REGION_BITS) and, where it lies
-// on a symmetry plane (ONPLANE), ON_PLANE.
-const REGION_BITS: u32 = 0x7fffffffu;
-const ON_PLANE: u32 = 0x80000000u;
+// A particle's word in `held`: its region (REGION_BITS) and, from bit
+// ON_PLANES on, the symmetry planes it lies on (ONPLANE), as the
+// coordinates they reverse (bit 0 x, bit 1 y).
+const REGION_BITS: u32 = 0x3fffffffu;
+const ON_PLANES: u32 = 30u;
 
-// Particle i's share of itself on the modelled side of the symmetry plane
-// (Model::share): 1/2 on the plane, 1 elsewhere.
+// The planes particle i lies on (0: none).
+fn planes_of(i: u32) -> u32 {
+    if (!ONPLANE) {
+        return 0u;
+    }
+    return held[4u * NHELD + pinfo[i].w] >> ON_PLANES;
+}
+
+// Particle i's share of itself on the modelled side of the symmetry planes
+// (Model::share): 1/2 on a plane, 1/4 on two, 1 elsewhere.
 fn plane_share(i: u32) -> f32 {
     if (!ONPLANE) {
         return 1.0;
     }
-    return select(1.0, 0.5, (held[4u * NHELD + pinfo[i].w] & ON_PLANE) != 0u);
+    return 1.0 / f32(1u << countOneBits(planes_of(i)));
 }
 
-// v of particle i without its component normal to the symmetry plane where
-// it lies on it (CPU twin: Model::along_plane).
+// v of particle i without its components normal to the symmetry planes it
+// lies on (CPU twin: Model::along_plane).
 fn along_plane(i: u32, v: vec2<f32>) -> vec2<f32> {
-    if (!ONPLANE || plane_share(i) == 1.0) {
+    if (!ONPLANE) {
         return v;
     }
-    return vec2<f32>(select(v.x, 0.0, PLANE == 1u), select(v.y, 0.0, PLANE == 2u));
+    let b = planes_of(i);
+    return vec2<f32>(select(v.x, 0.0, (b & 1u) != 0u), select(v.y, 0.0, (b & 2u) != 0u));
 }
 
 // Particle i's region entry's start in `held`, or NONE where it is free.

@@ -364,11 +364,11 @@ fn pair_weight(q: u32, mq: vec4<u32>, cnq: vec4<f32>, nq: vec2<f32>, d: vec2<f32
     return wg;
 }
 
-// x_q - x_p of the image of walker q across the symmetry plane and
-// candidate p at offsets `op` (`cd_d` = x_q - x_p): the same bits as p's
-// pass forms (`image_sep`).
-fn image_sep_of_walker(wk: Walker, op: vec2<f32>, cd_d: vec2<f32>) -> vec2<f32> {
-    return mirror_vec(PLANE, image_d(wk, PLANE, op, cd_d));
+// x_q - x_p of the image under `flip` of walker q across the symmetry
+// planes and candidate p at offsets `op` (`cd_d` = x_q - x_p): the same
+// bits as p's pass forms (`image_sep`).
+fn image_sep_of_walker(wk: Walker, flip: u32, op: vec2<f32>, cd_d: vec2<f32>) -> vec2<f32> {
+    return mirror_vec(flip, image_d(wk, flip, op, cd_d));
 }
 
 // What pass 2 gathers at particle q from the partners' passes over the
@@ -397,14 +397,16 @@ fn gathered(q: u32, mq: vec4<u32>, wk: Walker, cnq: vec4<f32>) -> Gathered {
             if (wg.x >= 0.0) {
                 gather_from(&gt, 0u, cd.j, wg, cd.d, nq, oq);
             }
-            if (PLANE != 0u) {
-                // Across a symmetry plane: p's pass as it saw q's image,
-                // its force and the derivative by q's normal mirrored back.
-                let d = image_sep_of_walker(wk, cd.off, cd.d);
-                let nqi = mirror_vec(PLANE, nq);
+            for (var m = 0u; m < contact_images(); m++) {
+                // Across the symmetry planes: p's pass as it saw q's
+                // image, its force and the derivative by q's normal
+                // mirrored back.
+                let f = contact_flip(m);
+                let d = image_sep_of_walker(wk, f, cd.off, cd.d);
+                let nqi = mirror_vec(f, nq);
                 let wi = pair_weight(q, mq, cnq, nqi, d, cd.j, NONE);
                 if (wi.x >= 0.0) {
-                    gather_from(&gt, PLANE, cd.j, wi, d, nqi, oq);
+                    gather_from(&gt, f, cd.j, wi, d, nqi, oq);
                 }
             }
         }

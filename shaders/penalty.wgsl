@@ -108,14 +108,15 @@ fn pass_sums(at: PassAt) -> PassSums {
             if (w >= 0.0) {
                 sum_candidate(at, &s, mq.z, w, d, cq.xy, oq, v[q], vb);
             }
-            if (PLANE != 0u) {
-                // Across a symmetry plane: q's image, at the mirror point
-                // with its normal and velocities mirrored.
-                let di = image_sep(at.wk, cd.off, cd.d);
-                let nqi = mirror_vec(PLANE, cq.xy);
+            for (var m = 0u; m < contact_images(); m++) {
+                // Across the symmetry planes: q's image, at the mirror
+                // point with its normal and velocities mirrored.
+                let f = contact_flip(m);
+                let di = image_sep(at.wk, f, cd.off, cd.d);
+                let nqi = mirror_vec(f, cq.xy);
                 let wi = candidate(at.np, nqi, di, at.op, oq, at.hp, hq, gp, gq, sq).x;
                 if (wi >= 0.0) {
-                    sum_candidate(at, &s, mq.z, wi, di, nqi, oq, mirror_vec(PLANE, v[q]), mirror_vec(PLANE, vb));
+                    sum_candidate(at, &s, mq.z, wi, di, nqi, oq, mirror_vec(f, v[q]), mirror_vec(f, vb));
                 }
             }
         }
@@ -123,12 +124,12 @@ fn pass_sums(at: PassAt) -> PassSums {
     return s;
 }
 
-// x_q - x_p of the image of candidate q (offsets `oq`, `cd_d` = x_p - x_q)
-// across the symmetry plane, from walker P: along the plane's normal
-// -(off_p + off_q), along it -cd_d. Pass 2 forms the same bits from q's
-// side (contact.wgsl, image_sep_of_walker).
-fn image_sep(wk: Walker, oq: vec2<f32>, cd_d: vec2<f32>) -> vec2<f32> {
-    return -image_d(wk, PLANE, oq, cd_d);
+// x_q - x_p of the image under `flip` of candidate q (offsets `oq`, `cd_d`
+// = x_p - x_q) across the symmetry planes, from walker P: along a reversed
+// coordinate -(off_p + off_q), along the other -cd_d. Pass 2 forms the
+// same bits from q's side (contact.wgsl, image_sep_of_walker).
+fn image_sep(wk: Walker, flip: u32, oq: vec2<f32>, cd_d: vec2<f32>) -> vec2<f32> {
+    return -image_d(wk, flip, oq, cd_d);
 }
 
 // Candidate q of body `bq` (or its image) of weight `w`, x_q - x_p `d`,
@@ -292,13 +293,15 @@ fn candidates_bar(at: PassAt, partner: u32, b: SumsBar) -> CandSum {
             if (wg.x >= 0.0) {
                 bar_candidate(at, b, &cs_, wg, d, nq, oq, v_book(q), cnq.w);
             }
-            if (PLANE != 0u) {
-                // q's image (pass_sums): its normal turns the other way.
-                let di = image_sep(at.wk, cd.off, cd.d);
-                let nqi = mirror_vec(PLANE, nq);
+            for (var m = 0u; m < contact_images(); m++) {
+                // q's images (pass_sums): across one plane its normal
+                // turns the other way, across both (a half turn) the same.
+                let f = contact_flip(m);
+                let di = image_sep(at.wk, f, cd.off, cd.d);
+                let nqi = mirror_vec(f, nq);
                 let wi = candidate(at.np, nqi, di, at.op, oq, at.hp, hq, gp, gq, sq);
                 if (wi.x >= 0.0) {
-                    bar_candidate(at, b, &cs_, wi, di, nqi, oq, mirror_vec(PLANE, v_book(q)), -cnq.w);
+                    bar_candidate(at, b, &cs_, wi, di, nqi, oq, mirror_vec(f, v_book(q)), select(cnq.w, -cnq.w, shears(f)));
                 }
             }
         }

@@ -196,34 +196,44 @@ fn radius_of(j: u32) -> f32 {
 
 // A particle's offsets from the lines its images are mirrored across,
 // along the coordinate each reverses (0 along one none reverses): the
-// radius `rad` from the axis (AXI), and from the symmetry plane (PLANE),
+// radius `rad` from the axis (AXI), and from the symmetry planes (PLANE),
 // each its whole cells from the line (exact) and its place in the cell.
 fn offsets_at(a: vec4<f32>, un: vec2<f32>, rad: f32) -> vec2<f32> {
     var o = vec2<f32>(rad, 0.0);
-    if (PLANE == 1u) {
-        o.x = (a.x - params.plane_cell) * params.cell + (a.z + un.x);
-    } else if (PLANE == 2u) {
-        o.y = (a.y - params.plane_cell) * params.cell + (a.w + un.y);
+    if ((PLANE & 1u) != 0u) {
+        o.x = (a.x - params.plane_x) * params.cell + (a.z + un.x);
+    }
+    if ((PLANE & 2u) != 0u) {
+        o.y = (a.y - params.plane_y) * params.cell + (a.w + un.y);
     }
     return o;
 }
 
-// How many mirror images a particle has: across the axis of a body of
-// revolution, a symmetry plane, and both where there are both.
+// How many mirror images a particle has: across each line (the axis of a
+// body of revolution, each symmetry plane), and across both where there
+// are two.
 fn image_count() -> u32 {
-    let p = select(0u, 1u, PLANE != 0u);
-    if (AXI) {
-        return 1u + 2u * p;
-    }
-    return p;
+    return (1u << (select(0u, 1u, AXI) + countOneBits(PLANE))) - 1u;
 }
 
-// The coordinates image `m` reverses (mirror_vec): the axis's x first.
+// The coordinates image `m` reverses (mirror_vec): with two lines, x's
+// (the axis's or a plane's), y's, then both.
 fn image_flip(m: u32) -> u32 {
-    if (!AXI) {
-        return PLANE;
+    if (image_count() == 3u) {
+        return m + 1u;
     }
-    return select(1u, PLANE | select(0u, 1u, m == 2u), m > 0u);
+    return select(PLANE, 1u, AXI);
+}
+
+// How many images the contact meets: each symmetry plane's and, across
+// two, the corner's (the axis's are not a body's partners).
+fn contact_images() -> u32 {
+    return (1u << countOneBits(PLANE)) - 1u;
+}
+
+// The coordinates the contact's image `m` reverses.
+fn contact_flip(m: u32) -> u32 {
+    return select(PLANE, m + 1u, PLANE == 3u);
 }
 
 // The separation from walker `w` of the image under `flip` of a particle at

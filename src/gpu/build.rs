@@ -101,9 +101,6 @@ impl GpuSolver {
                 model.dispersion
             ));
         }
-        if model.planes.len() > 1 {
-            return Err("two symmetry planes run on the CPU path only so far".to_string());
-        }
         let n = model.len();
         let frame = frame.unwrap_or_else(|| frame_of(&model, state));
         let (origin, cell) = (frame.origin, frame.cell);
@@ -208,8 +205,8 @@ fn frame_of(model: &Model, state: &State) -> Frame {
         // `radius_at`), as exact as a pair difference.
         origin.x = -2.0 * cell;
     }
-    if let Some((k, at)) = plane_line(model) {
-        // A symmetry plane on a cell boundary too: a particle's offset
+    for (k, at) in plane_lines(model) {
+        // Each symmetry plane on a cell boundary too: a particle's offset
         // from it is its whole cells from it plus its offset in the cell
         // (walk.wgsl, `offsets_at`).
         origin[k] = at - ((at - origin[k]) / cell).ceil() * cell;
@@ -221,12 +218,22 @@ fn frame_of(model: &Model, state: &State) -> Frame {
     }
 }
 
-/// The coordinate a symmetry plane reverses and where its line lies.
-fn plane_line(model: &Model) -> Option<(usize, f64)> {
-    model.planes.first().map(|m| {
+/// The coordinate each symmetry plane reverses and where its line lies.
+fn plane_lines(model: &Model) -> impl Iterator<Item = (usize, f64)> + '_ {
+    model.planes.iter().map(|m| {
         let k = usize::from(!m.flip[0]);
         (k, m.at[k])
     })
+}
+
+/// The line of the symmetry plane reversing coordinate `k` in cells of
+/// `frame`'s grid from its origin (0 without one).
+fn plane_cells(model: &Model, frame: &Frame, k: usize) -> f32 {
+    plane_lines(model)
+        .find(|&(a, _)| a == k)
+        .map_or(0.0, |(_, at)| {
+            ((at - frame.origin[k]) / frame.cell).round() as f32
+        })
 }
 
 /// The uniform constants of a scene's step.
@@ -301,8 +308,8 @@ fn params_of(
         reach_margin: REACH_MARGIN as f32,
         energy_owed: plan.energy.map_or(0, |e| e.2 as u32),
         contact_dt: model.contact_dt.min(f32::MAX as f64) as f32,
-        plane_cell: plane_line(model)
-            .map_or(0.0, |(k, at)| ((at - origin[k]) / cell).round() as f32),
+        plane_x: plane_cells(model, frame, 0),
+        plane_y: plane_cells(model, frame, 1),
         ..Params::default()
     }
 }

@@ -360,8 +360,9 @@ fn override_constants(
             "PLANE",
             model
                 .planes
-                .first()
-                .map_or(0.0, |m| if m.flip[0] { 1.0 } else { 2.0 }),
+                .iter()
+                .map(|m| if m.flip[0] { 1.0 } else { 2.0 })
+                .sum(),
         ),
         ("ONPLANE", !model.share.is_empty() as u8 as f64),
         ("ADAPT", model.adaptive as u8 as f64),

@@ -62,10 +62,11 @@ pub struct Params {
     /// The longest step the penalty spring allows
     /// ([`crate::model::Model::contact_dt`]; `f32::MAX` without contact).
     pub contact_dt: f32,
-    /// A symmetry plane in cells from the grid origin along the coordinate
-    /// it reverses, a whole number (0 without one).
-    pub plane_cell: f32,
-    pub pad0: u32,
+    /// The symmetry plane reversing x in cells from the grid origin, a
+    /// whole number (0 without one).
+    pub plane_x: f32,
+    /// The one reversing y, likewise.
+    pub plane_y: f32,
     pub pad1: u32,
     pub pad2: u32,
 }
@@ -216,8 +217,8 @@ pub fn host_layouts() -> Vec<HostLayout> {
                 reach_margin,
                 energy_owed,
                 contact_dt,
-                plane_cell,
-                pad0,
+                plane_x,
+                plane_y,
                 pad1,
                 pad2
             ),

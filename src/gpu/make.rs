@@ -338,11 +338,11 @@ fn make_held(mk: &mut Maker, model: &Model, state: &State) -> Result<(), String>
         let (vx, vy) = (c.velocity.x as f32, c.velocity.y as f32);
         table.extend([mask, vx.to_bits(), vy.to_bits(), 0]);
     }
-    // A particle on a symmetry plane: its word's top bit (common.wgsl,
-    // ON_PLANE).
+    // The symmetry planes a particle lies on: its word's top two bits
+    // (common.wgsl, ON_PLANES).
     table.extend((0..model.len()).map(|i| {
         let k = model.held_of.get(i).copied().unwrap_or(0);
-        k | if model.share(i) < 1.0 { 1 << 31 } else { 0 }
+        k | u32::from(model.on_plane.get(i).copied().unwrap_or(0)) << 30
     }));
     if model.held.is_empty() {
         mk.make(

@@ -109,16 +109,9 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    // The dispersion correction and two symmetry planes run on the CPU
-    // path alone so far.
+    // The dispersion correction runs on the CPU path alone so far.
     let theta = scene.simulation.dispersion_correction;
-    let cpu_only = if theta > 0.0 {
-        Some(format!("dispersion_correction = {theta}"))
-    } else if scene.symmetry.len() > 1 {
-        Some("two symmetry planes ([[symmetry]])".to_string())
-    } else {
-        None
-    };
+    let cpu_only = (theta > 0.0).then(|| format!("dispersion_correction = {theta}"));
     if let Some(what) = cpu_only {
         return match backend {
             Backend::Gpu => Err(RunError::Backend {

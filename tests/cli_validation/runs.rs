@@ -231,11 +231,10 @@ fn symmetry_runs_on_both_paths() {
     );
 }
 
-/// Two symmetry planes (a quadrant) run on the CPU path alone so far:
-/// `--backend gpu` refuses them (exit 2), `auto` runs the CPU path with
-/// one warning line, and `check` names both planes.
+/// Two symmetry planes (a quadrant) run on either path too, and `check`
+/// names both planes.
 #[test]
-fn two_symmetry_planes_run_on_the_cpu_path() {
+fn two_symmetry_planes_run_on_either_path() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_2D.replacen(
         "[materials.steel]",
@@ -243,8 +242,7 @@ fn two_symmetry_planes_run_on_the_cpu_path() {
         1,
     );
     let scene = write_scene(tmp.path(), "quadrant", &text);
-    let dir = cpu_path_only(tmp.path(), &scene, "symmetry");
-    assert!(dir.join("summary.json").exists());
+    runs_on_both_paths(tmp.path(), &scene);
     for plane in [
         "symmetry    the plane x = 0 m, modelling x > 0",
         "symmetry    the plane y = -0.002 m, modelling y > -0.002 m",

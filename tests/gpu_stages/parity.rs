@@ -93,6 +93,17 @@ fn stages_match_cpu_across_a_symmetry_plane_axisymmetric() {
     check_stages("scenes/symmetry/tube_onto_rod_half.toml", 4e-7);
 }
 
+/// A steel ring closing onto a steel disk as a quadrant between two
+/// planes (scenes/symmetry/ring_onto_disk_quadrant.toml), 0.3 µs into
+/// their contact: a
+/// particle near both planes meets three images (across either plane and
+/// the corner), and the contact meets the partner's images across either
+/// plane.
+#[test]
+fn stages_match_cpu_across_two_symmetry_planes() {
+    check_stages("scenes/symmetry/ring_onto_disk_quadrant.toml", 3e-7);
+}
+
 /// The bilinear Taylor bar (16 across) spread on its wall at 40 µs: in a
 /// body of revolution the surface test is taken relative to the colour
 /// function (docs/method.md §8.1), and here that decides particles the
