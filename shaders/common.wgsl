@@ -61,6 +61,9 @@ override RUB: bool = false;
 // The hourglass control's coefficient (docs/method.md, "Hourglass
 // control"), 0 off; it also reads the stored velocity gradient.
 override HG: f32 = 0.0;
+// The dispersion correction's theta (docs/method.md, "The dispersion
+// correction"; dispersion.wgsl), 0 off. The midpoint rule only.
+override DISP: f32 = 0.0;
 override WG: u32 = 128u;
 // Whether some artificial term books heat (Model::dissipates): the forces
 // pass then sums the ledger's artificial dissipation (forces.wgsl, dheat).

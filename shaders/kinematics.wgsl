@@ -508,6 +508,9 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
         if (RECON || HG > 0.0) {
             gradv[i] = vec4<f32>(0.0);
         }
+        if (DISP > 0.0) {
+            hand_over(i, vec4<f32>(0.0), false);
+        }
         return;
     }
     let gv = velocity_gradient(ks.gsum, l);
@@ -518,6 +521,11 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
         lgrad[i] = pack_step_gradient(gv, ctl.dt);
     }
     if (LEAP != 0u) {
+        return;
+    }
+    if (DISP > 0.0) {
+        // The rates wait for the dispersion correction (dispersion.wgsl).
+        hand_over(i, gv, wk.fell_back);
         return;
     }
     let d_tt = hoop_rate(ks.rad, v[i]);

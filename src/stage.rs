@@ -109,7 +109,12 @@ pub const STAGES: [StageInfo; 7] = [
     StageInfo {
         stage: Stage::Kinematics,
         name: "kinematics",
-        shaders: &["kinematics.wgsl", "kinematics_point.wgsl", "strength.wgsl"],
+        shaders: &[
+            "kinematics.wgsl",
+            "kinematics_point.wgsl",
+            "strength.wgsl",
+            "dispersion.wgsl",
+        ],
         cpu: Some("cpu/kinematics/mod.rs"),
         solver: Some("cpu/sweep/kinematics.rs"),
         tests: &[

@@ -122,6 +122,10 @@ device_buffers! {
     Sr2c => sr2c,
     /// Velocity gradients.
     Gradv => gradv,
+    /// The dispersion correction's plain velocity gradient and extra
+    /// stress (dispersion.wgsl).
+    Gdisp => gdisp,
+    Sdisp => sdisp,
     /// The hourglass control's half-step velocity and its gradient.
     Vhalf => vhalf,
     Gradh => gradh,

@@ -95,9 +95,9 @@ impl GpuSolver {
         opts: GpuOptions,
         frame: Option<Frame>,
     ) -> Result<Self, String> {
-        if model.dispersion > 0.0 {
+        if model.dispersion > 0.0 && model.integrator == Integrator::Leapfrog {
             return Err(format!(
-                "dispersion_correction = {} runs on the CPU path only",
+                "dispersion_correction = {} runs on the GPU path with the midpoint rule only so far",
                 model.dispersion
             ));
         }

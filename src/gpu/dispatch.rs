@@ -140,7 +140,22 @@ pub(super) struct Eval {
     pub(super) scatter: Kernel,
     pub(super) kinematics: Kernel,
     pub(super) forces: Kernel,
+    /// The dispersion correction's walks (dispersion.wgsl): `disperse`
+    /// after the kinematic walk, `disperse_forces` after the forces walk.
+    pub(super) dispersion: Option<[Kernel; 2]>,
     pub(super) contact: Option<ContactKernels>,
+}
+
+impl Eval {
+    /// The kinematics stage's dispatches.
+    pub(super) fn kinematics_all(&self) -> impl Iterator<Item = &Kernel> {
+        std::iter::once(&self.kinematics).chain(self.dispersion.iter().map(|d| &d[0]))
+    }
+
+    /// The forces stage's dispatches.
+    pub(super) fn forces_all(&self) -> impl Iterator<Item = &Kernel> {
+        std::iter::once(&self.forces).chain(self.dispersion.iter().map(|d| &d[1]))
+    }
 }
 
 /// The contact's force passes in their order: the two gathers, then the

@@ -46,8 +46,8 @@ impl GpuSolver {
     pub(super) fn encode_eval(&self, pass: &mut impl Dispatches, var: Var) {
         self.encode_grid(pass, var);
         let e = &self.k.eval[var as usize];
-        pass.run(&e.kinematics);
-        pass.run(&e.forces);
+        e.kinematics_all().for_each(|k| pass.run(k));
+        e.forces_all().for_each(|k| pass.run(k));
         self.encode_contact(pass, var);
     }
 
@@ -182,10 +182,10 @@ impl GpuSolver {
             }
             (Stage::Neighbours, _, None) => self.encode_grid(pass, var),
             (Stage::Kinematics, _, Some(l)) => pass.run(&l.kinematics),
-            (Stage::Kinematics, _, None) => pass.run(&ev.kinematics),
+            (Stage::Kinematics, _, None) => ev.kinematics_all().for_each(|k| pass.run(k)),
             (Stage::Forces, Role::Energy, Some(l)) => pass.run(&l.energy),
             (Stage::Forces, _, Some(l)) => pass.run(&l.forces),
-            (Stage::Forces, _, None) => pass.run(&ev.forces),
+            (Stage::Forces, _, None) => ev.forces_all().for_each(|k| pass.run(k)),
             (Stage::Contact, Role::Book, Some(l)) => l.book.iter().for_each(|k| pass.run(k)),
             (Stage::Contact, _, Some(l)) => l
                 .contact

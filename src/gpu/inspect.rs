@@ -20,7 +20,9 @@ impl GpuSolver {
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
-            pass.run(&self.k.eval[Var::Base as usize].kinematics);
+            self.k.eval[Var::Base as usize]
+                .kinematics_all()
+                .for_each(|k| pass.run(k));
         }
         let d = self.read_buffers(Some(enc), read);
         if let Some(raw) = raw {
@@ -371,8 +373,8 @@ impl GpuSolver {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
             let e = &self.k.eval[0];
-            e.kinematics.dispatch(&mut pass);
-            e.forces.dispatch(&mut pass);
+            e.kinematics_all().for_each(|k| k.dispatch(&mut pass));
+            e.forces_all().for_each(|k| k.dispatch(&mut pass));
         }
         let first = self.read_buffers(
             Some(enc),

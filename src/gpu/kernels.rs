@@ -146,6 +146,14 @@ fn eval_kernels(
             scatter: eval_kernel("neighbours", "grid_scatter")?,
             kinematics: eval_kernel("kinematics", "kinematics")?.walking(Walk::All),
             forces: eval_kernel("forces", "forces")?.walking(Walk::All),
+            dispersion: if model.dispersion > 0.0 {
+                Some([
+                    eval_kernel("kinematics", "disperse")?.walking(Walk::All),
+                    eval_kernel("kinematics", "disperse_forces")?.walking(Walk::All),
+                ])
+            } else {
+                None
+            },
             contact: if model.contact {
                 Some(ContactKernels {
                     pass1: contact_kernel("contact_pass1")?.walking(Walk::Boundary),
@@ -348,6 +356,7 @@ fn override_constants(
         ("RUB", model.rubs as u8 as f64),
         ("VARIATIONAL", model.variational as u8 as f64),
         ("HG", model.hourglass),
+        ("DISP", model.dispersion),
         ("HISTORY", model.history as u8 as f64),
         ("FAILURE", model.can_fail() as u8 as f64),
         ("CAVITATION", model.cavitates() as u8 as f64),

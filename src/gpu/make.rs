@@ -426,6 +426,11 @@ pub(super) fn make_scheme(
     if model.keeps_gradient() {
         mk.make(Buf::Gradv, 16 * nn, None)?;
     }
+    if model.dispersion > 0.0 {
+        for name in [Buf::Gdisp, Buf::Sdisp] {
+            mk.make(name, 16 * nn, None)?;
+        }
+    }
     if leapfrog && model.hourglass > 0.0 {
         // The velocity v_{n+1/2} the hourglass control sees in a step
         // and its gradient (common.wgsl, HG_HALF).

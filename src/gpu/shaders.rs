@@ -53,6 +53,12 @@ const FILES: &[(&str, &str)] = &[
     // The stress update with a plastic history: the kinematics pass (the
     // leapfrog's step) and the midpoint rule's advance passes.
     ("strength.wgsl", include_str!("../../shaders/strength.wgsl")),
+    // The dispersion correction's walks, part of the kinematics stage
+    // (the second runs after the forces walk).
+    (
+        "dispersion.wgsl",
+        include_str!("../../shaders/dispersion.wgsl"),
+    ),
     ("debug.wgsl", include_str!("../../shaders/debug.wgsl")),
 ];
 

@@ -109,9 +109,12 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    // The dispersion correction runs on the CPU path alone so far.
+    // The dispersion correction with the leapfrog runs on the CPU path
+    // alone so far (the GPU runs it with the midpoint rule).
     let theta = scene.simulation.dispersion_correction;
-    let cpu_only = (theta > 0.0).then(|| format!("dispersion_correction = {theta}"));
+    let integrator = opts.integrator.unwrap_or(scene.simulation.integrator);
+    let cpu_only = (theta > 0.0 && integrator == Integrator::Leapfrog)
+        .then(|| format!("dispersion_correction = {theta} with the leapfrog"));
     if let Some(what) = cpu_only {
         return match backend {
             Backend::Gpu => Err(RunError::Backend {

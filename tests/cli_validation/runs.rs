@@ -108,12 +108,13 @@ fn cpu_path_only(tmp: &Path, scene: &Path, key: &str) -> PathBuf {
     dir
 }
 
-/// The dispersion correction runs on the CPU path alone so far: `--backend
-/// gpu` refuses it (exit 2, naming the key and the way out) before any
-/// adapter is asked for, `auto` runs it on the CPU path with one warning
-/// line, and `check` names it.
+/// The dispersion correction with the leapfrog runs on the CPU path alone
+/// so far: `--backend gpu` refuses it (exit 2, naming the key and the way
+/// out) before any adapter is asked for, `auto` runs it on the CPU path
+/// with one warning line, and `check` names it. With the midpoint rule it
+/// runs on either path.
 #[test]
-fn dispersion_correction_runs_on_the_cpu_path() {
+fn dispersion_correction_runs_on_the_cpu_path_with_the_leapfrog() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_1D.replacen(
         "dimension = 1",
@@ -127,6 +128,18 @@ fn dispersion_correction_runs_on_the_cpu_path() {
     check_says(tmp.path(), &scene, "dispersion  corrected, theta 0.7");
     let plain = write_scene(tmp.path(), "plain", BASE_1D);
     check_says(tmp.path(), &plain, "dispersion  uncorrected");
+    let midpoint = write_scene(
+        tmp.path(),
+        "midpoint",
+        &text.replacen(
+            "dimension = 1",
+            "dimension = 1\nintegrator = \"midpoint\"",
+            1,
+        ),
+    );
+    let both = tmp.path().join("both");
+    std::fs::create_dir_all(&both).unwrap();
+    runs_on_both_paths(&both, &midpoint);
 }
 
 /// `check` names a body force, and a run with one books its potential

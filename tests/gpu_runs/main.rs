@@ -7,6 +7,7 @@
 mod common;
 
 mod bodies;
+mod dispersion;
 mod penetration;
 mod repeat;
 mod symmetry;

@@ -162,9 +162,14 @@ fn sweep_cmd(req: SweepRequest, tuning: sphcontact::validation::Tuning, out: Pat
         dispersion_correction,
         sweep_max,
     } = req;
+    // The GPU runs the dispersion correction with the midpoint rule only.
+    let cpu_only = dispersion_correction.is_some_and(|t| t > 0.0)
+        && !matches!(integrator, Some(IntegratorArg::Midpoint));
     let backends = match backend.map(backend_of) {
-        Some(Backend::Auto) | None if dispersion_correction.is_some_and(|t| t > 0.0) => {
-            eprintln!("sweep: the dispersion correction runs on the CPU path only; CPU only");
+        Some(Backend::Auto) | None if cpu_only => {
+            eprintln!(
+                "sweep: the dispersion correction with the leapfrog runs on the CPU path only; CPU only"
+            );
             vec![Backend::Cpu]
         }
         Some(Backend::Auto) | None => {

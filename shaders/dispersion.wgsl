@@ -1,0 +1,172 @@
+// The dispersion correction (docs/method.md, "The dispersion correction";
+// CPU twin: cpu::dispersion), part of the kinematics module: the midpoint
+// rule's two extra walks of an evaluation, where a scene sets DISP (theta).
+// With a_ij = V_j L_i grad_i W_ij the corrected gradient's weights and
+// d_ij = x_j - x_i:
+//
+// * `disperse`, after the kinematic walk: C_i = -theta/2 sum_j ((grad v_j -
+//   grad v_i) d_ij) (x) a_ij, and the density and stress rates at grad v_i
+//   + C_i (which the kinematic walk left to it); the extra stress S_i =
+//   theta/(2 V_i) sum_j (V_i sig_i a_ij + V_j sig_j a_ji) (x) d_ij;
+// * `disperse_forces`, after the forces walk: S's forces m_i a_i = sum_j
+//   (V_i S_i a_ij - V_j S_j a_ji), and its work S_i : grad v_i / rho_i,
+//   a kick of their own (booked as the forces pass books its own).
+//
+// Bodies of revolution and symmetry planes do not take the correction: the
+// walks meet no images.
+
+// The plain velocity gradient of the kinematic walk (zero on a rigid
+// particle).
+@group(0) @binding(102) var<storage, read_write> gdisp: array<vec4<f32>>;
+// S_i (a general 2x2 matrix: xx, xy, yx, yy). Between the kinematic walk
+// and `disperse` its x holds 1 where particle i's correction fell back.
+@group(0) @binding(103) var<storage, read_write> sdisp: array<vec4<f32>>;
+@group(0) @binding(18) var<storage, read_write> dv: array<vec2<f32>>;
+
+// sigma a of an in-plane stress (xx, yy, xy) and a vector.
+fn sym_apply(t: vec4<f32>, a: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(t.x * a.x + t.z * a.y, t.z * a.x + t.y * a.y);
+}
+
+// A : B of two general matrices.
+fn ddot2(a: vec4<f32>, b: vec4<f32>) -> f32 {
+    return dot(a, b);
+}
+
+// What the kinematic walk hands `disperse`: particle i's plain gradient,
+// and whether its correction fell back (its deviatoric rate then takes
+// no shear modulus, as the walk's own would).
+fn hand_over(i: u32, gv: vec4<f32>, fell_back: bool) {
+    gdisp[i] = gv;
+    sdisp[i] = vec4<f32>(select(0.0, 1.0, fell_back), 0.0, 0.0, 0.0);
+}
+
+// One walk's sums: with `forces` the force of S on particle i (in c.xy),
+// else (C_i, Q_i) unscaled. The kinematic walk's pairs: round, or in the
+// pair's mean metric where supports adapt; one body's where contact is on.
+struct DispSums {
+    c: vec4<f32>,
+    q: vec4<f32>,
+}
+
+fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, forces: bool) -> DispSums {
+    let cs = consts();
+    let adapt = adapting();
+    var wk = walker(i);
+    if (adapt) {
+        wk = adaptive_walker(i);
+    }
+    let mi = pinfo[i];
+    let li = lmat[i];
+    let vi = volume(i, mi, rho0);
+    var own = vec4<f32>(0.0);
+    if (forces) {
+        own = sdisp[i];
+    } else {
+        own = gdisp[i];
+    }
+    let rho_i = bodies[bi].rho0 * (1.0 + r[i].x);
+    // V sigma = V rho^2 (sigma / rho^2).
+    let vs_i = sr2c[i] * (vi * rho_i * rho_i);
+    var out = DispSums(vec4<f32>(0.0), vec4<f32>(0.0));
+    for (var row = 0u; row < scan_rows(); row++) {
+        var span = row_span(wk.hm, row);
+        if (adapt) {
+            span = row_span_in(wk.hm, row, wk.reach);
+        }
+        for (var k = span.start; k < span.end; k++) {
+            let cd = cand(wk, k, cs);
+            let j = cd.j;
+            let mj = pinfo[j];
+            var pr = body_pair(wk, cd, mj.z, span, hi, bi);
+            if (adapt) {
+                pr = sph_pair(wk, cd, mj.z, span, hi, bi);
+            }
+            if (!pr.inside || pr.dist <= 0.0) {
+                continue;
+            }
+            let vj = volume(j, mj, rho0);
+            let aij = mat_mul(li, pr.gw * vj);
+            // A rigid particle has no correction of its own (the CPU's
+            // L is zero there).
+            var aji = vec2<f32>(0.0);
+            if (bodies[mj.z].rigid == 0u) {
+                aji = mat_mul(lmat[j], -pr.gw * vi);
+            }
+            // d_ij = x_j - x_i.
+            let dij = -pr.d;
+            if (forces) {
+                let p = mat_mul(own, aij) * vi - mat_mul(sdisp[j], aji) * vj;
+                out.c += vec4<f32>(p, 0.0, 0.0);
+            } else {
+                let u = mat_mul(gdisp[j] - own, dij);
+                out.c += outer(u, aij);
+                let rho_j = bodies[mj.z].rho0 * (1.0 + r[j].x);
+                let vs_j = sr2c[j] * (vj * rho_j * rho_j);
+                out.q += outer(sym_apply(vs_i, aij) + sym_apply(vs_j, aji), dij);
+            }
+        }
+    }
+    return out;
+}
+
+@compute @workgroup_size(WG)
+fn disperse(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n || zero_length_pass()) {
+        return;
+    }
+    let bi = pinfo[i].z;
+    let body = bodies[bi];
+    if (body.rigid != 0u) {
+        sdisp[i] = vec4<f32>(0.0);
+        return;
+    }
+    let fell_back = sdisp[i].x != 0.0;
+    let sums = disp_walk(i, bi, body.h, body.rho0, false);
+    let vi = volume(i, pinfo[i], body.rho0);
+    sdisp[i] = sums.q * (0.5 * DISP / vi);
+    let gc = gdisp[i] + sums.c * (-0.5 * DISP);
+    // The kinematic walk's rates (kinematics.wgsl) at grad v + C.
+    let mu = r[i].x;
+    let si = s[i];
+    if (STRAIN_RATE) {
+        srate[i] = equivalent_rate(gc, 0.0);
+    }
+    let dmu = density_rate(mu, gc, 0.0);
+    let rate = deviator_rate(select(body.g, 0.0, fell_back), si, gc, 0.0);
+    if (!MID) {
+        dr[i].x = dmu;
+        ds[i] = rate;
+    } else if (ctl.dt != 0.0) {
+        let dt = ctl.dt;
+        dr[i].x = dr[i].x + dmu * dt;
+        ds[i] = plastic_return(ds[i] + rate * dt, body);
+    }
+}
+
+@compute @workgroup_size(WG)
+fn disperse_forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n || zero_length_pass()) {
+        return;
+    }
+    let mi = pinfo[i];
+    let body = bodies[mi.z];
+    if (body.rigid != 0u) {
+        return;
+    }
+    let a = disp_walk(i, mi.z, body.h, body.rho0, true).c.xy / bitcast<f32>(mi.x);
+    let de = ddot2(sdisp[i], gdisp[i]) / (body.rho0 * (1.0 + r[i].x));
+    if (!MID) {
+        dv[i] = dv[i] + a;
+        dr[i].y = dr[i].y + de;
+    } else if (ctl.dt != 0.0) {
+        // A kick of the velocity the step updates, booked as the forces
+        // pass books its own (common.wgsl, compatible_energy).
+        let w0 = dv[i];
+        let w1 = w0 + a * ctl.dt;
+        dv[i] = w1;
+        dr[i].y = dr[i].y + de * ctl.dt + compatible_energy(w0, w1, v[i]);
+    }
+}
