@@ -1,6 +1,7 @@
 // The dispersion correction (docs/method.md, "The dispersion correction";
-// CPU twin: cpu::dispersion), part of the kinematics module: the midpoint
-// rule's two extra walks of an evaluation, where a scene sets DISP (theta).
+// CPU twin: cpu::dispersion), part of the kinematics module: an
+// evaluation's two extra walks, and the leapfrog step's four, where a
+// scene sets DISP (theta).
 // With a_ij = V_j L_i grad_i W_ij the corrected gradient's weights and
 // d_ij = x_j - x_i:
 //
@@ -12,6 +13,13 @@
 //   (V_i S_i a_ij - V_j S_j a_ji), and its work S_i : grad v_i / rho_i,
 //   a kick of their own (booked as the forces pass books its own).
 //
+// The leapfrog's step takes them apart as its CPU twin does
+// (cpu::leapfrog): C at x_{n+1} and v_{n+1/2} before the update to n+1
+// (`disperse_leap`), S from the stresses at n+1 (`disperse_stress`), its
+// forces after the forces walk (`disperse_forces_leap`), and its work at
+// the gradient of v_{n+1} after the energy walk (`disperse_work`). Its
+// first evaluation runs `disperse` and `disperse_forces` for a_0 and de_0.
+//
 // Bodies of revolution and symmetry planes do not take the correction: the
 // walks meet no images.
 
@@ -22,6 +30,8 @@
 // and `disperse` its x holds 1 where particle i's correction fell back.
 @group(0) @binding(103) var<storage, read_write> sdisp: array<vec4<f32>>;
 @group(0) @binding(18) var<storage, read_write> dv: array<vec2<f32>>;
+// The leapfrog step's velocity, kicked (forces.wgsl).
+@group(0) @binding(57) var<storage, read_write> vkick: array<vec2<f32>>;
 
 // sigma a of an in-plane stress (xx, yy, xy) and a vector.
 fn sym_apply(t: vec4<f32>, a: vec2<f32>) -> vec2<f32> {
@@ -41,15 +51,40 @@ fn hand_over(i: u32, gv: vec4<f32>, fell_back: bool) {
     sdisp[i] = vec4<f32>(select(0.0, 1.0, fell_back), 0.0, 0.0, 0.0);
 }
 
-// One walk's sums: with `forces` the force of S on particle i (in c.xy),
-// else (C_i, Q_i) unscaled. The kinematic walk's pairs: round, or in the
-// pair's mean metric where supports adapt; one body's where contact is on.
+// What a walk sums (`disp_walk`): C and Q (the midpoint rule's
+// `disperse`), C alone (the leapfrog's, at x_{n+1} and v_{n+1/2}), Q alone
+// (the leapfrog's S at n+1), the force of S, or the gradient of the
+// velocities v (the leapfrog's work at v_{n+1}).
+const D_CQ: u32 = 0u;
+const D_C: u32 = 1u;
+const D_Q: u32 = 2u;
+const D_FORCE: u32 = 3u;
+const D_GRAD: u32 = 4u;
+
+// One walk's sums: C_i (or the velocity gradient; in c) and Q_i (in q)
+// unscaled, or the force of S on particle i (in c.xy). The kinematic
+// walk's pairs: round, or in the pair's mean metric where supports adapt;
+// one body's where contact is on. `next`: the volumes at n+1 (the
+// leapfrog's density there, rdt.x), else the state's.
 struct DispSums {
     c: vec4<f32>,
     q: vec4<f32>,
 }
 
-fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, forces: bool) -> DispSums {
+// The density of particle j (meta `mj`) whose walker's body has rho0
+// `rho0` (`volume`'s), at n+1 where `next` (the leapfrog's, rdt.x).
+fn disp_density(j: u32, mj: vec4<u32>, rho0: f32, next: bool) -> f32 {
+    var r0 = rho0;
+    if (!CONTACT) {
+        r0 = bodies[mj.z].rho0;
+    }
+    if (next) {
+        return r0 * (1.0 + rdt[j].x);
+    }
+    return r0 * (1.0 + r[j].x);
+}
+
+fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, mode: u32, next: bool) -> DispSums {
     let cs = consts();
     let adapt = adapting();
     var wk = walker(i);
@@ -58,16 +93,23 @@ fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, forces: bool) -> DispSums {
     }
     let mi = pinfo[i];
     let li = lmat[i];
-    let vi = volume(i, mi, rho0);
+    let rho_i = disp_density(i, mi, rho0, next);
+    let vi = bitcast<f32>(mi.x) / rho_i;
     var own = vec4<f32>(0.0);
-    if (forces) {
+    if (mode == D_FORCE) {
         own = sdisp[i];
-    } else {
+    } else if (mode == D_CQ || mode == D_C) {
         own = gdisp[i];
     }
-    let rho_i = bodies[bi].rho0 * (1.0 + r[i].x);
-    // V sigma = V rho^2 (sigma / rho^2).
-    let vs_i = sr2c[i] * (vi * rho_i * rho_i);
+    var vs_i = vec4<f32>(0.0);
+    if (mode == D_CQ || mode == D_Q) {
+        // V sigma = V rho^2 (sigma / rho^2).
+        vs_i = sr2c[i] * (vi * rho_i * rho_i);
+    }
+    var vel_i = vec2<f32>(0.0);
+    if (mode == D_GRAD) {
+        vel_i = v[i];
+    }
     var out = DispSums(vec4<f32>(0.0), vec4<f32>(0.0));
     for (var row = 0u; row < scan_rows(); row++) {
         var span = row_span(wk.hm, row);
@@ -85,25 +127,33 @@ fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, forces: bool) -> DispSums {
             if (!pr.inside || pr.dist <= 0.0) {
                 continue;
             }
-            let vj = volume(j, mj, rho0);
+            let rho_j = disp_density(j, mj, rho0, next);
+            let vj = bitcast<f32>(mj.x) / rho_j;
             let aij = mat_mul(li, pr.gw * vj);
+            // d_ij = x_j - x_i.
+            let dij = -pr.d;
+            if (mode == D_GRAD) {
+                out.c += outer(v[j] - vel_i, aij);
+                continue;
+            }
+            if (mode == D_C || mode == D_CQ) {
+                out.c += outer(mat_mul(gdisp[j] - own, dij), aij);
+            }
+            if (mode == D_C) {
+                continue;
+            }
             // A rigid particle has no correction of its own (the CPU's
             // L is zero there).
             var aji = vec2<f32>(0.0);
             if (bodies[mj.z].rigid == 0u) {
                 aji = mat_mul(lmat[j], -pr.gw * vi);
             }
-            // d_ij = x_j - x_i.
-            let dij = -pr.d;
-            if (forces) {
+            if (mode == D_FORCE) {
                 let p = mat_mul(own, aij) * vi - mat_mul(sdisp[j], aji) * vj;
                 out.c += vec4<f32>(p, 0.0, 0.0);
             } else {
-                let u = mat_mul(gdisp[j] - own, dij);
-                out.c += outer(u, aij);
-                let rho_j = bodies[mj.z].rho0 * (1.0 + r[j].x);
-                let vs_j = sr2c[j] * (vj * rho_j * rho_j);
-                out.q += outer(sym_apply(vs_i, aij) + sym_apply(vs_j, aji), dij);
+                let w = sym_apply(vs_i, aij) + sym_apply(sr2c[j] * (vj * rho_j * rho_j), aji);
+                out.q += outer(w, dij);
             }
         }
     }
@@ -123,9 +173,14 @@ fn disperse(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
         return;
     }
     let fell_back = sdisp[i].x != 0.0;
-    let sums = disp_walk(i, bi, body.h, body.rho0, false);
+    let sums = disp_walk(i, bi, body.h, body.rho0, D_CQ, false);
     let vi = volume(i, pinfo[i], body.rho0);
     sdisp[i] = sums.q * (0.5 * DISP / vi);
+    if (LEAP != 0u) {
+        // The leapfrog's first evaluation takes no density or stress
+        // rates (its kinematic walk's none either).
+        return;
+    }
     let gc = gdisp[i] + sums.c * (-0.5 * DISP);
     // The kinematic walk's rates (kinematics.wgsl) at grad v + C.
     let mu = r[i].x;
@@ -156,7 +211,7 @@ fn disperse_forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     if (body.rigid != 0u) {
         return;
     }
-    let a = disp_walk(i, mi.z, body.h, body.rho0, true).c.xy / bitcast<f32>(mi.x);
+    let a = disp_walk(i, mi.z, body.h, body.rho0, D_FORCE, false).c.xy / bitcast<f32>(mi.x);
     let de = ddot2(sdisp[i], gdisp[i]) / (body.rho0 * (1.0 + r[i].x));
     if (!MID) {
         dv[i] = dv[i] + a;
@@ -169,4 +224,82 @@ fn disperse_forces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         dv[i] = w1;
         dr[i].y = dr[i].y + de * ctl.dt + compatible_energy(w0, w1, v[i]);
     }
+}
+
+// The leapfrog step (LEAP = 2, after kinematics_leap, which leaves the
+// update to n+1 to it): C at x_{n+1} and v_{n+1/2}, then particle i's
+// density, stress and energy at n+1 at grad v + C (kinematics.wgsl,
+// to_next). A rigid particle's pass is the kinematic walk's.
+@compute @workgroup_size(WG)
+fn disperse_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n || zero_length_pass()) {
+        return;
+    }
+    let bi = pinfo[i].z;
+    let body = bodies[bi];
+    if (body.rigid != 0u) {
+        return;
+    }
+    let fell_back = sdisp[i].x != 0.0;
+    let c = disp_walk(i, bi, body.h, body.rho0, D_C, false).c * (-0.5 * DISP);
+    to_next(i, body, 0.0, gdisp[i] + c, select(body.g, 0.0, fell_back), fell_back);
+}
+
+// The leapfrog step's S at n+1 (after disperse_leap): the stresses and
+// densities there.
+@compute @workgroup_size(WG)
+fn disperse_stress(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n || zero_length_pass()) {
+        return;
+    }
+    let mi = pinfo[i];
+    let body = bodies[mi.z];
+    if (body.rigid != 0u) {
+        sdisp[i] = vec4<f32>(0.0);
+        return;
+    }
+    let q = disp_walk(i, mi.z, body.h, body.rho0, D_Q, true).q;
+    let vi = bitcast<f32>(mi.x) / disp_density(i, mi, body.rho0, true);
+    sdisp[i] = q * (0.5 * DISP / vi);
+}
+
+// The leapfrog step's forces of S at n+1, after the forces walk: into the
+// carried acceleration, and the second half kick where the forces walk
+// gave it (a boundary particle's comes in the contact's pass, from the
+// whole acceleration).
+@compute @workgroup_size(WG)
+fn disperse_forces_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n || zero_length_pass()) {
+        return;
+    }
+    let mi = pinfo[i];
+    let body = bodies[mi.z];
+    if (body.rigid != 0u) {
+        return;
+    }
+    let a = disp_walk(i, mi.z, body.h, body.rho0, D_FORCE, true).c.xy / bitcast<f32>(mi.x);
+    dv[i] = dv[i] + a;
+    if (!(CONTACT && nbo[i].z > 0.0)) {
+        vkick[i] = hold(i, vkick[i] + a * (0.5 * ctl.dt));
+    }
+}
+
+// The leapfrog's booking (LEAP = 3, after the energy walk): S's work at
+// the velocity gradient of v_{n+1}, into the carried de/dt.
+@compute @workgroup_size(WG)
+fn disperse_work(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if (i >= params.n || zero_length_pass()) {
+        return;
+    }
+    let mi = pinfo[i];
+    let body = bodies[mi.z];
+    if (body.rigid != 0u) {
+        return;
+    }
+    let g = disp_walk(i, mi.z, body.h, body.rho0, D_GRAD, true).c;
+    rdt[i].y = rdt[i].y + ddot2(sdisp[i], g) / disp_density(i, mi, body.rho0, true);
 }

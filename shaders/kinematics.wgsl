@@ -520,12 +520,12 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if (ADAPT && LGRAD) {
         lgrad[i] = pack_step_gradient(gv, ctl.dt);
     }
-    if (LEAP != 0u) {
-        return;
-    }
     if (DISP > 0.0) {
         // The rates wait for the dispersion correction (dispersion.wgsl).
         hand_over(i, gv, wk.fell_back);
+        return;
+    }
+    if (LEAP != 0u) {
         return;
     }
     let d_tt = hoop_rate(ks.rad, v[i]);
@@ -555,8 +555,6 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     if (i >= params.n || zero_length_pass()) {
         return;
     }
-    let dt = ctl.dt;
-    let h = 0.5 * dt;
     let wk = walk_and_correct(i);
     let body = wk.body;
     let hi = body.h;
@@ -578,15 +576,47 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
             vhalf[i] = v[i];
             gradh[i] = vec4<f32>(0.0);
         }
+        if (DISP > 0.0) {
+            hand_over(i, vec4<f32>(0.0), false);
+        }
         return;
     }
     let gv = velocity_gradient(ks.gsum, l);
     if (ADAPT && LGRAD) {
         lgrad[i] = pack_step_gradient(gv, ctl.dt);
     }
-    let d_tt = hoop_rate(ks.rad, v[i]);
+    list_surface(i, ks, hi);
+    vstar[i] = predicted(i);
+    // The reconstruction's gradient of the predicted velocities (plain
+    // where the correction falls back); the hourglass control's of v_{n+1/2}.
+    if (RECON) {
+        gradv[i] = velocity_gradient(ks.gseen, l);
+    }
+    if (HG > 0.0) {
+        vhalf[i] = v[i];
+        gradh[i] = velocity_gradient(ks.gsum, fit_of(ks.m, l));
+    }
+    if (DISP > 0.0) {
+        // The update waits for the dispersion correction
+        // (dispersion.wgsl, disperse_leap).
+        hand_over(i, gv, wk.fell_back);
+        return;
+    }
+    to_next(i, body, ks.rad, gv, shear_of(wk), wk.debris);
+}
+
+// The leapfrog step's update of particle i (body `body`, radius `rad`) to
+// n+1 at velocity gradient `gv`: its density, deviatoric stress (shear
+// modulus `g`), plastic history and predicted energy, and its stress point
+// there. `ds` is the state's own deviatoric stress, updated in place.
+fn to_next(i: u32, body: Body, rad: f32, gv: vec4<f32>, g: f32, debris: bool) {
+    let dt = ctl.dt;
+    let h = 0.5 * dt;
+    let mu = r[i].x;
+    let si = ds[i];
+    let d_tt = hoop_rate(rad, v[i]);
     var mu1 = density_after(mu, density_log_rate(gv, d_tt) * dt);
-    var s1 = plastic_return(si + deviator_rate(shear_of(wk), si, gv, d_tt) * dt, body);
+    var s1 = plastic_return(si + deviator_rate(g, si, gv, d_tt) * dt, body);
     // The predicted energy takes back the first half kick's compatible
     // term, as the second (to come) is expected to return it
     // (common.wgsl, kick_energy; CPU twin: cpu::leapfrog).
@@ -603,18 +633,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
         hist_w[i] = up.h;
         d1 = damage_seen(up.h);
     }
-    list_surface(i, ks, hi);
     rdt[i].x = mu1;
     ds[i] = s1;
-    stress_point(i, ks.rad, body, mu1, e1, s1, d1, wk.debris);
-    vstar[i] = predicted(i);
-    // The reconstruction's gradient of the predicted velocities (plain
-    // where the correction falls back); the hourglass control's of v_{n+1/2}.
-    if (RECON) {
-        gradv[i] = velocity_gradient(ks.gseen, l);
-    }
-    if (HG > 0.0) {
-        vhalf[i] = v[i];
-        gradh[i] = velocity_gradient(ks.gsum, fit_of(ks.m, l));
-    }
+    stress_point(i, rad, body, mu1, e1, s1, d1, debris);
 }

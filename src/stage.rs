@@ -26,8 +26,11 @@
 //! (the stress update with a plastic history, [`crate::physics::strength`])
 //! in the kinematics and advance stages, `spread.wgsl` (the contact
 //! spring's pull through the normals) in the contact and advance stages,
-//! `kinematics_point.wgsl` (the per-particle part) in the kinematics stage
-//! and `forces_pair.wgsl` (the pair terms) in the forces stage.
+//! `kinematics_point.wgsl` (the per-particle part) in the kinematics stage,
+//! `dispersion.wgsl` (the dispersion correction's walks,
+//! [`crate::cpu::dispersion`]) compiled with the kinematics stage, its
+//! force and work walks run in the forces stage's entries, and
+//! `forces_pair.wgsl` (the pair terms) in the forces stage.
 //! `common.wgsl` holds the declarations every stage shares, `kernel.wgsl`
 //! the kernel and the supports, `material.wgsl` the material laws, and
 //! `walk.wgsl` the neighbour walk; `penalty.wgsl` is the contact stage's pass of the

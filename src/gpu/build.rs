@@ -95,12 +95,6 @@ impl GpuSolver {
         opts: GpuOptions,
         frame: Option<Frame>,
     ) -> Result<Self, String> {
-        if model.dispersion > 0.0 && model.integrator == Integrator::Leapfrog {
-            return Err(format!(
-                "dispersion_correction = {} runs on the GPU path with the midpoint rule only so far",
-                model.dispersion
-            ));
-        }
         let n = model.len();
         let frame = frame.unwrap_or_else(|| frame_of(&model, state));
         let (origin, cell) = (frame.origin, frame.cell);

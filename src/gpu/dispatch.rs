@@ -192,7 +192,29 @@ pub(super) struct LeapKernels {
     /// and the second only with a rigid body (contact.wgsl, pass1_at).
     pub(super) book: Vec<Kernel>,
     pub(super) energy: Kernel,
+    /// The dispersion correction's walks (dispersion.wgsl):
+    /// `disperse_leap` and `disperse_stress` after the kinematic walk,
+    /// `disperse_forces_leap` after the forces walk, `disperse_work` after
+    /// the energy walk.
+    pub(super) dispersion: Option<[Kernel; 4]>,
     pub(super) finish: Kernel,
+}
+
+impl LeapKernels {
+    /// The kinematics stage's dispatches.
+    pub(super) fn kinematics_all(&self) -> impl Iterator<Item = &Kernel> {
+        std::iter::once(&self.kinematics).chain(self.dispersion.iter().flat_map(|d| &d[..2]))
+    }
+
+    /// The forces stage's dispatches at n+1.
+    pub(super) fn forces_all(&self) -> impl Iterator<Item = &Kernel> {
+        std::iter::once(&self.forces).chain(self.dispersion.iter().map(|d| &d[2]))
+    }
+
+    /// The energy walk's dispatches.
+    pub(super) fn energy_all(&self) -> impl Iterator<Item = &Kernel> {
+        std::iter::once(&self.energy).chain(self.dispersion.iter().map(|d| &d[3]))
+    }
 }
 
 pub(super) struct Kernels {

@@ -181,10 +181,10 @@ impl GpuSolver {
                 self.encode_grid_after_counts(pass, Var::Base)
             }
             (Stage::Neighbours, _, None) => self.encode_grid(pass, var),
-            (Stage::Kinematics, _, Some(l)) => pass.run(&l.kinematics),
+            (Stage::Kinematics, _, Some(l)) => l.kinematics_all().for_each(|k| pass.run(k)),
             (Stage::Kinematics, _, None) => ev.kinematics_all().for_each(|k| pass.run(k)),
-            (Stage::Forces, Role::Energy, Some(l)) => pass.run(&l.energy),
-            (Stage::Forces, _, Some(l)) => pass.run(&l.forces),
+            (Stage::Forces, Role::Energy, Some(l)) => l.energy_all().for_each(|k| pass.run(k)),
+            (Stage::Forces, _, Some(l)) => l.forces_all().for_each(|k| pass.run(k)),
             (Stage::Forces, _, None) => ev.forces_all().for_each(|k| pass.run(k)),
             (Stage::Contact, Role::Book, Some(l)) => l.book.iter().for_each(|k| pass.run(k)),
             (Stage::Contact, _, Some(l)) => l

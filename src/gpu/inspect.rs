@@ -218,7 +218,7 @@ impl GpuSolver {
             }
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_grid(&mut pass, Var::Base);
-            pass.run(&l.kinematics);
+            l.kinematics_all().for_each(|k| pass.run(k));
         } else {
             let mut pass = enc.begin_compute_pass(&Default::default());
             self.encode_eval(&mut pass, Var::Base);

@@ -262,6 +262,24 @@ fn leap_kernels(
             )?
             .walking(Walk::Masked)
             .labelled("energy"),
+        dispersion: if model.dispersion > 0.0 {
+            Some([
+                step("kinematics", "disperse_leap", aliases::LEAP_KINEMATICS)?.walking(Walk::All),
+                step("kinematics", "disperse_stress", aliases::AT_N1)?.walking(Walk::All),
+                step("kinematics", "disperse_forces_leap", aliases::AT_N1)?.walking(Walk::All),
+                binder
+                    .kernel(
+                        &book_constants,
+                        "kinematics",
+                        "disperse_work",
+                        Size::Particles,
+                        aliases::ENERGY,
+                    )?
+                    .walking(Walk::All),
+            ])
+        } else {
+            None
+        },
         finish: binder.kernel(
             constants,
             "advance",

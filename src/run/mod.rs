@@ -109,23 +109,6 @@ pub fn choose_backend(scene: &Scene, opts: &RunOptions) -> Result<BackendChoice,
         warning,
     };
     let backend = opts.backend.unwrap_or(scene.simulation.backend);
-    // The dispersion correction with the leapfrog runs on the CPU path
-    // alone so far (the GPU runs it with the midpoint rule).
-    let theta = scene.simulation.dispersion_correction;
-    let integrator = opts.integrator.unwrap_or(scene.simulation.integrator);
-    let cpu_only = (theta > 0.0 && integrator == Integrator::Leapfrog)
-        .then(|| format!("dispersion_correction = {theta} with the leapfrog"));
-    if let Some(what) = cpu_only {
-        return match backend {
-            Backend::Gpu => Err(RunError::Backend {
-                backend: "gpu",
-                message: format!("{what}: the CPU path only so far; use --backend cpu (or auto)"),
-            }),
-            _ => Ok(cpu(matches!(backend, Backend::Auto).then(|| {
-                format!("backend auto: {what}: the CPU path only so far; running it")
-            }))),
-        };
-    }
     match backend {
         Backend::Cpu => Ok(cpu(None)),
         Backend::Gpu => match crate::gpu::shared_context() {

@@ -96,50 +96,33 @@ fn adaptive_supports_run_on_both_paths() {
     assert!(stdout.contains("support     adaptive"), "{stdout}");
 }
 
-/// A scene with something the CPU path alone runs: `--backend gpu`
-/// refuses it (exit 2, naming `key` and the way out), `auto` runs it on
-/// the CPU path with one warning line. Returns auto's output directory.
-fn cpu_path_only(tmp: &Path, scene: &Path, key: &str) -> PathBuf {
-    let (out, _) = run_into(tmp, scene, "gpu", tmp.join("gpu"));
-    refused(&out, &[key, "--backend cpu"]);
-    let (out, dir) = run_into(tmp, scene, "auto", tmp.join("auto"));
-    let warning = the_warning(&out);
-    assert!(warning.contains("CPU path only"), "{warning}");
-    dir
-}
-
-/// The dispersion correction with the leapfrog runs on the CPU path alone
-/// so far: `--backend gpu` refuses it (exit 2, naming the key and the way
-/// out) before any adapter is asked for, `auto` runs it on the CPU path
-/// with one warning line, and `check` names it. With the midpoint rule it
-/// runs on either path.
+/// The dispersion correction runs on either path, with either integrator,
+/// and `check` names it.
 #[test]
-fn dispersion_correction_runs_on_the_cpu_path_with_the_leapfrog() {
+fn dispersion_correction_runs_on_either_path() {
     let tmp = tempfile::tempdir().unwrap();
     let text = BASE_1D.replacen(
         "dimension = 1",
         "dimension = 1\ndispersion_correction = 0.7",
         1,
     );
-    let scene = write_scene(tmp.path(), "dispersion", &text);
-    let dir = cpu_path_only(tmp.path(), &scene, "dispersion_correction");
-    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    assert!(summary.contains("\"backend\": \"cpu\""), "{summary}");
-    check_says(tmp.path(), &scene, "dispersion  corrected, theta 0.7");
+    for (name, integrator) in [("leapfrog", "leapfrog"), ("midpoint", "midpoint")] {
+        let scene = write_scene(
+            tmp.path(),
+            name,
+            &text.replacen(
+                "dimension = 1",
+                &format!("dimension = 1\nintegrator = \"{integrator}\""),
+                1,
+            ),
+        );
+        let both = tmp.path().join(name);
+        std::fs::create_dir_all(&both).unwrap();
+        runs_on_both_paths(&both, &scene);
+        check_says(tmp.path(), &scene, "dispersion  corrected, theta 0.7");
+    }
     let plain = write_scene(tmp.path(), "plain", BASE_1D);
     check_says(tmp.path(), &plain, "dispersion  uncorrected");
-    let midpoint = write_scene(
-        tmp.path(),
-        "midpoint",
-        &text.replacen(
-            "dimension = 1",
-            "dimension = 1\nintegrator = \"midpoint\"",
-            1,
-        ),
-    );
-    let both = tmp.path().join("both");
-    std::fs::create_dir_all(&both).unwrap();
-    runs_on_both_paths(&both, &midpoint);
 }
 
 /// `check` names a body force, and a run with one books its potential

@@ -1,60 +1,66 @@
 //! The dispersion correction on the GPU path (docs/method.md, "The
 //! dispersion correction"): the midpoint rule's two extra walks an
-//! evaluation against the CPU's sweeps.
+//! evaluation and the leapfrog's four a step against the CPU's sweeps.
 
 use super::*;
 
-/// The paper's steel bars at θ 0.7 with the viscosity at α 0.3 on the
-/// midpoint rule: the rebound reaches 0.98 of the exact on the device as
-/// on the host (measured on lavapipe: 0.98116 both), and the histories
-/// and the ledger follow the CPU's within the elastic contacts' bound
-/// (measured: the rebound speed 5.2e-6 of its peak, the total energy
-/// 6.4e-7), the same steps.
+/// The paper's steel bars at θ 0.7 with the viscosity at α 0.3 on both
+/// integrators: the rebound reaches 0.98 of the exact on the device as on
+/// the host (measured on lavapipe: 0.98116 midpoint, 0.98107 leapfrog),
+/// and the histories and the ledger follow the CPU's within the elastic
+/// contacts' bound (measured: the rebound speed within 5.2e-6 and 1.6e-6
+/// of its peak, the total energy within 6.4e-7 and 4.2e-7), the same
+/// steps.
 #[test]
 fn dispersion_correction_bars_gpu_match_cpu() {
-    let path = "scenes/paper/bars_steel.toml";
-    let mut scene = load(path);
-    with_dispersion_correction(&mut scene, 0.7, 0.3);
-    scene.simulation.integrator = Integrator::Midpoint;
-    let Some((cpu, gpu)) = both_scene(path, &scene) else {
-        return;
-    };
-    assert_eq!(gpu.summary.steps, cpu.summary.steps, "step counts");
-    let rebound = -last(&gpu, "velocity_left") / 10.0;
-    println!("rebound on the device {rebound:.5}");
-    assert!(rebound >= 0.98, "rebound {rebound}");
-    close_at_end(&gpu, &cpu, ["velocity_left", "velocity_right"], ELASTIC);
-    for name in ["velocity_left", "energy_total", "contact_pressure"] {
-        let gap = history_gap(&cpu, &gpu, name);
-        assert!(gap < ELASTIC, "{name} off by {gap:e} of its peak");
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        let path = "scenes/paper/bars_steel.toml";
+        let mut scene = load(path);
+        with_dispersion_correction(&mut scene, 0.7, 0.3);
+        scene.simulation.integrator = integrator;
+        let Some((cpu, gpu)) = both_scene(path, &scene) else {
+            return;
+        };
+        assert_eq!(gpu.summary.steps, cpu.summary.steps, "step counts");
+        let rebound = -last(&gpu, "velocity_left") / 10.0;
+        println!("{integrator:?}: rebound on the device {rebound:.5}");
+        assert!(rebound >= 0.98, "rebound {rebound}");
+        close_at_end(&gpu, &cpu, ["velocity_left", "velocity_right"], ELASTIC);
+        for name in ["velocity_left", "energy_total", "contact_pressure"] {
+            let gap = history_gap(&cpu, &gpu, name);
+            assert!(gap < ELASTIC, "{name} off by {gap:e} of its peak");
+        }
+        let e0 = cpu.summary.energy.initial;
+        let residual = gpu.summary.energy.residual.abs() / e0;
+        assert!(residual < 1e-5, "the device's ledger residual {residual:e}");
     }
-    let e0 = cpu.summary.energy.initial;
-    let residual = gpu.summary.energy.residual.abs() / e0;
-    assert!(residual < 1e-5, "the device's ledger residual {residual:e}");
 }
 
 /// The paper's square disks with the correction, supports following the
 /// deformation from the start (`support_band = 1`: the walks in the
-/// pairs' mean metric), 3 µs into their contact on the midpoint rule: the
+/// pairs' mean metric), 2 µs into their contact on both integrators: the
 /// contact force's history within 1e-4 of its peak (measured on lavapipe
-/// 9.3e-6), the total energy within 1e-5 (9.2e-7), the same steps.
+/// 1.1e-5 on either), the total energy within 1e-5 (5.3e-7 and 8.3e-7),
+/// the same steps.
 #[test]
 fn dispersion_correction_disks_gpu_match_cpu() {
-    let path = "scenes/paper/disks_square.toml";
-    let mut scene = load(path);
-    with_dispersion_correction(&mut scene, 0.7, 0.3);
-    scene.simulation.integrator = Integrator::Midpoint;
-    scene.simulation.end_time = 3.0e-6;
-    scene.simulation.support = Some(sphcontact::scene::Support::Adaptive);
-    scene.simulation.support_band = Some(sphcontact::scene::SupportBand::Both(1.0));
-    let Some((cpu, gpu)) = both_scene(path, &scene) else {
-        return;
-    };
-    assert_eq!(gpu.summary.steps, cpu.summary.steps, "step counts");
-    let force = history_gap(&cpu, &gpu, "contact_force");
-    assert!(force < 1e-4, "contact force off by {force:e} of its peak");
-    let energy = history_gap(&cpu, &gpu, "energy_total");
-    assert!(energy < 1e-5, "total energy off by {energy:e}");
+    for integrator in [Integrator::Midpoint, Integrator::Leapfrog] {
+        let path = "scenes/paper/disks_square.toml";
+        let mut scene = load(path);
+        with_dispersion_correction(&mut scene, 0.7, 0.3);
+        scene.simulation.integrator = integrator;
+        scene.simulation.end_time = 2.0e-6;
+        scene.simulation.support = Some(sphcontact::scene::Support::Adaptive);
+        scene.simulation.support_band = Some(sphcontact::scene::SupportBand::Both(1.0));
+        let Some((cpu, gpu)) = both_scene(path, &scene) else {
+            return;
+        };
+        assert_eq!(gpu.summary.steps, cpu.summary.steps, "step counts");
+        let force = history_gap(&cpu, &gpu, "contact_force");
+        assert!(force < 1e-4, "contact force off by {force:e} of its peak");
+        let energy = history_gap(&cpu, &gpu, "energy_total");
+        assert!(energy < 1e-5, "total energy off by {energy:e}");
+    }
 }
 
 /// The largest gap between two runs' history column `name` over the

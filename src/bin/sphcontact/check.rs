@@ -100,7 +100,7 @@ fn print_numerics(scene: &Scene, model: &Model) {
         "dispersion  {}",
         if sim.dispersion_correction > 0.0 {
             format!(
-                "corrected, theta {} (more pair sweeps: two a midpoint evaluation, four a leapfrog step; the GPU path with the midpoint rule only)",
+                "corrected, theta {} (more pair sweeps: two a midpoint evaluation, four a leapfrog step)",
                 sim.dispersion_correction
             )
         } else {

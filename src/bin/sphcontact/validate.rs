@@ -108,7 +108,6 @@ pub(crate) fn validate_cmd(args: ValidateArgs) -> ExitCode {
         let sw = SweepRequest {
             backend,
             integrator,
-            dispersion_correction,
             sweep_max,
         };
         return sweep_cmd(sw, tuning, out);
@@ -148,7 +147,6 @@ pub(crate) fn validate_cmd(args: ValidateArgs) -> ExitCode {
 struct SweepRequest {
     backend: Option<BackendArg>,
     integrator: Option<IntegratorArg>,
-    dispersion_correction: Option<f64>,
     sweep_max: f64,
 }
 
@@ -159,19 +157,9 @@ fn sweep_cmd(req: SweepRequest, tuning: sphcontact::validation::Tuning, out: Pat
     let SweepRequest {
         backend,
         integrator,
-        dispersion_correction,
         sweep_max,
     } = req;
-    // The GPU runs the dispersion correction with the midpoint rule only.
-    let cpu_only = dispersion_correction.is_some_and(|t| t > 0.0)
-        && !matches!(integrator, Some(IntegratorArg::Midpoint));
     let backends = match backend.map(backend_of) {
-        Some(Backend::Auto) | None if cpu_only => {
-            eprintln!(
-                "sweep: the dispersion correction with the leapfrog runs on the CPU path only; CPU only"
-            );
-            vec![Backend::Cpu]
-        }
         Some(Backend::Auto) | None => {
             let mut b = vec![Backend::Cpu];
             match sphcontact::gpu::shared_context() {
