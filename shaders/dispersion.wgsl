@@ -183,21 +183,7 @@ fn disperse(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
     }
     let gc = gdisp[i] + sums.c * (-0.5 * DISP);
     // The kinematic walk's rates (kinematics.wgsl) at grad v + C.
-    let mu = r[i].x;
-    let si = s[i];
-    if (STRAIN_RATE) {
-        srate[i] = equivalent_rate(gc, 0.0);
-    }
-    let dmu = density_rate(mu, gc, 0.0);
-    let rate = deviator_rate(select(body.g, 0.0, fell_back), si, gc, 0.0);
-    if (!MID) {
-        dr[i].x = dmu;
-        ds[i] = rate;
-    } else if (ctl.dt != 0.0) {
-        let dt = ctl.dt;
-        dr[i].x = dr[i].x + dmu * dt;
-        ds[i] = plastic_return(ds[i] + rate * dt, body);
-    }
+    midpoint_rates(i, body, r[i].x, s[i], gc, 0.0, select(body.g, 0.0, fell_back));
 }
 
 @compute @workgroup_size(WG)

@@ -528,12 +528,19 @@ fn kinematics(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if (LEAP != 0u) {
         return;
     }
-    let d_tt = hoop_rate(ks.rad, v[i]);
+    midpoint_rates(i, body, mu, si, gv, hoop_rate(ks.rad, v[i]), shear_of(wk));
+}
+
+// The midpoint rule's rates of particle i (body `body`, density `mu`,
+// deviatoric stress `si`) at velocity gradient `gv` and hoop rate `d_tt`
+// with shear modulus `g`: at the base state into the rates, at the
+// midpoint a step of them into the state.
+fn midpoint_rates(i: u32, body: Body, mu: f32, si: vec4<f32>, gv: vec4<f32>, d_tt: f32, g: f32) {
     if (STRAIN_RATE) {
         srate[i] = equivalent_rate(gv, d_tt);
     }
     let dmu = density_rate(mu, gv, d_tt);
-    let rate = deviator_rate(shear_of(wk), si, gv, d_tt);
+    let rate = deviator_rate(g, si, gv, d_tt);
     if (!MID) {
         dr[i].x = dmu;
         ds[i] = rate;
