@@ -53,8 +53,9 @@ const FILES: &[(&str, &str)] = &[
     // The stress update with a plastic history: the kinematics pass (the
     // leapfrog's step) and the midpoint rule's advance passes.
     ("strength.wgsl", include_str!("../../shaders/strength.wgsl")),
-    // The dispersion correction's walks, part of the kinematics stage
-    // (the second runs after the forces walk).
+    // The dispersion correction's walks, compiled with the kinematics
+    // stage (those of its force and work run in the forces stage's
+    // entries).
     (
         "dispersion.wgsl",
         include_str!("../../shaders/dispersion.wgsl"),
