@@ -87,10 +87,7 @@ fn disp_density(j: u32, mj: vec4<u32>, rho0: f32, next: bool) -> f32 {
 fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, mode: u32, next: bool) -> DispSums {
     let cs = consts();
     let adapt = adapting();
-    var wk = walker(i);
-    if (adapt) {
-        wk = adaptive_walker(i);
-    }
+    let wk = sph_walker(i);
     let mi = pinfo[i];
     let li = lmat[i];
     let rho_i = disp_density(i, mi, rho0, next);
@@ -112,10 +109,8 @@ fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, mode: u32, next: bool) -> Disp
     }
     var out = DispSums(vec4<f32>(0.0), vec4<f32>(0.0));
     for (var row = 0u; row < scan_rows(); row++) {
-        var span = row_span(wk.hm, row);
-        if (adapt) {
-            span = row_span_in(wk.hm, row, wk.reach);
-        }
+        // A round walker's reach is `row_span`'s.
+        let span = row_span_in(wk.hm, row, wk.reach);
         for (var k = span.start; k < span.end; k++) {
             let cd = cand(wk, k, cs);
             let j = cd.j;

@@ -429,10 +429,7 @@ fn forces_of(i: u32) -> f32 {
         return 0.0;
     }
     let adapt = adapting();
-    var wk = walker(i);
-    if (adapt) {
-        wk = adaptive_walker(i);
-    }
+    let wk = sph_walker(i);
     let own = own_of(i, mi, body, boundary, surface, wk.rad);
     let sums = pair_sums(own, wk, i, mi, adapt);
     var acc = sums.acc;

@@ -170,6 +170,15 @@ fn adaptive_walker(i: u32) -> Walker {
     return w;
 }
 
+// The walker of the SPH sums: `adaptive_walker`'s while some support
+// adapts (`adapting`), else `walker`'s.
+fn sph_walker(i: u32) -> Walker {
+    if (adapting()) {
+        return adaptive_walker(i);
+    }
+    return walker(i);
+}
+
 // How far apart a particle of metric `q` and any other can be and lie in
 // their mean metric's support, dᵀ (Q_i + Q_j) d < 8, when no major
 // semi-axis exceeds the step's largest (`step_h_top`): sqrt(8 / (1/a_i^2 +
