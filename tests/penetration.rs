@@ -36,9 +36,15 @@ fn slow_shot_keeps_its_energy_with(hourglass: Option<f64>) {
 /// The penetration scene with the rod at `speed` (m/s), Δx = 0.2 mm, to
 /// 30 µs, without snapshots.
 fn coarse_shot(speed: f64) -> sphcontact::Scene {
+    shot_at(speed, 2.0e-4)
+}
+
+/// The penetration scene with the rod at `speed` (m/s), spacing `dx`, to
+/// 30 µs, without snapshots.
+fn shot_at(speed: f64, dx: f64) -> sphcontact::Scene {
     let mut scene = load("scenes/penetration/tungsten_rod_steel_plate.toml");
     for b in &mut scene.bodies {
-        b.spacing = 2.0e-4;
+        b.spacing = dx;
     }
     scene.bodies[0].velocity = Some(vec![0.0, -speed]);
     scene.output.snapshot_interval = None;
@@ -319,13 +325,8 @@ fn close_pairs(out: &sphcontact::run::RunOutput, dx: f64) -> Vec<(usize, f64)> {
 #[test]
 #[ignore]
 fn fastest_shot_at_a_tenth_of_a_millimetre_keeps_its_energy() {
-    let mut scene = load("scenes/penetration/tungsten_rod_steel_plate.toml");
     let dx = 1.0e-4;
-    for b in &mut scene.bodies {
-        b.spacing = dx;
-    }
-    scene.bodies[0].velocity = Some(vec![0.0, -1500.0]);
-    scene.output.snapshot_interval = None;
+    let scene = shot_at(1500.0, dx);
     let out = run(&scene);
     assert_eq!(out.summary.status, "completed", "{:?}", out.summary.error);
     assert_conserved(&scene, &out);

@@ -446,10 +446,10 @@ fn rubber_rings_rebound_intact_with_hourglass_control_midpoint() {
 }
 
 /// The rings at Δx = 1 mm (4,398 particles), where round supports no
-/// longer hold them: with the default close-pair stress 116 particles end
-/// below −1e-3 c_L² of internal energy (down to −0.125 c_L²) and the
-/// restitution falls to 0.571; within the default band (1.5) supports stay
-/// round over most of the rubber and particles still end below zero. With
+/// longer hold them: with the default close-pair stress (leapfrog, to
+/// 600 µs) 11 particles end below zero, 6 of them below −1e-3 c_L² (down
+/// to −0.079 c_L²), and the restitution falls to 0.636; the default band
+/// (1.5) leaves the supports round here, to the bit. With
 /// supports that follow the deformation from the start (the close-pair
 /// gate then reads each pair in its own metric) they hold: besides the
 /// checks above, no particle at a negative internal energy in any
