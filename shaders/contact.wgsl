@@ -641,6 +641,16 @@ fn shared_normal(p: u32, mp: vec4<u32>, wk: Walker, cnp: vec4<f32>, bq: u32) -> 
             if (w >= 0.0) {
                 normal += crub1[place(cd.j)].w * w;
             }
+            for (var m = 0u; m < contact_images(); m++) {
+                // Across the symmetry planes: the passes that met p's
+                // image.
+                let f = contact_flip(m);
+                let d = image_sep_of_walker(wk, f, cd.off, cd.d);
+                let wi = pair_weight(p, mp, cnp, mirror_vec(f, cnp.xy), d, cd.j, bq).x;
+                if (wi >= 0.0) {
+                    normal += crub1[place(cd.j)].w * wi;
+                }
+            }
         }
     }
     return normal;
@@ -758,6 +768,16 @@ fn rub_gather_at(q: u32) {
             let w = partner_weight(q, mq, cnq, cd, NONE).x;
             if (w >= 0.0) {
                 f += crubo[pinfo[cd.j].w].xy * w;
+            }
+            for (var m = 0u; m < contact_images(); m++) {
+                // Across the symmetry planes: what the particles whose
+                // images met q's handed q's image, mirrored back.
+                let fl = contact_flip(m);
+                let d = image_sep_of_walker(wk, fl, cd.off, cd.d);
+                let wi = pair_weight(q, mq, cnq, mirror_vec(fl, cnq.xy), d, cd.j, NONE).x;
+                if (wi >= 0.0) {
+                    f += mirror_vec(fl, crubo[pinfo[cd.j].w].xy * wi);
+                }
             }
         }
     }

@@ -262,6 +262,42 @@ fn half_penetration_gives_the_whole_residual_velocity() {
     }
 }
 
+/// The same penetration with Coulomb friction 0.1 between rod and plate
+/// (docs/method.md §8.6), to 10 µs: the rod's nose rubs on the crater's
+/// particles and their images across the plane, and the gathers of the
+/// normal force and of the rub's reaction take the images' share. The
+/// frictional heat, as every other term of the ledger, half the whole's.
+#[test]
+fn half_penetration_with_friction_gives_the_whole() {
+    let (mut full, mut half) = shipped(
+        "scenes/penetration/tungsten_rod_steel_plate.toml",
+        "scenes/symmetry/tungsten_rod_steel_plate_half.toml",
+        [1.0, 0.0],
+    );
+    for s in [&mut full, &mut half] {
+        for b in &mut s.bodies {
+            b.spacing = 2e-4;
+        }
+        s.simulation.end_time = 1e-5;
+        s.contact.get_or_insert_with(Default::default).friction = 0.1;
+    }
+    let (a, b) = (run(&full), run(&half));
+    books(&b, glam::DVec2::X, Some(1200.0));
+    is_the_half(&a, &b, glam::DVec2::X, 1e-9);
+    let heat = |o: &RunOutput| o.summary.energy.friction_heat.expect("friction");
+    let (ha, hb) = (heat(&a), heat(&b));
+    println!("frictional heat: whole {ha:e} J, half {hb:e} J");
+    assert!(ha > 1e-3 * a.summary.energy_initial, "the rod rubs: {ha:e}");
+    assert!(
+        (2.0 * hb - ha).abs() <= 1e-9 * a.summary.energy_initial,
+        "frictional heat: the half's {hb:e} against the whole's {ha:e}"
+    );
+    for v in ["velocity_rod", "velocity_plate"] {
+        let gap = column_gap(&a, &b, v, 1.0);
+        assert!(gap <= 1e-9, "{v} off by {gap:e}");
+    }
+}
+
 /// A steel tube swaged onto a steel rod, bodies of revolution cut at
 /// their mid-plane (scenes/symmetry/tube_onto_rod_half.toml): the images
 /// across the axis, the plane and both, and the contact across the

@@ -455,15 +455,6 @@ fn symmetry_planes() {
         )
         .two_d(),
         case(
-            "symmetry_with_friction",
-            &[(
-                "[materials.steel]",
-                "[contact]\nfriction = 0.1\n\n[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [0.0, 0.0]\n\n[materials.steel]",
-            )],
-            "contact.friction",
-        )
-        .two_d(),
-        case(
             "symmetry_beyond_a_body",
             &[(
                 "[materials.steel]",

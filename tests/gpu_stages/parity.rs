@@ -485,3 +485,28 @@ fn stages_match_cpu_with_friction() {
         check_state(model, st, true);
     }
 }
+
+/// Coulomb friction across a symmetry plane: the rod and plate cut along
+/// the axis of impact (scenes/symmetry/tungsten_rod_steel_plate_half.toml,
+/// Δx 0.2 mm, μ = 0.1) 6 µs into the plate, where the rod's nose rubs on
+/// the crater's particles and their images: the rub's normal force and
+/// its gather take what the passes that met a particle's image handed it.
+#[test]
+fn stages_match_cpu_with_friction_across_a_symmetry_plane() {
+    if gpu().is_none() {
+        return;
+    }
+    let mut scene = load("scenes/symmetry/tungsten_rod_steel_plate_half.toml");
+    for b in &mut scene.bodies {
+        b.spacing = 2e-4;
+    }
+    scene.contact.get_or_insert_with(Default::default).friction = 0.1;
+    let (model, st) = state_of(&scene, 6e-6);
+    // Rubbing within a support of the plane, where the images take part.
+    let near = (0..model.len())
+        .filter(|&i| st.slip[i] != 0.0 && st.x[i].x < 2.0 * model.h[i])
+        .count();
+    println!("{near} rubbing particles within 2h of the plane");
+    assert!(near > 0, "the rod rubs near the plane");
+    check_state(model, st, true);
+}

@@ -148,7 +148,7 @@ pub(super) struct Booking<'a> {
     ndot: Vec<DVec2>,
     /// The images across the symmetry planes that the passes also meet
     /// their partners' (none for the axis of a body of revolution).
-    mirrors: &'a [crate::math::Mirror],
+    pub(super) mirrors: &'a [crate::math::Mirror],
 }
 
 /// Pass 1's result for one boundary particle P.
@@ -498,6 +498,13 @@ impl Booking<'_> {
             let (sx, nx) = (m.point(st.x[q]) + m.vector(nq) * oq, m.vector(nq));
             f += m.vector(share.q * w);
             heat += share.eta * w;
+            if model.rubs {
+                let bp = model.body[p];
+                match normal.iter_mut().find(|x: &&mut (u32, f64)| x.0 == bp) {
+                    Some(x) => x.1 += share.normal * w,
+                    None => normal.push((bp, share.normal * w)),
+                }
+            }
             if let Some((bar, sp)) = &share.spring {
                 let d = penalty::candidate(bar, *sp, w, sx, nx, oq);
                 f += m.vector(gw * d.w - d.x);

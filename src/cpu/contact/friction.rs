@@ -59,6 +59,24 @@ pub(super) fn add(bk: &Booking, pass1: &[P1], gathered: &[Gathered], out: &mut C
                     f += share * w;
                 }
             }
+            // Across the symmetry planes: what the partners whose images
+            // met q's handed to q's image, mirrored back.
+            for &e in bk.nb.cross_images_of(q) {
+                let (p, kind) = image_entry(e);
+                let (p, m) = (p as usize, bk.mirrors[kind]);
+                if !bd.is_boundary[p] {
+                    continue;
+                }
+                let Some((body, share)) = rubs[bk.slot(p)].share else {
+                    continue;
+                };
+                if body != bq {
+                    continue;
+                }
+                if let Some((w, _)) = is_image_candidate(model, st, bd, &m, p, q) {
+                    f += m.vector(share * w);
+                }
+            }
             f
         })
         .collect();

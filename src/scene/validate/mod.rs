@@ -387,16 +387,6 @@ fn validate_symmetry(scene: &Scene) -> R {
             "is not available with a symmetry plane so far",
         ));
     }
-    let cs = scene.contact_settings();
-    let rubs = |mu: f64, s: Option<f64>| mu > 0.0 || s.is_some_and(|s| s > 0.0);
-    if rubs(cs.friction, cs.static_friction)
-        || cs.pairs.iter().any(|p| rubs(p.friction, p.static_friction))
-    {
-        return Err(SceneError::at(
-            "contact.friction",
-            "friction is not available with a symmetry plane so far",
-        ));
-    }
     Ok(())
 }
 
