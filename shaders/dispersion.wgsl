@@ -20,8 +20,9 @@
 // the gradient of v_{n+1} after the energy walk (`disperse_work`). Its
 // first evaluation runs `disperse` and `disperse_forces` for a_0 and de_0.
 //
-// Bodies of revolution and symmetry planes do not take the correction: the
-// walks meet no images.
+// Across the symmetry planes each walk meets its neighbours' images and its
+// own, as the kinematic walk does (cpu::dispersion, `image_pairs`). Bodies
+// of revolution do not take the correction.
 
 // The plain velocity gradient of the kinematic walk (zero on a rigid
 // particle).
@@ -84,30 +85,78 @@ fn disp_density(j: u32, mj: vec4<u32>, rho0: f32, next: bool) -> f32 {
     return r0 * (1.0 + r[j].x);
 }
 
+// What walker i's sums take of its pair with particle j, or with j's
+// mirror image under `f` across the symmetry planes (f = 0: j itself):
+// the pair's gradient `gw` (grad_i W), d_ij = x_j - x_i, and j's volume
+// `vj` and density `rho_j`; j's gradient, L, S, stress and velocity
+// mirrored by `f`. `wi` is what the walk keeps of i: its own gradient or
+// S (`own`), V sigma, velocity, volume and L.
+struct DispOwn {
+    own: vec4<f32>,
+    vs: vec4<f32>,
+    vel: vec2<f32>,
+    vol: f32,
+    l: vec4<f32>,
+}
+
+fn disp_terms(out: ptr<function, DispSums>, mode: u32, wi: DispOwn, gw: vec2<f32>, dij: vec2<f32>, f: u32, j: u32, bj: u32, vj: f32, rho_j: f32) {
+    let aij = mat_mul(wi.l, gw * vj);
+    if (mode == D_GRAD) {
+        (*out).c += outer(mirror_vec(f, v[j]) - wi.vel, aij);
+        return;
+    }
+    if (mode == D_C || mode == D_CQ) {
+        (*out).c += outer(mat_mul(mirror_mat(f, gdisp[j]) - wi.own, dij), aij);
+    }
+    if (mode == D_C) {
+        return;
+    }
+    // A rigid particle has no correction of its own (the CPU's L is zero
+    // there).
+    var aji = vec2<f32>(0.0);
+    if (bodies[bj].rigid == 0u) {
+        aji = mat_mul(mirror_mat(f, lmat[j]), -gw * wi.vol);
+    }
+    if (mode == D_FORCE) {
+        let p = mat_mul(wi.own, aij) * wi.vol - mat_mul(mirror_mat(f, sdisp[j]), aji) * vj;
+        (*out).c += vec4<f32>(p, 0.0, 0.0);
+    } else {
+        let w = sym_apply(wi.vs, aij) + sym_apply(mirror_sym(f, sr2c[j]) * (vj * rho_j * rho_j), aji);
+        (*out).q += outer(w, dij);
+    }
+}
+
+// The pair of walker `wk` with image `m` of a particle at offsets `oj`,
+// separation `d` and support `qj` (where supports adapt; `hij` the round
+// pair's smoothing length otherwise): the kinematic walk's image pairs.
+fn disp_image(wk: Walker, adapt: bool, m: u32, oj: vec2<f32>, d: vec2<f32>, qj: vec4<f32>, hij: f32, hi: f32) -> Pair {
+    if (adapt) {
+        return image_pair_metric(wk, m, oj, d, qj, hi);
+    }
+    return image_pair(wk, m, oj, d, hij);
+}
+
 fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, mode: u32, next: bool) -> DispSums {
     let cs = consts();
     let adapt = adapting();
     let wk = sph_walker(i);
     let mi = pinfo[i];
-    let li = lmat[i];
     let rho_i = disp_density(i, mi, rho0, next);
-    let vi = bitcast<f32>(mi.x) / rho_i;
-    var own = vec4<f32>(0.0);
+    var wi = DispOwn(vec4<f32>(0.0), vec4<f32>(0.0), vec2<f32>(0.0), bitcast<f32>(mi.x) / rho_i, lmat[i]);
     if (mode == D_FORCE) {
-        own = sdisp[i];
+        wi.own = sdisp[i];
     } else if (mode == D_CQ || mode == D_C) {
-        own = gdisp[i];
+        wi.own = gdisp[i];
     }
-    var vs_i = vec4<f32>(0.0);
     if (mode == D_CQ || mode == D_Q) {
         // V sigma = V rho^2 (sigma / rho^2).
-        vs_i = sr2c[i] * (vi * rho_i * rho_i);
+        wi.vs = sr2c[i] * (wi.vol * rho_i * rho_i);
     }
-    var vel_i = vec2<f32>(0.0);
     if (mode == D_GRAD) {
-        vel_i = v[i];
+        wi.vel = v[i];
     }
     var out = DispSums(vec4<f32>(0.0), vec4<f32>(0.0));
+    let images = image_count();
     for (var row = 0u; row < scan_rows(); row++) {
         // A round walker's reach is `row_span`'s.
         let span = row_span_in(wk.hm, row, wk.reach);
@@ -119,37 +168,49 @@ fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, mode: u32, next: bool) -> Disp
             if (adapt) {
                 pr = sph_pair(wk, cd, mj.z, span, hi, bi);
             }
-            if (!pr.inside || pr.dist <= 0.0) {
+            let paired = pr.inside && pr.dist > 0.0;
+            // Which of j's images across the symmetry planes may be pairs
+            // (none without a plane): where supports adapt, those in the
+            // mean metric whether or not j itself is; else, an image being
+            // never nearer than its particle, those of j's pair.
+            var hit = 0u;
+            var qj = vec4<f32>(0.0);
+            if (images > 0u) {
+                if (adapt) {
+                    if (j != i && in_row(cd.cell, span) && !(CONTACT && mj.z != bi)) {
+                        qj = support_of(j, body_h(hi, mj.z));
+                        hit = metric_images(wk, cd.off, cd.d, qj, hi);
+                    }
+                } else if (paired) {
+                    hit = (1u << images) - 1u;
+                }
+            }
+            if (!paired && hit == 0u) {
                 continue;
             }
             let rho_j = disp_density(j, mj, rho0, next);
             let vj = bitcast<f32>(mj.x) / rho_j;
-            let aij = mat_mul(li, pr.gw * vj);
-            // d_ij = x_j - x_i.
-            let dij = -pr.d;
-            if (mode == D_GRAD) {
-                out.c += outer(v[j] - vel_i, aij);
-                continue;
+            if (paired) {
+                // d_ij = x_j - x_i.
+                disp_terms(&out, mode, wi, pr.gw, -pr.d, 0u, j, mj.z, vj, rho_j);
             }
-            if (mode == D_C || mode == D_CQ) {
-                out.c += outer(mat_mul(gdisp[j] - own, dij), aij);
+            for (var m = 0u; m < images; m++) {
+                if ((hit & (1u << m)) == 0u) {
+                    continue;
+                }
+                let im = disp_image(wk, adapt, m, cd.off, cd.d, qj, pr.hij, hi);
+                if (im.inside) {
+                    disp_terms(&out, mode, wi, im.gw, -im.d, image_flip(m), j, mj.z, vj, rho_j);
+                }
             }
-            if (mode == D_C) {
-                continue;
-            }
-            // A rigid particle has no correction of its own (the CPU's
-            // L is zero there).
-            var aji = vec2<f32>(0.0);
-            if (bodies[mj.z].rigid == 0u) {
-                aji = mat_mul(lmat[j], -pr.gw * vi);
-            }
-            if (mode == D_FORCE) {
-                let p = mat_mul(own, aij) * vi - mat_mul(sdisp[j], aji) * vj;
-                out.c += vec4<f32>(p, 0.0, 0.0);
-            } else {
-                let w = sym_apply(vs_i, aij) + sym_apply(sr2c[j] * (vj * rho_j * rho_j), aji);
-                out.q += outer(w, dij);
-            }
+        }
+    }
+    for (var m = 0u; m < images; m++) {
+        // The walker's own images (none on a plane it lies on, at zero
+        // distance).
+        let im = disp_image(wk, adapt, m, wk.off, vec2<f32>(0.0), wk.q, hi, hi);
+        if (im.inside && im.dist > 0.0) {
+            disp_terms(&out, mode, wi, im.gw, -im.d, image_flip(m), i, bi, wi.vol, rho_i);
         }
     }
     return out;

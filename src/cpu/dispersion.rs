@@ -18,7 +18,9 @@
 //!
 //! Three pair sweeps an evaluation (one more for the leapfrog's work at
 //! `v_{n+1}`, [`gradient`]), run only where a scene sets
-//! `dispersion_correction`.
+//! `dispersion_correction`; across symmetry planes each also takes the
+//! pairs with the neighbours' images ([`image_pairs`]), as the kinematic
+//! sums do.
 
 use glam::DVec2;
 use rayon::prelude::*;
@@ -26,7 +28,7 @@ use rayon::prelude::*;
 use super::kinematics::StressPoint;
 use super::kinematics::{gradient_weight, stress_rate, volumes, Kinematics};
 use super::neighbours::Neighbours;
-use crate::math::{Mat2, Sym};
+use crate::math::{Mat2, Mirror, Sym};
 use crate::model::{Model, State};
 use crate::physics::strength;
 
@@ -44,6 +46,46 @@ fn weights(
         l[i].mul_vec(gw * gradient_weight(model, st, vol, i, j)),
         l[j].mul_vec(-gw * gradient_weight(model, st, vol, j, i)),
     )
+}
+
+/// The image pair of particle i and the mirror image of j across `m`
+/// (`gw = ∇_i W` at `x_i − m(x_j)`): the weights `(a_ij', a_j'i)`, the
+/// image's `L` being `L_j` mirrored.
+#[inline]
+fn image_weights(
+    model: &Model,
+    st: &State,
+    vol: &[f64],
+    l: &[Mat2],
+    (i, j, m): (usize, usize, &Mirror),
+    gw: DVec2,
+) -> (DVec2, DVec2) {
+    (
+        l[i].mul_vec(gw * gradient_weight(model, st, vol, i, j)),
+        m.mat(&l[j])
+            .mul_vec(-gw * gradient_weight(model, st, vol, j, i)),
+    )
+}
+
+/// Adds to each particle's `acc` its pairs with the mirror images of its
+/// neighbours (and of itself) across the symmetry planes, i's side only:
+/// `pair(i, j, m, gw, d, acc_i)` with `gw = ∇_i W` and `d = m(x_j) − x_i`.
+/// The image's side of the pair is the mirror of j's pair with i's image,
+/// which j's row takes. Nothing without a plane.
+fn image_pairs<T, P>(model: &Model, st: &State, nb: &Neighbours, acc: &mut [T], pair: P)
+where
+    T: Send,
+    P: Fn(usize, usize, &Mirror, DVec2, DVec2, &mut T) + Sync,
+{
+    if model.images.is_empty() {
+        return;
+    }
+    acc.par_iter_mut().enumerate().for_each(|(i, a)| {
+        for (b, _, m) in nb.images_of(model, st.frame(), i) {
+            let j = b.j as usize;
+            pair(i, j, &m, b.gw, m.point(st.x[j]) - st.x[i], a);
+        }
+    });
 }
 
 /// `A : B` of two general matrices.
@@ -66,6 +108,10 @@ pub fn gradient(model: &Model, st: &State, nb: &Neighbours, l: &[Mat2], v: &[DVe
         if let Some(gj) = gj {
             *gj += Mat2::outer(-dv, aj);
         }
+    });
+    image_pairs(model, st, nb, &mut g, |i, j, m, gw, _, gi| {
+        let (ai, _) = image_weights(model, st, &vol, l, (i, j, m), gw);
+        *gi += Mat2::outer(m.vector(v[j]) - v[i], ai);
     });
     for (i, g) in g.iter_mut().enumerate() {
         if model.rigid(i) {
@@ -134,6 +180,15 @@ fn pair_sums(
             if let Some(w) = w {
                 *qj += Mat2::outer(-w, d);
             }
+        }
+    });
+    image_pairs(model, st, nb, &mut acc, |i, j, m, gw, d, (ci, qi)| {
+        let (ai, aj) = image_weights(model, st, &vol, l, (i, j, m), gw);
+        if let Some(g) = g {
+            *ci += Mat2::outer(m.mat(&g[j]).mul_vec(d) - g[i].mul_vec(d), ai);
+        }
+        if let Some(vs) = &vs {
+            *qi += Mat2::outer(vs[i].mul_vec(ai) + m.sym(&vs[j]).mul_vec(aj), d);
         }
     });
     let theta = model.dispersion;
@@ -213,6 +268,10 @@ pub fn add_forces(
             *fj -= p;
         }
     });
+    image_pairs(model, st, nb, &mut f, |i, j, m, gw, _, fi| {
+        let (ai, aj) = image_weights(model, st, &vol, l, (i, j, m), gw);
+        *fi += s[i].mul_vec(ai) * vol[i] - m.mat(&s[j]).mul_vec(aj) * vol[j];
+    });
     dv.par_iter_mut().enumerate().for_each(|(i, a)| {
         if !model.rigid(i) {
             *a += f[i] / model.mass[i];
@@ -255,6 +314,22 @@ mod tests {
     /// the scene's key; with `stir`, its lattice, velocities, densities and
     /// deviatoric stresses stirred by a fixed pseudo-random sequence.
     fn stirred(dim: u32, support: &str, theta: f64, stir: bool) -> (Model, State) {
+        stirred_cut(dim, support, theta, stir, None)
+    }
+
+    /// [`stirred`], the 2-D block cut by the symmetry plane normal to x
+    /// at `plane` (the half beyond it kept); a particle on the plane keeps
+    /// its place and no velocity across it.
+    fn stirred_cut(
+        dim: u32,
+        support: &str,
+        theta: f64,
+        stir: bool,
+        plane: Option<f64>,
+    ) -> (Model, State) {
+        let cut = plane.map_or(String::new(), |p| {
+            format!("[[symmetry]]\nnormal = [1.0, 0.0]\npoint = [{p}, 0.0]\n")
+        });
         let (shape, v) = if dim == 1 {
             (r#"{ kind = "segment", from = 0.0, to = 0.004 }"#, "[3.0]")
         } else {
@@ -281,7 +356,7 @@ material = "m"
 spacing = 1.0e-4
 velocity = {v}
 shape = {shape}
-"#
+{cut}"#
             ),
             "block",
         )
@@ -299,8 +374,14 @@ shape = {shape}
         };
         let y = if dim == 1 { 0.0 } else { 1.0 };
         for i in 0..model.len() {
-            st.x[i] += DVec2::new(r(), r() * y) * 2.0e-5;
-            st.v[i] += DVec2::new(r(), r() * y) * 4.0;
+            let on = plane.is_some_and(|p| st.x[i].x == p);
+            let (dx, dv) = (
+                DVec2::new(r(), r() * y) * 2.0e-5,
+                DVec2::new(r(), r() * y) * 4.0,
+            );
+            st.x[i] += if on { DVec2::new(0.0, dx.y) } else { dx };
+            let vx = st.v[i].x;
+            st.v[i] += if on { DVec2::new(-vx, dv.y) } else { dv };
             st.rho[i] *= 1.0 + 0.01 * r();
             st.s[i] = Sym {
                 xx: 1e8 * r(),
@@ -318,8 +399,23 @@ shape = {shape}
     /// minus that work at the velocities, so the ledger closes.
     #[test]
     fn the_forces_are_the_strain_rates_adjoint() {
-        for (dim, support) in [(1, "fixed"), (2, "fixed"), (2, "adaptive")] {
-            let (model, st) = stirred(dim, support, 0.7, true);
+        // Across a symmetry plane between two rows of particles, and on
+        // one (its particles with half their volume).
+        let cases = [
+            (1, "fixed", None),
+            (2, "fixed", None),
+            (2, "adaptive", None),
+            (2, "fixed", Some(0.0015)),
+            (2, "fixed", Some(0.00155)),
+            (2, "adaptive", Some(0.00155)),
+        ];
+        for (dim, support, plane) in cases {
+            let (model, st) = stirred_cut(dim, support, 0.7, true, plane);
+            if plane.is_some() {
+                assert!(!model.images.is_empty());
+            }
+            let support = format!("{support}, plane {plane:?}");
+            let support = support.as_str();
             let nb = neighbours::find(&model, st.frame());
             let k = sweep::kinematics(&model, &st, &nb);
             assert_eq!(k.g.len(), model.len());

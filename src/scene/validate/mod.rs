@@ -381,12 +381,6 @@ fn validate_symmetry(scene: &Scene) -> R {
             ));
         }
     }
-    if scene.simulation.dispersion_correction > 0.0 {
-        return Err(SceneError::at(
-            "simulation.dispersion_correction",
-            "is not available with a symmetry plane so far",
-        ));
-    }
     Ok(())
 }
 
