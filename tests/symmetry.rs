@@ -360,3 +360,36 @@ fn quarter_ring_on_a_disk_gives_the_whole() {
     assert!(gap <= 1e-9, "the ring's place off by {gap:e}");
     assert!(column(&b, "contact_force").iter().any(|&f| f > 0.0));
 }
+
+/// [`quarter_ring_on_a_disk_gives_the_whole`] with Coulomb friction 0.3
+/// between ring and disk: the square lattices slip a little where the
+/// ring's bore meets the disk, across either plane as well, and the
+/// quadrant's frictional heat is a quarter of the whole's, as every other
+/// term of its ledger.
+#[test]
+fn quarter_ring_on_a_disk_with_friction_gives_the_whole() {
+    let mut quarter = load("scenes/symmetry/ring_onto_disk_quadrant.toml");
+    quarter
+        .contact
+        .get_or_insert_with(Default::default)
+        .friction = 0.3;
+    let mut full = quarter.clone();
+    full.symmetry.clear();
+    let (a, b) = (run(&full), run(&quarter));
+    books(&b, glam::DVec2::Y, None);
+    is_the_part(&a, &b, &[glam::DVec2::X, glam::DVec2::Y], 1e-9);
+    let heat = |o: &RunOutput| o.summary.energy.friction_heat.expect("friction");
+    let (ha, hb) = (heat(&a), heat(&b));
+    let e0 = a.summary.energy_initial;
+    println!(
+        "frictional heat: whole {ha:e} J ({:.2e} of the energy), quadrant {hb:e} J",
+        ha / e0
+    );
+    assert!(ha > 0.0, "the ring rubs");
+    assert!(
+        (4.0 * hb - ha).abs() <= 1e-9 * e0,
+        "frictional heat: the quadrant's {hb:e} against the whole's {ha:e}"
+    );
+    let force = column_gap(&a, &b, "contact_force", 4.0);
+    assert!(force <= 1e-9, "contact force off by {force:e} of its peak");
+}
