@@ -44,19 +44,21 @@ pub(super) fn add(bk: &Booking, pass1: &[P1], gathered: &[Gathered], out: &mut C
                 return f;
             }
             let bq = model.body[q];
+            // What boundary particle p handed q (or q's image, met with
+            // weight `w`) where p rubs on q's body.
+            let handed_by = |p: usize| {
+                bd.is_boundary[p]
+                    .then(|| rubs[bk.slot(p)].share)
+                    .flatten()
+                    .filter(|s| s.0 == bq)
+                    .map(|s| s.1)
+            };
             for &p in bk.nb.cross_of(q) {
                 let p = p as usize;
-                if !bd.is_boundary[p] {
-                    continue;
-                }
-                let Some((body, share)) = rubs[bk.slot(p)].share else {
-                    continue;
-                };
-                if body != bq {
-                    continue;
-                }
-                if let Some((w, _)) = is_candidate(model, st, bd, p, q) {
-                    f += share * w;
+                if let Some(share) = handed_by(p) {
+                    if let Some((w, _)) = is_candidate(model, st, bd, p, q) {
+                        f += share * w;
+                    }
                 }
             }
             // Across the symmetry planes: what the partners whose images
@@ -64,17 +66,10 @@ pub(super) fn add(bk: &Booking, pass1: &[P1], gathered: &[Gathered], out: &mut C
             for &e in bk.nb.cross_images_of(q) {
                 let (p, kind) = image_entry(e);
                 let (p, m) = (p as usize, bk.mirrors[kind]);
-                if !bd.is_boundary[p] {
-                    continue;
-                }
-                let Some((body, share)) = rubs[bk.slot(p)].share else {
-                    continue;
-                };
-                if body != bq {
-                    continue;
-                }
-                if let Some((w, _)) = is_image_candidate(model, st, bd, &m, p, q) {
-                    f += m.vector(share * w);
+                if let Some(share) = handed_by(p) {
+                    if let Some((w, _)) = is_image_candidate(model, st, bd, &m, p, q) {
+                        f += m.vector(share * w);
+                    }
                 }
             }
             f
