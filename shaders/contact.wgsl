@@ -371,6 +371,14 @@ fn image_sep_of_walker(wk: Walker, flip: u32, op: vec2<f32>, cd_d: vec2<f32>) ->
     return mirror_vec(flip, image_d(wk, flip, op, cd_d));
 }
 
+// `partner_weight` of walker q's image under `flip` across the symmetry
+// planes and the particle p its walk meets (`cd`), as p's pass saw that
+// image: what the friction's gathers read of the passes that met it.
+fn image_weight(q: u32, mq: vec4<u32>, cnq: vec4<f32>, wk: Walker, cd: Cand, flip: u32, partner: u32) -> vec2<f32> {
+    let d = image_sep_of_walker(wk, flip, cd.off, cd.d);
+    return pair_weight(q, mq, cnq, mirror_vec(flip, cnq.xy), d, cd.j, partner);
+}
+
 // What pass 2 gathers at particle q from the partners' passes over the
 // candidate pairs they used: the dashpot shares and the spring's pull
 // (`f`), the heat, and dPhi/dn_q through the partners' sums (`n_bar`).
@@ -644,9 +652,7 @@ fn shared_normal(p: u32, mp: vec4<u32>, wk: Walker, cnp: vec4<f32>, bq: u32) -> 
             for (var m = 0u; m < contact_images(); m++) {
                 // Across the symmetry planes: the passes that met p's
                 // image.
-                let f = contact_flip(m);
-                let d = image_sep_of_walker(wk, f, cd.off, cd.d);
-                let wi = pair_weight(p, mp, cnp, mirror_vec(f, cnp.xy), d, cd.j, bq).x;
+                let wi = image_weight(p, mp, cnp, wk, cd, contact_flip(m), bq).x;
                 if (wi >= 0.0) {
                     normal += crub1[place(cd.j)].w * wi;
                 }
@@ -773,8 +779,7 @@ fn rub_gather_at(q: u32) {
                 // Across the symmetry planes: what the particles whose
                 // images met q's handed q's image, mirrored back.
                 let fl = contact_flip(m);
-                let d = image_sep_of_walker(wk, fl, cd.off, cd.d);
-                let wi = pair_weight(q, mq, cnq, mirror_vec(fl, cnq.xy), d, cd.j, NONE).x;
+                let wi = image_weight(q, mq, cnq, wk, cd, fl, NONE).x;
                 if (wi >= 0.0) {
                     f += mirror_vec(fl, crubo[pinfo[cd.j].w].xy * wi);
                 }

@@ -34,9 +34,10 @@ fn cut(scene: &Scene, normal: [f64; 2]) -> Scene {
 }
 
 /// Asserts that `half` ran the half of `full` on the side `normal`
-/// points to: each body half the mass, the ledger's every term half the
-/// whole's, every half particle where a particle of the whole ended, and
-/// none beyond the plane. `tol`: relative.
+/// points to: each body half the mass, the ledger's every term (the
+/// frictional heat among them) half the whole's, every half particle
+/// where a particle of the whole ended, and none beyond the plane.
+/// `tol`: relative.
 fn is_the_half(full: &RunOutput, half: &RunOutput, normal: glam::DVec2, tol: f64) {
     is_the_part(full, half, &[normal], tol);
 }
@@ -68,6 +69,11 @@ fn is_the_part(full: &RunOutput, half: &RunOutput, normals: &[glam::DVec2], tol:
             lh.artificial_dissipation,
         ),
         ("spring loss", lf.spring_loss, lh.spring_loss),
+        (
+            "frictional heat",
+            lf.friction_heat.unwrap_or(0.0),
+            lh.friction_heat.unwrap_or(0.0),
+        ),
     ] {
         assert!(
             (parts * b - a).abs() <= tol * e0,
@@ -304,13 +310,10 @@ fn half_penetration_with_friction_gives_the_whole() {
     let (a, b) = half_penetration(1e-5, 0.1);
     books(&b, glam::DVec2::X, Some(1200.0));
     is_the_half(&a, &b, glam::DVec2::X, 1e-9);
-    let heat = |o: &RunOutput| o.summary.energy.friction_heat.expect("friction");
-    let (ha, hb) = (heat(&a), heat(&b));
-    println!("frictional heat: whole {ha:e} J, half {hb:e} J");
-    assert!(ha > 1e-3 * a.summary.energy_initial, "the rod rubs: {ha:e}");
+    let heat = a.summary.energy.friction_heat.expect("friction");
     assert!(
-        (2.0 * hb - ha).abs() <= 1e-9 * a.summary.energy_initial,
-        "frictional heat: the half's {hb:e} against the whole's {ha:e}"
+        heat > 1e-3 * a.summary.energy_initial,
+        "the rod rubs: {heat:e}"
     );
     for v in ["velocity_rod", "velocity_plate"] {
         let gap = column_gap(&a, &b, v, 1.0);
@@ -375,18 +378,8 @@ fn quarter_ring_on_a_disk_with_friction_gives_the_whole() {
     let (a, b) = (run(&full), run(&quarter));
     books(&b, glam::DVec2::Y, None);
     is_the_part(&a, &b, &[glam::DVec2::X, glam::DVec2::Y], 1e-9);
-    let heat = |o: &RunOutput| o.summary.energy.friction_heat.expect("friction");
-    let (ha, hb) = (heat(&a), heat(&b));
-    let e0 = a.summary.energy_initial;
-    println!(
-        "frictional heat: whole {ha:e} J ({:.2e} of the energy), quadrant {hb:e} J",
-        ha / e0
-    );
-    assert!(ha > 0.0, "the ring rubs");
-    assert!(
-        (4.0 * hb - ha).abs() <= 1e-9 * e0,
-        "frictional heat: the quadrant's {hb:e} against the whole's {ha:e}"
-    );
+    let heat = a.summary.energy.friction_heat.expect("friction");
+    assert!(heat > 0.0, "the ring rubs");
     let force = column_gap(&a, &b, "contact_force", 4.0);
     assert!(force <= 1e-9, "contact force off by {force:e} of its peak");
 }

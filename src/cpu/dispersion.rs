@@ -42,15 +42,12 @@ fn weights(
     (i, j): (usize, usize),
     gw: DVec2,
 ) -> (DVec2, DVec2) {
-    (
-        l[i].mul_vec(gw * gradient_weight(model, st, vol, i, j)),
-        l[j].mul_vec(-gw * gradient_weight(model, st, vol, j, i)),
-    )
+    pair_weights(model, st, vol, (l[i], l[j]), (i, j), gw)
 }
 
-/// The image pair of particle i and the mirror image of j across `m`
-/// (`gw = ∇_i W` at `x_i − m(x_j)`): the weights `(a_ij', a_j'i)`, the
-/// image's `L` being `L_j` mirrored.
+/// [`weights`] of particle i and the mirror image of j across `m` (`gw =
+/// ∇_i W` at `x_i − m(x_j)`): `(a_ij', a_j'i)`, the image's `L` being
+/// `L_j` mirrored.
 #[inline]
 fn image_weights(
     model: &Model,
@@ -60,10 +57,22 @@ fn image_weights(
     (i, j, m): (usize, usize, &Mirror),
     gw: DVec2,
 ) -> (DVec2, DVec2) {
+    pair_weights(model, st, vol, (l[i], m.mat(&l[j])), (i, j), gw)
+}
+
+/// The weights of a pair whose two correction matrices are `(li, lj)`.
+#[inline]
+fn pair_weights(
+    model: &Model,
+    st: &State,
+    vol: &[f64],
+    (li, lj): (Mat2, Mat2),
+    (i, j): (usize, usize),
+    gw: DVec2,
+) -> (DVec2, DVec2) {
     (
-        l[i].mul_vec(gw * gradient_weight(model, st, vol, i, j)),
-        m.mat(&l[j])
-            .mul_vec(-gw * gradient_weight(model, st, vol, j, i)),
+        li.mul_vec(gw * gradient_weight(model, st, vol, i, j)),
+        lj.mul_vec(-gw * gradient_weight(model, st, vol, j, i)),
     )
 }
 
@@ -414,8 +423,7 @@ shape = {shape}
             if plane.is_some() {
                 assert!(!model.images.is_empty());
             }
-            let support = format!("{support}, plane {plane:?}");
-            let support = support.as_str();
+            let support = &format!("{support}, plane {plane:?}");
             let nb = neighbours::find(&model, st.frame());
             let k = sweep::kinematics(&model, &st, &nb);
             assert_eq!(k.g.len(), model.len());

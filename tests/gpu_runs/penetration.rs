@@ -53,7 +53,14 @@ fn penetration_gpu_matches_cpu_leapfrog() {
 fn penetration_with_friction_gpu_matches_cpu() {
     let mut scene = coarse_penetration(Integrator::Leapfrog);
     scene.contact.get_or_insert_with(Default::default).friction = 0.1;
-    let Some((cpu, gpu)) = both_scene("coarse penetration, μ 0.1", &scene) else {
+    rubbing_rod_follows_the_cpu("coarse penetration, μ 0.1", &scene);
+}
+
+/// A penetration scene with friction on both paths: the step counts
+/// within 0.5 %, the rod's residual velocity and the frictional heat
+/// within `PLASTIC`, and the device's ledger closed ([`ledger_closes`]).
+pub(super) fn rubbing_rod_follows_the_cpu(name: &str, scene: &Scene) {
+    let Some((cpu, gpu)) = both_scene(name, scene) else {
         return;
     };
     let steps = |out: &RunOutput| out.summary.steps as f64;

@@ -184,8 +184,9 @@ fn quarter_ring_on_a_disk_gpu_matches_cpu() {
 /// The penetration cut along its axis of impact with Coulomb friction
 /// 0.1 between rod and plate (Δx 0.2 mm, to 10 µs), GPU against CPU: the
 /// rod's nose rubs on the crater's particles and their images across the
-/// plane. The steps within 0.5 %, the rod's speed and the frictional heat
-/// within 0.5 %, and the device's ledger closed.
+/// plane (`rubbing_rod_follows_the_cpu`: measured on lavapipe, the same
+/// steps, the rod's speed within 1.8e-5, the frictional heat within
+/// 3.0e-5, the device's residual 5.7e-8).
 #[test]
 fn half_penetration_with_friction_gpu_matches_cpu() {
     let mut scene = load("scenes/symmetry/tungsten_rod_steel_plate_half.toml");
@@ -194,20 +195,5 @@ fn half_penetration_with_friction_gpu_matches_cpu() {
     }
     scene.simulation.end_time = 1e-5;
     scene.contact.get_or_insert_with(Default::default).friction = 0.1;
-    let Some((cpu, gpu)) = both_scene("half penetration, μ 0.1", &scene) else {
-        return;
-    };
-    let steps = |out: &RunOutput| out.summary.steps as f64;
-    close("steps", steps(&gpu), steps(&cpu), 5e-3);
-    close_at_end(&gpu, &cpu, ["velocity_rod"], 5e-3);
-    let heat = |out: &RunOutput| out.summary.energy.friction_heat.expect("friction");
-    assert!(heat(&cpu) > 0.0);
-    close("friction heat", heat(&gpu), heat(&cpu), 5e-3);
-    let s = &gpu.summary;
-    let residual = s.energy.residual / s.energy_initial;
-    println!("GPU ledger: residual {residual:+.3e}");
-    assert!(
-        residual.abs() < 1e-5,
-        "the ledger's residual {residual:+.3e}"
-    );
+    penetration::rubbing_rod_follows_the_cpu("half penetration, μ 0.1", &scene);
 }

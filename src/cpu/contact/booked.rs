@@ -467,11 +467,7 @@ impl Booking<'_> {
             f += share.q * w;
             heat += share.eta * w;
             if model.rubs {
-                let bp = model.body[p];
-                match normal.iter_mut().find(|x: &&mut (u32, f64)| x.0 == bp) {
-                    Some(x) => x.1 += share.normal * w,
-                    None => normal.push((bp, share.normal * w)),
-                }
+                add_normal(&mut normal, model.body[p], share.normal * w);
             }
             if let Some((bar, sp)) = &share.spring {
                 let d = penalty::candidate(bar, *sp, w, sq, nq, oq);
@@ -499,11 +495,7 @@ impl Booking<'_> {
             f += m.vector(share.q * w);
             heat += share.eta * w;
             if model.rubs {
-                let bp = model.body[p];
-                match normal.iter_mut().find(|x: &&mut (u32, f64)| x.0 == bp) {
-                    Some(x) => x.1 += share.normal * w,
-                    None => normal.push((bp, share.normal * w)),
-                }
+                add_normal(&mut normal, model.body[p], share.normal * w);
             }
             if let Some((bar, sp)) = &share.spring {
                 let d = penalty::candidate(bar, *sp, w, sx, nx, oq);
@@ -533,6 +525,15 @@ impl Booking<'_> {
             spread,
             normal,
         }
+    }
+}
+
+/// Adds `f` to body `b`'s entry of the normal forces a particle gathers
+/// from its partners' passes, one entry a body.
+fn add_normal(normal: &mut Vec<(u32, f64)>, b: u32, f: f64) {
+    match normal.iter_mut().find(|x| x.0 == b) {
+        Some(x) => x.1 += f,
+        None => normal.push((b, f)),
     }
 }
 
