@@ -20,9 +20,13 @@
 // the gradient of v_{n+1} after the energy walk (`disperse_work`). Its
 // first evaluation runs `disperse` and `disperse_forces` for a_0 and de_0.
 //
-// Across the symmetry planes each walk meets its neighbours' images and its
-// own, as the kinematic walk does (cpu::dispersion, `image_pairs`). Bodies
-// of revolution do not take the correction.
+// Across the symmetry planes and a body of revolution's axis each walk
+// meets its neighbours' images and its own, as the kinematic walk does
+// (cpu::dispersion, `image_pairs`). In a body of revolution (AXI) V is the
+// ring's volume m/rho that weighs the power, the gradient's weights (the
+// forces', and the leapfrog's work's) are m_j/eta_i as the kinematic
+// walk's, and C's and S's the areas m_j/eta_j (cpu::dispersion, `Weigh`);
+// the hoop rate takes no correction.
 
 // The plain velocity gradient of the kinematic walk (zero on a rigid
 // particle).
@@ -89,18 +93,49 @@ fn disp_density(j: u32, mj: vec4<u32>, rho0: f32, next: bool) -> f32 {
 // mirror image under `f` across the symmetry planes (f = 0: j itself):
 // the pair's gradient `gw` (grad_i W), d_ij = x_j - x_i, and j's volume
 // `vj` and density `rho_j`; j's gradient, L, S, stress and velocity
-// mirrored by `f`. `wi` is what the walk keeps of i: its own gradient or
-// S (`own`), V sigma, velocity, volume and L.
+// mirrored by `f`; in a body of revolution j's mass and radius `rad_j`
+// too. `wi` is what the walk keeps of i: its own gradient or S (`own`),
+// V sigma, velocity, volume, L, and in a body of revolution its mass,
+// area and 1/eta.
 struct DispOwn {
     own: vec4<f32>,
     vs: vec4<f32>,
     vel: vec2<f32>,
     vol: f32,
     l: vec4<f32>,
+    mass: f32,
+    area: f32,
+    inv_eta: f32,
 }
 
-fn disp_terms(out: ptr<function, DispSums>, mode: u32, wi: DispOwn, gw: vec2<f32>, dij: vec2<f32>, f: u32, j: u32, bj: u32, vj: f32, rho_j: f32) {
-    let aij = mat_mul(wi.l, gw * vj);
+// The walker's own part of DispOwn in a body of revolution: its mass
+// `mass`, volume `vol` and density `rho` at radius `rad`.
+fn disp_own_axi(wi: ptr<function, DispOwn>, mass: f32, rad: f32, rho: f32) {
+    if (AXI) {
+        let c = circumference(rad);
+        (*wi).mass = mass;
+        (*wi).area = (*wi).vol / c;
+        (*wi).inv_eta = 1.0 / (c * rho);
+    }
+}
+
+fn disp_terms(out: ptr<function, DispSums>, mode: u32, wi: DispOwn, gw: vec2<f32>, dij: vec2<f32>, f: u32, j: u32, bj: u32, vj: f32, rho_j: f32, mass_j: f32, rad_j: f32) {
+    // The pair's weights: areas in C and S, the gradient's in the forces
+    // and the gradient (the same in the plane).
+    var cj = 1.0;
+    var wj = vj;
+    var wi_ = wi.vol;
+    if (AXI) {
+        cj = circumference(rad_j);
+        if (mode == D_GRAD || mode == D_FORCE) {
+            wj = mass_j * wi.inv_eta;
+            wi_ = wi.mass / (cj * rho_j);
+        } else {
+            wj = vj / cj;
+            wi_ = wi.area;
+        }
+    }
+    let aij = mat_mul(wi.l, gw * wj);
     if (mode == D_GRAD) {
         (*out).c += outer(mirror_vec(f, v[j]) - wi.vel, aij);
         return;
@@ -115,13 +150,15 @@ fn disp_terms(out: ptr<function, DispSums>, mode: u32, wi: DispOwn, gw: vec2<f32
     // there).
     var aji = vec2<f32>(0.0);
     if (bodies[bj].rigid == 0u) {
-        aji = mat_mul(mirror_mat(f, lmat[j]), -gw * wi.vol);
+        aji = mat_mul(mirror_mat(f, lmat[j]), -gw * wi_);
     }
     if (mode == D_FORCE) {
         let p = mat_mul(wi.own, aij) * wi.vol - mat_mul(mirror_mat(f, sdisp[j]), aji) * vj;
         (*out).c += vec4<f32>(p, 0.0, 0.0);
     } else {
-        let w = sym_apply(wi.vs, aij) + sym_apply(mirror_sym(f, sr2c[j]) * (vj * rho_j * rho_j), aji);
+        // V sigma: sr2c is sigma / rho^2 (sigma / (rho eta) in a body of
+        // revolution).
+        let w = sym_apply(wi.vs, aij) + sym_apply(mirror_sym(f, sr2c[j]) * (vj * rho_j * rho_j * cj), aji);
         (*out).q += outer(w, dij);
     }
 }
@@ -142,15 +179,21 @@ fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, mode: u32, next: bool) -> Disp
     let wk = sph_walker(i);
     let mi = pinfo[i];
     let rho_i = disp_density(i, mi, rho0, next);
-    var wi = DispOwn(vec4<f32>(0.0), vec4<f32>(0.0), vec2<f32>(0.0), bitcast<f32>(mi.x) / rho_i, lmat[i]);
+    var wi = DispOwn(vec4<f32>(0.0), vec4<f32>(0.0), vec2<f32>(0.0), bitcast<f32>(mi.x) / rho_i, lmat[i], 0.0, 0.0, 0.0);
+    disp_own_axi(&wi, bitcast<f32>(mi.x), wk.rad, rho_i);
     if (mode == D_FORCE) {
         wi.own = sdisp[i];
     } else if (mode == D_CQ || mode == D_C) {
         wi.own = gdisp[i];
     }
     if (mode == D_CQ || mode == D_Q) {
-        // V sigma = V rho^2 (sigma / rho^2).
-        wi.vs = sr2c[i] * (wi.vol * rho_i * rho_i);
+        // V sigma = V rho^2 (sigma / rho^2); V rho eta (sigma / (rho eta))
+        // in a body of revolution.
+        var ci = 1.0;
+        if (AXI) {
+            ci = circumference(wk.rad);
+        }
+        wi.vs = sr2c[i] * (wi.vol * rho_i * rho_i * ci);
     }
     if (mode == D_GRAD) {
         wi.vel = v[i];
@@ -192,7 +235,7 @@ fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, mode: u32, next: bool) -> Disp
             let vj = bitcast<f32>(mj.x) / rho_j;
             if (paired) {
                 // d_ij = x_j - x_i.
-                disp_terms(&out, mode, wi, pr.gw, -pr.d, 0u, j, mj.z, vj, rho_j);
+                disp_terms(&out, mode, wi, pr.gw, -pr.d, 0u, j, mj.z, vj, rho_j, bitcast<f32>(mj.x), cd.rad);
             }
             for (var m = 0u; m < images; m++) {
                 if ((hit & (1u << m)) == 0u) {
@@ -200,7 +243,7 @@ fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, mode: u32, next: bool) -> Disp
                 }
                 let im = disp_image(wk, adapt, m, cd.off, cd.d, qj, pr.hij, hi);
                 if (im.inside) {
-                    disp_terms(&out, mode, wi, im.gw, -im.d, image_flip(m), j, mj.z, vj, rho_j);
+                    disp_terms(&out, mode, wi, im.gw, -im.d, image_flip(m), j, mj.z, vj, rho_j, bitcast<f32>(mj.x), cd.rad);
                 }
             }
         }
@@ -210,7 +253,7 @@ fn disp_walk(i: u32, bi: u32, hi: f32, rho0: f32, mode: u32, next: bool) -> Disp
         // distance).
         let im = disp_image(wk, adapt, m, wk.off, vec2<f32>(0.0), wk.q, hi, hi);
         if (im.inside && im.dist > 0.0) {
-            disp_terms(&out, mode, wi, im.gw, -im.d, image_flip(m), i, bi, wi.vol, rho_i);
+            disp_terms(&out, mode, wi, im.gw, -im.d, image_flip(m), i, bi, wi.vol, rho_i, bitcast<f32>(mi.x), wk.rad);
         }
     }
     return out;
@@ -239,7 +282,7 @@ fn disperse(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
     }
     let gc = gdisp[i] + sums.c * (-0.5 * DISP);
     // The kinematic walk's rates (kinematics.wgsl) at grad v + C.
-    midpoint_rates(i, body, r[i].x, s[i], gc, 0.0, select(body.g, 0.0, fell_back));
+    midpoint_rates(i, body, r[i].x, s[i], gc, hoop_rate(radius_of(i), v[i]), select(body.g, 0.0, fell_back));
 }
 
 @compute @workgroup_size(WG)
@@ -285,7 +328,7 @@ fn disperse_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     }
     let fell_back = sdisp[i].x != 0.0;
     let c = disp_walk(i, bi, body.h, body.rho0, D_C, false).c * (-0.5 * DISP);
-    to_next(i, body, 0.0, gdisp[i] + c, select(body.g, 0.0, fell_back), fell_back);
+    to_next(i, body, radius_of(i), gdisp[i] + c, select(body.g, 0.0, fell_back), fell_back);
 }
 
 // The leapfrog step's S at n+1 (after disperse_leap): the stresses and

@@ -124,15 +124,6 @@ fn non_positive_and_negative_values() {
             "simulation.dispersion_correction",
         ),
         case(
-            "dispersion_correction_in_a_body_of_revolution",
-            &[(
-                "dimension = 2",
-                "dimension = 2\ngeometry = \"axisymmetric\"\ndispersion_correction = 0.7",
-            )],
-            "simulation.dispersion_correction",
-        )
-        .two_d(),
-        case(
             "negative_friction",
             &[(
                 "[materials.steel]",

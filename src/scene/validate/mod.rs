@@ -143,12 +143,6 @@ fn validate_simulation(scene: &Scene) -> R {
     let theta = sim.dispersion_correction;
     dispersion_correction_in_range(theta)
         .map_err(|e| SceneError::at("simulation.dispersion_correction", e))?;
-    if theta > 0.0 && scene.axisymmetric() {
-        return Err(SceneError::at(
-            "simulation.dispersion_correction",
-            "is not available for bodies of revolution (geometry = \"axisymmetric\")",
-        ));
-    }
     if let Some(av) = &scene.artificial_viscosity {
         non_negative("artificial_viscosity.alpha", av.alpha)?;
         non_negative("artificial_viscosity.beta", av.beta)?;
