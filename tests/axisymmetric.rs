@@ -27,6 +27,21 @@ fn impact(out: &RunOutput) -> (f64, f64) {
     (peak, end)
 }
 
+/// The spheres' peak force and end of contact within 3 % of Hertz's
+/// `(peak, time)`, and the upper sphere's restitution (returned) at least
+/// 0.95.
+fn within_hertz(out: &RunOutput, (peak, end): (f64, f64), (hertz, time): (f64, f64)) -> f64 {
+    assert!((peak / hertz - 1.0).abs() < 0.03, "peak force");
+    assert!((end / time - 1.0).abs() < 0.03, "contact time");
+    let v = column(out, "velocity_upper");
+    let restitution = v[v.len() - 1] / 5.0;
+    assert!(
+        (0.95..=1.0).contains(&restitution),
+        "restitution {restitution}"
+    );
+    restitution
+}
+
 /// Momentum along the axis, start and end, and its scale `Σ m |v0|`.
 fn axial_momentum(scene: &Scene, out: &RunOutput) -> (f64, f64, f64) {
     let s = &out.summary;
@@ -60,17 +75,7 @@ fn two_spheres_follow_hertz() {
         exact.peak_force,
         exact.contact_time * 1e6
     );
-    assert!((peak / exact.peak_force - 1.0).abs() < 0.03, "peak force");
-    assert!(
-        (end / exact.contact_time - 1.0).abs() < 0.03,
-        "contact time"
-    );
-    let v = column(&out, "velocity_upper");
-    let restitution = v[v.len() - 1] / 5.0;
-    assert!(
-        (0.95..=1.0).contains(&restitution),
-        "restitution {restitution}"
-    );
+    within_hertz(&out, (peak, end), (exact.peak_force, exact.contact_time));
     let e = column(&out, "energy_total");
     assert!((e[e.len() - 1] / e[0] - 1.0).abs() < 5e-3, "energy");
 
@@ -119,17 +124,7 @@ fn two_spheres_with_the_dispersion_correction_follow_hertz() {
         end * 1e6,
         100.0 * (end / exact.contact_time - 1.0)
     );
-    assert!((peak / exact.peak_force - 1.0).abs() < 0.03, "peak force");
-    assert!(
-        (end / exact.contact_time - 1.0).abs() < 0.03,
-        "contact time"
-    );
-    let v = column(&out, "velocity_upper");
-    let restitution = v[v.len() - 1] / 5.0;
-    assert!(
-        (0.95..=1.0).contains(&restitution),
-        "restitution {restitution}"
-    );
+    let restitution = within_hertz(&out, (peak, end), (exact.peak_force, exact.contact_time));
     let s = &out.summary.energy;
     let e = column(&out, "energy_total");
     println!(

@@ -26,6 +26,8 @@
 //! pairs with the neighbours' images ([`image_pairs`]), as the kinematic
 //! sums do.
 
+use std::borrow::Cow;
+
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -126,14 +128,15 @@ where
 /// weighed by: `m_i/ρ_i`, its area in the plane and, in a body of
 /// revolution, its ring's volume `2π r_i m_i/η_i` (the sums' `m/η` is the
 /// area in the r–z plane; docs/method.md §12).
-fn energy_weights(model: &Model, st: &State, vol: &[f64]) -> Vec<f64> {
+fn energy_weights<'a>(model: &Model, st: &State, vol: &'a [f64]) -> Cow<'a, [f64]> {
     if !model.axisymmetric {
-        return vol.to_vec();
+        return Cow::Borrowed(vol);
     }
     (0..model.len())
         .into_par_iter()
         .map(|i| vol[i] * (std::f64::consts::TAU * st.x[i].x))
-        .collect()
+        .collect::<Vec<_>>()
+        .into()
 }
 
 /// The correction's work per unit mass from its power density `S : ∇v`:
