@@ -101,6 +101,7 @@ fn cpu_records_as_json() {
     check_record(r, "cpu", 3.0);
     assert_eq!(r["memory_kind"], "host");
     assert_eq!(r["hourglass"], 0.0, "the control is off by default");
+    assert_eq!(r["dispersion"], 0.0, "the correction is off by default");
     assert_eq!(r["support"], "adaptive", "adaptive supports by default");
     let threads = num(r, "threads");
     assert!(threads >= 1.0);
@@ -214,16 +215,32 @@ fn fixed_supports_records_say_so() {
 /// table say so (the GPU runs it too).
 #[test]
 fn hourglass_records_say_so() {
-    let args = ["--particles", "1000", "--steps", "2", "--hourglass", "0.7"];
+    option_records_say_so(("--hourglass", "hourglass"), "leapfrog, hourglass 0.7");
+}
+
+/// `--dispersion-correction` times the disks with the correction's sweeps:
+/// the record and the table say so (the GPU runs it too).
+#[test]
+fn dispersion_correction_records_say_so() {
+    option_records_say_so(
+        ("--dispersion-correction", "dispersion"),
+        "leapfrog, dispersion correction 0.7",
+    );
+}
+
+/// The disks timed with `flag` at 0.7: the record's `key` holds it and the
+/// table's row shows `cell`, on the CPU and on a GPU where there is one.
+fn option_records_say_so((flag, key): (&str, &str), cell: &str) {
+    let args = ["--particles", "1000", "--steps", "2", flag, "0.7"];
     let out = bench(
         &[&["--backend", "cpu"][..], &args, &["--json"]].concat(),
         &[],
     );
     let recs = records(&out);
     check_record(&recs[0], "cpu", 2.0);
-    assert_eq!(recs[0]["hourglass"], 0.7);
+    assert_eq!(recs[0][key], 0.7);
     let (rows, _) = cpu_rows(&bench(&[&["--backend", "cpu"][..], &args].concat(), &[]));
-    assert!(rows[0].contains("leapfrog, hourglass 0.7"), "{}", rows[0]);
+    assert!(rows[0].contains(cell), "{}", rows[0]);
     if common::gpu().is_none() {
         return;
     }
@@ -231,7 +248,9 @@ fn hourglass_records_say_so() {
         &[&["--backend", "gpu"][..], &args, &["--json"]].concat(),
         &[],
     );
-    check_record(&records(&out)[0], "gpu", 2.0);
+    let recs = records(&out);
+    check_record(&recs[0], "gpu", 2.0);
+    assert_eq!(recs[0][key], 0.7);
 }
 
 #[test]
@@ -264,6 +283,10 @@ fn bad_arguments_exit_2() {
         (
             vec!["--particles", "1000", "--hourglass", "NaN"],
             "--hourglass",
+        ),
+        (
+            vec!["--particles", "1000", "--dispersion-correction=-0.5"],
+            "--dispersion-correction",
         ),
         (vec!["--particles", "many"], "--particles"),
         (vec!["--backend", "tpu"], "--backend"),

@@ -114,6 +114,14 @@ impl DiskCase {
         self
     }
 
+    /// The same case with the dispersion correction at `theta` (0: off;
+    /// docs/method.md, "The dispersion correction").
+    pub fn with_dispersion(mut self, theta: f64) -> Self {
+        self.scene.simulation.dispersion_correction = theta;
+        self.model.dispersion = theta;
+        self
+    }
+
     /// The same case with the hourglass control at `alpha` (on top of the
     /// disks' artificial stress).
     pub fn with_hourglass(mut self, alpha: f64) -> Self {

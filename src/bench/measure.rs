@@ -123,7 +123,8 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
         let case = DiskCase::new(n)?
             .with_support(opts.support)
             .with_integrator(opts.integrator)
-            .with_hourglass(opts.hourglass);
+            .with_hourglass(opts.hourglass)
+            .with_dispersion(opts.dispersion);
         let particles = case.particles();
         let record = |backend: &str, adapter: &str, steps: u64, walls: Vec<f64>| {
             record_of(opts, &case, n, (backend, adapter), steps, walls)
@@ -198,7 +199,7 @@ pub fn bench(opts: &BenchOptions) -> Result<Vec<Record>, BenchError> {
 }
 
 /// Every option checked before anything runs: the sizes, the steps, the
-/// repeats, the hourglass coefficient.
+/// repeats, the hourglass coefficient, the correction's θ.
 fn check_options(opts: &BenchOptions) -> Result<(), BenchError> {
     if opts.particles.is_empty() {
         return Err(BenchError::Input(
@@ -223,6 +224,12 @@ fn check_options(opts: &BenchOptions) -> Result<(), BenchError> {
         return Err(BenchError::Input(format!(
             "--hourglass must be a finite number >= 0 (got {})",
             opts.hourglass
+        )));
+    }
+    if !(opts.dispersion.is_finite() && opts.dispersion >= 0.0) {
+        return Err(BenchError::Input(format!(
+            "--dispersion-correction must be a finite number >= 0 (got {})",
+            opts.dispersion
         )));
     }
     Ok(())
@@ -250,6 +257,7 @@ fn record_of(
         threads: None,
         integrator: opts.integrator.to_string(),
         hourglass: opts.hourglass,
+        dispersion: opts.dispersion,
         support: support_name(opts.support).into(),
         requested_particles: n,
         particles,

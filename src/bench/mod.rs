@@ -128,6 +128,8 @@ pub struct BenchOptions {
     pub integrator: Integrator,
     /// The hourglass control's coefficient in the disks (0: off).
     pub hourglass: f64,
+    /// The dispersion correction's θ in the disks (0: off).
+    pub dispersion: f64,
     /// The disks' kernel supports (docs/method.md, "Supports that follow
     /// the deformation").
     pub support: Support,
@@ -160,6 +162,8 @@ pub struct Record {
     pub integrator: String,
     /// The hourglass control's coefficient α_hg (0: off).
     pub hourglass: f64,
+    /// The dispersion correction's θ (0: off).
+    pub dispersion: f64,
     /// The kernel supports: `fixed` or `adaptive`.
     pub support: String,
     pub requested_particles: usize,

@@ -74,12 +74,16 @@ fn rate_cell(r: &Record) -> String {
     }
 }
 
-/// The integrator, the hourglass control where it is on and the supports
-/// where they are fixed (not the default).
+/// The integrator, the hourglass control and the dispersion correction
+/// where they are on and the supports where they are fixed (not the
+/// default).
 fn integrator_cell(r: &Record) -> String {
     let mut s = r.integrator.clone();
     if r.hourglass > 0.0 {
         s += &format!(", hourglass {}", r.hourglass);
+    }
+    if r.dispersion > 0.0 {
+        s += &format!(", dispersion correction {}", r.dispersion);
     }
     if r.support != "adaptive" {
         s += &format!(", {} supports", r.support);

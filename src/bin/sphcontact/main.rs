@@ -275,6 +275,11 @@ struct BenchArgs {
     /// docs/method.md, "Hourglass control").
     #[arg(long, default_value_t = 0.0)]
     hourglass: f64,
+    /// The dispersion correction's θ in the disks, to time what its sweeps
+    /// cost (0, the default: off; docs/method.md, "The dispersion
+    /// correction").
+    #[arg(long, default_value_t = 0.0)]
+    dispersion_correction: f64,
     /// The disks' kernel supports: adaptive (carried with the
     /// deformation, round while nothing stretches; the default, as in a
     /// scene) or fixed (round), to time what carrying them costs
@@ -316,6 +321,7 @@ fn bench_cmd(args: BenchArgs) -> ExitCode {
         stages: args.stages,
         integrator: integrator_of(args.integrator),
         hourglass: args.hourglass,
+        dispersion: args.dispersion_correction,
         support: match args.support {
             SupportArg::Fixed => sphcontact::scene::Support::Fixed,
             SupportArg::Adaptive => sphcontact::scene::Support::Adaptive,
