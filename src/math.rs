@@ -277,6 +277,13 @@ impl std::ops::AddAssign for Mat2 {
     }
 }
 
+impl std::ops::SubAssign for Mat2 {
+    #[inline]
+    fn sub_assign(&mut self, o: Mat2) {
+        *self = *self - o;
+    }
+}
+
 /// A symmetric in-plane stress-like tensor plus its out-of-plane `zz`
 /// component (plane strain carries `s_zz`; docs/method.md §6).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

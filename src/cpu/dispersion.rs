@@ -20,8 +20,9 @@
 //! ([`energy_weights`]), the gradient and the forces weigh their pairs by
 //! mass and `C` and `S` by area ([`Weigh`]).
 //!
-//! Three pair sweeps an evaluation (one more for the leapfrog's work at
-//! `v_{n+1}`, [`gradient`]), run only where a scene sets
+//! One sweep an evaluation, which keeps each pair's gradients ([`Kept`]);
+//! the forces (and the leapfrog's `S` and work at `v_{n+1}`,
+//! [`gradient`]) replay them. All run only where a scene sets
 //! `dispersion_correction`; across symmetry planes each also takes the
 //! pairs with the neighbours' images ([`image_pairs`]), as the kinematic
 //! sums do.
@@ -38,18 +39,42 @@ use crate::math::{Mat2, Mirror, Sym};
 use crate::model::{Model, State};
 use crate::physics::strength;
 
-/// The pair's weights `(a_ij, a_ji)` from `∇_i W_ij` (`∇_j W_ji = −∇_i W_ij`).
+/// Each visited candidate's `(L_i ∇_i W_ij, L_j ∇_j W_ji)` (zero outside
+/// the support and on rigid particles), kept by the step's first sweep
+/// ([`strain_correction`], [`strain_and_stress`]) in its slots
+/// ([`Neighbours::sweep_store`]). Every later sum of the step replays them
+/// ([`Neighbours::replay`]): the positions and the supports do not move
+/// within a step, only the volumes the weights take, which the replays
+/// read at their own state.
+#[derive(Debug, Clone, Default)]
+pub struct Kept(Vec<[DVec2; 2]>);
+
+impl Kept {
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        size_of_val(&self.0[..])
+    }
+}
+
+/// The pair's gradients `(L_i ∇_i W_ij, L_j ∇_j W_ji)` (`∇_j W_ji = −∇_i W_ij`).
+#[inline]
+fn pair_gradients(l: &[Mat2], (i, j): (usize, usize), gw: DVec2) -> [DVec2; 2] {
+    [l[i].mul_vec(gw), l[j].mul_vec(-gw)]
+}
+
+/// The pair's weights `(a_ij, a_ji)` from its gradients `k`
+/// ([`pair_gradients`]).
 #[inline]
 fn weights(
     model: &Model,
     st: &State,
     vol: &[f64],
-    l: &[Mat2],
     (i, j): (usize, usize),
-    gw: DVec2,
+    k: &[DVec2; 2],
     by: Weigh,
 ) -> (DVec2, DVec2) {
-    pair_weights(model, st, vol, (l[i], l[j]), (i, j), gw, by)
+    let (wj, wi) = weigh(model, st, vol, (i, j), by);
+    (k[0] * wj, k[1] * wi)
 }
 
 /// [`weights`] of particle i and the mirror image of j across `m` (`gw =
@@ -65,7 +90,8 @@ fn image_weights(
     gw: DVec2,
     by: Weigh,
 ) -> (DVec2, DVec2) {
-    pair_weights(model, st, vol, (l[i], m.mat(&l[j])), (i, j), gw, by)
+    let k = [l[i].mul_vec(gw), m.mat(&l[j]).mul_vec(-gw)];
+    weights(model, st, vol, (i, j), &k, by)
 }
 
 /// What a pair's neighbour is weighed by: in the velocity gradient (and
@@ -82,25 +108,16 @@ enum Weigh {
     Area,
 }
 
-/// The weights of a pair whose two correction matrices are `(li, lj)`.
+/// The scalars `(w_j, w_i)` that turn a pair's gradients into its weights.
 #[inline]
-fn pair_weights(
-    model: &Model,
-    st: &State,
-    vol: &[f64],
-    (li, lj): (Mat2, Mat2),
-    (i, j): (usize, usize),
-    gw: DVec2,
-    by: Weigh,
-) -> (DVec2, DVec2) {
-    let (wj, wi) = match by {
+fn weigh(model: &Model, st: &State, vol: &[f64], (i, j): (usize, usize), by: Weigh) -> (f64, f64) {
+    match by {
         Weigh::Gradient => (
             gradient_weight(model, st, vol, i, j),
             gradient_weight(model, st, vol, j, i),
         ),
         Weigh::Area => (vol[j], vol[i]),
-    };
-    (li.mul_vec(gw * wj), lj.mul_vec(-gw * wi))
+    }
 }
 
 /// Adds to each particle's `acc` its pairs with the mirror images of its
@@ -158,13 +175,19 @@ fn ddot2(a: &Mat2, b: &Mat2) -> f64 {
 
 /// The corrected gradient `Σ_j (v_j − v_i) ⊗ a_ij` of the velocities `v`
 /// at `st`'s positions with the correction matrices `l` (zero on rigid
-/// particles): the same sums as the kinematic pass's.
-pub fn gradient(model: &Model, st: &State, nb: &Neighbours, l: &[Mat2], v: &[DVec2]) -> Vec<Mat2> {
+/// particles), replayed from the step's pairs `kept`: the same sums as the
+/// kinematic pass's.
+pub fn gradient(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    (l, kept): (&[Mat2], &Kept),
+    v: &[DVec2],
+) -> Vec<Mat2> {
     let vol = volumes(model, st);
     let mut g = vec![Mat2::ZERO; model.len()];
-    nb.sweep(model, st.frame(), &mut g, |i, b, gi, gj| {
-        let j = b.j as usize;
-        let (ai, aj) = weights(model, st, &vol, l, (i, j), b.gw, Weigh::Gradient);
+    nb.replay(&mut g, &kept.0, |i, j, k, gi, gj| {
+        let (ai, aj) = weights(model, st, &vol, (i, j), k, Weigh::Gradient);
         let dv = v[j] - v[i];
         *gi += Mat2::outer(dv, ai);
         if let Some(gj) = gj {
@@ -184,9 +207,16 @@ pub fn gradient(model: &Model, st: &State, nb: &Neighbours, l: &[Mat2], v: &[DVe
 }
 
 /// `C_i = −½θ Σ_j ((∇v_j − ∇v_i) d_ij) ⊗ a_ij` from the kinematic pass's
-/// `∇v` (`k.g`) and `L` (zero on rigid particles).
-pub fn strain_correction(model: &Model, st: &State, nb: &Neighbours, k: &Kinematics) -> Vec<Mat2> {
-    pair_sums(model, st, nb, &k.l, Some(&k.g), None).0
+/// `∇v` (`k.g`) and `L` (zero on rigid particles); the step's pairs go to
+/// `kept`.
+pub fn strain_correction(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    k: &Kinematics,
+    kept: &mut Kept,
+) -> Vec<Mat2> {
+    pair_sums(model, st, nb, &k.l, Some(&k.g), None, kept).0
 }
 
 /// [`strain_correction`] and [`stress_adjoint`] in one sweep, where the
@@ -198,13 +228,44 @@ pub fn strain_and_stress(
     nb: &Neighbours,
     k: &Kinematics,
     pts: &[StressPoint],
+    kept: &mut Kept,
 ) -> (Vec<Mat2>, Vec<Mat2>) {
-    pair_sums(model, st, nb, &k.l, Some(&k.g), Some(pts))
+    pair_sums(model, st, nb, &k.l, Some(&k.g), Some(pts), kept)
+}
+
+/// `W σ` of each particle: the stress point keeps `σ/ρ²` (`σ/(ηρ)` in a
+/// body of revolution, where `V η²` is then the ring's volume times `ρ`).
+fn weighed_stresses(model: &Model, st: &State, vol: &[f64], pts: &[StressPoint]) -> Vec<Sym> {
+    (0..model.len())
+        .into_par_iter()
+        .map(|i| pts[i].sr2.scale(vol[i] * st.rho[i] * st.rho[i]))
+        .collect()
+}
+
+/// `S`'s pair term `(W_i σ_i a_ij + W_j σ_j a_ji) ⊗ d_ij`.
+#[inline]
+fn stress_term(vs: (&Sym, &Sym), (ai, aj): (DVec2, DVec2), d: DVec2) -> Mat2 {
+    Mat2::outer(vs.0.mul_vec(ai) + vs.1.mul_vec(aj), d)
+}
+
+/// `S`'s pairs with the neighbours' images.
+fn stress_images(
+    model: &Model,
+    st: &State,
+    nb: &Neighbours,
+    (vol, l, vs): (&[f64], &[Mat2], &[Sym]),
+    acc: &mut [Mat2],
+) {
+    image_pairs(model, st, nb, acc, |i, j, m, gw, d, qi| {
+        let a = image_weights(model, st, vol, l, (i, j, m), gw, Weigh::Area);
+        *qi += stress_term((&vs[i], &m.sym(&vs[j])), a, d);
+    });
 }
 
 /// The sweep behind [`strain_correction`] (with `g`, the velocity
-/// gradients) and [`stress_adjoint`] (with `pts`, the stresses), either or
-/// both: `(C, S)`, each zero where not asked for and on rigid particles.
+/// gradients) and [`strain_and_stress`] (with `pts`, the stresses too):
+/// `(C, S)`, `S` zero where not asked for, both zero on rigid particles;
+/// the pairs' gradients go to `kept`.
 fn pair_sums(
     model: &Model,
     st: &State,
@@ -212,51 +273,55 @@ fn pair_sums(
     l: &[Mat2],
     g: Option<&[Mat2]>,
     pts: Option<&[StressPoint]>,
+    kept: &mut Kept,
 ) -> (Vec<Mat2>, Vec<Mat2>) {
     let vol = volumes(model, st);
-    let w = energy_weights(model, st, &vol);
-    // W σ: the stress point keeps σ/ρ² (σ/(ηρ) in a body of revolution,
-    // where V η² is then the ring's volume times ρ).
-    let vs: Option<Vec<Sym>> = pts.map(|pts| {
-        (0..model.len())
-            .into_par_iter()
-            .map(|i| pts[i].sr2.scale(vol[i] * st.rho[i] * st.rho[i]))
-            .collect()
-    });
+    let vs = pts.map(|pts| weighed_stresses(model, st, &vol, pts));
     let mut acc = vec![(Mat2::ZERO, Mat2::ZERO); model.len()];
-    nb.sweep(model, st.frame(), &mut acc, |i, b, (ci, qi), cj| {
-        let j = b.j as usize;
-        let (ai, aj) = weights(model, st, &vol, l, (i, j), b.gw, Weigh::Area);
-        let d = st.x[j] - st.x[i];
-        // (∇v_j − ∇v_i) d_ij, the same from j's side (d_ji = −d_ij).
-        let u = g.map(|g| g[j].mul_vec(d) - g[i].mul_vec(d));
-        let w = vs.as_ref().map(|vs| vs[i].mul_vec(ai) + vs[j].mul_vec(aj));
-        if let Some(u) = u {
-            *ci += Mat2::outer(u, ai);
-        }
-        if let Some(w) = w {
-            *qi += Mat2::outer(w, d);
-        }
-        if let Some((cj, qj)) = cj {
+    kept.0.resize(nb.store_len(), [DVec2::ZERO; 2]);
+    nb.sweep_store(
+        model,
+        st.frame(),
+        &mut acc,
+        &mut kept.0,
+        |i, b, (ci, qi), cj, slot| {
+            let j = b.j as usize;
+            *slot = pair_gradients(l, (i, j), b.gw);
+            let a = weights(model, st, &vol, (i, j), slot, Weigh::Area);
+            let d = st.x[j] - st.x[i];
+            // (∇v_j − ∇v_i) d_ij, the same from j's side (d_ji = −d_ij).
+            let u = g.map(|g| g[j].mul_vec(d) - g[i].mul_vec(d));
+            let q = vs.as_ref().map(|vs| stress_term((&vs[i], &vs[j]), a, d));
             if let Some(u) = u {
-                *cj += Mat2::outer(u, aj);
+                *ci += Mat2::outer(u, a.0);
             }
-            if let Some(w) = w {
-                *qj += Mat2::outer(-w, d);
+            if let Some(q) = q {
+                *qi += q;
             }
-        }
-    });
-    image_pairs(model, st, nb, &mut acc, |i, j, m, gw, d, (ci, qi)| {
-        let (ai, aj) = image_weights(model, st, &vol, l, (i, j, m), gw, Weigh::Area);
+            if let Some((cj, qj)) = cj {
+                if let Some(u) = u {
+                    *cj += Mat2::outer(u, a.1);
+                }
+                if let Some(q) = q {
+                    *qj -= q;
+                }
+            }
+        },
+    );
+    image_pairs(model, st, nb, &mut acc, |i, j, m, gw, d, (ci, _)| {
         if let Some(g) = g {
+            let (ai, _) = image_weights(model, st, &vol, l, (i, j, m), gw, Weigh::Area);
             *ci += Mat2::outer(m.mat(&g[j]).mul_vec(d) - g[i].mul_vec(d), ai);
         }
-        if let Some(vs) = &vs {
-            *qi += Mat2::outer(vs[i].mul_vec(ai) + m.sym(&vs[j]).mul_vec(aj), d);
-        }
     });
+    let (c, mut q): (Vec<Mat2>, Vec<Mat2>) = acc.into_par_iter().unzip();
+    if let Some(vs) = &vs {
+        stress_images(model, st, nb, (&vol, l, vs), &mut q);
+    }
+    let w = energy_weights(model, st, &vol);
     let theta = model.dispersion;
-    acc.into_par_iter()
+    c.into_par_iter()
+        .zip(q)
         .enumerate()
         .map(|(i, (c, q))| {
             if model.rigid(i) {
@@ -310,34 +375,58 @@ pub fn correct_rates(model: &Model, st: &State, k: &mut Kinematics, c: &[Mat2]) 
 }
 
 /// The extra stress `S_k` whose forces are the correction's adjoint, from
-/// the stresses of `pts` and the kinematic pass's `L`.
+/// the stresses of `pts`, the kinematic pass's `L` and the step's pairs
+/// `kept` (replayed).
 pub fn stress_adjoint(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    l: &[Mat2],
+    (l, kept): (&[Mat2], &Kept),
     pts: &[StressPoint],
 ) -> Vec<Mat2> {
-    pair_sums(model, st, nb, l, None, Some(pts)).1
+    let vol = volumes(model, st);
+    let vs = weighed_stresses(model, st, &vol, pts);
+    let mut q = vec![Mat2::ZERO; model.len()];
+    nb.replay(&mut q, &kept.0, |i, j, k, qi, qj| {
+        let a = weights(model, st, &vol, (i, j), k, Weigh::Area);
+        let t = stress_term((&vs[i], &vs[j]), a, st.x[j] - st.x[i]);
+        *qi += t;
+        if let Some(qj) = qj {
+            *qj -= t;
+        }
+    });
+    stress_images(model, st, nb, (&vol, l, &vs), &mut q);
+    let w = energy_weights(model, st, &vol);
+    let theta = model.dispersion;
+    q.into_par_iter()
+        .enumerate()
+        .map(|(i, q)| {
+            if model.rigid(i) {
+                Mat2::ZERO
+            } else {
+                q.scale(0.5 * theta / w[i])
+            }
+        })
+        .collect()
 }
 
 /// The forces of the extra stress `s` ([`stress_adjoint`]), added to the
 /// accelerations `dv`: `m_i a_i += Σ_j (V_i S_i a_ij − V_j S_j a_ji)`,
-/// minus the gradient of `Σ_k V_k S_k : ∇v_k` in the velocities.
+/// minus the gradient of `Σ_k V_k S_k : ∇v_k` in the velocities; the
+/// step's pairs `kept` replayed.
 pub fn add_forces(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    l: &[Mat2],
+    (l, kept): (&[Mat2], &Kept),
     s: &[Mat2],
     dv: &mut [DVec2],
 ) {
     let vol = volumes(model, st);
     let w = energy_weights(model, st, &vol);
     let mut f = vec![DVec2::ZERO; model.len()];
-    nb.sweep(model, st.frame(), &mut f, |i, b, fi, fj| {
-        let j = b.j as usize;
-        let (ai, aj) = weights(model, st, &vol, l, (i, j), b.gw, Weigh::Gradient);
+    nb.replay(&mut f, &kept.0, |i, j, k, fi, fj| {
+        let (ai, aj) = weights(model, st, &vol, (i, j), k, Weigh::Gradient);
         let p = s[i].mul_vec(ai) * w[i] - s[j].mul_vec(aj) * w[j];
         *fi += p;
         if let Some(fj) = fj {
@@ -516,15 +605,16 @@ shape = {shape}
             let nb = neighbours::find(&model, st.frame());
             let k = sweep::kinematics(&model, &st, &nb);
             assert_eq!(k.g.len(), model.len());
-            let c = strain_correction(&model, &st, &nb, &k);
+            let mut kept = Kept::default();
+            let c = strain_correction(&model, &st, &nb, &k, &mut kept);
             let pts = eos_and_stress(&model, &st);
-            let s = stress_adjoint(&model, &st, &nb, &k.l, &pts);
+            let s = stress_adjoint(&model, &st, &nb, (&k.l, &kept), &pts);
             let through_strain = strain_power(&model, &st, &pts, &c);
             let mut de = vec![0.0; model.len()];
             add_work(&model, &st, &s, &k.g, &mut de);
             let booked: f64 = (0..model.len()).map(|i| model.mass[i] * de[i]).sum();
             let mut dv = vec![DVec2::ZERO; model.len()];
-            add_forces(&model, &st, &nb, &k.l, &s, &mut dv);
+            add_forces(&model, &st, &nb, (&k.l, &kept), &s, &mut dv);
             let kinetic: f64 = (0..model.len())
                 .map(|i| model.mass[i] * st.v[i].dot(dv[i]))
                 .sum();
@@ -539,8 +629,11 @@ shape = {shape}
                 (kinetic + booked).abs() < tol,
                 "{dim}-D {support}: the forces' power {kinetic} against the work booked {booked}"
             );
-            // The correction's sweep of ∇v is the kinematic pass's.
-            let g = gradient(&model, &st, &nb, &k.l, &st.v);
+            // The replays give the sweep's sums, bit for bit.
+            let (c2, s2) = strain_and_stress(&model, &st, &nb, &k, &pts, &mut Kept::default());
+            assert!(c2 == c && s2 == s, "{dim}-D {support}: the replay of S");
+            // The correction's replay of ∇v is the kinematic pass's.
+            let g = gradient(&model, &st, &nb, (&k.l, &kept), &st.v);
             for (a, b) in g.iter().zip(&k.g) {
                 assert!(ddot2(&(*a - *b), &(*a - *b)).sqrt() < 1e-9 * ddot2(b, b).sqrt().max(1.0));
             }
@@ -572,9 +665,10 @@ shape = {shape}
         }
         let nb = neighbours::find(&model, st.frame());
         let k = sweep::kinematics(&model, &st, &nb);
-        let c = strain_correction(&model, &st, &nb, &k);
+        let mut kept = Kept::default();
+        let c = strain_correction(&model, &st, &nb, &k, &mut kept);
         let pts = eos_and_stress(&model, &st);
-        let s = stress_adjoint(&model, &st, &nb, &k.l, &pts);
+        let s = stress_adjoint(&model, &st, &nb, (&k.l, &kept), &pts);
         let norm = |m: &Mat2| ddot2(m, m).sqrt();
         // Two supports' reach from every edge: the particle's and its
         // neighbours' sums are whole.
@@ -618,7 +712,7 @@ shape = {shape}
             }
             let nb = neighbours::find(&model, st.frame());
             let kin = sweep::kinematics(&model, &st, &nb);
-            let c = strain_correction(&model, &st, &nb, &kin);
+            let c = strain_correction(&model, &st, &nb, &kin, &mut Kept::default());
             // Two supports' reach from every edge but the axis.
             h = model.h[0];
             let reach = 4.0 * h + 1e-9;

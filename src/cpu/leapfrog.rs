@@ -61,7 +61,7 @@ impl CpuSolver {
         // makes the step first order.)
         let mut k = sweep::kinematics_seen(model, &half, nb, &next.v);
         if model.dispersion > 0.0 {
-            let c = dispersion::strain_correction(model, &half, nb, &k);
+            let c = dispersion::strain_correction(model, &half, nb, &k, &mut self.disp_kept);
             dispersion::correct_rates(model, &half, &mut k, &c);
         }
         let lv = std::mem::take(&mut k.lv);
@@ -74,8 +74,9 @@ impl CpuSolver {
         // The dispersion correction's extra stress and its forces at n+1;
         // its work is booked at v_{n+1} with the energy sums (4).
         let extra = (model.dispersion > 0.0).then(|| {
-            let s = dispersion::stress_adjoint(model, &next, nb, &k.l, &pts);
-            dispersion::add_forces(model, &next, nb, &k.l, &s, &mut dv);
+            let pairs = (&k.l[..], &self.disp_kept);
+            let s = dispersion::stress_adjoint(model, &next, nb, pairs, &pts);
+            dispersion::add_forces(model, &next, nb, pairs, &s, &mut dv);
             s
         });
         let mirrors = (!model.images.is_empty())
@@ -112,7 +113,7 @@ impl CpuSolver {
         stage::enter(Stage::Forces, Role::Energy);
         let mut de = sweep::energy_replay(model, nb, &self.kept, v_next);
         if let Some((s, l)) = &extra {
-            let g = dispersion::gradient(model, &next, nb, l, v_next);
+            let g = dispersion::gradient(model, &next, nb, (l, &self.disp_kept), v_next);
             dispersion::add_work(model, &next, s, &g, &mut de);
         }
         let mut dissipation_rate = art.at(v_next);

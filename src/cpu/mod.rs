@@ -133,7 +133,7 @@ pub fn evaluate_with(
     st: &State,
     nb: &neighbours::Neighbours,
 ) -> (Rates, Diagnostics) {
-    evaluate_at(model, st, nb, Role::Base, None)
+    evaluate_at(model, st, nb, Role::Base, None, &mut Default::default())
 }
 
 /// [`evaluate_with`] in the role `role` of the step's schedule
@@ -148,6 +148,7 @@ fn evaluate_at(
     nb: &neighbours::Neighbours,
     role: Role,
     debris: Option<&[u32]>,
+    kept: &mut dispersion::Kept,
 ) -> (Rates, Diagnostics) {
     stage::enter(Stage::Kinematics, role);
     let mut k = sweep::kinematics(model, st, nb);
@@ -155,14 +156,14 @@ fn evaluate_at(
     // The stresses are the state's: the dispersion correction's two sums
     // take one sweep.
     let extra = (model.dispersion > 0.0).then(|| {
-        let (c, s) = dispersion::strain_and_stress(model, st, nb, &k, &pts);
+        let (c, s) = dispersion::strain_and_stress(model, st, nb, &k, &pts, kept);
         dispersion::correct_rates(model, st, &mut k, &c);
         s
     });
     stage::enter(Stage::Forces, role);
     let (mut dv, mut de, dissipation_rate) = sweep::rates_and_dissipation(model, st, nb, &k, &pts);
     if let Some(s) = extra {
-        dispersion::add_forces(model, st, nb, &k.l, &s, &mut dv);
+        dispersion::add_forces(model, st, nb, (&k.l, kept), &s, &mut dv);
         dispersion::add_work(model, st, &s, &k.g, &mut de);
     }
     let mut diag = Diagnostics {
@@ -267,6 +268,9 @@ pub struct CpuSolver {
     /// The leapfrog's pair vectors of the step's momentum pass
     /// ([`sweep::PairVectors`]), kept between steps for their memory only.
     kept: Vec<sweep::PairVectors>,
+    /// The dispersion correction's pairs of the step's evaluation
+    /// ([`dispersion::Kept`]), kept between steps for their memory only.
+    disp_kept: dispersion::Kept,
 }
 
 /// The skin of the CPU neighbour lists as a fraction of the support `2 h`.
@@ -292,6 +296,7 @@ impl CpuSolver {
             nb: neighbours::Neighbours::default(),
             list_builds: 0,
             kept: Vec::new(),
+            disp_kept: Default::default(),
         }
     }
 
@@ -368,7 +373,14 @@ impl CpuSolver {
                 self.state.frame(),
                 Role::Base,
             );
-            let (r, mut d) = evaluate_with(&self.model, &self.state, &self.nb);
+            let (r, mut d) = evaluate_at(
+                &self.model,
+                &self.state,
+                &self.nb,
+                Role::Base,
+                None,
+                &mut self.disp_kept,
+            );
             if self.model.contact {
                 // The base state's entries (the rule is applied anew at
                 // the midpoint, and stored only here).
@@ -444,7 +456,15 @@ impl CpuSolver {
         half.metric.clone_from(&self.state.metric);
         let lists = (&mut self.nb, &mut self.list_builds);
         Self::refresh_lists(&self.model, lists.0, lists.1, half.frame(), Role::Mid);
-        let (k2, _) = evaluate_at(&self.model, &half, &self.nb, Role::Mid, Some(&k1.debris));
+        let debris = Some(&k1.debris[..]);
+        let (k2, _) = evaluate_at(
+            &self.model,
+            &half,
+            &self.nb,
+            Role::Mid,
+            debris,
+            &mut self.disp_kept,
+        );
         let mut next = std::mem::take(&mut self.spare);
         stage::enter(Stage::Advance, Role::FullStep);
         advance(&self.model, &self.state, &half.v, &k2, dt, true, &mut next);
@@ -502,7 +522,12 @@ impl CpuSolver {
                 + size_of_val(&r.ds[..])
                 + size_of_val(&r.rate[..])
         });
-        (model + states + rates + self.nb.bytes() + size_of_val(&self.kept[..])) as u64
+        (model
+            + states
+            + rates
+            + self.nb.bytes()
+            + size_of_val(&self.kept[..])
+            + self.disp_kept.bytes()) as u64
     }
 
     fn instability(&self, i: usize, quantity: &str, value: f64) -> Instability {
