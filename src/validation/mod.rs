@@ -98,7 +98,7 @@ pub struct Options {
     pub cases: Vec<Case>,
     /// `None`: the scenes' `auto`.
     pub backend: Option<Backend>,
-    /// `None`: the scenes' (the midpoint rule).
+    /// `None`: the scenes' (the leapfrog).
     pub integrator: Option<Integrator>,
     /// The dispersion correction and the viscosity, where not the scenes'.
     pub tuning: Tuning,

@@ -16,7 +16,7 @@ pub(crate) struct ValidateArgs {
     /// Which backend runs the cases (default: the scenes' auto).
     #[arg(long, value_enum)]
     backend: Option<BackendArg>,
-    /// Time integration of the cases (default: the scenes' midpoint).
+    /// Time integration of the cases (default: the scenes' leapfrog).
     #[arg(long, value_enum)]
     integrator: Option<IntegratorArg>,
     /// The dispersion correction's theta in every scene (docs/method.md
