@@ -20,12 +20,12 @@
 //! ([`energy_weights`]), the gradient and the forces weigh their pairs by
 //! mass and `C` and `S` by area ([`Weigh`]).
 //!
-//! One sweep an evaluation, which keeps each pair's gradients ([`Kept`]);
-//! the forces (and the leapfrog's `S` and work at `v_{n+1}`,
-//! [`gradient`]) replay them. All run only where a scene sets
-//! `dispersion_correction`; across symmetry planes each also takes the
-//! pairs with the neighbours' images ([`image_pairs`]), as the kinematic
-//! sums do.
+//! No kernel of its own: the kinematic walk keeps each pair's kernel
+//! gradient ([`Kept`]) and every sum (`C`, `S`, the forces and the
+//! leapfrog's gradient of `v_{n+1}` for the work, [`gradient`]) replays
+//! them, only where a scene sets `dispersion_correction`; across symmetry
+//! planes each also takes the pairs with the neighbours' images
+//! ([`image_pairs`]), as the kinematic sums do.
 
 use std::borrow::Cow;
 
@@ -39,20 +39,26 @@ use crate::math::{Mat2, Mirror, Sym};
 use crate::model::{Model, State};
 use crate::physics::strength;
 
-/// Each visited candidate's `(L_i ∇_i W_ij, L_j ∇_j W_ji)` (zero outside
-/// the support and on rigid particles), kept by the step's first sweep
-/// ([`strain_correction`], [`strain_and_stress`]) in its slots
-/// ([`Neighbours::sweep_store`]). Every later sum of the step replays them
-/// ([`Neighbours::replay`]): the positions and the supports do not move
-/// within a step, only the volumes the weights take, which the replays
-/// read at their own state.
+/// Each visited candidate's kernel gradient `∇_i W_ij` (zero outside the
+/// support), kept by the step's kinematic walk
+/// ([`super::sweep::kinematics_keeping`]) in its slots
+/// ([`Neighbours::sweep_store`]). Every sum of the correction replays them
+/// ([`Neighbours::replay`]): within a step the positions and the supports
+/// do not move, only the volumes the weights take, which the replays read
+/// at their own state.
 #[derive(Debug, Clone, Default)]
-pub struct Kept(Vec<[DVec2; 2]>);
+pub struct Kept(Vec<DVec2>);
 
 impl Kept {
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         size_of_val(&self.0[..])
+    }
+
+    /// The store for a walk of `n` slots.
+    pub(super) fn slots(&mut self, n: usize) -> &mut [DVec2] {
+        self.0.resize(n, DVec2::ZERO);
+        &mut self.0
     }
 }
 
@@ -70,7 +76,7 @@ fn weights(
     st: &State,
     vol: &[f64],
     (i, j): (usize, usize),
-    k: &[DVec2; 2],
+    k: [DVec2; 2],
     by: Weigh,
 ) -> (DVec2, DVec2) {
     let (wj, wi) = weigh(model, st, vol, (i, j), by);
@@ -91,7 +97,7 @@ fn image_weights(
     by: Weigh,
 ) -> (DVec2, DVec2) {
     let k = [l[i].mul_vec(gw), m.mat(&l[j]).mul_vec(-gw)];
-    weights(model, st, vol, (i, j), &k, by)
+    weights(model, st, vol, (i, j), k, by)
 }
 
 /// What a pair's neighbour is weighed by: in the velocity gradient (and
@@ -186,7 +192,8 @@ pub fn gradient(
 ) -> Vec<Mat2> {
     let vol = volumes(model, st);
     let mut g = vec![Mat2::ZERO; model.len()];
-    nb.replay(&mut g, &kept.0, |i, j, k, gi, gj| {
+    nb.replay(&mut g, &kept.0, |i, j, &gw, gi, gj| {
+        let k = pair_gradients(l, (i, j), gw);
         let (ai, aj) = weights(model, st, &vol, (i, j), k, Weigh::Gradient);
         let dv = v[j] - v[i];
         *gi += Mat2::outer(dv, ai);
@@ -207,19 +214,18 @@ pub fn gradient(
 }
 
 /// `C_i = −½θ Σ_j ((∇v_j − ∇v_i) d_ij) ⊗ a_ij` from the kinematic pass's
-/// `∇v` (`k.g`) and `L` (zero on rigid particles); the step's pairs go to
-/// `kept`.
+/// `∇v` (`k.g`), `L` (zero on rigid particles) and pairs (`kept`).
 pub fn strain_correction(
     model: &Model,
     st: &State,
     nb: &Neighbours,
     k: &Kinematics,
-    kept: &mut Kept,
+    kept: &Kept,
 ) -> Vec<Mat2> {
-    pair_sums(model, st, nb, &k.l, Some(&k.g), None, kept).0
+    pair_sums(model, st, nb, (&k.l, kept), Some(&k.g), None).0
 }
 
-/// [`strain_correction`] and [`stress_adjoint`] in one sweep, where the
+/// [`strain_correction`] and [`stress_adjoint`] in one replay, where the
 /// stresses do not wait for the corrected rates (the midpoint rule's
 /// evaluations take them from the state).
 pub fn strain_and_stress(
@@ -228,9 +234,9 @@ pub fn strain_and_stress(
     nb: &Neighbours,
     k: &Kinematics,
     pts: &[StressPoint],
-    kept: &mut Kept,
+    kept: &Kept,
 ) -> (Vec<Mat2>, Vec<Mat2>) {
-    pair_sums(model, st, nb, &k.l, Some(&k.g), Some(pts), kept)
+    pair_sums(model, st, nb, (&k.l, kept), Some(&k.g), Some(pts))
 }
 
 /// `W σ` of each particle: the stress point keeps `σ/ρ²` (`σ/(ηρ)` in a
@@ -262,52 +268,48 @@ fn stress_images(
     });
 }
 
-/// The sweep behind [`strain_correction`] (with `g`, the velocity
+/// The replay behind [`strain_correction`] (with `g`, the velocity
 /// gradients) and [`strain_and_stress`] (with `pts`, the stresses too):
-/// `(C, S)`, `S` zero where not asked for, both zero on rigid particles;
-/// the pairs' gradients go to `kept`.
+/// `(C, S)`, `S` zero where not asked for, both zero on rigid particles.
 fn pair_sums(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    l: &[Mat2],
+    (l, kept): (&[Mat2], &Kept),
     g: Option<&[Mat2]>,
     pts: Option<&[StressPoint]>,
-    kept: &mut Kept,
 ) -> (Vec<Mat2>, Vec<Mat2>) {
     let vol = volumes(model, st);
     let vs = pts.map(|pts| weighed_stresses(model, st, &vol, pts));
     let mut acc = vec![(Mat2::ZERO, Mat2::ZERO); model.len()];
-    kept.0.resize(nb.store_len(), [DVec2::ZERO; 2]);
-    nb.sweep_store(
-        model,
-        st.frame(),
-        &mut acc,
-        &mut kept.0,
-        |i, b, (ci, qi), cj, slot| {
-            let j = b.j as usize;
-            *slot = pair_gradients(l, (i, j), b.gw);
-            let a = weights(model, st, &vol, (i, j), slot, Weigh::Area);
-            let d = st.x[j] - st.x[i];
-            // (∇v_j − ∇v_i) d_ij, the same from j's side (d_ji = −d_ij).
-            let u = g.map(|g| g[j].mul_vec(d) - g[i].mul_vec(d));
-            let q = vs.as_ref().map(|vs| stress_term((&vs[i], &vs[j]), a, d));
+    nb.replay(&mut acc, &kept.0, |i, j, &gw, (ci, qi), cj| {
+        let a = weights(
+            model,
+            st,
+            &vol,
+            (i, j),
+            pair_gradients(l, (i, j), gw),
+            Weigh::Area,
+        );
+        let d = st.x[j] - st.x[i];
+        // (∇v_j − ∇v_i) d_ij, the same from j's side (d_ji = −d_ij).
+        let u = g.map(|g| g[j].mul_vec(d) - g[i].mul_vec(d));
+        let q = vs.as_ref().map(|vs| stress_term((&vs[i], &vs[j]), a, d));
+        if let Some(u) = u {
+            *ci += Mat2::outer(u, a.0);
+        }
+        if let Some(q) = q {
+            *qi += q;
+        }
+        if let Some((cj, qj)) = cj {
             if let Some(u) = u {
-                *ci += Mat2::outer(u, a.0);
+                *cj += Mat2::outer(u, a.1);
             }
             if let Some(q) = q {
-                *qi += q;
+                *qj -= q;
             }
-            if let Some((cj, qj)) = cj {
-                if let Some(u) = u {
-                    *cj += Mat2::outer(u, a.1);
-                }
-                if let Some(q) = q {
-                    *qj -= q;
-                }
-            }
-        },
-    );
+        }
+    });
     image_pairs(model, st, nb, &mut acc, |i, j, m, gw, d, (ci, _)| {
         if let Some(g) = g {
             let (ai, _) = image_weights(model, st, &vol, l, (i, j, m), gw, Weigh::Area);
@@ -387,8 +389,15 @@ pub fn stress_adjoint(
     let vol = volumes(model, st);
     let vs = weighed_stresses(model, st, &vol, pts);
     let mut q = vec![Mat2::ZERO; model.len()];
-    nb.replay(&mut q, &kept.0, |i, j, k, qi, qj| {
-        let a = weights(model, st, &vol, (i, j), k, Weigh::Area);
+    nb.replay(&mut q, &kept.0, |i, j, &gw, qi, qj| {
+        let a = weights(
+            model,
+            st,
+            &vol,
+            (i, j),
+            pair_gradients(l, (i, j), gw),
+            Weigh::Area,
+        );
         let t = stress_term((&vs[i], &vs[j]), a, st.x[j] - st.x[i]);
         *qi += t;
         if let Some(qj) = qj {
@@ -425,7 +434,8 @@ pub fn add_forces(
     let vol = volumes(model, st);
     let w = energy_weights(model, st, &vol);
     let mut f = vec![DVec2::ZERO; model.len()];
-    nb.replay(&mut f, &kept.0, |i, j, k, fi, fj| {
+    nb.replay(&mut f, &kept.0, |i, j, &gw, fi, fj| {
+        let k = pair_gradients(l, (i, j), gw);
         let (ai, aj) = weights(model, st, &vol, (i, j), k, Weigh::Gradient);
         let p = s[i].mul_vec(ai) * w[i] - s[j].mul_vec(aj) * w[j];
         *fi += p;
@@ -603,10 +613,13 @@ shape = {shape}
             assert_eq!(model.axisymmetric, matches!(cut, Some(Cut::Axis)));
             let support = &format!("{support}, {cut:?}");
             let nb = neighbours::find(&model, st.frame());
-            let k = sweep::kinematics(&model, &st, &nb);
-            assert_eq!(k.g.len(), model.len());
             let mut kept = Kept::default();
-            let c = strain_correction(&model, &st, &nb, &k, &mut kept);
+            let k = sweep::kinematics_keeping(&model, &st, &nb, None, &mut kept);
+            assert_eq!(k.g.len(), model.len());
+            // Keeping the pairs changes nothing of the kinematic pass.
+            let plain = sweep::kinematics(&model, &st, &nb);
+            assert!(plain.g == k.g && plain.l == k.l && plain.drho == k.drho);
+            let c = strain_correction(&model, &st, &nb, &k, &kept);
             let pts = eos_and_stress(&model, &st);
             let s = stress_adjoint(&model, &st, &nb, (&k.l, &kept), &pts);
             let through_strain = strain_power(&model, &st, &pts, &c);
@@ -629,8 +642,9 @@ shape = {shape}
                 (kinetic + booked).abs() < tol,
                 "{dim}-D {support}: the forces' power {kinetic} against the work booked {booked}"
             );
-            // The replays give the sweep's sums, bit for bit.
-            let (c2, s2) = strain_and_stress(&model, &st, &nb, &k, &pts, &mut Kept::default());
+            // The midpoint rule's one replay of C and S gives the two
+            // replays' sums, bit for bit.
+            let (c2, s2) = strain_and_stress(&model, &st, &nb, &k, &pts, &kept);
             assert!(c2 == c && s2 == s, "{dim}-D {support}: the replay of S");
             // The correction's replay of ∇v is the kinematic pass's.
             let g = gradient(&model, &st, &nb, (&k.l, &kept), &st.v);
@@ -664,9 +678,9 @@ shape = {shape}
             };
         }
         let nb = neighbours::find(&model, st.frame());
-        let k = sweep::kinematics(&model, &st, &nb);
         let mut kept = Kept::default();
-        let c = strain_correction(&model, &st, &nb, &k, &mut kept);
+        let k = sweep::kinematics_keeping(&model, &st, &nb, None, &mut kept);
+        let c = strain_correction(&model, &st, &nb, &k, &kept);
         let pts = eos_and_stress(&model, &st);
         let s = stress_adjoint(&model, &st, &nb, (&k.l, &kept), &pts);
         let norm = |m: &Mat2| ddot2(m, m).sqrt();
@@ -711,8 +725,9 @@ shape = {shape}
                 st.v[i] = field(st.x[i]);
             }
             let nb = neighbours::find(&model, st.frame());
-            let kin = sweep::kinematics(&model, &st, &nb);
-            let c = strain_correction(&model, &st, &nb, &kin, &mut Kept::default());
+            let mut kept = Kept::default();
+            let kin = sweep::kinematics_keeping(&model, &st, &nb, None, &mut kept);
+            let c = strain_correction(&model, &st, &nb, &kin, &kept);
             // Two supports' reach from every edge but the axis.
             h = model.h[0];
             let reach = 4.0 * h + 1e-9;

@@ -59,9 +59,14 @@ impl CpuSolver {
         // velocities, in the same walk. (A ∇v at n+½ with velocities at n+1
         // mixes two levels: a jump O(Δt) where it should be O(Δx²), which
         // makes the step first order.)
-        let mut k = sweep::kinematics_seen(model, &half, nb, &next.v);
+        let mut k = if model.dispersion > 0.0 {
+            let seen = Some(&next.v[..]);
+            sweep::kinematics_keeping(model, &half, nb, seen, &mut self.disp_kept)
+        } else {
+            sweep::kinematics_seen(model, &half, nb, &next.v)
+        };
         if model.dispersion > 0.0 {
-            let c = dispersion::strain_correction(model, &half, nb, &k, &mut self.disp_kept);
+            let c = dispersion::strain_correction(model, &half, nb, &k, &self.disp_kept);
             dispersion::correct_rates(model, &half, &mut k, &c);
         }
         let lv = std::mem::take(&mut k.lv);

@@ -151,7 +151,11 @@ fn evaluate_at(
     kept: &mut dispersion::Kept,
 ) -> (Rates, Diagnostics) {
     stage::enter(Stage::Kinematics, role);
-    let mut k = sweep::kinematics(model, st, nb);
+    let mut k = if model.dispersion > 0.0 {
+        sweep::kinematics_keeping(model, st, nb, None, kept)
+    } else {
+        sweep::kinematics(model, st, nb)
+    };
     let pts = eos_and_stress_with(model, st, debris.unwrap_or(&k.fallback));
     // The stresses are the state's: the dispersion correction's two sums
     // take one sweep.

@@ -23,7 +23,7 @@ mod tests;
 
 pub use super::forces::PairVectors;
 pub use forces::{energy_replay, momentum_energy, momentum_keeping, rates_and_dissipation};
-pub use kinematics::{kinematics, kinematics_seen};
+pub use kinematics::{kinematics, kinematics_keeping, kinematics_seen};
 
 /// Up to four candidates of one row with their kernel values in lanes
 /// ([`Neighbours::sweep_chunks`]).
@@ -181,28 +181,58 @@ impl Neighbours {
         T: Send + Default,
         P: Fn(usize, Option<&Nbr>, Option<&Nbr>, &mut T, Option<&mut T>) + Sync,
     {
-        let round = Frame::round(f.x);
         let mut none = self.no_store();
-        self.rows_store(acc, &mut none, |i, ai, piece, base, _| {
+        self.sweep_two_store(model, f, acc, &mut none, |i, m, r, ai, aj, _| {
+            pair_fn(i, m, r, ai, aj)
+        });
+    }
+
+    /// [`Neighbours::sweep_two`] that also hands the pair function the
+    /// candidate's slot of `store` (as [`Neighbours::sweep_store`], whose
+    /// pairs are the frame's: the metric ones); the slots of candidates
+    /// that are no pair in the frame are reset to the default.
+    pub fn sweep_two_store<T, S, P>(
+        &self,
+        model: &Model,
+        f: Frame,
+        acc: &mut [T],
+        store: &mut [S],
+        pair_fn: P,
+    ) where
+        T: Send + Default,
+        S: Send + Default,
+        P: Fn(usize, Option<&Nbr>, Option<&Nbr>, &mut T, Option<&mut T>, &mut S) + Sync,
+    {
+        let round = Frame::round(f.x);
+        self.rows_store(acc, store, |i, ai, piece, base, slots| {
             let inv_hi = 1.0 / model.h[i];
             let (s, fe, e) = self.row_ends(i);
-            for &j in &self.list[s..fe] {
+            for (q, &j) in self.list[s..fe].iter().enumerate() {
                 let (m, r) = (
                     pair(model, f, i, inv_hi, j),
                     pair(model, round, i, inv_hi, j),
                 );
+                let slot = &mut slots[q];
+                if m.is_none() {
+                    *slot = S::default();
+                }
                 if m.is_some() || r.is_some() {
+                    // j is at most one chunk on: inside this task's piece.
                     let aj = Some(&mut piece[j as usize - base]);
-                    pair_fn(i, m.as_ref(), r.as_ref(), ai, aj);
+                    pair_fn(i, m.as_ref(), r.as_ref(), ai, aj, slot);
                 }
             }
-            for &j in &self.list[fe..e] {
+            for (q, &j) in self.list[fe..e].iter().enumerate() {
                 let (m, r) = (
                     pair(model, f, i, inv_hi, j),
                     pair(model, round, i, inv_hi, j),
                 );
+                let slot = &mut slots[fe - s + q];
+                if m.is_none() {
+                    *slot = S::default();
+                }
                 if m.is_some() || r.is_some() {
-                    pair_fn(i, m.as_ref(), r.as_ref(), ai, None);
+                    pair_fn(i, m.as_ref(), r.as_ref(), ai, None, slot);
                 }
             }
         });
@@ -282,7 +312,7 @@ impl Neighbours {
     }
 
     /// A store of zero-sized slots for sweeps that keep nothing.
-    fn no_store(&self) -> Vec<()> {
+    pub(in crate::cpu) fn no_store(&self) -> Vec<()> {
         vec![(); self.store_len()]
     }
 
