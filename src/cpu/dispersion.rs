@@ -269,8 +269,9 @@ fn stress_images(
 }
 
 /// The replay behind [`strain_correction`] (with `g`, the velocity
-/// gradients) and [`strain_and_stress`] (with `pts`, the stresses too):
-/// `(C, S)`, `S` zero where not asked for, both zero on rigid particles.
+/// gradients), [`stress_adjoint`] (with `pts`, the stresses) and
+/// [`strain_and_stress`] (both): `(C, S)`, each zero where not asked for
+/// and on rigid particles.
 fn pair_sums(
     model: &Model,
     st: &State,
@@ -383,40 +384,10 @@ pub fn stress_adjoint(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    (l, kept): (&[Mat2], &Kept),
+    pairs: (&[Mat2], &Kept),
     pts: &[StressPoint],
 ) -> Vec<Mat2> {
-    let vol = volumes(model, st);
-    let vs = weighed_stresses(model, st, &vol, pts);
-    let mut q = vec![Mat2::ZERO; model.len()];
-    nb.replay(&mut q, &kept.0, |i, j, &gw, qi, qj| {
-        let a = weights(
-            model,
-            st,
-            &vol,
-            (i, j),
-            pair_gradients(l, (i, j), gw),
-            Weigh::Area,
-        );
-        let t = stress_term((&vs[i], &vs[j]), a, st.x[j] - st.x[i]);
-        *qi += t;
-        if let Some(qj) = qj {
-            *qj -= t;
-        }
-    });
-    stress_images(model, st, nb, (&vol, l, &vs), &mut q);
-    let w = energy_weights(model, st, &vol);
-    let theta = model.dispersion;
-    q.into_par_iter()
-        .enumerate()
-        .map(|(i, q)| {
-            if model.rigid(i) {
-                Mat2::ZERO
-            } else {
-                q.scale(0.5 * theta / w[i])
-            }
-        })
-        .collect()
+    pair_sums(model, st, nb, pairs, None, Some(pts)).1
 }
 
 /// The forces of the extra stress `s` ([`stress_adjoint`]), added to the
