@@ -102,6 +102,8 @@ impl<S> Sums<S> {
 /// walk reads the state's velocities `v`), or (`Mat2`) `Σ_j V_j (v*_j −
 /// v*_i) ⊗ ∇_i W_ij`, the walk reading `[v, v*]` of a particle together.
 pub(in crate::cpu) trait Seen: Copy + Default + Send + Sync {
+    /// Whether [`Seen::sum`] gives a gradient.
+    const SEES: bool;
     type Vel: Copy + Send + Sync;
     /// Each particle's velocities for the walk, from the state's `v` and
     /// the `seen` ones.
@@ -114,6 +116,7 @@ pub(in crate::cpu) trait Seen: Copy + Default + Send + Sync {
 }
 
 impl Seen for () {
+    const SEES: bool = false;
     type Vel = DVec2;
     fn vel<'a>(v: &'a [DVec2], _: &[DVec2]) -> Cow<'a, [DVec2]> {
         Cow::Borrowed(v)
@@ -134,6 +137,7 @@ impl Seen for () {
 }
 
 impl Seen for Mat2 {
+    const SEES: bool = true;
     type Vel = [DVec2; 2];
     fn vel<'a>(v: &'a [DVec2], seen: &[DVec2]) -> Cow<'a, [[DVec2; 2]]> {
         Cow::Owned(v.par_iter().zip(seen).map(|(&v, &s)| [v, s]).collect())
@@ -279,20 +283,41 @@ pub(in crate::cpu) fn volumes(model: &Model, st: &State) -> Vec<f64> {
 /// The kinematic pass's results from each particle's sums: `L_i`, `∇v_i`,
 /// continuity, the stress rate, the surface set.
 pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<S>>) -> Kinematics {
-    let per: Vec<Point> = sums
-        .into_par_iter()
-        .enumerate()
-        .map(|(i, sums)| point_of_sums(model, st, i, sums))
-        .collect();
-    let mut out = Kinematics::with_room(model, per.len());
-    for (i, p) in per.into_iter().enumerate() {
-        out.push(model, st, i, p);
+    let n = sums.len();
+    let hg = model.hourglass > 0.0 && S::SEES;
+    let mut out = Kinematics::sized(model, n, hg);
+    // Each particle's results go straight to their arrays, a run of
+    // particles a task; the fallback lists join in order.
+    let mut runs = Vec::with_capacity(n.div_ceil(FINISH_RUN));
+    let (mut rest, mut base) = (out.rows(), 0);
+    while base < n {
+        let (run, tail) = rest.split_at(FINISH_RUN.min(n - base));
+        runs.push((base, run));
+        (rest, base) = (tail, base + FINISH_RUN);
     }
-    if !out.hgrad.is_empty() {
+    let fallback: Vec<Vec<u32>> = runs
+        .into_par_iter()
+        .map(|(base, mut run)| {
+            let mut fallback = Vec::new();
+            for (r, sums) in sums[base..base + run.l.len()].iter().enumerate() {
+                let i = base + r;
+                let p = point_of_sums(model, st, i, *sums);
+                if !run.put(model, st, (r, i), p) {
+                    fallback.push(i as u32);
+                }
+            }
+            fallback
+        })
+        .collect();
+    out.fallback = fallback.concat();
+    if hg {
         out.hv.clone_from(&st.v);
     }
     out
 }
+
+/// Particles a task of [`finish`].
+const FINISH_RUN: usize = 4096;
 
 /// Particle i's [`Point`] from its sums: `L_i` (or the fallback), the
 /// velocity gradients, the hourglass control's fit, the colour function.
@@ -356,75 +381,158 @@ fn point_of_sums<S: Seen>(model: &Model, st: &State, i: usize, sums: Sums<S>) ->
 }
 
 impl Kinematics {
-    /// No particle yet, room for `n`, the optional arrays sized for what
-    /// the scene keeps.
-    fn with_room(model: &Model, n: usize) -> Kinematics {
+    /// Every array the scene keeps at `n` particles (the hourglass
+    /// control's own gradient where `hgrad`), to be filled by [`Rows::put`].
+    fn sized(model: &Model, n: usize, hgrad: bool) -> Kinematics {
+        let keep = |on: bool| if on { n } else { 0 };
         Kinematics {
-            l: Vec::with_capacity(n),
+            l: vec![Mat2::ZERO; n],
             fallback: Vec::new(),
-            grad_psi: Vec::with_capacity(n),
-            surface: Vec::with_capacity(n),
-            psi: Vec::with_capacity(if model.axisymmetric { n } else { 0 }),
-            gv: Vec::with_capacity(if model.keeps_gradient() { n } else { 0 }),
+            grad_psi: vec![DVec2::ZERO; n],
+            surface: vec![false; n],
+            psi: vec![0.0; keep(model.axisymmetric)],
+            gv: vec![Mat2::ZERO; keep(model.keeps_gradient())],
             hv: Vec::new(),
-            hgrad: Vec::new(),
-            lv: Vec::with_capacity(if model.adaptive { n } else { 0 }),
-            g: Vec::with_capacity(if model.dispersion > 0.0 { n } else { 0 }),
-            drho: Vec::with_capacity(n),
-            ds: Vec::with_capacity(n),
-            rate: Vec::with_capacity(if model.strain_rate { n } else { 0 }),
+            hgrad: vec![Mat2::ZERO; keep(hgrad)],
+            lv: vec![Mat2::ZERO; keep(model.adaptive)],
+            g: vec![Mat2::ZERO; keep(model.dispersion > 0.0)],
+            drho: vec![0.0; n],
+            ds: vec![Sym::default(); n],
+            rate: vec![0.0; keep(model.strain_rate)],
         }
     }
 
-    /// Particle i's results from its point `p`: the surface test, the
-    /// continuity and stress rates, the gradients kept.
-    fn push(&mut self, model: &Model, st: &State, i: usize, p: Point) {
-        self.l.push(p.l);
-        self.surface
-            .push(surface_measure(model, i, p.gpsi, p.psi) > model.boundary_threshold);
+    /// The per-particle arrays as one [`Rows`].
+    fn rows(&mut self) -> Rows<'_> {
+        Rows {
+            l: &mut self.l,
+            grad_psi: &mut self.grad_psi,
+            surface: &mut self.surface,
+            psi: &mut self.psi,
+            gv: &mut self.gv,
+            hgrad: &mut self.hgrad,
+            lv: &mut self.lv,
+            g: &mut self.g,
+            drho: &mut self.drho,
+            ds: &mut self.ds,
+            rate: &mut self.rate,
+        }
+    }
+}
+
+/// A run of particles' slots in [`Kinematics`]' per-particle arrays; an
+/// array the scene does not keep is empty in every run.
+struct Rows<'a> {
+    l: &'a mut [Mat2],
+    grad_psi: &'a mut [DVec2],
+    surface: &'a mut [bool],
+    psi: &'a mut [f64],
+    gv: &'a mut [Mat2],
+    hgrad: &'a mut [Mat2],
+    lv: &'a mut [Mat2],
+    g: &'a mut [Mat2],
+    drho: &'a mut [f64],
+    ds: &'a mut [Sym],
+    rate: &'a mut [f64],
+}
+
+/// `s` cut at `k`, or two empty slices where `s` is empty.
+fn cut<T>(s: &mut [T], k: usize) -> (&mut [T], &mut [T]) {
+    if s.is_empty() {
+        (&mut [], &mut [])
+    } else {
+        s.split_at_mut(k)
+    }
+}
+
+impl<'a> Rows<'a> {
+    /// The first `k` particles' slots and the rest's.
+    fn split_at(self, k: usize) -> (Rows<'a>, Rows<'a>) {
+        let (l, l2) = self.l.split_at_mut(k);
+        let (grad_psi, grad_psi2) = self.grad_psi.split_at_mut(k);
+        let (surface, surface2) = self.surface.split_at_mut(k);
+        let (psi, psi2) = cut(self.psi, k);
+        let (gv, gv2) = cut(self.gv, k);
+        let (hgrad, hgrad2) = cut(self.hgrad, k);
+        let (lv, lv2) = cut(self.lv, k);
+        let (g, g2) = cut(self.g, k);
+        let (drho, drho2) = self.drho.split_at_mut(k);
+        let (ds, ds2) = self.ds.split_at_mut(k);
+        let (rate, rate2) = cut(self.rate, k);
+        (
+            Rows {
+                l,
+                grad_psi,
+                surface,
+                psi,
+                gv,
+                hgrad,
+                lv,
+                g,
+                drho,
+                ds,
+                rate,
+            },
+            Rows {
+                l: l2,
+                grad_psi: grad_psi2,
+                surface: surface2,
+                psi: psi2,
+                gv: gv2,
+                hgrad: hgrad2,
+                lv: lv2,
+                g: g2,
+                drho: drho2,
+                ds: ds2,
+                rate: rate2,
+            },
+        )
+    }
+
+    /// Particle i's results from its point `p` into slot `r`: the surface
+    /// test, the continuity and stress rates, the gradients kept. Returns
+    /// whether its correction held (`p.ok`).
+    fn put(&mut self, model: &Model, st: &State, (r, i): (usize, usize), p: Point) -> bool {
+        self.l[r] = p.l;
+        self.surface[r] = surface_measure(model, i, p.gpsi, p.psi) > model.boundary_threshold;
         if let Some(psi) = p.psi {
-            self.psi.push(psi);
+            self.psi[r] = psi;
         }
-        self.grad_psi.push(p.gpsi);
-        if !p.ok {
-            self.fallback.push(i as u32);
-        }
-        if model.rigid(i) {
-            self.drho.push(0.0);
-            self.ds.push(Sym::default());
-        } else {
+        self.grad_psi[r] = p.gpsi;
+        if !model.rigid(i) {
             // η = 2π r ρ obeys the plane's continuity equation: the hoop
             // strain rate is in ρ alone (docs/method.md §12).
-            self.drho.push(-st.rho[i] * p.gv.trace());
+            self.drho[r] = -st.rho[i] * p.gv.trace();
             // Debris keeps its deviatoric stress, frozen (docs/method.md,
             // "Debris").
             let g = if p.ok { model.material(i).g } else { 0.0 };
             let ds = stress_rate(g, &st.s[i], &p.gv);
-            self.ds.push(if model.axisymmetric {
+            self.ds[r] = if model.axisymmetric {
                 with_hoop(g, ds, hoop_rate(st, i))
             } else {
                 ds
-            });
+            };
         }
-        if model.keeps_gradient() {
-            self.gv.push(p.fit.or(p.gv_seen).unwrap_or(p.gv));
+        if !self.gv.is_empty() {
+            self.gv[r] = p.fit.or(p.gv_seen).unwrap_or(p.gv);
         }
         if let Some(g) = p.hgrad {
-            self.hgrad.push(g);
+            self.hgrad[r] = g;
         }
-        if model.adaptive {
-            self.lv.push(p.gv);
+        if !self.lv.is_empty() {
+            self.lv[r] = p.gv;
         }
-        if model.dispersion > 0.0 {
-            self.g.push(p.gv);
+        if !self.g.is_empty() {
+            self.g[r] = p.gv;
         }
-        if model.strain_rate {
-            self.rate.push(if model.axisymmetric && !model.rigid(i) {
+        if !self.rate.is_empty() {
+            self.rate[r] = if model.axisymmetric && !model.rigid(i) {
                 strength::equivalent_strain_rate_3(&p.gv, hoop_rate(st, i))
             } else {
                 strength::equivalent_strain_rate(&p.gv)
-            });
+            };
         }
+        p.ok
     }
 }
 
