@@ -446,6 +446,106 @@ fn adaptive_reach(model: &Model, metric: &[Metric], skin: f64) -> f64 {
     (2.0 * REACH_MARGIN * major + skin * aspect).max(2.0 * h_max + skin)
 }
 
+/// The list build where supports adapt. Its rows hold the particles of
+/// the 3×3 cells of side [`adaptive_reach`] around each particle that
+/// [`near_adaptive`] passes, in those cells' order. Cells that wide hold
+/// many times a row's partners wherever one support is drawn out, so the
+/// build finds them in cells of the round reach instead, each particle
+/// scanning as many rings of them as its own support can reach
+/// ([`Wide::rings`]), keeps those inside the wide cells' 3×3 block and
+/// puts them in the wide cells' order: the same rows, so the sums' order
+/// and bits are kept.
+struct Wide {
+    /// The wide cells: their keys order each row.
+    grid: CellList,
+    key: Vec<u64>,
+    /// How many rings of round-reach cells each particle scans.
+    rings: Vec<u64>,
+}
+
+impl Wide {
+    fn new(model: &Model, f: Frame, skin: f64, cell: f64) -> Wide {
+        let x = f.x;
+        let grid = CellList::grid(x, adaptive_reach(model, f.metric, skin));
+        let key = x.par_iter().map(|p| grid.key(*p)).collect();
+        let axes: Vec<(f64, f64)> = f.metric.par_iter().map(|q| q.axes()).collect();
+        let (b_min, a_max) = axes.iter().fold((f64::INFINITY, 0.0f64), |m, &(lo, hi)| {
+            (m.0.min(lo), m.1.max(hi))
+        });
+        let rings = axes
+            .par_iter()
+            .map(|&(lo, hi)| {
+                (Wide::reach(lo, hi, b_min, a_max, skin).max(cell) / cell).ceil() as u64
+            })
+            .collect();
+        Wide { grid, key, rings }
+    }
+
+    /// The farthest a particle with semi-axes `(b, a)` can be from one it
+    /// lists by its support ([`near_adaptive`]), `b_min` the smallest minor
+    /// semi-axis and `a_max` the largest major one. The pair's metric is
+    /// the mean of the two, so `dᵀ Q_ij d ≥ ½ |d|² (1/a² + 1/a_max²)` and
+    /// its largest eigenvalue is at most `½ (1/b² + 1/b_min²)`; a pair
+    /// within `2 REACH_MARGIN + skin √λ` in it is within
+    ///
+    ///     (2 REACH_MARGIN + skin √(½ (1/b² + 1/b_min²))) √(2 / (1/a² + 1/a_max²)),
+    ///
+    /// widened by a part in 10⁹ against rounding. (The round partners,
+    /// within the round reach, are within the one ring of cells of that
+    /// side.)
+    fn reach(b: f64, a: f64, b_min: f64, a_max: f64, skin: f64) -> f64 {
+        let lam = 0.5 * (1.0 / (b * b) + 1.0 / (b_min * b_min));
+        let bound = 2.0 * REACH_MARGIN + skin * lam.sqrt();
+        bound * (2.0 / (1.0 / (a * a) + 1.0 / (a_max * a_max))).sqrt() * (1.0 + 1e-9)
+    }
+
+    /// Whether scanning the rings of cells of side `cell` visits fewer
+    /// particles than the 3 (1-D) or 3×3 (2-D) wide cells would: where
+    /// every support is near round the wide cells are hardly wider, and
+    /// the rings' two or more a side scan more.
+    fn pays(&self, dim: usize, cell: f64) -> bool {
+        let span = |r: u64| (2 * r + 1) as f64;
+        let (rings, wide): (f64, f64) = if dim == 1 {
+            let rings = self.rings.iter().map(|&r| span(r)).sum::<f64>() * cell;
+            (rings, 3.0 * self.grid.cell * self.rings.len() as f64)
+        } else {
+            let rings = self.rings.iter().map(|&r| span(r) * span(r)).sum::<f64>() * cell * cell;
+            (
+                rings,
+                9.0 * self.grid.cell * self.grid.cell * self.rings.len() as f64,
+            )
+        };
+        rings < wide
+    }
+
+    /// Whether `j` is in the wide cells' 3 (1-D) or 3×3 (2-D) block
+    /// around `i`'s.
+    #[inline]
+    fn same_block(&self, i: usize, j: usize, dim: usize) -> bool {
+        let nx = self.grid.nx;
+        let (ki, kj) = (self.key[i], self.key[j]);
+        let (ri, rj) = (ki / nx, kj / nx);
+        (ki % nx).abs_diff(kj % nx) <= 1
+            && if dim == 1 {
+                ri == rj
+            } else {
+                ri.abs_diff(rj) <= 1
+            }
+    }
+
+    /// A row in the wide cells' order: by key, then by particle.
+    fn order(&self, row: &mut [u32]) {
+        row.sort_unstable_by_key(|&j| (self.key[j as usize], j));
+    }
+}
+
+/// Whether [`find_with_skin`] scans rings of cells for the frame `f`.
+#[cfg(test)]
+pub(in crate::cpu) fn rings_pay(model: &Model, f: Frame, skin: f64) -> bool {
+    let round = 2.0 * model.h.iter().cloned().fold(0.0, f64::max) + skin;
+    Wide::new(model, f, skin, round).pays(model.dim, round)
+}
+
 /// Particles per block of the parallel list build: large enough that the
 /// per-block vectors amortise, small enough to balance two to many cores.
 pub(in crate::cpu) const BLOCK: usize = 2048;
@@ -455,18 +555,22 @@ pub(in crate::cpu) const BLOCK: usize = 2048;
 /// partners within twice the smaller of the two particles' reaches plus
 /// the skin), SPH partners and other-body candidates apart.
 pub fn find_with_skin(model: &Model, f: Frame, skin: f64) -> Neighbours {
+    find_scanning(model, f, skin, true)
+}
+
+/// [`find_with_skin`], where supports adapt scanning rings of cells
+/// ([`Wide`]) only with `rings` and where they pay.
+pub(in crate::cpu) fn find_scanning(model: &Model, f: Frame, skin: f64, rings: bool) -> Neighbours {
     let x = f.x;
     let adaptive = !f.metric.is_empty();
     let h_max = model.h.iter().cloned().fold(0.0, f64::max);
-    let cells = CellList::build(
-        x,
-        if adaptive {
-            adaptive_reach(model, f.metric, skin)
-        } else {
-            2.0 * h_max + skin
-        },
-    );
+    let round = 2.0 * h_max + skin;
     let dim = model.dim;
+    let (cells, wide) = match adaptive.then(|| Wide::new(model, f, skin, round)) {
+        Some(w) if rings && w.pays(dim, round) => (CellList::build(x, round), Some(w)),
+        Some(w) => (CellList::build(x, w.grid.cell), None),
+        None => (CellList::build(x, round), None),
+    };
     let split = model.contact;
     let n = x.len();
     // Each block of particles fills its own rows; the blocks are then joined
@@ -482,7 +586,7 @@ pub fn find_with_skin(model: &Model, f: Frame, skin: f64) -> Neighbours {
             let mut cross_len = Vec::with_capacity(range.len());
             for i in range {
                 let (o0, c0) = (own.len(), cross.len());
-                cells.for_each_near(x[i], dim, |j| {
+                let mut visit = |j: usize| {
                     if j == i {
                         return;
                     }
@@ -502,7 +606,19 @@ pub fn find_with_skin(model: &Model, f: Frame, skin: f64) -> Neighbours {
                     } else {
                         own.push(j as u32);
                     }
-                });
+                };
+                match &wide {
+                    None => cells.for_each_near(x[i], dim, &mut visit),
+                    Some(w) => {
+                        cells.for_each_within(x[i], w.rings[i], dim, |j| {
+                            if w.same_block(i, j, dim) {
+                                visit(j)
+                            }
+                        });
+                        w.order(&mut own[o0..]);
+                        w.order(&mut cross[c0..]);
+                    }
+                }
                 own_len.push((own.len() - o0) as u32);
                 cross_len.push((cross.len() - c0) as u32);
             }

@@ -124,3 +124,55 @@ shape = { kind = "rectangle", min = [0.0, 0.0], max = [1.0, 1.0] }
     assert!(exact.still_valid(state.frame()));
     assert!(!exact.still_valid(Frame::round(&x)));
 }
+
+/// Where supports adapt, the lists found by scanning each particle's
+/// rings of round-reach cells are those the wide cells give, row for row
+/// and in the same order: two bodies, jittered, their supports drawn out
+/// up to 4 h along turning directions and squeezed to h/2, a few round.
+#[test]
+fn adaptive_rings_give_the_wide_cells_lists() {
+    use crate::physics::support::Metric;
+    let (model, mut state) = two_bodies();
+    let mut seed = 777u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for p in state.x.iter_mut() {
+        *p += DVec2::new(next() - 0.5, next() - 0.5) * 0.06;
+    }
+    let metric: Vec<Metric> = (0..state.x.len())
+        .map(|i| {
+            let h = model.h[i];
+            let turn = DVec2::from_angle(6.0 * next());
+            match i % 7 {
+                0 => Metric::with_axes(0.5 * h, 4.0 * h, turn),
+                1 | 2 => Metric::with_axes(0.7 * h, 1.8 * h, turn),
+                3 => Metric::with_axes(0.5 * h, 0.9 * h, turn),
+                _ => Metric::with_axes(h, h, turn),
+            }
+        })
+        .collect();
+    let f = Frame {
+        x: &state.x,
+        metric: &metric,
+    };
+    let skin = 0.3 * model.h[0];
+    assert!(rings_pay(&model, f, skin), "the rings are scanned");
+    let rings = find_scanning(&model, f, skin, true);
+    let wide = find_scanning(&model, f, skin, false);
+    assert!(
+        rings.list.len() > 20 * state.x.len(),
+        "{}",
+        rings.list.len()
+    );
+    assert!(!rings.cross.is_empty());
+    assert_eq!(rings.start, wide.start);
+    assert_eq!(rings.list, wide.list);
+    assert_eq!(rings.cross_start, wide.cross_start);
+    assert_eq!(rings.cross, wide.cross);
+    assert_eq!(rings.fwd_end, wide.fwd_end);
+    assert_eq!(rings.far_end, wide.far_end);
+}

@@ -23,35 +23,70 @@ pub struct CellList {
 
 impl CellList {
     pub fn build(x: &[DVec2], cell: f64) -> CellList {
-        let (lo, hi) = crate::math::bounds(x);
-        // At least one padding cell on every side keeps the 3×3 scan inside
-        // the grid; 1.5 so that rounding can never put the lowest particle
-        // in cell 0 (whose lower neighbour would underflow).
-        let origin = lo - DVec2::splat(1.5 * cell);
-        let nx = ((hi.x - origin.x) / cell).floor() as u64 + 2;
-        let mut list = CellList {
-            cell,
-            origin,
-            nx,
-            sorted: Vec::new(),
-        };
+        let mut list = CellList::grid(x, cell);
         let mut sorted: Vec<(u64, u32)> = x
             .par_iter()
             .enumerate()
-            .map(|(i, p)| {
-                let (cx, cy) = list.coords(*p);
-                (cy * nx + cx, i as u32)
-            })
+            .map(|(i, p)| (list.key(*p), i as u32))
             .collect();
         sorted.par_sort_unstable();
         list.sorted = sorted;
         list
     }
 
+    /// The grid [`CellList::build`] lays over `x`, with no particles
+    /// sorted into it: its keys ([`CellList::key`]) give the order a 3×3
+    /// scan of its cells visits particles in.
+    pub fn grid(x: &[DVec2], cell: f64) -> CellList {
+        let (lo, hi) = crate::math::bounds(x);
+        // At least one padding cell on every side keeps the 3×3 scan inside
+        // the grid; 1.5 so that rounding can never put the lowest particle
+        // in cell 0 (whose lower neighbour would underflow).
+        let origin = lo - DVec2::splat(1.5 * cell);
+        let nx = ((hi.x - origin.x) / cell).floor() as u64 + 2;
+        CellList {
+            cell,
+            origin,
+            nx,
+            sorted: Vec::new(),
+        }
+    }
+
     #[inline]
     pub fn coords(&self, p: DVec2) -> (u64, u64) {
         let d = (p - self.origin) / self.cell;
         (d.x.floor() as u64, d.y.floor() as u64)
+    }
+
+    /// The key of the cell holding `p` (row-major).
+    #[inline]
+    pub fn key(&self, p: DVec2) -> u64 {
+        let (cx, cy) = self.coords(p);
+        cy * self.nx + cx
+    }
+
+    /// Call `f(j)` for every particle in the cells within `rings` cells of
+    /// `p`'s ((2 rings + 1)² cells in 2-D, 2 rings + 1 in a row in 1-D),
+    /// clipped to the grid: every particle within `rings × cell` of `p`.
+    pub fn for_each_within(&self, p: DVec2, rings: u64, dim: usize, mut f: impl FnMut(usize)) {
+        let (cx, cy) = self.coords(p);
+        let top = self.sorted.last().map_or(0, |&(k, _)| k / self.nx);
+        let rows = if dim == 1 {
+            cy..=cy
+        } else {
+            cy.saturating_sub(rings)..=(cy + rings).min(top)
+        };
+        let (x0, x1) = (cx.saturating_sub(rings), (cx + rings).min(self.nx - 1));
+        for row in rows {
+            let (lo, hi) = (row * self.nx + x0, row * self.nx + x1);
+            let start = self.sorted.partition_point(|&(k, _)| k < lo);
+            for &(k, j) in &self.sorted[start..] {
+                if k > hi {
+                    break;
+                }
+                f(j as usize);
+            }
+        }
     }
 
     /// Call `f(j)` for every particle in the cells around `p`.
@@ -115,5 +150,40 @@ mod tests {
         // nothing of row 1 or 2.
         assert_eq!(near(x[3], 1), vec![3]);
         assert_eq!(near(DVec2::new(1.6, 0.5), 1), vec![0, 2, 1]);
+    }
+
+    /// The rings around a particle find every particle within `rings ×
+    /// cell` of it, at the grid's edges too: against every pair, on a
+    /// scattered cloud.
+    #[test]
+    fn rings_find_every_particle_within_their_reach() {
+        let x: Vec<DVec2> = (0..400u64)
+            .map(|k| {
+                // A fixed scatter over a 7 × 3 box.
+                let a = (k * 7919 % 1000) as f64 / 1000.0;
+                let b = (k * 104_729 % 997) as f64 / 997.0;
+                DVec2::new(7.0 * a, 3.0 * b)
+            })
+            .collect();
+        let cells = CellList::build(&x, 0.5);
+        for rings in 1..4u64 {
+            let reach = rings as f64 * 0.5;
+            for (i, p) in x.iter().enumerate() {
+                let mut found = Vec::new();
+                cells.for_each_within(*p, rings, 2, |j| found.push(j));
+                let mut want: Vec<usize> = (0..x.len())
+                    .filter(|&j| x[j].distance(*p) < reach)
+                    .collect();
+                want.retain(|j| !found.contains(j));
+                assert!(
+                    want.is_empty(),
+                    "rings {rings}, particle {i}: missed {want:?}"
+                );
+                let mut seen = found.clone();
+                seen.sort_unstable();
+                seen.dedup();
+                assert_eq!(seen.len(), found.len(), "a particle found twice");
+            }
+        }
     }
 }
