@@ -456,29 +456,43 @@ fn adaptive_reach(model: &Model, metric: &[Metric], skin: f64) -> f64 {
 /// puts them in the wide cells' order: the same rows, so the sums' order
 /// and bits are kept.
 struct Wide {
-    /// The wide cells: their keys order each row.
+    /// The wide cells: each particle's `(column, row)` in them orders the
+    /// rows.
     grid: CellList,
-    key: Vec<u64>,
-    /// How many rings of round-reach cells each particle scans.
+    at: Vec<(u32, u32)>,
+    /// How many rings of round-reach cells each particle scans, and the
+    /// square of how far its partners can be ([`Wide::reach`]).
     rings: Vec<u64>,
+    reach2: Vec<f64>,
 }
 
 impl Wide {
     fn new(model: &Model, f: Frame, skin: f64, cell: f64) -> Wide {
         let x = f.x;
         let grid = CellList::grid(x, adaptive_reach(model, f.metric, skin));
-        let key = x.par_iter().map(|p| grid.key(*p)).collect();
+        let at = x
+            .par_iter()
+            .map(|p| {
+                let (cx, cy) = grid.coords(*p);
+                (cx as u32, cy as u32)
+            })
+            .collect();
         let axes: Vec<(f64, f64)> = f.metric.par_iter().map(|q| q.axes()).collect();
         let (b_min, a_max) = axes.iter().fold((f64::INFINITY, 0.0f64), |m, &(lo, hi)| {
             (m.0.min(lo), m.1.max(hi))
         });
-        let rings = axes
+        let reach: Vec<f64> = axes
             .par_iter()
-            .map(|&(lo, hi)| {
-                (Wide::reach(lo, hi, b_min, a_max, skin).max(cell) / cell).ceil() as u64
-            })
+            .map(|&(lo, hi)| Wide::reach(lo, hi, b_min, a_max, skin).max(cell))
             .collect();
-        Wide { grid, key, rings }
+        let rings = reach.iter().map(|r| (r / cell).ceil() as u64).collect();
+        let reach2 = reach.iter().map(|r| r * r).collect();
+        Wide {
+            grid,
+            at,
+            rings,
+            reach2,
+        }
     }
 
     /// The farthest a particle with semi-axes `(b, a)` can be from one it
@@ -522,10 +536,8 @@ impl Wide {
     /// around `i`'s.
     #[inline]
     fn same_block(&self, i: usize, j: usize, dim: usize) -> bool {
-        let nx = self.grid.nx;
-        let (ki, kj) = (self.key[i], self.key[j]);
-        let (ri, rj) = (ki / nx, kj / nx);
-        (ki % nx).abs_diff(kj % nx) <= 1
+        let ((ci, ri), (cj, rj)) = (self.at[i], self.at[j]);
+        ci.abs_diff(cj) <= 1
             && if dim == 1 {
                 ri == rj
             } else {
@@ -533,9 +545,13 @@ impl Wide {
             }
     }
 
-    /// A row in the wide cells' order: by key, then by particle.
+    /// A row in the wide cells' order: by cell (row-major), then by
+    /// particle.
     fn order(&self, row: &mut [u32]) {
-        row.sort_unstable_by_key(|&j| (self.key[j as usize], j));
+        row.sort_unstable_by_key(|&j| {
+            let (c, r) = self.at[j as usize];
+            (r, c, j)
+        });
     }
 }
 
@@ -610,8 +626,9 @@ pub(in crate::cpu) fn find_scanning(model: &Model, f: Frame, skin: f64, rings: b
                 match &wide {
                     None => cells.for_each_near(x[i], dim, &mut visit),
                     Some(w) => {
-                        cells.for_each_within(x[i], w.rings[i], dim, |j| {
-                            if w.same_block(i, j, dim) {
+                        let (xi, r2) = (x[i], w.reach2[i]);
+                        cells.for_each_within(xi, w.rings[i], dim, |j| {
+                            if (x[j] - xi).length_squared() < r2 && w.same_block(i, j, dim) {
                                 visit(j)
                             }
                         });
