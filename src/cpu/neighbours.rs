@@ -502,7 +502,9 @@ impl Wide {
     /// its largest eigenvalue is at most `½ (1/b² + 1/b_min²)`; a pair
     /// within `2 REACH_MARGIN + skin √λ` in it is within
     ///
-    ///     (2 REACH_MARGIN + skin √(½ (1/b² + 1/b_min²))) √(2 / (1/a² + 1/a_max²)),
+    /// ```text
+    /// (2 REACH_MARGIN + skin √(½ (1/b² + 1/b_min²))) √(2 / (1/a² + 1/a_max²)),
+    /// ```
     ///
     /// widened by a part in 10⁹ against rounding. (The round partners,
     /// within the round reach, are within the one ring of cells of that
