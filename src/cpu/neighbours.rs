@@ -442,6 +442,12 @@ fn adaptive_reach(model: &Model, metric: &[Metric], skin: f64) -> f64 {
             (hi, hi / lo)
         })
         .reduce(|| (0.0, 1.0), |a, b| (a.0.max(b.0), a.1.max(b.1)));
+    reach_of(model, major, aspect, skin)
+}
+
+/// [`adaptive_reach`] from the largest major semi-axis and the largest
+/// aspect ratio.
+fn reach_of(model: &Model, major: f64, aspect: f64, skin: f64) -> f64 {
     let h_max = model.h.iter().cloned().fold(0.0, f64::max);
     (2.0 * REACH_MARGIN * major + skin * aspect).max(2.0 * h_max + skin)
 }
@@ -469,7 +475,15 @@ struct Wide {
 impl Wide {
     fn new(model: &Model, f: Frame, skin: f64, cell: f64) -> Wide {
         let x = f.x;
-        let grid = CellList::grid(x, adaptive_reach(model, f.metric, skin));
+        let axes: Vec<(f64, f64)> = f.metric.par_iter().map(|q| q.axes()).collect();
+        // The largest major semi-axis and aspect ratio (as
+        // `adaptive_reach`, from the axes taken once), the smallest minor.
+        let (a_max, aspect, b_min) = axes
+            .iter()
+            .fold((0.0f64, 1.0f64, f64::INFINITY), |m, &(lo, hi)| {
+                (m.0.max(hi), m.1.max(hi / lo), m.2.min(lo))
+            });
+        let grid = CellList::grid(x, reach_of(model, a_max, aspect, skin));
         let at = x
             .par_iter()
             .map(|p| {
@@ -477,10 +491,6 @@ impl Wide {
                 (cx as u32, cy as u32)
             })
             .collect();
-        let axes: Vec<(f64, f64)> = f.metric.par_iter().map(|q| q.axes()).collect();
-        let (b_min, a_max) = axes.iter().fold((f64::INFINITY, 0.0f64), |m, &(lo, hi)| {
-            (m.0.min(lo), m.1.max(hi))
-        });
         let reach: Vec<f64> = axes
             .par_iter()
             .map(|&(lo, hi)| Wide::reach(lo, hi, b_min, a_max, skin).max(cell))

@@ -68,6 +68,7 @@ impl CellList {
     /// Call `f(j)` for every particle in the cells within `rings` cells of
     /// `p`'s ((2 rings + 1)² cells in 2-D, 2 rings + 1 in a row in 1-D),
     /// clipped to the grid: every particle within `rings × cell` of `p`.
+    #[inline]
     pub fn for_each_within(&self, p: DVec2, rings: u64, dim: usize, mut f: impl FnMut(usize)) {
         let (cx, cy) = self.coords(p);
         let top = self.sorted.last().map_or(0, |&(k, _)| k / self.nx);
@@ -89,22 +90,11 @@ impl CellList {
         }
     }
 
-    /// Call `f(j)` for every particle in the cells around `p`.
+    /// Call `f(j)` for every particle in the cells around `p`: the one
+    /// ring of [`CellList::for_each_within`].
     #[inline]
-    pub fn for_each_near(&self, p: DVec2, dim: usize, mut f: impl FnMut(usize)) {
-        let (cx, cy) = self.coords(p);
-        let rows = if dim == 1 { cy..cy + 1 } else { cy - 1..cy + 2 };
-        for row in rows {
-            let lo = row * self.nx + cx - 1;
-            let hi = row * self.nx + cx + 1;
-            let start = self.sorted.partition_point(|&(k, _)| k < lo);
-            for &(k, j) in &self.sorted[start..] {
-                if k > hi {
-                    break;
-                }
-                f(j as usize);
-            }
-        }
+    pub fn for_each_near(&self, p: DVec2, dim: usize, f: impl FnMut(usize)) {
+        self.for_each_within(p, 1, dim, f);
     }
 }
 
