@@ -13,6 +13,8 @@
 #   OUT/bench_leapfrog.json  the same with --integrator leapfrog
 #   OUT/disks_4m/            history.csv and summary.json of the 4e6 run
 #   OUT/penetration/         those of scenes/penetration/tungsten_rod_steel_plate.toml
+#   OUT/penetration_runs/    the same scene with both integrators, without snapshots
+#                            and with one every 0.5 µs (scripts/penetration_runs.sh)
 #   OUT/<run>.log            each run's progress, with the wall time at the end
 #
 # SPHCONTACT_BIN=path skips the build and uses that binary instead (for a
@@ -79,4 +81,6 @@ run_scene() {
 if [ "${SPHCONTACT_REPORT_SCENE:-1}" != 0 ]; then
     run_scene disks_4m scenes/large/disks_4m.toml
     run_scene penetration scenes/penetration/tungsten_rod_steel_plate.toml
+    SPHCONTACT_BIN="$BIN" scripts/penetration_runs.sh gpu "$OUT/penetration_runs" ||
+        echo "penetration runs: failed ($OUT/penetration_runs)"
 fi

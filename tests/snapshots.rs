@@ -242,6 +242,65 @@ fn no_interval_no_snapshots_and_a_rerun_replaces_them() {
     assert!(!other.join("snapshots").exists() && !other.join("snapshots.pvd").exists());
 }
 
+/// `--snapshot-every` (`RunOptions::snapshot_every`) overrides the
+/// scene's interval: 0 writes none and runs the steps of the scene without
+/// an interval, to the byte; another value writes its own count. A
+/// negative or non-finite one, or one with `--resume`, is refused (exit 2).
+#[test]
+fn snapshot_every_overrides_the_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = disks(1.0e-6, 2.5e-7, "penalty");
+    scene.output.snapshot_png = true;
+    let opts = |out: &Path, every: Option<f64>| RunOptions {
+        out_dir: Some(out.to_path_buf()),
+        backend: Some(Backend::Cpu),
+        silent: true,
+        write: true,
+        snapshot_every: every,
+        ..Default::default()
+    };
+    let none = dir.path().join("none");
+    let out = run_scene(&scene, None, &opts(&none, Some(0.0))).expect("runs");
+    assert_eq!(out.summary.snapshots, 0);
+    assert!(!none.join("snapshots").exists() && !none.join("snapshots.pvd").exists());
+    let mut plain = scene.clone();
+    (plain.output.snapshot_interval, plain.output.snapshot_png) = (None, false);
+    let without = dir.path().join("without");
+    run_scene(&plain, None, &opts(&without, None)).expect("runs");
+    let history = |d: &Path| std::fs::read(d.join("history.csv")).expect("a history");
+    assert_eq!(history(&none), history(&without));
+    // The scene's interval moves the steps: the histories differ.
+    let scene_own = dir.path().join("own");
+    run_scene(&scene, None, &opts(&scene_own, None)).expect("runs");
+    assert_ne!(history(&scene_own), history(&without));
+
+    let fewer = dir.path().join("fewer");
+    let out = run_scene(&scene, None, &opts(&fewer, Some(5.0e-7))).expect("runs");
+    assert_eq!(out.summary.snapshots, 3);
+    assert_eq!(read_pvd(&fewer).len(), 3);
+
+    for bad in [-1.0e-7, f64::NAN, f64::INFINITY] {
+        let err = run_scene(&scene, None, &opts(&dir.path().join("bad"), Some(bad)))
+            .expect_err("refused");
+        assert_eq!(err.exit_code(), 2);
+        assert!(err.to_string().contains("--snapshot-every"), "{err}");
+    }
+    let ck = dir.path().join("ck");
+    let write = RunOptions {
+        checkpoint_every: Some(5.0e-7),
+        ..opts(&ck, None)
+    };
+    run_scene(&scene, None, &write).expect("runs");
+    let resume = RunOptions {
+        silent: true,
+        snapshot_every: Some(1.0e-7),
+        ..Default::default()
+    };
+    let err = sphcontact::run::resume_run(&ck, &resume).expect_err("refused");
+    assert_eq!(err.exit_code(), 2);
+    assert!(err.to_string().contains("--snapshot-every"), "{err}");
+}
+
 #[test]
 fn kernel_mode_snapshots_have_normals_too() {
     // No contact: the boundary set is still computed for the snapshot (the

@@ -62,6 +62,9 @@ pub struct RunOptions {
     /// Write a checkpoint ([`crate::checkpoint`]) at the first state at or
     /// after every multiple of this simulated time, s (needs `write`).
     pub checkpoint_every: Option<f64>,
+    /// Overrides the scene's `output.snapshot_interval`, s; `Some(0.0)`
+    /// writes no snapshots (and draws none: `output.snapshot_png` off).
+    pub snapshot_every: Option<f64>,
 }
 
 /// What a run returns.
@@ -171,6 +174,16 @@ pub fn run_scene(
     if let Some(i) = opts.integrator {
         scene.simulation.integrator = i;
     }
+    if let Some(t) = opts.snapshot_every {
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(RunError::option(
+                "--snapshot-every",
+                format!("must be ≥ 0, 0 for no snapshots (got {t})"),
+            ));
+        }
+        scene.output.snapshot_interval = (t > 0.0).then_some(t);
+        scene.output.snapshot_png &= t > 0.0;
+    }
     let label = scene_path.map_or(String::new(), |p| p.display().to_string());
     let dir = opts.write.then(|| output_dir(&scene, scene_path, opts));
     run_from(scene, label, dir, opts, None)
@@ -192,6 +205,12 @@ pub fn resume_run(dir: &Path, opts: &RunOptions) -> Result<RunOutput, RunError> 
         return Err(RunError::option(
             "--integrator",
             "cannot be combined with --resume: a resumed run continues with the integrator it was started with",
+        ));
+    }
+    if opts.snapshot_every.is_some() {
+        return Err(RunError::option(
+            "--snapshot-every",
+            "cannot be combined with --resume: snapshots end the steps that would cross them, so a resumed run keeps the interval it was started with",
         ));
     }
     if let Some(b) = opts

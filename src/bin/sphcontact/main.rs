@@ -82,6 +82,11 @@ enum Command {
         /// steps themselves are not changed).
         #[arg(long, value_name = "T", allow_negative_numbers = true)]
         checkpoint_every: Option<f64>,
+        /// Write a snapshot every T of simulated time, s (overrides
+        /// output.snapshot_interval; 0 writes none). Snapshots end the
+        /// steps that would cross them, so the interval moves the steps.
+        #[arg(long, value_name = "T", allow_negative_numbers = true)]
+        snapshot_every: Option<f64>,
         /// Continue the run whose checkpoint is in DIR (its output
         /// directory), on the backend that wrote it; the history comes out
         /// as the uninterrupted run's. Outputs go to DIR unless --out says
@@ -471,6 +476,7 @@ fn command(cli: Cli) -> ExitCode {
             integrator,
             quiet,
             checkpoint_every,
+            snapshot_every,
             resume,
         } => {
             let opts = RunOptions {
@@ -482,6 +488,7 @@ fn command(cli: Cli) -> ExitCode {
                 silent: false,
                 write: true,
                 checkpoint_every,
+                snapshot_every,
             };
             let result = match (&resume, &scene) {
                 (Some(dir), _) => sphcontact::run::resume_run(dir, &opts),
