@@ -360,7 +360,7 @@ impl CpuSolver {
         role: Role,
     ) {
         stage::enter(Stage::Neighbours, role);
-        if !nb.still_valid(f) {
+        if !nb.still_valid(model, f) {
             let h_max = model.h.iter().cloned().fold(0.0, f64::max);
             *nb = neighbours::find_with_skin(model, f, SKIN_FRACTION * 2.0 * h_max);
             *builds += 1;

@@ -9,6 +9,7 @@
 
 use glam::DVec2;
 use rayon::prelude::*;
+use std::sync::OnceLock;
 
 use crate::math::cells::CellList;
 use crate::math::Mirror;
@@ -40,11 +41,10 @@ pub struct Nbr {
 /// evaluation) took longer than the arithmetic it saved. Four bytes per pair
 /// plus the kernel recomputed in registers is what the GPU path does too.
 ///
-/// With a skin the lists stay valid while no particle has moved more than
-/// half the skin from where it was when they were built (a pair can then
-/// close by at most the skin), so a solver rebuilds them only every many
-/// steps ([`Neighbours::still_valid`]); the true pairs are exactly the
-/// candidates closer than `2 h_ij`, whatever the skin.
+/// With a skin the lists stay valid while no pair has closed by more than
+/// the skin since they were built, so a solver rebuilds them only every
+/// many steps ([`Neighbours::still_valid`]); the true pairs are exactly
+/// the candidates closer than `2 h_ij`, whatever the skin.
 #[derive(Debug, Clone, Default)]
 pub struct Neighbours {
     /// Candidate SPH partners (same body in penalty mode, everyone in kernel mode).
@@ -95,6 +95,80 @@ pub struct Neighbours {
     /// moves half the skin ([`Neighbours::still_valid`]). Empty with
     /// round supports.
     pub support_ref: Vec<Metric>,
+    /// The build positions' cells for the test on relative displacements
+    /// ([`Neighbours::still_valid`]), made the first time it is needed.
+    pub moved_cells: OnceLock<MovedCells>,
+}
+
+/// The build positions in cells of the lists' widest reach, each cell with
+/// the cells of its 5×5 block (3 in 1-D) at or after it: every pair that
+/// can become a pair before some particle has moved half a cell lies in
+/// one cell or two of one block ([`Neighbours::still_valid`]).
+#[derive(Debug, Clone, Default)]
+pub struct MovedCells {
+    /// The cells' side: the lists' widest reach, skin included.
+    side: f64,
+    /// Each particle's cell.
+    cell: Vec<u32>,
+    /// Cell c's block, `block[block_start[c]..block_start[c + 1]]`.
+    block_start: Vec<u32>,
+    block: Vec<u32>,
+}
+
+impl MovedCells {
+    fn new(x: &[DVec2], side: f64, dim: usize) -> Self {
+        let key = |p: DVec2| {
+            let k = |v: f64| (v / side).floor() as i64;
+            (k(p.x), if dim == 1 { 0 } else { k(p.y) })
+        };
+        let keys: Vec<(i64, i64)> = x.iter().map(|&p| key(p)).collect();
+        let mut cells = keys.clone();
+        cells.sort_unstable();
+        cells.dedup();
+        let find = |k: &(i64, i64)| cells.binary_search(k).ok();
+        let cell = keys.iter().map(|k| find(k).unwrap_or(0) as u32).collect();
+        let ys = if dim == 1 { 0 } else { 2 };
+        let (mut block_start, mut block) = (vec![0], Vec::new());
+        for (c, &(kx, ky)) in cells.iter().enumerate() {
+            for dx in -2..=2 {
+                for dy in -ys..=ys {
+                    if let Some(d) = find(&(kx + dx, ky + dy)).filter(|&d| d >= c) {
+                        block.push(d as u32);
+                    }
+                }
+            }
+            block_start.push(block.len() as u32);
+        }
+        MovedCells {
+            side,
+            cell,
+            block_start,
+            block,
+        }
+    }
+
+    /// Whether no two particles of one block have moved apart or together
+    /// by more than `skin`: the diameter of the box around both cells'
+    /// displacements `u = x − x_ref` at most the skin.
+    fn within(&self, x: &[DVec2], x_ref: &[DVec2], skin: f64) -> bool {
+        let cells = self.block_start.len() - 1;
+        let mut lo = vec![DVec2::splat(f64::INFINITY); cells];
+        let mut hi = vec![DVec2::splat(f64::NEG_INFINITY); cells];
+        for ((&c, a), b) in self.cell.iter().zip(x).zip(x_ref) {
+            let u = *a - *b;
+            let c = c as usize;
+            lo[c] = lo[c].min(u);
+            hi[c] = hi[c].max(u);
+        }
+        let skin2 = skin * skin;
+        (0..cells).all(|c| {
+            let blk = &self.block[self.block_start[c] as usize..self.block_start[c + 1] as usize];
+            blk.iter().all(|&d| {
+                let d = d as usize;
+                (hi[c].max(hi[d]) - lo[c].min(lo[d])).length_squared() <= skin2
+            })
+        })
+    }
 }
 
 impl Neighbours {
@@ -309,21 +383,52 @@ impl Neighbours {
         &self.cross[self.cross_start[i] as usize..self.cross_start[i + 1] as usize]
     }
 
-    /// Whether the lists still hold every pair at positions `x`: no particle
-    /// moved more than half the skin since the build.
-    pub fn still_valid(&self, f: Frame) -> bool {
+    /// Whether the lists still hold every pair in the frame `f`: no support
+    /// has grown by [`REACH_MARGIN`], and no pair that could meet has
+    /// closed by more than the skin since the build. Either no particle
+    /// has moved more than half the skin, or (without a mirror) none has
+    /// moved half the lists' widest reach and no two particles of one
+    /// block of [`MovedCells`] have moved apart or together by more than
+    /// the skin: a rod flying through its target keeps its lists while
+    /// its own particles keep their places.
+    pub fn still_valid(&self, model: &Model, f: Frame) -> bool {
         if self.x_ref.len() != f.x.len() || self.support_ref.len() != f.metric.len() {
             return false;
         }
-        let lim2 = 0.25 * self.skin * self.skin;
         let grown = 1.0 / (REACH_MARGIN * REACH_MARGIN);
-        f.x.par_iter()
-            .zip(self.x_ref.par_iter())
-            .all(|(a, b)| (*a - *b).length_squared() <= lim2)
-            && f.metric
-                .par_iter()
-                .zip(self.support_ref.par_iter())
-                .all(|(q, p)| q.least_ratio(p) >= grown)
+        if !f
+            .metric
+            .par_iter()
+            .zip(self.support_ref.par_iter())
+            .all(|(q, p)| q.least_ratio(p) >= grown)
+        {
+            return false;
+        }
+        let moved2 =
+            f.x.par_iter()
+                .zip(self.x_ref.par_iter())
+                .map(|(a, b)| (*a - *b).length_squared())
+                .reduce(|| 0.0, f64::max);
+        if moved2 <= 0.25 * self.skin * self.skin {
+            return true;
+        }
+        // A body that moves as a whole closes none of its pairs: what
+        // matters is how far particles that can meet have moved apart or
+        // together. Mirror images move against their particles, so with
+        // a mirror the test stays on each particle's own displacement.
+        if !model.images.is_empty() || !model.contact_images.is_empty() {
+            return false;
+        }
+        let cells = self.moved_cells.get_or_init(|| {
+            let h_max = model.h.iter().cloned().fold(0.0, f64::max);
+            let side = if self.support_ref.is_empty() {
+                2.0 * h_max + self.skin
+            } else {
+                adaptive_reach(model, &self.support_ref, self.skin)
+            };
+            MovedCells::new(&self.x_ref, side, model.dim)
+        });
+        4.0 * moved2 <= cells.side * cells.side && cells.within(f.x, &self.x_ref, self.skin)
     }
 
     /// Bytes the lists hold.

@@ -99,8 +99,10 @@ fn cell_list_equals_brute_force() {
     }
 }
 
-/// Lists built with a skin stay valid until some particle has moved half
-/// the skin, and then say so.
+/// Lists built with a skin stay valid while no two particles that can
+/// meet have moved apart or together by more than the skin, and then say
+/// so: one particle may move almost the whole skin, the body as a whole
+/// up to half the lists' reach.
 #[test]
 fn skin_validity() {
     let (model, state) = model_of(
@@ -114,15 +116,96 @@ shape = { kind = "rectangle", min = [0.0, 0.0], max = [1.0, 1.0] }
     );
     let skin = 0.04;
     let nb = find_with_skin(&model, state.frame(), skin);
-    let mut x = state.x.clone();
-    x[7].x += 0.49 * skin;
-    assert!(nb.still_valid(Frame::round(&x)));
-    x[7].x += 0.02 * skin;
-    assert!(!nb.still_valid(Frame::round(&x)));
+    let moved = |k: usize, by: f64| {
+        let mut x = state.x.clone();
+        x[k].x += by;
+        x
+    };
+    let shifted =
+        |by: f64| -> Vec<DVec2> { state.x.iter().map(|&p| p + DVec2::new(by, -by)).collect() };
+    let valid = |nb: &Neighbours, x: &[DVec2]| nb.still_valid(&model, Frame::round(x));
+    assert!(valid(&nb, &moved(7, 0.49 * skin)));
+    assert!(valid(&nb, &moved(7, 0.99 * skin)));
+    assert!(!valid(&nb, &moved(7, 1.01 * skin)));
+    // Half the reach, `2 h + skin` (0.28), along the diagonal.
+    let reach = 2.0 * model.h[0] + skin;
+    assert!(valid(&nb, &shifted(0.49 * reach / 2f64.sqrt())));
+    assert!(!valid(&nb, &shifted(0.51 * reach / 2f64.sqrt())));
     // Without a skin the lists hold only at the build positions.
     let exact = find(&model, state.frame());
-    assert!(exact.still_valid(state.frame()));
-    assert!(!exact.still_valid(Frame::round(&x)));
+    assert!(valid(&exact, &state.x));
+    assert!(!valid(&exact, &moved(7, 1e-9)));
+}
+
+/// Whenever the lists call themselves valid, they hold every pair and
+/// every contact candidate the exact lists at those positions hold: two
+/// bodies a hundredth apart, each moved as a whole and its particles
+/// jittered, in many combinations. Some are valid only by the relative
+/// test (a particle moved more than half the skin), some are not valid;
+/// and the test can fail: the bodies closing by twice the skin miss pairs.
+#[test]
+fn valid_lists_hold_every_pair() {
+    let (model, state) = two_bodies();
+    let h_max = model.h.iter().cloned().fold(0.0, f64::max);
+    let skin = 0.3 * h_max;
+    let nb = find_with_skin(&model, state.frame(), skin);
+    let body_b = model.bodies[1].range.clone();
+    let field = |ta: DVec2, tb: DVec2, jitter: f64| -> Vec<DVec2> {
+        state
+            .x
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| {
+                let r = |m: f64| ((i as f64 * m).fract() - 0.5) * 2.0 * jitter;
+                let t = if body_b.contains(&i) { tb } else { ta };
+                p + t + DVec2::new(r(0.618_033_988_7), r(0.414_213_562_3))
+            })
+            .collect()
+    };
+    let holds = |x: &[DVec2]| {
+        let exact = find(&model, Frame::round(x));
+        (0..x.len()).all(|i| {
+            let own: std::collections::HashSet<u32> = nb.candidates(i).iter().copied().collect();
+            let cross: std::collections::HashSet<u32> = nb.cross_of(i).iter().copied().collect();
+            exact.candidates(i).iter().all(|j| own.contains(j))
+                && exact.cross_of(i).iter().all(|j| cross.contains(j))
+        })
+    };
+    let (mut valid, mut beyond_half, mut invalid) = (0, 0, 0);
+    let shifts = [0.0, 0.4, 0.9, 3.0, 20.0];
+    for &a in &shifts {
+        for &b in &shifts {
+            for &(jitter, dir) in &[(0.0, 1.0), (0.2, -1.0), (0.45, 1.0)] {
+                let (ta, tb) = (
+                    DVec2::new(0.0, dir * a * skin),
+                    DVec2::new(0.0, dir * b * skin),
+                );
+                let x = field(ta, tb, jitter * skin);
+                if nb.still_valid(&model, Frame::round(&x)) {
+                    assert!(
+                        holds(&x),
+                        "a {a} b {b} jitter {jitter}: valid lists miss a pair"
+                    );
+                    valid += 1;
+                    let far = x
+                        .iter()
+                        .zip(&state.x)
+                        .any(|(p, q)| p.distance(*q) > 0.5 * skin);
+                    beyond_half += usize::from(far);
+                } else {
+                    invalid += 1;
+                }
+            }
+        }
+    }
+    assert!(
+        beyond_half > 5 && invalid > 5,
+        "valid {valid} ({beyond_half} beyond half the skin), invalid {invalid}"
+    );
+    // Body b closing on a by twice the skin: not valid, and rightly so.
+    let x = field(DVec2::ZERO, DVec2::new(-2.0 * skin, 0.0), 0.0);
+    assert!(!nb.still_valid(&model, Frame::round(&x)));
+    assert!(!holds(&x), "the closing bodies meet new candidates");
 }
 
 /// Where supports adapt, the lists found by scanning each particle's
