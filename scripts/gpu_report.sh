@@ -15,6 +15,8 @@
 #   OUT/penetration/         those of scenes/penetration/tungsten_rod_steel_plate.toml
 #   OUT/penetration_runs/    the same scene with both integrators, without snapshots
 #                            and with one every 0.5 µs (scripts/penetration_runs.sh)
+#   OUT/penetration_spread/  the same at Δx 0.1 mm, seven draws of each integrator
+#                            (scripts/penetration_spread.sh)
 #   OUT/<run>.log            each run's progress, with the wall time at the end
 #
 # SPHCONTACT_BIN=path skips the build and uses that binary instead (for a
@@ -83,4 +85,6 @@ if [ "${SPHCONTACT_REPORT_SCENE:-1}" != 0 ]; then
     run_scene penetration scenes/penetration/tungsten_rod_steel_plate.toml
     SPHCONTACT_BIN="$BIN" scripts/penetration_runs.sh gpu "$OUT/penetration_runs" ||
         echo "penetration runs: failed ($OUT/penetration_runs)"
+    SPHCONTACT_BIN="$BIN" scripts/penetration_spread.sh gpu "$OUT/penetration_spread" ||
+        echo "penetration spread: failed ($OUT/penetration_spread)"
 fi
