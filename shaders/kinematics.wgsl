@@ -590,7 +590,10 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     }
     let gv = velocity_gradient(ks.gsum, l);
     if (ADAPT && LGRAD) {
-        lgrad[i] = pack_step_gradient(gv, ctl.dt);
+        // The carry (advance.wgsl) takes the gradient with respect to x_n,
+        // with which F = I + dt l is the step's motion exactly (CPU twin:
+        // cpu::leapfrog).
+        lgrad[i] = pack_step_gradient(gradient_behind(gv, ctl.dt), ctl.dt);
     }
     list_surface(i, ks, hi);
     vstar[i] = predicted(i);

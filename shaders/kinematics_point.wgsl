@@ -197,6 +197,21 @@ fn velocity_gradient(gsum: vec4<f32>, l: vec4<f32>) -> vec4<f32> {
     );
 }
 
+// The velocity gradient `g` taken at positions `c v` ahead of where it is
+// wanted, mapped back there: (I - c g)^-1 g = (g - c det g I) / det(I - c g),
+// det(I - c g) = 1 - c tr g + c^2 det g; `g` itself where that is not
+// positive (the motion would have folded the neighbourhood). CPU twin:
+// Mat2::gradient_behind.
+fn gradient_behind(g: vec4<f32>, c: f32) -> vec4<f32> {
+    let cd = c * (g.x * g.w - g.y * g.z);
+    let den = 1.0 - c * (g.x + g.w) + c * cd;
+    if (!(den > 0.0)) {
+        return g;
+    }
+    let r = 1.0 / den;
+    return vec4<f32>((g.x - cd) * r, g.y * r, g.z * r, (g.w - cd) * r);
+}
+
 // Jaumann-rate hypoelastic deviatoric stress rate, plane strain.
 fn stress_rate(g: f32, si: vec4<f32>, gv: vec4<f32>) -> vec4<f32> {
     let tr = gv.x + gv.w;

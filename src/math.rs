@@ -222,6 +222,27 @@ impl Mat2 {
         })
     }
 
+    /// The velocity gradient `G` taken at positions `c·v` ahead of where
+    /// it is wanted, mapped back there: `∂v/∂x₀ = G (I + c ∂v/∂x₀)`, so
+    /// `G₀ = (I − cG)⁻¹ G = (G − c det G · I) / det(I − cG)`, with
+    /// `det(I − cG) = 1 − c tr G + c² det G` (Cayley–Hamilton). Exact for
+    /// an affine field. `None` where `det(I − cG) ≤ 0`: the motion over
+    /// `c` would have folded the neighbourhood, and no gradient maps it.
+    #[inline]
+    pub fn gradient_behind(&self, c: f64) -> Option<Mat2> {
+        let cd = c * self.det();
+        let den = 1.0 - c * self.trace() + c * cd;
+        (den > 0.0).then(|| {
+            let r = 1.0 / den;
+            Mat2 {
+                xx: (self.xx - cd) * r,
+                xy: self.xy * r,
+                yx: self.yx * r,
+                yy: (self.yy - cd) * r,
+            }
+        })
+    }
+
     /// `self · bᵀ`.
     #[inline]
     pub fn mul_transpose(&self, b: &Mat2) -> Mat2 {
@@ -378,5 +399,46 @@ mod tests {
         let r = Sym::from_principal(a, b, th);
         assert!((r.xx - s.xx).abs() < 1e-12 && (r.yy - s.yy).abs() < 1e-12);
         assert!((r.xy - s.xy).abs() < 1e-12);
+    }
+
+    /// `G = A (I + cA)⁻¹`, the gradient of `v = A x₀` at `x₀ + c v`, maps
+    /// back to `A`; a step that folds the neighbourhood maps to nothing.
+    #[test]
+    fn gradient_behind_inverts_the_drift() {
+        let a = Mat2 {
+            xx: -0.3,
+            xy: 0.7,
+            yx: 0.2,
+            yy: 0.45,
+        };
+        for c in [0.0, 0.01, 0.3, -0.2] {
+            let f = Mat2 {
+                xx: 1.0 + c * a.xx,
+                xy: c * a.xy,
+                yx: c * a.yx,
+                yy: 1.0 + c * a.yy,
+            };
+            // G = A F⁻¹ (F = I + cA): the rows of A against F⁻¹'s columns.
+            let fi = f.inverse(1e-12).unwrap();
+            let g = Mat2 {
+                xx: a.xx * fi.xx + a.xy * fi.yx,
+                xy: a.xx * fi.xy + a.xy * fi.yy,
+                yx: a.yx * fi.xx + a.yy * fi.yx,
+                yy: a.yx * fi.xy + a.yy * fi.yy,
+            };
+            let b = g.gradient_behind(c).unwrap();
+            let err = (b.xx - a.xx).abs() + (b.xy - a.xy).abs() + (b.yx - a.yx).abs();
+            assert!(err + (b.yy - a.yy).abs() < 1e-14, "c {c}: {b:?}");
+        }
+        assert_eq!(a.gradient_behind(0.0), Some(a));
+        // Stretching at 2/s, looked back over 0.5 s: det(I − cG) = 0.
+        let s = Mat2 {
+            xx: 2.0,
+            xy: 0.0,
+            yx: 0.0,
+            yy: 0.0,
+        };
+        assert_eq!(s.gradient_behind(0.5), None);
+        assert!(s.gradient_behind(0.49).is_some());
     }
 }

@@ -385,3 +385,82 @@ fn jaumann_simple_shear_rotates() {
     println!("Jaumann simple shear to γ = {gamma_end}: worst {worst:.2e} G");
     assert!(worst < 1e-6, "{worst:e}");
 }
+
+/// The leapfrog carries each adaptive support over a step by `F = I + Δt
+/// L` (`Metric::carried`), which is the step's motion `x_{n+1} = x_n + Δt
+/// v_{n+½}` exactly when `L` is the velocity gradient with respect to
+/// `x_n`; its kinematic walk differentiates at `x_{n+1}`, and the step
+/// maps that gradient back (`Mat2::gradient_behind`, docs/method.md §9).
+/// A block in an affine velocity field `v = A x`, unstressed (so that the
+/// first half kick leaves the interior's velocities affine), one step:
+/// every interior particle's carried support is `Bᵀ Q B`, `B = (I +
+/// ΔtA)⁻¹`, to round-off (measured 1e-18 of `Q`). The end-configuration
+/// gradient misses it by about `(Δt|A|)²` of `Q` a step (here 2.3e-6), a
+/// first-order error over a run.
+#[test]
+fn the_leapfrog_carries_supports_with_the_steps_motion() {
+    use sphcontact::cpu::CpuSolver;
+    let (model, mut st) = block(&jc_keys(0.0), 0.0);
+    assert!(model.adaptive, "the block's supports adapt");
+    let a = Mat2 {
+        xx: -2.0e5,
+        xy: 1.5e5,
+        yx: -0.5e5,
+        yy: 1.0e5,
+    };
+    for i in 0..model.len() {
+        st.v[i] = a.mul_vec(st.x[i]);
+    }
+    let (x0, q0) = (st.x.clone(), st.metric.clone());
+    let mut solver = CpuSolver::new(model, st);
+    let dt = solver.step(f64::INFINITY).expect("one step");
+    let (model, st) = (&solver.model, &solver.state);
+    let carried = if st.carried.is_empty() {
+        &st.metric
+    } else {
+        &st.carried
+    };
+    // B = (I + ΔtA)⁻¹.
+    let f = Mat2 {
+        xx: 1.0 + dt * a.xx,
+        xy: dt * a.xy,
+        yx: dt * a.yx,
+        yy: 1.0 + dt * a.yy,
+    };
+    let b = f.inverse(1e-12).expect("F invertible");
+    let (lo, hi) = (0.4e-3, 0.8e-3);
+    let mut worst = 0.0f64;
+    let mut interior = 0;
+    for i in 0..model.len() {
+        let x = x0[i];
+        if x.x < lo || x.x > hi || x.y < lo || x.y > hi {
+            continue;
+        }
+        interior += 1;
+        // An empty metric: every support round (Metric::round).
+        let q = &q0
+            .get(i)
+            .copied()
+            .unwrap_or(sphcontact::physics::support::Metric::round(model.h[i]));
+        // Q B, then Bᵀ (Q B).
+        let (qb11, qb21) = (q.xx * b.xx + q.xy * b.yx, q.xy * b.xx + q.yy * b.yx);
+        let (qb12, qb22) = (q.xx * b.xy + q.xy * b.yy, q.xy * b.xy + q.yy * b.yy);
+        let exact = [
+            b.xx * qb11 + b.yx * qb21,
+            b.xx * qb12 + b.yx * qb22,
+            b.xy * qb12 + b.yy * qb22,
+        ];
+        let c = &carried[i];
+        let err = [c.xx - exact[0], c.xy - exact[1], c.yy - exact[2]]
+            .iter()
+            .map(|e| e.abs())
+            .fold(0.0, f64::max);
+        worst = worst.max(err / q.xx.abs().max(q.yy.abs()));
+    }
+    println!(
+        "Δt|A| = {:.2e}; {interior} interior supports, worst {worst:.2e} of Q",
+        dt * 2.5e5
+    );
+    assert!(interior >= 9, "{interior} interior particles");
+    assert!(worst < 1e-9, "carried supports off by {worst:e} of Q");
+}

@@ -69,7 +69,14 @@ impl CpuSolver {
             let c = dispersion::strain_correction(model, &half, nb, &k, &self.disp_kept);
             dispersion::correct_rates(model, &half, &mut k, &c);
         }
-        let lv = std::mem::take(&mut k.lv);
+        // The supports are carried by F = I + Δt L (`Metric::carried`),
+        // which is the step's motion x_{n+1} = x_n + Δt v_{n+½} exactly
+        // where L is the gradient with respect to x_n; the walk's is at
+        // x_{n+1}, a first-order error in every carried support. Mapped
+        // back (kept where the step would have folded the neighbourhood).
+        let mut lv = std::mem::take(&mut k.lv);
+        lv.par_iter_mut()
+            .for_each(|l| *l = l.gradient_behind(dt).unwrap_or(*l));
         next.x.copy_from_slice(&half.x);
         // ρ and s at n+1, the predicted energy of 3, and the EOS at them.
         let pts = to_next(model, st, (&kn, &k), dt, &half, &mut next);
