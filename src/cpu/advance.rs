@@ -102,14 +102,28 @@ fn compatible_energy(vn: DVec2, vm: DVec2, vn1: DVec2) -> f64 {
 /// band (`Model::band` above one) the carried ellipse goes to
 /// `out_carried` and the supports they give to `out`
 /// ([`Model::supports_of`]: none while all are round).
+///
+/// `lag`: how far ahead of `x_n` the positions `lv` was taken at lie, as
+/// a time along `v` (the leapfrog's walk at `x_{n+1}`: `dt`; 0 for none).
+/// The carry `I + Δt L` is the step's motion exactly for `L` with respect
+/// to `x_n`, so each gradient is mapped back by it first
+/// ([`Mat2::gradient_behind`]; kept where the step would have folded the
+/// neighbourhood).
 pub(super) fn carry_supports(
     model: &Model,
     from: &State,
-    lv: &[Mat2],
+    (lv, lag): (&[Mat2], f64),
     dt: f64,
     out: &mut Vec<Metric>,
     out_carried: &mut Vec<Metric>,
 ) {
+    let at_start = |l: &Mat2| {
+        if lag == 0.0 {
+            *l
+        } else {
+            l.gradient_behind(lag).unwrap_or(*l)
+        }
+    };
     if !model.carries_band() {
         out.clear();
         out.extend_from_slice(&from.metric);
@@ -118,7 +132,7 @@ pub(super) fn carry_supports(
             .enumerate()
             .for_each(|(i, (q, l))| {
                 if !model.rigid(i) {
-                    *q = q.carried(l, dt, model.h[i], model.dim);
+                    *q = q.carried(&at_start(l), dt, model.h[i], model.dim);
                 }
             });
         return;
@@ -131,7 +145,7 @@ pub(super) fn carry_supports(
         .enumerate()
         .for_each(|(i, (c, l))| {
             if !model.rigid(i) {
-                *c = c.carried_band(l, dt, model.h[i], model.band, model.dim);
+                *c = c.carried_band(&at_start(l), dt, model.h[i], model.band, model.dim);
             }
         });
     model.supports_of(out_carried, out);

@@ -69,14 +69,7 @@ impl CpuSolver {
             let c = dispersion::strain_correction(model, &half, nb, &k, &self.disp_kept);
             dispersion::correct_rates(model, &half, &mut k, &c);
         }
-        // The supports are carried by F = I + Δt L (`Metric::carried`),
-        // which is the step's motion x_{n+1} = x_n + Δt v_{n+½} exactly
-        // where L is the gradient with respect to x_n; the walk's is at
-        // x_{n+1}, a first-order error in every carried support. Mapped
-        // back (kept where the step would have folded the neighbourhood).
-        let mut lv = std::mem::take(&mut k.lv);
-        lv.par_iter_mut()
-            .for_each(|l| *l = l.gradient_behind(dt).unwrap_or(*l));
+        let lv = std::mem::take(&mut k.lv);
         next.x.copy_from_slice(&half.x);
         // ρ and s at n+1, the predicted energy of 3, and the EOS at them.
         let pts = to_next(model, st, (&kn, &k), dt, &half, &mut next);
@@ -142,7 +135,11 @@ impl CpuSolver {
         let (heat_rate, spring_rate) = (diag.contact.heat_rate, diag.contact.spring_rate);
         let friction_rate = diag.contact.friction_rate;
         std::mem::swap(&mut next.v, &mut half.v);
-        carry_supports(model, st, &lv, dt, &mut next.metric, &mut next.carried);
+        // The walk's gradient is at x_{n+1}, Δt along v_{n+½} from x_n
+        // (the carry maps it back: without, a first-order error in
+        // every carried support).
+        let walked = (&lv[..], dt);
+        carry_supports(model, st, walked, dt, &mut next.metric, &mut next.carried);
         stage::enter(Stage::Advance, Role::Finish);
         // The next step's reduction is fused into this walk.
         stage::enter(Stage::Reduce, Role::Step);

@@ -476,10 +476,11 @@ impl CpuSolver {
             // Onto the limit the step's evaluation found.
             contact::return_slip(&self.model, &k2.friction, &mut next);
         }
+        // The midpoint evaluation's gradient, carried as it is.
         carry_supports(
             &self.model,
             &self.state,
-            &k2.lv,
+            (&k2.lv, 0.0),
             dt,
             &mut next.metric,
             &mut next.carried,
