@@ -592,7 +592,7 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     if (ADAPT && LGRAD) {
         // The carry (advance.wgsl) takes the gradient with respect to x_n,
         // with which F = I + dt l is the step's motion exactly (CPU twin:
-        // cpu::leapfrog).
+        // cpu::advance::carry_supports at lag dt).
         lgrad[i] = pack_step_gradient(gradient_behind(gv, ctl.dt), ctl.dt);
     }
     list_surface(i, ks, hi);
