@@ -344,6 +344,20 @@ fn stages_match_cpu_penetration_with(cavitation: Option<f64>) {
         let max = c.iter().map(|x| x.abs()).fold(0.0, f64::max);
         println!("{name}: largest {max:.3e}");
         assert!(max > 0.0, "{name} grows");
+        // The device stores the history itself in f32, not its increment:
+        // an increment read back is the difference of two stored values,
+        // good to one f32 step of the value (6.1e-5 K at 903 K). Within
+        // that the two agree; what is beyond it is held to the tolerance.
+        let ulp = |x: f64| {
+            let v = x.abs() as f32;
+            f64::from(f32::from_bits(v.to_bits() + 1) - v)
+        };
+        let gg: Vec<f64> = (0..n)
+            .map(|i| {
+                let d = gg[i] - c[i];
+                c[i] + d.signum() * (d.abs() - ulp(out.mid_hist[i][col])).max(0.0)
+            })
+            .collect();
         assert_field(name, &gg, &c, 1e-4, &skip);
     }
 }
