@@ -361,3 +361,69 @@ fn stages_match_cpu_penetration_with(cavitation: Option<f64>) {
         assert_field(name, &gg, &c, 1e-4, &skip);
     }
 }
+
+/// The GPU twin of `the_leapfrog_keeps_the_mass_of_the_steps_motion`
+/// (tests/strength.rs): a steel block in the affine field `v = A x`, one
+/// leapfrog step on the device; the interior's densities follow the
+/// step's motion, `ρ_{n+1} = ρ_n / det(I + ΔtA)`, to 5e-10 (the rates
+/// centred half a step behind the walk, kinematics.wgsl `to_next`; taken
+/// at the walk's `x_{n+1}` they miss by `½Δt² tr A²`, 6e-7 of `ρ` here).
+#[test]
+fn leapfrog_keeps_the_mass_of_the_steps_motion() {
+    use sphcontact::math::Mat2;
+    let Some(ctx) = gpu() else { return };
+    let scene = parse(
+        r#"
+[simulation]
+dimension = 2
+end_time = 1e-6
+[materials.steel]
+density = 7830.0
+shear_modulus = 77.5e9
+eos = { kind = "linear", c0 = 4578.0 }
+[[bodies]]
+name = "block"
+material = "steel"
+spacing = 1e-4
+shape = { kind = "rectangle", min = [0.0, 0.0], max = [1.2e-3, 1.2e-3] }
+"#,
+    );
+    let (mut model, mut st) = Model::new(&scene);
+    model.integrator = Integrator::Leapfrog;
+    let a = Mat2 {
+        xx: -2.0e5,
+        xy: 1.5e5,
+        yx: -0.5e5,
+        yy: 1.0e5,
+    };
+    for i in 0..model.len() {
+        st.v[i] = a.mul_vec(st.x[i]);
+    }
+    let mut g = GpuSolver::new(ctx, model.clone(), &st, &[], 1.0).expect("fits the adapter");
+    let b = g.run_batch(1);
+    assert!(b.failure.is_none());
+    let gs = g.download();
+    // The device counts time from its own start.
+    let dt = gs.t;
+    let jac = (1.0 + dt * a.xx) * (1.0 + dt * a.yy) - dt * a.xy * dt * a.yx;
+    let (lo, hi) = (0.4e-3, 0.8e-3);
+    let mut worst = 0.0f64;
+    let mut interior = 0;
+    for i in 0..model.len() {
+        let x = st.x[i];
+        if x.x < lo || x.x > hi || x.y < lo || x.y > hi {
+            continue;
+        }
+        interior += 1;
+        worst = worst.max((gs.rho[i] * jac / st.rho[i] - 1.0).abs());
+    }
+    println!(
+        "det F − 1 = {:.2e}; {interior} interior densities, worst {worst:.2e} of ρ",
+        jac - 1.0
+    );
+    assert!(interior >= 9, "{interior} interior particles");
+    assert!(
+        worst < 1e-7,
+        "densities off the step's motion by {worst:e} of ρ"
+    );
+}

@@ -215,7 +215,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
         })
         .collect();
     round_colour(model, st, nb, &vol, &mut sums);
-    finish(model, st, sums)
+    finish(model, st, sums, 0.0)
 }
 
 /// Where supports adapt, each particle's colour gradient with the round
@@ -281,8 +281,14 @@ pub(in crate::cpu) fn volumes(model: &Model, st: &State) -> Vec<f64> {
 }
 
 /// The kinematic pass's results from each particle's sums: `L_i`, `∇v_i`,
-/// continuity, the stress rate, the surface set.
-pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<S>>) -> Kinematics {
+/// continuity, the stress rate, the surface set; the rates centred `lag`
+/// behind the walk's positions ([`centred`]).
+pub(in crate::cpu) fn finish<S: Seen>(
+    model: &Model,
+    st: &State,
+    sums: Vec<Sums<S>>,
+    lag: f64,
+) -> Kinematics {
     let n = sums.len();
     let hg = model.hourglass > 0.0 && S::SEES;
     let mut out = Kinematics::sized(model, n, hg);
@@ -302,7 +308,7 @@ pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<
             for (r, sums) in sums[base..base + run.l.len()].iter().enumerate() {
                 let i = base + r;
                 let p = point_of_sums(model, st, i, *sums);
-                if !run.put(model, st, (r, i), p) {
+                if !run.put(model, st, (r, i, lag), p) {
                     fallback.push(i as u32);
                 }
             }
@@ -490,9 +496,16 @@ impl<'a> Rows<'a> {
     }
 
     /// Particle i's results from its point `p` into slot `r`: the surface
-    /// test, the continuity and stress rates, the gradients kept. Returns
+    /// test, the continuity and stress rates (centred `lag` behind the
+    /// walk, [`centred`]), the gradients kept (the walk's own). Returns
     /// whether its correction held (`p.ok`).
-    fn put(&mut self, model: &Model, st: &State, (r, i): (usize, usize), p: Point) -> bool {
+    fn put(
+        &mut self,
+        model: &Model,
+        st: &State,
+        (r, i, lag): (usize, usize, f64),
+        p: Point,
+    ) -> bool {
         self.l[r] = p.l;
         self.surface[r] = surface_measure(model, i, p.gpsi, p.psi) > model.boundary_threshold;
         if let Some(psi) = p.psi {
@@ -502,13 +515,14 @@ impl<'a> Rows<'a> {
         if !model.rigid(i) {
             // η = 2π r ρ obeys the plane's continuity equation: the hoop
             // strain rate is in ρ alone (docs/method.md §12).
-            self.drho[r] = -st.rho[i] * p.gv.trace();
+            let gc = centred(&p.gv, lag);
+            self.drho[r] = -st.rho[i] * gc.trace();
             // Debris keeps its deviatoric stress, frozen (docs/method.md,
             // "Debris").
             let g = if p.ok { model.material(i).g } else { 0.0 };
-            let ds = stress_rate(g, &st.s[i], &p.gv);
+            let ds = stress_rate(g, &st.s[i], &gc);
             self.ds[r] = if model.axisymmetric {
-                with_hoop(g, ds, hoop_rate(st, i))
+                with_hoop(g, ds, hoop_rate(st, i, lag))
             } else {
                 ds
             };
@@ -526,10 +540,11 @@ impl<'a> Rows<'a> {
             self.g[r] = p.gv;
         }
         if !self.rate.is_empty() {
+            let gc = centred(&p.gv, lag);
             self.rate[r] = if model.axisymmetric && !model.rigid(i) {
-                strength::equivalent_strain_rate_3(&p.gv, hoop_rate(st, i))
+                strength::equivalent_strain_rate_3(&gc, hoop_rate(st, i, lag))
             } else {
-                strength::equivalent_strain_rate(&p.gv)
+                strength::equivalent_strain_rate(&gc)
             };
         }
         p.ok
