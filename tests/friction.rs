@@ -303,7 +303,7 @@ fn a_taylor_bar_spreads_less_on_a_wall_that_grips() {
 }
 
 /// At 16 across (about 40 s a run on two cores). Measured (leapfrog):
-/// 7.003, 6.496 and 5.737 mm at μ 0, 0.1 and 0.3; 21.60, 21.74 and
+/// 7.002, 6.500 and 5.729 mm at μ 0, 0.1 and 0.3; 21.60, 21.74 and
 /// 21.94 mm long.
 #[test]
 #[ignore]
