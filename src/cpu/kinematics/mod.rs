@@ -512,10 +512,11 @@ impl<'a> Rows<'a> {
             self.psi[r] = psi;
         }
         self.grad_psi[r] = p.gpsi;
+        // The rates' gradient, centred where the step's rates are for.
+        let gc = centred(&p.gv, lag);
         if !model.rigid(i) {
             // η = 2π r ρ obeys the plane's continuity equation: the hoop
             // strain rate is in ρ alone (docs/method.md §12).
-            let gc = centred(&p.gv, lag);
             self.drho[r] = -st.rho[i] * gc.trace();
             // Debris keeps its deviatoric stress, frozen (docs/method.md,
             // "Debris").
@@ -540,7 +541,6 @@ impl<'a> Rows<'a> {
             self.g[r] = p.gv;
         }
         if !self.rate.is_empty() {
-            let gc = centred(&p.gv, lag);
             self.rate[r] = if model.axisymmetric && !model.rigid(i) {
                 strength::equivalent_strain_rate_3(&gc, hoop_rate(st, i, lag))
             } else {
