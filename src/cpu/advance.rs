@@ -10,7 +10,7 @@ use super::Rates;
 use crate::math::{Mat2, Sym};
 use crate::model::{Model, State};
 use crate::physics::strength;
-use crate::physics::support::Metric;
+use crate::physics::support::{BandBounds, Metric};
 
 /// `out = base + k · rates` (positions move with `vel`), with the radial
 /// return applied to the new deviatoric stress: perfect plasticity, or,
@@ -137,19 +137,50 @@ pub(super) fn carry_supports(
             });
         return;
     }
-    out_carried.clear();
-    out_carried.extend_from_slice(&from.carried);
-    out_carried
-        .par_iter_mut()
-        .zip(lv.par_iter())
+    // The carry and the supports in one walk, a run of particles a task
+    // (as `Metric::carried_band` then `Model::supports_of`, bit for bit):
+    // the bounds worked out once for each run of equal `h`, the
+    // eigenvalues once a particle where nothing is clamped.
+    let n = from.carried.len();
+    out_carried.resize(n, Metric::default());
+    out.resize(n, Metric::default());
+    let all_round = out_carried
+        .par_chunks_mut(CARRY_RUN)
+        .zip(out.par_chunks_mut(CARRY_RUN))
         .enumerate()
-        .for_each(|(i, (c, l))| {
-            if !model.rigid(i) {
-                *c = c.carried_band(&at_start(l), dt, model.h[i], model.band, model.dim);
+        .map(|(r, (cs, qs))| {
+            let base = r * CARRY_RUN;
+            let mut bounds: Option<(f64, BandBounds)> = None;
+            let mut round = true;
+            for (k, (c, q)) in cs.iter_mut().zip(qs).enumerate() {
+                let i = base + k;
+                let h = model.h[i];
+                let b = match bounds {
+                    Some((hb, b)) if hb == h => b,
+                    _ => {
+                        let b = BandBounds::new(h, model.band);
+                        bounds = Some((h, b));
+                        b
+                    }
+                };
+                let was = from.carried[i];
+                (*c, *q) = if model.rigid(i) {
+                    (was, was.banded(h, model.band, model.dim))
+                } else {
+                    was.carried_banded(&at_start(&lv[i]), dt, &b, model.dim)
+                };
+                round &= *q == Metric::round_of(b.round);
             }
-        });
-    model.supports_of(out_carried, out);
+            round
+        })
+        .reduce(|| true, |a, b| a && b);
+    if all_round {
+        out.clear();
+    }
 }
+
+/// Particles a task of [`carry_supports`].
+const CARRY_RUN: usize = 4096;
 
 /// Whether particle i's density is inside `[0.1, 10] ρ0`, or, for a
 /// failed particle (damage `damage`), positive and below `10 ρ0`: an

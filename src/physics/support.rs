@@ -66,7 +66,12 @@ impl Metric {
     /// The round kernel of smoothing length `h`.
     #[inline]
     pub fn round(h: f64) -> Metric {
-        let k = 1.0 / (h * h);
+        Metric::round_of(1.0 / (h * h))
+    }
+
+    /// The round metric `k I` (`k = 1/h²`).
+    #[inline]
+    pub fn round_of(k: f64) -> Metric {
         Metric {
             xx: k,
             xy: 0.0,
@@ -260,9 +265,14 @@ impl Metric {
     /// drawn²` or `λ / squeezed²`, and a spectral map of a 2×2 symmetric
     /// matrix is affine in it, `α I + β Q`, so no eigenvector is formed.
     pub fn banded(&self, h0: f64, band: Band, dim: usize) -> Metric {
-        let round = 1.0 / (h0 * h0);
-        let d2 = band.drawn * band.drawn;
-        let s2 = band.squeezed * band.squeezed;
+        self.banded_in(&BandBounds::new(h0, band), None, dim)
+    }
+
+    /// [`Metric::banded`] with the bounds of its `h0` and band worked
+    /// out, and the metric's [`Metric::eigenvalues`] where they are known.
+    #[inline]
+    fn banded_in(&self, k: &BandBounds, eig: Option<(f64, f64, f64)>, dim: usize) -> Metric {
+        let (round, d2, s2) = (k.round, k.d2, k.s2);
         let map = |l: f64| {
             if l * d2 < round {
                 l * d2
@@ -275,15 +285,15 @@ impl Metric {
         if dim == 1 {
             let k = map(self.xx);
             return if k == round {
-                Metric::round(h0)
+                Metric::round_of(round)
             } else {
                 Metric { xx: k, ..*self }
             };
         }
-        let (l1, l2, rad) = self.eigenvalues();
+        let (l1, l2, rad) = eig.unwrap_or_else(|| self.eigenvalues());
         let (k1, k2) = (map(l1), map(l2));
         if k1 == round && k2 == round {
-            return Metric::round(h0);
+            return Metric::round_of(round);
         }
         // α + β λ_k = k_k for both eigenvalues; a round carried metric
         // (equal eigenvalues) maps to a multiple of itself.
@@ -310,23 +320,70 @@ impl Metric {
     /// [`Metric::banded`] support is to keep within the bounds): semi-axes
     /// within `[h0/(SQUEEZE_MAX band.squeezed), STRETCH_MAX band.drawn h0]`.
     pub fn bounded_band(&self, h0: f64, band: Band, dim: usize) -> Metric {
-        let (lo, hi) = (
-            1.0 / (STRETCH_MAX * band.drawn * h0).powi(2),
-            (SQUEEZE_MAX * band.squeezed / h0).powi(2),
-        );
+        self.bounded_in(&BandBounds::new(h0, band), dim).0
+    }
+
+    /// [`Metric::bounded_band`] with its bounds worked out, and the
+    /// eigenvalues of the result where it is the metric unchanged.
+    #[inline]
+    fn bounded_in(&self, k: &BandBounds, dim: usize) -> (Metric, Option<(f64, f64, f64)>) {
+        let (lo, hi) = (k.lo, k.hi);
         if dim == 1 {
-            return Metric {
-                xx: self.xx.clamp(lo, hi),
-                ..*self
-            };
+            let xx = self.xx.clamp(lo, hi);
+            return (Metric { xx, ..*self }, None);
         }
         // The eigenvector only where the metric is clamped.
-        let (a, b, _) = self.eigenvalues();
+        let eig = self.eigenvalues();
+        let (a, b, _) = eig;
         if a <= hi && b >= lo {
-            return *self;
+            return (*self, Some(eig));
         }
         let (a, b, e) = self.eigen();
-        Metric::from_eigen(a.clamp(lo, hi), b.clamp(lo, hi), e)
+        (
+            Metric::from_eigen(a.clamp(lo, hi), b.clamp(lo, hi), e),
+            None,
+        )
+    }
+
+    /// [`Metric::carried_band`] and the support [`Metric::banded`] gives
+    /// it, in one: the bounds of `h0` and the band worked out once
+    /// (`k`, for every particle of that `h0`), the eigenvalues once where
+    /// the carried metric is not clamped. The same bits as the two.
+    #[inline]
+    pub fn carried_banded(
+        &self,
+        l: &Mat2,
+        dt: f64,
+        k: &BandBounds,
+        dim: usize,
+    ) -> (Metric, Metric) {
+        let (c, eig) = self.moved(l, dt, dim).bounded_in(k, dim);
+        (c, c.banded_in(k, eig, dim))
+    }
+}
+
+/// What [`Metric::bounded_band`] and [`Metric::banded`] work out of the
+/// placed smoothing length `h0` and the band: the bounds on the carried
+/// eigenvalues, the round support's `1/h0²` and the band's squares.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BandBounds {
+    lo: f64,
+    hi: f64,
+    /// `1/h0²`, as [`Metric::round`] has it.
+    pub round: f64,
+    d2: f64,
+    s2: f64,
+}
+
+impl BandBounds {
+    pub fn new(h0: f64, band: Band) -> BandBounds {
+        BandBounds {
+            lo: 1.0 / (STRETCH_MAX * band.drawn * h0).powi(2),
+            hi: (SQUEEZE_MAX * band.squeezed / h0).powi(2),
+            round: 1.0 / (h0 * h0),
+            d2: band.drawn * band.drawn,
+            s2: band.squeezed * band.squeezed,
+        }
     }
 }
 
