@@ -311,6 +311,37 @@ impl Neighbours {
         });
     }
 
+    /// [`Neighbours::replay`] a row at a time: `row(i, acc_i, near,
+    /// far, piece, base)` with the row's near partners and their slots
+    /// (`acc_j` is `piece[j − base]`) and its far partners and theirs
+    /// (i's side only), for loops that run over a row's pairs themselves.
+    pub fn replay_rows<T, S, R>(&self, acc: &mut [T], store: &[S], row: R)
+    where
+        T: Send + Default,
+        S: Sync,
+        R: Fn(usize, &mut T, (&[u32], &[S]), (&[u32], &[S]), &mut [T], usize) + Sync,
+    {
+        let n = acc.len();
+        assert_eq!(
+            store.len(),
+            self.visited[n] as usize,
+            "a store of this sweep's pairs"
+        );
+        self.rows(acc, |i, ai, piece, base| {
+            let (s, f, e) = self.row_ends(i);
+            let slots = &store[self.visited[i] as usize..self.visited[i + 1] as usize];
+            let (near, far) = slots.split_at(f - s);
+            row(
+                i,
+                ai,
+                (&self.list[s..f], near),
+                (&self.list[f..e], far),
+                piece,
+                base,
+            );
+        });
+    }
+
     /// A store of zero-sized slots for sweeps that keep nothing.
     pub(in crate::cpu) fn no_store(&self) -> Vec<()> {
         vec![(); self.store_len()]
