@@ -292,21 +292,13 @@ impl Neighbours {
         S: Sync,
         P: Fn(usize, usize, &S, &mut T, Option<&mut T>) + Sync,
     {
-        let n = acc.len();
-        assert_eq!(
-            store.len(),
-            self.visited[n] as usize,
-            "a store of this sweep's pairs"
-        );
-        self.rows(acc, |i, ai, piece, base| {
-            let (s, f, e) = self.row_ends(i);
-            let slots = &store[self.visited[i] as usize..self.visited[i + 1] as usize];
-            for (q, &j) in self.list[s..f].iter().enumerate() {
+        self.replay_rows(acc, store, |i, ai, near, far, piece, base| {
+            for (&j, slot) in near.0.iter().zip(near.1) {
                 let j = j as usize;
-                pair_fn(i, j, &slots[q], ai, Some(&mut piece[j - base]));
+                pair_fn(i, j, slot, ai, Some(&mut piece[j - base]));
             }
-            for (q, &j) in self.list[f..e].iter().enumerate() {
-                pair_fn(i, j as usize, &slots[f - s + q], ai, None);
+            for (&j, slot) in far.0.iter().zip(far.1) {
+                pair_fn(i, j as usize, slot, ai, None);
             }
         });
     }
