@@ -119,8 +119,9 @@ pub struct BenchOptions {
     /// Timed steps per measurement; `None`: at least [`DEFAULT_STEPS`],
     /// more until the measurement lasts [`TARGET_SECONDS`].
     pub steps: Option<u64>,
-    /// Measurements per backend and size (at least 1): the first sets the
-    /// steps, the rest repeat them ([`Record::rates`]).
+    /// Measurements per backend and size (at least 1), one after another
+    /// in the same run: the first sets the number of steps, the rest take
+    /// as many ([`Record::rates`]).
     pub repeat: u32,
     /// Also time each GPU stage alone.
     pub stages: bool,

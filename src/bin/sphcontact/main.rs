@@ -264,8 +264,9 @@ struct BenchArgs {
     /// lasts about 1 s).
     #[arg(long)]
     steps: Option<u64>,
-    /// Measurements per backend and size, each of the same steps (the
-    /// first sets them); the record gives the median and every rate.
+    /// Measurements per backend and size, one after another in the same
+    /// run, each of as many steps as the first; the record gives the
+    /// median and every rate.
     #[arg(long, default_value_t = 1)]
     repeat: u32,
     /// Also time each GPU stage alone.
