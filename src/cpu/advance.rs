@@ -138,7 +138,7 @@ pub(super) fn carry_supports(
         return;
     }
     // The carry and the supports in one walk, a run of particles a task
-    // (as `Metric::carried_band` then `Model::supports_of`, bit for bit):
+    // (as `Model::supports_of` of the carried ellipses, bit for bit):
     // the bounds worked out once for each run of equal `h`, the
     // eigenvalues once a particle where nothing is clamped.
     let n = from.carried.len();

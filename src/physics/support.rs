@@ -218,12 +218,6 @@ impl Metric {
         self.moved(l, dt, dim).bounded(h0, dim)
     }
 
-    /// Carried over a step as [`Metric::carried`], held to the bounds
-    /// widened by the band ([`Metric::bounded_band`]).
-    pub fn carried_band(&self, l: &Mat2, dt: f64, h0: f64, band: Band, dim: usize) -> Metric {
-        self.moved(l, dt, dim).bounded_band(h0, band, dim)
-    }
-
     /// Carried over a step, unbounded.
     fn moved(&self, l: &Mat2, dt: f64, dim: usize) -> Metric {
         let a = Mat2 {
@@ -345,8 +339,9 @@ impl Metric {
         )
     }
 
-    /// [`Metric::carried_band`] and the support [`Metric::banded`] gives
-    /// it, in one: the bounds of `h0` and the band worked out once
+    /// Carried over a step as [`Metric::carried`], held to the bounds
+    /// widened by the band ([`Metric::bounded_band`]), and the support
+    /// [`Metric::banded`] gives it, in one: the bounds of `h0` and the band worked out once
     /// (`k`, for every particle of that `h0`), the eigenvalues once where
     /// the carried metric is not clamped. The same bits as the two.
     #[inline]
