@@ -99,32 +99,24 @@ pub fn energy_replay(
     w: &[DVec2],
 ) -> Vec<f64> {
     let mut acc = vec![0.0f64; model.len()];
-    if !model.any_rigid {
-        // The loop below without the rigid particles' checks, a row's
-        // pairs in one loop: the same terms in the same order.
-        let mass = &model.mass[..];
-        nb.replay_rows(&mut acc, kept, |i, ai, near, far, piece, base| {
-            let (wi, mi) = (w[i], mass[i]);
-            for (&j, x) in near.0.iter().zip(near.1) {
-                let j = j as usize;
-                let wij = wi - w[j];
+    let mass = &model.mass[..];
+    // Rigid particles book nothing; a far pair's j side is its own row's.
+    nb.replay_rows(&mut acc, kept, |i, ai, near, far, piece, base| {
+        let (wi, mi, ri) = (w[i], mass[i], model.rigid(i));
+        for (&j, x) in near.0.iter().zip(near.1) {
+            let j = j as usize;
+            let wij = wi - w[j];
+            if !ri {
                 *ai -= mass[j] * wij.dot(x[0]);
+            }
+            if !model.rigid(j) {
                 piece[j - base] -= mi * wij.dot(x[1]);
             }
-            for (&j, x) in far.0.iter().zip(far.1) {
-                let j = j as usize;
-                *ai -= mass[j] * (wi - w[j]).dot(x[0]);
-            }
-        });
-        return acc;
-    }
-    nb.replay(&mut acc, kept, |i, j, x, ai, aj| {
-        let wij = w[i] - w[j];
-        if !model.rigid(i) {
-            *ai -= model.mass[j] * wij.dot(x[0]);
         }
-        if let Some(aj) = aj.filter(|_| !model.rigid(j)) {
-            *aj -= model.mass[i] * wij.dot(x[1]);
+        if !ri {
+            for (&j, x) in far.0.iter().zip(far.1) {
+                *ai -= mass[j as usize] * (wi - w[j as usize]).dot(x[0]);
+            }
         }
     });
     acc
