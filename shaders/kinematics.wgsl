@@ -615,33 +615,16 @@ fn kinematics_leap(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     to_next(i, body, ks.rad, gv, shear_of(wk), wk.debris);
 }
 
-// A walk's velocity gradient g taken `lag` along v ahead of where a step's
-// rates are centred, mapped back to second order: g + lag g^2 (CPU twin:
-// cpu::kinematics::centred). g = (xx, xy, yx, yy).
-fn centred(g: vec4<f32>, lag: f32) -> vec4<f32> {
-    let g2 = vec4<f32>(
-        g.x * g.x + g.y * g.z,
-        g.x * g.y + g.y * g.w,
-        g.z * g.x + g.w * g.z,
-        g.z * g.y + g.w * g.w,
-    );
-    return g + lag * g2;
-}
-
 // The leapfrog step's update of particle i (body `body`, radius `rad`) to
-// n+1 at the walk's velocity gradient `gw`: its density, deviatoric stress
-// (shear modulus `g`), plastic history and predicted energy, and its stress
-// point there. `ds` is the state's own deviatoric stress, updated in place.
-// The rates are centred at x_{n+1/2}, half a step behind the walk (CPU
-// twin: cpu::kinematics::centred at lag dt/2, and the hoop rate at the
-// half step's radius).
-fn to_next(i: u32, body: Body, rad: f32, gw: vec4<f32>, g: f32, debris: bool) {
+// n+1 at velocity gradient `gv`: its density, deviatoric stress (shear
+// modulus `g`), plastic history and predicted energy, and its stress point
+// there. `ds` is the state's own deviatoric stress, updated in place.
+fn to_next(i: u32, body: Body, rad: f32, gv: vec4<f32>, g: f32, debris: bool) {
     let dt = ctl.dt;
     let h = 0.5 * dt;
     let mu = r[i].x;
     let si = ds[i];
-    let gv = centred(gw, h);
-    let d_tt = hoop_rate(rad - h * v[i].x, v[i]);
+    let d_tt = hoop_rate(rad, v[i]);
     var mu1 = density_after(mu, density_log_rate(gv, d_tt) * dt);
     var s1 = plastic_return(si + deviator_rate(g, si, gv, d_tt) * dt, body);
     // The predicted energy takes back the first half kick's compatible

@@ -386,23 +386,19 @@ fn jaumann_simple_shear_rotates() {
     assert!(worst < 1e-6, "{worst:e}");
 }
 
-/// One leapfrog step (`CpuSolver`) of the unstressed steel block in the
-/// affine velocity field `v = A x` (unstressed, so that the first half kick
-/// leaves the interior's velocities affine): the solver after it, the
-/// positions, supports and densities before it, the step, `A`, and the
-/// step's motion `F = I + ΔtA`, for the particles placed at least two
-/// spacings inside (where the corrected gradient of an affine field is
-/// exact).
-struct AffineStep {
-    solver: sphcontact::cpu::CpuSolver,
-    interior: Vec<usize>,
-    q0: Vec<sphcontact::physics::support::Metric>,
-    rho0: Vec<f64>,
-    dt_a: f64,
-    f: Mat2,
-}
-
-fn affine_step() -> AffineStep {
+/// The leapfrog carries each adaptive support over a step by `F = I + Δt
+/// L` (`Metric::carried`), which is the step's motion `x_{n+1} = x_n + Δt
+/// v_{n+½}` exactly when `L` is the velocity gradient with respect to
+/// `x_n`; its kinematic walk differentiates at `x_{n+1}`, and the step
+/// maps that gradient back (`Mat2::gradient_behind`, docs/method.md §9).
+/// A block in an affine velocity field `v = A x`, unstressed (so that the
+/// first half kick leaves the interior's velocities affine), one step:
+/// every interior particle's carried support is `Bᵀ Q B`, `B = (I +
+/// ΔtA)⁻¹`, to round-off (measured 1e-18 of `Q`). The end-configuration
+/// gradient misses it by about `(Δt|A|)²` of `Q` a step (here 2.3e-6), a
+/// first-order error over a run.
+#[test]
+fn the_leapfrog_carries_supports_with_the_steps_motion() {
     use sphcontact::cpu::CpuSolver;
     let (model, mut st) = block(&jc_keys(0.0), 0.0);
     assert!(model.adaptive, "the block's supports adapt");
@@ -415,66 +411,37 @@ fn affine_step() -> AffineStep {
     for i in 0..model.len() {
         st.v[i] = a.mul_vec(st.x[i]);
     }
-    let (lo, hi) = (0.4e-3, 0.8e-3);
-    let interior: Vec<usize> = (0..model.len())
-        .filter(|&i| {
-            let x = st.x[i];
-            x.x >= lo && x.x <= hi && x.y >= lo && x.y <= hi
-        })
-        .collect();
-    assert!(interior.len() >= 9, "{} interior particles", interior.len());
-    // An empty metric: every support round (Metric::round).
-    let q0 = (0..model.len())
-        .map(|i| {
-            st.metric
-                .get(i)
-                .copied()
-                .unwrap_or(sphcontact::physics::support::Metric::round(model.h[i]))
-        })
-        .collect();
-    let rho0 = st.rho.clone();
+    let (x0, q0) = (st.x.clone(), st.metric.clone());
     let mut solver = CpuSolver::new(model, st);
     let dt = solver.step(f64::INFINITY).expect("one step");
-    let norm = (a.xx * a.xx + a.xy * a.xy + a.yx * a.yx + a.yy * a.yy).sqrt();
+    let (model, st) = (&solver.model, &solver.state);
+    let carried = if st.carried.is_empty() {
+        &st.metric
+    } else {
+        &st.carried
+    };
+    // B = (I + ΔtA)⁻¹.
     let f = Mat2 {
         xx: 1.0 + dt * a.xx,
         xy: dt * a.xy,
         yx: dt * a.yx,
         yy: 1.0 + dt * a.yy,
     };
-    AffineStep {
-        solver,
-        interior,
-        q0,
-        rho0,
-        dt_a: dt * norm,
-        f,
-    }
-}
-
-/// The leapfrog carries each adaptive support over a step by `F = I + Δt
-/// L` (`Metric::carried`), which is the step's motion `x_{n+1} = x_n + Δt
-/// v_{n+½}` exactly when `L` is the velocity gradient with respect to
-/// `x_n`; its kinematic walk differentiates at `x_{n+1}`, and the step
-/// maps that gradient back (`Mat2::gradient_behind`, docs/method.md §9).
-/// In the affine field of [`affine_step`], one step: every interior
-/// particle's carried support is `Bᵀ Q B`, `B = (I + ΔtA)⁻¹`, to
-/// round-off (measured 1e-18 of `Q`). The end-configuration gradient
-/// misses it by about `(Δt|A|)²` of `Q` a step (here 2.3e-6), a
-/// first-order error over a run.
-#[test]
-fn the_leapfrog_carries_supports_with_the_steps_motion() {
-    let s = affine_step();
-    let st = &s.solver.state;
-    let carried = if st.carried.is_empty() {
-        &st.metric
-    } else {
-        &st.carried
-    };
-    let b = s.f.inverse(1e-12).expect("F invertible");
+    let b = f.inverse(1e-12).expect("F invertible");
+    let (lo, hi) = (0.4e-3, 0.8e-3);
     let mut worst = 0.0f64;
-    for &i in &s.interior {
-        let q = &s.q0[i];
+    let mut interior = 0;
+    for i in 0..model.len() {
+        let x = x0[i];
+        if x.x < lo || x.x > hi || x.y < lo || x.y > hi {
+            continue;
+        }
+        interior += 1;
+        // An empty metric: every support round (Metric::round).
+        let q = &q0
+            .get(i)
+            .copied()
+            .unwrap_or(sphcontact::physics::support::Metric::round(model.h[i]));
         // Q B, then Bᵀ (Q B).
         let (qb11, qb21) = (q.xx * b.xx + q.xy * b.yx, q.xy * b.xx + q.yy * b.yx);
         let (qb12, qb22) = (q.xx * b.xy + q.xy * b.yy, q.xy * b.xy + q.yy * b.yy);
@@ -490,39 +457,11 @@ fn the_leapfrog_carries_supports_with_the_steps_motion() {
             .fold(0.0, f64::max);
         worst = worst.max(err / q.xx.abs().max(q.yy.abs()));
     }
+    let norm = (a.xx * a.xx + a.xy * a.xy + a.yx * a.yx + a.yy * a.yy).sqrt();
     println!(
-        "Δt|A| = {:.2e}; {} interior supports, worst {worst:.2e} of Q",
-        s.dt_a,
-        s.interior.len()
+        "Δt|A| = {:.2e}; {interior} interior supports, worst {worst:.2e} of Q",
+        dt * norm
     );
+    assert!(interior >= 9, "{interior} interior particles");
     assert!(worst < 1e-9, "carried supports off by {worst:e} of Q");
-}
-
-/// The leapfrog's density over a step follows the step's motion: mass
-/// kept in the deformed volume, `ρ_{n+1} = ρ_n / det(I + ΔtA)` in the
-/// affine field of [`affine_step`]. Its walk differentiates at `x_{n+1}`
-/// and the step centres the rates at `x_{n+½}` (`kinematics::centred`),
-/// so `ln ρ` takes `ln det(I + ΔtA)` to second order, and misses it
-/// in the third order of `Δt|A|`: measured 3e-10 of `ρ` here. Taken at `x_{n+1}`
-/// (`Δt tr(A (I + ΔtA)⁻¹)`) it misses by `½Δt² tr A²`: 6e-7 here.
-#[test]
-fn the_leapfrog_keeps_the_mass_of_the_steps_motion() {
-    let s = affine_step();
-    let st = &s.solver.state;
-    let jac = s.f.xx * s.f.yy - s.f.xy * s.f.yx;
-    let worst = s
-        .interior
-        .iter()
-        .map(|&i| ((st.rho[i] - s.rho0[i] / jac) / s.rho0[i]).abs())
-        .fold(0.0, f64::max);
-    println!(
-        "Δt|A| = {:.2e}, det F − 1 = {:.2e}; {} interior densities, worst {worst:.2e} of ρ",
-        s.dt_a,
-        jac - 1.0,
-        s.interior.len()
-    );
-    assert!(
-        worst < 2e-8,
-        "densities off the step's motion by {worst:e} of ρ"
-    );
 }

@@ -33,9 +33,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::kinematics::StressPoint;
-use super::kinematics::{
-    centred, gradient_weight, hoop_rate, stress_rate, volumes, with_hoop, Kinematics,
-};
+use super::kinematics::{gradient_weight, hoop_rate, stress_rate, volumes, with_hoop, Kinematics};
 use super::neighbours::Neighbours;
 use crate::math::{Mat2, Mirror, Sym};
 use crate::model::{Model, State};
@@ -339,10 +337,8 @@ fn pair_sums(
 }
 
 /// The kinematic pass's density and stress rates (and equivalent strain
-/// rate) taken at `∇v + C` instead of `∇v` ([`strain_correction`]),
-/// centred `lag` behind the walk as the pass's own
-/// ([`crate::cpu::kinematics::centred`]).
-pub fn correct_rates(model: &Model, st: &State, k: &mut Kinematics, c: &[Mat2], lag: f64) {
+/// rate) taken at `∇v + C` instead of `∇v` ([`strain_correction`]).
+pub fn correct_rates(model: &Model, st: &State, k: &mut Kinematics, c: &[Mat2]) {
     let debris = k.debris_flags(model);
     let (g, drho, ds) = (&k.g, &mut k.drho, &mut k.ds);
     drho.par_iter_mut()
@@ -352,7 +348,7 @@ pub fn correct_rates(model: &Model, st: &State, k: &mut Kinematics, c: &[Mat2], 
             if model.rigid(i) {
                 return;
             }
-            let gc = centred(&(g[i] + c[i]), lag);
+            let gc = g[i] + c[i];
             *drho = -st.rho[i] * gc.trace();
             let shear = if debris.get(i).copied().unwrap_or(false) {
                 0.0
@@ -362,7 +358,7 @@ pub fn correct_rates(model: &Model, st: &State, k: &mut Kinematics, c: &[Mat2], 
             let rate = stress_rate(shear, &st.s[i], &gc);
             // The hoop rate v_r/r takes no correction (kinematics::finish).
             *ds = if model.axisymmetric {
-                with_hoop(shear, rate, hoop_rate(st, i, lag))
+                with_hoop(shear, rate, hoop_rate(st, i))
             } else {
                 rate
             };
@@ -370,9 +366,9 @@ pub fn correct_rates(model: &Model, st: &State, k: &mut Kinematics, c: &[Mat2], 
     if model.strain_rate {
         k.rate.par_iter_mut().enumerate().for_each(|(i, r)| {
             if !model.rigid(i) {
-                let gc = centred(&(g[i] + c[i]), lag);
+                let gc = g[i] + c[i];
                 *r = if model.axisymmetric {
-                    strength::equivalent_strain_rate_3(&gc, hoop_rate(st, i, lag))
+                    strength::equivalent_strain_rate_3(&gc, hoop_rate(st, i))
                 } else {
                     strength::equivalent_strain_rate(&gc)
                 };
@@ -589,7 +585,7 @@ shape = {shape}
             let support = &format!("{support}, {cut:?}");
             let nb = neighbours::find(&model, st.frame());
             let mut kept = Kept::default();
-            let k = sweep::kinematics_keeping(&model, &st, &nb, (None, 0.0), &mut kept);
+            let k = sweep::kinematics_keeping(&model, &st, &nb, None, &mut kept);
             assert_eq!(k.g.len(), model.len());
             // Keeping the pairs changes nothing of the kinematic pass.
             let plain = sweep::kinematics(&model, &st, &nb);
@@ -654,7 +650,7 @@ shape = {shape}
         }
         let nb = neighbours::find(&model, st.frame());
         let mut kept = Kept::default();
-        let k = sweep::kinematics_keeping(&model, &st, &nb, (None, 0.0), &mut kept);
+        let k = sweep::kinematics_keeping(&model, &st, &nb, None, &mut kept);
         let c = strain_correction(&model, &st, &nb, &k, &kept);
         let pts = eos_and_stress(&model, &st);
         let s = stress_adjoint(&model, &st, &nb, (&k.l, &kept), &pts);
@@ -701,7 +697,7 @@ shape = {shape}
             }
             let nb = neighbours::find(&model, st.frame());
             let mut kept = Kept::default();
-            let kin = sweep::kinematics_keeping(&model, &st, &nb, (None, 0.0), &mut kept);
+            let kin = sweep::kinematics_keeping(&model, &st, &nb, None, &mut kept);
             let c = strain_correction(&model, &st, &nb, &kin, &kept);
             // Two supports' reach from every edge but the axis.
             h = model.h[0];

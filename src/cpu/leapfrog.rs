@@ -59,18 +59,15 @@ impl CpuSolver {
         // velocities, in the same walk. (A ∇v at n+½ with velocities at n+1
         // mixes two levels: a jump O(Δt) where it should be O(Δx²), which
         // makes the step first order.)
-        // The rates of ρ and s are centred at x_{n+½}, half a step behind
-        // the walk (kinematics::centred): taken at x_{n+1}, a step's strain
-        // misses ½(Δt∇v)², a first-order error over a run.
         let mut k = if model.dispersion > 0.0 {
-            let seen = (Some(&next.v[..]), h);
+            let seen = Some(&next.v[..]);
             sweep::kinematics_keeping(model, &half, nb, seen, &mut self.disp_kept)
         } else {
-            sweep::kinematics_seen(model, &half, nb, &next.v, h)
+            sweep::kinematics_seen(model, &half, nb, &next.v)
         };
         if model.dispersion > 0.0 {
             let c = dispersion::strain_correction(model, &half, nb, &k, &self.disp_kept);
-            dispersion::correct_rates(model, &half, &mut k, &c, h);
+            dispersion::correct_rates(model, &half, &mut k, &c);
         }
         let lv = std::mem::take(&mut k.lv);
         next.x.copy_from_slice(&half.x);

@@ -152,7 +152,7 @@ fn evaluate_at(
 ) -> (Rates, Diagnostics) {
     stage::enter(Stage::Kinematics, role);
     let mut k = if model.dispersion > 0.0 {
-        sweep::kinematics_keeping(model, st, nb, (None, 0.0), kept)
+        sweep::kinematics_keeping(model, st, nb, None, kept)
     } else {
         sweep::kinematics(model, st, nb)
     };
@@ -161,7 +161,7 @@ fn evaluate_at(
     // take one sweep.
     let extra = (model.dispersion > 0.0).then(|| {
         let (c, s) = dispersion::strain_and_stress(model, st, nb, &k, &pts, kept);
-        dispersion::correct_rates(model, st, &mut k, &c, 0.0);
+        dispersion::correct_rates(model, st, &mut k, &c);
         s
     });
     stage::enter(Stage::Forces, role);

@@ -106,8 +106,8 @@ fn spall(scene: &Scene) -> Spall {
 /// Measured at Δx = 10 µm (CPU, leapfrog; the device the same): the
 /// first failure 4.2 Δx/c_L late (the fronts' width), 2.5 Δx from the
 /// plane; the round
-/// trips' means −1.05 to −1.11 %; the swing 71 m/s in the first round
-/// trip and 32 in the sixth; the free surface between 160 and 231 m/s. At
+/// trips' means −1.0 to −1.1 %; the swing 71 m/s in the first round trip
+/// and 31 in the sixth; the free surface between 160 and 231 m/s. At
 /// 20 µm (the device): 4.1 Δx/c_L late, 0.5 Δx; the means −2.0 to
 /// −2.2 %.
 fn scab_flies(s: &Spall) {

@@ -215,7 +215,7 @@ pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
         })
         .collect();
     round_colour(model, st, nb, &vol, &mut sums);
-    finish(model, st, sums, 0.0)
+    finish(model, st, sums)
 }
 
 /// Where supports adapt, each particle's colour gradient with the round
@@ -281,14 +281,8 @@ pub(in crate::cpu) fn volumes(model: &Model, st: &State) -> Vec<f64> {
 }
 
 /// The kinematic pass's results from each particle's sums: `L_i`, `∇v_i`,
-/// continuity, the stress rate, the surface set; the rates centred `lag`
-/// behind the walk's positions ([`centred`]).
-pub(in crate::cpu) fn finish<S: Seen>(
-    model: &Model,
-    st: &State,
-    sums: Vec<Sums<S>>,
-    lag: f64,
-) -> Kinematics {
+/// continuity, the stress rate, the surface set.
+pub(in crate::cpu) fn finish<S: Seen>(model: &Model, st: &State, sums: Vec<Sums<S>>) -> Kinematics {
     let n = sums.len();
     let hg = model.hourglass > 0.0 && S::SEES;
     let mut out = Kinematics::sized(model, n, hg);
@@ -308,7 +302,7 @@ pub(in crate::cpu) fn finish<S: Seen>(
             for (r, sums) in sums[base..base + run.l.len()].iter().enumerate() {
                 let i = base + r;
                 let p = point_of_sums(model, st, i, *sums);
-                if !run.put(model, st, (r, i, lag), p) {
+                if !run.put(model, st, (r, i), p) {
                     fallback.push(i as u32);
                 }
             }
@@ -496,34 +490,25 @@ impl<'a> Rows<'a> {
     }
 
     /// Particle i's results from its point `p` into slot `r`: the surface
-    /// test, the continuity and stress rates (centred `lag` behind the
-    /// walk, [`centred`]), the gradients kept (the walk's own). Returns
+    /// test, the continuity and stress rates, the gradients kept. Returns
     /// whether its correction held (`p.ok`).
-    fn put(
-        &mut self,
-        model: &Model,
-        st: &State,
-        (r, i, lag): (usize, usize, f64),
-        p: Point,
-    ) -> bool {
+    fn put(&mut self, model: &Model, st: &State, (r, i): (usize, usize), p: Point) -> bool {
         self.l[r] = p.l;
         self.surface[r] = surface_measure(model, i, p.gpsi, p.psi) > model.boundary_threshold;
         if let Some(psi) = p.psi {
             self.psi[r] = psi;
         }
         self.grad_psi[r] = p.gpsi;
-        // The rates' gradient, centred where the step's rates are for.
-        let gc = centred(&p.gv, lag);
         if !model.rigid(i) {
             // η = 2π r ρ obeys the plane's continuity equation: the hoop
             // strain rate is in ρ alone (docs/method.md §12).
-            self.drho[r] = -st.rho[i] * gc.trace();
+            self.drho[r] = -st.rho[i] * p.gv.trace();
             // Debris keeps its deviatoric stress, frozen (docs/method.md,
             // "Debris").
             let g = if p.ok { model.material(i).g } else { 0.0 };
-            let ds = stress_rate(g, &st.s[i], &gc);
+            let ds = stress_rate(g, &st.s[i], &p.gv);
             self.ds[r] = if model.axisymmetric {
-                with_hoop(g, ds, hoop_rate(st, i, lag))
+                with_hoop(g, ds, hoop_rate(st, i))
             } else {
                 ds
             };
@@ -542,9 +527,9 @@ impl<'a> Rows<'a> {
         }
         if !self.rate.is_empty() {
             self.rate[r] = if model.axisymmetric && !model.rigid(i) {
-                strength::equivalent_strain_rate_3(&gc, hoop_rate(st, i, lag))
+                strength::equivalent_strain_rate_3(&p.gv, hoop_rate(st, i))
             } else {
-                strength::equivalent_strain_rate(&gc)
+                strength::equivalent_strain_rate(&p.gv)
             };
         }
         p.ok

@@ -85,35 +85,10 @@ pub fn stress_rate(g_mod: f64, s: &Sym, gv: &Mat2) -> Sym {
     }
 }
 
-/// The hoop rate of strain `v_r / r` of particle i, at the radius `lag`
-/// along its velocity behind its own (`lag` as in [`centred`]).
+/// The hoop rate of strain `v_r / r` of particle i.
 #[inline]
-pub fn hoop_rate(st: &State, i: usize, lag: f64) -> f64 {
-    st.v[i].x / (st.x[i].x - lag * st.v[i].x)
-}
-
-/// The velocity gradient `g` of a walk at positions `lag` along `v` ahead
-/// of where a step's rates are centred, mapped back there to second order:
-/// `g + lag g²`, the leading part of [`Mat2::gradient_behind`] without its
-/// division (which grows without bound, and then switches, where the
-/// motion over `lag` would fold a fragment's neighbourhood). Its twin is
-/// `centred` in kinematics.wgsl. The leapfrog walks at `x_{n+1}` with `v_{n+½}`
-/// and its step is centred at `x_{n+½}`: `lag = ½Δt`, which takes `ρ` and
-/// `s` over the step by the logarithmic strain of its motion to second
-/// order (`Δt G` alone misses `½Δt² G²` a step, docs/method.md §9). 0 for
-/// an evaluation at the point its rates are for.
-#[inline]
-pub fn centred(g: &Mat2, lag: f64) -> Mat2 {
-    if lag == 0.0 {
-        *g
-    } else {
-        Mat2 {
-            xx: g.xx + lag * (g.xx * g.xx + g.xy * g.yx),
-            xy: g.xy + lag * (g.xx * g.xy + g.xy * g.yy),
-            yx: g.yx + lag * (g.yx * g.xx + g.yy * g.yx),
-            yy: g.yy + lag * (g.yx * g.xy + g.yy * g.yy),
-        }
-    }
+pub fn hoop_rate(st: &State, i: usize) -> f64 {
+    st.v[i].x / st.x[i].x
 }
 
 /// The deviatoric stress rate with the hoop strain rate `d_θθ` added to

@@ -17,47 +17,38 @@ use crate::model::{Model, State};
 /// `∇_i W_ij ⊗ (x_j − x_i)` and `(v_j − v_i) ⊗ ∇_i W_ij` weighted by `V_i`
 /// instead of `V_j`, and its colour-gradient term changes sign.
 pub fn kinematics(model: &Model, st: &State, nb: &Neighbours) -> Kinematics {
-    kinematics_in::<(), ()>(model, st, nb, &[], 0.0, &mut nb.no_store())
+    kinematics_in::<(), ()>(model, st, nb, &[], &mut nb.no_store())
 }
 
 /// [`kinematics`], with the velocity gradient the viscosity's
 /// reconstruction uses ([`Kinematics::gv`](crate::cpu::kinematics::Kinematics::gv)) taken at the velocities `seen`
 /// (the leapfrog's predicted `v_n + cΔt a_n` at `x_{n+1}`) instead of the
 /// state's, in the same walk: the reconstruction then removes exactly the
-/// linear part of the jump the viscosity sees. The rates are centred `lag`
-/// behind `st` ([`crate::cpu::kinematics::centred`]; the leapfrog's `½Δt`).
-pub fn kinematics_seen(
-    model: &Model,
-    st: &State,
-    nb: &Neighbours,
-    seen: &[DVec2],
-    lag: f64,
-) -> Kinematics {
-    let store = &mut nb.no_store();
+/// linear part of the jump the viscosity sees.
+pub fn kinematics_seen(model: &Model, st: &State, nb: &Neighbours, seen: &[DVec2]) -> Kinematics {
     if model.keeps_gradient() {
-        kinematics_in::<Mat2, ()>(model, st, nb, seen, lag, store)
+        kinematics_in::<Mat2, ()>(model, st, nb, seen, &mut nb.no_store())
     } else {
-        kinematics_in::<(), ()>(model, st, nb, &[], lag, store)
+        kinematics(model, st, nb)
     }
 }
 
 /// [`kinematics_seen`] (without `seen`, [`kinematics`]) that also keeps
 /// each pair's kernel gradient `∇_i W_ij` in `kept` for the dispersion
-/// correction's sums, which replay them ([`Kept`]); the rates centred
-/// `lag` behind `st` as in [`kinematics_seen`].
+/// correction's sums, which replay them ([`Kept`]).
 pub fn kinematics_keeping(
     model: &Model,
     st: &State,
     nb: &Neighbours,
-    (seen, lag): (Option<&[DVec2]>, f64),
+    seen: Option<&[DVec2]>,
     kept: &mut Kept,
 ) -> Kinematics {
     let store = kept.slots(nb.store_len());
     match seen {
         Some(seen) if model.keeps_gradient() => {
-            kinematics_in::<Mat2, DVec2>(model, st, nb, seen, lag, store)
+            kinematics_in::<Mat2, DVec2>(model, st, nb, seen, store)
         }
-        _ => kinematics_in::<(), DVec2>(model, st, nb, &[], lag, store),
+        _ => kinematics_in::<(), DVec2>(model, st, nb, &[], store),
     }
 }
 
@@ -84,7 +75,6 @@ fn kinematics_in<S: Seen, K: KeepGradient>(
     st: &State,
     nb: &Neighbours,
     seen: &[DVec2],
-    lag: f64,
     store: &mut [K],
 ) -> Kinematics {
     let vol = volumes(model, st);
@@ -134,7 +124,7 @@ fn kinematics_in<S: Seen, K: KeepGradient>(
         if !model.images.is_empty() {
             crate::cpu::axis::add_kinematics(model, st, nb, &vol, &vel, &mut sums);
         }
-        return finish(model, st, sums, lag);
+        return finish(model, st, sums);
     }
     nb.sweep_store(model, st.frame(), &mut sums, store, |i, b, si, sj, slot| {
         let j = b.j as usize;
@@ -160,5 +150,5 @@ fn kinematics_in<S: Seen, K: KeepGradient>(
     if !model.images.is_empty() {
         crate::cpu::axis::add_kinematics(model, st, nb, &vol, &vel, &mut sums);
     }
-    finish(model, st, sums, lag)
+    finish(model, st, sums)
 }

@@ -180,7 +180,7 @@ fn sweeps_match_gathers_and_lanes_one_pair_code() {
         let skin = SKIN_FRACTION * 2.0 * model.h.iter().cloned().fold(0.0, f64::max);
         let nb = find_with_skin(&model, st.frame(), skin);
         let k = if seen {
-            let k = kinematics_seen(&model, st, &nb, &seen_v, 0.0);
+            let k = kinematics_seen(&model, st, &nb, &seen_v);
             assert!(!k.hv.is_empty() && !k.hgrad.is_empty());
             k
         } else {
